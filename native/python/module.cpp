@@ -1,0 +1,14 @@
+// The `sphrect._native` extension: one module, bound in two parts so the
+// sampling core does not depend on the renderer.
+#include <pybind11/pybind11.h>
+
+namespace sphrect::python {
+void BindCore(pybind11::module_& m);    // bind_core.cpp: techniques, patterns
+void BindRender(pybind11::module_& m);  // bind_render.cpp: the renderer
+}  // namespace sphrect::python
+
+PYBIND11_MODULE(_native, m) {
+    m.doc() = "sphrect native core: spherical-rectangle sampling and the Embree renderer";
+    sphrect::python::BindCore(m);
+    sphrect::python::BindRender(m);
+}

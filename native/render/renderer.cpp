@@ -1,0 +1,2 @@
+// PLACEHOLDER: the renderer (to be written).
+namespace sphrect {}

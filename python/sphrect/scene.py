@@ -1,0 +1,262 @@
+"""Scene description shared by the renderer, the Blender exporter and scripts.
+
+Everything is in world space and in radiometric units, so the renderer needs no
+Blender conventions: the exporter converts Blender's light powers once
+(area: L = P * colour / (4 * area); point and spot: I = P * colour / (4 * pi);
+sun: E = strength * colour).
+
+Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
+:func:`load_scene`): a NumPy ``.npz`` archive holding
+
+* ``scene.json`` -- a UTF-8 JSON document: ``{"format": "sphrect-scene",
+  "version": 1, "camera": {...}, "world": {...}, "materials": [...],
+  "lights": [{"type": "rect"|"ellipse"|"point"|"spot"|"sun", ...}, ...],
+  "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
+  dataclasses below;
+* for mesh *i*: ``mesh{i}.vertices`` (float32 [V,3]), ``mesh{i}.triangles``
+  (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
+  ``mesh{i}.material_ids`` (int32 [T]).
+"""
+from __future__ import annotations
+
+import dataclasses
+import io
+import json
+import math
+import os
+import tempfile
+import zipfile
+from dataclasses import dataclass, field
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+FORMAT_NAME = "sphrect-scene"
+FORMAT_VERSION = 1
+
+RGB = Tuple[float, float, float]
+V3 = Tuple[float, float, float]
+
+
+@dataclass
+class Material:
+    """Diffuse (Lambert) or glossy (the common part of Principled BSDF: GGX)."""
+    name: str = "default"
+    kind: str = "diffuse"            # "diffuse" | "glossy"
+    base_color: RGB = (0.8, 0.8, 0.8)
+    roughness: float = 0.5           # Blender's roughness; GGX alpha = roughness**2
+    metallic: float = 0.0
+    specular: float = 0.5            # Principled 'Specular': F0 = 0.08 * specular for dielectrics
+
+
+@dataclass
+class Mesh:
+    vertices: np.ndarray                       # float32 [V, 3], world space
+    triangles: np.ndarray                      # int32 [T, 3]
+    normals: Optional[np.ndarray] = None       # float32 [V, 3] or None (flat shading)
+    material_ids: Optional[np.ndarray] = None  # int32 [T] into Scene.materials, or None (all 0)
+    name: str = "mesh"
+
+
+@dataclass
+class RectLight:
+    """Corner + two orthogonal edges. A one-sided light emits on the side cross(edge_x, edge_y) points to."""
+    corner: V3
+    edge_x: V3
+    edge_y: V3
+    radiance: RGB
+    two_sided: bool = False
+    visible: bool = True             # seen by camera rays
+    name: str = "rect"
+
+    @property
+    def area(self) -> float:
+        return float(np.linalg.norm(np.cross(self.edge_x, self.edge_y)))
+
+    @staticmethod
+    def from_power(center, edge_x, edge_y, power: float, color: RGB = (1, 1, 1), **kw) -> "RectLight":
+        """Cycles' convention for area lights: L = P * colour / (4 * area)."""
+        c, ex, ey = (np.asarray(a, dtype=np.float64) for a in (center, edge_x, edge_y))
+        area = float(np.linalg.norm(np.cross(ex, ey)))
+        if not area > 0:
+            raise ValueError("a rectangle light needs two non-zero edges")
+        scale = power / (4.0 * area)
+        return RectLight(corner=tuple(c - 0.5 * ex - 0.5 * ey), edge_x=tuple(ex), edge_y=tuple(ey),
+                         radiance=tuple(scale * np.asarray(color, dtype=np.float64)), **kw)
+
+
+@dataclass
+class EllipseLight:
+    """Ellipse (disc when the semi-axes are equal): centre and two orthogonal semi-axis vectors."""
+    center: V3
+    axis_x: V3
+    axis_y: V3
+    radiance: RGB
+    two_sided: bool = False
+    visible: bool = True
+    name: str = "ellipse"
+
+
+@dataclass
+class PointLight:
+    position: V3
+    intensity: RGB                   # W/sr
+    name: str = "point"
+
+
+@dataclass
+class SpotLight:
+    """Cycles 3.4 spot: intensity * cos(angle to axis) * smoothstep blend inside the cone."""
+    position: V3
+    direction: V3                    # unit, the cone's axis
+    intensity: RGB
+    spot_size: float = math.pi / 4   # full cone angle, radians
+    spot_blend: float = 0.15
+    name: str = "spot"
+
+
+@dataclass
+class SunLight:
+    direction: V3                    # unit, the direction light travels
+    irradiance: RGB                  # W/m^2 on a surface facing the sun
+    name: str = "sun"
+
+
+@dataclass
+class Medium:
+    """Homogeneous medium filling the scene."""
+    sigma_s: RGB = (0.1, 0.1, 0.1)   # scattering coefficient, 1/m
+    sigma_a: RGB = (0.0, 0.0, 0.0)   # absorption coefficient, 1/m
+    g: float = 0.0                   # Henyey-Greenstein anisotropy
+
+
+@dataclass
+class World:
+    background: RGB = (0.0, 0.0, 0.0)  # constant radiance seen where rays escape (and lighting the scene)
+    medium: Optional[Medium] = None
+
+
+@dataclass
+class Camera:
+    """Blender's camera model: looks down its local -Z with +Y up; to_world is its 4x4 matrix."""
+    width: int = 64
+    height: int = 64
+    to_world: List[List[float]] = field(default_factory=lambda: np.eye(4).tolist())
+    type: str = "perspective"        # "perspective" | "orthographic"
+    lens: float = 50.0               # mm
+    sensor_width: float = 36.0       # mm
+    sensor_height: float = 24.0      # mm
+    sensor_fit: str = "AUTO"         # "AUTO" | "HORIZONTAL" | "VERTICAL"
+    shift_x: float = 0.0
+    shift_y: float = 0.0
+    ortho_scale: float = 7.0
+    aperture_radius: float = 0.0     # world units; 0 = pinhole
+    focus_distance: float = 10.0
+    clip_start: float = 0.0
+    clip_end: float = 1e30
+
+    def image_plane(self):
+        """(half_width, half_height, offset_x, offset_y) of the image at distance 1 (perspective)
+        or in world units (orthographic), following Blender's sensor fit and shift rules."""
+        aspect = self.width / self.height
+        fit = self.sensor_fit
+        if fit == "AUTO":
+            fit = "HORIZONTAL" if self.width >= self.height else "VERTICAL_WIDTH"
+        if self.type == "orthographic":
+            full = self.ortho_scale
+        elif fit == "VERTICAL":
+            full = self.sensor_height / self.lens
+        else:
+            full = self.sensor_width / self.lens
+        if fit == "HORIZONTAL":
+            hw = 0.5 * full
+            hh = hw / aspect
+        else:
+            hh = 0.5 * full
+            hw = hh * aspect
+        larger = 2.0 * max(hw, hh) if self.sensor_fit == "AUTO" else (2.0 * hw if fit == "HORIZONTAL" else 2.0 * hh)
+        return hw, hh, self.shift_x * larger, self.shift_y * larger
+
+
+@dataclass
+class Scene:
+    camera: Camera = field(default_factory=Camera)
+    world: World = field(default_factory=World)
+    materials: List[Material] = field(default_factory=lambda: [Material()])
+    meshes: List[Mesh] = field(default_factory=list)
+    lights: list = field(default_factory=list)  # RectLight | EllipseLight | PointLight | SpotLight | SunLight
+
+
+_LIGHT_TYPES = {"rect": RectLight, "ellipse": EllipseLight, "point": PointLight, "spot": SpotLight, "sun": SunLight}
+_LIGHT_NAMES = {cls: name for name, cls in _LIGHT_TYPES.items()}
+
+
+def save_scene(scene: Scene, path: str) -> None:
+    """Write `scene` to `path` (see the module docstring). Written to a temporary file
+    and renamed, so an interrupted save never leaves a half-written scene behind."""
+    meta = {
+        "format": FORMAT_NAME,
+        "version": FORMAT_VERSION,
+        "camera": dataclasses.asdict(scene.camera),
+        "world": dataclasses.asdict(scene.world),
+        "materials": [dataclasses.asdict(m) for m in scene.materials],
+        "lights": [dict(type=_LIGHT_NAMES[type(l)], **dataclasses.asdict(l)) for l in scene.lights],
+        "meshes": [],
+    }
+    arrays = {}
+    for i, m in enumerate(scene.meshes):
+        key = f"mesh{i}"
+        meta["meshes"].append({"name": m.name, "arrays": key})
+        arrays[f"{key}.vertices"] = np.asarray(m.vertices, dtype=np.float32)
+        arrays[f"{key}.triangles"] = np.asarray(m.triangles, dtype=np.int32)
+        if m.normals is not None:
+            arrays[f"{key}.normals"] = np.asarray(m.normals, dtype=np.float32)
+        if m.material_ids is not None:
+            arrays[f"{key}.material_ids"] = np.asarray(m.material_ids, dtype=np.int32)
+    arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
+    directory = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=directory, suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            np.savez_compressed(f, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def load_scene(path: str) -> Scene:
+    """Read a scene written by :func:`save_scene`; ValueError if it is not one."""
+    try:
+        data = np.load(path, allow_pickle=False)
+    except (OSError, zipfile.BadZipFile, ValueError) as e:
+        raise ValueError(f"{path}: not a sphrect scene file ({e})") from None
+    with data:
+        if "scene.json" not in data.files:
+            raise ValueError(f"{path}: not a sphrect scene file (no scene.json)")
+        meta = json.loads(bytes(data["scene.json"]).decode("utf-8"))
+        if meta.get("format") != FORMAT_NAME:
+            raise ValueError(f"{path}: not a sphrect scene file")
+        if meta.get("version", 0) > FORMAT_VERSION:
+            raise ValueError(f"{path}: scene format version {meta['version']} is newer than this sphrect "
+                             f"({FORMAT_VERSION})")
+        world = dict(meta["world"])
+        medium = world.pop("medium", None)
+        scene = Scene(
+            camera=Camera(**meta["camera"]),
+            world=World(medium=Medium(**medium) if medium else None, **world),
+            materials=[Material(**m) for m in meta["materials"]],
+        )
+        for l in meta["lights"]:
+            l = dict(l)
+            cls = _LIGHT_TYPES.get(l.pop("type"))
+            if cls is None:
+                raise ValueError(f"{path}: unknown light type")
+            scene.lights.append(cls(**l))
+        for m in meta["meshes"]:
+            key = m["arrays"]
+            get = lambda name: data[f"{key}.{name}"] if f"{key}.{name}" in data.files else None
+            scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
+                                     material_ids=get("material_ids"), name=m["name"]))
+    return scene
