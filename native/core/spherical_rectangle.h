@@ -7,3 +7,9 @@ template <class T> SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& o
 template <class T> LightSample<T> SampleSphericalRectangle(const SphericalRectangle<T>& r, Point2<T> uv) { return SampleRectangleArea(r, uv); }
 template <class T> T SphericalRectanglePDF(const SphericalRectangle<T>& r, const Vec3<T>& p) { return RectangleAreaPDF(r, p); }
 }
+namespace sphrect {
+template <class T> Point2<T> InvertSphericalRectangleSample(const SphericalRectangle<T>& r, const Vec3<T>& p) {
+    const Vec3<T> d = p - r.corner;
+    return {Dot(d, r.ex) / Dot(r.ex, r.ex), Dot(d, r.ey) / Dot(r.ey, r.ey)};
+}
+}
