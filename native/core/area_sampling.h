@@ -1,7 +1,15 @@
 // Technique `area`: uniform over the rectangle's area, pdf converted to solid
-// angle, p(w) = d^2 / (A |cos theta_light|).  The baseline of the paper.
+// angle, p(w) = d^2 / (A |cos theta_light|) = d^3 / (A h), h the height of the
+// shading point above the light's plane.  The baseline of the paper.
+//
+// Robustness: the setup (height, in-plane coordinates of the shading point) is
+// done in double from the (possibly float) inputs, and the pdf is evaluated from
+// those local coordinates, so a shading point 1e-9 above the plane or 1e6 sizes
+// away still gets the true pdf of the returned point (a float dot product
+// n.(p - o) would be pure rounding noise there).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -12,50 +20,99 @@ namespace sphrect {
 
 template <class T>
 struct AreaRect {
-    Vec3<T> origin, corner, ex, ey;
-    Vec3<T> n;          // unit normal of the light
+    RectLight<T> light;
+    Vec3d o;              // shading point (double)
+    Vec3d exh, eyh, az;   // unit edge directions; az: from the shading point towards the light's plane
+    double x0 = 0, y0 = 0;  // the corner in the (exh, eyh) frame centred at o
+    double wx = 0, wy = 0;  // edge lengths
+    double h = 0;         // distance from o to the light's plane (> 0 when valid)
     T area = 0;
-    bool valid = false;  // false: degenerate light, or origin behind a one-sided light / in its plane
+    bool valid = false;   // false: degenerate light, or origin behind a one-sided light / in its plane
 };
 
 template <class T>
 AreaRect<T> MakeAreaRect(const Vec3<T>& origin, const RectLight<T>& light) {
     AreaRect<T> r;
-    r.origin = origin;
-    r.corner = light.corner;
-    r.ex = light.ex;
-    r.ey = light.ey;
-    const Vec3<T> c = Cross(light.ex, light.ey);
-    r.area = Length(c);
-    if (!(r.area > 0) || !std::isfinite(r.area)) return r;
-    r.n = c / r.area;
-    const T h = Dot(r.n, origin - light.corner);  // signed height above the light's plane
-    r.valid = light.two_sided ? h != 0 : h > 0;
+    r.light = light;
+    const Vec3d o(origin), c(light.corner), ex(light.ex), ey(light.ey);
+    r.o = o;
+    r.wx = Length(ex);
+    r.wy = Length(ey);
+    if (!(r.wx > 0 && r.wy > 0) || !std::isfinite(r.wx * r.wy) || !IsFinite(o) || !IsFinite(c)) return r;
+    r.exh = ex / r.wx;
+    r.eyh = ey / r.wy;
+    const Vec3d n = Normalize(Cross(ex, ey));
+    const Vec3d d = c - o;
+    const double z = Dot(d, n);  // < 0: o is on the emitting side of a one-sided light
+    r.x0 = Dot(d, r.exh);
+    r.y0 = Dot(d, r.eyh);
+    r.h = std::abs(z);
+    r.az = z < 0 ? -n : n;
+    r.area = T(r.wx * r.wy);
+    r.valid = z != 0 && (light.two_sided || z < 0) && r.area > 0 && std::isfinite(r.area);
     return r;
 }
 
-// Solid-angle pdf of the point p on the light; 0 where the conversion is not finite
-// (grazing: the area pdf cannot be expressed in solid angle).
+// Solid-angle pdf of uniform area sampling at the point with local in-plane
+// coordinates (x, y) relative to the shading point: d^3 / (A h).
+template <class T>
+T AreaPDFLocal(const AreaRect<T>& r, double x, double y) {
+    const double d2 = x * x + y * y + r.h * r.h;
+    const T pdf = T(d2 * std::sqrt(d2) / (r.wx * r.wy * r.h));
+    return std::isfinite(pdf) && pdf > 0 ? pdf : T(0);
+}
+
+// Solid-angle pdf of the point p on the light; 0 for an invalid setup or where
+// the pdf is not representable.
 template <class T>
 T RectangleAreaPDF(const AreaRect<T>& r, const Vec3<T>& p) {
     if (!r.valid) return 0;
-    const Vec3<T> d = p - r.origin;
-    const T d2 = Dot(d, d);
-    const T cosl = std::abs(Dot(r.n, d)) / std::sqrt(d2);
-    const T pdf = d2 / (r.area * cosl);
-    return std::isfinite(pdf) && pdf > 0 ? pdf : T(0);
+    const Vec3d q = Vec3d(p) - Vec3d(r.light.corner);  // exact for float inputs of similar magnitude
+    return AreaPDFLocal(r, r.x0 + Dot(q, r.exh), r.y0 + Dot(q, r.eyh));
+}
+
+// The sample at the point with local in-plane coordinates (X, Y) (along exh, eyh,
+// relative to the shading point), given its pdf.  The point is built from the
+// corner and the edges, so it lies on the light even when o is far away; the
+// direction and distance come from the local coordinates, so they stay exact
+// when o is nearly in the light's plane.
+// `dist`, when known (> 0), is |(X, Y, h)|; the clamping below only moves points by rounding.
+template <class T>
+LightSample<T> LightSampleFromLocal(const AreaRect<T>& r, double X, double Y, T pdf, double dist = 0) {
+    // Clamp onto the light (NaN -> the corner), so that rounding never leaves it.
+    X = X > r.x0 ? std::min(X, r.x0 + r.wx) : r.x0;
+    Y = Y > r.y0 ? std::min(Y, r.y0 + r.wy) : r.y0;
+    LightSample<T> s;
+    const double a = std::min((X - r.x0) / r.wx, 1.0), b = std::min((Y - r.y0) / r.wy, 1.0);
+    s.point = Vec3<T>(Vec3d(r.light.corner) + Vec3d(r.light.ex) * a + Vec3d(r.light.ey) * b);
+    const Vec3d d = r.exh * X + r.eyh * Y + r.az * r.h;
+    if (!(dist > 0) || !std::isfinite(dist)) dist = Length(d);
+    s.dist = T(dist);
+    s.dir = Vec3<T>(d / dist);
+    s.pdf = pdf;
+    return s;
+}
+
+// The point corner + a ex + b ey, (a, b) in [0,1]^2, with its area-sampling pdf.
+template <class T>
+LightSample<T> AreaSampleAt(const AreaRect<T>& r, double a, double b) {
+    if (!r.valid) return {};
+    a = std::min(std::max(a, 0.0), 1.0);
+    b = std::min(std::max(b, 0.0), 1.0);
+    const double X = r.x0 + a * r.wx, Y = r.y0 + b * r.wy;
+    return LightSampleFromLocal(r, X, Y, AreaPDFLocal(r, X, Y));
 }
 
 template <class T>
 LightSample<T> SampleRectangleArea(const AreaRect<T>& r, Point2<T> uv) {
-    LightSample<T> s;
-    s.point = r.corner + r.ex * uv.u + r.ey * uv.v;
-    const Vec3<T> d = s.point - r.origin;
-    s.dist = Length(d);
-    if (!r.valid || !(s.dist > 0)) return s;
-    s.dir = d / s.dist;
-    s.pdf = RectangleAreaPDF(r, s.point);
-    return s;
+    return AreaSampleAt(r, double(uv.u), double(uv.v));
+}
+
+// Inverse of the area map: the fractions of the point along ex and ey.
+template <class T>
+Point2<T> InvertRectangleAreaSample(const AreaRect<T>& r, const Vec3<T>& p) {
+    const Vec3d q = Vec3d(p) - Vec3d(r.light.corner);
+    return {T(Dot(q, r.exh) / r.wx), T(Dot(q, r.eyh) / r.wy)};
 }
 
 }  // namespace sphrect

@@ -1,9 +1,66 @@
-// PLACEHOLDER (to be replaced by the bilinear-warped map): delegates to area sampling.
+// Technique `rectangle_cosine` (beyond the paper, whose future work asks for
+// cosine sampling): warp (u, v) with a bilinear density whose corner weights are
+// the clamped cosines between the shading normal and the directions to the
+// light's corners (Hart et al., EGSR 2020), then apply the `rectangle` map M.
+// pdf(w) = bilinear pdf(M^-1(w)) * pdf_rectangle(w) = bilinear pdf / Omega.
+//
+// The weight of the corner (i, j) is taken at M(i, j), so the warp follows
+// whichever frame / formulation M uses for this setup (including its area
+// fallback, where pdf_rectangle is the area pdf).  A zero or non-finite normal
+// gives uniform weights (plain `rectangle`); a light wholly below the horizon
+// (all corner cosines <= 0; the rectangle is convex) is invalid.
 #pragma once
-#include "area_sampling.h"
+
+#include <cmath>
+
+#include "bilinear.h"
+#include "spherical_rectangle.h"
+
 namespace sphrect {
-template <class T> using CosineRectangle = AreaRect<T>;
-template <class T> CosineRectangle<T> MakeCosineRectangle(const Vec3<T>& o, const Vec3<T>&, const RectLight<T>& l) { return MakeAreaRect(o, l); }
-template <class T> LightSample<T> SampleCosineRectangle(const CosineRectangle<T>& r, Point2<T> uv) { return SampleRectangleArea(r, uv); }
-template <class T> T CosineRectanglePDF(const CosineRectangle<T>& r, const Vec3<T>& p) { return RectangleAreaPDF(r, p); }
+
+template <class T>
+struct CosineRectangle {
+    SphericalRectangle<T> rect;
+    BilinearWeights w = {1, 1, 1, 1};
+    bool valid = false;
+};
+
+template <class T>
+CosineRectangle<T> MakeCosineRectangle(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light) {
+    CosineRectangle<T> r;
+    r.rect = MakeSphericalRectangle(origin, light);
+    if (!r.rect.valid) return r;
+    const Vec3d n(normal);
+    const double ln = Length(n);
+    if (!(ln > 0) || !std::isfinite(ln)) {
+        r.valid = true;  // no usable normal: uniform weights
+        return r;
+    }
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            const Vec3d c = SphericalRectangleCornerVector(r.rect, i, j);
+            r.w[i + 2 * j] = std::max(0.0, Dot(n, c) / (ln * Length(c)));
+        }
+    r.valid = r.w[0] + r.w[1] + r.w[2] + r.w[3] > 0;
+    return r;
 }
+
+template <class T>
+LightSample<T> SampleCosineRectangle(const CosineRectangle<T>& r, Point2<T> uv) {
+    if (!r.valid) return {};
+    const Point2<double> w = SampleBilinear({double(uv.u), double(uv.v)}, r.w);
+    LightSample<T> s = SampleSphericalRectangleAt(r.rect, w.u, w.v);
+    s.pdf = T(BilinearPDF(w, r.w) * double(s.pdf));
+    if (!std::isfinite(s.pdf)) s.pdf = 0;
+    return s;
+}
+
+template <class T>
+T CosineRectanglePDF(const CosineRectangle<T>& r, const Vec3<T>& p) {
+    if (!r.valid) return 0;
+    const T pdf = T(BilinearPDF(InvertSphericalRectangleLocal(r.rect, p), r.w) *
+                    double(SphericalRectanglePDF(r.rect, p)));
+    return std::isfinite(pdf) ? pdf : T(0);
+}
+
+}  // namespace sphrect

@@ -1,15 +1,355 @@
-// PLACEHOLDER (to be replaced by the paper's map): delegates to area sampling.
+// Technique `rectangle`: the area-preserving map of Urena, Fajardo & King,
+// "An Area Preserving Parametrization for Spherical Rectangles" (EGSR 2013),
+// M(u, v): x from u alone through the sub-rectangle of solid angle u * Omega,
+// then y linearly in the y-coordinate on the unit sphere.  du dv = dw / Omega.
+//
+// Numerically robust formulation (the paper's float formulas are kept in
+// textbook_spherical_rectangle.h as a baseline):
+//
+//  * Local frame.  The shading point o is the origin, the light is the rectangle
+//    [x0,x1] x [y0,y1] in the plane z = h > 0.  All setup is done in double from
+//    the (float) inputs; the per-sample work is done in double as well and the
+//    results are rounded to T once (float interface, mixed precision inside).
+//
+//  * Solid angles (Omega, and every sub-rectangle) by Van Oosterom & Strackee on
+//    the two triangles of the diagonal: tan(W/2) = |a.(b x c)| / (abc + (a.b)c +
+//    (a.c)b + (b.c)a).  With all corners at height h the triple product is exactly
+//    h (x1-x0)(y1-y0) (column operations), so there is no cancellation, and the
+//    denominator only cancels when W -> 2 pi, where the absolute error of atan2 is
+//    harmless.  Omega is accurate to a few ulps of double for any configuration.
+//
+//  * x-step.  With s = sin(theta), x = h tan(theta), the solid angle of the strip
+//    [0, x] x [y0, y1] is F(s) = asin(b1 s) - asin(b0 s), b_i = y_i / sqrt(y_i^2+h^2)
+//    (integrate dW = (h1 - h0) dtheta).  Solving F(s) = T gives
+//        s = sin T / |b1 - b0 e^{iT}|   (sign of b1 - b0 cos T),
+//    the paper's formula in other variables.  T = T0 + u Omega with T0 = F(s0), the
+//    signed strip from the foot of o to the near edge, computed by Van Oosterom &
+//    Strackee.  The frame is chosen (axes swapped / mirrored, once per setup) so
+//    that the foot of o lies inside the x-slab, or as close to it as possible, and
+//    x0 is the near edge: then |T0| <= Omega, or small, and u Omega is not lost
+//    when it is added (the paper's k + u S loses u entirely when S << k ~ pi).
+//    |b1 - b0 e^{iT}|^2 = (b1 - b0)^2 + 2 b0 b1 (1 - cos T) uses a cancellation-free
+//    b1 - b0 and 1 - cos T = sin^2 T / (1 + cos T).
+//
+//  * y-step.  y is linear in hy = y / sqrt(y^2 + d^2), d^2 = x^2 + h^2.  When the
+//    light is beside o in y (y0 > 0 after mirroring), 1 - hy = d^2 / (r (r + y)) is
+//    interpolated instead of hy, so that a light 10^6 sizes away keeps its v.
+//
+//  * Inverse: u = W([x0, x] x [y0, y1]) / Omega by Van Oosterom & Strackee, v by
+//    a cancellation-free difference of hy.  Stable in every configuration.
+//
+//  * What remains ill-conditioned: the map x(s) near s = +-1 (a light seen almost
+//    edge-on, far larger than its height) and extremely far / thin lights.  For each
+//    setup a first-order estimate of the rounding error of the map, in (u, v)
+//    space, is computed; when it exceeds kSphericalRectangleMaxError the setup
+//    switches to uniform area sampling (`area_fallback`).  The switch is decided
+//    once per setup and Sample, PDF and Invert all follow it, so the pdf returned
+//    is always the true pdf of the point returned (unlike Cycles / pbrt-v4, whose
+//    fallback keeps returning 1 / Omega).  It only happens for configurations
+//    whose solid angle is tiny (nearly edge-on), where area sampling is a good
+//    importance sampler anyway.
 #pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "area_sampling.h"
+#include "light_sample.h"
+#include "rect_light.h"
+
 namespace sphrect {
-template <class T> using SphericalRectangle = AreaRect<T>;
-template <class T> SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& o, const RectLight<T>& l) { return MakeAreaRect(o, l); }
-template <class T> LightSample<T> SampleSphericalRectangle(const SphericalRectangle<T>& r, Point2<T> uv) { return SampleRectangleArea(r, uv); }
-template <class T> T SphericalRectanglePDF(const SphericalRectangle<T>& r, const Vec3<T>& p) { return RectangleAreaPDF(r, p); }
+
+// Largest accepted estimate of the map's rounding error in (u, v) space.
+constexpr double kSphericalRectangleMaxError = 1e-7;
+// The x-step's closed form is refined by Newton steps on the stable sub-rectangle
+// solid angle when its error estimate exceeds kSphericalRectanglePolishAbove, and is
+// not trusted as a starting point beyond kSphericalRectanglePolishMax.
+constexpr double kSphericalRectanglePolishAbove = 1e-10;
+constexpr double kSphericalRectanglePolishMax = 1e-2;
+// What is left of the x-step's error after the Newton refinement.
+constexpr double kSphericalRectanglePolishedError = 1e-12;
+
+namespace srect {
+
+// Clamp that maps NaN to lo.
+inline double ClampNaN(double x, double lo, double hi) { return x > lo ? (x < hi ? x : hi) : lo; }
+
+// Solid angle of [x0, x0+w] x [y0, y0+l] in the plane z = h > 0 seen from the origin,
+// for x0, y0 >= 0: Van Oosterom & Strackee on the triangles (00,10,11), (00,11,01).
+// In one quadrant every dot product is >= h^2 > 0, so the denominators are sums of
+// positive terms, and the triple product is exactly h w l: the result has a relative
+// error of a few ulps.  (The widths are passed, not recomputed as x1 - x0, which
+// would lose them for a light 1e6 sizes away.)
+inline double QuadrantRectSolidAngle(double x0, double w, double y0, double l, double h) {
+    // A corner at the foot of o: the closed form atan(w l / (h r)), all terms positive.
+    if (x0 == 0 && y0 == 0) return std::atan2(w * l, h * std::sqrt(w * w + l * l + h * h));
+    const double x1 = x0 + w, y1 = y0 + l, h2 = h * h;
+    const double l00 = std::sqrt(x0 * x0 + y0 * y0 + h2), l10 = std::sqrt(x1 * x1 + y0 * y0 + h2);
+    const double l11 = std::sqrt(x1 * x1 + y1 * y1 + h2), l01 = std::sqrt(x0 * x0 + y1 * y1 + h2);
+    const double num = h * w * l;
+    const double den1 = l00 * l10 * l11 + (x0 * x1 + y0 * y0 + h2) * l11 + (x0 * x1 + y0 * y1 + h2) * l10 +
+                        (x1 * x1 + y0 * y1 + h2) * l00;
+    const double den2 = l00 * l11 * l01 + (x0 * x1 + y0 * y1 + h2) * l01 + (x0 * x0 + y0 * y1 + h2) * l11 +
+                        (x0 * x1 + y1 * y1 + h2) * l00;
+    return 2 * (std::atan2(num, den1) + std::atan2(num, den2));
 }
-namespace sphrect {
-template <class T> Point2<T> InvertSphericalRectangleSample(const SphericalRectangle<T>& r, const Vec3<T>& p) {
-    const Vec3<T> d = p - r.corner;
-    return {Dot(d, r.ex) / Dot(r.ex, r.ex), Dot(d, r.ey) / Dot(r.ey, r.ey)};
+
+// Solid angle of [x0, x0+w] x [y0, y0+l] (w, l >= 0) in the plane z = h > 0 seen from
+// the origin: split at x = 0 and y = 0 into up to four quadrant pieces, each mirrored
+// into the first quadrant.  (Without the split, a foot of o on a diagonal or near an
+// edge makes the denominators cancel: relative error eps / h.)
+inline double RectSolidAngleLocal(double x0, double w, double y0, double l, double h) {
+    double xs[2][2], ys[2][2];  // (start, width) of the pieces
+    auto pieces = [](double a0, double wa, double (*out)[2]) {
+        const double a1 = a0 + wa;
+        if (a0 >= 0) { out[0][0] = a0; out[0][1] = wa; return 1; }
+        if (a1 <= 0) { out[0][0] = -a1; out[0][1] = wa; return 1; }
+        out[0][0] = 0; out[0][1] = -a0; out[1][0] = 0; out[1][1] = a1;
+        return 2;
+    };
+    const int nx = pieces(x0, w, xs), ny = pieces(y0, l, ys);
+    double sum = 0;
+    for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < ny; ++j) sum += QuadrantRectSolidAngle(xs[i][0], xs[i][1], ys[j][0], ys[j][1], h);
+    return sum;
 }
+
+// b(yb) - b(ya) with b(y) = y / sqrt(y^2 + d^2), without cancellation; dy = yb - ya
+// (passed, exact).
+inline double DiffB(double ya, double yb, double d, double dy) {
+    const double d2 = d * d;
+    const double ra = std::sqrt(ya * ya + d2), rb = std::sqrt(yb * yb + d2);
+    if (ya * yb > 0) return d2 * dy * (yb + ya) / (ra * rb * (yb * ra + ya * rb));
+    return yb / rb - ya / ra;
 }
+
+// 1 - b(y) for y >= 0.
+inline double OneMinusB(double y, double d2) {
+    const double r = std::sqrt(y * y + d2);
+    return d2 / (r * (r + y));
+}
+
+}  // namespace srect
+
+template <class T>
+struct SphericalRectangle {
+    AreaRect<T> plane;      // the light's frame around o; also the area map of the fallback
+    bool valid = false;     // false: every sample has pdf 0
+    bool area_fallback = false;
+    double omega = 0;       // solid angle (double)
+    T solid_angle = 0;      // Omega
+    T pdf = 0;              // 1 / Omega
+    // The map's frame: local x = sx * (swap ? Y : X), y = sy * (swap ? X : Y), where
+    // (X, Y) are the coordinates along the light's edges ex, ey.
+    bool swap = false;
+    double sx = 1, sy = 1;
+    double x0 = 0, x1 = 0, y0 = 0, y1 = 0, h = 0;
+    double wx = 0, wy = 0;  // x1 - x0 and y1 - y0 (exact: the edge lengths)
+    double T0 = 0, b0 = 0, b1 = 0, db = 0, pb = 0, s0 = 0, s1 = 0;  // db = b1 - b0, pb = b1 + b0
+    bool y_beside = false;  // y0 > 0: the y-step interpolates 1 - hy
+    bool polish_x = false;  // refine the x-step by Newton steps (nearly edge-on setups)
+    double error_estimate = 0;  // first-order rounding error of the map in (u, v) space
+    double error_x = 0;         // its x-step (u) part
+};
+
+template <class T>
+SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLight<T>& light) {
+    using namespace srect;
+    SphericalRectangle<T> sr;
+    sr.plane = MakeAreaRect(origin, light);
+    const AreaRect<T>& p = sr.plane;
+    if (!p.valid) return sr;
+    // Choose the frame: the x-slab should contain the foot of o (or be the nearer one).
+    const double X0 = p.x0, X1 = p.x0 + p.wx, Y0 = p.y0, Y1 = p.y0 + p.wy;
+    const double gx = std::max({0.0, X0, -X1}) / p.wx, gy = std::max({0.0, Y0, -Y1}) / p.wy;
+    sr.swap = gy < gx;
+    double a0 = sr.swap ? Y0 : X0, a1 = sr.swap ? Y1 : X1;
+    double c0 = sr.swap ? X0 : Y0, c1 = sr.swap ? X1 : Y1;
+    if (a1 < 0) { sr.sx = -1; std::swap(a0, a1); a0 = -a0; a1 = -a1; }  // near edge first
+    if (c1 < 0) { sr.sy = -1; std::swap(c0, c1); c0 = -c0; c1 = -c1; }  // y1 > 0
+    sr.x0 = a0; sr.x1 = a1; sr.y0 = c0; sr.y1 = c1;
+    const double wa = sr.wx = sr.swap ? p.wy : p.wx, wc = sr.wy = sr.swap ? p.wx : p.wy;
+    const double h = sr.h = p.h;
+
+    // Omega, and T0 = the signed solid angle of the strip between the foot of o and the
+    // x0 edge (the strips share their pieces when the foot is inside the x-slab).
+    if (a0 < 0) {
+        const double left = RectSolidAngleLocal(a0, -a0, c0, wc, h), right = RectSolidAngleLocal(0, a1, c0, wc, h);
+        sr.omega = left + right;
+        sr.T0 = -left;
+    } else {
+        sr.omega = RectSolidAngleLocal(a0, wa, c0, wc, h);
+        sr.T0 = RectSolidAngleLocal(0, a0, c0, wc, h);
+    }
+    sr.solid_angle = T(sr.omega);
+    sr.pdf = T(1 / sr.omega);
+    if (!(sr.omega > 0) || !(sr.solid_angle > 0) || !std::isfinite(sr.pdf)) return sr;
+    sr.valid = true;
+
+    sr.b0 = c0 / std::sqrt(c0 * c0 + h * h);
+    sr.b1 = c1 / std::sqrt(c1 * c1 + h * h);
+    sr.db = DiffB(c0, c1, h, wc);
+    sr.pb = c0 < 0 ? DiffB(-c0, c1, h, c1 + c0) : sr.b1 + sr.b0;
+    sr.s0 = a0 / std::sqrt(a0 * a0 + h * h);
+    sr.s1 = a1 / std::sqrt(a1 * a1 + h * h);
+    sr.y_beside = c0 > 0;
+
+    // First-order rounding error of the map in (u, v) space (unit roundoff eps):
+    //  x-step: T = T0 + u Omega, and s rounded near its ends: eps (|T0| + Omega + |F'(s) s|) / Omega;
+    //  y-step: eps max(|hy|) / (hy1 - hy0) at the largest d.
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    auto slope = [&](double x) {  // |F'(s) s| at x; F'(s) = b1/q1 - b0/q0, q_i^2 = 1 - b_i^2 s^2, cancellation-free
+        const double s = x / std::sqrt(x * x + h * h), oms2 = h * h / (x * x + h * h);  // 1 - s^2
+        const double e0 = h * h / (h * h + c0 * c0), e1 = h * h / (h * h + c1 * c1);  // 1 - b_i^2
+        const double q0 = std::sqrt(e0 + sr.b0 * sr.b0 * oms2), q1 = std::sqrt(e1 + sr.b1 * sr.b1 * oms2);
+        const double fp = sr.b0 >= 0 ? sr.db * (sr.b1 + sr.b0) / (q0 * q1 * (sr.b1 * q0 + sr.b0 * q1))
+                                     : sr.b1 / q1 - sr.b0 / q0;
+        return std::abs(fp * s);
+    };
+    const double ex = eps * (std::abs(sr.T0) + sr.omega + std::max(slope(a0), slope(a1))) / sr.omega;
+    const double dmax = std::sqrt(std::max(a0 * a0, a1 * a1) + h * h);
+    const double ey = sr.y_beside ? eps * OneMinusB(c0, dmax * dmax) / DiffB(c0, c1, dmax, wc)
+                                  : eps * 1.0 / DiffB(c0, c1, dmax, wc);
+    sr.error_x = ex;
+    sr.polish_x = ex > kSphericalRectanglePolishAbove;
+    sr.error_estimate = (sr.polish_x ? kSphericalRectanglePolishedError : ex) + ey;
+    sr.area_fallback = !(sr.error_estimate <= kSphericalRectangleMaxError) || !(ex <= kSphericalRectanglePolishMax);
+    return sr;
+}
+
+// Local map coordinates (x, y) -> coordinates (X, Y) along the light's edges.
+template <class T>
+inline void SphericalRectangleToEdgeFrame(const SphericalRectangle<T>& sr, double x, double y, double* X,
+                                          double* Y) {
+    const double a = sr.sx * x, b = sr.sy * y;
+    *X = sr.swap ? b : a;
+    *Y = sr.swap ? a : b;
+}
+
+// The map M(u, v) in local coordinates (valid, non-fallback setups).
+template <class T>
+inline void SphericalRectangleMapLocal(const SphericalRectangle<T>& sr, double u, double v, double* px,
+                                       double* py, double* dist = nullptr) {
+    using srect::ClampNaN;
+    // x-step: solve F(s) = T0 + u Omega.
+    const double Tu = sr.T0 + u * sr.omega;
+    const double sT = std::sin(Tu), cT = std::cos(Tu);
+    const double omc = cT > 0 ? sT * sT / (1 + cT) : 1 - cT;  // 1 - cos T
+    // |b1 - b0 e^{iT}|^2 and b1 - b0 cos T as sums of positive terms.
+    double R2, k;
+    if (sr.b0 >= 0) {  // light beside o in y: b1 - b0 > 0 small, 1 - cos T
+        R2 = sr.db * sr.db + 2 * sr.b0 * sr.b1 * omc;
+        k = sr.db + sr.b0 * omc;
+    } else {  // b0 < 0 < b1: b1 + b0 (stable, may be ~0) and 1 + cos T (~0 when T ~ +-pi)
+        const double opc = cT < 0 ? sT * sT / (1 - cT) : 1 + cT;
+        R2 = sr.pb * sr.pb - 2 * sr.b0 * sr.b1 * opc;
+        k = sr.pb - sr.b0 * opc;
+    }
+    double s = sT / std::sqrt(R2);
+    if (k < 0) s = -s;
+    s = ClampNaN(s, sr.s0, sr.s1);
+    double x = ClampNaN(sr.h * s / std::sqrt((1 - s) * (1 + s)), sr.x0, sr.x1);
+    if (sr.polish_x) {
+        // Nearly edge-on: x(s) loses precision where |s| -> 1.  Newton on the stable
+        // W([x0, x] x [y0, y1]) = u Omega, W' = h / (x^2 + h^2) (hy1 - hy0).
+        for (int it = 0; it < 4; ++it) {
+            const double g = srect::RectSolidAngleLocal(sr.x0, x - sr.x0, sr.y0, sr.wy, sr.h) - u * sr.omega;
+            const double d2 = x * x + sr.h * sr.h;
+            const double dg = sr.h / d2 * srect::DiffB(sr.y0, sr.y1, std::sqrt(d2), sr.wy);
+            const double step = g / dg;
+            if (!std::isfinite(step)) break;
+            x = ClampNaN(x - step, sr.x0, sr.x1);
+            if (std::abs(step) <= 1e-14 * (std::abs(x) + sr.wx)) break;
+        }
+    }
+    // y-step: linear in hy = y / sqrt(y^2 + d^2), d^2 = x^2 + h^2.
+    const double d2 = x * x + sr.h * sr.h, d = std::sqrt(d2);
+    const double r0 = std::sqrt(sr.y0 * sr.y0 + d2), r1 = std::sqrt(sr.y1 * sr.y1 + d2);
+    double hy, omh;  // hy and 1 - hy
+    if (sr.y_beside) {  // interpolate 1 - hy: q0 - v (hy1 - hy0), both terms cancellation-free
+        const double q0 = d2 / (r0 * (r0 + sr.y0));
+        const double dh = d2 * sr.wy * (sr.y1 + sr.y0) / (r0 * r1 * (sr.y1 * r0 + sr.y0 * r1));
+        omh = q0 - v * dh;
+        hy = 1 - omh;
+    } else {  // y0 <= 0 < y1: hy1 - hy0 is a sum of two non-negative terms
+        const double hy0 = sr.y0 / r0;
+        hy = hy0 + v * (sr.y1 / r1 - hy0);
+        omh = 1 - hy;
+    }
+    const double c = std::sqrt(omh * (1 + hy));  // sqrt(1 - hy^2) = d / r
+    const double y = hy * d / c;
+    *px = x;
+    *py = ClampNaN(y, sr.y0, sr.y1);
+    if (dist) *dist = *py == y ? d / c : std::sqrt(d2 + *py * *py);  // |(x, y, h)|
+}
+
+template <class T>
+LightSample<T> SampleSphericalRectangleAt(const SphericalRectangle<T>& sr, double u, double v) {
+    if (!sr.valid) return {};
+    if (sr.area_fallback) return AreaSampleAt(sr.plane, u, v);
+    double x, y, dist, X, Y;
+    SphericalRectangleMapLocal(sr, u, v, &x, &y, &dist);
+    SphericalRectangleToEdgeFrame(sr, x, y, &X, &Y);
+    return LightSampleFromLocal(sr.plane, X, Y, sr.pdf, dist);
+}
+
+template <class T>
+LightSample<T> SampleSphericalRectangle(const SphericalRectangle<T>& sr, Point2<T> uv) {
+    return SampleSphericalRectangleAt(sr, double(uv.u), double(uv.v));
+}
+
+// Solid-angle pdf of choosing p (a point on the light).
+template <class T>
+T SphericalRectanglePDF(const SphericalRectangle<T>& sr, const Vec3<T>& p) {
+    if (!sr.valid) return 0;
+    if (sr.area_fallback) return RectangleAreaPDF(sr.plane, p);
+    return sr.pdf;
+}
+
+// The inverse map in double: point on the light -> (u, v) in [0,1]^2.
+template <class T>
+Point2<double> InvertSphericalRectangleLocal(const SphericalRectangle<T>& sr, const Vec3<T>& p) {
+    if (!sr.valid) return {};
+    const Vec3d q = Vec3d(p) - Vec3d(sr.plane.light.corner);
+    // Offsets along the light's edges (no difference of two large coordinates).
+    const double oX = Dot(q, sr.plane.exh), oY = Dot(q, sr.plane.eyh);
+    if (sr.area_fallback) return {srect::ClampNaN(oX / sr.plane.wx, 0, 1), srect::ClampNaN(oY / sr.plane.wy, 0, 1)};
+    // Offsets from the map's x0 / y0 edges.
+    const double oa = sr.swap ? oY : oX, ob = sr.swap ? oX : oY;
+    const double ox = srect::ClampNaN(sr.sx > 0 ? oa : sr.wx - oa, 0, sr.wx);
+    const double oy = srect::ClampNaN(sr.sy > 0 ? ob : sr.wy - ob, 0, sr.wy);
+    const double x = sr.x0 + ox;
+    const double u = srect::RectSolidAngleLocal(sr.x0, ox, sr.y0, sr.wy, sr.h) / sr.omega;
+    const double d = std::sqrt(x * x + sr.h * sr.h);
+    const double v = srect::DiffB(sr.y0, sr.y0 + oy, d, oy) / srect::DiffB(sr.y0, sr.y1, d, sr.wy);
+    return {srect::ClampNaN(u, 0, 1), srect::ClampNaN(v, 0, 1)};
+}
+
+template <class T>
+Point2<T> InvertSphericalRectangleSample(const SphericalRectangle<T>& sr, const Vec3<T>& p) {
+    const Point2<double> uv = InvertSphericalRectangleLocal(sr, p);
+    return {T(uv.u), T(uv.v)};
+}
+
+// Vector from o to the light corner that M maps (i, j) in {0,1}^2 to (any length).
+template <class T>
+Vec3d SphericalRectangleCornerVector(const SphericalRectangle<T>& sr, int i, int j) {
+    double X, Y;
+    if (sr.area_fallback) {
+        X = sr.plane.x0 + i * sr.plane.wx;
+        Y = sr.plane.y0 + j * sr.plane.wy;
+    } else {
+        SphericalRectangleToEdgeFrame(sr, i ? sr.x1 : sr.x0, j ? sr.y1 : sr.y0, &X, &Y);
+    }
+    return sr.plane.exh * X + sr.plane.eyh * Y + sr.plane.az * sr.plane.h;
+}
+
+// Solid angle of the light seen from `origin` (0 where the setup is invalid), in double.
+template <class T>
+double SphericalRectangleSolidAngle(const Vec3<T>& origin, const RectLight<T>& light) {
+    const SphericalRectangle<T> sr = MakeSphericalRectangle(origin, light);
+    return sr.valid ? sr.omega : 0.0;
+}
+
+}  // namespace sphrect

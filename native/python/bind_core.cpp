@@ -1,5 +1,419 @@
-// PLACEHOLDER: bindings of the sampling core (to be written).
+// Python bindings of the sampling core: techniques (through technique.h's LightSampler, the
+// code the renderer runs) and sample patterns.  numpy in, numpy out; bad input -> ValueError.
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/patterns.h"
+#include "core/rect_light.h"
+#include "core/spherical_rectangle.h"
+#include "core/technique.h"
+
+namespace py = pybind11;
+
 namespace sphrect::python {
-void BindCore(pybind11::module_& m) {}
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Names
+
+std::string TechniqueNames() {
+    std::string s;
+    for (Technique t : kAllTechniques) s += std::string(s.empty() ? "" : ", ") + "'" + TechniqueName(t) + "'";
+    return s;
 }
+
+std::string PatternNames() {
+    std::string s;
+    for (Pattern p : kAllPatterns) s += std::string(s.empty() ? "" : ", ") + "'" + PatternName(p) + "'";
+    return s;
+}
+
+Technique ToTechnique(const std::string& name) {
+    Technique t;
+    if (!ParseTechnique(name, &t))
+        throw py::value_error("unknown technique '" + name + "'; valid techniques: " + TechniqueNames());
+    return t;
+}
+
+enum class Precision { Float32, Float64 };
+
+// dtype= accepts "float32"/"float64" or anything numpy.dtype() accepts (np.float32, "f8", ...).
+Precision ToPrecision(const py::object& dtype) {
+    py::dtype dt;
+    if (dtype.is_none())  // numpy would read None as float64; the default here is float32
+        throw py::value_error("dtype must be 'float32' or 'float64', got None");
+    try {
+        dt = py::dtype::from_args(dtype);
+    } catch (py::error_already_set&) {
+        throw py::value_error("dtype must be 'float32' or 'float64', got " + std::string(py::repr(dtype)));
+    }
+    if (dt.kind() == 'f' && dt.itemsize() == 4) return Precision::Float32;
+    if (dt.kind() == 'f' && dt.itemsize() == 8) return Precision::Float64;
+    throw py::value_error("dtype must be 'float32' or 'float64', got " + std::string(py::repr(dtype)));
+}
+
+// A Python integer (or anything with __index__, e.g. numpy integers) in [0, hi].
+uint64_t ToInteger(const py::object& obj, const char* name, uint64_t hi) {
+    if (py::isinstance<py::bool_>(obj) || !PyIndex_Check(obj.ptr()))
+        throw py::value_error(std::string(name) + " must be an integer, got " + std::string(py::repr(obj)));
+    py::int_ value = py::reinterpret_steal<py::int_>(PyNumber_Index(obj.ptr()));
+    if (!value) throw py::error_already_set();
+    if (value < py::int_(0) || value > py::int_(hi))
+        throw py::value_error(std::string(name) + " must be in [0, " + std::to_string(hi) + "], got " +
+                              std::string(py::str(value)));
+    return value.cast<uint64_t>();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Array inputs.  Everything is read as float64 (any numeric array-like), checked for shape and
+// finiteness, then converted to the working precision T (checked again: 1e300 is not a float).
+
+using ArrayD = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+ArrayD ToArray(const py::handle& obj, const char* name) {
+    if (obj.is_none()) throw py::value_error(std::string(name) + " is required");
+    ArrayD a = ArrayD::ensure(obj);
+    if (!a) {
+        PyErr_Clear();
+        throw py::value_error(std::string(name) + " must be a numeric array-like, got " + std::string(py::repr(obj)));
+    }
+    return a;
+}
+
+std::string ShapeString(const py::array& a) {
+    std::string s = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
+    return s + (a.ndim() == 1 ? ",)" : ")");
+}
+
+std::string Num(double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+}
+
+template <class T>
+T CheckedValue(double x, const char* name) {
+    if (!std::isfinite(x)) throw py::value_error(std::string(name) + " contains NaN or Inf");
+    const T t = T(x);
+    if (!std::isfinite(t))
+        throw py::value_error(std::string(name) + " contains a value (" + Num(x) +
+                              ") that overflows the requested dtype");
+    return t;
+}
+
+// Rows of width `width` from an array of shape [width] (one row, when allow_single) or [N, width].
+template <class T, int width>
+std::vector<std::array<T, width>> ReadRows(const py::handle& obj, const char* name, bool allow_single) {
+    const ArrayD a = ToArray(obj, name);
+    const bool single = allow_single && a.ndim() == 1 && a.shape(0) == width;
+    if (!single && !(a.ndim() == 2 && a.shape(1) == width)) {
+        const std::string w = std::to_string(width);
+        throw py::value_error(std::string(name) + " must have shape " + (allow_single ? "(" + w + ",) or " : "") +
+                              "(N, " + w + "), got " + ShapeString(a));
+    }
+    const size_t rows = single ? 1 : size_t(a.shape(0));
+    std::vector<std::array<T, width>> out(rows);
+    const double* p = a.data();
+    for (size_t i = 0; i < rows; ++i)
+        for (int k = 0; k < width; ++k) out[i][k] = CheckedValue<T>(p[i * width + k], name);
+    return out;
+}
+
+template <class T>
+std::vector<Vec3<T>> ReadVec3s(const py::handle& obj, const char* name, bool allow_batch) {
+    std::vector<Vec3<T>> v;
+    if (!allow_batch) {
+        const ArrayD a = ToArray(obj, name);
+        if (!(a.ndim() == 1 && a.shape(0) == 3))
+            throw py::value_error(std::string(name) + " must have shape (3,), got " + ShapeString(a));
+    }
+    for (const auto& r : ReadRows<T, 3>(obj, name, true)) v.push_back({r[0], r[1], r[2]});
+    return v;
+}
+
+template <class T>
+RectLight<T> ReadLight(const py::handle& corner, const py::handle& ex, const py::handle& ey, bool two_sided) {
+    RectLight<T> light{ReadVec3s<T>(corner, "corner", false)[0], ReadVec3s<T>(ex, "edge_x", false)[0],
+                       ReadVec3s<T>(ey, "edge_y", false)[0], two_sided};
+    const std::string problem = ValidateRectLight(light);
+    if (!problem.empty()) throw py::value_error(problem);
+    return light;
+}
+
+// A per-row input (origin, normal) must have one row (shared) or as many rows as the batch.
+void CheckRows(size_t batch, const char* batch_name, size_t rows, const char* name) {
+    if (rows == 1 || rows == batch) return;
+    throw py::value_error(std::string(batch_name) + " has " + std::to_string(batch) + " rows but " + name +
+                          " has " + std::to_string(rows) + "; they must match (or " + name +
+                          " be a single (3,) vector)");
+}
+
+template <class T>
+py::array_t<T> NewArray(size_t n, size_t width) {
+    if (width == 0) return py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n)});
+    return py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), py::ssize_t(width)});
+}
+
+// Shading normals: required by rectangle_cosine; unit length is enforced here (the renderer
+// passes unit normals, so the core may assume them).
+template <class T>
+std::vector<Vec3<T>> ReadNormals(Technique technique, const py::object& normal) {
+    if (normal.is_none()) {
+        if (technique == Technique::RectangleCosine)
+            throw py::value_error("technique 'rectangle_cosine' needs normal= (the shading normal, shape (3,) or (N, 3))");
+        return {Vec3<T>(0, 0, 0)};
+    }
+    std::vector<Vec3<T>> n = ReadVec3s<T>(normal, "normal", true);
+    for (auto& v : n) {
+        const T len = Length(v);
+        if (!(len > 0)) throw py::value_error("normal must be a non-zero vector");
+        v = v / len;
+    }
+    return n;
+}
+
+// Everything a per-row technique call needs, read and validated with the GIL held.
+template <class T>
+struct Setup {
+    RectLight<T> light;
+    std::vector<Vec3<T>> origins, normals;
+    const Vec3<T>& Origin(size_t i) const { return origins[origins.size() == 1 ? 0 : i]; }
+    const Vec3<T>& Normal(size_t i) const { return normals[normals.size() == 1 ? 0 : i]; }
+    bool PerRow() const { return origins.size() > 1 || normals.size() > 1; }
+};
+
+template <class T>
+Setup<T> ReadSetup(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
+                   const py::object& ey, const py::object& normal, bool two_sided) {
+    Setup<T> s{ReadLight<T>(corner, ex, ey, two_sided), ReadVec3s<T>(origin, "origin", true),
+               ReadNormals<T>(technique, normal)};
+    return s;
+}
+
+// Runs per(i, sampler) for i in [0, n) with the right LightSampler, set up once when the
+// origin and normal are shared, per row otherwise.  GIL released.
+template <class T, class F>
+void ForEachRow(Technique technique, const Setup<T>& s, size_t n, F&& per) {
+    DispatchTechnique(technique, [&](auto tag) {
+        constexpr Technique K = decltype(tag)::value;
+        py::gil_scoped_release release;
+        if (!s.PerRow()) {
+            const LightSampler<K, T> sampler(s.Origin(0), s.Normal(0), s.light);
+            for (size_t i = 0; i < n; ++i) per(i, sampler);
+        } else {
+            for (size_t i = 0; i < n; ++i) per(i, LightSampler<K, T>(s.Origin(i), s.Normal(i), s.light));
+        }
+    });
+}
+
+// ---------------------------------------------------------------------------------------------
+// The bound functions, templated on the precision.
+
+template <class T>
+py::tuple SampleImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
+                     const py::object& ey, const py::object& uv_obj, const py::object& normal, bool two_sided,
+                     bool with_directions) {
+    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
+    const auto uv = ReadRows<T, 2>(uv_obj, "uv", false);
+    for (const auto& q : uv)
+        if (!(q[0] >= 0 && q[0] <= 1 && q[1] >= 0 && q[1] <= 1))
+            throw py::value_error("uv must lie in [0, 1]^2, got (" + Num(q[0]) + ", " + Num(q[1]) + ")");
+    const size_t n = uv.size();
+    CheckRows(n, "uv", s.origins.size(), "origin");
+    CheckRows(n, "uv", s.normals.size(), "normal");
+
+    py::array_t<T> points = NewArray<T>(n, 3), dirs = NewArray<T>(n, 3), dist = NewArray<T>(n, 0),
+                   pdf = NewArray<T>(n, 0);
+    T* P = points.mutable_data();
+    T* D = dirs.mutable_data();
+    T* L = dist.mutable_data();
+    T* Q = pdf.mutable_data();
+    ForEachRow(technique, s, n, [&](size_t i, const auto& sampler) {
+        const LightSample<T> ls = sampler.Sample(Point2<T>{uv[i][0], uv[i][1]});
+        P[3 * i] = ls.point.x, P[3 * i + 1] = ls.point.y, P[3 * i + 2] = ls.point.z;
+        D[3 * i] = ls.dir.x, D[3 * i + 1] = ls.dir.y, D[3 * i + 2] = ls.dir.z;
+        L[i] = ls.dist;
+        Q[i] = ls.pdf;
+    });
+    if (with_directions) return py::make_tuple(points, dirs, dist, pdf);
+    return py::make_tuple(points, pdf);
+}
+
+template <class T>
+py::array PdfImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
+                  const py::object& ey, const py::object& points_obj, const py::object& normal, bool two_sided) {
+    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
+    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
+    const size_t n = pts.size();
+    CheckRows(n, "points", s.origins.size(), "origin");
+    CheckRows(n, "points", s.normals.size(), "normal");
+    py::array_t<T> pdf = NewArray<T>(n, 0);
+    T* Q = pdf.mutable_data();
+    ForEachRow(technique, s, n, [&](size_t i, const auto& sampler) {
+        Q[i] = sampler.Pdf(Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
+    });
+    return pdf;
+}
+
+template <class T>
+py::array InvertImpl(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                     const py::object& points_obj, bool two_sided) {
+    const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
+    const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
+    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
+    const size_t n = pts.size();
+    CheckRows(n, "points", origins.size(), "origin");
+    py::array_t<T> uv = NewArray<T>(n, 2);
+    T* U = uv.mutable_data();
+    {
+        py::gil_scoped_release release;
+        auto invert = [&](size_t i, const SphericalRectangle<T>& r) {
+            // A configuration the map does not cover (degenerate light, origin in the light's
+            // plane or behind a one-sided light) has no (u, v): NaN marks it.
+            Point2<T> q{std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
+            if (r.valid) q = InvertSphericalRectangleSample(r, Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
+            U[2 * i] = q.u;
+            U[2 * i + 1] = q.v;
+        };
+        if (origins.size() == 1) {
+            const SphericalRectangle<T> r = MakeSphericalRectangle(origins[0], light);
+            for (size_t i = 0; i < n; ++i) invert(i, r);
+        } else {
+            for (size_t i = 0; i < n; ++i) invert(i, MakeSphericalRectangle(origins[i], light));
+        }
+    }
+    return uv;
+}
+
+template <class T>
+py::object SolidAngleImpl(const py::object& origin, const py::object& corner, const py::object& ex,
+                          const py::object& ey, bool two_sided) {
+    const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
+    const ArrayD o = ToArray(origin, "origin");
+    const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
+    if (o.ndim() == 1) return py::float_(SphericalRectangleSolidAngle(origins[0], light));
+    py::array_t<T> out = NewArray<T>(origins.size(), 0);
+    T* W = out.mutable_data();
+    {
+        py::gil_scoped_release release;
+        for (size_t i = 0; i < origins.size(); ++i) W[i] = T(SphericalRectangleSolidAngle(origins[i], light));
+    }
+    return std::move(out);
+}
+
+py::array PatternImpl(const std::string& name, const py::object& n_obj, const py::object& seed_obj) {
+    Pattern p;
+    if (!ParsePattern(name, &p))
+        throw py::value_error("unknown pattern '" + name + "'; valid patterns: " + PatternNames());
+    // n must fit the core's uint32 index; a cap well below that keeps a typo from exhausting memory.
+    const uint32_t n = uint32_t(ToInteger(n_obj, "n", 1u << 28));
+    const uint64_t seed = ToInteger(seed_obj, "seed", std::numeric_limits<uint64_t>::max());
+    py::array_t<float> out = NewArray<float>(n, 2);
+    static_assert(sizeof(Point2<float>) == 2 * sizeof(float), "Point2<float> must be two packed floats");
+    auto* pts = reinterpret_cast<Point2<float>*>(out.mutable_data());
+    {
+        py::gil_scoped_release release;
+        GeneratePattern(p, n, seed, pts);
+    }
+    return std::move(out);
+}
+
+py::tuple NameTuple(bool techniques) {
+    py::list l;
+    if (techniques)
+        for (Technique t : kAllTechniques) l.append(TechniqueName(t));
+    else
+        for (Pattern p : kAllPatterns) l.append(PatternName(p));
+    return py::tuple(l);
+}
+
+}  // namespace
+
+void BindCore(py::module_& m) {
+    using py::arg;
+    m.attr("techniques") = NameTuple(true);
+    m.attr("patterns") = NameTuple(false);
+
+    m.def(
+        "solid_angle",
+        [](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+           const py::object& dtype, bool two_sided) -> py::object {
+            if (ToPrecision(dtype) == Precision::Float64)
+                return SolidAngleImpl<double>(origin, corner, ex, ey, two_sided);
+            return SolidAngleImpl<float>(origin, corner, ex, ey, two_sided);
+        },
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("dtype") = "float32",
+        arg("two_sided") = true,
+        R"doc(Solid angle subtended by the rectangle (corner, edge_x, edge_y) seen from origin.
+
+origin: shape (3,) -> float; shape (N, 3) -> array [N] of dtype.  0 for a degenerate light,
+an origin in the light's plane, or behind a one-sided (two_sided=False) light.)doc");
+
+    auto sample = [](bool with_directions) {
+        return [with_directions](const std::string& technique, const py::object& origin, const py::object& corner,
+                                 const py::object& ex, const py::object& ey, const py::object& uv,
+                                 const py::object& normal, const py::object& dtype, bool two_sided) -> py::tuple {
+            const Technique t = ToTechnique(technique);
+            if (ToPrecision(dtype) == Precision::Float64)
+                return SampleImpl<double>(t, origin, corner, ex, ey, uv, normal, two_sided, with_directions);
+            return SampleImpl<float>(t, origin, corner, ex, ey, uv, normal, two_sided, with_directions);
+        };
+    };
+    m.def("sample", sample(false), arg("technique"), arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"),
+          arg("uv"), arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
+          R"doc(Warp points uv [N, 2] of [0,1]^2 onto the rectangle with a technique.
+
+Returns (points [N, 3], pdf [N]); pdf is with respect to solid angle at origin, 0 for an
+invalid sample.  origin (and normal) may be (3,) or (N, 3).  technique is one of
+sphrect.techniques; 'rectangle_cosine' needs the shading normal.  dtype 'float32' runs the
+renderer's single-precision code, 'float64' the double-precision one.)doc");
+    m.def("sample_directions", sample(true), arg("technique"), arg("origin"), arg("corner"), arg("edge_x"),
+          arg("edge_y"), arg("uv"), arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
+          "Like sample(), but returns (points [N, 3], directions [N, 3], distances [N], pdf [N]).");
+
+    m.def(
+        "pdf",
+        [](const std::string& technique, const py::object& origin, const py::object& corner, const py::object& ex,
+           const py::object& ey, const py::object& points, const py::object& normal, const py::object& dtype,
+           bool two_sided) -> py::array {
+            const Technique t = ToTechnique(technique);
+            if (ToPrecision(dtype) == Precision::Float64)
+                return PdfImpl<double>(t, origin, corner, ex, ey, points, normal, two_sided);
+            return PdfImpl<float>(t, origin, corner, ex, ey, points, normal, two_sided);
+        },
+        arg("technique"), arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("points"),
+        arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
+        "Solid-angle pdf [N] with which the technique picks each of points [N, 3] (on the light) from origin.");
+
+    m.def(
+        "invert",
+        [](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+           const py::object& points, const py::object& dtype, bool two_sided) -> py::array {
+            if (ToPrecision(dtype) == Precision::Float64)
+                return InvertImpl<double>(origin, corner, ex, ey, points, two_sided);
+            return InvertImpl<float>(origin, corner, ex, ey, points, two_sided);
+        },
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("points"), arg("dtype") = "float32",
+        arg("two_sided") = true,
+        R"doc(Inverse of the 'rectangle' map: points [N, 3] on the light -> uv [N, 2].
+
+Where the map switches to area sampling for an extreme configuration (as sample() does), the
+inverse of that.  Rows whose configuration the map does not cover (degenerate light, origin in
+the light's plane or behind a one-sided light) are NaN.)doc");
+
+    m.def("pattern", &PatternImpl, arg("name"), arg("n"), arg("seed") = 0,
+          R"doc(n points of a 2D sample pattern in [0,1)^2, float32 [n, 2].
+
+name is one of sphrect.patterns; different seeds give decorrelated point sets.)doc");
+}
+
+}  // namespace sphrect::python

@@ -1,5 +1,200 @@
-// PLACEHOLDER: bindings of the renderer (to be written).
+// Bindings of the renderer: `_native._Scene` (built by python/sphrect/render.py from a
+// sphrect.Scene) and `_native._Renderer`.  The Python-facing API is sphrect.Renderer.
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <array>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "render/renderer.h"
+#include "render/scene.h"
+
+namespace py = pybind11;
+
 namespace sphrect::python {
-void BindRender(pybind11::module_& m) {}
+
+namespace {
+
+using render::RenderScene;
+using render::Renderer;
+using render::Spectrum;
+using V3 = std::array<float, 3>;
+
+Vec3f ToVec(const V3& a) { return {a[0], a[1], a[2]}; }
+
+template <class T>
+using CArray = py::array_t<T, py::array::c_style | py::array::forcecast>;
+
+// A C-contiguous [n, 3] array of T (a copy only when the dtype or layout differs).
+template <class T>
+CArray<T> RowsOf3(const py::handle& obj, const char* what) {
+    CArray<T> a = CArray<T>::ensure(obj);
+    if (!a) throw py::value_error(std::string(what) + " must be an array of numbers");
+    if (a.ndim() != 2 || a.shape(1) != 3)
+        throw py::value_error(std::string(what) + " must have shape [n, 3]");
+    return a;
 }
+
+void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices, const py::object& triangles,
+             const py::object& normals, const py::object& material_ids) {
+    const auto v = RowsOf3<float>(vertices, "vertices");
+    const auto t = RowsOf3<int32_t>(triangles, "triangles");
+    CArray<float> n;
+    CArray<int32_t> m;
+    if (!normals.is_none()) {
+        n = RowsOf3<float>(normals, "normals");
+        if (n.shape(0) != v.shape(0)) throw py::value_error("mesh '" + name + "': normals must match the vertices");
+    }
+    if (!material_ids.is_none()) {
+        m = CArray<int32_t>::ensure(material_ids);
+        if (!m || m.ndim() != 1 || m.shape(0) != t.shape(0))
+            throw py::value_error("mesh '" + name + "': material_ids must have one entry per triangle");
+    }
+    py::gil_scoped_release release;  // validation and the copies into Embree's buffers
+    s.AddMesh(name, v.data(), size_t(v.shape(0)), t.data(), size_t(t.shape(0)), normals.is_none() ? nullptr : n.data(),
+              material_ids.is_none() ? nullptr : m.data());
+}
+
+void SetCamera(RenderScene& s, int width, int height, const py::object& to_world, bool orthographic,
+               float half_width, float half_height, float offset_x, float offset_y, float aperture_radius,
+               float focus_distance, float clip_start, float clip_end) {
+    const auto mat = CArray<double>::ensure(to_world);
+    if (!mat || mat.ndim() != 2 || mat.shape(0) != 4 || mat.shape(1) != 4)
+        throw py::value_error("camera to_world must be a 4x4 matrix");
+    render::CameraModel c;
+    c.width = width;
+    c.height = height;
+    c.orthographic = orthographic;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 4; ++j) c.to_world[i][j] = float(mat.at(i, j));
+    c.half_width = half_width;
+    c.half_height = half_height;
+    c.offset_x = offset_x;
+    c.offset_y = offset_y;
+    c.aperture_radius = aperture_radius;
+    c.focus_distance = focus_distance;
+    c.clip_start = clip_start;
+    c.clip_end = clip_end;
+    s.SetCamera(c);
+}
+
+std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const std::vector<std::string>& techniques,
+                                       int light_samples, const std::string& pattern, const std::string& mis,
+                                       const std::string& medium_sampling, uint64_t seed, int threads, int tile_size) {
+    if (!scene->committed()) throw py::value_error("the scene must be committed before rendering");
+    render::RenderOptions o;
+    o.techniques.clear();
+    for (const auto& name : techniques) {
+        Technique t;
+        if (!ParseTechnique(name, &t)) {
+            std::string all;
+            for (Technique k : kAllTechniques) all += std::string(all.empty() ? "" : ", ") + TechniqueName(k);
+            throw py::value_error("unknown technique '" + name + "' (expected one of: " + all + ")");
+        }
+        for (Technique k : o.techniques)
+            if (k == t) throw py::value_error("technique '" + name + "' listed twice");
+        o.techniques.push_back(t);
+    }
+    if (!ParsePattern(pattern, &o.pattern)) {
+        std::string all;
+        for (Pattern p : kAllPatterns) all += std::string(all.empty() ? "" : ", ") + PatternName(p);
+        throw py::value_error("unknown pattern '" + pattern + "' (expected one of: " + all + ")");
+    }
+    if (!render::ParseMisMode(mis, &o.mis))
+        throw py::value_error("unknown mis '" + mis + "' (expected one of: none, balance, power)");
+    if (!render::ParseMediumSampling(medium_sampling, &o.medium_sampling))
+        throw py::value_error("unknown medium_sampling '" + medium_sampling +
+                              "' (expected one of: mis, distance, equiangular)");
+    o.light_samples = light_samples;
+    o.seed = seed;
+    o.threads = threads;
+    o.tile_size = tile_size;
+    return std::make_unique<Renderer>(std::move(scene), std::move(o));
+}
+
+bool Render(Renderer& r, int samples, double time_budget, const py::object& progress) {
+    // Called on this (the calling) thread after every tile, with the GIL re-acquired: runs the
+    // user's callback and lets Ctrl-C (KeyboardInterrupt) stop the render.
+    std::function<void(int, int)> callback = [&progress](int done, int total) {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        if (!progress.is_none()) progress(done, total);
+    };
+    py::gil_scoped_release release;
+    return r.Render(samples, time_budget, callback);
+}
+
+py::array_t<float> Image(const Renderer& r, int k) {
+    py::array_t<float> a({r.height(), r.width(), 4});
+    r.Image(k, a.mutable_data());
+    return a;
+}
+
+py::dict Stats(const Renderer& r, int k) {
+    const render::TechniqueStats s = r.Stats(k);
+    py::dict d;
+    d["samples"] = s.samples;
+    d["wall_time"] = s.wall_time;
+    d["light_time"] = s.light_time;
+    d["shading_time"] = s.shading_time;
+    d["camera_time"] = s.camera_time;
+    d["rays"] = s.rays;
+    d["camera_rays"] = s.camera_rays;
+    return d;
+}
+
+}  // namespace
+
+void BindRender(py::module_& m) {
+    py::class_<RenderScene, std::shared_ptr<RenderScene>>(m, "_Scene",
+                                                           "Native scene; built by sphrect.Renderer from a sphrect.Scene")
+        .def(py::init<>())
+        .def("set_camera", &SetCamera, py::arg("width"), py::arg("height"), py::arg("to_world"),
+             py::arg("orthographic"), py::arg("half_width"), py::arg("half_height"), py::arg("offset_x"),
+             py::arg("offset_y"), py::arg("aperture_radius"), py::arg("focus_distance"), py::arg("clip_start"),
+             py::arg("clip_end"))
+        .def("set_background", [](RenderScene& s, V3 c) { s.SetBackground(ToVec(c)); })
+        .def("set_medium", [](RenderScene& s, V3 ss, V3 sa, float g) { s.SetMedium(ToVec(ss), ToVec(sa), g); })
+        .def("add_diffuse_material", [](RenderScene& s, V3 c) { return s.AddDiffuseMaterial(ToVec(c)); })
+        .def("add_glossy_material",
+             [](RenderScene& s, V3 c, float roughness, float metallic, float specular) {
+                 return s.AddGlossyMaterial(ToVec(c), roughness, metallic, specular);
+             })
+        .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
+             py::arg("normals") = py::none(), py::arg("material_ids") = py::none())
+        .def("add_rect_light",
+             [](RenderScene& s, V3 corner, V3 ex, V3 ey, V3 radiance, bool two_sided, bool visible) {
+                 return s.AddRectLight(ToVec(corner), ToVec(ex), ToVec(ey), ToVec(radiance), two_sided, visible);
+             })
+        .def("add_ellipse_light",
+             [](RenderScene& s, V3 center, V3 ax, V3 ay, V3 radiance, bool two_sided, bool visible) {
+                 return s.AddEllipseLight(ToVec(center), ToVec(ax), ToVec(ay), ToVec(radiance), two_sided, visible);
+             })
+        .def("add_point_light", [](RenderScene& s, V3 p, V3 i) { s.AddPointLight(ToVec(p), ToVec(i)); })
+        .def("add_spot_light",
+             [](RenderScene& s, V3 p, V3 d, V3 i, float size, float blend) {
+                 s.AddSpotLight(ToVec(p), ToVec(d), ToVec(i), size, blend);
+             })
+        .def("add_sun_light", [](RenderScene& s, V3 d, V3 e) { s.AddSunLight(ToVec(d), ToVec(e)); })
+        .def("commit", &RenderScene::Commit, py::call_guard<py::gil_scoped_release>())
+        .def_property_readonly("features", [](const RenderScene& s) { return s.features().Names(); })
+        .def_property_readonly("num_triangles", &RenderScene::NumTriangles);
+
+    py::class_<Renderer>(m, "_Renderer", "Native renderer; use sphrect.Renderer")
+        .def(py::init(&MakeRenderer), py::arg("scene"), py::arg("techniques"), py::arg("light_samples"),
+             py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("seed"), py::arg("threads"),
+             py::arg("tile_size"))
+        .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
+        .def("cancel", &Renderer::Cancel)
+        .def("image", &Image)
+        .def("stats", &Stats)
+        .def_property_readonly("features", &Renderer::Features)
+        .def_property_readonly("width", &Renderer::width)
+        .def_property_readonly("height", &Renderer::height);
+}
+
+}  // namespace sphrect::python

@@ -1,0 +1,414 @@
+"""The SPHRECT render engine: export the evaluated depsgraph, render progressively with the native
+renderer, and (in compare mode) one render pass per technique plus a comparison image."""
+import os
+import queue
+import threading
+import time
+import warnings
+
+import bpy
+import numpy as np
+
+from ..native import load_sphrect
+from ..properties import TECHNIQUE_NAME
+from . import compare
+
+# A render that would need more than this much memory for its images is refused (absurd resolutions).
+MAX_IMAGE_BYTES = 4 << 30
+PASS_PREFIX = "SPHRECT "
+
+# What the last render did, for scripts and tests: reports, effects, per-technique stats and final images
+# (float32 [H, W, 4], row 0 = top), the comparison image's path, whether it was cancelled.
+last_render = {}
+
+_cancel_requested = threading.Event()
+_active = set()                 # renderers inside a render() call
+_active_lock = threading.Lock()
+
+# Camera samples (over all pixels) per renderer call. The renderer checks for cancellation between
+# tiles, so short calls keep Esc responsive; the split is fixed (not timed) so renders are reproducible.
+MAX_CALL_SAMPLES = 1 << 20
+
+
+def request_cancel():
+    """Cancel the running render from a script or another thread (as Esc does in the window)."""
+    _cancel_requested.set()
+    with _active_lock:
+        for renderer in _active:
+            renderer.cancel()
+
+
+def sample_schedule(total, passes, pixels):
+    """Samples of each renderer call: `passes` display updates, each split into calls of at most
+    MAX_CALL_SAMPLES camera samples. A script reproduces an engine render by the same calls."""
+    cap = max(1, MAX_CALL_SAMPLES // max(1, pixels))
+    calls = []
+    for n in split_samples(total, passes):
+        while n > 0:
+            calls.append(min(n, cap))
+            n -= calls[-1]
+    return calls
+
+
+def technique_pass_name(technique):
+    return PASS_PREFIX + technique
+
+
+def chosen_techniques(settings):
+    if settings.compare:
+        return settings.compare_techniques()
+    return [TECHNIQUE_NAME[settings.technique]]
+
+
+def display_technique(settings, techniques):
+    """The technique shown in the Combined pass: the engine's technique when it is being rendered."""
+    main = TECHNIQUE_NAME[settings.technique]
+    return main if main in techniques else techniques[0]
+
+
+def split_samples(total, passes):
+    """Samples per progressive pass: `passes` near-equal parts of `total`, none empty."""
+    passes = max(1, min(passes, total))
+    base, extra = divmod(total, passes)
+    return [base + (1 if i < extra else 0) for i in range(passes)]
+
+
+def comparison_path(bl_scene):
+    """Where the comparison PNG goes: next to the render output in headless runs, in Blender's
+    temporary directory in the window (where it is opened in the Image Editor)."""
+    if bpy.app.background:
+        out = bpy.path.abspath(bl_scene.render.frame_path(frame=bl_scene.frame_current))
+        stem = os.path.splitext(out)[0]
+        return stem + "_sphrect_compare.png"
+    return os.path.join(bpy.app.tempdir or "/tmp", f"sphrect_compare_{bl_scene.frame_current:04d}.png")
+
+
+def _flat_rgba(image):
+    """sphrect image (row 0 = top) -> contiguous float32 [H*W, 4] in Blender's order (bottom row first)."""
+    return np.ascontiguousarray(np.flipud(np.asarray(image, dtype=np.float32))).reshape(-1, 4)
+
+
+def load_reference_exr(path, width, height):
+    """RGBA [H, W, 4] (row 0 = top) of an image file; ValueError when missing or of another size."""
+    path = bpy.path.abspath(path)
+    if not path or not os.path.isfile(path):
+        raise ValueError(f"reference image '{path}' not found")
+    img = bpy.data.images.load(path, check_existing=False)
+    try:
+        if tuple(img.size) != (width, height):
+            raise ValueError(f"reference image is {img.size[0]}x{img.size[1]}, the render is {width}x{height}")
+        pixels = np.empty(width * height * 4, dtype=np.float32)
+        img.pixels.foreach_get(pixels)
+        return np.flipud(pixels.reshape(height, width, 4))
+    finally:
+        bpy.data.images.remove(img)
+
+
+class SphrectRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "SPHRECT"
+    bl_label = "SPHRECT"
+    bl_use_preview = False
+    bl_use_postprocess = True
+    bl_use_shading_nodes_custom = False  # materials use Blender's shader nodes
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        """Declare the per-technique passes (Image Editor pass menu, compositor, multilayer EXR)."""
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        settings = scene.sphrect
+        if settings.compare:
+            for t in settings.compare_techniques():
+                self.register_pass(scene, renderlayer, technique_pass_name(t), 4, "RGBA", "COLOR")
+            if settings.reference != "NONE":
+                self.register_pass(scene, renderlayer, technique_pass_name("reference"), 4, "RGBA", "COLOR")
+
+    # ---------------------------------------------------------------- render
+    def render(self, depsgraph):
+        last_render.clear()
+        last_render.update(errors=[], warnings=[], features=[], stats={}, images={}, comparison=None,
+                           cancelled=False)
+        _cancel_requested.clear()
+        try:
+            self._render(depsgraph)
+        except Exception as e:  # never a traceback in the user's face; the message names the problem
+            import traceback
+            traceback.print_exc()
+            self._error(f"SPHRECT render failed: {type(e).__name__}: {e}")
+
+    def _stats_line(self, text):
+        last_render["stats_line"] = text
+        self.update_stats("", text)
+
+    def _error(self, text):
+        last_render["errors"].append(text)
+        self.report({"ERROR"}, text)
+
+    def _warning(self, text):
+        last_render["warnings"].append(text)
+        self.report({"WARNING"}, text)
+
+    def _render(self, depsgraph):
+        try:
+            sphrect = load_sphrect()
+        except ImportError as e:
+            self._error(str(e))
+            return
+        if not hasattr(sphrect, "Renderer"):
+            self._error(f"SPHRECT: the sphrect module at {os.path.dirname(sphrect.__file__)} has no renderer "
+                        f"(an old or partial build); rebuild it")
+            return
+        from ..io.exporter import scene_from_depsgraph
+
+        bl_scene = depsgraph.scene
+        settings = bl_scene.sphrect
+        techniques = chosen_techniques(settings)
+        with_reference = settings.compare and settings.reference != "NONE"
+        self.update_stats("SPHRECT", "Exporting scene")
+        t0 = time.perf_counter()
+        scene, log = scene_from_depsgraph(depsgraph)
+        export_time = time.perf_counter() - t0
+        width, height = scene.camera.width, scene.camera.height
+        self._pixels = width * height
+        image_count = len(techniques) + 2 + (1 if with_reference else 0)
+        needed = width * height * 16 * image_count
+        if needed > MAX_IMAGE_BYTES:
+            self._error(f"SPHRECT: resolution {width}x{height} needs {needed / 2**30:.1f} GiB of images "
+                        f"(limit {MAX_IMAGE_BYTES / 2**30:.0f} GiB); lower the resolution")
+            return
+        warning = log.warning_text()
+        if warning:
+            self._warning(warning)
+        reference = None
+        if with_reference and settings.reference == "FILE":
+            try:
+                reference = load_reference_exr(settings.reference_path, width, height)
+            except ValueError as e:
+                self._warning(f"SPHRECT: no reference: {e}")
+                with_reference = False
+
+        options = settings.renderer_options()
+        try:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                make = lambda ts: sphrect.Renderer(scene, techniques=list(ts), **options)
+                if settings.compare and settings.equal_time:
+                    renderers = {t: make([t]) for t in techniques}
+                else:
+                    shared = make(techniques)
+                    renderers = {t: shared for t in techniques}
+        except (ValueError, RuntimeError, TypeError) as e:
+            self._error(f"SPHRECT: the scene cannot be rendered: {e}")
+            return
+        skipped = sorted({str(w.message) for w in caught})
+        if skipped:
+            self._warning("SPHRECT skipped: " + "; ".join(skipped))
+        features = list(next(iter(renderers.values())).features)
+        last_render["features"] = features
+        self._effects = ", ".join(features) if features else "direct diffuse lighting"
+        self._header = (f"SPHRECT | {len(scene.lights)} lights, {sum(len(m.triangles) for m in scene.meshes)} "
+                        f"triangles (export {export_time:.2f}s) | effects: {self._effects}")
+
+        layer_name = depsgraph.view_layer.name
+        if len(techniques) > 1:
+            for t in techniques:
+                self.add_pass(technique_pass_name(t), 4, "RGBA", layer=layer_name)
+        if with_reference:
+            self.add_pass(technique_pass_name("reference"), 4, "RGBA", layer=layer_name)
+        result = self.begin_result(0, 0, width, height, layer=layer_name)
+        layer = result.layers[0]
+        shown = display_technique(settings, techniques)
+        self._cancelled = False
+        try:
+            if settings.compare and settings.equal_time:
+                self._render_equal_time(renderers, techniques, settings, result, layer, shown)
+            else:
+                self._render_equal_samples(renderers[techniques[0]], techniques, settings, result, layer, shown)
+            entries = [dict(name=t, image=renderers[t].image(t), **self._stats(renderers[t], t))
+                       for t in techniques]
+            last_render["images"] = {e["name"]: e["image"] for e in entries}
+            if with_reference and settings.reference == "RENDER" and not self._cancelled:
+                reference = self._render_reference(sphrect, scene, options, settings)
+            if reference is not None:
+                last_render["images"]["reference"] = reference
+                self._write_pass(layer, technique_pass_name("reference"), reference)
+            last_render["stats"] = {e["name"]: {k: v for k, v in e.items() if k != "image"} for e in entries}
+            if settings.compare and not self._cancelled:
+                self._comparison(bl_scene, entries, reference, settings)
+        finally:
+            self.end_result(result)
+        last_render["cancelled"] = self._cancelled
+        if self._cancelled:
+            self._stats_line(f"{self._header} | Cancelled: partial image kept")
+
+    def _stats(self, renderer, technique):
+        s = dict(renderer.stats(technique))
+        return dict(samples=int(s.get("samples", 0)), time=float(s.get("wall_time", 0.0)),
+                    light_time=float(s.get("light_time", 0.0)), raw=s)
+
+    def _stop_requested(self):
+        return self.test_break() or _cancel_requested.is_set()
+
+    def _progress_callback(self, call_index, call_count):
+        """Called by the renderer on this thread after each tile: progress bar and Esc."""
+        def progress(done, total):
+            self.update_progress((call_index + done / max(total, 1)) / call_count)
+            if self.test_break():
+                request_cancel()
+        return progress
+
+    def _show(self, result, layer, renderers, techniques, shown):
+        """Copy the current (partial) images into the result and send it to the display."""
+        for t in techniques:
+            image = renderers[t].image(t)
+            if len(techniques) > 1:
+                self._write_pass(layer, technique_pass_name(t), image)
+            if t == shown:
+                self._write_pass(layer, "Combined", image)
+        self.update_result(result)
+
+    @staticmethod
+    def _write_pass(layer, name, image):
+        render_pass = layer.passes.find_by_name(name, "")
+        if render_pass is None:
+            return
+        render_pass.rect.foreach_set(_flat_rgba(image))
+
+    def _render_equal_samples(self, renderer, techniques, settings, result, layer, shown):
+        calls = sample_schedule(settings.samples, settings.passes, self._pixels)
+        done = 0
+        for i, n in enumerate(calls):
+            self._stats_line(f"{self._header} | {'/'.join(techniques)} | samples {done}/{settings.samples}")
+            finished = self._run(renderer, n, self._progress_callback(i, len(calls)))
+            done += n
+            self._show(result, layer, {t: renderer for t in techniques}, techniques, shown)
+            if not finished or self._stop_requested():
+                self._cancelled = True
+                break
+        self._stats_line(f"{self._header} | {'/'.join(techniques)} | samples {done}/{settings.samples}")
+
+    def _render_equal_time(self, renderers, techniques, settings, result, layer, shown):
+        budget = settings.time_budget
+        chunks = max(1, settings.passes)
+        steps = len(techniques) * chunks
+        step = 0
+        for t in techniques:
+            r = renderers[t]
+            for i in range(chunks):
+                self._stats_line(f"{self._header} | equal time {budget:.2f}s | {t} part {i + 1}/{chunks}")
+                # Passes of one sample each while this part's share of the budget lasts.
+                finished = self._run(r, 1, self._progress_callback(step, steps), time_budget=budget / chunks)
+                step += 1
+                self._show(result, layer, {t: r}, [t], shown)
+                if not finished or self._stop_requested():
+                    self._cancelled = True
+                    return
+
+    def _render_reference(self, sphrect, scene, options, settings):
+        self._stats_line(f"{self._header} | reference: rectangle, {settings.reference_samples} samples")
+        opts = dict(options, seed=options["seed"] + 7919)  # independent of the compared images
+        r = sphrect.Renderer(scene, techniques=["rectangle"], **opts)
+        calls = sample_schedule(settings.reference_samples, 1, self._pixels)
+        for i, n in enumerate(calls):
+            if not self._run(r, n, self._progress_callback(i, len(calls))) or self._stop_requested():
+                self._cancelled = True
+                return None
+        return r.image("rectangle")
+
+    @staticmethod
+    def _run(renderer, samples, progress, time_budget=None):
+        """One renderer call, cancellable at once by request_cancel() from any thread."""
+        with _active_lock:
+            _active.add(renderer)
+        try:
+            if _cancel_requested.is_set():
+                return False
+            return renderer.render(samples, time_budget=time_budget, progress=progress)
+        finally:
+            with _active_lock:
+                _active.discard(renderer)
+
+    def _comparison(self, bl_scene, entries, reference, settings):
+        label = "REFERENCE" if settings.reference != "RENDER" else f"REFERENCE {settings.reference_samples} SPP"
+        canvas = compare.comparison_image(entries, reference, reference_label=label)
+        path = comparison_path(bl_scene)
+        os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+        compare.write_png(path, canvas)
+        last_render["comparison"] = path
+        for e in entries:
+            if "rmse" in e:
+                last_render["stats"][e["name"]]["rmse"] = e["rmse"]
+        summary = ", ".join(f"{e['name']} {e['samples']}spp {e['time']:.2f}s"
+                            + (f" RMSE {e['rmse']:.4g}" if "rmse" in e else "") for e in entries)
+        self._stats_line(f"{self._header} | {summary}")
+        print(f"SPHRECT comparison: {summary}\nSPHRECT comparison image: {path}")
+        if not bpy.app.background:
+            _to_display.put(path)  # shown by the main thread's timer (bpy data must not change from here)
+
+
+_to_display = queue.Queue()  # comparison images waiting for the main thread
+
+
+def _show_pending_comparisons():
+    """Persistent main-thread timer (window sessions only): open comparison images in the Image Editor."""
+    while True:
+        try:
+            path = _to_display.get_nowait()
+        except queue.Empty:
+            return 0.5
+        try:
+            _open_in_image_editor(path)
+        except Exception as e:  # a timer must not die: the next comparison should still show
+            print(f"SPHRECT: could not open the comparison image {path}: {e}")
+
+
+def _open_in_image_editor(path):
+    """Load the comparison PNG as image 'SPHRECT Comparison' and show it in an Image Editor that is not
+    showing the render result (when the window has one). Returns the image."""
+    name = "SPHRECT Comparison"
+    img = bpy.data.images.get(name)
+    if img is not None:
+        bpy.data.images.remove(img)
+    img = bpy.data.images.load(path, check_existing=False)
+    img.name = name
+    for window in bpy.context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type == "IMAGE_EDITOR":
+                space = area.spaces.active
+                if space.image is None or space.image.type != "RENDER_RESULT":
+                    space.image = img
+                    return img
+    return img
+
+
+# Blender's own panels that also make sense for this engine (lights, materials, world, camera, output).
+_EXTRA_PANELS = (
+    "DATA_PT_EEVEE_light", "DATA_PT_spot", "DATA_PT_context_light", "EEVEE_MATERIAL_PT_context_material",
+    "EEVEE_MATERIAL_PT_surface", "EEVEE_MATERIAL_PT_volume", "EEVEE_WORLD_PT_surface", "EEVEE_WORLD_PT_volume",
+    "WORLD_PT_context_world", "DATA_PT_camera_dof", "DATA_PT_camera_dof_aperture",
+)
+
+
+def _compatible_panels():
+    panels = []
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        if engines is None:
+            continue
+        if "BLENDER_RENDER" in engines or panel.__name__ in _EXTRA_PANELS:
+            panels.append(panel)
+    return panels
+
+
+def register():
+    bpy.utils.register_class(SphrectRenderEngine)
+    for panel in _compatible_panels():
+        panel.COMPAT_ENGINES.add("SPHRECT")
+    if not bpy.app.background:
+        bpy.app.timers.register(_show_pending_comparisons, first_interval=1.0, persistent=True)
+
+
+def unregister():
+    if bpy.app.timers.is_registered(_show_pending_comparisons):
+        bpy.app.timers.unregister(_show_pending_comparisons)
+    for panel in _compatible_panels():
+        panel.COMPAT_ENGINES.discard("SPHRECT")
+    bpy.utils.unregister_class(SphrectRenderEngine)

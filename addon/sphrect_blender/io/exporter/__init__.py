@@ -1,0 +1,97 @@
+"""Evaluated depsgraph -> sphrect.Scene.
+
+    scene, log = scene_from_depsgraph(depsgraph)   # log.warning_text(): what was not supported
+    export_scene(depsgraph_or_scene, path)         # the standalone scene file (sphrect.save_scene)
+"""
+import numpy as np
+
+from ...native import load_sphrect
+from .camera import export_camera
+from .geometry import MESH_LIKE, to_world, triangulate
+from .lights import export_light
+from .log import ExportLog
+from .materials import export_material, export_world
+
+
+class _Materials:
+    """Blender materials -> indices into Scene.materials (index 0: the default for empty slots)."""
+
+    def __init__(self, sphrect, log):
+        self.sphrect, self.log = sphrect, log
+        self.list = [sphrect.Material(name="default")]
+        self.index = {}
+
+    def id_of(self, mat):
+        if mat is None:
+            return 0
+        key = mat.name_full
+        if key not in self.index:
+            self.index[key] = len(self.list)
+            self.list.append(export_material(self.sphrect, mat, self.log))
+        return self.index[key]
+
+    def slot_ids(self, obj):
+        slots = [self.id_of(s.material) for s in obj.material_slots]
+        return np.array(slots or [0], dtype=np.int32)
+
+
+def scene_from_depsgraph(depsgraph):
+    """(sphrect.Scene, ExportLog) for an evaluated depsgraph (render or viewport)."""
+    sphrect = load_sphrect()
+    log = ExportLog()
+    bl_scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
+    scene = sphrect.Scene()
+    cam = bl_scene.camera.evaluated_get(depsgraph) if bl_scene.camera is not None else None
+    scene.camera = export_camera(sphrect, bl_scene, cam, log)
+    scene.world = export_world(sphrect, bl_scene.world, log)
+    materials = _Materials(sphrect, log)
+    cache = {}
+    skipped_types = set()
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        name = obj.name if not inst.is_instance else f"{inst.parent.name}/{obj.name}#{inst.random_id & 0xffff}"
+        if obj.type == "LIGHT":
+            light = export_light(sphrect, obj, inst.matrix_world, name, log)
+            if light is not None:
+                scene.lights.append(light)
+            continue
+        if obj.type not in MESH_LIKE:
+            if obj.type not in {"CAMERA", "EMPTY", "ARMATURE", "LATTICE", "SPEAKER", "LIGHT_PROBE"}:
+                skipped_types.add(obj.type)
+                log.unsupported_feature(f"{obj.type.lower()} objects", obj.name)
+            continue
+        if not getattr(obj, "visible_camera", True) or not getattr(obj, "visible_shadow", True):
+            log.unsupported_feature("per-object ray visibility (object rendered as visible)", obj.name)
+        key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
+        if key not in cache:
+            cache[key] = triangulate(obj)
+        local = cache[key]
+        if local is None:
+            continue
+        world = to_world(local, inst.matrix_world)
+        if world is None:
+            log.problem(f"object '{name}' has zero scale: skipped")
+            continue
+        vertices, triangles, normals = world
+        slots = materials.slot_ids(obj)
+        material_ids = slots[np.clip(local.material_index, 0, len(slots) - 1)]
+        scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
+                                         material_ids=material_ids, name=name))
+    scene.materials = materials.list
+    if not scene.lights and not any(c > 0 for c in scene.world.background):
+        log.problem("the scene has no lights: the image will be black")
+    return scene, log
+
+
+def export_scene(depsgraph_or_scene, path):
+    """Write the standalone scene file (`sphrect.save_scene` format; load it with `sphrect.load_scene`).
+    Accepts an evaluated depsgraph or a bpy Scene (its view layer's depsgraph is evaluated for rendering
+    settings as shown in the viewport). Returns the ExportLog."""
+    import bpy
+    depsgraph = depsgraph_or_scene
+    if isinstance(depsgraph_or_scene, bpy.types.Scene):
+        depsgraph = depsgraph_or_scene.view_layers[0].depsgraph
+        depsgraph.update()
+    scene, log = scene_from_depsgraph(depsgraph)
+    load_sphrect().save_scene(scene, path)
+    return log

@@ -1,0 +1,101 @@
+"""Blender lights -> sphrect lights, with Cycles 3.4's power conventions:
+
+* area (any shape): radiance L = P * colour / (4 * area), area measured after the object's scale;
+* point and spot: intensity I = P * colour / (4 * pi);
+* sun: irradiance E = strength * colour.
+Every light emits along its object's local -Z axis.
+"""
+import math
+
+import numpy as np
+
+
+def _axes(matrix_world):
+    m = np.array(matrix_world, dtype=np.float64)
+    return m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3]
+
+
+def _unit(v):
+    n = np.linalg.norm(v)
+    return v / n if n > 0 else None
+
+
+def _tuple(v):
+    return tuple(float(x) for x in v)
+
+
+def area_light_edges(light, matrix_world):
+    """(centre, edge_x, edge_y, emission direction) of an area light in world space. The edges are the
+    full side lengths (the ellipse's diameters) including the object's scale; they are ordered so that
+    cross(edge_x, edge_y) points along the emission direction (local -Z), as sphrect's lights expect."""
+    x, y, z, centre = _axes(matrix_world)
+    size_x = light.size
+    size_y = light.size if light.shape in {"SQUARE", "DISK"} else light.size_y
+    ex, ey = x * size_x, y * size_y
+    direction = _unit(-z)
+    if direction is None:
+        direction = _unit(np.cross(ey, ex))  # flattened along Z: the edges still tell the facing
+    if direction is not None and np.dot(np.cross(ex, ey), direction) < 0:
+        ex, ey = ey, ex
+    return centre, ex, ey, direction
+
+
+def export_light(sphrect, obj, matrix_world, name, log):
+    """The sphrect light for a Blender light object, or None (with a logged reason) if it emits nothing."""
+    light = obj.data
+    color = np.array(light.color, dtype=np.float64)
+    power = float(light.energy)
+    if light.use_nodes and light.node_tree is not None and len(light.node_tree.nodes) > 2:
+        log.unsupported_feature("light node trees (colour and power used)", light.name)
+    if power <= 0 or not np.any(color > 0):
+        log.problem(f"light '{name}' has no power: skipped")
+        return None
+    x, y, z, position = _axes(matrix_world)
+    if light.type == "AREA":
+        return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log)
+    if light.type in {"POINT", "SPOT"}:
+        if light.shadow_soft_size > 0:
+            log.unsupported_feature("point/spot light radius (treated as 0: hard shadows)", light.name)
+        intensity = _tuple(power * color / (4.0 * math.pi))
+        if light.type == "POINT":
+            return sphrect.PointLight(position=_tuple(position), intensity=intensity, name=name)
+        direction = _unit(-z)
+        if direction is None:
+            log.problem(f"spot light '{name}' has zero scale along Z: skipped")
+            return None
+        return sphrect.SpotLight(position=_tuple(position), direction=_tuple(direction), intensity=intensity,
+                                 spot_size=float(light.spot_size), spot_blend=float(light.spot_blend), name=name)
+    if light.type == "SUN":
+        if light.angle > 0:
+            log.unsupported_feature("sun angle (treated as 0: hard shadows)", light.name)
+        direction = _unit(-z)
+        if direction is None:
+            log.problem(f"sun '{name}' has zero scale along Z: skipped")
+            return None
+        return sphrect.SunLight(direction=_tuple(direction), irradiance=_tuple(power * color), name=name)
+    log.unsupported_feature(f"{light.type.lower()} lights", light.name)
+    return None
+
+
+def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log):
+    centre, ex, ey, direction = area_light_edges(light, matrix_world)
+    rect_area = float(np.linalg.norm(np.cross(ex, ey)))
+    if not rect_area > 1e-12 or direction is None:
+        log.problem(f"area light '{name}' has zero size: skipped")
+        return None
+    if abs(np.dot(ex, ey)) > 1e-6 * np.linalg.norm(ex) * np.linalg.norm(ey):
+        # Sheared by a parent's non-uniform scale: keep the area and facing, make the edges orthogonal.
+        log.unsupported_feature("sheared area lights (edges made orthogonal)", light.name)
+        ey = np.cross(direction, ex) * (rect_area / np.linalg.norm(ex) ** 2)
+    if light.spread < math.pi - 1e-6:
+        log.unsupported_feature("area light spread (full hemisphere used)", light.name)
+    two_sided = bool(getattr(getattr(light, "sphrect", None), "two_sided", False))
+    visible = bool(getattr(obj, "visible_camera", True))
+    if light.shape in {"SQUARE", "RECTANGLE"}:
+        radiance = power * color / (4.0 * rect_area)
+        return sphrect.RectLight(corner=_tuple(centre - 0.5 * ex - 0.5 * ey), edge_x=_tuple(ex), edge_y=_tuple(ey),
+                                 radiance=_tuple(radiance), two_sided=two_sided, visible=visible, name=name)
+    ellipse_area = 0.25 * math.pi * rect_area  # pi * a * b with semi-axes a, b = half the edges
+    radiance = power * color / (4.0 * ellipse_area)
+    return sphrect.EllipseLight(center=_tuple(centre), axis_x=_tuple(0.5 * ex), axis_y=_tuple(0.5 * ey),
+                                radiance=_tuple(radiance), two_sided=two_sided, visible=visible, name=name)

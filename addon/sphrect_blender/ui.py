@@ -1,0 +1,89 @@
+"""Render Properties panels for scene.sphrect and the area light's two-sided switch."""
+import bpy
+
+
+class SphrectPanel:
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    COMPAT_ENGINES = {"SPHRECT"}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+
+class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
+    bl_label = "Sampling"
+    bl_context = "render"
+
+    def draw(self, context):
+        s = context.scene.sphrect
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        col = layout.column()
+        col.prop(s, "technique")
+        col.prop(s, "samples")
+        col.prop(s, "light_samples")
+        col.prop(s, "pattern")
+        col.prop(s, "mis")
+        col.prop(s, "seed")
+        col.separator()
+        col.prop(s, "passes")
+        col.prop(s, "threads")
+
+
+class RENDER_PT_sphrect_compare(SphrectPanel, bpy.types.Panel):
+    bl_label = "Compare Techniques"
+    bl_context = "render"
+
+    def draw_header(self, context):
+        self.layout.prop(context.scene.sphrect, "compare", text="")
+
+    def draw(self, context):
+        s = context.scene.sphrect
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        layout.active = s.compare
+        col = layout.column(heading="Techniques", align=True)
+        for name in ("area", "triangles", "rectangle", "rectangle_cosine"):
+            col.prop(s, "compare_" + name)
+        col = layout.column()
+        col.prop(s, "equal_time")
+        sub = col.column()
+        sub.active = s.equal_time
+        sub.prop(s, "time_budget")
+        col.prop(s, "reference")
+        if s.reference == "RENDER":
+            col.prop(s, "reference_samples")
+        elif s.reference == "FILE":
+            col.prop(s, "reference_path")
+
+
+class DATA_PT_sphrect_area_light(SphrectPanel, bpy.types.Panel):
+    bl_label = "SPHRECT"
+    bl_context = "data"
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES and context.light is not None and context.light.type == "AREA"
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(context.light.sphrect, "two_sided")
+        layout.prop(context.object, "visible_camera", text="Visible to Camera")
+
+
+classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_compare, DATA_PT_sphrect_area_light)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

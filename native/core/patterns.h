@@ -1,0 +1,200 @@
+// 2D sample patterns over [0,1)^2 that drive the light-sampling techniques.
+//
+//   GeneratePattern(pattern, n, seed, out)  // n points; different seeds give decorrelated sets
+//   SobolPoint(index, seed)                 // one point of the seeded Sobol' sequence, index-wise
+//
+// Every point lies in [0,1)^2 (never 1.0).  Header-only, no allocation.
+//
+//  independent  PCG32 stream chosen by the seed.
+//  stratified   jittered grid of rows x cols = n cells, rows the largest divisor of n not above
+//               sqrt(n) (so a square grid when n is a square, 1 x n when n is prime); one point
+//               uniformly in each cell.
+//  latin        N-rooks: x-stratum a uniformly random permutation of the y-stratum (Fisher-Yates),
+//               jittered within each 1/n x 1/n cell: one point in every row and every column.
+//  hammersley   (i/n, radical inverse of i) randomised so that the point set stays a (0,m,2)-net in
+//               base 2 when n = 2^m: x jittered inside its own column [i/n, (i+1)/n), the radical
+//               inverse Owen-scrambled (nested uniform scrambling keeps every net property).
+//  sobol        the first two dimensions of Sobol' (van der Corput, and the dimension of the
+//               primitive polynomial x + 1), each Owen-scrambled with its own seed by Burley's
+//               hash-based nested uniform scrambling ("Practical Hash-based Owen Scrambling",
+//               JCGT 2020, with the Laine-Karras style permutation).  Every prefix of 2^m points
+//               is a (0,m,2)-net.
+//  stratified, latin and hammersley come in random order, so that point i is not tied to one
+//  stratum for every seed (which would correlate pixels, and dimensions, index by index).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "light_sample.h"
+#include "rng.h"
+
+namespace sphrect {
+
+enum class Pattern { Independent, Stratified, Latin, Hammersley, Sobol };
+
+inline constexpr Pattern kAllPatterns[] = {Pattern::Independent, Pattern::Stratified, Pattern::Latin,
+                                           Pattern::Hammersley, Pattern::Sobol};
+
+inline const char* PatternName(Pattern p) {
+    switch (p) {
+        case Pattern::Independent: return "independent";
+        case Pattern::Stratified: return "stratified";
+        case Pattern::Latin: return "latin";
+        case Pattern::Hammersley: return "hammersley";
+        case Pattern::Sobol: return "sobol";
+    }
+    return "?";
+}
+
+// False when `name` is not a pattern.
+inline bool ParsePattern(const std::string& name, Pattern* out) {
+    for (Pattern p : kAllPatterns)
+        if (name == PatternName(p)) { *out = p; return true; }
+    return false;
+}
+
+namespace pattern_detail {
+
+inline uint32_t ReverseBits32(uint32_t v) {
+    v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+    v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+    v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
+    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
+    return (v >> 16) | (v << 16);
+}
+
+// Nested uniform (Owen) scrambling of a 32-bit binary fraction.  In bit-reversed order the
+// most significant digit is bit 0, and each step below flips digit k by a function of the
+// digits before it only (adding a key carries upwards; x ^= x * even_constant flips bit k by
+// bits < k), which is exactly a nested uniform scramble.  Constants from Burley (2020).
+inline uint32_t OwenScramble(uint32_t x, uint32_t seed) {
+    x = ReverseBits32(x);
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return ReverseBits32(x);
+}
+
+// Second Sobol' dimension as a 32-bit binary fraction: its generator matrix is Pascal's
+// triangle mod 2, i.e. direction numbers v_{k+1} = v_k ^ (v_k >> 1) from v_0 = 1/2.
+inline uint32_t SobolDimension1(uint32_t index) {
+    uint32_t result = 0;
+    for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1)
+        if (index & 1u) result ^= v;
+    return result;
+}
+
+// A float in [index/count, (index+1)/count), at position rand32 / 2^32 inside that interval,
+// truncated to 24 bits (so < 1, and on the interval's side of every dyadic boundary that a
+// float can represent: jittered strata stay in their strata).
+inline float JitterInStratum(uint32_t index, uint32_t count, uint32_t rand32) {
+    const uint64_t q = ((uint64_t(index) << 32) | rand32) / count;  // floor((index + r) / count * 2^32)
+    return BitsToUnitFloat(uint32_t(q));
+}
+
+// Rows of the near-square grid used by `stratified`: the largest divisor of n that is <= sqrt(n).
+inline uint32_t StratifiedRows(uint32_t n) {
+    uint32_t r = uint32_t(std::sqrt(double(n)));
+    while (r > 1 && n % r != 0) --r;
+    return r < 1 ? 1 : r;
+}
+
+// Per-pattern sub-seeds, so x and y (and different patterns) never share randomness.
+inline uint32_t SubSeed(uint64_t seed, uint64_t salt) {
+    return uint32_t(MixBits(MixBits(seed) ^ (salt * 0x9e3779b97f4a7c15ull)) >> 32);
+}
+
+// Random order (Fisher-Yates): without it, point i of `stratified`, `latin` and `hammersley`
+// would sit in the same stratum for every seed, correlating pixels (and dimensions) index-wise.
+inline void ShufflePoints(Point2<float>* p, uint32_t n, PCG32& rng) {
+    for (uint32_t i = n; i > 1; --i) {
+        const uint32_t j = rng.NextBounded(i);
+        const Point2<float> t = p[i - 1];
+        p[i - 1] = p[j];
+        p[j] = t;
+    }
+}
+
+// Point `index` of Sobol' (first two dimensions), each Owen-scrambled with its own key.
+inline Point2<float> ScrambledSobolPoint(uint32_t index, uint32_t key_x, uint32_t key_y) {
+    return {BitsToUnitFloat(OwenScramble(ReverseBits32(index), key_x)),
+            BitsToUnitFloat(OwenScramble(SobolDimension1(index), key_y))};
+}
+
+}  // namespace pattern_detail
+
+// Point `index` of the Owen-scrambled Sobol' sequence selected by `seed`.  Continuing the
+// index over progressive passes continues the same sequence (prefixes of 2^m points are nets).
+inline Point2<float> SobolPoint(uint32_t index, uint64_t seed) {
+    using namespace pattern_detail;
+    return ScrambledSobolPoint(index, SubSeed(seed, 1), SubSeed(seed, 2));
+}
+
+// Writes n points of the pattern into out[0..n).
+inline void GeneratePattern(Pattern pattern, uint32_t n, uint64_t seed, Point2<float>* out) {
+    using namespace pattern_detail;
+    switch (pattern) {
+        case Pattern::Independent: {
+            PCG32 rng(MixBits(seed), MixBits(seed ^ 0x243f6a8885a308d3ull));
+            for (uint32_t i = 0; i < n; ++i) {
+                const float u = rng.NextFloat();
+                out[i] = {u, rng.NextFloat()};
+            }
+            return;
+        }
+        case Pattern::Stratified: {
+            if (n == 0) return;
+            const uint32_t rows = StratifiedRows(n), cols = n / rows;
+            PCG32 rng(MixBits(seed), MixBits(seed ^ 0x13198a2e03707344ull));
+            for (uint32_t i = 0; i < n; ++i) {
+                const uint32_t rx = rng.NextU32(), ry = rng.NextU32();
+                out[i] = {JitterInStratum(i % cols, cols, rx), JitterInStratum(i / cols, rows, ry)};
+            }
+            ShufflePoints(out, n, rng);
+            return;
+        }
+        case Pattern::Latin: {
+            // Fisher-Yates shuffle of the column indices, kept as raw bits in out[].u
+            // (no allocation), then each (column, row) cell gets a jittered point.
+            PCG32 rng(MixBits(seed), MixBits(seed ^ 0xa4093822299f31d0ull));
+            for (uint32_t i = 0; i < n; ++i) std::memcpy(&out[i].u, &i, sizeof(uint32_t));
+            for (uint32_t i = n; i > 1; --i) {
+                const uint32_t j = rng.NextBounded(i);
+                uint32_t a, b;  // swapped as integers: the bits are not meaningful floats
+                std::memcpy(&a, &out[i - 1].u, sizeof a);
+                std::memcpy(&b, &out[j].u, sizeof b);
+                std::memcpy(&out[i - 1].u, &b, sizeof b);
+                std::memcpy(&out[j].u, &a, sizeof a);
+            }
+            for (uint32_t i = 0; i < n; ++i) {
+                uint32_t col;
+                std::memcpy(&col, &out[i].u, sizeof(uint32_t));
+                const uint32_t rx = rng.NextU32(), ry = rng.NextU32();
+                out[i] = {JitterInStratum(col, n, rx), JitterInStratum(i, n, ry)};
+            }
+            ShufflePoints(out, n, rng);  // rows were in order
+            return;
+        }
+        case Pattern::Hammersley: {
+            PCG32 rng(MixBits(seed), MixBits(seed ^ 0x082efa98ec4e6c89ull));
+            const uint32_t scramble = SubSeed(seed, 3);
+            for (uint32_t i = 0; i < n; ++i)
+                out[i] = {JitterInStratum(i, n, rng.NextU32()),
+                          BitsToUnitFloat(OwenScramble(ReverseBits32(i), scramble))};
+            ShufflePoints(out, n, rng);
+            return;
+        }
+        case Pattern::Sobol: {
+            const uint32_t key_x = SubSeed(seed, 1), key_y = SubSeed(seed, 2);  // as SobolPoint
+            for (uint32_t i = 0; i < n; ++i) out[i] = ScrambledSobolPoint(i, key_x, key_y);
+            return;
+        }
+    }
+}
+
+}  // namespace sphrect

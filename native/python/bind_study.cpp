@@ -1,0 +1,63 @@
+// Bindings for the comparative study only (python/sphrect/study/sampler_table.py): the textbook
+// single-precision spherical-rectangle map (core/textbook_spherical_rectangle.h), which is a
+// baseline and not a technique, so it stays out of the public sampling API.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <cmath>
+
+#include "core/rect_light.h"
+#include "core/textbook_spherical_rectangle.h"
+
+namespace py = pybind11;
+
+namespace sphrect::python {
+namespace {
+
+using ArrayF = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+Vec3f ReadVec3f(const ArrayF& a, const char* name) {
+    if (a.ndim() != 1 || a.shape(0) != 3) throw py::value_error(std::string(name) + " must have shape (3,)");
+    const float* p = a.data();
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+        throw py::value_error(std::string(name) + " contains NaN or Inf");
+    return {p[0], p[1], p[2]};
+}
+
+// (points [N,3], pdf [N], solid angle) of the textbook float map, for uv [N,2].
+py::tuple TextbookRectangleSample(const ArrayF& origin, const ArrayF& corner, const ArrayF& ex, const ArrayF& ey,
+                                  const ArrayF& uv) {
+    if (uv.ndim() != 2 || uv.shape(1) != 2) throw py::value_error("uv must have shape (N, 2)");
+    RectLight<float> light{ReadVec3f(corner, "corner"), ReadVec3f(ex, "edge_x"), ReadVec3f(ey, "edge_y"), true};
+    const Vec3f o = ReadVec3f(origin, "origin");
+    const py::ssize_t n = uv.shape(0);
+    py::array_t<float> points({n, py::ssize_t(3)}), pdf(n);
+    float solid_angle;
+    {
+        py::gil_scoped_release release;
+        const TextbookSphericalRectangle q = MakeTextbookSphericalRectangle(o, light);
+        solid_angle = q.S;
+        const float* in = uv.data();
+        float* pts = points.mutable_data();
+        float* pd = pdf.mutable_data();
+        for (py::ssize_t i = 0; i < n; ++i) {
+            const LightSample<float> s = SampleTextbookSphericalRectangle(q, in[2 * i], in[2 * i + 1]);
+            pts[3 * i] = s.point.x;
+            pts[3 * i + 1] = s.point.y;
+            pts[3 * i + 2] = s.point.z;
+            pd[i] = s.pdf;
+        }
+    }
+    return py::make_tuple(points, pdf, solid_angle);
+}
+
+}  // namespace
+
+void BindStudy(py::module_& m) {
+    m.def("_study_textbook_rectangle", &TextbookRectangleSample, py::arg("origin"), py::arg("corner"),
+          py::arg("edge_x"), py::arg("edge_y"), py::arg("uv"),
+          "Study baseline: the textbook single-precision rectangle map. Returns (points [N,3], pdf [N], "
+          "solid angle). Not a technique; for sphrect.study's accuracy table only.");
+}
+
+}  // namespace sphrect::python

@@ -1,0 +1,547 @@
+// The integrator: direct lighting at the first hit, emission seen directly, and single
+// scattering in a homogeneous medium, all estimated per camera sample.
+//
+// Light selection: one area light per light sample, chosen by power (LightSelector); delta
+// lights are all evaluated once per camera sample.  MIS (Veach 1997): each light sample is
+// paired with one BSDF (or, in the medium, phase-function) sample whose ray finds area lights by
+// intersection; the background is reached only by BSDF/phase rays (weight 1).
+#include "kernel.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <type_traits>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <x86intrin.h>
+#endif
+
+#include "core/rng.h"
+
+namespace sphrect::render {
+
+uint64_t ReadTicks() {
+#if defined(__x86_64__) || defined(__i386__)
+    return __rdtsc();
+#else
+    return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                        std::chrono::steady_clock::now().time_since_epoch()).count());
+#endif
+}
+
+struct SurfaceHit {
+    Vec3f p;       // hit point
+    Vec3f ng;      // unit geometric normal, on the side the camera ray came from
+    Vec3f ns;      // unit shading normal, flipped with ng
+    float t = 0;   // distance along the camera ray
+    int material = 0;
+};
+
+struct PrimaryHit {
+    Ray ray;
+    float t_end = kInf;   // end of the camera ray's segment: surface hit or escape
+    bool hit = false;
+    SurfaceHit surface;
+    Spectrum seen;        // technique-independent part: visible lights before the surface, background
+    uint64_t rng_seed = 0;
+};
+
+ThreadScratch::ThreadScratch() = default;
+ThreadScratch::~ThreadScratch() = default;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Salts of the sample dimensions; each gets its own pattern seed per pixel.
+enum Dimension : uint64_t { kDimPixel = 1, kDimLens = 2, kDimLight = 3, kDimBsdf = 4, kDimRng = 5 };
+
+uint64_t DimensionSeed(uint64_t pixel_seed, uint64_t dim) { return MixBits(pixel_seed ^ (dim * 0x9e3779b97f4a7c15ull)); }
+
+// n points of the pattern for global sample indices first .. first + n - 1.  Sobol' continues
+// one sequence across passes (index-wise); the other patterns draw a fresh set per pass.
+void FillPattern(Pattern pattern, uint32_t n, uint32_t first, uint32_t pass, uint64_t seed, Point2<float>* out) {
+    if (pattern == Pattern::Sobol) {
+        for (uint32_t i = 0; i < n; ++i) out[i] = SobolPoint(first + i, seed);
+    } else {
+        GeneratePattern(pattern, n, MixBits(seed ^ (uint64_t(pass) * 0xd1b54a32d192ed03ull)), out);
+    }
+}
+
+// Shadow-ray origin pushed off the surface along the geometric normal (scale-aware).
+inline Vec3f OffsetOrigin(const Vec3f& p, const Vec3f& ng) { return p + ng * (1e-4f * (1 + MaxAbsComponent(p))); }
+
+inline bool Occluded(RTCScene scene, const Vec3f& o, const Vec3f& d, float tfar) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay r;
+    r.org_x = o.x; r.org_y = o.y; r.org_z = o.z;
+    r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z;
+    r.tnear = 0;
+    r.tfar = std::isinf(tfar) ? std::numeric_limits<float>::infinity() : tfar;
+    r.time = 0; r.mask = 0xffffffffu; r.id = 0; r.flags = 0;
+    rtcOccluded1(scene, &ctx, &r);
+    return r.tfar < 0;
+}
+
+inline bool Intersect(RTCScene scene, const Vec3f& o, const Vec3f& d, float tnear, float tfar, RTCRayHit* rh) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay& r = rh->ray;
+    r.org_x = o.x; r.org_y = o.y; r.org_z = o.z;
+    r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z;
+    r.tnear = tnear;
+    r.tfar = tfar;
+    r.time = 0; r.mask = 0xffffffffu; r.id = 0; r.flags = 0;
+    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &ctx, rh);
+    return rh->hit.geomID != RTC_INVALID_GEOMETRY_ID;
+}
+
+// Distance to the first surface along (o, d), kInf on a miss.
+inline float NearestSurface(RTCScene scene, const Vec3f& o, const Vec3f& d) {
+    RTCRayHit rh;
+    return Intersect(scene, o, d, 0, kInf, &rh) ? rh.ray.tfar : kInf;
+}
+
+SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray, const RTCRayHit& rh) {
+    const MeshData& m = scene.meshes[rh.hit.geomID];
+    const uint32_t tri = rh.hit.primID;
+    SurfaceHit s;
+    s.t = rh.ray.tfar;
+    Vec3f ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);  // Embree's unnormalised geometric normal
+    const float len = Length(ng);
+    ng = len > 0 ? ng / len : -ray.d;
+    Vec3f ns = ng;
+    if (m.normals.empty()) {
+        s.p = ray.o + ray.d * s.t;  // flat shading: no vertex fetch needed
+    } else {
+        // Interpolated shading normal (and the point from the barycentrics, which is more precise).
+        const uint32_t i0 = m.triangles[3 * tri], i1 = m.triangles[3 * tri + 1], i2 = m.triangles[3 * tri + 2];
+        auto vertex = [&](uint32_t i) { return Vec3f(m.vertices[3 * i], m.vertices[3 * i + 1], m.vertices[3 * i + 2]); };
+        const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
+        s.p = vertex(i0) * b0 + vertex(i1) * b1 + vertex(i2) * b2;
+        const Vec3f n = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
+        const float ln = Length(n);
+        if (ln > 0) ns = n / ln;
+        if (Dot(ns, ng) < 0) ns = -ns;  // shading normal on the geometric normal's side
+    }
+    // Surfaces are two-sided: both normals face the incoming ray.
+    if (Dot(ng, ray.d) > 0) {
+        ng = -ng;
+        ns = -ns;
+    }
+    s.ng = ng;
+    s.ns = ns;
+    s.material = m.material_ids.empty() ? 0 : m.material_ids[tri];
+    return s;
+}
+
+// Everything the shading code needs, fixed for a pass.
+struct ShadeContext {
+    const RenderScene& scene;
+    MisMode mis;
+    MediumSampling medium_sampling;
+    int light_samples;
+    bool trace_bsdf;  // BSDF/phase rays are needed: MIS on, or a background to find
+};
+
+template <bool kMedium>
+inline Spectrum SegmentTransmittance(const RenderScene& scene, float d) {
+    if constexpr (kMedium) return Transmittance(scene.medium, d);
+    return {1, 1, 1};
+}
+
+// The medium has no normal: the cosine-weighted technique would drop light behind its
+// made-up horizon, so scattering points use the spherical rectangle instead.
+template <Technique K>
+constexpr Technique kMediumTechnique = K == Technique::RectangleCosine ? Technique::Rectangle : K;
+
+// Solid-angle pdf with which light sampling (technique K at (origin, normal)) produces point p
+// on area light `index`, light selection included.  `cached` is a sampler already set up for
+// light `cached_index` at the same origin.
+template <Technique K>
+inline float LightSamplingPDF(const RenderScene& scene, int index, const Vec3f& origin, const Vec3f& normal,
+                              const Vec3f& p, const LightSampler<K, float>* cached, int cached_index,
+                              uint64_t& ticks) {
+    const AreaLight& l = scene.area_lights[index];
+    const float pmf = scene.light_selector.pmf[index];
+    if (!(pmf > 0)) return 0;
+    const uint64_t t0 = ReadTicks();
+    float pdf;
+    if (l.shape == AreaShape::Ellipse) {
+        pdf = EllipseAreaPDF(l, origin, p);
+    } else if (cached && cached_index == index) {
+        pdf = cached->Pdf(p);
+    } else {
+        const LightSampler<K, float> s(origin, normal, l.rect);
+        pdf = s.Valid() ? s.Pdf(p) : 0.0f;
+    }
+    ticks += ReadTicks() - t0;
+    return pmf * pdf;
+}
+
+// Area lights crossed by the ray (o, d) before t_max, each weighted against light sampling:
+// sum of Le * T * w_bsdf.  pdf_dir is the pdf of the direction under BSDF/phase sampling.
+template <Technique K, bool kMedium>
+inline Spectrum LightsAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float t_max, float pdf_dir,
+                               const Vec3f& pdf_origin, const Vec3f& normal, const LightSampler<K, float>* cached,
+                               int cached_index, uint64_t& ticks) {
+    Spectrum sum;
+    const auto& lights = c.scene.area_lights;
+    for (int i = 0; i < int(lights.size()); ++i) {
+        const float t = IntersectAreaLight(lights[i], o, d, t_max);
+        if (std::isinf(t)) continue;
+        const Spectrum le = EmittedRadiance(lights[i], -d);
+        if (IsBlack(le)) continue;
+        const Vec3f p = o + d * t;
+        const float pdf_light = LightSamplingPDF<K>(c.scene, i, pdf_origin, normal, p, cached, cached_index, ticks);
+        sum += le * SegmentTransmittance<kMedium>(c.scene, t) * MisWeight(c.mis, pdf_dir, pdf_light);
+    }
+    return sum;
+}
+
+// Direct light reflected at a surface point towards wo_world: light samples (technique K) and,
+// for MIS and the background, BSDF samples.  Averaged over the light samples; delta lights once.
+template <Technique K, bool kGlossy, bool kMedium>
+Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3f& wo_world,
+                              const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
+                              TechniqueTally& tally) {
+    const RenderScene& scene = c.scene;
+    const Material& mat = scene.materials[h.material];
+    const Frame frame = Frame::FromZ(h.ns);
+    const Vec3f wo = frame.ToLocal(wo_world);
+    if (wo.z <= 0) return {};
+    const Vec3f origin = OffsetOrigin(h.p, h.ng);
+    RTCScene rtc = scene.rtc_scene;
+    Spectrum area_sum;
+    for (int j = 0; j < c.light_samples; ++j) {
+        int chosen = -1;
+        float pmf = 0;
+        if (!scene.light_selector.Empty()) {
+            chosen = scene.light_selector.Select(rng.NextFloat());
+            pmf = scene.light_selector.pmf[chosen];
+        }
+        const AreaLight* light = chosen >= 0 ? &scene.area_lights[chosen] : nullptr;
+        // Light sample.  The sampler lives in this scope so the paired BSDF sample can reuse it.
+        const uint64_t t0 = ReadTicks();
+        const bool is_rect = light && light->shape == AreaShape::Rectangle;
+        const LightSampler<K, float> sampler(h.p, h.ns, is_rect ? light->rect : RectLight<float>{});
+        LightSample<float> ls;
+        if (is_rect) {
+            if (sampler.Valid()) ls = sampler.Sample(light_points[j]);
+        } else if (light) {
+            ls = SampleEllipseArea(*light, h.p, light_points[j]);
+        }
+        tally.light_ticks += ReadTicks() - t0;
+        if (ls.pdf > 0 && std::isfinite(ls.pdf)) {
+            const Spectrum le = EmittedRadiance(*light, -ls.dir);
+            const Vec3f wi = frame.ToLocal(ls.dir);
+            if (!IsBlack(le) && wi.z > 0 && Dot(ls.dir, h.ng) > 0) {
+                const Spectrum f = EvalBsdf<kGlossy>(mat, wo, wi);
+                if (!IsBlack(f)) {
+                    const float pdf_light = pmf * ls.pdf;
+                    const float w = c.mis == MisMode::None
+                                        ? 1.0f
+                                        : MisWeight(c.mis, pdf_light, BsdfPDF<kGlossy>(mat, wo, wi));
+                    ++tally.rays;
+                    if (!Occluded(rtc, origin, ls.dir, ls.dist * (1 - 1e-4f)))
+                        area_sum += f * le * SegmentTransmittance<kMedium>(scene, ls.dist) * (wi.z * w / pdf_light);
+                }
+            }
+        }
+        // BSDF sample: finds area lights (MIS partner) and the background.
+        if (c.trace_bsdf) {
+            const BsdfSample bs = SampleBsdf<kGlossy>(mat, wo, bsdf_points[j]);
+            if (bs.pdf > 0) {
+                const Vec3f wi_world = frame.FromLocal(bs.wi);
+                if (Dot(wi_world, h.ng) > 0) {
+                    ++tally.rays;
+                    const float t_hit = NearestSurface(rtc, origin, wi_world);
+                    Spectrum li;
+                    if (std::isinf(t_hit)) li += scene.background * SegmentTransmittance<kMedium>(scene, kInf);
+                    if (c.mis != MisMode::None)
+                        li += LightsAlongRay<K, kMedium>(c, origin, wi_world, t_hit, bs.pdf, h.p, h.ns,
+                                                         is_rect ? &sampler : nullptr, chosen, tally.light_ticks);
+                    if (!IsBlack(li)) area_sum += bs.f * li * (bs.wi.z / bs.pdf);
+                }
+            }
+        }
+    }
+    Spectrum result = area_sum * (1.0f / c.light_samples);
+    for (const DeltaLight& d : scene.delta_lights) {
+        const DeltaIllumination di = IlluminateFromDelta(d, h.p);
+        if (IsBlack(di.li) || Dot(di.wi, h.ng) <= 0) continue;
+        const Vec3f wi = frame.ToLocal(di.wi);
+        if (wi.z <= 0) continue;
+        const Spectrum f = EvalBsdf<kGlossy>(mat, wo, wi);
+        if (IsBlack(f)) continue;
+        ++tally.rays;
+        if (!Occluded(rtc, origin, di.wi, std::isinf(di.dist) ? kInf : di.dist * (1 - 1e-4f)))
+            result += f * di.li * SegmentTransmittance<kMedium>(scene, di.dist) * wi.z;
+    }
+    return result;
+}
+
+// Light scattered towards the camera at x (single scattering): sigma_s * integral of
+// phase * Le * T over the lights, estimated with one light sample (technique K, for the area
+// light `chosen`) and one phase sample; delta lights in full.  Phase and pdfs are w.r.t. wi.
+template <Technique K>
+Spectrum InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ray_dir, int chosen,
+                          Point2<float> light_point, Point2<float> phase_point, TechniqueTally& tally) {
+    constexpr Technique MK = kMediumTechnique<K>;
+    const RenderScene& scene = c.scene;
+    const float g = scene.medium.g;
+    RTCScene rtc = scene.rtc_scene;
+    Spectrum s;
+    const AreaLight* light = chosen >= 0 ? &scene.area_lights[chosen] : nullptr;
+    const float pmf = chosen >= 0 ? scene.light_selector.pmf[chosen] : 0.0f;
+    const uint64_t t0 = ReadTicks();
+    const bool is_rect = light && light->shape == AreaShape::Rectangle;
+    const LightSampler<MK, float> sampler(x, ray_dir, is_rect ? light->rect : RectLight<float>{});
+    LightSample<float> ls;
+    if (is_rect) {
+        if (sampler.Valid()) ls = sampler.Sample(light_point);
+    } else if (light) {
+        ls = SampleEllipseArea(*light, x, light_point);
+    }
+    tally.light_ticks += ReadTicks() - t0;
+    if (ls.pdf > 0 && std::isfinite(ls.pdf)) {
+        const Spectrum le = EmittedRadiance(*light, -ls.dir);
+        if (!IsBlack(le)) {
+            const float phase = HenyeyGreenstein(Dot(ls.dir, ray_dir), g);
+            const float pdf_light = pmf * ls.pdf;
+            const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, pdf_light, phase);
+            ++tally.rays;
+            if (!Occluded(rtc, x, ls.dir, ls.dist * (1 - 1e-4f)))
+                s += le * Transmittance(scene.medium, ls.dist) * (phase * w / pdf_light);
+        }
+    }
+    if (c.trace_bsdf) {
+        // Phase sampling: the weight phase / pdf is 1.
+        const Vec3f wi = SampleHenyeyGreenstein(ray_dir, g, phase_point);
+        const float pdf_phase = HenyeyGreenstein(Dot(wi, ray_dir), g);
+        ++tally.rays;
+        const float t_hit = NearestSurface(rtc, x, wi);
+        if (std::isinf(t_hit)) s += scene.background * Transmittance(scene.medium, kInf);
+        if (c.mis != MisMode::None)
+            s += LightsAlongRay<MK, true>(c, x, wi, t_hit, pdf_phase, x, ray_dir, is_rect ? &sampler : nullptr,
+                                          chosen, tally.light_ticks);
+    }
+    for (const DeltaLight& d : scene.delta_lights) {
+        const DeltaIllumination di = IlluminateFromDelta(d, x);
+        if (IsBlack(di.li)) continue;
+        ++tally.rays;
+        if (!Occluded(rtc, x, di.wi, std::isinf(di.dist) ? kInf : di.dist * (1 - 1e-4f)))
+            s += di.li * Transmittance(scene.medium, di.dist) * HenyeyGreenstein(Dot(di.wi, ray_dir), g);
+    }
+    return s * scene.medium.sigma_s;
+}
+
+// Single scattering along the camera ray's segment [0, t_end): integral of T(t) * inscattered(t),
+// with distance sampling and equi-angular sampling (about the chosen light's centre), combined
+// by one-sample-per-strategy MIS (the renderer's heuristic; balance when MIS is off).
+template <Technique K>
+Spectrum SingleScattering(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
+                          const Point2<float>* bsdf_points, PCG32& rng, TechniqueTally& tally) {
+    const RenderScene& scene = c.scene;
+    const HomogeneousMedium& med = scene.medium;
+    const Ray& ray = ph.ray;
+    const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
+    Spectrum sum;
+    for (int j = 0; j < c.light_samples; ++j) {
+        int chosen = -1;
+        Vec3f centre;
+        bool has_centre = false;
+        if (!scene.light_selector.Empty()) {
+            chosen = scene.light_selector.Select(rng.NextFloat());
+            centre = scene.area_lights[chosen].center;
+            has_centre = true;
+        } else {
+            // Equi-angular about a point or spot light, if there is one.
+            int n_points = 0;
+            for (const DeltaLight& d : scene.delta_lights) n_points += d.kind != DeltaKind::Sun;
+            if (n_points > 0) {
+                int pick = int(rng.NextFloat() * n_points);
+                for (const DeltaLight& d : scene.delta_lights)
+                    if (d.kind != DeltaKind::Sun && pick-- == 0) {
+                        centre = d.position;
+                        has_centre = true;
+                        break;
+                    }
+            }
+        }
+        const EquiAngular ea = has_centre ? MakeEquiAngular(ray.o, ray.d, ph.t_end, centre) : EquiAngular{};
+        const bool use_equi = c.medium_sampling != MediumSampling::Distance && ea.valid;
+        const bool use_distance = c.medium_sampling != MediumSampling::EquiAngular || !ea.valid;
+        const float u_distance = rng.NextFloat(), u_equi = rng.NextFloat();
+        if (use_distance) {
+            const float t = SampleExponentialDistance(med.sigma_sampling, u_distance);
+            if (t < ph.t_end) {
+                const float pdf = ExponentialDistancePDF(med.sigma_sampling, t);
+                const float w = use_equi ? MisWeight(strategy_mis, pdf, EquiAngularPDF(ea, t)) : 1.0f;
+                if (pdf > 0 && w > 0)
+                    sum += Transmittance(med, t) *
+                           InScatteredLight<K>(c, ray.o + ray.d * t, ray.d, chosen, light_points[j], bsdf_points[j],
+                                               tally) *
+                           (w / pdf);
+            }
+        }
+        if (use_equi) {
+            const float t = SampleEquiAngular(ea, u_equi);
+            const float pdf = EquiAngularPDF(ea, t);
+            if (t > 0 && t < ph.t_end && pdf > 0 && std::isfinite(pdf)) {
+                const float w =
+                    use_distance ? MisWeight(strategy_mis, pdf, ExponentialDistancePDF(med.sigma_sampling, t)) : 1.0f;
+                if (w > 0)
+                    sum += Transmittance(med, t) *
+                           InScatteredLight<K>(c, ray.o + ray.d * t, ray.d, chosen, light_points[j], bsdf_points[j],
+                                               tally) *
+                           (w / pdf);
+            }
+        }
+    }
+    return sum * (1.0f / c.light_samples);
+}
+
+template <Technique K, bool kGlossy, bool kMedium>
+inline Spectrum ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
+                                  const Point2<float>* bsdf_points, TechniqueTally& tally) {
+    PCG32 rng(ph.rng_seed, 0x5851f42dull);
+    Spectrum l;
+    if (ph.hit)
+        l = DirectLightAtSurface<K, kGlossy, kMedium>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng,
+                                                      tally) *
+            SegmentTransmittance<kMedium>(c.scene, ph.surface.t);
+    if constexpr (kMedium) l += SingleScattering<K>(c, ph, light_points, bsdf_points, rng, tally);
+    return l;
+}
+
+// Camera ray, first hit, and what it sees directly (shared by all techniques).
+template <bool kDof, bool kMedium>
+void TraceCameraSample(const RenderScene& scene, float fx, float fy, Point2<float> lens, PrimaryHit& out) {
+    out.ray = GenerateCameraRay<kDof>(scene.camera, fx, fy, lens);
+    RTCRayHit rh;
+    out.hit = Intersect(scene.rtc_scene, out.ray.o, out.ray.d, out.ray.tmin, out.ray.tmax, &rh);
+    out.t_end = out.hit ? rh.ray.tfar : kInf;
+    if (out.hit) out.surface = MakeSurfaceHit(scene, out.ray, rh);
+    Spectrum seen;
+    for (const AreaLight& l : scene.area_lights) {
+        if (!l.visible) continue;
+        const float t = IntersectAreaLight(l, out.ray.o, out.ray.d, std::min(out.t_end, out.ray.tmax));
+        if (std::isinf(t) || t < out.ray.tmin) continue;
+        seen += EmittedRadiance(l, -out.ray.d) * SegmentTransmittance<kMedium>(scene, t);
+    }
+    if (!out.hit) seen += scene.background * SegmentTransmittance<kMedium>(scene, kInf);
+    out.seen = seen;
+}
+
+// Pixels are processed in chunks of at most ~kChunkSamples camera samples: first the camera
+// stage for the whole chunk, then each technique over it, so timers run once per chunk and the
+// buffers stay small whatever the sample count.
+constexpr uint32_t kChunkSamples = 1024;
+
+template <bool kDof, bool kGlossy, bool kMedium>
+void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scratch, TileTally& tally) {
+    const RenderScene& scene = *p.scene;
+    const RenderOptions& opt = *p.options;
+    const int w = scene.camera.width;
+    const uint32_t n = uint32_t(p.samples), nl = uint32_t(opt.light_samples);
+    const int tile_w = tile.x1 - tile.x0, tile_pixels = tile_w * (tile.y1 - tile.y0);
+    const int chunk_pixels = int(std::max<uint32_t>(1, std::min<uint32_t>(kChunkSamples / n, tile_pixels)));
+    const size_t chunk_samples = size_t(chunk_pixels) * n;
+    scratch.hits.resize(chunk_samples);
+    scratch.pixel_points.resize(n);
+    scratch.lens_points.resize(n);
+    scratch.light_points.resize(chunk_samples * nl);
+    scratch.bsdf_points.resize(chunk_samples * nl);
+    const ShadeContext ctx{scene, opt.mis, opt.medium_sampling, opt.light_samples,
+                           opt.mis != MisMode::None || !IsBlack(scene.background)};
+    // BSDF/phase sample positions are only drawn when those rays are traced.
+    const bool need_bsdf_points = ctx.trace_bsdf;
+    tally.technique.resize(opt.techniques.size());
+    std::vector<Spectrum> pixel_sums(size_t(chunk_pixels) * opt.techniques.size());
+    for (int first = 0; first < tile_pixels; first += chunk_pixels) {
+        const int count = std::min(chunk_pixels, tile_pixels - first);
+        // Camera stage.
+        const auto c0 = Clock::now();
+        for (int c = 0; c < count; ++c) {
+            const int x = tile.x0 + (first + c) % tile_w, y = tile.y0 + (first + c) / tile_w;
+            const uint64_t pixel = uint64_t(y) * w + x;
+            const uint64_t pixel_seed = MixBits(MixBits(opt.seed + 0x632be59bd9b4e019ull) ^ (pixel + 1));
+            FillPattern(opt.pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimPixel),
+                        scratch.pixel_points.data());
+            if constexpr (kDof)
+                FillPattern(opt.pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimLens),
+                            scratch.lens_points.data());
+            Point2<float>* light_points = &scratch.light_points[size_t(c) * n * nl];
+            FillPattern(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimLight),
+                        light_points);
+            if (need_bsdf_points)
+                FillPattern(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimBsdf),
+                            &scratch.bsdf_points[size_t(c) * n * nl]);
+            const uint64_t rng_base = DimensionSeed(pixel_seed, kDimRng);
+            for (uint32_t i = 0; i < n; ++i) {
+                PrimaryHit& ph = scratch.hits[size_t(c) * n + i];
+                const Point2<float> jitter = scratch.pixel_points[i];
+                TraceCameraSample<kDof, kMedium>(scene, x + jitter.u, y + jitter.v,
+                                                 kDof ? scratch.lens_points[i] : Point2<float>{}, ph);
+                ph.rng_seed = MixBits(rng_base ^ (uint64_t(p.first_sample + i) * 0xbf58476d1ce4e5b9ull));
+            }
+        }
+        tally.camera_seconds += std::chrono::duration<double>(Clock::now() - c0).count();
+        tally.camera_rays += uint64_t(count) * n;
+        // Shading stage, once per technique, over the same camera samples.
+        for (size_t k = 0; k < opt.techniques.size(); ++k) {
+            TechniqueTally& tt = tally.technique[k];
+            const auto s0 = Clock::now();
+            DispatchTechnique(opt.techniques[k], [&](auto tag) {
+                constexpr Technique K = decltype(tag)::value;
+                for (int c = 0; c < count; ++c) {
+                    Spectrum sum;
+                    for (uint32_t i = 0; i < n; ++i) {
+                        const size_t s = size_t(c) * n + i;
+                        const Spectrum l = scratch.hits[s].seen + ShadeCameraSample<K, kGlossy, kMedium>(
+                                                                      ctx, scratch.hits[s], &scratch.light_points[s * nl],
+                                                                      &scratch.bsdf_points[s * nl], tt);
+                        // A NaN or inf sample would poison the pixel forever: drop it (never expected).
+                        if (IsFinite(l)) sum += l;
+                    }
+                    pixel_sums[k * chunk_pixels + c] = sum;
+                }
+            });
+            tt.total_seconds += std::chrono::duration<double>(Clock::now() - s0).count();
+        }
+        for (int c = 0; c < count; ++c) {
+            const int x = tile.x0 + (first + c) % tile_w, y = tile.y0 + (first + c) / tile_w;
+            const uint64_t pixel = uint64_t(y) * w + x;
+            for (size_t k = 0; k < opt.techniques.size(); ++k) {
+                const Spectrum& sum = pixel_sums[k * chunk_pixels + c];
+                double* px = p.sums[k] + 3 * pixel;
+                px[0] += sum.x;
+                px[1] += sum.y;
+                px[2] += sum.z;
+            }
+            p.counts[pixel] += n;
+        }
+    }
+}
+
+template <bool kDof, bool kGlossy>
+TileKernel SelectMedium(bool medium) {
+    return medium ? &RenderTile<kDof, kGlossy, true> : &RenderTile<kDof, kGlossy, false>;
+}
+template <bool kDof>
+TileKernel SelectGlossy(bool glossy, bool medium) {
+    return glossy ? SelectMedium<kDof, true>(medium) : SelectMedium<kDof, false>(medium);
+}
+
+}  // namespace
+
+TileKernel SelectTileKernel(bool dof, bool glossy, bool medium) {
+    return dof ? SelectGlossy<true>(glossy, medium) : SelectGlossy<false>(glossy, medium);
+}
+
+}  // namespace sphrect::render

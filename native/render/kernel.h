@@ -1,0 +1,54 @@
+// The per-tile integrator kernel, specialised at compile time on the scene's features
+// (depth of field, glossy materials, medium) and, inside, on the light-sampling technique.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "renderer.h"
+
+namespace sphrect::render {
+
+struct TileRect {
+    int x0, y0, x1, y1;  // pixels [x0, x1) x [y0, y1)
+};
+
+struct PrimaryHit;
+
+// Per-thread buffers reused across tiles.
+struct ThreadScratch {
+    std::vector<PrimaryHit> hits;
+    std::vector<Point2<float>> pixel_points, lens_points, light_points, bsdf_points;
+    ThreadScratch();
+    ~ThreadScratch();
+};
+
+struct TechniqueTally {
+    uint64_t light_ticks = 0;   // ReadTicks() units
+    double total_seconds = 0;   // whole per-technique pass (light sampling included)
+    uint64_t rays = 0;
+};
+
+struct TileTally {
+    std::vector<TechniqueTally> technique;
+    double camera_seconds = 0;
+    uint64_t camera_rays = 0;
+};
+
+struct KernelParams {
+    const RenderScene* scene;
+    const RenderOptions* options;
+    int samples;             // camera samples per pixel in this pass
+    uint32_t first_sample;   // global index of the pass's first sample
+    uint32_t pass;           // pass number (seeds the non-progressive patterns)
+    double* const* sums;     // per technique, RGB per pixel
+    uint32_t* counts;
+};
+
+using TileKernel = void (*)(const KernelParams&, const TileRect&, ThreadScratch&, TileTally&);
+TileKernel SelectTileKernel(bool dof, bool glossy, bool medium);
+
+// Cheap timestamp (the TSC on x86); converted to seconds with a rate measured per pass.
+uint64_t ReadTicks();
+
+}  // namespace sphrect::render

@@ -1,0 +1,205 @@
+// Emitters of the renderer.
+//
+// Area lights (rectangles and ellipses/discs) are sampled and intersected analytically; they are
+// not Embree geometry and do not occlude each other or the scene (as in Cycles, where light
+// objects are transparent to rays).  Rectangles are sampled with the chosen technique
+// (core/technique.h); ellipses by area, converted to solid angle.  Point, spot and sun lights
+// are delta lights, evaluated once per camera sample with a shadow ray (no MIS possible).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/rect_light.h"
+#include "sampling_util.h"
+
+namespace sphrect::render {
+
+enum class AreaShape { Rectangle, Ellipse };
+
+struct AreaLight {
+    AreaShape shape = AreaShape::Rectangle;
+    RectLight<float> rect;  // Rectangle: corner, edges ex, ey; two_sided
+    Vec3f center, ax, ay;   // Ellipse: centre and semi-axes (Rectangle: centre and half edges)
+    Vec3f n;                // unit normal, cross(ex, ey) direction: the emitting side
+    Vec3f inv_x, inv_y;     // ex / |ex|^2, ey / |ey|^2 (resp. the ellipse's semi-axes): plane coordinates
+    Spectrum radiance;
+    float area = 0;
+    bool two_sided = false;
+    bool visible = true;    // seen by camera rays
+};
+
+inline AreaLight MakeRectAreaLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
+                                   bool two_sided, bool visible) {
+    AreaLight l;
+    l.shape = AreaShape::Rectangle;
+    l.rect = {corner, ex, ey, two_sided};
+    l.center = corner + ex * 0.5f + ey * 0.5f;
+    l.ax = ex * 0.5f;
+    l.ay = ey * 0.5f;
+    const Vec3f c = Cross(ex, ey);
+    l.area = Length(c);
+    l.n = c / l.area;
+    l.inv_x = ex / Dot(ex, ex);
+    l.inv_y = ey / Dot(ey, ey);
+    l.radiance = radiance;
+    l.two_sided = two_sided;
+    l.visible = visible;
+    return l;
+}
+
+inline AreaLight MakeEllipseAreaLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay, const Spectrum& radiance,
+                                      bool two_sided, bool visible) {
+    AreaLight l;
+    l.shape = AreaShape::Ellipse;
+    l.center = center;
+    l.ax = ax;
+    l.ay = ay;
+    const Vec3f c = Cross(ax, ay);
+    l.area = kPi * Length(c);
+    l.n = Normalize(c);
+    l.inv_x = ax / Dot(ax, ax);
+    l.inv_y = ay / Dot(ay, ay);
+    l.radiance = radiance;
+    l.two_sided = two_sided;
+    l.visible = visible;
+    // rect unused for ellipses, but keep it well defined.
+    l.rect = {center - ax - ay, ax * 2.0f, ay * 2.0f, two_sided};
+    return l;
+}
+
+// Radiance leaving the light at a point towards `toward` (any vector pointing away from the light).
+inline Spectrum EmittedRadiance(const AreaLight& l, const Vec3f& toward) {
+    return (l.two_sided || Dot(l.n, toward) > 0) ? l.radiance : Spectrum();
+}
+
+// Distance along the ray (o, d) to the light, or kInf when it misses within (0, tmax).
+inline float IntersectAreaLight(const AreaLight& l, const Vec3f& o, const Vec3f& d, float tmax) {
+    const float denom = Dot(l.n, d);
+    if (denom == 0) return kInf;
+    const Vec3f origin = l.shape == AreaShape::Rectangle ? l.rect.corner : l.center;
+    const float t = Dot(l.n, origin - o) / denom;
+    if (!(t > 0 && t < tmax)) return kInf;
+    const Vec3f q = o + d * t - origin;
+    const float a = Dot(q, l.inv_x), b = Dot(q, l.inv_y);
+    if (l.shape == AreaShape::Rectangle) return (a >= 0 && a <= 1 && b >= 0 && b <= 1) ? t : kInf;
+    return a * a + b * b <= 1 ? t : kInf;
+}
+
+// Solid-angle pdf at `origin` of uniform area sampling, d^2 / (A |cos theta_l|); 0 if not finite.
+inline float AreaToSolidAnglePDF(const AreaLight& l, const Vec3f& origin, const Vec3f& p) {
+    const Vec3f d = p - origin;
+    const float d2 = Dot(d, d);
+    const float cosl = std::abs(Dot(l.n, d)) / std::sqrt(d2);
+    const float pdf = d2 / (l.area * cosl);
+    return std::isfinite(pdf) && pdf > 0 ? pdf : 0.0f;
+}
+
+// Ellipse: concentric disc mapped by the semi-axes (uniform in area).
+inline LightSample<float> SampleEllipseArea(const AreaLight& l, const Vec3f& origin, Point2<float> u) {
+    LightSample<float> s;
+    const Point2<float> d = SampleUniformDiskConcentric(u);
+    s.point = l.center + l.ax * d.u + l.ay * d.v;
+    const Vec3f w = s.point - origin;
+    s.dist = Length(w);
+    if (!(s.dist > 0)) return s;
+    s.dir = w / s.dist;
+    if (!l.two_sided && Dot(l.n, origin - l.center) <= 0) return s;  // behind a one-sided light
+    s.pdf = AreaToSolidAnglePDF(l, origin, s.point);
+    return s;
+}
+
+inline float EllipseAreaPDF(const AreaLight& l, const Vec3f& origin, const Vec3f& p) {
+    if (!l.two_sided && Dot(l.n, origin - l.center) <= 0) return 0;
+    return AreaToSolidAnglePDF(l, origin, p);
+}
+
+// Picks an area light with probability proportional to its power, luminance(L) * area * sides
+// (the emitted flux up to the common factor pi).  Lights with zero power are never picked.
+struct LightSelector {
+    std::vector<float> cdf;  // cdf[i] = P(index <= i)
+    std::vector<float> pmf;
+
+    void Build(const std::vector<AreaLight>& lights) {
+        pmf.assign(lights.size(), 0.0f);
+        cdf.assign(lights.size(), 0.0f);
+        double total = 0;
+        std::vector<double> power(lights.size());
+        for (size_t i = 0; i < lights.size(); ++i) {
+            const double p = double(Luminance(lights[i].radiance)) * lights[i].area * (lights[i].two_sided ? 2 : 1);
+            power[i] = std::isfinite(p) && p > 0 ? p : 0.0;
+            total += power[i];
+        }
+        double acc = 0;
+        for (size_t i = 0; i < lights.size(); ++i) {
+            pmf[i] = total > 0 ? float(power[i] / total) : 0.0f;
+            acc += power[i];
+            cdf[i] = total > 0 ? float(acc / total) : 0.0f;
+        }
+        if (!cdf.empty() && total > 0) cdf.back() = 1.0f;
+    }
+    bool Empty() const { return cdf.empty() || cdf.back() <= 0; }
+    // Index of the light for uniform u in [0,1); never a light with zero probability.
+    int Select(float u) const {
+        int i = int(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+        i = std::min(i, int(cdf.size()) - 1);
+        while (i > 0 && pmf[i] == 0) --i;
+        return i;
+    }
+};
+
+// --- Delta lights ------------------------------------------------------------------------------
+
+enum class DeltaKind { Point, Spot, Sun };
+
+struct DeltaLight {
+    DeltaKind kind = DeltaKind::Point;
+    Vec3f position;    // Point, Spot
+    Vec3f axis;        // Spot: unit cone axis;  Sun: unit direction towards the sun
+    Spectrum power;    // Point/Spot: intensity I (W/sr); Sun: irradiance E (W/m^2)
+    float cos_half_angle = -1, spot_smooth = 0;  // Spot
+};
+
+inline float SmoothStep(float e0, float e1, float x) {
+    const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
+    return t * t * (3 - 2 * t);
+}
+
+// Cycles 3.4's spot falloff: cos(angle to the axis), faded by smoothstep over the outer
+// (1 - cos(size / 2)) * blend of the cone's cosine range, zero outside the cone.
+inline float SpotAttenuation(const DeltaLight& l, const Vec3f& dir_from_light) {
+    const float c = Dot(dir_from_light, l.axis);
+    if (c <= l.cos_half_angle) return 0;
+    const float t = c - l.cos_half_angle;
+    float a = c;
+    if (l.spot_smooth > 0 && t < l.spot_smooth) a *= SmoothStep(0, l.spot_smooth, t);
+    return a;
+}
+
+struct DeltaIllumination {
+    Vec3f wi;         // unit, towards the light
+    float dist = 0;   // kInf for the sun
+    Spectrum li;      // incident radiance times the delta's solid angle (irradiance at normal incidence)
+};
+
+inline DeltaIllumination IlluminateFromDelta(const DeltaLight& l, const Vec3f& p) {
+    DeltaIllumination r;
+    if (l.kind == DeltaKind::Sun) {
+        r.wi = l.axis;
+        r.dist = kInf;
+        r.li = l.power;
+        return r;
+    }
+    const Vec3f d = l.position - p;
+    const float d2 = Dot(d, d);
+    r.dist = std::sqrt(d2);
+    if (!(r.dist > 0)) return r;
+    r.wi = d / r.dist;
+    float att = 1 / d2;
+    if (l.kind == DeltaKind::Spot) att *= SpotAttenuation(l, -r.wi);
+    r.li = l.power * att;
+    return r;
+}
+
+}  // namespace sphrect::render

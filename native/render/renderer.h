@@ -1,0 +1,87 @@
+// The direct-lighting renderer: progressive, tile-parallel, several light-sampling techniques
+// sharing camera rays and first hits, each with its own accumulation buffer and timings.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "core/patterns.h"
+#include "core/technique.h"
+#include "scene.h"
+
+namespace sphrect::render {
+
+// How the scattering distance along camera rays is chosen in a medium.
+enum class MediumSampling { Mis, Distance, EquiAngular };
+
+bool ParseMisMode(const std::string& name, MisMode* out);
+const char* MisModeName(MisMode m);
+bool ParseMediumSampling(const std::string& name, MediumSampling* out);
+const char* MediumSamplingName(MediumSampling m);
+
+struct RenderOptions {
+    std::vector<Technique> techniques = {Technique::Rectangle};
+    int light_samples = 1;               // light samples (and BSDF samples) per camera sample
+    Pattern pattern = Pattern::Sobol;    // drives pixel, lens, light and BSDF sample positions
+    MisMode mis = MisMode::Balance;      // light sampling vs BSDF (or phase) sampling
+    MediumSampling medium_sampling = MediumSampling::Mis;
+    uint64_t seed = 0;
+    int threads = 0;                     // 0: all hardware threads
+    int tile_size = 16;
+    // Benchmarks only: run the kernel with every feature compiled in (medium, glossy, depth of
+    // field) whatever the scene needs, to measure what the specialised kernels save.
+    bool force_all_features = false;
+};
+
+struct TechniqueStats {
+    uint64_t samples = 0;       // camera samples per pixel accumulated (pixels of cancelled tiles may have fewer)
+    double wall_time = 0;       // seconds of Render() calls (shared by all techniques of the renderer)
+    double light_time = 0;      // thread-seconds in this technique's light sampling (setup, Sample, Pdf)
+    double shading_time = 0;    // thread-seconds in the rest of its direct lighting: BSDF, MIS, shadow rays
+    double camera_time = 0;     // thread-seconds of camera rays and first hits (shared)
+    uint64_t rays = 0;          // shadow and BSDF/phase rays cast for this technique
+    uint64_t camera_rays = 0;   // camera rays (shared)
+};
+
+class Renderer {
+  public:
+    // Throws std::invalid_argument on bad options or an uncommitted scene.
+    Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions options);
+    ~Renderer();
+
+    // Adds `samples` camera samples per pixel; with time_budget > 0, keeps adding passes of
+    // `samples` while the budget lasts (at least one pass).  `progress(done_tiles, total_tiles)`
+    // is called on the calling thread.  Returns false when cancelled (partial image kept).
+    bool Render(int samples, double time_budget = 0,
+                const std::function<void(int, int)>& progress = nullptr);
+    void Cancel() { cancel_.store(true); }
+
+    int width() const { return scene_->camera.width; }
+    int height() const { return scene_->camera.height; }
+    const RenderOptions& options() const { return options_; }
+    std::vector<std::string> Features() const { return scene_->features().Names(); }
+    // RGBA float32 [height][width][4], row 0 at the top; mean of the samples so far.
+    void Image(int technique_index, float* out) const;
+    TechniqueStats Stats(int technique_index) const;
+
+  private:
+    bool RenderPass(int samples, const std::function<void(int, int)>& progress);
+
+    std::shared_ptr<const RenderScene> scene_;
+    RenderOptions options_;
+    int threads_ = 1;
+    std::vector<std::vector<double>> sums_;  // per technique, RGB per pixel
+    std::vector<uint32_t> counts_;           // camera samples per pixel
+    std::vector<TechniqueStats> stats_;
+    uint32_t next_sample_ = 0, pass_ = 0;
+    std::atomic<bool> cancel_{false};
+    std::mutex render_mutex_;                // one Render() at a time
+    mutable std::mutex stats_mutex_;
+};
+
+}  // namespace sphrect::render

@@ -1,0 +1,88 @@
+// Small geometric helpers shared by the renderer: RGB, orthonormal frames and the
+// standard warps of [0,1)^2 (pbrt-v4, "Sampling Algorithms").
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/light_sample.h"
+#include "core/vec3.h"
+
+namespace sphrect::render {
+
+using Spectrum = Vec3f;  // linear RGB
+
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kInvPi = 0.31830988618379067154f;
+constexpr float kInf = INFINITY;
+
+inline float Luminance(const Spectrum& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+inline bool IsBlack(const Spectrum& c) { return c.x == 0 && c.y == 0 && c.z == 0; }
+inline float MaxComponent(const Spectrum& c) { return std::max(c.x, std::max(c.y, c.z)); }
+inline float MaxAbsComponent(const Vec3f& v) { return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z))); }
+
+// Orthonormal basis around a unit vector n (Duff et al., "Building an Orthonormal Basis, Revisited", 2017).
+struct Frame {
+    Vec3f s, t, n;
+    static Frame FromZ(const Vec3f& n) {
+        const float sign = std::copysign(1.0f, n.z);
+        const float a = -1.0f / (sign + n.z), b = n.x * n.y * a;
+        return {{1 + sign * n.x * n.x * a, sign * b, -sign * n.x}, {b, sign + n.y * n.y * a, -n.y}, n};
+    }
+    Vec3f ToLocal(const Vec3f& v) const { return {Dot(v, s), Dot(v, t), Dot(v, n)}; }
+    Vec3f FromLocal(const Vec3f& v) const { return s * v.x + t * v.y + n * v.z; }
+};
+
+// Shirley-Chiu concentric map of the square onto the unit disc (area preserving, low distortion).
+inline Point2<float> SampleUniformDiskConcentric(Point2<float> u) {
+    const float x = 2 * u.u - 1, y = 2 * u.v - 1;
+    if (x == 0 && y == 0) return {0, 0};
+    float r, theta;
+    if (std::abs(x) > std::abs(y)) {
+        r = x;
+        theta = (kPi / 4) * (y / x);
+    } else {
+        r = y;
+        theta = kPi / 2 - (kPi / 4) * (x / y);
+    }
+    return {r * std::cos(theta), r * std::sin(theta)};
+}
+
+// Malley's method: project the concentric disc onto the hemisphere; pdf = cos(theta) / pi.
+inline Vec3f SampleCosineHemisphere(Point2<float> u) {
+    const Point2<float> d = SampleUniformDiskConcentric(u);
+    const float z = std::sqrt(std::max(0.0f, 1 - d.u * d.u - d.v * d.v));
+    return {d.u, d.v, z};
+}
+inline float CosineHemispherePDF(float cos_theta) { return std::max(cos_theta, 0.0f) * kInvPi; }
+
+// MIS heuristics for one sample from each of two strategies (Veach 1997, ch. 9).
+enum class MisMode { None, Balance, Power };
+
+template <MisMode M>
+inline float MisWeight(float pdf_this, float pdf_other) {
+    if constexpr (M == MisMode::None) {
+        return 1.0f;
+    } else if constexpr (M == MisMode::Balance) {
+        return pdf_this / (pdf_this + pdf_other);
+    } else {
+        const float a = pdf_this * pdf_this, b = pdf_other * pdf_other;
+        // Squares of huge pdfs overflow to inf (inf/inf = NaN): fall back to the ratio form.
+        if (!std::isfinite(a + b)) return pdf_this >= pdf_other ? 1.0f : 0.0f;
+        return a / (a + b);
+    }
+}
+
+// Run-time version, for the few places outside the inner loops.
+inline float MisWeight(MisMode m, float pdf_this, float pdf_other) {
+    switch (m) {
+        case MisMode::None: return 1.0f;
+        case MisMode::Balance: return MisWeight<MisMode::Balance>(pdf_this, pdf_other);
+        case MisMode::Power: return MisWeight<MisMode::Power>(pdf_this, pdf_other);
+    }
+    return 1.0f;
+}
+
+inline float SafeSqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
+
+}  // namespace sphrect::render

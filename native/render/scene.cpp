@@ -1,0 +1,271 @@
+#include "scene.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace sphrect::render {
+
+namespace {
+
+[[noreturn]] void Fail(const std::string& what) { throw std::invalid_argument(what); }
+
+bool Finite(const Spectrum& c) { return IsFinite(c); }
+bool NonNegative(const Spectrum& c) { return c.x >= 0 && c.y >= 0 && c.z >= 0; }
+
+void CheckColor(const std::string& what, const Spectrum& c) {
+    if (!Finite(c) || !NonNegative(c)) Fail(what + " must be finite and non-negative");
+}
+
+void CheckVector(const std::string& what, const Vec3f& v) {
+    if (!IsFinite(v)) Fail(what + " must be finite");
+}
+
+}  // namespace
+
+std::vector<std::string> SceneFeatures::Names() const {
+    std::vector<std::string> n;
+    if (glossy) n.push_back("glossy");
+    if (medium) n.push_back("medium");
+    if (dof) n.push_back("dof");
+    if (ellipse_lights) n.push_back("ellipse_lights");
+    if (delta_lights) n.push_back("delta_lights");
+    if (orthographic) n.push_back("orthographic");
+    if (background) n.push_back("background");
+    return n;
+}
+
+RenderScene::RenderScene() {
+    device_ = rtcNewDevice(nullptr);
+    if (!device_) throw std::runtime_error("Embree: could not create a device");
+    rtc_scene = rtcNewScene(device_);
+    rtcSetSceneBuildQuality(rtc_scene, RTC_BUILD_QUALITY_HIGH);
+}
+
+RenderScene::~RenderScene() {
+    if (rtc_scene) rtcReleaseScene(rtc_scene);
+    if (device_) rtcReleaseDevice(device_);
+}
+
+void RenderScene::RequireNotCommitted() const {
+    if (committed_) Fail("the scene is already committed");
+}
+
+void RenderScene::SetCamera(const CameraModel& c) {
+    RequireNotCommitted();
+    constexpr int kMaxSide = 1 << 15;
+    if (c.width <= 0 || c.height <= 0 || c.width > kMaxSide || c.height > kMaxSide ||
+        int64_t(c.width) * c.height > (int64_t(1) << 27))
+        Fail("camera resolution " + std::to_string(c.width) + " x " + std::to_string(c.height) +
+             " is out of range (each side 1.." + std::to_string(kMaxSide) + ", at most 2^27 pixels)");
+    for (const auto& row : c.to_world)
+        for (float x : row)
+            if (!std::isfinite(x)) Fail("camera matrix must be finite");
+    const Vec3f cx = c.VectorToWorld({1, 0, 0}), cy = c.VectorToWorld({0, 1, 0}), cz = c.VectorToWorld({0, 0, 1});
+    if (!(std::abs(Dot(Cross(cx, cy), cz)) > 1e-12f)) Fail("camera matrix is singular");
+    if (!(c.half_width > 0 && c.half_height > 0 && std::isfinite(c.half_width) && std::isfinite(c.half_height)))
+        Fail("camera image plane must have a positive, finite size (check lens, sensor and ortho_scale)");
+    if (!std::isfinite(c.offset_x) || !std::isfinite(c.offset_y)) Fail("camera shift must be finite");
+    if (!(c.aperture_radius >= 0) || !std::isfinite(c.aperture_radius)) Fail("aperture_radius must be >= 0");
+    if (c.aperture_radius > 0 && !(c.focus_distance > 0 && std::isfinite(c.focus_distance)))
+        Fail("focus_distance must be positive when aperture_radius > 0");
+    if (!(c.clip_start >= 0) || !(c.clip_end > c.clip_start)) Fail("camera clipping needs 0 <= clip_start < clip_end");
+    camera = c;
+    camera_set_ = true;
+}
+
+void RenderScene::SetBackground(const Spectrum& radiance) {
+    RequireNotCommitted();
+    CheckColor("world background", radiance);
+    background = radiance;
+}
+
+void RenderScene::SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g) {
+    RequireNotCommitted();
+    CheckColor("medium sigma_s", sigma_s);
+    CheckColor("medium sigma_a", sigma_a);
+    if (!(g > -1 && g < 1)) Fail("medium anisotropy g must be in (-1, 1)");
+    medium.sigma_s = sigma_s;
+    medium.sigma_t = sigma_s + sigma_a;
+    medium.g = g;
+    medium.sigma_sampling = (medium.sigma_t.x + medium.sigma_t.y + medium.sigma_t.z) / 3;
+    has_medium = medium.sigma_sampling > 0;
+}
+
+int RenderScene::AddDiffuseMaterial(const Spectrum& base) {
+    RequireNotCommitted();
+    CheckColor("material base_color", base);
+    materials.push_back(MakeDiffuseMaterial(base));
+    return int(materials.size()) - 1;
+}
+
+int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular) {
+    RequireNotCommitted();
+    CheckColor("material base_color", base);
+    if (!std::isfinite(roughness) || !std::isfinite(metallic) || !std::isfinite(specular))
+        Fail("material roughness, metallic and specular must be finite");
+    materials.push_back(MakeGlossyMaterial(base, roughness, metallic, specular));
+    return int(materials.size()) - 1;
+}
+
+void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
+                          size_t nt, const float* normals, const int32_t* material_ids) {
+    RequireNotCommitted();
+    const std::string who = "mesh '" + name + "'";
+    if (nv > (size_t(1) << 31) || nt > (size_t(1) << 31)) Fail(who + " is too large");
+    for (size_t i = 0; i < 3 * nv; ++i)
+        if (!std::isfinite(vertices[i]))
+            Fail(who + ": vertex " + std::to_string(i / 3) + " is not finite (NaN or inf)");
+    for (size_t i = 0; i < 3 * nt; ++i)
+        if (triangles[i] < 0 || size_t(triangles[i]) >= nv)
+            Fail(who + ": triangle " + std::to_string(i / 3) + " has vertex index " + std::to_string(triangles[i]) +
+                 " outside [0, " + std::to_string(nv) + ")");
+    MeshData m;
+    m.name = name;
+    m.num_vertices = nv;
+    m.num_triangles = nt;
+    if (normals) {
+        m.normals.resize(nv);
+        for (size_t i = 0; i < nv; ++i) {
+            const Vec3f n(normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]);
+            if (!IsFinite(n)) Fail(who + ": normal " + std::to_string(i) + " is not finite");
+            const float len = Length(n);
+            m.normals[i] = len > 0 ? n / len : Vec3f();  // zero: fall back to the geometric normal
+        }
+    }
+    if (material_ids) {
+        m.material_ids.assign(material_ids, material_ids + nt);
+        for (size_t i = 0; i < nt; ++i)
+            if (material_ids[i] < 0)
+                Fail(who + ": triangle " + std::to_string(i) + " has a negative material id");
+    }
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree pads its own buffers for its SIMD loads; one memcpy each.
+    auto* vb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+    auto* ib = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nt));
+    if (!vb || !ib) {
+        rtcReleaseGeometry(geom);
+        throw std::runtime_error(who + ": Embree could not allocate its buffers");
+    }
+    if (nv) std::memcpy(vb, vertices, 3 * nv * sizeof(float));
+    if (nt) std::memcpy(ib, triangles, 3 * nt * sizeof(uint32_t));
+    m.vertices = vb;
+    m.triangles = ib;
+    rtcCommitGeometry(geom);
+    const unsigned id = rtcAttachGeometry(rtc_scene, geom);
+    rtcReleaseGeometry(geom);
+    if (id != meshes.size()) throw std::logic_error("unexpected Embree geometry id");
+    meshes.push_back(std::move(m));
+}
+
+std::string RenderScene::AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey,
+                                      const Spectrum& radiance, bool two_sided, bool visible) {
+    RequireNotCommitted();
+    CheckColor("rectangle light radiance", radiance);
+    const std::string problem = ValidateRectLight(RectLight<float>{corner, ex, ey, two_sided});
+    if (!problem.empty()) Fail(problem);
+    const float area = Length(Cross(ex, ey));
+    if (!(area > 0) || !std::isfinite(area)) return "rectangle light with zero area skipped";
+    if (IsBlack(radiance)) return "rectangle light with zero radiance skipped";
+    area_lights.push_back(MakeRectAreaLight(corner, ex, ey, radiance, two_sided, visible));
+    return {};
+}
+
+std::string RenderScene::AddEllipseLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay,
+                                         const Spectrum& radiance, bool two_sided, bool visible) {
+    RequireNotCommitted();
+    CheckColor("ellipse light radiance", radiance);
+    CheckVector("ellipse light centre", center);
+    CheckVector("ellipse light axes", ax);
+    CheckVector("ellipse light axes", ay);
+    const float la = Length(ax), lb = Length(ay);
+    if (la > 0 && lb > 0 && std::abs(Dot(ax, ay)) > 1e-4f * la * lb)
+        Fail("ellipse light axes axis_x and axis_y must be orthogonal");
+    const float area = Length(Cross(ax, ay));
+    if (!(area > 0) || !std::isfinite(area)) return "ellipse light with zero area skipped";
+    if (IsBlack(radiance)) return "ellipse light with zero radiance skipped";
+    area_lights.push_back(MakeEllipseAreaLight(center, ax, ay, radiance, two_sided, visible));
+    return {};
+}
+
+void RenderScene::AddPointLight(const Vec3f& position, const Spectrum& intensity) {
+    RequireNotCommitted();
+    CheckVector("point light position", position);
+    CheckColor("point light intensity", intensity);
+    DeltaLight l;
+    l.kind = DeltaKind::Point;
+    l.position = position;
+    l.power = intensity;
+    delta_lights.push_back(l);
+}
+
+void RenderScene::AddSpotLight(const Vec3f& position, const Vec3f& direction, const Spectrum& intensity,
+                               float spot_size, float spot_blend) {
+    RequireNotCommitted();
+    CheckVector("spot light position", position);
+    CheckColor("spot light intensity", intensity);
+    if (!IsFinite(direction) || !(Length(direction) > 0)) Fail("spot light direction must be a non-zero vector");
+    if (!(spot_size > 0 && spot_size <= 2 * kPi)) Fail("spot_size must be in (0, 2 pi]");
+    if (!(spot_blend >= 0 && spot_blend <= 1)) Fail("spot_blend must be in [0, 1]");
+    DeltaLight l;
+    l.kind = DeltaKind::Spot;
+    l.position = position;
+    l.axis = Normalize(direction);
+    l.power = intensity;
+    l.cos_half_angle = std::cos(std::min(spot_size, kPi) / 2);
+    l.spot_smooth = (1 - l.cos_half_angle) * spot_blend;
+    delta_lights.push_back(l);
+}
+
+void RenderScene::AddSunLight(const Vec3f& direction, const Spectrum& irradiance) {
+    RequireNotCommitted();
+    CheckColor("sun irradiance", irradiance);
+    if (!IsFinite(direction) || !(Length(direction) > 0)) Fail("sun direction must be a non-zero vector");
+    DeltaLight l;
+    l.kind = DeltaKind::Sun;
+    l.axis = -Normalize(direction);  // towards the sun
+    l.power = irradiance;
+    delta_lights.push_back(l);
+}
+
+size_t RenderScene::NumTriangles() const {
+    size_t n = 0;
+    for (const auto& m : meshes) n += m.num_triangles;
+    return n;
+}
+
+void RenderScene::Commit() {
+    RequireNotCommitted();
+    if (!camera_set_) Fail("the scene has no camera");
+    if (NumTriangles() == 0 && area_lights.empty() && delta_lights.empty())
+        Fail("empty scene: no triangles and no lights");
+    if (materials.empty()) AddDiffuseMaterial({0.8f, 0.8f, 0.8f});
+    for (const auto& m : meshes)
+        for (size_t i = 0; i < m.material_ids.size(); ++i)
+            if (size_t(m.material_ids[i]) >= materials.size())
+                Fail("mesh '" + m.name + "': triangle " + std::to_string(i) + " uses material " +
+                     std::to_string(m.material_ids[i]) + " but the scene has " + std::to_string(materials.size()) +
+                     " materials");
+    rtcCommitScene(rtc_scene);
+    light_selector.Build(area_lights);
+    features_ = {};
+    // A glossy material only matters when some triangle uses it.
+    std::vector<bool> used(materials.size(), false);
+    for (const auto& m : meshes) {
+        if (m.num_triangles == 0) continue;
+        if (m.material_ids.empty()) used[0] = true;
+        for (int32_t id : m.material_ids) used[id] = true;
+    }
+    for (size_t i = 0; i < materials.size(); ++i) features_.glossy |= used[i] && materials[i].glossy;
+    features_.medium = has_medium;
+    features_.dof = camera.aperture_radius > 0 && !camera.orthographic;
+    features_.orthographic = camera.orthographic;
+    for (const auto& l : area_lights) features_.ellipse_lights |= l.shape == AreaShape::Ellipse;
+    features_.delta_lights = !delta_lights.empty();
+    features_.background = !IsBlack(background);
+    committed_ = true;
+}
+
+}  // namespace sphrect::render

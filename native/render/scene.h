@@ -1,0 +1,84 @@
+// The renderer's scene: Embree triangle geometry, materials, lights, camera and world.
+// Built once through the Add*/Set* calls (which validate their input and throw
+// std::invalid_argument with a readable message), then Commit() builds the BVH.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bsdf.h"
+#include "camera.h"
+#include "lights.h"
+#include "medium.h"
+
+namespace sphrect::render {
+
+struct MeshData {
+    std::string name;
+    const float* vertices = nullptr;    // Embree-owned, [3 * num_vertices]
+    const uint32_t* triangles = nullptr;  // Embree-owned, [3 * num_triangles]
+    size_t num_vertices = 0, num_triangles = 0;
+    std::vector<Vec3f> normals;         // per vertex, or empty (flat shading)
+    std::vector<int32_t> material_ids;  // per triangle, or empty (material 0)
+};
+
+// What a scene asks of the integrator; each flag selects a specialised kernel or a feature name.
+struct SceneFeatures {
+    bool glossy = false, medium = false, dof = false;
+    bool ellipse_lights = false, delta_lights = false, orthographic = false, background = false;
+    std::vector<std::string> Names() const;
+};
+
+class RenderScene {
+  public:
+    RenderScene();
+    ~RenderScene();
+    RenderScene(const RenderScene&) = delete;
+    RenderScene& operator=(const RenderScene&) = delete;
+
+    void SetCamera(const CameraModel& camera);
+    void SetBackground(const Spectrum& radiance);
+    void SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
+    int AddDiffuseMaterial(const Spectrum& base);
+    int AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular);
+    // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids may be null.
+    void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,
+                 size_t num_triangles, const float* normals, const int32_t* material_ids);
+    // Area lights return "" when added, or why the light was skipped (zero area, black).
+    std::string AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
+                             bool two_sided, bool visible);
+    std::string AddEllipseLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay, const Spectrum& radiance,
+                                bool two_sided, bool visible);
+    void AddPointLight(const Vec3f& position, const Spectrum& intensity);
+    void AddSpotLight(const Vec3f& position, const Vec3f& direction, const Spectrum& intensity, float spot_size,
+                      float spot_blend);
+    void AddSunLight(const Vec3f& direction, const Spectrum& irradiance);
+    void Commit();
+
+    bool committed() const { return committed_; }
+    const SceneFeatures& features() const { return features_; }
+    size_t NumTriangles() const;
+
+    // Read by the integrator after Commit().
+    RTCScene rtc_scene = nullptr;
+    CameraModel camera;
+    Spectrum background;
+    bool has_medium = false;
+    HomogeneousMedium medium;
+    std::vector<Material> materials;
+    std::vector<MeshData> meshes;  // index = Embree geometry id
+    std::vector<AreaLight> area_lights;
+    LightSelector light_selector;
+    std::vector<DeltaLight> delta_lights;
+
+  private:
+    void RequireNotCommitted() const;
+    RTCDevice device_ = nullptr;
+    bool committed_ = false, camera_set_ = false;
+    SceneFeatures features_;
+};
+
+}  // namespace sphrect::render

@@ -1,0 +1,213 @@
+"""The Embree direct-lighting renderer (C++), driven from a :class:`sphrect.Scene`.
+
+Example::
+
+    r = sphrect.Renderer(scene, techniques=["area", "rectangle"], mis="balance")
+    r.render(64)                      # 64 more camera samples per pixel, all techniques
+    img = r.image("rectangle")        # float32 [H, W, 4] RGBA, row 0 at the top
+    r.stats("rectangle")              # samples, wall_time, light_time, shading_time, rays, ...
+
+Light selection: one area light (rectangle or ellipse) per light sample, picked with
+probability proportional to its power (luminance x area x sides); point, spot and sun lights
+are all evaluated once per camera sample.  Pixels use a box filter.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+import warnings
+from typing import Callable, Dict, Iterable, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _native
+from .scene import Camera, EllipseLight, PointLight, RectLight, Scene, SpotLight, SunLight
+
+TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine")
+PATTERNS = ("independent", "stratified", "latin", "hammersley", "sobol")
+MIS_MODES = ("none", "balance", "power")
+MEDIUM_SAMPLING = ("mis", "distance", "equiangular")
+
+_MAX_SIDE = 1 << 15
+
+
+def _rgb(value, what: str):
+    try:
+        c = tuple(float(x) for x in value)
+    except TypeError:
+        raise ValueError(f"{what} must be three numbers, got {value!r}") from None
+    if len(c) != 3:
+        raise ValueError(f"{what} must be three numbers, got {value!r}")
+    return c
+
+
+def _int_array(a, what: str, upper: Optional[int] = None) -> np.ndarray:
+    """int32 copy-free when possible; range-checked before narrowing so nothing wraps around."""
+    a = np.asarray(a)
+    if a.size and not np.issubdtype(a.dtype, np.integer):
+        raise ValueError(f"{what} must be integers (got dtype {a.dtype})")
+    if a.size:
+        lo, hi = int(a.min()), int(a.max())
+        if lo < 0 or (upper is not None and hi >= upper) or hi > np.iinfo(np.int32).max:
+            bound = f"[0, {upper})" if upper is not None else "[0, 2^31)"
+            raise ValueError(f"{what}: index out of range {bound} (min {lo}, max {hi})")
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _set_camera(native, cam: Camera) -> None:
+    for name in ("width", "height"):
+        v = getattr(cam, name)
+        if not isinstance(v, numbers.Integral) or not 1 <= int(v) <= _MAX_SIDE:
+            raise ValueError(f"camera {name} must be an integer in 1..{_MAX_SIDE}, got {v!r}")
+    if cam.type not in ("perspective", "orthographic"):
+        raise ValueError(f"camera type must be 'perspective' or 'orthographic', got {cam.type!r}")
+    if cam.sensor_fit not in ("AUTO", "HORIZONTAL", "VERTICAL"):
+        raise ValueError(f"camera sensor_fit must be AUTO, HORIZONTAL or VERTICAL, got {cam.sensor_fit!r}")
+    if cam.type == "perspective" and not cam.lens > 0:
+        raise ValueError("camera lens (focal length) must be positive")
+    m = np.asarray(cam.to_world, dtype=np.float64)
+    if m.shape != (4, 4):
+        raise ValueError(f"camera to_world must be 4x4, got shape {m.shape}")
+    hw, hh, ox, oy = cam.image_plane()
+    native.set_camera(int(cam.width), int(cam.height), m, cam.type == "orthographic", float(hw), float(hh),
+                      float(ox), float(oy), float(cam.aperture_radius), float(cam.focus_distance),
+                      float(cam.clip_start), float(min(cam.clip_end, 1e30)))
+
+
+def build_native_scene(scene: Scene):
+    """A committed ``_native._Scene`` for `scene`, and the list of skipped-light messages."""
+    if not isinstance(scene, Scene):
+        raise ValueError(f"expected a sphrect.Scene, got {type(scene).__name__}")
+    native = _native._Scene()
+    skipped = []
+    _set_camera(native, scene.camera)
+    native.set_background(_rgb(scene.world.background, "world background"))
+    med = scene.world.medium
+    if med is not None:
+        native.set_medium(_rgb(med.sigma_s, "medium sigma_s"), _rgb(med.sigma_a, "medium sigma_a"), float(med.g))
+    for mat in scene.materials:
+        if mat.kind == "diffuse":
+            native.add_diffuse_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"))
+        elif mat.kind == "glossy":
+            native.add_glossy_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"),
+                                       float(mat.roughness), float(mat.metallic), float(mat.specular))
+        else:
+            raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected 'diffuse' or 'glossy')")
+    n_materials = max(1, len(scene.materials))
+    for mesh in scene.meshes:
+        v = np.asarray(mesh.vertices)
+        if v.ndim != 2 or v.shape[1] != 3:
+            raise ValueError(f"mesh '{mesh.name}': vertices must have shape [V, 3], got {v.shape}")
+        t = _int_array(mesh.triangles, f"mesh '{mesh.name}' triangles", upper=len(v))
+        ids = None
+        if mesh.material_ids is not None:
+            ids = _int_array(mesh.material_ids, f"mesh '{mesh.name}' material_ids", upper=n_materials)
+        native.add_mesh(mesh.name, v, t, mesh.normals, ids)
+    for light in scene.lights:
+        msg = ""
+        if isinstance(light, RectLight):
+            msg = native.add_rect_light(_rgb(light.corner, "corner"), _rgb(light.edge_x, "edge_x"),
+                                        _rgb(light.edge_y, "edge_y"), _rgb(light.radiance, "radiance"),
+                                        bool(light.two_sided), bool(light.visible))
+        elif isinstance(light, EllipseLight):
+            msg = native.add_ellipse_light(_rgb(light.center, "center"), _rgb(light.axis_x, "axis_x"),
+                                           _rgb(light.axis_y, "axis_y"), _rgb(light.radiance, "radiance"),
+                                           bool(light.two_sided), bool(light.visible))
+        elif isinstance(light, PointLight):
+            native.add_point_light(_rgb(light.position, "position"), _rgb(light.intensity, "intensity"))
+        elif isinstance(light, SpotLight):
+            native.add_spot_light(_rgb(light.position, "position"), _rgb(light.direction, "direction"),
+                                  _rgb(light.intensity, "intensity"), float(light.spot_size), float(light.spot_blend))
+        elif isinstance(light, SunLight):
+            native.add_sun_light(_rgb(light.direction, "direction"), _rgb(light.irradiance, "irradiance"))
+        else:
+            raise ValueError(f"unknown light type {type(light).__name__}")
+        if msg:
+            skipped.append(f"light '{getattr(light, 'name', '?')}': {msg}")
+    native.commit()
+    return native, skipped
+
+
+class Renderer:
+    """Progressive direct-lighting renderer of a :class:`sphrect.Scene` with one or more
+    light-sampling techniques sharing camera rays and first hits (see the module docstring)."""
+
+    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 1,
+                 pattern: str = "sobol", mis: str = "balance", seed: int = 0, threads: int = 0,
+                 medium_sampling: str = "mis", tile_size: int = 16):
+        if isinstance(techniques, str):
+            techniques = [techniques]
+        techniques = list(techniques)
+        if not techniques:
+            raise ValueError("at least one technique is needed")
+        for name, v, lo in (("light_samples", light_samples, 1), ("threads", threads, 0),
+                            ("tile_size", tile_size, 1), ("seed", seed, 0)):
+            if not isinstance(v, numbers.Integral) or isinstance(v, bool) or v < lo:
+                raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+        native, skipped = build_native_scene(scene)
+        for msg in skipped:
+            warnings.warn(msg, RuntimeWarning, stacklevel=2)
+        self._scene = native
+        self._r = _native._Renderer(native, techniques, int(light_samples), str(pattern), str(mis),
+                                    str(medium_sampling), int(seed) % (1 << 64), int(threads), int(tile_size))
+        self._techniques = techniques
+
+    @property
+    def techniques(self):
+        return list(self._techniques)
+
+    @property
+    def features(self):
+        """Effects the scene calls for and the kernel simulates (e.g. 'glossy', 'medium', 'dof')."""
+        return list(self._r.features)
+
+    @property
+    def resolution(self):
+        return self._r.width, self._r.height
+
+    def _index(self, technique) -> int:
+        if technique is None:
+            return 0
+        if isinstance(technique, numbers.Integral):
+            if not 0 <= technique < len(self._techniques):
+                raise ValueError(f"technique index {technique} out of range")
+            return int(technique)
+        try:
+            return self._techniques.index(technique)
+        except ValueError:
+            raise ValueError(f"technique {technique!r} is not rendered by this Renderer "
+                             f"(it renders {self._techniques})") from None
+
+    def render(self, samples: int, time_budget: Optional[float] = None,
+               progress: Optional[Callable[[int, int], None]] = None) -> bool:
+        """Add `samples` camera samples per pixel (or passes of them until `time_budget` seconds
+        are spent).  progress(done_tiles, total_tiles) runs on this thread.  False if cancelled."""
+        if not isinstance(samples, numbers.Integral) or isinstance(samples, bool) or samples < 1:
+            raise ValueError(f"samples must be a positive integer, got {samples!r}")
+        budget = 0.0
+        if time_budget is not None:
+            budget = float(time_budget)
+            if not (budget > 0 and math.isfinite(budget)):
+                raise ValueError(f"time_budget must be a positive number of seconds, got {time_budget!r}")
+        return self._r.render(int(samples), budget, progress)
+
+    def cancel(self) -> None:
+        """Stop the current render() at the next tile (thread-safe)."""
+        self._r.cancel()
+
+    def image(self, technique=None) -> np.ndarray:
+        """float32 [H, W, 4] RGBA (alpha 1), row 0 at the top: the mean of the samples so far."""
+        return self._r.image(self._index(technique))
+
+    def stats(self, technique=None) -> dict:
+        """samples, wall_time (s, shared), light_time and shading_time (thread-seconds of this
+        technique), rays (its shadow/BSDF rays), camera_time and camera_rays (shared)."""
+        return dict(self._r.stats(self._index(technique)))
+
+
+def render(scene: Scene, samples: int = 16, techniques: Union[str, Iterable[str]] = ("rectangle",),
+           **kw) -> Dict[str, np.ndarray]:
+    """Render `scene` with each technique; {technique: float32 [H, W, 4]}."""
+    r = Renderer(scene, techniques=list([techniques] if isinstance(techniques, str) else techniques), **kw)
+    r.render(samples)
+    return {t: r.image(t) for t in r.techniques}

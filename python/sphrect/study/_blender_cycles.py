@@ -1,0 +1,72 @@
+"""Run INSIDE Blender (blender -b file.blend --python this.py -- '<json>'): render the open scene with Cycles
+in direct-lighting settings and write the linear image as .npy plus a JSON of timings.
+
+Not imported by the sphrect package: it only needs bpy and numpy. Arguments (JSON after "--"):
+samples, seed, threads, width, height, time_limit (seconds or null), npy, json, exr.
+"""
+import json
+import sys
+import time
+
+import bpy
+import numpy as np
+
+args = json.loads(sys.argv[sys.argv.index("--") + 1])
+scene = bpy.context.scene
+render = scene.render
+render.engine = "CYCLES"
+cycles = scene.cycles
+cycles.device = "CPU"
+cycles.use_adaptive_sampling = False
+cycles.use_denoising = False
+cycles.max_bounces = 0            # direct lighting only: emission seen + light at the first hit
+cycles.light_sampling_threshold = 0.0
+cycles.sample_clamp_direct = 0.0
+cycles.sample_clamp_indirect = 0.0
+cycles.seed = int(args["seed"])
+cycles.use_animated_seed = False
+cycles.pixel_filter_type = "BOX"  # one-pixel box, as our renderer's pixel samples
+cycles.filter_width = 1.0
+cycles.time_limit = float(args.get("time_limit") or 0.0)
+if args["threads"] > 0:
+    render.threads_mode = "FIXED"
+    render.threads = int(args["threads"])
+else:
+    render.threads_mode = "AUTO"
+render.use_persistent_data = False
+render.resolution_x = int(args["width"])
+render.resolution_y = int(args["height"])
+render.resolution_percentage = 100
+render.use_border = False
+render.use_compositing = False
+render.use_sequencer = False
+scene.view_settings.view_transform = "Standard"
+scene.view_settings.look = "None"
+scene.view_settings.exposure = 0.0
+scene.view_settings.gamma = 1.0
+settings = render.image_settings
+settings.file_format = "OPEN_EXR"
+settings.color_depth = "32"
+settings.exr_codec = "ZIP"
+
+# Timing: the operator's time includes scene sync and the BVH build; the host (cycles.py) splits it using
+# the status lines Cycles prints ("Time:mm:ss.ss | ... | Sample k/N"). Persistent data is NOT used to skip
+# the build: Blender 3.4 in background mode ignores changed integrator settings (samples, seed) on a
+# persistent re-render, so a warm-up render would be returned again.
+cycles.samples = int(args["samples"])
+t0 = time.perf_counter()
+bpy.ops.render.render()
+t1 = time.perf_counter()
+
+bpy.data.images["Render Result"].save_render(args["exr"], scene=scene)
+image = bpy.data.images.load(args["exr"])
+image.colorspace_settings.name = "Linear"  # EXR holds linear scene radiance; read it back unchanged
+w, h = image.size
+pixels = np.empty(w * h * 4, dtype=np.float32)
+image.pixels.foreach_get(pixels)
+pixels = pixels.reshape(h, w, 4)[::-1].copy()  # Blender stores rows bottom-up; ours: row 0 = top
+np.save(args["npy"], pixels)
+with open(args["json"], "w") as f:
+    json.dump({"operator_time": t1 - t0, "blender_version": bpy.app.version_string,
+               "sampling_pattern": getattr(cycles, "sampling_pattern", None), "width": w, "height": h,
+               "samples": int(args["samples"]), "time_limit": cycles.time_limit}, f)

@@ -1,0 +1,104 @@
+"""Command line of the study: ``python3 -m sphrect.study SCENE --out DIR [options]``."""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from typing import List, Optional
+
+from .jobs import MIS_MODES, PATTERNS, TECHNIQUES, StudyConfig, sample_ladder
+from .reference import ReferenceSettings
+
+
+def _names(text: str) -> List[str]:
+    return [t.strip() for t in text.split(",") if t.strip()]
+
+
+def _resolution(text: str):
+    try:
+        w, h = (int(x) for x in text.lower().split("x"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"resolution must look like 320x240, got {text!r}") from None
+    if not (1 <= w <= 16384 and 1 <= h <= 16384):
+        raise argparse.ArgumentTypeError(f"resolution {w}x{h} out of range")
+    return w, h
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="sphrect.study",
+        description="Measure every light-sampling technique's error against render time on a scene (and Cycles "
+                    "3.4's, when the scene is a .blend and Blender is installed), then write a report. Running "
+                    "the same command again resumes an interrupted study.")
+    p.add_argument("scene", help="a .blend (exported with Blender headless) or a .sphrect.npz scene file")
+    p.add_argument("--out", required=True, help="output directory (results, images, plots, report.md/html)")
+    p.add_argument("--techniques", type=_names, default=list(TECHNIQUES), help=f"comma list of {','.join(TECHNIQUES)}")
+    p.add_argument("--mis", type=_names, default=list(MIS_MODES), help=f"comma list of {','.join(MIS_MODES)}")
+    p.add_argument("--patterns", type=_names, default=["independent", "stratified", "sobol"],
+                   help=f"comma list of {','.join(PATTERNS)}")
+    p.add_argument("--max-samples", type=int, default=256, help="top of the ladder 1, 2, 4, ... (default 256)")
+    p.add_argument("--min-samples", type=int, default=1)
+    p.add_argument("--light-samples", type=int, default=1, help="light samples per camera sample")
+    p.add_argument("--resolution", type=_resolution, default=None,
+                   help="WxH render resolution (default: the scene's); small keeps the study quick")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--workers", type=int, default=None, help="parallel jobs (default: number of cores)")
+    p.add_argument("--threads", type=int, default=1,
+                   help="render threads per job (default 1: one job per core, comparable single-core timings)")
+    p.add_argument("--reference-samples", type=int, default=None,
+                   help="reference samples per pixel (default 64 x --max-samples)")
+    p.add_argument("--reference-chunks", type=int, default=8, help="independent renders averaged into the reference")
+    p.add_argument("--reference-technique", default="rectangle")
+    p.add_argument("--reference-mis", default="balance")
+    p.add_argument("--reference-pattern", default="sobol")
+    p.add_argument("--cycles", choices=["auto", "on", "off"], default="auto",
+                   help="Cycles 3.4 as a peer (auto: when the scene is a .blend and Blender is found)")
+    p.add_argument("--blender", default=None, help="Blender executable (default: $BLENDER or blender on PATH)")
+    p.add_argument("--equal-time", type=float, default=None,
+                   help="seconds per equal-time image (default: rectangle's time at the middle of the ladder)")
+    p.add_argument("--grid-pattern", default="sobol", help="pattern of the equal-time grid")
+    p.add_argument("--grid-mis", type=_names, default=["none", "balance"], help="MIS modes in the equal-time grid")
+    p.add_argument("--target-rmse", type=float, default=None,
+                   help="target of the time-to-error table (default: Cycles' RMSE at the top of the ladder)")
+    p.add_argument("--no-sampler-table", action="store_true", help="skip the sampler accuracy/cost table")
+    p.add_argument("--report-only", action="store_true", help="only (re)write the report from stored results")
+    p.add_argument("--quiet", action="store_true", help="no progress bars")
+    return p
+
+
+def main(argv: Optional[List[str]] = None) -> int:
+    args = parser().parse_args(argv)
+    from .report import write_report
+    if args.report_only:
+        path = write_report(args.out, sampler_table=not args.no_sampler_table, target_rmse=args.target_rmse)
+        print(path)
+        return 0
+    try:
+        config = StudyConfig(techniques=tuple(args.techniques), mis=tuple(args.mis), patterns=tuple(args.patterns),
+                             ladder=tuple(sample_ladder(args.max_samples, args.min_samples)),
+                             light_samples=args.light_samples, seed=args.seed, threads=args.threads,
+                             cycles=args.cycles != "off" and args.scene.endswith(".blend"),
+                             grid_mis=tuple(args.grid_mis), grid_pattern=args.grid_pattern,
+                             equal_time=args.equal_time)
+        reference = ReferenceSettings(samples=args.reference_samples or 64 * args.max_samples,
+                                      chunks=args.reference_chunks, technique=args.reference_technique,
+                                      mis=args.reference_mis, pattern=args.reference_pattern,
+                                      light_samples=args.light_samples)
+    except ValueError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+    if args.cycles == "on":
+        from .cycles import find_blender
+        if not args.scene.endswith(".blend") or find_blender(args.blender) is None:
+            print("error: --cycles on needs a .blend scene and Blender", file=sys.stderr)
+            return 2
+    from .study import run_study
+    summary = run_study(args.scene, args.out, config, reference, workers=args.workers, resolution=args.resolution,
+                        blender=args.blender, progress=not args.quiet, report=False)
+    path = write_report(args.out, sampler_table=not args.no_sampler_table, target_rmse=args.target_rmse)
+    print(f"report: {os.path.abspath(path)} (and report.html)")
+    if summary["failures"]:
+        print(f"{len(summary['failures'])} runs failed (see {os.path.join(args.out, 'failed')}); run the same "
+              f"command again to retry them", file=sys.stderr)
+        return 1
+    return 0

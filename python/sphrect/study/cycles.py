@@ -1,0 +1,123 @@
+"""Blender as a subprocess: export a .blend to a sphrect scene file, and render it with Cycles (the study's
+peer). Blender runs headless (`blender -b --factory-startup file.blend --python script -- json`)."""
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+CYCLES_SCRIPT = os.path.join(_HERE, "_blender_cycles.py")
+EXPORT_SCRIPT = os.path.join(_HERE, "_blender_export.py")
+
+
+def find_blender(explicit: Optional[str] = None) -> Optional[str]:
+    """The Blender executable: `explicit`, $BLENDER, or `blender` on PATH; None when there is none."""
+    for candidate in (explicit, os.environ.get("BLENDER"), "blender"):
+        if candidate:
+            path = shutil.which(candidate)
+            if path:
+                return path
+    return None
+
+
+def repo_addon_dir() -> Optional[str]:
+    """addon/ of the repository this package was built from (build/python/sphrect -> repo), if found."""
+    here = _HERE
+    for _ in range(6):
+        here = os.path.dirname(here)
+        if os.path.isdir(os.path.join(here, "addon", "sphrect_blender")):
+            return os.path.join(here, "addon")
+    return None
+
+
+def _sphrect_python_dir() -> str:
+    import sphrect
+    return os.path.dirname(os.path.dirname(os.path.abspath(sphrect.__file__)))
+
+
+def run_blender(blend: str, script: str, args: Dict, blender: Optional[str] = None, timeout: float = 3600,
+                env: Optional[Dict[str, str]] = None) -> subprocess.CompletedProcess:
+    exe = find_blender(blender)
+    if exe is None:
+        raise RuntimeError("Blender was not found (install Debian's blender, or set $BLENDER)")
+    if not os.path.isfile(blend):
+        raise ValueError(f"{blend}: no such .blend file")
+    command = [exe, "-b", "--factory-startup", blend, "--python-exit-code", "1", "--python", script, "--",
+               json.dumps(args)]
+    full_env = dict(os.environ)
+    full_env.update(env or {})
+    result = subprocess.run(command, capture_output=True, text=True, timeout=timeout, env=full_env)
+    if result.returncode != 0:
+        tail = "\n".join((result.stdout + result.stderr).strip().splitlines()[-25:])
+        raise RuntimeError(f"Blender failed on {blend} (exit {result.returncode}):\n{tail}")
+    return result
+
+
+def export_blend(blend: str, out_path: str, resolution: Optional[Tuple[int, int]] = None,
+                 blender: Optional[str] = None, addon_dir: Optional[str] = None) -> str:
+    """Export `blend` with the sphrect_blender add-on to `out_path` (.sphrect.npz); returns the exporter's
+    warnings (what the scene holds that sphrect does not support), '' when none."""
+    addon_dir = addon_dir or repo_addon_dir()
+    if addon_dir is None:
+        raise RuntimeError("the sphrect_blender add-on (addon/ of the repository) was not found")
+    with tempfile.TemporaryDirectory() as tmp:
+        warnings_path = os.path.join(tmp, "warnings.json")
+        args = {"addon_dir": addon_dir, "out": os.path.abspath(out_path), "warnings": warnings_path}
+        if resolution:
+            args["width"], args["height"] = int(resolution[0]), int(resolution[1])
+        run_blender(blend, EXPORT_SCRIPT, args, blender, timeout=600,
+                    env={"SPHRECT_PYTHON_PATH": _sphrect_python_dir()})
+        with open(warnings_path) as f:
+            return json.load(f).get("warnings", "")
+
+
+_STATUS = re.compile(r"Time:(?:(\d+):)?(\d+):(\d+(?:\.\d+)?).*\|\s*Sample (\d+)/(\d+)")
+
+
+def parse_cycles_progress(stdout: str, operator_time: float) -> Dict:
+    """Split a Cycles render's time using its status lines ("Time:00:01.27 | ... | Sample 64/64"): path tracing
+    runs from the first "Sample 0/N" line to the latest status line (wall_time); what comes before is scene sync
+    and BVH build (build_time). Cycles prints times in hundredths of a second. samples_done: the largest k."""
+    marks = []
+    for line in stdout.splitlines():
+        m = _STATUS.search(line)
+        if m:
+            hours, minutes, seconds = int(m.group(1) or 0), int(m.group(2)), float(m.group(3))
+            marks.append((3600 * hours + 60 * minutes + seconds, int(m.group(4))))
+    if not marks:
+        return {"wall_time": operator_time, "build_time": None, "samples_done": None, "timing_source": "operator"}
+    start = next((t for t, k in marks if k == 0), marks[0][0])
+    end = max(t for t, _ in marks)
+    wall = max(end - start, 0.005)  # the clock's resolution is 0.01 s
+    return {"wall_time": wall, "build_time": start, "samples_done": max(k for _, k in marks),
+            "timing_source": "cycles status"}
+
+
+def render_cycles(blend: str, samples: int, width: int, height: int, seed: int = 0, threads: int = 1,
+                  time_limit: Optional[float] = None, blender: Optional[str] = None,
+                  timeout: float = 7200) -> Tuple[np.ndarray, Dict]:
+    """Render `blend` with Cycles 3.4 in direct-lighting settings (max_bounces 0, no denoising, no adaptive
+    sampling, light_sampling_threshold 0, fixed seed, 1-pixel box filter, Standard view transform) at
+    `samples` per pixel (or until `time_limit` seconds). Returns the linear [H, W, 4] float32 image, row 0 at
+    the top, and the timings (see parse_cycles_progress): wall_time = path tracing, build_time = scene sync
+    and BVH build before it, operator_time = the whole render operator."""
+    with tempfile.TemporaryDirectory() as tmp:
+        args = {"samples": int(samples), "seed": int(seed), "threads": int(threads), "width": int(width),
+                "height": int(height), "time_limit": time_limit,
+                "npy": os.path.join(tmp, "image.npy"), "json": os.path.join(tmp, "timing.json"),
+                "exr": os.path.join(tmp, "image.exr")}
+        result = run_blender(blend, CYCLES_SCRIPT, args, blender, timeout=timeout)
+        image = np.load(args["npy"])
+        with open(args["json"]) as f:
+            timing = json.load(f)
+    timing.update(parse_cycles_progress(result.stdout, timing["operator_time"]))
+    if image.shape[:2] != (height, width):
+        raise RuntimeError(f"Cycles rendered {image.shape[1]}x{image.shape[0]}, expected {width}x{height}")
+    return image, timing

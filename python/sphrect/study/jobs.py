@@ -1,0 +1,153 @@
+"""The study's job list, kept apart from whatever executes it.
+
+A :class:`Job` is one independent render: an engine (our renderer or Cycles), its light-sampling settings
+and a sample count (a "ladder" job) or a time budget (an "equal_time" job, whose image goes into the
+report's grid). :func:`build_plan` expands a :class:`StudyConfig` into the ladder jobs; the equal-time jobs
+need a time budget measured by the ladder, so :func:`equal_time_jobs` builds them afterwards.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import re
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional, Sequence, Tuple
+
+TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine")
+MIS_MODES = ("none", "balance", "power")
+PATTERNS = ("independent", "stratified", "latin", "hammersley", "sobol")
+
+SPHRECT = "sphrect"
+CYCLES = "cycles"
+LADDER = "ladder"
+EQUAL_TIME = "equal_time"
+
+
+@dataclass(frozen=True)
+class Job:
+    engine: str                 # "sphrect" | "cycles"
+    technique: str              # one of TECHNIQUES, or "cycles"
+    mis: str                    # one of MIS_MODES ("power" for Cycles, which always combines by MIS)
+    pattern: str                # one of PATTERNS ("default" for Cycles: its own pattern)
+    samples: int                # camera samples per pixel (the maximum, for an equal-time job)
+    light_samples: int = 1      # light samples per camera sample
+    seed: int = 0
+    threads: int = 1            # render threads inside the job (0 = all)
+    kind: str = LADDER          # "ladder" | "equal_time"
+    time_budget: Optional[float] = None  # seconds, for equal-time jobs
+
+    @property
+    def key(self) -> str:
+        """A stable, file-name-safe identifier (the result file's name)."""
+        parts = [self.kind, self.engine, self.technique, self.mis, self.pattern,
+                 f"n{self.samples:06d}", f"l{self.light_samples}", f"s{self.seed}"]
+        if self.time_budget is not None:
+            parts.append(f"t{self.time_budget:.6g}")
+        return re.sub(r"[^A-Za-z0-9_.-]", "_", "-".join(parts))
+
+    @property
+    def label(self) -> str:
+        """The curve this job belongs to (everything but the sample count)."""
+        if self.engine == CYCLES:
+            return "Cycles 3.4"
+        return f"{self.technique} / mis={self.mis} / {self.pattern}"
+
+    def to_dict(self) -> Dict:
+        return dataclasses.asdict(self)
+
+    @staticmethod
+    def from_dict(d: Dict) -> "Job":
+        names = {f.name for f in dataclasses.fields(Job)}
+        return Job(**{k: v for k, v in d.items() if k in names})
+
+
+def sample_ladder(max_samples: int, min_samples: int = 1) -> List[int]:
+    """Powers of two from min_samples up to max_samples: 1, 2, 4, ..."""
+    if max_samples < 1 or min_samples < 1 or min_samples > max_samples:
+        raise ValueError(f"need 1 <= min_samples <= max_samples, got {min_samples}, {max_samples}")
+    ladder, n = [], 1
+    while n <= max_samples:
+        if n >= min_samples:
+            ladder.append(n)
+        n *= 2
+    return ladder
+
+
+def _check_names(kind: str, names: Sequence[str], allowed: Sequence[str]) -> Tuple[str, ...]:
+    names = tuple(names)
+    if not names:
+        raise ValueError(f"no {kind} chosen")
+    for n in names:
+        if n not in allowed:
+            raise ValueError(f"unknown {kind} {n!r}; choose from {', '.join(allowed)}")
+    return names
+
+
+@dataclass
+class StudyConfig:
+    """Everything that defines a study (saved as config.json in its output directory)."""
+    techniques: Tuple[str, ...] = TECHNIQUES
+    mis: Tuple[str, ...] = MIS_MODES
+    patterns: Tuple[str, ...] = ("independent", "stratified", "sobol")
+    ladder: Tuple[int, ...] = tuple(sample_ladder(256))
+    light_samples: int = 1
+    seed: int = 0
+    threads: int = 1                    # per job; see executors.py for why 1 is the default
+    cycles: bool = False                # add Cycles as a peer (needs Blender and the .blend)
+    grid_mis: Tuple[str, ...] = ("none", "balance")
+    grid_pattern: str = "sobol"
+    equal_time: Optional[float] = None  # seconds; None = measured from the ladder (see equal_time_budget)
+
+    def __post_init__(self):
+        self.techniques = _check_names("technique", self.techniques, TECHNIQUES)
+        self.mis = _check_names("MIS mode", self.mis, MIS_MODES)
+        self.patterns = _check_names("sample pattern", self.patterns, PATTERNS)
+        self.grid_mis = _check_names("MIS mode", self.grid_mis, MIS_MODES)
+        _check_names("sample pattern", (self.grid_pattern,), PATTERNS)
+        self.ladder = tuple(sorted(set(int(n) for n in self.ladder)))
+        if not self.ladder or self.ladder[0] < 1:
+            raise ValueError("the sample ladder needs counts >= 1")
+        if self.light_samples < 1:
+            raise ValueError("light_samples must be >= 1")
+        if self.threads < 0:
+            raise ValueError("threads must be >= 0 (0 = all)")
+
+    def to_dict(self) -> Dict:
+        return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()}
+
+    @staticmethod
+    def from_dict(d: Dict) -> "StudyConfig":
+        names = {f.name for f in dataclasses.fields(StudyConfig)}
+        return StudyConfig(**{k: (tuple(v) if isinstance(v, list) else v) for k, v in d.items() if k in names})
+
+
+def fingerprint(**identity) -> str:
+    """A short hash of what a run's numbers depend on besides its job (scene, reference, resolution)."""
+    text = json.dumps(identity, sort_keys=True)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+def build_plan(config: StudyConfig) -> List[Job]:
+    """The ladder jobs: every technique x MIS x pattern x sample count, then Cycles at every count.
+    Ordered cheapest first so that an interrupted study has measured as many curves as possible."""
+    jobs = [Job(SPHRECT, t, m, p, n, config.light_samples, config.seed, config.threads)
+            for n in config.ladder for t in config.techniques for m in config.mis for p in config.patterns]
+    if config.cycles:
+        jobs += [Job(CYCLES, "cycles", "power", "default", n, 1, config.seed, config.threads)
+                 for n in config.ladder]
+    jobs.sort(key=lambda j: (j.samples, j.engine != SPHRECT))
+    return jobs
+
+
+def equal_time_jobs(config: StudyConfig, budget: float, max_samples: int = 1 << 20) -> List[Job]:
+    """One render per technique (x grid MIS mode) and Cycles, each given the same wall-time budget."""
+    if not budget > 0:
+        raise ValueError(f"the equal-time budget must be positive, got {budget}")
+    budget = float(f"{budget:.4g}")  # a stable key
+    jobs = [Job(SPHRECT, t, m, config.grid_pattern, max_samples, config.light_samples, config.seed,
+                config.threads, EQUAL_TIME, budget) for m in config.grid_mis for t in config.techniques]
+    if config.cycles:
+        jobs.append(Job(CYCLES, "cycles", "power", "default", max_samples, 1, config.seed, config.threads,
+                        EQUAL_TIME, budget))
+    return jobs

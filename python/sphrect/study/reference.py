@@ -1,0 +1,111 @@
+"""The reference image and its own error estimate.
+
+How it is made: the reference is the mean of M independent renders ("chunks", M = 8 by default) of the
+same configuration (by default the `rectangle` technique with balance-heuristic MIS and the Sobol pattern),
+each with its own seed and S/M samples per pixel, S the reference's total. Independent seeds make the chunks
+independent unbiased estimates of the true image, so per pixel the sample variance across the chunks,
+divided by M, estimates the variance of their mean -- the reference's own mean squared error:
+
+    MSE_ref ~= mean over pixels and channels of  s^2 / M,   s^2 = sum_i (x_i - mean)^2 / (M - 1)
+
+(with M = 2 this is the familiar (A - B)^2 / 4 of two half-sample renders). Its square root is the
+reference RMSE reported next to every study error. Because the reference is independent of the runs, a
+run's measured MSE is its true MSE plus MSE_ref on average, so the study's errors are trustworthy only while
+RMSE_ref is well below them: the report prints the ratio for the smallest error it shows.
+
+The chunks are ordinary jobs (kind "reference"), so they run on the pool in parallel, show progress, and a
+study interrupted while making its reference resumes from the chunks already rendered.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+from dataclasses import asdict, dataclass
+from typing import Dict, List
+
+import numpy as np
+
+from .jobs import SPHRECT, Job
+from .metrics import RELMSE_EPSILON, colour
+from .runner import REFERENCE_KIND
+from .store import ResultStore, atomic_write_json
+
+REFERENCE_IMAGE = "reference"
+REFERENCE_JSON = "reference.json"
+SEED_BASE = 1_000_003  # far from the study's seeds, so no run shares random numbers with the reference
+
+
+@dataclass
+class ReferenceSettings:
+    samples: int = 16384        # total samples per pixel over all chunks
+    chunks: int = 8
+    technique: str = "rectangle"
+    mis: str = "balance"
+    pattern: str = "sobol"
+    light_samples: int = 1
+
+    def __post_init__(self):
+        if self.chunks < 2:
+            raise ValueError("the reference needs at least 2 independent chunks to estimate its own error")
+        if self.samples < self.chunks:
+            raise ValueError(f"reference samples ({self.samples}) must be at least its chunks ({self.chunks})")
+
+
+def reference_jobs(settings: ReferenceSettings, threads: int = 1) -> List[Job]:
+    per_chunk = settings.samples // settings.chunks
+    return [Job(SPHRECT, settings.technique, settings.mis, settings.pattern, per_chunk, settings.light_samples,
+                SEED_BASE + i, threads, REFERENCE_KIND) for i in range(settings.chunks)]
+
+
+def estimate_error(chunks: np.ndarray) -> Dict[str, float]:
+    """Own-error estimate of the mean of M independent images stacked as [M, H, W, C] (see module doc)."""
+    m = chunks.shape[0]
+    rgb = np.stack([colour(c) for c in chunks])
+    mean = rgb.mean(axis=0)
+    variance_of_mean = rgb.var(axis=0, ddof=1) / m
+    return {"rmse": math.sqrt(float(variance_of_mean.mean())),
+            "relmse": float(np.mean(variance_of_mean / (mean * mean + RELMSE_EPSILON))),
+            "chunks": m}
+
+
+def combine_reference(store: ResultStore, settings: ReferenceSettings, jobs: List[Job],
+                      scene_fingerprint: str) -> Dict:
+    """Average the chunk images into the reference image, estimate its error, save both; returns the
+    reference's description (also written to reference.json), whose "id" identifies it in run records."""
+    images, wall, rays = [], 0.0, 0
+    for job in jobs:
+        record = store.read_run(job.key)
+        if record is None or record.get("fingerprint") != scene_fingerprint:
+            raise RuntimeError(f"reference chunk {job.key} has not been rendered")
+        image = store.load_image(record["image"])
+        if image is None:
+            raise RuntimeError(f"reference chunk image {record['image']} is missing")
+        images.append(image)
+        wall += record.get("wall_time") or 0.0
+        rays += record.get("rays") or 0
+    stack = np.stack(images).astype(np.float64)
+    if all(np.array_equal(stack[0], s) for s in stack[1:]):
+        raise RuntimeError("the reference chunks are identical: the renderer ignores the seed, so the "
+                           "reference's error cannot be estimated")
+    reference = stack.mean(axis=0).astype(np.float32)
+    estimate = estimate_error(stack)
+    digest = hashlib.sha256((scene_fingerprint + "".join(j.key for j in jobs)).encode()).hexdigest()[:16]
+    info = {"id": digest, "image": REFERENCE_IMAGE, "settings": asdict(settings), "chunk_keys": [j.key for j in jobs],
+            "render_time_total": wall, "rays": rays, "estimated_rmse": estimate["rmse"],
+            "estimated_relmse": estimate["relmse"], "scene_fingerprint": scene_fingerprint,
+            "finite": bool(np.all(np.isfinite(reference)))}
+    if not info["finite"]:
+        raise RuntimeError("the reference image has NaN or Inf pixels")
+    store.save_image(REFERENCE_IMAGE, reference)
+    atomic_write_json(os.path.join(store.root, REFERENCE_JSON), info)
+    return info
+
+
+def load_reference_info(store: ResultStore) -> Dict | None:
+    try:
+        with open(os.path.join(store.root, REFERENCE_JSON)) as f:
+            return json.load(f)
+    except (FileNotFoundError, ValueError):
+        return None

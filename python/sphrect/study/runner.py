@@ -1,0 +1,151 @@
+"""Running one job (in a worker process): render, measure, compare with the reference, record.
+
+:func:`run_job` is what executors call. It renders through a *render function* ``fn(context, job) ->
+(image [H, W, 4], measurements dict)``: by default :func:`render_job` (our renderer or Cycles, by
+``job.engine``); ``RunContext.render_hook`` ("module:function") substitutes another one, which is how the
+tests drive the whole machinery with a fake renderer.
+"""
+from __future__ import annotations
+
+import importlib
+import math
+import os
+import time
+from dataclasses import dataclass, replace
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+
+from . import metrics
+from .jobs import CYCLES, EQUAL_TIME, SPHRECT, Job
+from .store import ResultStore
+
+REFERENCE_KIND = "reference"
+
+
+@dataclass(frozen=True)
+class RunContext:
+    """What every job of a study shares (picklable: it travels to the worker processes)."""
+    store_root: str
+    scene_path: str                       # .sphrect.npz
+    width: int
+    height: int
+    fingerprint: str                      # of the scene (+ reference for ladder/equal-time runs)
+    reference_name: Optional[str] = None  # image name in the store; None while making the reference
+    blend_path: Optional[str] = None      # for Cycles
+    blender: Optional[str] = None
+    render_hook: Optional[str] = None     # "module:function" replacing render_job (tests)
+
+    def with_reference(self, name: str, fingerprint: str) -> "RunContext":
+        return replace(self, reference_name=name, fingerprint=fingerprint)
+
+
+_scene_cache: Dict[Tuple[str, int, int], object] = {}
+_reference_cache: Dict[str, np.ndarray] = {}
+
+
+def load_study_scene(path: str, width: int, height: int):
+    """The scene file at the study's resolution (cached per worker process)."""
+    key = (os.path.abspath(path), width, height)
+    if key not in _scene_cache:
+        import sphrect
+        scene = sphrect.load_scene(path)
+        scene.camera.width, scene.camera.height = int(width), int(height)
+        _scene_cache.clear()
+        _scene_cache[key] = scene
+    return _scene_cache[key]
+
+
+def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
+    """One render with our renderer. build_time: constructing the renderer (scene upload, BVH);
+    call_time: the render() call measured here; wall_time/light_time/shading_time/rays: its own stats."""
+    import sphrect
+    scene = load_study_scene(context.scene_path, context.width, context.height)
+    t0 = time.perf_counter()
+    renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
+                                pattern=job.pattern, mis=job.mis, seed=job.seed, threads=job.threads)
+    t1 = time.perf_counter()
+    if job.kind == EQUAL_TIME:
+        renderer.render(job.samples, time_budget=job.time_budget)
+    else:
+        renderer.render(job.samples)
+    t2 = time.perf_counter()
+    image = np.array(renderer.image(job.technique), dtype=np.float32, copy=True)
+    stats = dict(renderer.stats(job.technique))
+    measured = {
+        "build_time": t1 - t0,
+        "call_time": t2 - t1,
+        "wall_time": float(stats.get("wall_time", t2 - t1)),
+        "light_time": float(stats["light_time"]) if "light_time" in stats else None,
+        "shading_time": float(stats["shading_time"]) if "shading_time" in stats else None,
+        "rays": int(stats["rays"]) if "rays" in stats else None,
+        "samples_done": int(stats.get("samples", job.samples)),
+        "camera_rays": int(stats["camera_rays"]) if "camera_rays" in stats else None,
+        "camera_time": float(stats["camera_time"]) if "camera_time" in stats else None,
+    }
+    return image, measured
+
+
+def render_cycles_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
+    from .cycles import render_cycles
+    if not context.blend_path:
+        raise ValueError("Cycles runs need the .blend scene")
+    image, timing = render_cycles(context.blend_path, job.samples, context.width, context.height, seed=job.seed,
+                                  threads=job.threads,
+                                  time_limit=job.time_budget if job.kind == EQUAL_TIME else None,
+                                  blender=context.blender)
+    measured = {"build_time": timing.get("build_time"), "call_time": timing.get("operator_time"),
+                "wall_time": timing["wall_time"], "light_time": None, "shading_time": None, "rays": None,
+                "samples_done": timing.get("samples_done"), "timing_source": timing.get("timing_source"),
+                "blender_version": timing.get("blender_version"),
+                "cycles_sampling_pattern": timing.get("sampling_pattern")}
+    return image, measured
+
+
+def render_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
+    if job.engine == SPHRECT:
+        return render_sphrect(context, job)
+    if job.engine == CYCLES:
+        return render_cycles_job(context, job)
+    raise ValueError(f"unknown engine {job.engine!r}")
+
+
+def _render_function(context: RunContext):
+    if not context.render_hook:
+        return render_job
+    module, _, name = context.render_hook.partition(":")
+    return getattr(importlib.import_module(module), name)
+
+
+def _reference(context: RunContext) -> np.ndarray:
+    if context.reference_name not in _reference_cache:
+        image = ResultStore(context.store_root).load_image(context.reference_name)
+        if image is None:
+            raise RuntimeError(f"reference image {context.reference_name!r} is missing")
+        _reference_cache.clear()
+        _reference_cache[context.reference_name] = image
+    return _reference_cache[context.reference_name]
+
+
+def run_job(context: RunContext, job: Job) -> Dict:
+    """Render `job`, measure it and write its record (atomically) to the store; returns the record.
+    Reference chunks and equal-time runs also keep their image in the store."""
+    store = ResultStore(context.store_root)
+    image, measured = _render_function(context)(context, job)
+    image = np.asarray(image, dtype=np.float32)
+    if image.ndim != 3 or image.shape[0] != context.height or image.shape[1] != context.width:
+        raise RuntimeError(f"{job.key}: rendered an image of shape {image.shape}, expected "
+                           f"({context.height}, {context.width}, 4)")
+    finite = bool(np.all(np.isfinite(image[..., :3])))
+    record = {"key": job.key, "fingerprint": context.fingerprint, "job": job.to_dict(), "label": job.label,
+              "finite": finite, **measured}
+    if job.kind in (REFERENCE_KIND, EQUAL_TIME):
+        record["image"] = job.key
+        store.save_image(job.key, image)
+    if job.kind != REFERENCE_KIND:
+        reference = _reference(context)
+        record["rmse"] = metrics.rmse(image, reference) if finite else math.inf
+        record["relmse"] = metrics.relmse(image, reference) if finite else math.inf
+        record["reference"] = context.reference_name
+    store.write_run(record)
+    return record

@@ -1,0 +1,192 @@
+"""Running a whole study: scene -> reference -> sample ladder -> equal-time renders -> report.
+
+    from sphrect.study import StudyConfig, run_study
+    run_study("blend_scenes/paper.blend", "out/study", StudyConfig(cycles=True))
+
+Every phase is a list of independent jobs handed to an executor; each finished job is recorded at once
+(see store.py), so running the same command again resumes where an interrupted study stopped.
+"""
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import math
+import os
+import sys
+import time
+from typing import Callable, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+from . import jobs as jobs_module
+from .executors import Executor, LocalProcessPool
+from .jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, Job, StudyConfig, build_plan, equal_time_jobs, fingerprint
+from .progress import ProgressBar
+from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
+from .runner import RunContext, run_job
+from .store import ResultStore, atomic_write_json
+
+SCENE_FILE = "scene.sphrect.npz"
+CONFIG_FILE = "config.json"
+
+
+def log(message: str) -> None:
+    sys.stderr.write(message + "\n")
+    sys.stderr.flush()
+
+
+def scene_content_hash(path: str) -> str:
+    """Hash of a scene file's content (its JSON and arrays), not of the zip bytes, which carry timestamps."""
+    digest = hashlib.sha256()
+    with np.load(path, allow_pickle=False) as data:
+        for name in sorted(data.files):
+            digest.update(name.encode())
+            digest.update(np.ascontiguousarray(data[name]).tobytes())
+    return digest.hexdigest()[:16]
+
+
+def prepare_scene(input_path: str, out_dir: str, resolution: Optional[Tuple[int, int]] = None,
+                  blender: Optional[str] = None) -> Tuple[str, Optional[str], str]:
+    """(scene file, .blend or None, exporter warnings). A .blend is exported with Blender headless
+    (at `resolution` if given); a .sphrect.npz is used as it is."""
+    if not os.path.isfile(input_path):
+        raise ValueError(f"{input_path}: no such file")
+    if input_path.endswith(".blend"):
+        from .cycles import export_blend
+        scene_path = os.path.join(out_dir, SCENE_FILE)
+        log(f"exporting {input_path} with Blender ...")
+        warnings = export_blend(input_path, scene_path, resolution=resolution, blender=blender)
+        return scene_path, os.path.abspath(input_path), warnings
+    if input_path.endswith(".npz"):
+        return os.path.abspath(input_path), None, ""
+    raise ValueError(f"{input_path}: expected a .blend or a .sphrect.npz scene file")
+
+
+def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phase_jobs: Sequence[Job], label: str,
+               show_progress: bool) -> Tuple[List[Dict], List[Tuple[Job, str]]]:
+    """Run the jobs of one phase that have no current record; returns (records of all jobs, failures)."""
+    todo = [j for j in phase_jobs if not store.is_done(j.key, context.fingerprint)]
+    done = len(phase_jobs) - len(todo)
+    failures = []
+    if todo:
+        if done:
+            log(f"{label}: {done} of {len(phase_jobs)} runs already measured, {len(todo)} to go")
+        with ProgressBar(len(todo), label, enabled=show_progress) as bar:
+            for job, result in executor.run(functools.partial(run_job, context), todo):
+                if isinstance(result, BaseException):
+                    message = f"{type(result).__name__}: {result}"
+                    store.write_failure(job.key, message)
+                    failures.append((job, message))
+                    bar.update(1, note=f"FAILED {job.key}")
+                else:
+                    rmse = result.get("rmse")
+                    bar.update(1, note=f"{job.label} n={job.samples}" + (f" rmse={rmse:.3g}" if rmse else ""))
+    for job, message in failures:
+        log(f"  failed: {job.key}: {message.splitlines()[0] if message else ''}")
+    records = [r for r in (store.read_run(j.key) for j in phase_jobs)
+               if r is not None and r.get("fingerprint") == context.fingerprint]
+    return records, failures
+
+
+def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
+    """Default equal-time budget: the wall time our `rectangle` technique (or the first technique) took, with
+    the last grid MIS mode and the grid pattern, at the middle of the sample ladder."""
+    technique = "rectangle" if "rectangle" in config.techniques else config.techniques[0]
+    middle = config.ladder[len(config.ladder) // 2]
+    for r in records:
+        j = r["job"]
+        if (j["engine"] == SPHRECT and j["technique"] == technique and j["mis"] == config.grid_mis[-1]
+                and j["pattern"] == config.grid_pattern and j["samples"] == middle):
+            return float(r["wall_time"])
+    times = [r["wall_time"] for r in records if r["job"]["engine"] == SPHRECT and r.get("wall_time")]
+    if not times:
+        raise RuntimeError("no ladder run measured: cannot choose the equal-time budget")
+    return float(np.median(times))
+
+
+STATE_FILE = "state.json"
+
+
+def _write_state(out_dir: str, **values) -> None:
+    """study state the report needs (the current runs' fingerprint, the equal-time budget)."""
+    path = os.path.join(out_dir, STATE_FILE)
+    state = {}
+    if os.path.exists(path):
+        with open(path) as f:
+            state = json.load(f)
+    state.update(values)
+    atomic_write_json(path, state)
+
+
+def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = None,
+              reference: Optional[ReferenceSettings] = None, workers: Optional[int] = None,
+              resolution: Optional[Tuple[int, int]] = None, blender: Optional[str] = None,
+              executor: Optional[Executor] = None, render_hook: Optional[str] = None, progress: bool = True,
+              report: bool = True, sampler_table: bool = True) -> Dict:
+    """Run (or resume) the study of `input_path` (.blend or .sphrect.npz) into `out_dir`; returns a summary
+    dict (paths, counts, failures). See the package docstring for the phases."""
+    config = config or StudyConfig()
+    reference = reference or ReferenceSettings(samples=64 * max(config.ladder), light_samples=config.light_samples)
+    os.makedirs(out_dir, exist_ok=True)
+    store = ResultStore(out_dir)
+    executor = executor or LocalProcessPool(workers)
+    started = time.time()
+
+    if config.cycles:
+        from .cycles import find_blender
+        if not input_path.endswith(".blend"):
+            log("Cycles needs the .blend scene: Cycles runs skipped")
+            config.cycles = False
+        elif find_blender(blender) is None:
+            log("Blender not found: Cycles runs skipped")
+            config.cycles = False
+
+    scene_path, blend_path, warnings = prepare_scene(input_path, out_dir, resolution, blender)
+    if warnings:
+        log(f"exporter warnings: {warnings}")
+    from ..scene import load_scene
+    camera = load_scene(scene_path).camera
+    width, height = resolution or (camera.width, camera.height)
+    scene_fp = fingerprint(scene=scene_content_hash(scene_path), width=width, height=height)
+    atomic_write_json(os.path.join(out_dir, CONFIG_FILE), {
+        "input": os.path.abspath(input_path), "scene_file": scene_path, "blend": blend_path, "width": width,
+        "height": height, "study": config.to_dict(), "reference": reference.__dict__, "exporter_warnings": warnings,
+        "workers": getattr(executor, "workers", None), "executor": type(executor).__name__})
+    context = RunContext(store_root=store.root, scene_path=scene_path, width=width, height=height,
+                         fingerprint=scene_fp, blend_path=blend_path, blender=blender, render_hook=render_hook)
+    log(f"study of {input_path}: {width}x{height}, {len(config.techniques)} techniques x {len(config.mis)} MIS x "
+        f"{len(config.patterns)} patterns x ladder {list(config.ladder)}" + (" + Cycles" if config.cycles else ""))
+
+    # 1. The reference (independent chunks, combined; see reference.py).
+    chunk_jobs = reference_jobs(reference, threads=config.threads)
+    _, failures = _run_phase(executor, context, store, chunk_jobs, "reference", progress)
+    if failures:
+        raise RuntimeError(f"{len(failures)} reference chunks failed; first: {failures[0][1]}")
+    info = load_reference_info(store)
+    expected_keys = [j.key for j in chunk_jobs]
+    if info is None or info.get("chunk_keys") != expected_keys or info.get("scene_fingerprint") != scene_fp \
+            or store.load_image(info["image"]) is None:
+        info = combine_reference(store, reference, chunk_jobs, scene_fp)
+    log(f"reference: {reference.samples} spp ({reference.technique}, mis={reference.mis}, {reference.pattern}), "
+        f"estimated RMSE {info['estimated_rmse']:.4g}")
+    context = context.with_reference(info["image"], fingerprint(scene=scene_fp, reference=info["id"]))
+    _write_state(out_dir, run_fingerprint=context.fingerprint, reference_id=info["id"])
+
+    # 2. The sample ladder.
+    ladder_records, ladder_failures = _run_phase(executor, context, store, build_plan(config), "ladder", progress)
+
+    # 3. Equal time.
+    budget = config.equal_time or equal_time_budget(ladder_records, config)
+    et_records, et_failures = _run_phase(executor, context, store, equal_time_jobs(config, budget),
+                                         f"equal time ({budget:.3g} s)", progress)
+
+    _write_state(out_dir, equal_time_budget=budget)
+    summary = {"out_dir": os.path.abspath(out_dir), "reference": info, "ladder_runs": len(ladder_records),
+               "equal_time_runs": len(et_records), "equal_time_budget": budget,
+               "failures": [(j.key, m) for j, m in ladder_failures + et_failures],
+               "elapsed": time.time() - started}
+    if report:
+        from .report import write_report
+        summary["report"] = write_report(out_dir, sampler_table=sampler_table)
+    return summary

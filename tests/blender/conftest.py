@@ -1,0 +1,86 @@
+"""Shared helpers of the Blender tests (run by run_tests.py inside Blender)."""
+import math
+import os
+import sys
+
+import addon_utils
+import bpy
+import numpy as np
+import pytest
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+BLEND_DIR = os.path.join(REPO, "blend_scenes")
+SCENES = sorted(f[:-len(".blend")] for f in os.listdir(BLEND_DIR) if f.endswith(".blend"))
+if BLEND_DIR not in sys.path:
+    sys.path.insert(0, BLEND_DIR)
+
+import make_scenes as builders  # noqa: E402  (the scene generator's object/light/material helpers)
+import sphrect  # noqa: E402
+
+HAS_RENDERER = hasattr(sphrect, "Renderer")
+needs_renderer = pytest.mark.skipif(not HAS_RENDERER, reason="this sphrect build has no Renderer yet")
+
+
+def ensure_addon():
+    if not addon_utils.check("sphrect_blender")[1]:
+        addon_utils.enable("sphrect_blender", default_set=True, handle_error=None)
+
+
+def engine_module():
+    return sys.modules["sphrect_blender.engine"]
+
+
+def exporter():
+    return sys.modules["sphrect_blender.io.exporter"]
+
+
+def set_resolution(scene, width, height):
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+
+
+@pytest.fixture
+def empty_scene():
+    """An empty scene rendered by SPHRECT at 32x24, black world, with a camera looking down -Y at the origin."""
+    bpy.ops.wm.read_homefile(use_empty=True)
+    ensure_addon()
+    scene = bpy.context.scene
+    scene.render.engine = "SPHRECT"
+    set_resolution(scene, 32, 24)
+    scene.view_settings.view_transform = "Standard"
+    world = bpy.data.worlds.new("World")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    scene.world = world
+    builders.camera((0.0, -6.0, 2.0), (0.0, 0.0, 0.3), lens=35.0)
+    bpy.context.view_layer.update()
+    return scene
+
+
+def open_blend(name, width=32, height=24):
+    bpy.ops.wm.open_mainfile(filepath=os.path.join(BLEND_DIR, name + ".blend"))
+    ensure_addon()
+    scene = bpy.context.scene
+    set_resolution(scene, width, height)
+    return scene
+
+
+def export(scene=None):
+    """(sphrect.Scene, ExportLog) of the current scene's evaluated depsgraph."""
+    return exporter().scene_from_depsgraph(bpy.context.evaluated_depsgraph_get())
+
+
+def render():
+    """F12 without writing: returns the engine's record of the render (reports, stats, images)."""
+    bpy.ops.render.render(write_still=False)
+    return engine_module().last_render
+
+
+def lit_test_scene(scene):
+    """Ground plane, a box and a one-sided rectangle light facing down: the smallest useful scene."""
+    builders.mesh_object("Ground", "plane", builders.material("Ground", (0.8, 0.8, 0.8)), size=8)
+    builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.3, 0.5, 0.5),
+                         size=1.0, rotation=(0, 0, 0.4))
+    builders.area_light("Light", "RECTANGLE", size=1.5, size_y=0.8, power=200.0, location=(-0.5, 0.0, 2.0),
+                        rotation=(0.2, -0.3, 0.0))
+    return scene

@@ -1,0 +1,104 @@
+"""Bad scenes and interruptions give clear reports, keep what was rendered, and never crash Blender."""
+import threading
+
+import bpy
+import numpy as np
+import pytest
+
+from conftest import builders, engine_module, export, lit_test_scene, needs_renderer, render, set_resolution
+
+
+@needs_renderer
+def test_no_lights_renders_black_with_a_warning(empty_scene):
+    builders.mesh_object("Ground", "plane", builders.material("Ground"), size=8)
+    rec = render()
+    assert rec["errors"] == []
+    assert any("no lights" in w for w in rec["warnings"])
+    assert np.all(rec["images"]["rectangle"][..., :3] == 0)
+
+
+@needs_renderer
+def test_zero_size_light_is_skipped_with_a_warning(empty_scene):
+    lit_test_scene(empty_scene)
+    builders.area_light("Flat", "RECTANGLE", size=0.0, size_y=1.0, power=100.0, location=(0, 0, 1))
+    builders.area_light("Squashed", "SQUARE", size=1.0, power=100.0, location=(0, 0, 1), scale=(1, 0, 1))
+    rec = render()
+    assert rec["errors"] == []
+    text = " ".join(rec["warnings"])
+    assert "'Flat' has zero size" in text and "'Squashed' has zero size" in text
+    assert np.isfinite(rec["images"]["rectangle"]).all()
+
+
+@needs_renderer
+def test_negative_scales_render_like_positive_ones(empty_scene):
+    """Mirroring a light about its own X axis and a box about its own Y axis changes nothing visible."""
+    lit_test_scene(empty_scene)
+    empty_scene.sphrect.samples = 8
+    reference = render()["images"]["rectangle"]
+    bpy.data.objects["Light"].scale = (-1, 1, 1)
+    bpy.data.objects["Box"].scale = (1, -1, 1)
+    rec = render()
+    assert rec["errors"] == [] and rec["warnings"] == []
+    mirrored = rec["images"]["rectangle"]
+    assert np.isfinite(mirrored).all()
+    # Same light and geometry, only the edges' order differs: equal up to sampling noise.
+    assert abs(mirrored[..., :3].mean() - reference[..., :3].mean()) < 0.02 * reference[..., :3].mean()
+
+
+@needs_renderer
+def test_absurd_resolution_is_refused_clearly(empty_scene):
+    lit_test_scene(empty_scene)
+    set_resolution(empty_scene, 60000, 60000)
+    with pytest.raises(RuntimeError, match="resolution 60000x60000 needs"):
+        bpy.ops.render.render()
+    assert engine_module().last_render["errors"]
+
+
+@needs_renderer
+def test_unsupported_nodes_warn_and_still_render(empty_scene):
+    lit_test_scene(empty_scene)
+    mat = bpy.data.materials["Box"]
+    tree = mat.node_tree
+    noise = tree.nodes.new("ShaderNodeTexNoise")
+    tree.links.new(noise.outputs["Color"], tree.nodes["Diffuse BSDF"].inputs["Color"])
+    rec = render()
+    assert rec["errors"] == []
+    assert any("linked 'Color' input (Noise Texture) (Box)" in w for w in rec["warnings"])
+    assert np.isfinite(rec["images"]["rectangle"]).all()
+
+
+def test_missing_camera(empty_scene):
+    lit_test_scene(empty_scene)
+    empty_scene.camera = None
+    _, log = export()  # scripts exporting a camera-less scene get a default camera and a warning
+    assert "no camera" in log.warning_text()
+    with pytest.raises(RuntimeError, match="no camera"):  # Blender itself refuses to render
+        bpy.ops.render.render()
+
+
+def test_missing_native_module_is_a_clear_error(empty_scene, monkeypatch):
+    def fail():
+        raise ImportError("SPHRECT: the native module 'sphrect' could not be loaded (test)")
+    monkeypatch.setattr(engine_module(), "load_sphrect", fail)
+    lit_test_scene(empty_scene)
+    with pytest.raises(RuntimeError, match="native module 'sphrect' could not be loaded"):
+        bpy.ops.render.render()
+
+
+@needs_renderer
+def test_cancel_keeps_the_partial_image(empty_scene):
+    """Cancelling from another thread (as Esc does) stops within a pass and keeps what was rendered."""
+    lit_test_scene(empty_scene)
+    s = empty_scene.sphrect
+    s.samples, s.passes = 1_000_000, 1  # hours of work if the cancellation did not stop it
+    timer = threading.Timer(1.0, engine_module().request_cancel)
+    timer.start()
+    try:
+        rec = render()
+    finally:
+        timer.cancel()
+    assert rec["cancelled"] and rec["errors"] == []
+    image = rec["images"]["rectangle"]
+    assert np.isfinite(image).all() and image[..., :3].max() > 0
+    assert rec["stats"]["rectangle"]["samples"] < 1_000_000
+    assert "Cancelled" in rec["stats_line"]

@@ -1,0 +1,267 @@
+"""Exporter numbers: lights (Cycles' power conventions), camera, materials, world, meshes, instances and
+the scene-file round trip. No rendering here."""
+import dataclasses
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+import sphrect
+from conftest import builders, export
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=np.float64)
+    return v / np.linalg.norm(v)
+
+
+@pytest.mark.parametrize("shape", ["SQUARE", "RECTANGLE", "DISK", "ELLIPSE"])
+@pytest.mark.parametrize("scale", [(2.0, 3.0, 1.0), (-1.5, 0.5, 2.0)])
+def test_area_light_power_size_and_orientation(empty_scene, shape, scale):
+    color = (1.0, 0.5, 0.25)
+    obj = builders.area_light("L", shape, size=0.5, size_y=0.25, power=100.0, location=(1, 2, 3),
+                              rotation=(0.3, 0.2, 0.1), scale=scale, color=color, two_sided=True, visible=False)
+    scene, log = export()
+    (light,) = scene.lights
+    sx = 0.5 * abs(scale[0])
+    sy = (0.5 if shape in {"SQUARE", "DISK"} else 0.25) * abs(scale[1])
+    m = np.array(obj.matrix_world)
+    emit = _unit(-m[:3, 2])  # local -Z, whatever the sign of the scale
+    if shape in {"SQUARE", "RECTANGLE"}:
+        assert isinstance(light, sphrect.RectLight)
+        ex, ey = np.array(light.edge_x), np.array(light.edge_y)
+        centre = np.array(light.corner) + 0.5 * (ex + ey)
+        area = sx * sy
+        assert sorted([np.linalg.norm(ex), np.linalg.norm(ey)]) == pytest.approx(sorted([sx, sy]), rel=1e-5)
+    else:
+        assert isinstance(light, sphrect.EllipseLight)
+        ex, ey = np.array(light.axis_x), np.array(light.axis_y)
+        centre = np.array(light.center)
+        area = math.pi * sx * sy / 4.0
+        assert sorted([np.linalg.norm(ex), np.linalg.norm(ey)]) == pytest.approx(sorted([sx / 2, sy / 2]), rel=1e-5)
+    assert centre == pytest.approx([1, 2, 3], abs=1e-5)
+    assert abs(np.dot(ex, ey)) < 1e-5
+    assert _unit(np.cross(ex, ey)) == pytest.approx(emit, abs=1e-5)  # emits on the side of local -Z
+    # Cycles: L = P * colour / (4 * area), area after the object's scale.
+    assert light.radiance == pytest.approx([100.0 * c / (4.0 * area) for c in color], rel=1e-5)
+    assert light.two_sided and not light.visible
+    assert log.warning_text() == ""
+
+
+def test_point_spot_and_sun(empty_scene):
+    builders.other_light("P", "POINT", 50.0, location=(1, 2, 3), color=(1, 0.5, 0))
+    builders.other_light("S", "SPOT", 80.0, location=(0, 0, 4), rotation=(0.5, 0, 0), spot_size=0.7,
+                         spot_blend=0.3)
+    builders.other_light("Sun", "SUN", 3.0, rotation=(0.0, 0.4, 0.0))
+    scene, log = export()
+    kinds = {type(l).__name__: l for l in scene.lights}
+    p, s, sun = kinds["PointLight"], kinds["SpotLight"], kinds["SunLight"]
+    assert p.position == pytest.approx((1, 2, 3))
+    assert p.intensity == pytest.approx([50 / (4 * math.pi), 25 / (4 * math.pi), 0], abs=1e-9)
+    assert s.intensity == pytest.approx([80 / (4 * math.pi)] * 3)
+    assert s.spot_size == pytest.approx(0.7) and s.spot_blend == pytest.approx(0.3)
+    assert s.direction == pytest.approx([0, math.sin(0.5), -math.cos(0.5)], abs=1e-6)
+    assert sun.irradiance == pytest.approx((3, 3, 3))
+    assert sun.direction == pytest.approx([-math.sin(0.4), 0, -math.cos(0.4)], abs=1e-6)
+
+
+def test_soft_point_light_radius_is_reported(empty_scene):
+    obj = builders.other_light("P", "POINT", 50.0)
+    obj.data.shadow_soft_size = 0.3
+    _, log = export()
+    assert "radius" in log.warning_text()
+
+
+def test_camera_lens_sensor_shift_and_dof(empty_scene):
+    cam = empty_scene.camera
+    cam.data.lens, cam.data.sensor_width, cam.data.sensor_height = 35.0, 32.0, 18.0
+    cam.data.sensor_fit = "VERTICAL"
+    cam.data.shift_x, cam.data.shift_y = 0.1, -0.05
+    cam.data.dof.use_dof = True
+    cam.data.dof.aperture_fstop = 2.8
+    target = bpy.data.objects.new("Focus", None)
+    empty_scene.collection.objects.link(target)
+    view = -np.array(cam.matrix_world)[:3, 2]
+    side = np.array(cam.matrix_world)[:3, 0]
+    target.location = np.array(cam.location) + 4.0 * view + 1.5 * side  # 4 m along the view axis
+    cam.data.dof.focus_object = target
+    bpy.context.view_layer.update()
+    c = export()[0].camera
+    assert (c.width, c.height, c.type) == (32, 24, "perspective")
+    assert (c.lens, c.sensor_width, c.sensor_height) == pytest.approx((35.0, 32.0, 18.0))
+    assert c.sensor_fit == "VERTICAL"
+    assert (c.shift_x, c.shift_y) == pytest.approx((0.1, -0.05))
+    assert c.focus_distance == pytest.approx(4.0, rel=1e-5)
+    assert c.aperture_radius == pytest.approx(0.035 / (2 * 2.8))
+    assert np.array(c.to_world) == pytest.approx(np.array(cam.matrix_world), abs=1e-6)
+    cam.data.type = "ORTHO"
+    cam.data.ortho_scale = 5.0
+    c = export()[0].camera
+    assert c.type == "orthographic" and c.ortho_scale == pytest.approx(5.0)
+
+
+def _principled_material(name, **inputs):
+    mat = builders.material(name, kind="principled")
+    node = mat.node_tree.nodes["Principled BSDF"]
+    for k, v in inputs.items():
+        node.inputs[k].default_value = v
+    return mat
+
+
+def test_materials_and_slots(empty_scene):
+    diffuse = builders.material("Matte", (0.2, 0.4, 0.6))
+    glossy = _principled_material("Metal", **{"Base Color": (0.9, 0.8, 0.1, 1), "Metallic": 0.7,
+                                              "Roughness": 0.25, "Specular": 0.4})
+    obj = builders.mesh_object("Cube", "cube", diffuse)
+    obj.data.materials.append(glossy)
+    obj.data.polygons[0].material_index = 1
+    scene, log = export()
+    mats = {m.name: m for m in scene.materials}
+    assert mats["Matte"].kind == "diffuse" and mats["Matte"].base_color == pytest.approx((0.2, 0.4, 0.6))
+    metal = mats["Metal"]
+    assert metal.kind == "glossy"
+    assert (metal.metallic, metal.roughness, metal.specular) == pytest.approx((0.7, 0.25, 0.4))
+    assert metal.base_color == pytest.approx((0.9, 0.8, 0.1))
+    (mesh,) = scene.meshes
+    ids = np.asarray(mesh.material_ids)
+    names = [scene.materials[i].name for i in ids]
+    assert names.count("Metal") == 2 and names.count("Matte") == 10  # one quad face = two triangles
+    assert log.unsupported == {}
+
+
+def test_unsupported_nodes_are_listed_once(empty_scene):
+    textured = _principled_material("Textured")
+    tex = textured.node_tree.nodes.new("ShaderNodeTexImage")
+    textured.node_tree.links.new(tex.outputs["Color"], textured.node_tree.nodes["Principled BSDF"].inputs[0])
+    glass = bpy.data.materials.new("Glass")
+    glass.use_nodes = True
+    tree = glass.node_tree
+    tree.nodes.remove(tree.nodes["Principled BSDF"])
+    g = tree.nodes.new("ShaderNodeBsdfGlass")
+    tree.links.new(g.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    lamp = bpy.data.materials.new("Lamp")
+    lamp.use_nodes = True
+    tree = lamp.node_tree
+    e = tree.nodes.new("ShaderNodeEmission")
+    tree.links.new(e.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
+    for i, mat in enumerate((textured, glass, lamp)):
+        builders.mesh_object(f"Obj{i}", "cube", mat, location=(3 * i, 0, 0))
+    builders.mesh_object("Copy", "cube", textured, location=(0, 3, 0))
+    scene, log = export()
+    text = log.warning_text()
+    assert "linked 'Base Color' input (Image Texture) (Textured)" in text
+    assert "'Glass BSDF' shader node" in text and "(Glass)" in text
+    assert "emission on meshes (Lamp)" in text
+    assert text.count("Textured") == 1  # listed once, however many objects use it
+    assert len(scene.meshes) == 4  # nothing dropped: unsupported materials fall back to diffuse
+
+
+def test_world_colour_and_volume(empty_scene):
+    tree = empty_scene.world.node_tree
+    bg = tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.1, 0.2, 0.3, 1)
+    bg.inputs["Strength"].default_value = 2.0
+    scatter = tree.nodes.new("ShaderNodeVolumeScatter")
+    scatter.inputs["Density"].default_value = 0.5
+    scatter.inputs["Color"].default_value = (0.8, 0.6, 0.4, 1)
+    scatter.inputs["Anisotropy"].default_value = 0.25
+    tree.links.new(scatter.outputs[0], tree.nodes["World Output"].inputs["Volume"])
+    world = export()[0].world
+    assert world.background == pytest.approx((0.2, 0.4, 0.6))
+    assert world.medium.sigma_s == pytest.approx((0.4, 0.3, 0.2))
+    assert world.medium.sigma_a == pytest.approx((0, 0, 0))
+    assert world.medium.g == pytest.approx(0.25)
+    tree.nodes.remove(scatter)
+    pv = tree.nodes.new("ShaderNodeVolumePrincipled")
+    pv.inputs["Density"].default_value = 2.0
+    pv.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
+    tree.links.new(pv.outputs[0], tree.nodes["World Output"].inputs["Volume"])
+    medium = export()[0].world.medium
+    assert medium.sigma_s == pytest.approx((1.0, 1.0, 1.0))
+    assert medium.sigma_a == pytest.approx((1.0, 1.0, 1.0))  # density * (1 - colour), black absorption colour
+
+
+def _outward_fraction(vertices, triangles, centre):
+    v = np.asarray(vertices, dtype=np.float64)[np.asarray(triangles)]
+    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    return np.mean(np.einsum("ij,ij->i", n, v.mean(axis=1) - centre) > 0)
+
+
+def test_modifiers_instances_and_transforms(empty_scene):
+    box = builders.mesh_object("Box", "cube", location=(0, 0, 1), size=1.0)
+    arr = box.modifiers.new("Array", "ARRAY")
+    arr.count = 3
+    mirrored = builders.mesh_object("Mirrored", "cube", location=(5, 0, 0), scale=(-1, 1, 1))
+    coll = bpy.data.collections.new("Inst")
+    piece = builders.mesh_object("Piece", "cube", size=0.5)
+    empty_scene.collection.objects.unlink(piece)
+    coll.objects.link(piece)
+    for i in range(2):
+        e = bpy.data.objects.new(f"Instance{i}", None)
+        e.instance_type, e.instance_collection = "COLLECTION", coll
+        e.location = (0, 10 + 3 * i, 0)
+        empty_scene.collection.objects.link(e)
+    scene, log = export()
+    meshes = {m.name: m for m in scene.meshes}
+    assert len(meshes["Box"].triangles) == 36  # the array modifier is applied
+    assert np.asarray(meshes["Box"].vertices)[:, 0].max() == pytest.approx(2.5, abs=1e-5)
+    instances = [m for name, m in meshes.items() if "/Piece" in name]
+    assert len(instances) == 2
+    centres = sorted(float(np.asarray(m.vertices)[:, 1].mean()) for m in instances)
+    assert centres == pytest.approx([10.0, 13.0], abs=1e-5)
+    # Mirroring (negative scale) keeps the triangles facing outward.
+    m = meshes["Mirrored"]
+    assert _outward_fraction(m.vertices, m.triangles, np.array([5, 0, 0])) == 1.0
+
+
+def test_smooth_meshes_get_unit_normals(empty_scene):
+    sphere = builders.mesh_object("Sphere", "uv_sphere", location=(1, 1, 1), radius=0.5, segments=16,
+                                  ring_count=8)
+    builders.smooth(sphere)
+    flat = builders.mesh_object("Flat", "cube", location=(4, 0, 0))
+    meshes = {m.name: m for m in export()[0].meshes}
+    assert meshes["Flat"].normals is None
+    n = np.asarray(meshes["Sphere"].normals)
+    v = np.asarray(meshes["Sphere"].vertices)
+    assert n.shape == v.shape
+    assert np.linalg.norm(n, axis=1) == pytest.approx(1.0, abs=1e-5)
+    radial = (v - [1, 1, 1]) / np.linalg.norm(v - [1, 1, 1], axis=1, keepdims=True)
+    assert np.min(np.einsum("ij,ij->i", n, radial)) > 0.99  # smooth normals of a sphere are radial
+
+
+def _same(a, b):
+    """Dataclasses equal field by field (JSON turns tuples into lists)."""
+    da, db = dataclasses.asdict(a), dataclasses.asdict(b)
+    if da.keys() != db.keys():
+        return False
+    for k in da:
+        if isinstance(da[k], str) or isinstance(da[k], bool):
+            if da[k] != db[k]:
+                return False
+        elif not np.allclose(np.asarray(da[k], dtype=float), np.asarray(db[k], dtype=float)):
+            return False
+    return True
+
+
+def test_scene_file_round_trip(empty_scene, tmp_path):
+    import sphrect_blender
+    from conftest import lit_test_scene
+    lit_test_scene(empty_scene)
+    builders.other_light("Spot", "SPOT", 30.0, location=(0, -2, 3))
+    path = str(tmp_path / "scene.sphrect.npz")
+    log = sphrect_blender.export_scene(bpy.context.evaluated_depsgraph_get(), path)
+    assert log.warning_text() == ""
+    original, _ = export()
+    loaded = sphrect.load_scene(path)
+    assert _same(loaded.camera, original.camera)
+    assert [type(l) for l in loaded.lights] == [type(l) for l in original.lights]
+    assert all(_same(a, b) for a, b in zip(loaded.lights, original.lights))
+    assert all(_same(a, b) for a, b in zip(loaded.materials, original.materials))
+    for a, b in zip(loaded.meshes, original.meshes):
+        assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.triangles, b.triangles)
+        assert np.array_equal(a.material_ids, b.material_ids)
+    # The operator writes the same file format.
+    op_path = str(tmp_path / "op.sphrect.npz")
+    assert bpy.ops.export_scene.sphrect(filepath=op_path) == {"FINISHED"}
+    assert len(sphrect.load_scene(op_path).meshes) == len(original.meshes)

@@ -1,0 +1,40 @@
+"""The add-on registers its engine, settings, panels and operator under the fixed names."""
+import bpy
+
+from conftest import engine_module
+
+
+def test_engine_and_settings_registered(empty_scene):
+    assert "SPHRECT" in {cls.bl_idname for cls in bpy.types.RenderEngine.__subclasses__()}
+    s = empty_scene.sphrect
+    for name in ("technique", "samples", "light_samples", "pattern", "mis", "seed", "compare"):
+        assert hasattr(s, name), name
+    items = lambda prop: {i.identifier for i in s.bl_rna.properties[prop].enum_items}
+    assert items("technique") == {"AREA", "TRIANGLES", "RECTANGLE", "RECTANGLE_COSINE"}
+    assert items("mis") == {"NONE", "BALANCE", "POWER"}
+    assert items("pattern") == {"INDEPENDENT", "STRATIFIED", "LATIN", "HAMMERSLEY", "SOBOL"}
+    assert hasattr(bpy.types.Light, "sphrect")
+    assert hasattr(bpy.ops.export_scene, "sphrect")
+
+
+def test_blender_light_and_material_panels_shown_for_sphrect(empty_scene):
+    for panel in ("DATA_PT_EEVEE_light", "DATA_PT_spot", "EEVEE_MATERIAL_PT_surface", "EEVEE_WORLD_PT_surface",
+                  "EEVEE_WORLD_PT_volume", "DATA_PT_lens", "DATA_PT_camera_dof", "RENDER_PT_format",
+                  "RENDER_PT_color_management"):
+        cls = getattr(bpy.types, panel)
+        assert "SPHRECT" in cls.COMPAT_ENGINES, panel
+    for panel in ("RENDER_PT_sphrect_sampling", "RENDER_PT_sphrect_compare", "DATA_PT_sphrect_area_light"):
+        assert hasattr(bpy.types, panel), panel
+
+
+def test_compare_mode_declares_a_pass_per_technique(empty_scene):
+    s = empty_scene.sphrect
+    s.compare = True
+    s.compare_area = False
+    s.reference = "NONE"
+    empty_scene.use_nodes = True  # the Render Layers node lists the passes the engine declares
+    layer_node = empty_scene.node_tree.nodes["Render Layers"]
+    outputs = {o.name for o in layer_node.outputs if o.enabled}
+    expected = {engine_module().technique_pass_name(t) for t in ("triangles", "rectangle", "rectangle_cosine")}
+    assert expected <= outputs, outputs
+    assert engine_module().technique_pass_name("area") not in outputs

@@ -1,0 +1,296 @@
+// Unit tests of the renderer's building blocks (BSDF, phase function, equi-angular sampling,
+// lights, camera) and of the Renderer's threading (determinism, cancellation).
+// Statistical checks use fixed seeds and 6-sigma bounds (false-failure rate < 1e-8 each).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <thread>
+#include <vector>
+
+#include "core/rng.h"
+#include "render/bsdf.h"
+#include "render/camera.h"
+#include "render/lights.h"
+#include "render/medium.h"
+#include "render/renderer.h"
+#include "render/scene.h"
+
+namespace sphrect::render {
+namespace {
+
+Vec3f SphericalDirection(float cos_theta, float phi) {
+    const float s = std::sqrt(std::max(0.0f, 1 - cos_theta * cos_theta));
+    return {s * std::cos(phi), s * std::sin(phi), cos_theta};
+}
+
+// Midpoint quadrature of g(w) over the sphere (uniform in cos theta and phi).
+template <class F>
+double IntegrateSphere(F g, int n_theta = 400, int n_phi = 400) {
+    double sum = 0;
+    for (int i = 0; i < n_theta; ++i)
+        for (int j = 0; j < n_phi; ++j) {
+            const float c = -1 + 2 * (i + 0.5f) / n_theta, phi = 2 * kPi * (j + 0.5f) / n_phi;
+            sum += g(SphericalDirection(c, phi));
+        }
+    return sum * 4 * M_PI / (double(n_theta) * n_phi);
+}
+
+std::vector<Material> TestMaterials() {
+    return {MakeDiffuseMaterial({0.7f, 0.5f, 0.3f}), MakeGlossyMaterial({0.8f, 0.6f, 0.4f}, 0.5f, 0.0f, 0.5f),
+            MakeGlossyMaterial({0.9f, 0.7f, 0.3f}, 0.25f, 1.0f, 0.5f),
+            MakeGlossyMaterial({0.2f, 0.2f, 0.8f}, 0.8f, 0.3f, 1.0f)};
+}
+
+TEST(RenderBsdf, PdfIsTheDensityOfItsSamples) {
+    // Visible-normal samples reflected below the horizon are rejected (pdf 0), so the pdf over
+    // the upper hemisphere integrates to the fraction of accepted samples, not to 1.
+    PCG32 rng(7);
+    for (const Material& m : TestMaterials()) {
+        for (float cos_o : {0.9f, 0.5f, 0.15f}) {
+            const Vec3f wo = SphericalDirection(cos_o, 0.3f);
+            const double total = IntegrateSphere([&](const Vec3f& wi) { return BsdfPDF<true>(m, wo, wi); }, 800, 400);
+            const int n = 20000;
+            int accepted = 0;
+            for (int i = 0; i < n; ++i) {
+                const BsdfSample s = SampleBsdf<true>(m, wo, {rng.NextFloat(), rng.NextFloat()});
+                if (s.pdf == 0) continue;
+                ++accepted;
+                // Sampled directions report the pdf and value the evaluation functions give.
+                EXPECT_NEAR(s.pdf, BsdfPDF<true>(m, wo, s.wi), 1e-3f * s.pdf);
+                const Spectrum f = EvalBsdf<true>(m, wo, s.wi);
+                EXPECT_NEAR(s.f.x, f.x, 1e-4f * (1 + f.x));
+            }
+            const double fraction = double(accepted) / n;
+            EXPECT_LE(total, 1.005);
+            EXPECT_NEAR(total, fraction, 6 * 0.5 / std::sqrt(double(n)) + 0.005)
+                << "alpha " << m.alpha << " cos_o " << cos_o;
+            if (!m.glossy) EXPECT_NEAR(total, 1.0, 0.005);
+        }
+    }
+}
+
+TEST(RenderBsdf, SamplingEstimatesTheAlbedoOfTheQuadrature) {
+    // integral f cos over the hemisphere: by quadrature, and by importance sampling f cos / pdf.
+    PCG32 rng(11);
+    for (const Material& m : TestMaterials()) {
+        const Vec3f wo = SphericalDirection(0.6f, 1.0f);
+        const double reference = IntegrateSphere(
+            [&](const Vec3f& wi) { return wi.z > 0 ? EvalBsdf<true>(m, wo, wi).x * wi.z : 0.0f; }, 800, 400);
+        const int n = 200000;
+        double sum = 0, sum2 = 0;
+        for (int i = 0; i < n; ++i) {
+            const BsdfSample s = SampleBsdf<true>(m, wo, {rng.NextFloat(), rng.NextFloat()});
+            const double x = s.pdf > 0 ? s.f.x * s.wi.z / s.pdf : 0.0;
+            sum += x;
+            sum2 += x * x;
+        }
+        const double mean = sum / n, sigma = std::sqrt((sum2 / n - mean * mean) / n);
+        EXPECT_NEAR(mean, reference, 6 * sigma + 0.005 * reference) << "alpha " << m.alpha;
+    }
+}
+
+TEST(RenderBsdf, DiffuseKernelIgnoresTheGlossyLobe) {
+    const Material m = MakeGlossyMaterial({0.5f, 0.5f, 0.5f}, 0.3f, 0.0f, 0.5f);
+    const Vec3f wo = SphericalDirection(0.8f, 0), wi = SphericalDirection(0.8f, kPi);
+    EXPECT_FLOAT_EQ(EvalBsdf<false>(m, wo, wi).x, m.diffuse.x * kInvPi);
+    EXPECT_GT(EvalBsdf<true>(m, wo, wi).x, EvalBsdf<false>(m, wo, wi).x);  // mirror direction: a highlight
+}
+
+TEST(RenderMedium, HenyeyGreensteinIsNormalisedAndSampledWithMeanCosineG) {
+    PCG32 rng(3);
+    const Vec3f axis = Normalize(Vec3f(0.2f, -0.5f, 0.8f));
+    for (float g : {-0.6f, 0.0f, 0.3f, 0.85f}) {
+        EXPECT_NEAR(IntegrateSphere([&](const Vec3f& w) { return HenyeyGreenstein(w.z, g); }, 4000, 4), 1.0, 2e-3);
+        const int n = 100000;
+        double sum = 0;
+        for (int i = 0; i < n; ++i) sum += Dot(SampleHenyeyGreenstein(axis, g, {rng.NextFloat(), rng.NextFloat()}), axis);
+        EXPECT_NEAR(sum / n, g, 6 * 0.58 / std::sqrt(double(n)));  // E[cos] = g, sd(cos) <= 1/sqrt(3)
+    }
+}
+
+TEST(RenderMedium, EquiAngularPdfIsNormalisedAndMatchesItsSamples) {
+    const Vec3f o(0, 0, 0), d(1, 0, 0), c(2.0f, 0.7f, -0.2f);
+    for (float tmax : {1.0f, 5.0f, kInf}) {
+        const EquiAngular e = MakeEquiAngular(o, d, tmax, c);
+        ASSERT_TRUE(e.valid);
+        const double upper = std::isinf(tmax) ? 2e4 : tmax;
+        double integral = 0;
+        const int n = 400000;
+        for (int i = 0; i < n; ++i) integral += EquiAngularPDF(e, float((i + 0.5) * upper / n)) * upper / n;
+        EXPECT_NEAR(integral, 1.0, std::isinf(tmax) ? 2e-3 : 1e-4);  // the tail beyond 2e4 is ~1e-5
+        // Inverse cdf: u -> t is monotone and stays in the segment.
+        float last = -1;
+        for (float u : {0.0f, 0.1f, 0.5f, 0.9f, 0.999f}) {
+            const float t = SampleEquiAngular(e, u);
+            EXPECT_GE(t, last);
+            EXPECT_GE(t, -1e-5f);
+            EXPECT_LE(t, tmax);
+            last = t;
+        }
+    }
+    EXPECT_FALSE(MakeEquiAngular(o, d, 3.0f, Vec3f(1, 0, 0)).valid);  // centre on the ray
+}
+
+TEST(RenderLights, SampledPointsAreFoundByIntersection) {
+    PCG32 rng(5);
+    const AreaLight rect = MakeRectAreaLight({-1, 2, 3}, {2, 0, 0}, {0, 0, 1.5f}, {1, 1, 1}, false, true);
+    const AreaLight ellipse = MakeEllipseAreaLight({0, 0, 4}, {0.5f, 0, 0}, {0, 0.8f, 0}, {1, 1, 1}, true, true);
+    const Vec3f origin(0.2f, -0.3f, 0.1f);
+    for (int i = 0; i < 1000; ++i) {
+        const Point2<float> u{rng.NextFloat(), rng.NextFloat()};
+        const LightSample<float> s = SampleEllipseArea(ellipse, origin, u);
+        ASSERT_GT(s.pdf, 0);
+        EXPECT_NEAR(IntersectAreaLight(ellipse, origin, s.dir, kInf), s.dist, 1e-4f * s.dist);
+        EXPECT_NEAR(EllipseAreaPDF(ellipse, origin, s.point), s.pdf, 1e-3f * s.pdf);
+        const Vec3f p = rect.rect.corner + rect.rect.ex * u.u + rect.rect.ey * u.v;
+        const Vec3f w = Normalize(p - origin);
+        EXPECT_NEAR(IntersectAreaLight(rect, origin, w, kInf), Length(p - origin), 1e-4f);
+    }
+    // One-sided: cross(ex, ey) = (0, -3, 0) faces -y, the origin's side.
+    EXPECT_FALSE(IsBlack(EmittedRadiance(rect, origin - rect.center)));
+    EXPECT_TRUE(IsBlack(EmittedRadiance(rect, rect.center - origin)));
+    EXPECT_EQ(IntersectAreaLight(rect, origin, Vec3f(0, 0, 1), kInf), kInf);
+}
+
+TEST(RenderLights, SpotFalloffFollowsCycles) {
+    DeltaLight s;
+    s.kind = DeltaKind::Spot;
+    s.axis = {0, 0, -1};
+    s.cos_half_angle = std::cos(0.5f);
+    s.spot_smooth = (1 - s.cos_half_angle) * 0.2f;
+    EXPECT_FLOAT_EQ(SpotAttenuation(s, {0, 0, -1}), 1.0f);
+    EXPECT_EQ(SpotAttenuation(s, SphericalDirection(-std::cos(0.55f), 0)), 0.0f);  // outside the cone
+    const float c = std::cos(0.2f);                                               // inside, not blended
+    EXPECT_NEAR(SpotAttenuation(s, SphericalDirection(-c, 1)), c, 1e-6f);
+    const float edge = SpotAttenuation(s, SphericalDirection(-std::cos(0.49f), 0));
+    EXPECT_GT(edge, 0);
+    EXPECT_LT(edge, std::cos(0.49f) * 0.5f);  // faded near the edge
+}
+
+TEST(RenderCamera, ThinLensRaysMeetOnTheFocusPlane) {
+    CameraModel c;
+    c.width = 100;
+    c.height = 50;
+    c.half_width = 0.36f;
+    c.half_height = 0.18f;
+    c.aperture_radius = 0.1f;
+    c.focus_distance = 4;
+    const Ray pin = GenerateCameraRay<false>(c, 30.5f, 10.5f, {});
+    const Vec3f focus = pin.o + pin.d * (4 / -pin.d.z);
+    for (float u : {0.1f, 0.5f, 0.9f}) {
+        const Ray r = GenerateCameraRay<true>(c, 30.5f, 10.5f, {u, 1 - u});
+        const Vec3f p = r.o + r.d * ((-4 - r.o.z) / r.d.z);
+        EXPECT_NEAR(Length(p - focus), 0, 1e-5f);
+        EXPECT_LE(Length(r.o), 0.1f + 1e-6f);
+    }
+    const Ray centre = GenerateCameraRay<false>(c, 50, 25, {});
+    EXPECT_NEAR(centre.d.z, -1, 1e-6f);
+}
+
+// A ground plane with a box on it, lit by a rectangle: the Renderer-level tests' scene.
+std::shared_ptr<RenderScene> TestScene(int w, int h, bool medium) {
+    auto s = std::make_shared<RenderScene>();
+    CameraModel c;
+    c.width = w;
+    c.height = h;
+    c.half_width = 0.4f;
+    c.half_height = 0.4f * h / w;
+    const float m[3][4] = {{1, 0, 0, 0}, {0, 0.8f, -0.6f, -4}, {0, 0.6f, 0.8f, 3}};
+    std::copy(&m[0][0], &m[0][0] + 12, &c.to_world[0][0]);
+    s->SetCamera(c);
+    s->AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+    const float v[] = {-5, -5, 0, 5, -5, 0, 5, 5, 0, -5, 5, 0, -.3f, -.3f, 0, .3f, -.3f, 0, 0, .3f, 0, 0, 0, 0.6f};
+    const int32_t t[] = {0, 1, 2, 0, 2, 3, 4, 5, 7, 5, 6, 7, 6, 4, 7};
+    s->AddMesh("scene", v, 8, t, 5, nullptr, nullptr);
+    EXPECT_EQ(s->AddRectLight({-0.5f, 0.6f, 0.05f}, {1, 0, 0}, {0, 0, 1}, {3, 3, 3}, true, false), "");
+    if (medium) s->SetMedium({0.1f, 0.1f, 0.1f}, {0.02f, 0.02f, 0.02f}, 0.2f);
+    s->Commit();
+    return s;
+}
+
+std::vector<float> RenderImage(std::shared_ptr<RenderScene> scene, RenderOptions o, int samples) {
+    Renderer r(scene, o);
+    EXPECT_TRUE(r.Render(samples));
+    std::vector<float> img(size_t(r.width()) * r.height() * 4);
+    r.Image(0, img.data());
+    return img;
+}
+
+TEST(Renderer, IdenticalForAnyThreadCountAndTileSize) {
+    for (bool medium : {false, true}) {
+        auto scene = TestScene(40, 30, medium);
+        RenderOptions o;
+        o.techniques = {Technique::Triangles};
+        o.threads = 1;
+        const auto reference = RenderImage(scene, o, 3);
+        for (auto [threads, tile] : {std::pair{2, 16}, std::pair{4, 7}, std::pair{3, 1}}) {
+            o.threads = threads;
+            o.tile_size = tile;
+            EXPECT_EQ(RenderImage(scene, o, 3), reference) << threads << " threads, tile " << tile;
+        }
+    }
+}
+
+TEST(Renderer, TechniquesShareCameraSamples) {
+    // Rendered together or alone, a technique produces the same image.
+    auto scene = TestScene(24, 16, false);
+    RenderOptions both;
+    both.techniques = {Technique::Area, Technique::Rectangle};
+    Renderer r(scene, both);
+    ASSERT_TRUE(r.Render(4));
+    std::vector<float> img(24 * 16 * 4);
+    r.Image(1, img.data());
+    RenderOptions alone;
+    alone.techniques = {Technique::Rectangle};
+    EXPECT_EQ(RenderImage(scene, alone, 4), img);
+}
+
+TEST(Renderer, CancelFromAnotherThreadReturnsPartialImage) {
+    auto scene = TestScene(128, 96, true);
+    RenderOptions o;
+    o.threads = 2;
+    o.tile_size = 8;
+    o.light_samples = 4;
+    Renderer r(scene, o);
+    std::atomic<int> progress_calls{0};
+    std::thread canceller([&] {
+        while (progress_calls.load() == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        r.Cancel();
+    });
+    const bool complete = r.Render(512, 0, [&](int done, int) { progress_calls.fetch_add(done > 0); });
+    canceller.join();
+    EXPECT_FALSE(complete);
+    EXPECT_EQ(r.Stats(0).samples, 0u);
+    std::vector<float> img(size_t(128) * 96 * 4);
+    r.Image(0, img.data());
+    size_t lit = 0;
+    for (size_t i = 0; i < img.size(); i += 4) lit += img[i] > 0;
+    EXPECT_GT(lit, 0u);
+    EXPECT_LT(lit, size_t(128) * 96);
+}
+
+TEST(Renderer, RejectsBadInput) {
+    RenderScene s;
+    CameraModel c;
+    c.width = 0;
+    EXPECT_THROW(s.SetCamera(c), std::invalid_argument);
+    c.width = 10;
+    s.SetCamera(c);
+    const float v[] = {0, 0, 0, 1, 0, 0, 0, NAN, 0};
+    const int32_t t[] = {0, 1, 2};
+    EXPECT_THROW(s.AddMesh("nan", v, 3, t, 1, nullptr, nullptr), std::invalid_argument);
+    const float ok[] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const int32_t bad[] = {0, 1, 3};
+    EXPECT_THROW(s.AddMesh("index", ok, 3, bad, 1, nullptr, nullptr), std::invalid_argument);
+    EXPECT_NE(s.AddRectLight({0, 0, 1}, {0, 0, 0}, {1, 0, 0}, {1, 1, 1}, false, true), "");  // skipped
+    EXPECT_THROW(s.Commit(), std::invalid_argument);  // empty scene
+    auto scene = TestScene(8, 8, false);
+    RenderOptions o;
+    o.light_samples = 0;
+    EXPECT_THROW(Renderer(scene, o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sphrect::render

@@ -1,0 +1,129 @@
+"""Analytic scenes: a Lambertian plane lit by one rectangle (parallel, perpendicular, distant,
+grazing), by a disc, and by delta lights.  Every pixel's radiance is albedo / pi times the
+closed-form irradiance averaged over the pixel (Gauss-Legendre).  Each technique and MIS mode
+must pass a per-pixel t-test over independent replicates.
+
+False-failure rate: each image is one family of pixel tests with family-wise rate 1e-4 (Sidak
+correction); there are 4 x 4 x 3 + 2 + 1 = 51 images, so a correct renderer fails this file with
+probability < 0.6 % (seeds are fixed, so the outcome is deterministic).  The last test shows the
+test has power: a 3 % error in the expected image is rejected."""
+import math
+
+import numpy as np
+import pytest
+
+import sphrect
+from render_testing import (ALL_TECHNIQUES, expected_plane_image, pixel_t_test, plane_mesh, polygon_irradiance,
+                            replicate_images, top_camera)
+
+FAMILY_ALPHA = 1e-4
+ALBEDO = 0.5
+REPLICATES = 10
+SAMPLES = 64
+
+
+def rect_verts(corner, ex, ey):
+    c, ex, ey = (np.asarray(a, np.float64) for a in (corner, ex, ey))
+    return np.array([c, c + ex, c + ex + ey, c + ey])
+
+
+# name -> (RectLight, radiance scale); the edges are ordered so cross(ex, ey) faces the plane
+# where the light is one-sided.
+RECT_SCENES = {
+    # 1 x 1 light at height 1, facing down, off-centre.
+    "parallel": sphrect.RectLight(corner=(-0.2, -0.3, 1.0), edge_x=(0, 1, 0), edge_y=(1, 0, 0), radiance=(1, 1, 1),
+                                  visible=False),
+    # Two-sided light standing on the plane across the image (x = 0.1, z in [0.05, 1.05]).
+    "perpendicular": sphrect.RectLight(corner=(0.1, -0.5, 0.05), edge_x=(0, 1, 0), edge_y=(0, 0, 1),
+                                       radiance=(1, 1, 1), two_sided=True, visible=False),
+    # 1 x 1 light 10^4 above the plane (distance / size = 10^4).
+    "distant": sphrect.RectLight(corner=(-0.5, -0.5, 1e4), edge_x=(0, 1, 0), edge_y=(1, 0, 0), radiance=(1e8,) * 3,
+                                 visible=False),
+    # Low strip standing at x = -1.5 facing +x: light arrives at 0.02-6 degrees above the horizon.
+    "grazing": sphrect.RectLight(corner=(-1.5, -0.5, 0.001), edge_x=(0, 1, 0), edge_y=(0, 0, 0.05),
+                                 radiance=(40, 40, 40), visible=False),
+}
+
+
+def rect_scene(light):
+    return sphrect.Scene(camera=top_camera(), meshes=[plane_mesh()], lights=[light],
+                         materials=[sphrect.Material(base_color=(ALBEDO,) * 3)])
+
+
+def rect_expected(light, cam):
+    verts = rect_verts(light.corner, light.edge_x, light.edge_y)
+    return expected_plane_image(cam, ALBEDO, lambda P: light.radiance[0] * polygon_irradiance(
+        P, (0, 0, 1), verts, two_sided=light.two_sided))
+
+
+@pytest.mark.parametrize("mis", ["none", "balance", "power"])
+@pytest.mark.parametrize("name", list(RECT_SCENES))
+def test_rectangle_light_on_plane(name, mis):
+    light = RECT_SCENES[name]
+    scene = rect_scene(light)
+    expected = rect_expected(light, scene.camera)
+    assert expected.max() > 0.01  # the scene is actually lit
+    reps = replicate_images(scene, ALL_TECHNIQUES, REPLICATES, SAMPLES, mis=mis)
+    for t in ALL_TECHNIQUES:
+        ok, p_min, alpha = pixel_t_test(reps[t], expected, FAMILY_ALPHA)
+        rel = np.abs(reps[t].mean(0) - expected).max() / expected.max()
+        assert ok, f"{name}/{mis}/{t}: worst p = {p_min:.3g} < {alpha:.3g} (max rel. error {rel:.3g})"
+
+
+def test_disc_light_on_plane():
+    """A one-sided disc (ellipse light with equal axes), area-sampled; reference: a 512-gon."""
+    light = sphrect.EllipseLight(center=(0.3, 0.0, 0.8), axis_x=(0, 0.6, 0), axis_y=(0.6, 0, 0), radiance=(2, 2, 2),
+                                 visible=False)
+    scene = sphrect.Scene(camera=top_camera(), meshes=[plane_mesh()], lights=[light],
+                          materials=[sphrect.Material(base_color=(ALBEDO,) * 3)])
+    phi = np.linspace(0, 2 * np.pi, 512, endpoint=False)
+    # The 512-gon's area is 0.99997 of the disc's; scaled so both have the same area.
+    r = 0.6 * math.sqrt(2 * np.pi / (512 * math.sin(2 * np.pi / 512)))
+    verts = np.stack([0.3 + r * np.sin(phi), r * np.cos(phi), np.full_like(phi, 0.8)], axis=-1)
+    expected = expected_plane_image(scene.camera, ALBEDO, lambda P: 2 * polygon_irradiance(P, (0, 0, 1), verts))
+    for mis in ["none", "balance"]:
+        reps = replicate_images(scene, ["rectangle"], REPLICATES, SAMPLES, mis=mis)
+        ok, p_min, alpha = pixel_t_test(reps["rectangle"], expected, FAMILY_ALPHA)
+        assert ok, f"disc/{mis}: worst p = {p_min:.3g} < {alpha:.3g}"
+
+
+def test_delta_lights_on_plane():
+    """Point, spot (Cycles 3.4 falloff) and sun together: E = I cos / d^2 + I att cos / d^2 + E_sun cos."""
+    point = sphrect.PointLight(position=(0.5, 0.2, 1.0), intensity=(0.7, 0.7, 0.7))
+    spot = sphrect.SpotLight(position=(-0.4, 0.1, 1.5), direction=(0, 0, -1), intensity=(2, 2, 2),
+                             spot_size=math.radians(60), spot_blend=0.3)
+    sun_dir = np.array([0.3, -0.2, -1.0]) / np.linalg.norm([0.3, -0.2, -1.0])
+    sun = sphrect.SunLight(direction=tuple(sun_dir), irradiance=(0.9, 0.9, 0.9))
+    scene = sphrect.Scene(camera=top_camera(), meshes=[plane_mesh()], lights=[point, spot, sun],
+                          materials=[sphrect.Material(base_color=(ALBEDO,) * 3)])
+
+    def irradiance(P):
+        e = np.zeros(P.shape[:-1])
+        d = np.asarray(point.position) - P
+        dist = np.linalg.norm(d, axis=-1)
+        e += 0.7 * (d[..., 2] / dist) / dist ** 2
+        d = np.asarray(spot.position) - P
+        dist = np.linalg.norm(d, axis=-1)
+        cos_axis = -d[..., 2] / dist * -1  # dot(-d/|d|, (0,0,-1))
+        cos_half = math.cos(spot.spot_size / 2)
+        smooth = (1 - cos_half) * spot.spot_blend
+        t = np.clip((cos_axis - cos_half) / smooth, 0, 1)
+        att = np.where(cos_axis > cos_half, cos_axis * np.where(cos_axis - cos_half < smooth, t * t * (3 - 2 * t), 1), 0)
+        e += 2 * att * (d[..., 2] / dist) / dist ** 2
+        e += 0.9 * -sun_dir[2]
+        return e
+
+    expected = expected_plane_image(scene.camera, ALBEDO, irradiance)
+    reps = replicate_images(scene, ["rectangle"], REPLICATES, 8)
+    ok, p_min, alpha = pixel_t_test(reps["rectangle"], expected, FAMILY_ALPHA, rel_tol=1e-4)
+    assert ok, f"delta lights: worst p = {p_min:.3g} < {alpha:.3g}"
+
+
+def test_t_test_detects_a_small_error():
+    """Power check: the same test rejects an expected image that is 3 % off."""
+    light = RECT_SCENES["parallel"]
+    scene = rect_scene(light)
+    expected = rect_expected(light, scene.camera)
+    reps = replicate_images(scene, ["rectangle"], REPLICATES, SAMPLES, mis="balance")
+    assert pixel_t_test(reps["rectangle"], expected, FAMILY_ALPHA)[0]
+    assert not pixel_t_test(reps["rectangle"], expected * 1.03, FAMILY_ALPHA)[0]

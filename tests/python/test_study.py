@@ -1,0 +1,242 @@
+"""The study machinery (sphrect.study) on a tiny scene and ladder, driven by a fake renderer so it runs in
+seconds without the native renderer: outputs exist and are well-formed, the reference's own error estimate is
+computed (and is right), resuming skips finished runs, and interrupted or crashing runs leave no corrupt output.
+test_study_render.py runs the same machinery on the real renderer."""
+import csv
+import json
+import math
+import os
+
+import numpy as np
+import pytest
+
+import sphrect
+from sphrect.study import LocalProcessPool, ReferenceSettings, SerialExecutor, StudyConfig, run_study
+from sphrect.study import metrics, store as store_module
+from sphrect.study.jobs import Job, build_plan, equal_time_jobs, sample_ladder
+from sphrect.study.reference import estimate_error
+from sphrect.study.store import ResultStore
+
+HOOK = "test_study:fake_render"
+W, H = 16, 12
+NOISE = {"area": 0.4, "triangles": 0.2, "rectangle": 0.1, "rectangle_cosine": 0.08}
+
+
+def truth(width=W, height=H):
+    y, x = np.mgrid[0:height, 0:width]
+    img = np.zeros((height, width, 4), np.float32)
+    img[..., 0] = 0.5 + 0.5 * x / width
+    img[..., 1] = 0.3 + 0.2 * y / height
+    img[..., 2] = 0.2
+    img[..., 3] = 1
+    return img
+
+
+def fake_render(context, job):
+    """Truth + Gaussian noise of std NOISE[technique] / sqrt(samples): an unbiased 'renderer' with known error.
+    Side effects for the tests, by environment variable: STUDY_FAKE_LOG (append each rendered key),
+    STUDY_FAKE_INTERRUPT_AFTER (raise KeyboardInterrupt once that many renders are logged),
+    STUDY_FAKE_CRASH (kill the worker process on jobs whose key contains it)."""
+    log = os.environ.get("STUDY_FAKE_LOG")
+    crash = os.environ.get("STUDY_FAKE_CRASH")
+    if crash and crash in job.key:
+        os._exit(3)
+    if log:
+        limit = os.environ.get("STUDY_FAKE_INTERRUPT_AFTER")
+        if limit and os.path.exists(log) and len(open(log).read().split()) >= int(limit):
+            raise KeyboardInterrupt
+        with open(log, "a") as f:
+            f.write(job.key + "\n")
+    samples = job.samples if job.time_budget is None else max(1, int(job.time_budget / 1e-3))
+    rng = np.random.default_rng(abs(hash((job.key, job.seed))) % (1 << 32))
+    sigma = NOISE.get(job.technique, 0.15) / math.sqrt(samples)
+    image = truth(context.width, context.height)
+    image[..., :3] += rng.normal(0, sigma, image[..., :3].shape).astype(np.float32)
+    time = samples * 1e-3 * (1.5 if job.technique == "rectangle_cosine" else 1.0)
+    return image, {"build_time": 0.01, "call_time": time, "wall_time": time, "light_time": time / 3,
+                   "shading_time": time / 3, "rays": samples * context.width * context.height * 2,
+                   "samples_done": samples}
+
+
+@pytest.fixture
+def scene_file(tmp_path):
+    path = str(tmp_path / "tiny.sphrect.npz")
+    sphrect.save_scene(sphrect.Scene(camera=sphrect.Camera(width=W, height=H)), path)
+    return path
+
+
+def tiny_config(**kw):
+    args = dict(techniques=("area", "triangles", "rectangle", "rectangle_cosine"), mis=("none", "balance"),
+                patterns=("independent", "sobol"), ladder=(1, 2, 4, 8), equal_time=0.004)
+    args.update(kw)
+    return StudyConfig(**args)
+
+
+def study(scene_file, out, executor=None, **kw):
+    return run_study(scene_file, str(out), tiny_config(**kw), ReferenceSettings(samples=4096, chunks=4),
+                     executor=executor or SerialExecutor(), render_hook=HOOK, progress=False,
+                     sampler_table=False)
+
+
+def test_plan_and_keys():
+    config = tiny_config(cycles=True)
+    plan = build_plan(config)
+    assert len(plan) == 4 * 2 * 2 * 4 + 4
+    assert len({j.key for j in plan}) == len(plan)  # keys identify runs
+    assert [j.samples for j in plan] == sorted(j.samples for j in plan)  # cheapest first
+    assert Job.from_dict(plan[5].to_dict()) == plan[5]
+    assert sample_ladder(20) == [1, 2, 4, 8, 16]
+    assert len(equal_time_jobs(config, 0.5)) == 4 * 2 + 1
+    with pytest.raises(ValueError, match="unknown technique"):
+        StudyConfig(techniques=("rect",))
+    with pytest.raises(ValueError, match="unknown sample pattern"):
+        StudyConfig(patterns=("halton",))
+
+
+def test_metrics():
+    ref = truth()
+    img = ref.copy()
+    img[..., :3] += 0.1
+    assert metrics.rmse(img, ref) == pytest.approx(0.1, rel=1e-5)
+    assert metrics.relmse(img, ref) > 0
+    assert metrics.error_map(img, ref).shape == (H, W)
+    slope, _ = metrics.fit_slope([1, 2, 4, 8], [1, 2 ** -0.5, 0.5, 8 ** -0.5])
+    assert slope == pytest.approx(-0.5)
+    t, how = metrics.cost_to_reach([1, 2, 4], [1.0, 0.5, 0.25], 0.35)
+    assert how == "measured" and 2 < t < 4
+    t, how = metrics.cost_to_reach([1, 2, 4], [1.0, 0.5, 0.25], 0.1)
+    assert how == "extrapolated" and t == pytest.approx(10, rel=1e-6)
+    with pytest.raises(ValueError):
+        metrics.rmse(img, ref[:4])
+
+
+def test_reference_error_estimate_is_right():
+    # 8 chunks of truth + N(0, 0.2): the mean's true RMSE is 0.2/sqrt(8) = 0.0707. With 16x12x3 pixels the
+    # estimate's relative standard deviation is ~ sqrt(2/(7*576)) = 2.4%; 15% is > 6 sigma (false failure
+    # rate < 1e-8, and the seed is fixed).
+    rng = np.random.default_rng(1)
+    chunks = np.stack([truth() + np.pad(rng.normal(0, 0.2, (H, W, 3)), ((0, 0), (0, 0), (0, 1)))
+                       for _ in range(8)])
+    estimate = estimate_error(chunks)
+    actual = metrics.rmse(chunks.mean(axis=0), truth())
+    assert estimate["rmse"] == pytest.approx(0.2 / math.sqrt(8), rel=0.15)
+    assert estimate["rmse"] == pytest.approx(actual, rel=0.15)
+
+
+def test_study_outputs_are_well_formed(scene_file, tmp_path):
+    out = tmp_path / "study"
+    summary = study(scene_file, out)
+    assert summary["failures"] == []
+    assert summary["ladder_runs"] == 4 * 2 * 2 * 4
+    assert summary["equal_time_runs"] == 4 * 2
+    # Reference: error estimate computed, and close to the truth (4 chunks x 1024 spp of sigma 0.1 noise:
+    # true RMSE 0.1/64 = 0.0016; the estimate from 4 chunks over 576 values is within 15% (> 5 sigma)).
+    ref = json.load(open(out / "reference.json"))
+    assert ref["estimated_rmse"] == pytest.approx(0.1 / 64, rel=0.15)
+    reference = np.load(out / "images" / "reference.npy")
+    assert reference.shape == (H, W, 4) and np.all(np.isfinite(reference))
+    # Every run: one record with the measurements.
+    with open(out / "runs.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 4 * 2 * 2 * 4 + 4 * 2
+    for r in rows:
+        assert float(r["rmse"]) > 0 and float(r["relmse"]) > 0 and float(r["wall_time"]) > 0
+        assert int(r["rays"]) > 0 and float(r["light_time"]) > 0
+    data = json.load(open(out / "runs.json"))
+    assert len(data["runs"]) == len(rows)
+    # Errors behave like the fake renderer's: area is worst, RMSE falls ~ N^-1/2.
+    by = {(r["technique"], r["mis"], r["pattern"], int(r["samples"])): float(r["rmse"]) for r in rows
+          if r["kind"] == "ladder"}
+    assert by[("area", "none", "sobol", 8)] > by[("rectangle", "none", "sobol", 8)]
+    slope, _ = metrics.fit_slope([1, 2, 4, 8], [by[("area", "none", "independent", n)] for n in (1, 2, 4, 8)])
+    assert -0.65 < slope < -0.35
+    # Report and plots exist and are non-trivial.
+    report = (out / "report.md").read_text()
+    for needle in ("Reference", "rmse_vs_samples_sobol.png", "rmse_vs_time_independent.png", "equal_time_grid.png",
+                   "Time to reach a target error", "rectangle < triangles < area"):
+        assert needle in report, needle
+    assert "reproduces" in report
+    assert (out / "report.html").read_text().count("<img") >= 5
+    for png in ("rmse_vs_samples_sobol.png", "rmse_vs_time_sobol.png", "slopes.png", "equal_time_grid.png"):
+        data = (out / "plots" / png).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, png
+
+
+def test_resume_skips_finished_runs(scene_file, tmp_path, monkeypatch):
+    out = tmp_path / "study"
+    log = tmp_path / "renders.log"
+    monkeypatch.setenv("STUDY_FAKE_LOG", str(log))
+    study(scene_file, out)
+    first = log.read_text().split()
+    assert len(first) == 4 + 4 * 2 * 2 * 4 + 4 * 2  # reference chunks + ladder + equal time
+    before = {p: os.path.getmtime(out / "runs" / p) for p in os.listdir(out / "runs")}
+    study(scene_file, out)
+    assert log.read_text().split() == first  # nothing rendered again
+    assert {p: os.path.getmtime(out / "runs" / p) for p in os.listdir(out / "runs")} == before
+    # A bigger ladder renders only the new sample count.
+    study(scene_file, out, ladder=(1, 2, 4, 8, 16))
+    new = log.read_text().split()[len(first):]
+    assert len(new) == 4 * 2 * 2 and all("n000016" in k for k in new)
+
+
+def assert_store_clean(out):
+    """Every file under the study directory is whole: no temporaries, every JSON parses, every .npy loads."""
+    for root, _, files in os.walk(out):
+        for name in files:
+            path = os.path.join(root, name)
+            assert not name.endswith(".tmp"), path
+            if name.endswith(".json"):
+                json.load(open(path))
+            elif name.endswith(".npy"):
+                assert np.all(np.isfinite(np.load(path)))
+
+
+def test_interrupted_study_leaves_no_corrupt_output_and_resumes(scene_file, tmp_path, monkeypatch):
+    out = tmp_path / "study"
+    log = tmp_path / "renders.log"
+    monkeypatch.setenv("STUDY_FAKE_LOG", str(log))
+    monkeypatch.setenv("STUDY_FAKE_INTERRUPT_AFTER", "30")
+    with pytest.raises(KeyboardInterrupt):
+        study(scene_file, out)
+    assert_store_clean(out)
+    done = len(os.listdir(out / "runs"))
+    assert done == 30  # every render that finished was recorded, nothing else
+    monkeypatch.delenv("STUDY_FAKE_INTERRUPT_AFTER")
+    study(scene_file, out)
+    rendered = log.read_text().split()
+    assert len(rendered) == 4 + 4 * 2 * 2 * 4 + 4 * 2  # the 30 recorded runs were not rendered again
+    assert len(set(rendered)) == len(rendered)
+    assert_store_clean(out)
+
+
+def test_interrupted_write_leaves_nothing(tmp_path, monkeypatch):
+    store = ResultStore(str(tmp_path / "s"))
+    record = {"key": "k", "fingerprint": "f", "job": {}}
+
+    def broken_replace(src, dst):
+        raise KeyboardInterrupt  # as if the process were interrupted between writing and renaming
+
+    monkeypatch.setattr(store_module.os, "replace", broken_replace)
+    with pytest.raises(KeyboardInterrupt):
+        store.write_run(record)
+    monkeypatch.undo()
+    assert os.listdir(tmp_path / "s" / "runs") == []  # neither the record nor a temporary
+    assert not store.is_done("k", "f")
+    store.write_run(record)
+    assert store.is_done("k", "f") and not store.is_done("k", "other fingerprint")
+
+
+def test_killed_worker_is_reported_and_others_finish(scene_file, tmp_path, monkeypatch):
+    out = tmp_path / "study"
+    # Every attempt at one job kills its worker process; the pool is rebuilt, the other jobs finish and the
+    # job is reported as failed (not recorded), then succeeds on resume.
+    monkeypatch.setenv("STUDY_FAKE_CRASH", "ladder-sphrect-triangles-balance-sobol-n000004")
+    summary = study(scene_file, out, executor=LocalProcessPool(2))
+    failed = [k for k, _ in summary["failures"]]
+    assert any("triangles-balance-sobol-n000004" in k for k in failed)
+    assert summary["ladder_runs"] == 4 * 2 * 2 * 4 - len(failed)
+    assert_store_clean(out)
+    monkeypatch.delenv("STUDY_FAKE_CRASH")
+    summary = study(scene_file, out, executor=LocalProcessPool(2))
+    assert summary["failures"] == [] and summary["ladder_runs"] == 4 * 2 * 2 * 4
+    assert os.listdir(out / "failed") == []
