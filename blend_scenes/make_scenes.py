@@ -133,6 +133,7 @@ def room(mat_walls, size=(6, 6, 3)):
 
 def save(scene_name):
     path = os.path.join(HERE, scene_name + ".blend")
+    bpy.context.preferences.filepaths.save_version = 0  # no .blend1 backups next to the committed files
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True, check_existing=False)
     print("wrote", path, os.path.getsize(path), "bytes")
 

@@ -17,8 +17,10 @@ bl_info = {
     "category": "Render",
 }
 
-from .native import load_sphrect  # noqa: E402,F401  (no bpy registration inside)
-from .io.exporter import export_scene, scene_from_depsgraph  # noqa: E402,F401
+from .native import load_sphrect  # noqa: E402  (no bpy registration inside)
+from .io.exporter import export_scene, scene_from_depsgraph  # noqa: E402
+
+__all__ = ["export_scene", "scene_from_depsgraph", "load_sphrect", "register", "unregister"]
 
 
 def register():

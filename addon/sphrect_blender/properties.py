@@ -23,6 +23,15 @@ MIS = [("NONE", "None", "Light sampling only"),
        ("POWER", "Power", "Power heuristic between light and BSDF sampling")]
 
 
+def _read_reference(path):
+    """Read the chosen reference image now, on the main thread (renders in the window run in a job thread)."""
+    from .engine import cache_reference_image
+    try:
+        cache_reference_image(path)
+    except (ValueError, RuntimeError) as e:
+        print(f"SPHRECT: {e}")
+
+
 class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     technique: EnumProperty(name="Technique", items=[(i, l, d) for i, _, l, d in TECHNIQUES],
                             default="RECTANGLE", description="How points on rectangular lights are chosen")
@@ -35,7 +44,7 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     seed: IntProperty(name="Seed", default=0, min=0)
     threads: IntProperty(name="Threads", default=0, min=0, description="Render threads (0: all cores)")
     passes: IntProperty(name="Progressive Passes", default=4, min=1, max=256,
-                        description="The samples are rendered in this many passes; the image is updated after each")
+                        description="The image is updated at least this many times while rendering the samples")
 
     compare: BoolProperty(name="Compare Techniques", default=False,
                           description="Render every chosen technique in one go, each as a render pass, "
@@ -53,7 +62,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
                                    ("RENDER", "Render", "A high-sample render with the spherical rectangle technique"),
                                    ("FILE", "EXR File", "An OpenEXR image of the same size")])
     reference_samples: IntProperty(name="Reference Samples", default=256, min=1)
-    reference_path: StringProperty(name="Reference EXR", subtype="FILE_PATH", default="")
+    reference_path: StringProperty(name="Reference EXR", subtype="FILE_PATH", default="",
+                                   update=lambda self, context: _read_reference(self.reference_path))
 
     def compare_techniques(self):
         """sphrect names of the techniques chosen for comparison (all four if none is ticked)."""

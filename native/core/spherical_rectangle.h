@@ -62,11 +62,9 @@ namespace sphrect {
 
 // Largest accepted estimate of the map's rounding error in (u, v) space.
 constexpr double kSphericalRectangleMaxError = 1e-7;
-// The x-step's closed form is refined by Newton steps on the stable sub-rectangle
-// solid angle when its error estimate exceeds kSphericalRectanglePolishAbove, and is
-// not trusted as a starting point beyond kSphericalRectanglePolishMax.
+// The x-step's closed form is refined by (safeguarded) Newton steps on the stable
+// sub-rectangle solid angle when its error estimate exceeds this.
 constexpr double kSphericalRectanglePolishAbove = 1e-10;
-constexpr double kSphericalRectanglePolishMax = 1e-2;
 // What is left of the x-step's error after the Newton refinement.
 constexpr double kSphericalRectanglePolishedError = 1e-12;
 
@@ -75,19 +73,24 @@ namespace srect {
 // Clamp that maps NaN to lo.
 inline double ClampNaN(double x, double lo, double hi) { return x > lo ? (x < hi ? x : hi) : lo; }
 
-// Solid angle of [x0, x0+w] x [y0, y0+l] in the plane z = h > 0 seen from the origin,
-// for x0, y0 >= 0: Van Oosterom & Strackee on the triangles (00,10,11), (00,11,01).
-// In one quadrant every dot product is >= h^2 > 0, so the denominators are sums of
-// positive terms, and the triple product is exactly h w l: the result has a relative
-// error of a few ulps.  (The widths are passed, not recomputed as x1 - x0, which
-// would lose them for a light 1e6 sizes away.)
-inline double QuadrantRectSolidAngle(double x0, double w, double y0, double l, double h) {
+// An interval [a0, a1] with its width w = a1 - a0 carried exactly: both the endpoints
+// and the width matter, and neither can be recomputed from the others (a light 1e6
+// sizes away loses its width in a1 - a0; a foot of o 1e-9 from a1 loses a1 in a0 + w).
+struct Interval {
+    double a0, a1, w;
+};
+
+// Solid angle of X x Y in the plane z = h > 0 seen from the origin, for a0 >= 0 in
+// both: Van Oosterom & Strackee on the triangles (00,10,11), (00,11,01).  In one
+// quadrant every dot product is >= h^2 > 0, so the denominators are sums of positive
+// terms, and the triple product is exactly h wx wy: a relative error of a few ulps.
+inline double QuadrantRectSolidAngle(const Interval& X, const Interval& Y, double h) {
+    const double x0 = X.a0, x1 = X.a1, y0 = Y.a0, y1 = Y.a1, h2 = h * h;
     // A corner at the foot of o: the closed form atan(w l / (h r)), all terms positive.
-    if (x0 == 0 && y0 == 0) return std::atan2(w * l, h * std::sqrt(w * w + l * l + h * h));
-    const double x1 = x0 + w, y1 = y0 + l, h2 = h * h;
+    if (x0 == 0 && y0 == 0) return std::atan2(X.w * Y.w, h * std::sqrt(x1 * x1 + y1 * y1 + h2));
     const double l00 = std::sqrt(x0 * x0 + y0 * y0 + h2), l10 = std::sqrt(x1 * x1 + y0 * y0 + h2);
     const double l11 = std::sqrt(x1 * x1 + y1 * y1 + h2), l01 = std::sqrt(x0 * x0 + y1 * y1 + h2);
-    const double num = h * w * l;
+    const double num = h * X.w * Y.w;
     const double den1 = l00 * l10 * l11 + (x0 * x1 + y0 * y0 + h2) * l11 + (x0 * x1 + y0 * y1 + h2) * l10 +
                         (x1 * x1 + y0 * y1 + h2) * l00;
     const double den2 = l00 * l11 * l01 + (x0 * x1 + y0 * y1 + h2) * l01 + (x0 * x0 + y0 * y1 + h2) * l11 +
@@ -95,23 +98,23 @@ inline double QuadrantRectSolidAngle(double x0, double w, double y0, double l, d
     return 2 * (std::atan2(num, den1) + std::atan2(num, den2));
 }
 
-// Solid angle of [x0, x0+w] x [y0, y0+l] (w, l >= 0) in the plane z = h > 0 seen from
-// the origin: split at x = 0 and y = 0 into up to four quadrant pieces, each mirrored
-// into the first quadrant.  (Without the split, a foot of o on a diagonal or near an
-// edge makes the denominators cancel: relative error eps / h.)
-inline double RectSolidAngleLocal(double x0, double w, double y0, double l, double h) {
-    double xs[2][2], ys[2][2];  // (start, width) of the pieces
-    auto pieces = [](double a0, double wa, double (*out)[2]) {
-        const double a1 = a0 + wa;
-        if (a0 >= 0) { out[0][0] = a0; out[0][1] = wa; return 1; }
-        if (a1 <= 0) { out[0][0] = -a1; out[0][1] = wa; return 1; }
-        out[0][0] = 0; out[0][1] = -a0; out[1][0] = 0; out[1][1] = a1;
+// Solid angle of X x Y in the plane z = h > 0 seen from the origin: split at x = 0 and
+// y = 0 into up to four quadrant pieces, each mirrored into the first quadrant.
+// (Without the split, a foot of o on a diagonal or near an edge makes the
+// denominators cancel: relative error eps / h.)
+inline double RectSolidAngleLocal(const Interval& X, const Interval& Y, double h) {
+    Interval xs[2], ys[2];
+    auto pieces = [](const Interval& I, Interval* out) {
+        if (I.a0 >= 0) { out[0] = I; return 1; }
+        if (I.a1 <= 0) { out[0] = {-I.a1, -I.a0, I.w}; return 1; }
+        out[0] = {0, -I.a0, -I.a0};
+        out[1] = {0, I.a1, I.a1};
         return 2;
     };
-    const int nx = pieces(x0, w, xs), ny = pieces(y0, l, ys);
+    const int nx = pieces(X, xs), ny = pieces(Y, ys);
     double sum = 0;
     for (int i = 0; i < nx; ++i)
-        for (int j = 0; j < ny; ++j) sum += QuadrantRectSolidAngle(xs[i][0], xs[i][1], ys[j][0], ys[j][1], h);
+        for (int j = 0; j < ny; ++j) sum += QuadrantRectSolidAngle(xs[i], ys[j], h);
     return sum;
 }
 
@@ -174,17 +177,19 @@ SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLi
 
     // Omega, and T0 = the signed solid angle of the strip between the foot of o and the
     // x0 edge (the strips share their pieces when the foot is inside the x-slab).
+    const Interval Y{c0, c1, wc};
     if (a0 < 0) {
-        const double left = RectSolidAngleLocal(a0, -a0, c0, wc, h), right = RectSolidAngleLocal(0, a1, c0, wc, h);
+        const double left = RectSolidAngleLocal({a0, 0, -a0}, Y, h), right = RectSolidAngleLocal({0, a1, a1}, Y, h);
         sr.omega = left + right;
         sr.T0 = -left;
     } else {
-        sr.omega = RectSolidAngleLocal(a0, wa, c0, wc, h);
-        sr.T0 = RectSolidAngleLocal(0, a0, c0, wc, h);
+        sr.omega = RectSolidAngleLocal({a0, a1, wa}, Y, h);
+        sr.T0 = RectSolidAngleLocal({0, a0, a0}, Y, h);
     }
+    if (!(sr.omega > 0)) return sr;
     sr.solid_angle = T(sr.omega);
     sr.pdf = T(1 / sr.omega);
-    if (!(sr.omega > 0) || !(sr.solid_angle > 0) || !std::isfinite(sr.pdf)) return sr;
+    if (!(sr.solid_angle > 0) || !std::isfinite(sr.pdf)) return sr;
     sr.valid = true;
 
     sr.b0 = c0 / std::sqrt(c0 * c0 + h * h);
@@ -209,12 +214,12 @@ SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLi
     };
     const double ex = eps * (std::abs(sr.T0) + sr.omega + std::max(slope(a0), slope(a1))) / sr.omega;
     const double dmax = std::sqrt(std::max(a0 * a0, a1 * a1) + h * h);
-    const double ey = sr.y_beside ? eps * OneMinusB(c0, dmax * dmax) / DiffB(c0, c1, dmax, wc)
-                                  : eps * 1.0 / DiffB(c0, c1, dmax, wc);
+    // (Inside the y-slab |hy| <= hy1 - hy0, so the error is a few eps.)
+    const double ey = sr.y_beside ? eps * OneMinusB(c0, dmax * dmax) / DiffB(c0, c1, dmax, wc) : 2 * eps;
     sr.error_x = ex;
     sr.polish_x = ex > kSphericalRectanglePolishAbove;
     sr.error_estimate = (sr.polish_x ? kSphericalRectanglePolishedError : ex) + ey;
-    sr.area_fallback = !(sr.error_estimate <= kSphericalRectangleMaxError) || !(ex <= kSphericalRectanglePolishMax);
+    sr.area_fallback = !(sr.error_estimate <= kSphericalRectangleMaxError);
     return sr;
 }
 
@@ -253,14 +258,23 @@ inline void SphericalRectangleMapLocal(const SphericalRectangle<T>& sr, double u
     if (sr.polish_x) {
         // Nearly edge-on: x(s) loses precision where |s| -> 1.  Newton on the stable
         // W([x0, x] x [y0, y1]) = u Omega, W' = h / (x^2 + h^2) (hy1 - hy0).
-        for (int it = 0; it < 4; ++it) {
-            const double g = srect::RectSolidAngleLocal(sr.x0, x - sr.x0, sr.y0, sr.wy, sr.h) - u * sr.omega;
+        double lo = sr.x0, hi = sr.x1;
+        for (int it = 0; it < 64; ++it) {
+            // Residual from the nearer end, so that W is small and exact near it.
+            const srect::Interval Y{sr.y0, sr.y1, sr.wy};
+            const double g = u < 0.5 ? srect::RectSolidAngleLocal({sr.x0, x, x - sr.x0}, Y, sr.h) - u * sr.omega
+                                     : (1 - u) * sr.omega - srect::RectSolidAngleLocal({x, sr.x1, sr.x1 - x}, Y, sr.h);
             const double d2 = x * x + sr.h * sr.h;
             const double dg = sr.h / d2 * srect::DiffB(sr.y0, sr.y1, std::sqrt(d2), sr.wy);
-            const double step = g / dg;
-            if (!std::isfinite(step)) break;
-            x = ClampNaN(x - step, sr.x0, sr.x1);
-            if (std::abs(step) <= 1e-14 * (std::abs(x) + sr.wx)) break;
+            // Safeguarded: keep a bracket of the root (W is increasing), bisect when the
+            // Newton step leaves it.
+            if (g == 0) break;
+            (g < 0 ? lo : hi) = x;
+            double xn = x - g / dg;
+            if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);
+            const bool done = std::abs(xn - x) <= 1e-15 * (std::abs(x) + sr.h);
+            x = xn;
+            if (done) break;
         }
     }
     // y-step: linear in hy = y / sqrt(y^2 + d^2), d^2 = x^2 + h^2.
@@ -320,7 +334,9 @@ Point2<double> InvertSphericalRectangleLocal(const SphericalRectangle<T>& sr, co
     const double ox = srect::ClampNaN(sr.sx > 0 ? oa : sr.wx - oa, 0, sr.wx);
     const double oy = srect::ClampNaN(sr.sy > 0 ? ob : sr.wy - ob, 0, sr.wy);
     const double x = sr.x0 + ox;
-    const double u = srect::RectSolidAngleLocal(sr.x0, ox, sr.y0, sr.wy, sr.h) / sr.omega;
+    const srect::Interval Y{sr.y0, sr.y1, sr.wy};
+    const double u = ox <= sr.wx / 2 ? srect::RectSolidAngleLocal({sr.x0, x, ox}, Y, sr.h) / sr.omega
+                                     : 1 - srect::RectSolidAngleLocal({x, sr.x1, sr.wx - ox}, Y, sr.h) / sr.omega;
     const double d = std::sqrt(x * x + sr.h * sr.h);
     const double v = srect::DiffB(sr.y0, sr.y0 + oy, d, oy) / srect::DiffB(sr.y0, sr.y1, d, sr.wy);
     return {srect::ClampNaN(u, 0, 1), srect::ClampNaN(v, 0, 1)};

@@ -6,9 +6,13 @@
 // The density is 1 / Omega on the whole rectangle.
 //
 // Robustness: setup and map in double.  Arvo's closed form for the sub-triangle
-// loses u when a triangle's solid angle is tiny (the angle sum ~ pi swamps it), so
-// below kTwoTrianglesMinSolidAngle (decided once per setup, as for `rectangle`) the
-// technique samples the area uniformly and returns that true pdf.
+// loses u when a triangle's solid angle is tiny (the angle sum ~ pi swamps it), so a
+// triangle whose solid angle is below kTwoTrianglesMinSolidAngle (decided once per
+// setup, as for `rectangle`) is sampled uniformly by area on the planar triangle
+// instead, with that true pdf: pdf(p) = P_k x (2 d^3 / (A h)) on such a triangle k,
+// P_k / Omega_k = 1 / (Omega_0 + Omega_1) on a spherical one.  This happens for the
+// triangle away from the foot of a shading point very close to the light, and for
+// both triangles of a distant light (where area sampling is nearly exact anyway).
 #pragma once
 
 #include <algorithm>
@@ -26,13 +30,14 @@ constexpr double kTwoTrianglesMinSolidAngle = 1e-7;
 
 template <class T>
 struct TwoTriangles {
-    AreaRect<T> plane;  // frame around o, and the fallback's area map
-    SphericalTriangle tri[2];
+    AreaRect<T> plane;  // frame around o, and the planar fallback's geometry
+    SphericalTriangle tri[2];  // (00, 10, 11) and (00, 11, 01) in light fractions (a, b)
+    bool planar[2] = {false, false};  // sampled by area on the planar triangle
     double p1 = 0;      // probability of the first triangle
-    double omega = 0;
-    T pdf = 0;
+    double omega = 0;   // solid angle of the rectangle (stable)
+    T pdf = 0;          // 1 / (Omega_0 + Omega_1): the density on a spherically sampled triangle
     bool valid = false;
-    bool area_fallback = false;
+    bool area_fallback = false;  // both triangles planar
 };
 
 template <class T>
@@ -46,19 +51,32 @@ TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLight<T>& ligh
     const Vec3d c00 = corner(0, 0), c10 = corner(1, 0), c11 = corner(1, 1), c01 = corner(0, 1);
     r.tri[0] = MakeSphericalTriangle(c00, c10, c11);
     r.tri[1] = MakeSphericalTriangle(c00, c11, c01);
-    r.omega = srect::RectSolidAngleLocal(p.x0, p.wx, p.y0, p.wy, p.h);
-    r.pdf = T(1 / r.omega);
-    if (!(r.omega > 0) || !(T(r.omega) > 0) || !std::isfinite(r.pdf)) return r;
+    r.omega = srect::RectSolidAngleLocal({p.x0, p.x0 + p.wx, p.wx}, {p.y0, p.y0 + p.wy, p.wy}, p.h);
+    const double sum = r.tri[0].area + r.tri[1].area;
+    r.pdf = T(1 / sum);
+    if (!(r.omega > 0) || !(T(r.omega) > 0) || !(sum > 0) || !std::isfinite(r.pdf)) return r;
     r.valid = true;
-    r.p1 = r.tri[0].area / (r.tri[0].area + r.tri[1].area);
-    r.area_fallback = !(std::min(r.tri[0].area, r.tri[1].area) >= kTwoTrianglesMinSolidAngle);
+    r.p1 = r.tri[0].area / sum;
+    for (int k = 0; k < 2; ++k) r.planar[k] = !(r.tri[k].area >= kTwoTrianglesMinSolidAngle);
+    r.area_fallback = r.planar[0] && r.planar[1];
+    if (r.area_fallback) r.p1 = 0.5;  // halves of the area: plain uniform area sampling
     return r;
+}
+
+// Which triangle the light fractions (a, b) lie in: 0 below the diagonal b = a.
+inline int TwoTrianglesIndex(double a, double b) { return b > a ? 1 : 0; }
+
+// Solid-angle pdf at local in-plane coordinates (X, Y) in triangle k.
+template <class T>
+T TwoTrianglesPDFLocal(const TwoTriangles<T>& r, int k, double X, double Y) {
+    if (!r.planar[k]) return r.pdf;
+    const double Pk = k == 0 ? r.p1 : 1 - r.p1;
+    return T(Pk * 2 * double(AreaPDFLocal(r.plane, X, Y)));  // uniform on half of the area
 }
 
 template <class T>
 LightSample<T> SampleTwoTriangles(const TwoTriangles<T>& r, Point2<T> uv) {
     if (!r.valid) return {};
-    if (r.area_fallback) return SampleRectangleArea(r.plane, uv);
     double u = uv.u;
     int k = 0;
     if (u < r.p1) {
@@ -67,17 +85,41 @@ LightSample<T> SampleTwoTriangles(const TwoTriangles<T>& r, Point2<T> uv) {
         k = 1;
         u = std::min((u - r.p1) / (1 - r.p1), 1.0);
     }
-    const Vec3d w = SampleSphericalTriangle(r.tri[k], u, double(uv.v));
-    // Intersect the ray o + t w with the light's plane (local coordinates).
-    const double t = r.plane.h / Dot(w, r.plane.az);
-    return LightSampleFromLocal(r.plane, t * Dot(w, r.plane.exh), t * Dot(w, r.plane.eyh), r.pdf);
+    const AreaRect<T>& p = r.plane;
+    double X, Y;
+    if (r.planar[k]) {
+        // Uniform on the planar triangle, barycentrics (1 - su, su (1 - v), su v), su = sqrt(u):
+        // triangle 0 = (00, 10, 11) -> (a, b) = (su, su v); triangle 1 = (00, 11, 01) -> (su (1 - v), su).
+        const double su = std::sqrt(u), v = uv.v;
+        X = p.x0 + (k == 0 ? su : su * (1 - v)) * p.wx;
+        Y = p.y0 + (k == 0 ? su * v : su) * p.wy;
+    } else {
+        const Vec3d w = SampleSphericalTriangle(r.tri[k], u, double(uv.v));
+        // Intersect the ray o + t w with the light's plane (local coordinates).
+        const double t = p.h / Dot(w, p.az);
+        X = t * Dot(w, p.exh);
+        Y = t * Dot(w, p.eyh);
+    }
+    LightSample<T> s = LightSampleFromLocal(p, X, Y, T(0));
+    // The pdf of the returned point: the side of the diagonal by the same test as
+    // TwoTrianglesPDF on that point (a point within rounding of the diagonal gets the
+    // density of the side it lands on), the distance from the exact local coordinates.
+    const Vec3d q = Vec3d(s.point) - Vec3d(p.light.corner);
+    const int side = TwoTrianglesIndex(Dot(q, p.exh) / p.wx, Dot(q, p.eyh) / p.wy);
+    X = X > p.x0 ? std::min(X, p.x0 + p.wx) : p.x0;
+    Y = Y > p.y0 ? std::min(Y, p.y0 + p.wy) : p.y0;
+    s.pdf = TwoTrianglesPDFLocal(r, side, X, Y);
+    return s;
 }
 
 template <class T>
-T TwoTrianglesPDF(const TwoTriangles<T>& r, const Vec3<T>& p) {
+T TwoTrianglesPDF(const TwoTriangles<T>& r, const Vec3<T>& pt) {
     if (!r.valid) return 0;
-    if (r.area_fallback) return RectangleAreaPDF(r.plane, p);
-    return r.pdf;
+    const AreaRect<T>& p = r.plane;
+    const Vec3d q = Vec3d(pt) - Vec3d(p.light.corner);
+    const double oX = Dot(q, p.exh), oY = Dot(q, p.eyh);
+    const int k = TwoTrianglesIndex(oX / p.wx, oY / p.wy);
+    return TwoTrianglesPDFLocal(r, k, p.x0 + oX, p.y0 + oY);
 }
 
 }  // namespace sphrect

@@ -1,11 +1,9 @@
 """Shared helpers of the Blender tests (run by run_tests.py inside Blender)."""
-import math
 import os
 import sys
 
 import addon_utils
 import bpy
-import numpy as np
 import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -102,3 +102,27 @@ def test_cancel_keeps_the_partial_image(empty_scene):
     assert np.isfinite(image).all() and image[..., :3].max() > 0
     assert rec["stats"]["rectangle"]["samples"] < 1_000_000
     assert "Cancelled" in rec["stats_line"]
+
+
+def test_fresh_blender_without_the_module_reports_how_to_fix_it(tmp_path):
+    """An add-on copy with no sphrect anywhere: F12 gives one clear error naming the fix, no traceback."""
+    import os
+    import shutil
+    import subprocess
+    from conftest import BLEND_DIR, REPO
+    shutil.copytree(os.path.join(REPO, "addon", "sphrect_blender"), tmp_path / "addons" / "sphrect_blender",
+                    ignore=shutil.ignore_patterns("__pycache__", "lib"))
+    script = (
+        "import sys, addon_utils, bpy\n"
+        f"sys.path.insert(0, {str(tmp_path / 'addons')!r})\n"
+        "addon_utils.enable('sphrect_blender', handle_error=None)\n"
+        f"bpy.ops.wm.open_mainfile(filepath={os.path.join(BLEND_DIR, '02_room.blend')!r})\n"
+        "try:\n    bpy.ops.render.render()\nexcept RuntimeError as e:\n    print('RENDER_ERROR', e)\n"
+        "sys.stdout.flush()\n")
+    env = {k: v for k, v in os.environ.items() if k not in ("SPHRECT_PYTHON_PATH", "PYTHONPATH")}
+    run = subprocess.run([bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
+                          "--python-expr", script], capture_output=True, text=True, env=env, timeout=120)
+    # (Blender exits 1 after a failed render even when the script catches the error: not checked.)
+    (line,) = [l for l in run.stdout.splitlines() if l.startswith("RENDER_ERROR")]
+    assert "native module 'sphrect' could not be loaded" in line and "SPHRECT_PYTHON_PATH" in line
+    assert "Traceback" not in run.stdout + run.stderr

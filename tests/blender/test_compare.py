@@ -78,8 +78,13 @@ def test_compare_with_reference_exr(tmp_path):
     s.compare_area = s.compare_triangles = s.compare_rectangle_cosine = False
     s.seed = 0
     scene.render.filepath = str(tmp_path / "cmp_")
-    bpy.ops.render.render(write_still=False)
+    settings.file_format = "OPEN_EXR_MULTILAYER"
+    bpy.ops.render.render(write_still=True)
     rec = engine_module().last_render
+    (exr,) = tmp_path.glob("cmp_*.exr")
+    header = exr.read_bytes()[:20000]
+    for t in ("rectangle", "reference"):  # a single compared technique still gets its pass
+        assert f"{engine_module().technique_pass_name(t)}.R".encode() in header, t
     # Same settings and seed as the reference render: the technique reproduces it exactly.
     assert np.allclose(rec["images"]["reference"][..., :3], reference[..., :3], rtol=1e-6)
     assert rec["stats"]["rectangle"]["rmse"] < 1e-5

@@ -147,6 +147,8 @@ def test_unsupported_nodes_are_listed_once(empty_scene):
     tree.links.new(e.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
     for i, mat in enumerate((textured, glass, lamp)):
         builders.mesh_object(f"Obj{i}", "cube", mat, location=(3 * i, 0, 0))
+    hairy = bpy.data.objects["Obj0"]
+    hairy.modifiers.new("Hair", "PARTICLE_SYSTEM").particle_system.settings.type = "HAIR"
     builders.mesh_object("Copy", "cube", textured, location=(0, 3, 0))
     scene, log = export()
     text = log.warning_text()
@@ -154,6 +156,7 @@ def test_unsupported_nodes_are_listed_once(empty_scene):
     assert "'Glass BSDF' shader node" in text and "(Glass)" in text
     assert "emission on meshes (Lamp)" in text
     assert text.count("Textured") == 1  # listed once, however many objects use it
+    assert "hair particles (Obj0)" in text
     assert len(scene.meshes) == 4  # nothing dropped: unsupported materials fall back to diffuse
 
 
@@ -192,7 +195,7 @@ def test_modifiers_instances_and_transforms(empty_scene):
     box = builders.mesh_object("Box", "cube", location=(0, 0, 1), size=1.0)
     arr = box.modifiers.new("Array", "ARRAY")
     arr.count = 3
-    mirrored = builders.mesh_object("Mirrored", "cube", location=(5, 0, 0), scale=(-1, 1, 1))
+    builders.mesh_object("Mirrored", "cube", location=(5, 0, 0), scale=(-1, 1, 1))
     coll = bpy.data.collections.new("Inst")
     piece = builders.mesh_object("Piece", "cube", size=0.5)
     empty_scene.collection.objects.unlink(piece)
@@ -219,7 +222,7 @@ def test_smooth_meshes_get_unit_normals(empty_scene):
     sphere = builders.mesh_object("Sphere", "uv_sphere", location=(1, 1, 1), radius=0.5, segments=16,
                                   ring_count=8)
     builders.smooth(sphere)
-    flat = builders.mesh_object("Flat", "cube", location=(4, 0, 0))
+    builders.mesh_object("Flat", "cube", location=(4, 0, 0))
     meshes = {m.name: m for m in export()[0].meshes}
     assert meshes["Flat"].normals is None
     n = np.asarray(meshes["Sphere"].normals)
@@ -261,6 +264,10 @@ def test_scene_file_round_trip(empty_scene, tmp_path):
     for a, b in zip(loaded.meshes, original.meshes):
         assert np.array_equal(a.vertices, b.vertices) and np.array_equal(a.triangles, b.triangles)
         assert np.array_equal(a.material_ids, b.material_ids)
+    # A bpy Scene works as well as a depsgraph.
+    scene_path = str(tmp_path / "from_scene.sphrect.npz")
+    sphrect_blender.export_scene(empty_scene, scene_path)
+    assert len(sphrect.load_scene(scene_path).meshes) == len(original.meshes)
     # The operator writes the same file format.
     op_path = str(tmp_path / "op.sphrect.npz")
     assert bpy.ops.export_scene.sphrect(filepath=op_path) == {"FINISHED"}

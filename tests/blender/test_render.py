@@ -1,12 +1,10 @@
 """Rendering through the engine: every blend scene, the Render Result's pixels, the scene-file round trip."""
-import os
-
 import bpy
 import numpy as np
 import pytest
 
 import sphrect
-from conftest import SCENES, builders, engine_module, lit_test_scene, needs_renderer, open_blend, render
+from conftest import SCENES, engine_module, lit_test_scene, needs_renderer, open_blend, render
 
 # Effects each scene must switch on (named by the renderer and shown in the stats line).
 EXPECTED_FEATURES = {"03_glossy_floor": {"glossy"}, "04_foggy_room": {"medium"},

@@ -192,22 +192,23 @@ void ExpectUnbiasedAcross(const char* what, const Vec3f& o_lo, const Vec3f& o_hi
 
 }  // namespace
 
-// `rectangle` (and `rectangle_cosine`, which rides on its setup): a shading point
-// 2 sizes beside a unit light, at the height where the map's error estimate crosses
-// the threshold; just below it uses the map, just above the area fallback.  Both
-// sides estimate the closed-form irradiance (receiver facing the light) without bias.
+// `rectangle` (and `rectangle_cosine`, which rides on its setup): the area fallback
+// is left only for the y-step of a thin light seen from ~1e6 sizes away, beside it
+// in y (the y-offset of the sample cannot be resolved next to the 1e6 coordinate).
+// Along that family, just below and just above the switch: both sides estimate the
+// closed-form irradiance without bias, and return the pdf of their point.
 TEST(RectangleMap, FallbackSwitchIsUnbiasedOnBothSides) {
-    const RectLight<float> L{{-0.5f, -0.5f, 0}, {1, 0, 0}, {0, 1, 0}, false};
-    auto fallback = [&](double h) { return MakeSphericalRectangle(Vec3f(2.f, 0.1f, float(h)), L).area_fallback; };
-    const auto [h_lo, h_hi] = FindSwitch(1e-8, 1e-3, fallback);
-    const Vec3f o_lo(2.f, 0.1f, float(h_lo)), o_hi(2.f, 0.1f, float(h_hi));
-    ASSERT_TRUE(MakeSphericalRectangle(o_lo, L).area_fallback);
-    ASSERT_FALSE(MakeSphericalRectangle(o_hi, L).area_fallback);
-    std::printf("rectangle switches to area sampling between h = %.6g and %.6g\n", h_lo, h_hi);
-    const Vec3f n(-1, 0, 0);
+    const RectLight<float> L{{-0.5f, -5e-4f, 0}, {1, 0, 0}, {0, 1e-3f, 0}, false};
+    auto at = [](double t) { return Vec3f(0.1f, float(t), float(t)); };
+    auto fallback = [&](double t) { return MakeSphericalRectangle(at(t), L).area_fallback; };
+    const auto [t_lo, t_hi] = FindSwitch(1e4, 1e7, fallback);
+    const Vec3f o_lo = at(t_lo), o_hi = at(t_hi);
+    ASSERT_FALSE(MakeSphericalRectangle(o_lo, L).area_fallback);
+    ASSERT_TRUE(MakeSphericalRectangle(o_hi, L).area_fallback);
+    std::printf("rectangle switches to area sampling between t = %.7g and %.7g\n", t_lo, t_hi);
+    const Vec3f n = Normalize(Vec3f(0, -1, -1));
     ExpectUnbiasedAcross<Technique::Rectangle>("switch", o_lo, o_hi, n, L);
     ExpectUnbiasedAcross<Technique::RectangleCosine>("switch", o_lo, o_hi, n, L);
-    // The pdf returned is the pdf of the point, on both sides.
     for (const Vec3f& o : {o_lo, o_hi}) {
         const LightSampler<Technique::Rectangle, float> s(o, n, L);
         for (float u : EdgeUV())
@@ -215,6 +216,21 @@ TEST(RectangleMap, FallbackSwitchIsUnbiasedOnBothSides) {
                 const LightSample<float> ls = s.Sample({u, v});
                 EXPECT_NEAR(s.Pdf(ls.point), ls.pdf, 1e-4f * ls.pdf);
             }
+    }
+}
+
+// Nearly edge-on setups use the Newton-refined x-step (polish_x): unbiased, with the
+// closed-form start (error estimate ~26 in u here) being useless on its own.
+TEST(RectangleMap, NewtonRefinedRegimeIsUnbiased) {
+    const RectLight<float> L{{-0.5f, -0.5f, 0}, {1, 0, 0}, {0, 1, 0}, false};
+    for (const Vec3f& o : {Vec3f(2.f, 0.1f, 1e-9f), Vec3f(1.5f, 1.5f, 1e-7f), Vec3f(0.50001f, 0.2f, 1e-9f)}) {
+        const SphericalRectangle<float> sr = MakeSphericalRectangle(o, L);
+        ASSERT_TRUE(sr.valid);
+        ASSERT_TRUE(sr.polish_x);
+        ASSERT_FALSE(sr.area_fallback);
+        const Vec3f n(-1, 0, 0);  // the whole light in front (the reference does not clip)
+        ExpectUnbiasedAcross<Technique::Rectangle>("newton", o, o, n, L);
+        ExpectUnbiasedAcross<Technique::RectangleCosine>("newton", o, o, n, L);
     }
 }
 
@@ -228,4 +244,22 @@ TEST(TrianglesSampling, FallbackSwitchIsUnbiasedOnBothSides) {
     ASSERT_FALSE(MakeTwoTriangles(o_lo, L).area_fallback);
     ASSERT_TRUE(MakeTwoTriangles(o_hi, L).area_fallback);
     ExpectUnbiasedAcross<Technique::Triangles>("switch", o_lo, o_hi, Vec3f(0, 0, -1), L);
+}
+
+// `triangles` with one triangle sampled spherically and the other (below the solid-
+// angle threshold) by area: unbiased, and the pdf is the pdf of the point.
+TEST(TrianglesSampling, MixedSphericalAndPlanarIsUnbiased) {
+    const RectLight<float> L{{-0.5f, -0.5f, 0}, {1, 0, 0}, {0, 1, 0}, false};
+    const Vec3f o(0.8f, -0.8f, 2.5e-7f), n = Normalize(Vec3f(-1, 1, 0));
+    const TwoTriangles<float> t = MakeTwoTriangles(o, L);
+    ASSERT_TRUE(t.valid);
+    ASSERT_NE(t.planar[0], t.planar[1]);
+    EXPECT_GT(std::min(t.p1, 1 - t.p1), 0.1);
+    ExpectUnbiasedAcross<Technique::Triangles>("mixed", o, o, n, L);
+    const LightSampler<Technique::Triangles, float> s(o, n, L);
+    for (float u : EdgeUV())
+        for (float v : EdgeUV()) {
+            const LightSample<float> ls = s.Sample({u, v});
+            EXPECT_NEAR(s.Pdf(ls.point), ls.pdf, 1e-4f * ls.pdf);
+        }
 }

@@ -66,7 +66,9 @@ TEST(RenderBsdf, PdfIsTheDensityOfItsSamples) {
             EXPECT_LE(total, 1.005);
             EXPECT_NEAR(total, fraction, 6 * 0.5 / std::sqrt(double(n)) + 0.005)
                 << "alpha " << m.alpha << " cos_o " << cos_o;
-            if (!m.glossy) EXPECT_NEAR(total, 1.0, 0.005);
+            if (!m.glossy) {
+                EXPECT_NEAR(total, 1.0, 0.005);
+            }
         }
     }
 }

@@ -48,6 +48,8 @@ std::vector<Config> Configs() {
         {"thin_aspect1e3", thin, {0.2f, 0.3f, 0.2f}, {0, -0.5f, -1}},
         {"fallback_beside_h1e-6", unit, {2.f, 0.1f, 1e-6f}, {-1, 0, 0}},
         {"fallback_diagonal_far", unit, {3e3f, 3e3f, 2.f}, {-1, -1, 0}},
+        // triangles: one spherical and one planar (area-sampled) triangle
+        {"triangles_mixed_h2.5e-7", unit, {0.8f, -0.8f, 2.5e-7f}, {-1, 1, 0}},
     };
 }
 

@@ -19,7 +19,7 @@ def top_camera(width=12, height=12, half=1.0, height_above=5.0):
                           to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, height_above], [0, 0, 0, 1]])
 
 
-def gauss_pixel_points(cam, order=6):
+def gauss_pixel_points(cam, order=16):
     """Plane points (x, y, 0) and weights of a Gauss-Legendre rule over every pixel of the top camera
     (the renderer's box filter averages radiance over the pixel's footprint)."""
     hw, hh, ox, oy = cam.image_plane()
@@ -57,8 +57,9 @@ def polygon_irradiance(points, normal, verts, two_sided=True):
     return e
 
 
-def expected_plane_image(cam, albedo, irradiance_fn, order=6):
-    """Pixel-averaged Lambertian radiance albedo / pi * E(x) on the z = 0 plane."""
+def expected_plane_image(cam, albedo, irradiance_fn, order=16):
+    """Pixel-averaged Lambertian radiance albedo / pi * E(x) on the z = 0 plane.  Order 16: E has a kink
+    where a pixel straddles the plane of a light, and order 6 leaves a detectable quadrature error there."""
     X, Y, W = gauss_pixel_points(cam, order)
     P = np.stack([X, Y, np.zeros_like(X)], axis=-1)
     E = irradiance_fn(P)

@@ -27,7 +27,7 @@ _active_lock = threading.Lock()
 
 # Camera samples (over all pixels) per renderer call. The renderer checks for cancellation between
 # tiles, so short calls keep Esc responsive; the split is fixed (not timed) so renders are reproducible.
-MAX_CALL_SAMPLES = 1 << 20
+MAX_CALL_SAMPLES = 1 << 18
 
 
 def request_cancel():
@@ -88,20 +88,44 @@ def _flat_rgba(image):
     return np.ascontiguousarray(np.flipud(np.asarray(image, dtype=np.float32))).reshape(-1, 4)
 
 
-def load_reference_exr(path, width, height):
-    """RGBA [H, W, 4] (row 0 = top) of an image file; ValueError when missing or of another size."""
+_reference_cache = {}  # (absolute path, mtime) -> RGBA [H, W, 4], row 0 = top
+
+
+def cache_reference_image(path):
+    """Read a reference image (EXR) into the cache. Reading goes through bpy.data, so it must run on the
+    main thread: the settings' update callback calls this when the path is chosen; renders in the window
+    (a job thread) then only read the cache."""
     path = bpy.path.abspath(path)
     if not path or not os.path.isfile(path):
         raise ValueError(f"reference image '{path}' not found")
-    img = bpy.data.images.load(path, check_existing=False)
-    try:
-        if tuple(img.size) != (width, height):
-            raise ValueError(f"reference image is {img.size[0]}x{img.size[1]}, the render is {width}x{height}")
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        img.pixels.foreach_get(pixels)
-        return np.flipud(pixels.reshape(height, width, 4))
-    finally:
-        bpy.data.images.remove(img)
+    key = (path, os.path.getmtime(path))
+    if key not in _reference_cache:
+        img = bpy.data.images.load(path, check_existing=False)
+        try:
+            width, height = img.size
+            pixels = np.empty(width * height * 4, dtype=np.float32)
+            img.pixels.foreach_get(pixels)
+        finally:
+            bpy.data.images.remove(img)
+        _reference_cache.clear()
+        _reference_cache[key] = np.flipud(pixels.reshape(height, width, 4))
+    return _reference_cache[key]
+
+
+def load_reference_exr(path, width, height):
+    """RGBA [H, W, 4] (row 0 = top) of the reference image; ValueError when missing, of another size, or
+    not yet read on the main thread."""
+    abspath = bpy.path.abspath(path)
+    key = (abspath, os.path.getmtime(abspath)) if abspath and os.path.isfile(abspath) else None
+    if key in _reference_cache:
+        image = _reference_cache[key]
+    elif threading.current_thread() is threading.main_thread():
+        image = cache_reference_image(path)
+    else:
+        raise ValueError(f"reference image '{abspath}' missing or changed since it was chosen: choose it again")
+    if image.shape[:2] != (height, width):
+        raise ValueError(f"reference image is {image.shape[1]}x{image.shape[0]}, the render is {width}x{height}")
+    return image
 
 
 class SphrectRenderEngine(bpy.types.RenderEngine):
@@ -208,7 +232,8 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
                         f"triangles (export {export_time:.2f}s) | effects: {self._effects}")
 
         layer_name = depsgraph.view_layer.name
-        if len(techniques) > 1:
+        self._compare = settings.compare
+        if self._compare:
             for t in techniques:
                 self.add_pass(technique_pass_name(t), 4, "RGBA", layer=layer_name)
         if with_reference:
@@ -259,7 +284,7 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         """Copy the current (partial) images into the result and send it to the display."""
         for t in techniques:
             image = renderers[t].image(t)
-            if len(techniques) > 1:
+            if self._compare:
                 self._write_pass(layer, technique_pass_name(t), image)
             if t == shown:
                 self._write_pass(layer, "Combined", image)
@@ -361,21 +386,30 @@ def _show_pending_comparisons():
 
 
 def _open_in_image_editor(path):
-    """Load the comparison PNG as image 'SPHRECT Comparison' and show it in an Image Editor that is not
-    showing the render result (when the window has one). Returns the image."""
+    """Load the comparison PNG as image 'SPHRECT Comparison' and show it in an Image Editor: one that is
+    not showing the render result if the window has one, else a new window. Returns the image."""
     name = "SPHRECT Comparison"
     img = bpy.data.images.get(name)
     if img is not None:
         bpy.data.images.remove(img)
     img = bpy.data.images.load(path, check_existing=False)
     img.name = name
-    for window in bpy.context.window_manager.windows:
+    windows = list(bpy.context.window_manager.windows)
+    for window in windows:
         for area in window.screen.areas:
             if area.type == "IMAGE_EDITOR":
                 space = area.spaces.active
-                if space.image is None or space.image.type != "RENDER_RESULT":
+                if space.image is None or space.image.type != "RENDER_RESULT" or space.image == img:
                     space.image = img
                     return img
+    if windows and not bpy.app.background:
+        with bpy.context.temp_override(window=windows[0]):
+            bpy.ops.wm.window_new()
+        new = bpy.context.window_manager.windows[-1]
+        if new not in windows:
+            area = max(new.screen.areas, key=lambda a: a.width * a.height)
+            area.type = "IMAGE_EDITOR"
+            area.spaces.active.image = img
     return img
 
 

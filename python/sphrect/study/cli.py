@@ -50,12 +50,12 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--reference-chunks", type=int, default=8, help="independent renders averaged into the reference")
     p.add_argument("--reference-technique", default="rectangle")
     p.add_argument("--reference-mis", default="balance")
-    p.add_argument("--reference-pattern", default="sobol")
+    p.add_argument("--reference-pattern", default="stratified")
     p.add_argument("--cycles", choices=["auto", "on", "off"], default="auto",
                    help="Cycles 3.4 as a peer (auto: when the scene is a .blend and Blender is found)")
     p.add_argument("--blender", default=None, help="Blender executable (default: $BLENDER or blender on PATH)")
     p.add_argument("--equal-time", type=float, default=None,
-                   help="seconds per equal-time image (default: rectangle's time at the middle of the ladder)")
+                   help="seconds per equal-time image (default: rectangle's time at a quarter of the ladder's top)")
     p.add_argument("--grid-pattern", default="sobol", help="pattern of the equal-time grid")
     p.add_argument("--grid-mis", type=_names, default=["none", "balance"], help="MIS modes in the equal-time grid")
     p.add_argument("--target-rmse", type=float, default=None,

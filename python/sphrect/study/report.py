@@ -105,11 +105,20 @@ def write_csv(path: str, records: List[Dict]) -> None:
     atomic_write_bytes(path, buffer.getvalue().encode("utf-8"))
 
 
-def time_to_target(curve: List[Dict], target: float) -> Tuple[float, str, float]:
-    """(seconds, how, samples) to reach RMSE `target` (see metrics.cost_to_reach)."""
-    t, how = metrics.cost_to_reach([r["wall_time"] for r in curve], [r["rmse"] for r in curve], target)
-    n, _ = metrics.cost_to_reach([r["job"]["samples"] for r in curve], [r["rmse"] for r in curve], target)
-    return t, how, n
+def time_to_target(curve: List[Dict], target: float, reference_rmse: float = 0.0) -> Tuple[float, str, float]:
+    """(seconds, how, samples) to reach RMSE `target` (see metrics.cost_to_reach). Extrapolation uses only the
+    points whose error is above 3x the reference's own (below, the reference's noise bends the curve), and is
+    refused ("below reference accuracy") for targets under that level."""
+    def reach(points):
+        t, how = metrics.cost_to_reach([r["wall_time"] for r in points], [r["rmse"] for r in points], target)
+        n, _ = metrics.cost_to_reach([r["job"]["samples"] for r in points], [r["rmse"] for r in points], target)
+        return t, how, n
+    t, how, n = reach(curve)
+    if how != "extrapolated":
+        return t, how, n
+    if target < 3 * reference_rmse:
+        return float("nan"), "below reference accuracy", float("nan")
+    return reach([r for r in curve if r["rmse"] > 3 * reference_rmse])
 
 
 # ------------------------------------------------------------------------------------------------
@@ -341,7 +350,7 @@ def cycles_comparison(study: Dict, all_curves: Dict) -> Tuple[List[str], List[Li
     for r in cycles:
         best = None
         for key, curve in ours.items():
-            t, how, n = time_to_target(curve, r["rmse"])
+            t, how, n = time_to_target(curve, r["rmse"], study["reference"]["estimated_rmse"])
             if math.isfinite(t) and how in ("measured", "below") and (best is None or t < best[0]):
                 best = (t, key, how, n)
         if best is None:
@@ -510,9 +519,10 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
     doc.para(f"Target RMSE {fmt(target_rmse)} ({why}). 'measured' = interpolated between measured points "
              f"(log-log); 'extrapolated' = along the power law fitted to the curve's upper half.")
     rows = []
-    for key, curve in sorted(all_curves.items(), key=lambda kv: time_to_target(kv[1], target_rmse)[0]
-                             if math.isfinite(time_to_target(kv[1], target_rmse)[0]) else math.inf):
-        t, how, n = time_to_target(curve, target_rmse)
+    ref_rmse = ref["estimated_rmse"]
+    reached = {key: time_to_target(curve, target_rmse, ref_rmse) for key, curve in all_curves.items()}
+    for key in sorted(reached, key=lambda k: reached[k][0] if math.isfinite(reached[k][0]) else math.inf):
+        t, how, n = reached[key]
         rows.append([curve_name(key), fmt(t), how, fmt(n)])
     doc.table(["configuration", "time [s]", "how", "samples per pixel"], rows)
 

@@ -65,8 +65,8 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
                                 pattern=job.pattern, mis=job.mis, seed=job.seed, threads=job.threads)
     t1 = time.perf_counter()
-    if job.kind == EQUAL_TIME:
-        renderer.render(job.samples, time_budget=job.time_budget)
+    if job.kind == EQUAL_TIME:  # passes of one sample per pixel until the budget is spent
+        renderer.render(1, time_budget=job.time_budget)
     else:
         renderer.render(job.samples)
     t2 = time.perf_counter()

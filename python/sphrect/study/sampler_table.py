@@ -150,8 +150,9 @@ def find_benchmark(name: str = "bench_sampling") -> Optional[str]:
     return None
 
 
-def benchmark_rows(program: Optional[str] = None, min_time: float = 0.05) -> List[List[str]]:
-    """[name, ns per item (or per iteration)] from the benchmark's JSON output."""
+def benchmark_rows(program: Optional[str] = None, min_time: float = 0.05) -> Tuple[List[str], List[List[str]]]:
+    """(header, rows) from the benchmark's JSON output: benchmarks named "<Stage>/<technique>/<precision>"
+    (Setup, Sample, Pdf) pivot into one row per technique and precision, in ns; other names are listed flat."""
     program = program or find_benchmark()
     if program is None:
         raise FileNotFoundError("bench_sampling was not built (cmake --build build)")
@@ -163,19 +164,21 @@ def benchmark_rows(program: Optional[str] = None, min_time: float = 0.05) -> Lis
         data = json.loads(result.stdout)
     except ValueError:
         raise RuntimeError(f"{program} printed no JSON: {(result.stdout + result.stderr).strip()[-300:]}") from None
-    rows = []
+    table: Dict[Tuple[str, str], Dict[str, float]] = {}
+    flat = []
     for b in data.get("benchmarks", []):
         if b.get("run_type") == "aggregate":
             continue
-        if b.get("items_per_second"):
-            ns = 1e9 / b["items_per_second"]
-            unit = "ns/item"
+        scale = {"ns": 1, "us": 1e3, "ms": 1e6, "s": 1e9}.get(b.get("time_unit", "ns"), 1)
+        ns = 1e9 / b["items_per_second"] if b.get("items_per_second") else b["real_time"] * scale
+        parts = b["name"].split("/")
+        if len(parts) == 3 and parts[0] in ("Setup", "Sample", "Pdf"):
+            table.setdefault((parts[1], parts[2]), {})[parts[0]] = ns
         else:
-            scale = {"ns": 1, "us": 1e3, "ms": 1e6, "s": 1e9}.get(b.get("time_unit", "ns"), 1)
-            ns = b["real_time"] * scale
-            unit = "ns/iteration"
-        rows.append([b["name"], f"{ns:.3g}", unit])
-    return rows
+            flat.append([b["name"], "", f"{ns:.3g}", "", ""])
+    rows = [[technique, precision] + [f"{stages[k]:.3g}" if k in stages else "–" for k in ("Setup", "Sample", "Pdf")]
+            for (technique, precision), stages in table.items()]
+    return ["technique", "precision", "setup [ns]", "sample [ns]", "pdf [ns]"], rows + flat
 
 
 def sampler_tables():
@@ -189,14 +192,19 @@ def sampler_tables():
             rows.append([name, f"{100 * e['omega']:.3g}%", e["omega_case"], f"{100 * e['pdf']:.3g}%", e["pdf_case"],
                          f"{e['invalid']}/{e['samples']}", str(e["area_fallback_cases"])])
     tables = [("Accuracy of the `rectangle` map over the hard-case suite (worst relative errors)",
-               ["variant", "solid angle error", "where", "pdf error", "where", "invalid samples",
+               ["variant", "solid angle error (textbook: its own; robust: solid_angle())", "where", "pdf error", "where", "invalid samples",
                 "setups switched to area sampling"], rows)]
     notes = [f"{len(hard_cases())} hard cases x {len(uv_grid())} (u, v) points (sampler_table.py: distances "
              "1e-6..1e6, grazing heights 1e-9..1e-1, corners, edges, aspect ratios 1e5), each compared with a "
              "50-digit solid angle."]
     try:
-        tables.append(("Cost: bench_sampling (Google Benchmark) on this machine", ["benchmark", "time", "unit"],
-                       benchmark_rows()))
+        header, rows = benchmark_rows()
+        tables.append(("Cost: bench_sampling (Google Benchmark, ns per call) on this machine", header, rows))
+        by = {(r[0], r[1]): r for r in rows}
+        textbook, robust = by.get(("textbook_rectangle", "float")), by.get(("rectangle", "float"))
+        if textbook and robust and textbook[3] != "–" and robust[3] != "–":
+            notes.append(f"Robust single-precision `rectangle` sample / textbook sample: "
+                         f"{float(robust[3]) / float(textbook[3]):.2f}x (goal: at most 1.5x).")
     except Exception as e:
         notes.append(f"(cost table unavailable: {e})")
     return tables, notes

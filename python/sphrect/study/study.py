@@ -91,9 +91,10 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
 
 def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
     """Default equal-time budget: the wall time our `rectangle` technique (or the first technique) took, with
-    the last grid MIS mode and the grid pattern, at the middle of the sample ladder."""
+    the last grid MIS mode and the grid pattern, at a quarter of the ladder's top sample count."""
     technique = "rectangle" if "rectangle" in config.techniques else config.techniques[0]
-    middle = config.ladder[len(config.ladder) // 2]
+    quarter = max(config.ladder[-1] // 4, config.ladder[0])
+    middle = min(config.ladder, key=lambda n: abs(n - quarter))
     for r in records:
         j = r["job"]
         if (j["engine"] == SPHRECT and j["technique"] == technique and j["mis"] == config.grid_mis[-1]

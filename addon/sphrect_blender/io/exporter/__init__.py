@@ -60,6 +60,9 @@ def scene_from_depsgraph(depsgraph):
                 skipped_types.add(obj.type)
                 log.unsupported_feature(f"{obj.type.lower()} objects", obj.name)
             continue
+        for psys in getattr(obj, "particle_systems", ()):
+            if psys.settings.type == "HAIR" and psys.settings.render_type == "PATH":
+                log.unsupported_feature("hair particles", obj.name)
         if not getattr(obj, "visible_camera", True) or not getattr(obj, "visible_shadow", True):
             log.unsupported_feature("per-object ray visibility (object rendered as visible)", obj.name)
         key = (obj.name_full, obj.data.name_full if obj.data is not None else "")

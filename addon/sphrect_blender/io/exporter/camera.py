@@ -22,6 +22,12 @@ def export_camera(sphrect, bl_scene, cam_obj, log):
     render = bl_scene.render
     if abs(render.pixel_aspect_x - render.pixel_aspect_y) > 1e-6:
         log.unsupported_feature("non-square pixel aspect")
+    if render.use_border:
+        log.unsupported_feature("render region (the full frame is rendered)")
+    if render.use_motion_blur:
+        log.unsupported_feature("motion blur")
+    if render.film_transparent:
+        log.unsupported_feature("transparent film (alpha is 1)")
     if cam_obj is None:
         log.problem("the scene has no camera: using a default camera at the origin looking down -Z")
         return sphrect.Camera(width=width, height=height)

@@ -1,0 +1,104 @@
+"""The study on the real renderer (and Cycles, when Blender is installed), on a tiny scene and ladder:
+outputs exist and are well-formed, the reference's error estimate is computed and is well under the errors
+measured, and a Cycles render of a .blend comes back as a linear image with its timings."""
+import csv
+import json
+import math
+import os
+import shutil
+
+import numpy as np
+import pytest
+
+import sphrect
+
+pytestmark = pytest.mark.skipif(not hasattr(sphrect, "Renderer"), reason="the renderer is not built")
+
+from sphrect.study import LocalProcessPool, ReferenceSettings, StudyConfig, run_study  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PAPER_BLEND = os.path.join(ROOT, "blend_scenes", "01_paper.blend")
+
+
+def paper_like_scene(width=24, height=16):
+    """A ground plane lit by a one-sided rectangle perpendicular to it, close to it (the paper's setup)."""
+    ground = sphrect.Mesh(vertices=np.array([[-4, -4, 0], [4, -4, 0], [4, 4, 0], [-4, 4, 0]], np.float32),
+                          triangles=np.array([[0, 1, 2], [0, 2, 3]], np.int32))
+    light = sphrect.RectLight(corner=(-1.0, 0.0, 0.05), edge_x=(2.0, 0.0, 0.0), edge_y=(0.0, 0.0, 0.6),
+                              radiance=(5.0, 5.0, 5.0), two_sided=True, visible=False)
+    # Camera 4 units back and 3 up, looking at the origin (Blender camera: looks down -Z, +Y up).
+    eye = np.array([0.0, -4.0, 3.0])
+    forward = -eye / np.linalg.norm(eye)
+    right = np.cross(forward, [0, 0, 1])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    to_world = np.eye(4)
+    to_world[:3, 0], to_world[:3, 1], to_world[:3, 2], to_world[:3, 3] = right, up, -forward, eye
+    return sphrect.Scene(camera=sphrect.Camera(width=width, height=height, to_world=to_world.tolist(), lens=35),
+                         meshes=[ground], lights=[light])
+
+
+def test_study_on_the_renderer(tmp_path):
+    scene_path = str(tmp_path / "paper_like.sphrect.npz")
+    sphrect.save_scene(paper_like_scene(), scene_path)
+    out = tmp_path / "study"
+    config = StudyConfig(techniques=("area", "rectangle"), mis=("none", "balance"), patterns=("independent",
+                         "stratified"), ladder=(1, 2, 4, 8), grid_mis=("none",), grid_pattern="stratified")
+    summary = run_study(scene_path, str(out), config, ReferenceSettings(samples=2048, chunks=4),
+                        executor=LocalProcessPool(2), progress=False, sampler_table=False)
+    assert summary["failures"] == []
+    assert summary["ladder_runs"] == 2 * 2 * 2 * 4 and summary["equal_time_runs"] == 2
+    reference = json.load(open(out / "reference.json"))
+    assert 0 < reference["estimated_rmse"] < math.inf
+    with open(out / "runs.csv") as f:
+        rows = [r for r in csv.DictReader(f) if r["kind"] == "ladder"]
+    for r in rows:
+        assert r["finite"] == "True"
+        assert float(r["wall_time"]) > 0 and int(r["rays"]) > 0 and float(r["light_time"]) > 0
+        assert float(r["build_time"]) >= 0 and int(r["samples_done"]) == int(r["samples"])
+        assert 0 < float(r["rmse"]) < math.inf and 0 < float(r["relmse"]) < math.inf
+    # The reference (2048 spp) is far more converged than any run (<= 8 spp).
+    smallest = min(float(r["rmse"]) for r in rows)
+    assert reference["estimated_rmse"] < 0.5 * smallest
+    # More samples, less error: each curve falls from 1 to 8 spp.
+    by = {(r["technique"], r["mis"], r["pattern"], int(r["samples"])): float(r["rmse"]) for r in rows}
+    for t in ("area", "rectangle"):
+        for m in ("none", "balance"):
+            for p in ("independent", "stratified"):
+                assert by[(t, m, p, 8)] < by[(t, m, p, 1)], (t, m, p)
+    report = (out / "report.md").read_text()
+    assert "rmse_vs_samples_stratified.png" in report and "equal_time_grid.png" in report
+    for png in os.listdir(out / "plots"):
+        assert (out / "plots" / png).read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.skipif(shutil.which("blender") is None or not os.path.exists(PAPER_BLEND),
+                    reason="needs Blender and blend_scenes/01_paper.blend")
+def test_cycles_render_of_a_blend():
+    from sphrect.study.cycles import render_cycles
+    image, timing = render_cycles(PAPER_BLEND, 4, 32, 18, seed=0, threads=1)
+    assert image.shape == (18, 32, 4) and image.dtype == np.float32
+    assert np.all(np.isfinite(image)) and image[..., :3].max() > 0
+    assert timing["samples_done"] == 4 and timing["timing_source"] == "cycles status"
+    assert 0 < timing["wall_time"] <= timing["operator_time"] + 0.01
+    assert timing["blender_version"].startswith("3.")
+
+
+@pytest.mark.skipif(shutil.which("blender") is None or not os.path.exists(PAPER_BLEND),
+                    reason="needs Blender and blend_scenes/01_paper.blend")
+def test_study_of_a_blend_with_cycles(tmp_path):
+    out = tmp_path / "study"
+    config = StudyConfig(techniques=("rectangle",), mis=("balance",), patterns=("stratified",), ladder=(1, 4),
+                         grid_mis=("balance",), grid_pattern="stratified", cycles=True, equal_time=0.02)
+    summary = run_study(PAPER_BLEND, str(out), config, ReferenceSettings(samples=256, chunks=4),
+                        resolution=(32, 18), executor=LocalProcessPool(2), progress=False, sampler_table=False)
+    assert summary["failures"] == []
+    assert summary["ladder_runs"] == 2 + 2 and summary["equal_time_runs"] == 2
+    assert os.path.exists(out / "scene.sphrect.npz")
+    with open(out / "runs.csv") as f:
+        cycles = [r for r in csv.DictReader(f) if r["engine"] == "cycles"]
+    assert len(cycles) == 3
+    for r in cycles:
+        assert float(r["wall_time"]) > 0 and 0 < float(r["rmse"]) < math.inf
+    report = (out / "report.md").read_text()
+    assert "Cycles 3.4" in report and "time ratio (ours/Cycles)" in report
