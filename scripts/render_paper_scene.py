@@ -5,10 +5,10 @@ rendered with every light-sampling technique, without and with MIS (balance heur
 camera samples (the paper used 9 paths per pixel); RMSE against a high-sample reference.
 
 Writes to --out:
-  compare.png           all techniques side by side (row per MIS mode) with RMSE and times
-  <mis>_<technique>.png each image, reference.png
-  rmse_vs_light_samples.png  RMSE as a function of light samples per camera ray (as in the paper)
-  figures.json          every number in the figures
+  paper_compare.png            all techniques side by side (row per MIS mode) with RMSE and times
+  paper_<mis>_<technique>.png  each image (tone-mapped sRGB), and paper_reference.png
+  paper_rmse_vs_light_samples.png  RMSE vs light samples per camera ray (as in the paper), half resolution
+  paper_figures.json           every number in the figures
 
 Run:  PYTHONPATH=build/python /usr/bin/python3 scripts/render_paper_scene.py --out /tmp/paper
 """
@@ -126,7 +126,7 @@ def main(argv=None):
           flush=True)
     lum = ref[:, :, :3] @ np.array([0.2126, 0.7152, 0.0722])
     exposure = 0.9 / max(float(np.percentile(lum, 98)), 1e-8)
-    plt.imsave(os.path.join(args.out, "reference.png"), to_srgb8(ref, exposure))
+    plt.imsave(os.path.join(args.out, "paper_reference.png"), to_srgb8(ref, exposure))
 
     figures = {"scene": {"triangles": n_tris, "width": args.width, "height": args.height, "samples": args.samples,
                          "reference_samples": args.reference_samples, "pattern": args.pattern,
@@ -145,7 +145,7 @@ def main(argv=None):
                      "light_time": st["light_time"], "shading_time": st["shading_time"],
                      "camera_time": st["camera_time"], "rays": st["rays"], "samples": st["samples"]}
             figures["images"][f"{mis}/{t}"] = entry
-            plt.imsave(os.path.join(args.out, f"{mis}_{t}.png"), to_srgb8(img, exposure))
+            plt.imsave(os.path.join(args.out, f"paper_{mis}_{t}.png"), to_srgb8(img, exposure))
             print(f"  mis={mis:8s} {t:17s} RMSE {entry['rmse']:.5f}  light {entry['light_time']:.3f} s  "
                   f"shading {entry['shading_time']:.3f} s", flush=True)
 
@@ -165,7 +165,7 @@ def main(argv=None):
     fig.suptitle(f"{args.samples} camera samples per pixel, 1 light sample each; top: light sampling only, "
                  f"bottom: MIS (balance) with BSDF sampling", fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "compare.png"))
+    fig.savefig(os.path.join(args.out, "paper_compare.png"))
     plt.close(fig)
 
     # RMSE vs light samples per camera ray, at half resolution (cheaper; same scene).
@@ -194,11 +194,11 @@ def main(argv=None):
             ax.grid(True, which="both", alpha=0.3)
         axs[0].legend(fontsize=7)
         fig.tight_layout()
-        fig.savefig(os.path.join(args.out, "rmse_vs_light_samples.png"))
+        fig.savefig(os.path.join(args.out, "paper_rmse_vs_light_samples.png"))
         plt.close(fig)
 
     figures["total_seconds"] = time.perf_counter() - t0
-    with open(os.path.join(args.out, "figures.json"), "w") as f:
+    with open(os.path.join(args.out, "paper_figures.json"), "w") as f:
         json.dump(figures, f, indent=2)
     print(f"wrote {args.out} in {figures['total_seconds']:.1f} s")
     return 0

@@ -8,9 +8,11 @@
 //  BM_RawEmbree/<rays per sample> the same camera rays, then the same number of occlusion rays per
 //                                camera sample towards uniform points on the light, with no
 //                                sampling technique and no shading: the ray-casting floor.
-//  BM_DiffuseKernel/<forced>     the diffuse scene with the kernel the scene selects (0) and with
-//                                the kernel that has medium + glossy + depth of field compiled in
-//                                (1): what the specialisation saves.
+//  BM_DiffuseKernel/<forced>     the diffuse scene with the kernel the scene selects (0: no medium,
+//                                glossy or lens code at all, i.e. exactly a renderer built without
+//                                them) and with the kernel that has medium + glossy + depth of field
+//                                compiled in and switched off by run-time tests (1): what a single
+//                                generic kernel would cost a diffuse scene.
 //
 // Times are process CPU seconds (manual timing), not wall time: on a shared, loaded machine
 // they are far steadier, and with threads = 1 they equal the rendering thread's time.
@@ -172,7 +174,7 @@ void BM_DiffuseKernel(benchmark::State& state) {
         r.Render(kSamples);
         state.SetIterationTime(ProcessCpuSeconds() - t0);
     }
-    state.SetLabel(o.force_all_features ? "kernel with medium+glossy+dof compiled in" : "specialised diffuse kernel");
+    state.SetLabel(o.force_all_features ? "generic kernel: medium+glossy+dof compiled in, off at run time" : "specialised diffuse kernel");
     state.counters["s/sample"] = benchmark::Counter(double(kWidth) * kHeight * kSamples * state.iterations(),
                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }

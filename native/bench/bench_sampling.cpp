@@ -8,6 +8,7 @@
 // constructor); "Sample" is one Sample(u, v) on a prepared sampler, (u, v) cycling
 // through 1024 precomputed uniform points; shading points cycle through 64 ordinary
 // configurations (above, beside and oblique to a 1 x 1.5 light at distances 0.3-5).
+// "SampleEdgeOn" is a nearly edge-on setup where `rectangle` refines its x-step.
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -108,7 +109,24 @@ void BM_Sample_Textbook(benchmark::State& state) {
     }
 }
 
+// A nearly edge-on setup (shading point 2 sizes beside the light at height 1e-6):
+// `rectangle` refines its x-step by Newton steps there (polish_x).
+template <Technique K>
+void BM_SampleEdgeOn(benchmark::State& state) {
+    const RectLight<float> L{{-0.5f, -0.5f, 0}, {1, 0, 0}, {0, 1, 0}, true};
+    const LightSampler<K, float> s(Vec3f(2.f, 0.1f, 1e-6f), Vec3f(-1, 0, 0), L);
+    const auto& uv = UVs<float>();
+    size_t i = 0;
+    for (auto _ : state) {
+        LightSample<float> ls = s.Sample(uv[i++ & 1023]);
+        benchmark::DoNotOptimize(ls);
+    }
+}
+
 }  // namespace
+
+BENCHMARK(BM_SampleEdgeOn<Technique::Rectangle>)->Name("SampleEdgeOn/rectangle/float");
+BENCHMARK(BM_SampleEdgeOn<Technique::Triangles>)->Name("SampleEdgeOn/triangles/float");
 
 #define SPHRECT_BENCH(K, name)                                                   \
     BENCHMARK(BM_Setup<Technique::K, float>)->Name("Setup/" name "/float");      \

@@ -71,19 +71,16 @@ T RectangleAreaPDF(const AreaRect<T>& r, const Vec3<T>& p) {
     return AreaPDFLocal(r, r.x0 + Dot(q, r.exh), r.y0 + Dot(q, r.eyh));
 }
 
-// The sample at the point with local in-plane coordinates (X, Y) (along exh, eyh,
-// relative to the shading point), given its pdf.  The point is built from the
-// corner and the edges, so it lies on the light even when o is far away; the
-// direction and distance come from the local coordinates, so they stay exact
-// when o is nearly in the light's plane.
-// `dist`, when known (> 0), is |(X, Y, h)|; the clamping below only moves points by rounding.
+// The sample at the point corner + a ex + b ey, whose local in-plane coordinates
+// (along exh, eyh, relative to the shading point) are (X, Y), given its pdf.  The
+// point is built from the corner and the edges, so it lies on the light even when o
+// is far away; the direction and distance come from the local coordinates, so they
+// stay exact when o is nearly in the light's plane.  `dist`, when known (> 0), is
+// |(X, Y, h)|.
 template <class T>
-LightSample<T> LightSampleFromLocal(const AreaRect<T>& r, double X, double Y, T pdf, double dist = 0) {
-    // Clamp onto the light (NaN -> the corner), so that rounding never leaves it.
-    X = X > r.x0 ? std::min(X, r.x0 + r.wx) : r.x0;
-    Y = Y > r.y0 ? std::min(Y, r.y0 + r.wy) : r.y0;
+LightSample<T> LightSampleAt(const AreaRect<T>& r, double a, double b, double X, double Y, T pdf,
+                             double dist = 0) {
     LightSample<T> s;
-    const double a = std::min((X - r.x0) / r.wx, 1.0), b = std::min((Y - r.y0) / r.wy, 1.0);
     s.point = Vec3<T>(Vec3d(r.light.corner) + Vec3d(r.light.ex) * a + Vec3d(r.light.ey) * b);
     const Vec3d d = r.exh * X + r.eyh * Y + r.az * r.h;
     if (!(dist > 0) || !std::isfinite(dist)) dist = Length(d);
@@ -93,14 +90,24 @@ LightSample<T> LightSampleFromLocal(const AreaRect<T>& r, double X, double Y, T 
     return s;
 }
 
+// The same from the local coordinates alone, clamped onto the light (NaN -> the
+// corner) so that rounding never leaves it.
+template <class T>
+LightSample<T> LightSampleFromLocal(const AreaRect<T>& r, double X, double Y, T pdf, double dist = 0) {
+    X = X > r.x0 ? std::min(X, r.x0 + r.wx) : r.x0;
+    Y = Y > r.y0 ? std::min(Y, r.y0 + r.wy) : r.y0;
+    const double a = std::min((X - r.x0) / r.wx, 1.0), b = std::min((Y - r.y0) / r.wy, 1.0);
+    return LightSampleAt(r, a, b, X, Y, pdf, dist);
+}
+
 // The point corner + a ex + b ey, (a, b) in [0,1]^2, with its area-sampling pdf.
 template <class T>
 LightSample<T> AreaSampleAt(const AreaRect<T>& r, double a, double b) {
     if (!r.valid) return {};
-    a = std::min(std::max(a, 0.0), 1.0);
-    b = std::min(std::max(b, 0.0), 1.0);
+    a = a > 0 ? std::min(a, 1.0) : 0.0;
+    b = b > 0 ? std::min(b, 1.0) : 0.0;
     const double X = r.x0 + a * r.wx, Y = r.y0 + b * r.wy;
-    return LightSampleFromLocal(r, X, Y, AreaPDFLocal(r, X, Y));
+    return LightSampleAt(r, a, b, X, Y, AreaPDFLocal(r, X, Y));
 }
 
 template <class T>

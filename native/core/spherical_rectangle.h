@@ -11,12 +11,15 @@
 //    the (float) inputs; the per-sample work is done in double as well and the
 //    results are rounded to T once (float interface, mixed precision inside).
 //
-//  * Solid angles (Omega, and every sub-rectangle) by Van Oosterom & Strackee on
-//    the two triangles of the diagonal: tan(W/2) = |a.(b x c)| / (abc + (a.b)c +
-//    (a.c)b + (b.c)a).  With all corners at height h the triple product is exactly
-//    h (x1-x0)(y1-y0) (column operations), so there is no cancellation, and the
-//    denominator only cancels when W -> 2 pi, where the absolute error of atan2 is
-//    harmless.  Omega is accurate to a few ulps of double for any configuration.
+//  * Solid angles (Omega, and every sub-rectangle) without cancellation: the
+//    rectangle is split at the foot of o into up to four pieces, each mirrored into
+//    the first quadrant, and each piece is two triangles for Van Oosterom & Strackee,
+//    tan(W/2) = |a.(b x c)| / (abc + (a.b)c + (a.c)b + (b.c)a).  With all corners at
+//    height h the triple product is exactly h w l (column operations), and inside
+//    one quadrant every dot product is positive, so the denominator is a sum of
+//    positive terms.  (Without the split, a foot of o on a diagonal makes it cancel:
+//    error eps / h.)  A piece with a corner at the foot is atan(w l / (h r)).
+//    Omega is accurate to a few ulps of double in every configuration.
 //
 //  * x-step.  With s = sin(theta), x = h tan(theta), the solid angle of the strip
 //    [0, x] x [y0, y1] is F(s) = asin(b1 s) - asin(b0 s), b_i = y_i / sqrt(y_i^2+h^2)
@@ -28,8 +31,9 @@
 //    that the foot of o lies inside the x-slab, or as close to it as possible, and
 //    x0 is the near edge: then |T0| <= Omega, or small, and u Omega is not lost
 //    when it is added (the paper's k + u S loses u entirely when S << k ~ pi).
-//    |b1 - b0 e^{iT}|^2 = (b1 - b0)^2 + 2 b0 b1 (1 - cos T) uses a cancellation-free
-//    b1 - b0 and 1 - cos T = sin^2 T / (1 + cos T).
+//    |b1 - b0 e^{iT}|^2 is a sum of positive terms: (b1 - b0)^2 + 2 b0 b1 (1 - cos T)
+//    when b0 >= 0, (b1 + b0)^2 - 2 b0 b1 (1 + cos T) when b0 < 0 < b1, with b1 -+ b0
+//    cancellation-free and 1 -+ cos T = sin^2 T / (1 +- cos T).
 //
 //  * y-step.  y is linear in hy = y / sqrt(y^2 + d^2), d^2 = x^2 + h^2.  When the
 //    light is beside o in y (y0 > 0 after mirroring), 1 - hy = d^2 / (r (r + y)) is
@@ -38,16 +42,19 @@
 //  * Inverse: u = W([x0, x] x [y0, y1]) / Omega by Van Oosterom & Strackee, v by
 //    a cancellation-free difference of hy.  Stable in every configuration.
 //
-//  * What remains ill-conditioned: the map x(s) near s = +-1 (a light seen almost
-//    edge-on, far larger than its height) and extremely far / thin lights.  For each
-//    setup a first-order estimate of the rounding error of the map, in (u, v)
-//    space, is computed; when it exceeds kSphericalRectangleMaxError the setup
-//    switches to uniform area sampling (`area_fallback`).  The switch is decided
-//    once per setup and Sample, PDF and Invert all follow it, so the pdf returned
-//    is always the true pdf of the point returned (unlike Cycles / pbrt-v4, whose
-//    fallback keeps returning 1 / Omega).  It only happens for configurations
-//    whose solid angle is tiny (nearly edge-on), where area sampling is a good
-//    importance sampler anyway.
+//  * What remains ill-conditioned: x(s) near s = +-1 (a light seen almost edge-on,
+//    much larger than the height of o), and the y-offset of a thin light ~1e6 sizes
+//    away beside o in y.  Per setup, a first-order estimate of the map's rounding
+//    error in (u, v) space is computed (error_estimate).  When the x-step's part
+//    exceeds kSphericalRectanglePolishAbove, the x-step is refined by safeguarded
+//    Newton steps on the stable W([x0, x] x [y0, y1]) = u Omega (polish_x; costs
+//    a few solid-angle evaluations per sample, only in such setups).  When the
+//    remaining estimate exceeds kSphericalRectangleMaxError, the setup switches to
+//    uniform area sampling (area_fallback; in the hard-case suite only thin lights
+//    1e6 sizes away, where area sampling is practically exact).  Both decisions are
+//    made once per setup and Sample, PDF and Invert all follow them, so the pdf
+//    returned is always the true pdf of the point returned (unlike Cycles / pbrt-v4,
+//    whose fallback keeps returning 1 / Omega).
 #pragma once
 
 #include <algorithm>

@@ -144,6 +144,7 @@ py::dict Stats(const Renderer& r, int k) {
     d["camera_time"] = s.camera_time;
     d["rays"] = s.rays;
     d["camera_rays"] = s.camera_rays;
+    d["dropped_samples"] = s.dropped_samples;
     return d;
 }
 

@@ -436,7 +436,9 @@ inline Spectrum ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, c
         l = DirectLightAtSurface<K, kGlossy, kMedium>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng,
                                                       tally) *
             SegmentTransmittance<kMedium>(c.scene, ph.surface.t);
-    if constexpr (kMedium) l += SingleScattering<K>(c, ph, light_points, bsdf_points, rng, tally);
+    // (The run-time test only matters for the benchmark's forced all-features kernel.)
+    if constexpr (kMedium)
+        if (c.scene.has_medium) l += SingleScattering<K>(c, ph, light_points, bsdf_points, rng, tally);
     return l;
 }
 
@@ -527,8 +529,13 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
                         const Spectrum l = scratch.hits[s].seen + ShadeCameraSample<K, kGlossy, kMedium>(
                                                                       ctx, scratch.hits[s], &scratch.light_points[s * nl],
                                                                       &scratch.bsdf_points[s * nl], tt);
-                        // A NaN or inf sample would poison the pixel forever: drop it (never expected).
-                        if (IsFinite(l)) sum += l;
+                        // A NaN or inf sample would poison the pixel forever: drop it and count it
+                        // (reported in the stats; never expected).
+                        if (IsFinite(l)) {
+                            sum += l;
+                        } else {
+                            ++tt.dropped;
+                        }
                     }
                     pixel_sums[k * chunk_pixels + c] = sum;
                 }

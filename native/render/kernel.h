@@ -27,6 +27,7 @@ struct TechniqueTally {
     uint64_t light_ticks = 0;   // ReadTicks() units
     double total_seconds = 0;   // whole per-technique pass (light sampling included)
     uint64_t rays = 0;
+    uint64_t dropped = 0;       // non-finite samples left out of the image
 };
 
 struct TileTally {

@@ -60,10 +60,19 @@ Renderer::~Renderer() = default;
 
 bool Renderer::Render(int samples, double time_budget, const std::function<void(int, int)>& progress) {
     if (samples < 1 || samples > (1 << 20)) throw std::invalid_argument("samples must be in 1..2^20");
+    // One pass keeps samples x light_samples pattern points per pixel in memory.
+    if (uint64_t(samples) * uint64_t(options_.light_samples) > (uint64_t(1) << 22))
+        throw std::invalid_argument("samples x light_samples must be at most 2^22 per render() call "
+                                    "(render in several calls, or use time_budget)");
     if (!(time_budget >= 0)) throw std::invalid_argument("time_budget must be >= 0");
-    std::lock_guard<std::mutex> lock(render_mutex_);
-    if (uint64_t(next_sample_) + uint64_t(samples) * options_.light_samples >= (uint64_t(1) << 31))
-        throw std::invalid_argument("too many samples accumulated in this renderer");
+    std::unique_lock<std::mutex> lock(render_mutex_, std::try_to_lock);
+    if (!lock.owns_lock())  // e.g. render() called from its own progress callback, or from two threads
+        throw std::logic_error("this Renderer is already rendering");
+    // Sample indices (camera samples x light samples) must stay within 32 bits.
+    auto exhausted = [&] {
+        return (uint64_t(next_sample_) + uint64_t(samples)) * uint64_t(options_.light_samples) >= (uint64_t(1) << 31);
+    };
+    if (exhausted()) throw std::invalid_argument("too many samples accumulated in this renderer");
     cancel_.store(false);
     const auto start = std::chrono::steady_clock::now();
     int passes = 0;
@@ -81,7 +90,7 @@ bool Renderer::Render(int samples, double time_budget, const std::function<void(
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         // Stop when one more pass would more likely overshoot the budget than not.
         if (elapsed + 0.5 * elapsed / passes >= time_budget) break;
-        if (uint64_t(next_sample_) + uint64_t(samples) * options_.light_samples >= (uint64_t(1) << 31)) break;
+        if (exhausted()) break;
     }
     return complete;
 }
@@ -137,6 +146,7 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
             tally.technique[k].light_ticks += local.technique[k].light_ticks;
             tally.technique[k].total_seconds += local.technique[k].total_seconds;
             tally.technique[k].rays += local.technique[k].rays;
+            tally.technique[k].dropped += local.technique[k].dropped;
         }
         ++finished_workers;
         cv.notify_all();
@@ -188,6 +198,7 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
             st.shading_time += std::max(0.0, tally.technique[k].total_seconds - light);
             st.camera_time += tally.camera_seconds;
             st.rays += tally.technique[k].rays;
+            st.dropped_samples += tally.technique[k].dropped;
             st.camera_rays += tally.camera_rays;
             if (done == total) st.samples += uint64_t(samples);
         }

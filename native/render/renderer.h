@@ -46,6 +46,7 @@ struct TechniqueStats {
     double camera_time = 0;     // thread-seconds of camera rays and first hits (shared)
     uint64_t rays = 0;          // shadow and BSDF/phase rays cast for this technique
     uint64_t camera_rays = 0;   // camera rays (shared)
+    uint64_t dropped_samples = 0;  // non-finite camera samples left out of the image (expected 0)
 };
 
 class Renderer {
@@ -57,6 +58,7 @@ class Renderer {
     // Adds `samples` camera samples per pixel; with time_budget > 0, keeps adding passes of
     // `samples` while the budget lasts (at least one pass).  `progress(done_tiles, total_tiles)`
     // is called on the calling thread.  Returns false when cancelled (partial image kept).
+    // Throws std::logic_error if this renderer is already rendering (one Render() at a time).
     bool Render(int samples, double time_budget = 0,
                 const std::function<void(int, int)>& progress = nullptr);
     void Cancel() { cancel_.store(true); }

@@ -139,6 +139,7 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
             if (material_ids[i] < 0)
                 Fail(who + ": triangle " + std::to_string(i) + " has a negative material id");
     }
+    if (nt == 0) return;  // nothing to intersect (Embree refuses empty buffers)
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree pads its own buffers for its SIMD loads; one memcpy each.
     auto* vb = static_cast<float*>(

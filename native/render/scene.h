@@ -45,6 +45,7 @@ class RenderScene {
     int AddDiffuseMaterial(const Spectrum& base);
     int AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids may be null.
+    // A mesh without triangles is validated and then ignored.
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,
                  size_t num_triangles, const float* normals, const int32_t* material_ids);
     // Area lights return "" when added, or why the light was skipped (zero area, black).
@@ -69,7 +70,7 @@ class RenderScene {
     bool has_medium = false;
     HomogeneousMedium medium;
     std::vector<Material> materials;
-    std::vector<MeshData> meshes;  // index = Embree geometry id
+    std::vector<MeshData> meshes;  // index = Embree geometry id (meshes without triangles are not kept)
     std::vector<AreaLight> area_lights;
     LightSelector light_selector;
     std::vector<DeltaLight> delta_lights;

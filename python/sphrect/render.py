@@ -201,7 +201,8 @@ class Renderer:
 
     def stats(self, technique=None) -> dict:
         """samples, wall_time (s, shared), light_time and shading_time (thread-seconds of this
-        technique), rays (its shadow/BSDF rays), camera_time and camera_rays (shared)."""
+        technique), rays (its shadow/BSDF rays), camera_time and camera_rays (shared),
+        dropped_samples (non-finite samples left out of the image; expected 0)."""
         return dict(self._r.stats(self._index(technique)))
 
 

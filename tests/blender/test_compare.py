@@ -88,3 +88,31 @@ def test_compare_with_reference_exr(tmp_path):
     # Same settings and seed as the reference render: the technique reproduces it exactly.
     assert np.allclose(rec["images"]["reference"][..., :3], reference[..., :3], rtol=1e-6)
     assert rec["stats"]["rectangle"]["rmse"] < 1e-5
+    # A reference of another size is reported, and the comparison is made without it.
+    scene.render.resolution_x, scene.render.resolution_y = 16, 12
+    bpy.ops.render.render(write_still=False)
+    rec = engine_module().last_render
+    assert any("reference image is 32x24, the render is 16x12" in w for w in rec["warnings"])
+    assert "reference" not in rec["images"] and os.path.isfile(rec["comparison"])
+
+
+def test_comparison_image_layout_rmse_and_shared_heat_scale():
+    compare = __import__("sphrect_blender.engine.compare", fromlist=["compare"])
+    rng = np.random.default_rng(7)
+    reference = np.full((20, 30, 4), 0.5, dtype=np.float32)
+    noisy = reference + rng.normal(0, 0.1, reference.shape).astype(np.float32)
+    entries = [dict(name="area", image=noisy, samples=4, time=0.5, light_time=0.1),
+               dict(name="rectangle", image=reference.copy(), samples=4, time=0.5, light_time=0.2)]
+    canvas = compare.comparison_image(entries, reference)
+    d = noisy[..., :3].astype(np.float64) - 0.5
+    assert entries[0]["rmse"] == np.sqrt(np.mean(d * d)) and entries[1]["rmse"] == 0.0
+    pad = 4
+    assert canvas.shape[1] == pad + 3 * (30 + pad)  # two techniques and the reference
+    assert canvas.shape[0] > 2 * 20  # images over error maps
+    # Heat maps share one scale: the exact technique's map is black, the noisy one's is not.
+    label_h = (canvas.shape[0] - pad) // 2 - 20 - pad  # height = pad + 2 * (image + labels + pad)
+    y = pad + 20 + label_h + pad
+    assert canvas[y:y + 20, pad + 34:pad + 64].max() == 0.0
+    assert canvas[y:y + 20, pad:pad + 30].max() > 0.5
+    # Labels are drawn (ink under the first image).
+    assert canvas[pad + 20:pad + 40, pad:pad + 30].max() == 1.0

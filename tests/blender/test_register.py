@@ -4,8 +4,12 @@ import bpy
 from conftest import engine_module
 
 
+def _engines():
+    return {c.bl_idname for c in bpy.types.RenderEngine.__subclasses__() if c.is_registered}
+
+
 def test_engine_and_settings_registered(empty_scene):
-    assert "SPHRECT" in {cls.bl_idname for cls in bpy.types.RenderEngine.__subclasses__()}
+    assert "SPHRECT" in _engines()
     s = empty_scene.sphrect
     for name in ("technique", "samples", "light_samples", "pattern", "mis", "seed", "compare"):
         assert hasattr(s, name), name
@@ -23,6 +27,8 @@ def test_blender_light_and_material_panels_shown_for_sphrect(empty_scene):
                   "RENDER_PT_color_management"):
         cls = getattr(bpy.types, panel)
         assert "SPHRECT" in cls.COMPAT_ENGINES, panel
+    for panel in ("DATA_PT_light", "DATA_PT_area", "DATA_PT_preview"):  # duplicates of DATA_PT_EEVEE_light
+        assert "SPHRECT" not in getattr(bpy.types, panel).COMPAT_ENGINES, panel
     for panel in ("RENDER_PT_sphrect_sampling", "RENDER_PT_sphrect_compare", "DATA_PT_sphrect_area_light"):
         assert hasattr(bpy.types, panel), panel
 
@@ -38,3 +44,15 @@ def test_compare_mode_declares_a_pass_per_technique(empty_scene):
     expected = {engine_module().technique_pass_name(t) for t in ("triangles", "rectangle", "rectangle_cosine")}
     assert expected <= outputs, outputs
     assert engine_module().technique_pass_name("area") not in outputs
+
+
+def test_disable_and_enable_again():
+    import addon_utils
+    addon_utils.disable("sphrect_blender", handle_error=None)
+    try:
+        assert "SPHRECT" not in _engines()
+        assert "SPHRECT" not in bpy.types.DATA_PT_EEVEE_light.COMPAT_ENGINES
+        assert not hasattr(bpy.types.Scene, "sphrect")
+    finally:
+        addon_utils.enable("sphrect_blender", default_set=True, handle_error=None)
+    assert "SPHRECT" in bpy.types.DATA_PT_EEVEE_light.COMPAT_ENGINES

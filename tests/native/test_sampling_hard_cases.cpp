@@ -202,3 +202,47 @@ TEST(Degenerate, CosineWithoutNormalIsRectangle) {
             EXPECT_FLOAT_EQ(a.pdf, b.pdf);
         }
 }
+
+// No NaN or Inf for any finite input: random lights and shading points with
+// coordinates and edge lengths over 60 orders of magnitude (and zeros), shading
+// points on or 1e-6 off the light's plane, random normals (including zero).
+TEST(Fuzz, NoNaNOrInfForAnyFiniteInput) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> U(0, 1), E(-30, 30);
+    auto coord = [&]() {
+        const float sign = U(rng) < 0.5f ? -1.f : 1.f;
+        return U(rng) < 0.1f ? 0.f : sign * std::pow(10.f, E(rng));
+    };
+    int valid = 0;
+    for (int it = 0; it < 20000; ++it) {
+        const Vec3f c(coord(), coord(), coord()), n(coord(), coord(), coord());
+        Vec3f o(coord(), coord(), coord());
+        Vec3f ex(0, 0, 0), ey(0, 0, 0);
+        const int ax = int(rng() % 3), ay = (ax + 1 + int(rng() % 2)) % 3;
+        (ax == 0 ? ex.x : ax == 1 ? ex.y : ex.z) = std::pow(10.f, E(rng));
+        (ay == 0 ? ey.x : ay == 1 ? ey.y : ey.z) = std::pow(10.f, E(rng));
+        if (U(rng) < 0.3f) {
+            o = c + ex * U(rng) + ey * U(rng);
+            o.z += coord() * 1e-6f;
+        }
+        const RectLight<float> L{c, ex, ey, rng() % 2 == 0};
+        for (Technique t : kAllTechniques)
+            DispatchTechnique(t, [&](auto K) {
+                const LightSampler<decltype(K)::value, float> s(o, n, L);
+                valid += s.Valid();
+                for (float u : {0.f, 0.3f, std::nextafter(1.f, 0.f), 1.f})
+                    for (float v : {0.f, 0.7f, 1.f}) {
+                        const LightSample<float> ls = s.Sample({u, v});
+                        const float p = s.Pdf(ls.point);
+                        ASSERT_TRUE(std::isfinite(ls.pdf) && ls.pdf >= 0) << TechniqueName(t) << " it " << it;
+                        ASSERT_TRUE(std::isfinite(p) && p >= 0) << TechniqueName(t) << " it " << it;
+                        if (ls.pdf > 0) {
+                            ASSERT_TRUE(IsFinite(ls.point) && IsFinite(ls.dir) && std::isfinite(ls.dist))
+                                << TechniqueName(t) << " it " << it;
+                        }
+                    }
+            });
+        if (HasFatalFailure()) return;
+    }
+    EXPECT_GT(valid, 10000);  // the inputs exercise valid setups, not only rejections
+}

@@ -73,6 +73,7 @@ def replicate_images(scene, techniques, replicates, samples, **kw):
         r = sphrect.Renderer(scene, techniques=techniques, seed=1000 + rep, **kw)
         assert r.render(samples)
         for t in techniques:
+            assert r.stats(t)["dropped_samples"] == 0, f"{t}: non-finite samples"
             out[t].append(r.image(t)[:, :, 0].astype(np.float64))
     return {t: np.array(v) for t, v in out.items()}
 

@@ -129,3 +129,16 @@ def test_t_test_detects_a_small_error():
         reps = replicate_images(scene, ["rectangle"], REPLICATES, SAMPLES, mis=mis)
         assert pixel_t_test(reps["rectangle"], expected, FAMILY_ALPHA)[0]
         assert not pixel_t_test(reps["rectangle"], expected * error, FAMILY_ALPHA)[0], mis
+
+
+@pytest.mark.parametrize("mis", ["none", "balance"])
+def test_plane_under_a_constant_sky(mis):
+    """The world background lights the plane like Cycles' world: E = pi * L_sky, so the plane's
+    radiance is albedo * L_sky.  Cosine-weighted BSDF sampling makes every sample exact."""
+    scene = sphrect.Scene(camera=top_camera(), meshes=[plane_mesh(1e4)],
+                          materials=[sphrect.Material(base_color=(ALBEDO,) * 3)],
+                          world=sphrect.World(background=(0.3, 0.6, 0.9)))
+    r = sphrect.Renderer(scene, mis=mis)
+    assert r.features == ["orthographic", "background"]
+    r.render(4)
+    np.testing.assert_allclose(r.image()[:, :, :3], np.broadcast_to([0.15, 0.3, 0.45], (12, 12, 3)), rtol=1e-3)

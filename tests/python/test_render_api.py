@@ -38,6 +38,7 @@ def test_image_shape_dtype_and_alpha():
     s = r.stats("rectangle")
     assert s["samples"] == 2 and s["rays"] > 0 and s["wall_time"] > 0
     assert s["light_time"] >= 0 and s["shading_time"] > 0
+    assert s["camera_rays"] == 16 * 24 * 2 and s["dropped_samples"] == 0
     out = sphrect.render(simple_scene(), samples=2, techniques=("area", "rectangle"))
     assert set(out) == {"area", "rectangle"}
 
@@ -109,6 +110,21 @@ def test_cancel_from_another_thread_keeps_a_partial_image():
 def test_cancel_from_the_progress_callback():
     r = sphrect.Renderer(simple_scene(64, 64), tile_size=8, threads=1)
     assert r.render(64, progress=lambda d, t: r.cancel()) is False
+
+
+def test_render_is_not_reentrant():
+    r = sphrect.Renderer(simple_scene(16, 16), tile_size=8)
+    errors = []
+
+    def progress(done, total):
+        if not errors:
+            try:
+                r.render(1)
+            except RuntimeError as e:
+                errors.append(str(e))
+
+    assert r.render(1, progress=progress)
+    assert errors and "already rendering" in errors[0]
 
 
 def test_exception_in_progress_callback_propagates():
@@ -268,3 +284,10 @@ def test_large_mesh_from_numpy():
     assert len(tris) > 1_000_000
     assert r.render(1)
     assert r.image()[:, :, 0].max() > 0
+
+
+def test_mesh_without_triangles_is_ignored():
+    s = simple_scene(8, 8)
+    s.meshes.append(sphrect.Mesh(vertices=np.zeros((0, 3), np.float32), triangles=np.zeros((0, 3), np.int32)))
+    r = sphrect.Renderer(s)
+    assert r.render(1) and np.all(np.isfinite(r.image()))

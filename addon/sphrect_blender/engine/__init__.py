@@ -299,13 +299,19 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
 
     def _render_equal_samples(self, renderer, techniques, settings, result, layer, shown):
         calls = sample_schedule(settings.samples, settings.passes, self._pixels)
-        done = 0
+        pass_ends = set(np.cumsum(split_samples(settings.samples, settings.passes)).tolist())
+        done, last_show = 0, time.perf_counter()
         for i, n in enumerate(calls):
             self._stats_line(f"{self._header} | {'/'.join(techniques)} | samples {done}/{settings.samples}")
             finished = self._run(renderer, n, self._progress_callback(i, len(calls)))
             done += n
-            self._show(result, layer, {t: renderer for t in techniques}, techniques, shown)
-            if not finished or self._stop_requested():
+            stop = not finished or self._stop_requested()
+            # Display at the end of each pass, and at most once a second in between (copying every
+            # technique's image costs ~50 ms per megapixel).
+            if stop or done in pass_ends or time.perf_counter() - last_show > 1.0:
+                self._show(result, layer, {t: renderer for t in techniques}, techniques, shown)
+                last_show = time.perf_counter()
+            if stop:
                 self._cancelled = True
                 break
         self._stats_line(f"{self._header} | {'/'.join(techniques)} | samples {done}/{settings.samples}")
@@ -421,13 +427,19 @@ _EXTRA_PANELS = (
 )
 
 
+# ... and those left out: previews need a preview renderer; the light type/shape panels duplicate
+# DATA_PT_EEVEE_light, which shows type, colour, power, shape and size together.
+_EXCLUDED_PANELS = ("DATA_PT_preview", "MATERIAL_PT_preview", "WORLD_PT_preview", "DATA_PT_light", "DATA_PT_area")
+
+
 def _compatible_panels():
     panels = []
     for panel in bpy.types.Panel.__subclasses__():
         engines = getattr(panel, "COMPAT_ENGINES", None)
-        if engines is None:
+        names = {c.__name__ for c in panel.__mro__}  # node-editor variants subclass the panels they copy
+        if engines is None or names & set(_EXCLUDED_PANELS):
             continue
-        if "BLENDER_RENDER" in engines or panel.__name__ in _EXTRA_PANELS:
+        if "BLENDER_RENDER" in engines or names & set(_EXTRA_PANELS):
             panels.append(panel)
     return panels
 
@@ -435,7 +447,9 @@ def _compatible_panels():
 def register():
     bpy.utils.register_class(SphrectRenderEngine)
     for panel in _compatible_panels():
-        panel.COMPAT_ENGINES.add("SPHRECT")
+        # Subclasses share their base's set object: give each panel its own, so that adding SPHRECT to a
+        # node-editor variant does not also switch on an excluded base panel.
+        panel.COMPAT_ENGINES = set(panel.COMPAT_ENGINES) | {"SPHRECT"}
     if not bpy.app.background:
         bpy.app.timers.register(_show_pending_comparisons, first_interval=1.0, persistent=True)
 

@@ -135,6 +135,6 @@ def write_png(path, rgb):
                 + struct.pack(">I", zlib.crc32(kind + payload) & 0xffffffff))
 
     png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
-           + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+           + chunk(b"IDAT", zlib.compress(raw, 1)) + chunk(b"IEND", b""))
     with open(path, "wb") as f:
         f.write(png)

@@ -47,6 +47,9 @@ def export_light(sphrect, obj, matrix_world, name, log):
     power = float(light.energy)
     if light.use_nodes and light.node_tree is not None and len(light.node_tree.nodes) > 2:
         log.unsupported_feature("light node trees (colour and power used)", light.name)
+    for factor in ("diffuse_factor", "specular_factor", "volume_factor"):
+        if abs(getattr(light, factor, 1.0) - 1.0) > 1e-6:
+            log.unsupported_feature(f"light {factor.replace('_', ' ')} (1 used)", light.name)
     if power <= 0 or not np.any(color > 0):
         log.problem(f"light '{name}' has no power: skipped")
         return None
