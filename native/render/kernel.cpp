@@ -363,7 +363,9 @@ Spectrum InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ra
 
 // Single scattering along the camera ray's segment [0, t_end): integral of T(t) * inscattered(t),
 // with distance sampling and equi-angular sampling (about the chosen light's centre), combined
-// by one-sample-per-strategy MIS (the renderer's heuristic; balance when MIS is off).
+// by one-sample-per-strategy MIS (the renderer's heuristic; balance when MIS is off).  The
+// equi-angular centre is a random light; for each choice the combination is unbiased, so the
+// mixture is too.
 template <Technique K>
 Spectrum SingleScattering(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
                           const Point2<float>* bsdf_points, PCG32& rng, TechniqueTally& tally) {
@@ -373,27 +375,13 @@ Spectrum SingleScattering(const ShadeContext& c, const PrimaryHit& ph, const Poi
     const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
     Spectrum sum;
     for (int j = 0; j < c.light_samples; ++j) {
-        int chosen = -1;
-        Vec3f centre;
-        bool has_centre = false;
-        if (!scene.light_selector.Empty()) {
-            chosen = scene.light_selector.Select(rng.NextFloat());
-            centre = scene.area_lights[chosen].center;
-            has_centre = true;
-        } else {
-            // Equi-angular about a point or spot light, if there is one.
-            int n_points = 0;
-            for (const DeltaLight& d : scene.delta_lights) n_points += d.kind != DeltaKind::Sun;
-            if (n_points > 0) {
-                int pick = int(rng.NextFloat() * n_points);
-                for (const DeltaLight& d : scene.delta_lights)
-                    if (d.kind != DeltaKind::Sun && pick-- == 0) {
-                        centre = d.position;
-                        has_centre = true;
-                        break;
-                    }
-            }
-        }
+        // The area light for the light sample at the scattering point, and (independently) the
+        // centre for equi-angular sampling: any area, point or spot light, by power.
+        const int chosen = scene.light_selector.Empty() ? -1 : scene.light_selector.Select(rng.NextFloat());
+        const float u_centre = rng.NextFloat();
+        const bool has_centre = !scene.medium_centre_selector.Empty();
+        const Vec3f centre =
+            has_centre ? scene.medium_centres[scene.medium_centre_selector.Select(u_centre)] : Vec3f();
         const EquiAngular ea = has_centre ? MakeEquiAngular(ray.o, ray.d, ph.t_end, centre) : EquiAngular{};
         const bool use_equi = c.medium_sampling != MediumSampling::Distance && ea.valid;
         const bool use_distance = c.medium_sampling != MediumSampling::EquiAngular || !ea.valid;

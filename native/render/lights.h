@@ -115,24 +115,28 @@ inline float EllipseAreaPDF(const AreaLight& l, const Vec3f& origin, const Vec3f
     return AreaToSolidAnglePDF(l, origin, p);
 }
 
-// Picks an area light with probability proportional to its power, luminance(L) * area * sides
-// (the emitted flux up to the common factor pi).  Lights with zero power are never picked.
+// Emitted flux up to the common factor pi: luminance(L) * area * sides.
+inline double AreaLightPower(const AreaLight& l) {
+    return double(Luminance(l.radiance)) * l.area * (l.two_sided ? 2 : 1);
+}
+
+// Picks an index with probability proportional to its power (area lights: AreaLightPower).
+// Entries with zero power are never picked.
 struct LightSelector {
     std::vector<float> cdf;  // cdf[i] = P(index <= i)
     std::vector<float> pmf;
 
-    void Build(const std::vector<AreaLight>& lights) {
-        pmf.assign(lights.size(), 0.0f);
-        cdf.assign(lights.size(), 0.0f);
+    void Build(const std::vector<double>& powers) {
+        pmf.assign(powers.size(), 0.0f);
+        cdf.assign(powers.size(), 0.0f);
         double total = 0;
-        std::vector<double> power(lights.size());
-        for (size_t i = 0; i < lights.size(); ++i) {
-            const double p = double(Luminance(lights[i].radiance)) * lights[i].area * (lights[i].two_sided ? 2 : 1);
-            power[i] = std::isfinite(p) && p > 0 ? p : 0.0;
+        std::vector<double> power(powers.size());
+        for (size_t i = 0; i < powers.size(); ++i) {
+            power[i] = std::isfinite(powers[i]) && powers[i] > 0 ? powers[i] : 0.0;
             total += power[i];
         }
         double acc = 0;
-        for (size_t i = 0; i < lights.size(); ++i) {
+        for (size_t i = 0; i < powers.size(); ++i) {
             pmf[i] = total > 0 ? float(power[i] / total) : 0.0f;
             acc += power[i];
             cdf[i] = total > 0 ? float(acc / total) : 0.0f;

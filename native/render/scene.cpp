@@ -250,7 +250,18 @@ void RenderScene::Commit() {
                      std::to_string(m.material_ids[i]) + " but the scene has " + std::to_string(materials.size()) +
                      " materials");
     rtcCommitScene(rtc_scene);
-    light_selector.Build(area_lights);
+    std::vector<double> powers;
+    for (const AreaLight& l : area_lights) {
+        powers.push_back(AreaLightPower(l));
+        medium_centres.push_back(l.center);
+    }
+    light_selector.Build(powers);
+    for (const DeltaLight& d : delta_lights) {
+        if (d.kind == DeltaKind::Sun) continue;
+        powers.push_back(4.0 * double(Luminance(d.power)));  // flux 4 pi I, over pi like AreaLightPower
+        medium_centres.push_back(d.position);
+    }
+    medium_centre_selector.Build(powers);
     features_ = {};
     // A glossy material only matters when some triangle uses it.
     std::vector<bool> used(materials.size(), false);

@@ -72,7 +72,11 @@ class RenderScene {
     std::vector<Material> materials;
     std::vector<MeshData> meshes;  // index = Embree geometry id (meshes without triangles are not kept)
     std::vector<AreaLight> area_lights;
-    LightSelector light_selector;
+    LightSelector light_selector;            // over area_lights, by power
+    // Centres for equi-angular sampling in the medium: area lights' centres and point/spot
+    // lights' positions, picked by power (sun excluded: it is infinitely far).
+    std::vector<Vec3f> medium_centres;
+    LightSelector medium_centre_selector;
     std::vector<DeltaLight> delta_lights;
 
   private:

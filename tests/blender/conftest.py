@@ -15,8 +15,6 @@ if BLEND_DIR not in sys.path:
 import make_scenes as builders  # noqa: E402  (the scene generator's object/light/material helpers)
 import sphrect  # noqa: E402
 
-HAS_RENDERER = hasattr(sphrect, "Renderer")
-needs_renderer = pytest.mark.skipif(not HAS_RENDERER, reason="this sphrect build has no Renderer yet")
 
 
 def ensure_addon():

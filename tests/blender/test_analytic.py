@@ -9,7 +9,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import builders, export, needs_renderer, render, set_resolution
+from conftest import builders, export, render, set_resolution
 
 ALBEDO = 0.5
 SIDE = 8             # pixels
@@ -38,7 +38,6 @@ CASES = {
 }
 
 
-@needs_renderer
 @pytest.mark.parametrize("technique", ["RECTANGLE", "RECTANGLE_COSINE"])
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_ground_radiance_matches_polygon_formula(empty_scene, case, technique):

@@ -5,10 +5,9 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import builders, engine_module, export, lit_test_scene, needs_renderer, render, set_resolution
+from conftest import builders, engine_module, export, lit_test_scene, render, set_resolution
 
 
-@needs_renderer
 def test_no_lights_renders_black_with_a_warning(empty_scene):
     builders.mesh_object("Ground", "plane", builders.material("Ground"), size=8)
     rec = render()
@@ -17,7 +16,6 @@ def test_no_lights_renders_black_with_a_warning(empty_scene):
     assert np.all(rec["images"]["rectangle"][..., :3] == 0)
 
 
-@needs_renderer
 def test_zero_size_light_is_skipped_with_a_warning(empty_scene):
     lit_test_scene(empty_scene)
     builders.area_light("Flat", "RECTANGLE", size=0.0, size_y=1.0, power=100.0, location=(0, 0, 1))
@@ -29,7 +27,6 @@ def test_zero_size_light_is_skipped_with_a_warning(empty_scene):
     assert np.isfinite(rec["images"]["rectangle"]).all()
 
 
-@needs_renderer
 def test_negative_scales_render_like_positive_ones(empty_scene):
     """Mirroring a light about its own X axis and a box about its own Y axis changes nothing visible."""
     lit_test_scene(empty_scene)
@@ -45,7 +42,6 @@ def test_negative_scales_render_like_positive_ones(empty_scene):
     assert abs(mirrored[..., :3].mean() - reference[..., :3].mean()) < 0.02 * reference[..., :3].mean()
 
 
-@needs_renderer
 def test_absurd_resolution_is_refused_clearly(empty_scene):
     lit_test_scene(empty_scene)
     set_resolution(empty_scene, 60000, 60000)
@@ -54,7 +50,6 @@ def test_absurd_resolution_is_refused_clearly(empty_scene):
     assert engine_module().last_render["errors"]
 
 
-@needs_renderer
 def test_unsupported_nodes_warn_and_still_render(empty_scene):
     lit_test_scene(empty_scene)
     mat = bpy.data.materials["Box"]
@@ -85,7 +80,6 @@ def test_missing_native_module_is_a_clear_error(empty_scene, monkeypatch):
         bpy.ops.render.render()
 
 
-@needs_renderer
 def test_cancel_keeps_the_partial_image(empty_scene):
     """Cancelling from another thread (as Esc does) stops within a pass and keeps what was rendered."""
     lit_test_scene(empty_scene)

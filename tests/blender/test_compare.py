@@ -6,7 +6,7 @@ import struct
 import bpy
 import numpy as np
 
-from conftest import engine_module, needs_renderer, open_blend
+from conftest import engine_module, open_blend
 
 TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
 
@@ -18,7 +18,6 @@ def png_size(path):
     return struct.unpack(">II", head[16:24])
 
 
-@needs_renderer
 def test_compare_equal_samples_with_reference(tmp_path):
     scene = open_blend("01_paper", 32, 24)
     s = scene.sphrect
@@ -46,7 +45,6 @@ def test_compare_equal_samples_with_reference(tmp_path):
     assert all(rec["stats"][t]["samples"] == 4 for t in TECHNIQUES)
 
 
-@needs_renderer
 def test_compare_equal_time(tmp_path):
     scene = open_blend("02_room", 32, 24)
     s = scene.sphrect
@@ -64,7 +62,6 @@ def test_compare_equal_time(tmp_path):
     assert os.path.isfile(rec["comparison"])
 
 
-@needs_renderer
 def test_compare_with_reference_exr(tmp_path):
     scene = open_blend("02_room", 32, 24)
     s = scene.sphrect

@@ -8,7 +8,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import lit_test_scene, needs_renderer, open_blend, render, set_resolution
+from conftest import lit_test_scene, open_blend, render, set_resolution
 
 WIDTH, HEIGHT, BLOCK = 48, 36, 4
 
@@ -51,7 +51,6 @@ def mean_relative_difference(ours, theirs):
     return float(np.mean(np.abs(a[lit] - b[lit]) / b[lit]))
 
 
-@needs_renderer
 def test_diffuse_scene_matches_cycles(empty_scene, tmp_path):
     scene = lit_test_scene(empty_scene)
     bpy.data.objects["Light"].visible_camera = False
@@ -70,7 +69,6 @@ def test_diffuse_scene_matches_cycles(empty_scene, tmp_path):
     assert mean_relative_difference(1.05 * ours, cycles) > 0.03
 
 
-@needs_renderer
 @pytest.mark.parametrize("light", ["Square", "Rectangle", "Disk", "Ellipse", "Point", "Spot", "Sun"])
 def test_every_light_type_matches_cycles(light, tmp_path):
     """Cycles' conventions for each light (power -> radiance / intensity / irradiance, shapes, object scale,
@@ -98,7 +96,6 @@ CAMERAS = {
 }
 
 
-@needs_renderer
 @pytest.mark.parametrize("camera", sorted(CAMERAS))
 def test_camera_models_match_cycles(empty_scene, camera, tmp_path):
     """Blender's camera conventions (sensor fit, shift, orthographic, depth of field) as Cycles renders them."""
@@ -122,3 +119,24 @@ def test_camera_models_match_cycles(empty_scene, camera, tmp_path):
     if camera == "depth_of_field":  # the comparison sees the blur: without it we are further from Cycles
         cam.dof.use_dof = False
         assert mean_relative_difference(render()["images"]["rectangle"], cycles) > difference
+
+
+@pytest.mark.parametrize("name", ["02_room", "03_glossy_floor", "04_foggy_room"])
+def test_blend_scenes_match_cycles(name, tmp_path):
+    """The exporter's conversions end to end: a closed room, Principled BSDF (metallic floor, plastic
+    sphere: base colour, metallic, roughness, specular), and the world Volume Scatter as a homogeneous
+    medium (density, colour, anisotropy). (01_paper's two-sided light and 05's tiny/grazing lights are
+    outside what Cycles 3.4 renders correctly or at all; see test_analytic.py.) Measured when written:
+    room 0.2%, fog 0.8%, glossy 1.6% -- the glossy residual is systematic (it stays with 4x the samples:
+    Cycles' Principled BSDF is not exactly the renderer's GGX + Lambert model), the others are noise."""
+    scene = open_blend(name, WIDTH, HEIGHT)
+    for obj in bpy.data.objects:
+        if obj.type == "LIGHT":
+            obj.visible_camera = False
+    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=2048)
+    scene.render.engine = "SPHRECT"
+    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 512, 1, 2
+    ours = render()["images"]["rectangle"]
+    difference = mean_relative_difference(ours, cycles)
+    print(f"{name}: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
+    assert difference <= 0.02

@@ -7,12 +7,10 @@ import subprocess
 import bpy
 import pytest
 
-from conftest import needs_renderer
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-@needs_renderer
 @pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt install xvfb)")
 def test_f12_compare_window_and_esc_cancel():
     run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", bpy.app.binary_path, "--factory-startup",

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import sphrect
-from conftest import SCENES, engine_module, lit_test_scene, needs_renderer, open_blend, render
+from conftest import SCENES, engine_module, lit_test_scene, open_blend, render
 
 # Effects each scene must switch on (named by the renderer and shown in the stats line).
 EXPECTED_FEATURES = {"03_glossy_floor": {"glossy"}, "04_foggy_room": {"medium"},
@@ -16,7 +16,6 @@ def test_all_six_scenes_exist():
                       "06_mixed_lights"]
 
 
-@needs_renderer
 @pytest.mark.parametrize("name", SCENES)
 def test_blend_scene_renders_finite_lit_image(name):
     scene = open_blend(name, 32, 24)
@@ -34,7 +33,6 @@ def test_blend_scene_renders_finite_lit_image(name):
     assert rec["stats"]["rectangle"]["samples"] == 4
 
 
-@needs_renderer
 def test_render_result_pixels_and_scene_file_round_trip(empty_scene, tmp_path):
     """The Render Result holds the renderer's image (bottom row first in Blender), and the exported scene
     file rendered by sphrect alone, outside the engine, gives the same image."""
