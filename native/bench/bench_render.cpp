@@ -1,6 +1,6 @@
 // Renderer benchmarks.
 //
-//  BM_Render/<technique>/<mis>   one technique per renderer, 1 thread, on a ~100k-triangle scene
+//  BM_Render/<technique>/<mis>/<pattern>  one technique per renderer, 1 thread, on a ~100k-triangle scene
 //                                (ground + four tessellated spheres, one rectangle light standing
 //                                on the ground).  Counters: rays/s (camera + shadow + BSDF rays),
 //                                wall seconds per camera sample, light_frac = share of the
@@ -92,7 +92,7 @@ void BM_Render(benchmark::State& state) {
     o.techniques = {kAllTechniques[state.range(0)]};
     o.mis = state.range(1) ? MisMode::Balance : MisMode::None;
     o.threads = 1;
-    o.pattern = Pattern::Sobol;
+    o.pattern = kAllPatterns[state.range(2)];
     uint64_t rays = 0, samples = 0;
     double light = 0, total = 0;
     for (auto _ : state) {
@@ -106,14 +106,18 @@ void BM_Render(benchmark::State& state) {
         light += st.light_time;
         total += st.light_time + st.shading_time + st.camera_time;
     }
-    state.SetLabel(std::string(TechniqueName(o.techniques[0])) + (o.mis == MisMode::None ? "/no-mis" : "/balance"));
+    state.SetLabel(std::string(TechniqueName(o.techniques[0])) + (o.mis == MisMode::None ? "/no-mis/" : "/balance/") +
+                   PatternName(o.pattern));
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
     state.counters["s/sample"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate |
                                                                           benchmark::Counter::kInvert);
     state.counters["light_frac"] = benchmark::Counter(light / total);
     state.counters["triangles"] = benchmark::Counter(double(Scene()->NumTriangles()));
 }
-BENCHMARK(BM_Render)->ArgsProduct({{0, 1, 2, 3}, {0, 1}})->Unit(benchmark::kMillisecond)->UseManualTime();
+// Sobol' (the default pattern) for every technique; the area technique also with independent
+// samples, to show what the pattern costs.
+BENCHMARK(BM_Render)->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}})->Unit(benchmark::kMillisecond)->UseManualTime();
+BENCHMARK(BM_Render)->Args({0, 0, 0})->Unit(benchmark::kMillisecond)->UseManualTime();
 
 // Camera rays with first hits, then `rays_per_sample` occlusion rays per hit towards uniformly
 // chosen points of the light: no technique, no BSDF, no accumulation.

@@ -2,9 +2,10 @@
 // scattering in a homogeneous medium, all estimated per camera sample.
 //
 // Light selection: one area light per light sample, chosen by power (LightSelector); delta
-// lights are all evaluated once per camera sample.  MIS (Veach 1997): each light sample is
-// paired with one BSDF (or, in the medium, phase-function) sample whose ray finds area lights by
-// intersection; the background is reached only by BSDF/phase rays (weight 1).
+// lights are all evaluated once per camera sample (and at every scattering point).
+// MIS (Veach 1997): each light sample is paired with one BSDF (or, in the medium, phase-function)
+// sample whose ray finds area lights by intersection; the background is reached only by
+// BSDF/phase rays (weight 1).  Lights do not occlude anything (they are transparent, as in Cycles).
 #include "kernel.h"
 
 #include <algorithm>
@@ -238,7 +239,9 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
     const Vec3f origin = OffsetOrigin(h.p, h.ng);
     RTCScene rtc = scene.rtc_scene;
     Spectrum area_sum;
-    for (int j = 0; j < c.light_samples; ++j) {
+    // Without area lights and BSDF rays (only delta lights) there is nothing to sample.
+    const int n_pairs = (!scene.light_selector.Empty() || c.trace_bsdf) ? c.light_samples : 0;
+    for (int j = 0; j < n_pairs; ++j) {
         int chosen = -1;
         float pmf = 0;
         if (!scene.light_selector.Empty()) {

@@ -10,6 +10,11 @@ Example::
 Light selection: one area light (rectangle or ellipse) per light sample, picked with
 probability proportional to its power (luminance x area x sides); point, spot and sun lights
 are all evaluated once per camera sample.  Pixels use a box filter.
+
+Progressive rendering: each render() call (or each pass of a time budget) adds samples; the
+'sobol' pattern continues one sequence across calls, the other patterns stratify within a call.
+progress(done_tiles, total_tiles) counts the tiles of the current pass.  The image is identical
+for any thread count and tile size (samples are seeded by seed, pixel and sample index).
 """
 from __future__ import annotations
 

@@ -47,7 +47,7 @@ def fake_render(context, job):
             raise KeyboardInterrupt
         with open(log, "a") as f:
             f.write(job.key + "\n")
-    samples = job.samples if job.time_budget is None else max(1, int(job.time_budget / 1e-3))
+    samples = job.samples
     rng = np.random.default_rng(abs(hash((job.key, job.seed))) % (1 << 32))
     sigma = NOISE.get(job.technique, 0.15) / math.sqrt(samples)
     image = truth(context.width, context.height)
@@ -86,7 +86,11 @@ def test_plan_and_keys():
     assert [j.samples for j in plan] == sorted(j.samples for j in plan)  # cheapest first
     assert Job.from_dict(plan[5].to_dict()) == plan[5]
     assert sample_ladder(20) == [1, 2, 4, 8, 16]
-    assert len(equal_time_jobs(config, 0.5)) == 4 * 2 + 1
+    costs = {("sphrect", t, m): 0.01 for t in config.techniques for m in config.mis}
+    costs[("cycles", "cycles", "power")] = 0.02
+    et = equal_time_jobs(config, 0.5, costs)
+    assert len(et) == 4 * 2 + 1
+    assert sorted({j.samples for j in et}) == [25, 50]  # budget / time per sample
     with pytest.raises(ValueError, match="unknown technique"):
         StudyConfig(techniques=("rect",))
     with pytest.raises(ValueError, match="unknown sample pattern"):

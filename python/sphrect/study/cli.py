@@ -55,8 +55,9 @@ def parser() -> argparse.ArgumentParser:
                    help="Cycles 3.4 as a peer (auto: when the scene is a .blend and Blender is found)")
     p.add_argument("--blender", default=None, help="Blender executable (default: $BLENDER or blender on PATH)")
     p.add_argument("--equal-time", type=float, default=None,
-                   help="seconds per equal-time image (default: rectangle's time at a quarter of the ladder's top)")
-    p.add_argument("--grid-pattern", default="sobol", help="pattern of the equal-time grid")
+                   help="seconds per equal-time image (default: rectangle's time for a quarter of the ladder's top "
+                        "sample count)")
+    p.add_argument("--grid-pattern", default="stratified", help="pattern of the equal-time grid")
     p.add_argument("--grid-mis", type=_names, default=["none", "balance"], help="MIS modes in the equal-time grid")
     p.add_argument("--target-rmse", type=float, default=None,
                    help="target of the time-to-error table (default: Cycles' RMSE at the top of the ladder)")

@@ -107,7 +107,8 @@ def render_cycles(blend: str, samples: int, width: int, height: int, seed: int =
     sampling, light_sampling_threshold 0, fixed seed, 1-pixel box filter, Standard view transform) at
     `samples` per pixel (or until `time_limit` seconds). Returns the linear [H, W, 4] float32 image, row 0 at
     the top, and the timings (see parse_cycles_progress): wall_time = path tracing, build_time = scene sync
-    and BVH build before it, operator_time = the whole render operator."""
+    and BVH build before it, operator_time = the whole render operator, cpu_time = Blender's CPU time during
+    the operator times the path-tracing share of its wall time (with one thread, the render's compute time)."""
     with tempfile.TemporaryDirectory() as tmp:
         args = {"samples": int(samples), "seed": int(seed), "threads": int(threads), "width": int(width),
                 "height": int(height), "time_limit": time_limit,
@@ -118,6 +119,9 @@ def render_cycles(blend: str, samples: int, width: int, height: int, seed: int =
         with open(args["json"]) as f:
             timing = json.load(f)
     timing.update(parse_cycles_progress(result.stdout, timing["operator_time"]))
+    # CPU time of the path tracing: the operator's CPU time, less the build's share of the operator's wall time.
+    share = timing["wall_time"] / timing["operator_time"] if timing["operator_time"] > 0 else 1.0
+    timing["cpu_time"] = timing["operator_cpu_time"] * min(share, 1.0)
     if image.shape[:2] != (height, width):
         raise RuntimeError(f"Cycles rendered {image.shape[1]}x{image.shape[0]}, expected {width}x{height}")
     return image, timing

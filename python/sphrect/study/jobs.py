@@ -96,7 +96,7 @@ class StudyConfig:
     threads: int = 1                    # per job; see executors.py for why 1 is the default
     cycles: bool = False                # add Cycles as a peer (needs Blender and the .blend)
     grid_mis: Tuple[str, ...] = ("none", "balance")
-    grid_pattern: str = "sobol"
+    grid_pattern: str = "stratified"
     equal_time: Optional[float] = None  # seconds; None = measured from the ladder (see equal_time_budget)
 
     def __post_init__(self):
@@ -140,14 +140,28 @@ def build_plan(config: StudyConfig) -> List[Job]:
     return jobs
 
 
-def equal_time_jobs(config: StudyConfig, budget: float, max_samples: int = 1 << 20) -> List[Job]:
-    """One render per technique (x grid MIS mode) and Cycles, each given the same wall-time budget."""
+def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict[Tuple[str, str, str], float]
+                    ) -> List[Job]:
+    """One render per technique (x grid MIS mode), and Cycles, each given the sample count that the ladder
+    predicts to cost `budget` seconds: samples = budget / (seconds per sample of that configuration), keyed
+    by (engine, technique, mis). Fixed sample counts (rather than a wall-clock budget) keep the comparison
+    independent of other load on the machine and let stratified patterns know their count."""
     if not budget > 0:
         raise ValueError(f"the equal-time budget must be positive, got {budget}")
     budget = float(f"{budget:.4g}")  # a stable key
-    jobs = [Job(SPHRECT, t, m, config.grid_pattern, max_samples, config.light_samples, config.seed,
-                config.threads, EQUAL_TIME, budget) for m in config.grid_mis for t in config.techniques]
-    if config.cycles:
-        jobs.append(Job(CYCLES, "cycles", "power", "default", max_samples, 1, config.seed, config.threads,
-                        EQUAL_TIME, budget))
+
+    def samples(engine, technique, mis):
+        cost = seconds_per_sample.get((engine, technique, mis))
+        return max(1, int(round(budget / cost))) if cost and cost > 0 else None
+
+    jobs = []
+    for m in config.grid_mis:
+        for t in config.techniques:
+            n = samples(SPHRECT, t, m)
+            if n:
+                jobs.append(Job(SPHRECT, t, m, config.grid_pattern, n, config.light_samples, config.seed,
+                                config.threads, EQUAL_TIME, budget))
+    n = samples(CYCLES, "cycles", "power")
+    if config.cycles and n:
+        jobs.append(Job(CYCLES, "cycles", "power", "default", n, 1, config.seed, config.threads, EQUAL_TIME, budget))
     return jobs

@@ -37,6 +37,10 @@ def load_study(out_dir: str) -> Dict:
         state = json.load(f)
     store = ResultStore(out_dir)
     records = list(store.runs(state["run_fingerprint"]))
+    study = StudyConfig.from_dict(config["study"])
+    from .study import time_of
+    for r in records:  # the time each run is judged by (CPU time for single-thread runs; see time_of)
+        r["time"] = time_of(r, study.threads)
     return {"config": config, "state": state, "store": store, "reference": load_reference_info(store),
             "study": StudyConfig.from_dict(config["study"]),
             "ladder": [r for r in records if r["job"]["kind"] == LADDER],
@@ -77,7 +81,12 @@ def fitted_slope_with_error(curve: List[Dict], x: str, reference_rmse: float) ->
 
 
 def _x(record: Dict, x: str) -> Optional[float]:
-    return record["job"]["samples"] if x == "samples" else record.get("wall_time")
+    return record["job"]["samples"] if x == "samples" else record.get("time")
+
+
+def time_label(study: Dict) -> str:
+    return ("CPU time of the render [s] (1 thread)" if study["study"].threads == 1
+            else f"render wall time [s] ({study['study'].threads or 'all'} threads)")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -93,8 +102,8 @@ def fmt(x, digits: int = 3) -> str:
 
 def write_csv(path: str, records: List[Dict]) -> None:
     columns = ["key", "kind", "engine", "technique", "mis", "pattern", "samples", "light_samples", "seed", "threads",
-               "time_budget", "samples_done", "wall_time", "call_time", "build_time", "light_time", "shading_time",
-               "rays", "rmse", "relmse", "finite"]
+               "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time", "build_time", "light_time",
+               "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite"]
     import io
     buffer = io.StringIO()
     writer = csv.writer(buffer)
@@ -110,7 +119,7 @@ def time_to_target(curve: List[Dict], target: float, reference_rmse: float = 0.0
     points whose error is above 3x the reference's own (below, the reference's noise bends the curve), and is
     refused ("below reference accuracy") for targets under that level."""
     def reach(points):
-        t, how = metrics.cost_to_reach([r["wall_time"] for r in points], [r["rmse"] for r in points], target)
+        t, how = metrics.cost_to_reach([r["time"] for r in points], [r["rmse"] for r in points], target)
         n, _ = metrics.cost_to_reach([r["job"]["samples"] for r in points], [r["rmse"] for r in points], target)
         return t, how, n
     t, how, n = reach(curve)
@@ -119,7 +128,7 @@ def time_to_target(curve: List[Dict], target: float, reference_rmse: float = 0.0
     if target < 3 * reference_rmse:
         return float("nan"), "below reference accuracy", float("nan")
     t, how, n = reach([r for r in curve if r["rmse"] > 3 * reference_rmse])
-    longest = max((r["wall_time"] for r in curve if r.get("wall_time")), default=0.0)
+    longest = max((r["time"] for r in curve if r.get("time")), default=0.0)
     if how == "extrapolated" and t > 100 * longest:
         return float("nan"), f"beyond 100x the longest run ({fmt(longest)} s)", float("nan")
     return t, how, n
@@ -158,7 +167,7 @@ def plot_convergence(study: Dict, all_curves: Dict, pattern: str, x: str, path: 
                       label=f"Cycles 3.4 (slope {fmt(fitted_slope(cycles, x, ref_rmse), 2)})")
         ax.axhline(ref_rmse, color="grey", ls=":", lw=1, label="reference's own RMSE")
         ax.set_title(f"MIS: {mis}, pattern: {pattern}")
-        ax.set_xlabel("samples per pixel" if x == "samples" else "render wall time [s] (1 thread)")
+        ax.set_xlabel("samples per pixel" if x == "samples" else time_label(study))
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     axes[0][0].set_ylabel("RMSE")
@@ -241,8 +250,9 @@ def plot_equal_time_grid(study: Dict, path: str) -> List[List[str]]:
             ax_err.set_title("|error| (RMS over RGB)", fontsize=7)
             if name != "cycles" or row_index == 0:
                 table.append(["Cycles 3.4" if name == "cycles" else f"{name} / mis={mis}", fmt(spp),
-                              fmt(r.get("wall_time")), fmt(r["rmse"]), fmt(r["relmse"])])
-    fig.suptitle(f"Equal time: {fmt(study['state'].get('equal_time_budget'))} s per image "
+                              fmt(r.get("time")), fmt(r["rmse"]), fmt(r["relmse"])])
+    fig.suptitle(f"Equal time: {fmt(study['state'].get('equal_time_budget'))} s per image (sample counts "
+                 f"predicted from the ladder's time per sample) "
                  f"(pattern {study['study'].grid_pattern}); heat maps share one colour scale", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -358,9 +368,9 @@ def cosine_finding(study: Dict, all_curves: Dict) -> List[str]:
                 continue
             n = ns[-1]
             ratio = a[n]["rmse"] / b[n]["rmse"]
-            tr = a[n]["wall_time"] / b[n]["wall_time"] if b[n]["wall_time"] else float("nan")
-            eff = (b[n]["rmse"] ** 2 * b[n]["wall_time"]) / (a[n]["rmse"] ** 2 * a[n]["wall_time"]) \
-                if a[n]["wall_time"] and a[n]["rmse"] else float("nan")
+            tr = a[n]["time"] / b[n]["time"] if b[n]["time"] else float("nan")
+            eff = (b[n]["rmse"] ** 2 * b[n]["time"]) / (a[n]["rmse"] ** 2 * a[n]["time"]) \
+                if a[n]["time"] and a[n]["rmse"] else float("nan")
             lines.append(f"- MIS {mis}, {pattern}, {n} spp: RMSE(rectangle_cosine)/RMSE(rectangle) = {fmt(ratio)}, "
                          f"time ratio {fmt(tr)}, efficiency (1/(MSE x time)) ratio {fmt(eff)} "
                          f"({'better' if eff > 1 else 'worse'} than rectangle).")
@@ -381,11 +391,11 @@ def cycles_comparison(study: Dict, all_curves: Dict) -> Tuple[List[str], List[Li
             if math.isfinite(t) and how in ("measured", "below") and (best is None or t < best[0]):
                 best = (t, key, how, n)
         if best is None:
-            rows.append([fmt(r["job"]["samples"]), fmt(r["rmse"]), fmt(r["wall_time"]), "–", "–", "–"])
+            rows.append([fmt(r["job"]["samples"]), fmt(r["rmse"]), fmt(r["time"]), "–", "–", "–"])
             continue
-        ratio = best[0] / r["wall_time"]
+        ratio = best[0] / r["time"]
         ratios.append((r["job"]["samples"], ratio))
-        rows.append([fmt(r["job"]["samples"]), fmt(r["rmse"]), fmt(r["wall_time"]), curve_name(best[1]),
+        rows.append([fmt(r["job"]["samples"]), fmt(r["rmse"]), fmt(r["time"]), curve_name(best[1]),
                      fmt(best[0]) + ("" if best[2] == "measured" else f" ({best[2]})"), fmt(ratio)])
     lines = []
     if ratios:
@@ -469,8 +479,11 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
              f"{', '.join(map(str, cfg.ladder))} camera samples per pixel, {cfg.light_samples} light sample(s) each. "
              f"{len(study['ladder'])} ladder runs and {len(study['equal_time'])} equal-time runs measured. "
              f"Every run renders with {cfg.threads or 'all'} thread(s), {c.get('workers') or 1} run(s) at a time "
-             f"({c.get('executor')}); times are render wall times excluding the scene/BVH build (reported "
-             f"separately as build_time in runs.csv).")
+             f"({c.get('executor')}). "
+             + ("Times are the CPU time of each single-threaded render (excluding the scene/BVH build): unlike "
+                "wall time they do not grow when other processes compete for the cores. "
+                if cfg.threads == 1 else "Times are render wall times (excluding the scene/BVH build). ")
+             + "runs.csv also has wall_time, build_time, light_time and rays of every run.")
     if study["failures"]:
         doc.para(f"**{len(study['failures'])} runs failed** and are missing from the plots: " +
                  "; ".join(f"{f['key']}: {f['error'].splitlines()[0] if f['error'] else ''}"
@@ -558,7 +571,7 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
         name = "equal_time_grid.png"
         rows = plot_equal_time_grid(study, os.path.join(plots, name))
         doc.image(f"plots/{name}", "equal-time renders and their error heat maps")
-        doc.table(["configuration", "spp reached", "time [s]", "RMSE", "relMSE"], rows)
+        doc.table(["configuration", "samples per pixel", "time [s]", "RMSE", "relMSE"], rows)
     else:
         doc.para("No equal-time runs were measured.")
 

@@ -58,17 +58,18 @@ def load_study_scene(path: str, width: int, height: int):
 
 def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     """One render with our renderer. build_time: constructing the renderer (scene upload, BVH);
-    call_time: the render() call measured here; wall_time/light_time/shading_time/rays: its own stats."""
+    call_time: the render() call measured here; cpu_time: the process's CPU time during it (with one render
+    thread, the render's own compute time, insensitive to other load on the machine);
+    wall_time/light_time/shading_time/rays: the renderer's own stats."""
     import sphrect
     scene = load_study_scene(context.scene_path, context.width, context.height)
     t0 = time.perf_counter()
     renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
                                 pattern=job.pattern, mis=job.mis, seed=job.seed, threads=job.threads)
     t1 = time.perf_counter()
-    if job.kind == EQUAL_TIME:  # passes of one sample per pixel until the budget is spent
-        renderer.render(1, time_budget=job.time_budget)
-    else:
-        renderer.render(job.samples)
+    c1 = time.process_time()
+    renderer.render(job.samples)
+    c2 = time.process_time()
     t2 = time.perf_counter()
     image = np.array(renderer.image(job.technique), dtype=np.float32, copy=True)
     stats = dict(renderer.stats(job.technique))
@@ -76,6 +77,7 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
         "build_time": t1 - t0,
         "call_time": t2 - t1,
         "wall_time": float(stats.get("wall_time", t2 - t1)),
+        "cpu_time": c2 - c1,
         "light_time": float(stats["light_time"]) if "light_time" in stats else None,
         "shading_time": float(stats["shading_time"]) if "shading_time" in stats else None,
         "rays": int(stats["rays"]) if "rays" in stats else None,
@@ -91,11 +93,9 @@ def render_cycles_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     if not context.blend_path:
         raise ValueError("Cycles runs need the .blend scene")
     image, timing = render_cycles(context.blend_path, job.samples, context.width, context.height, seed=job.seed,
-                                  threads=job.threads,
-                                  time_limit=job.time_budget if job.kind == EQUAL_TIME else None,
-                                  blender=context.blender)
+                                  threads=job.threads, blender=context.blender)
     measured = {"build_time": timing.get("build_time"), "call_time": timing.get("operator_time"),
-                "wall_time": timing["wall_time"], "light_time": None, "shading_time": None, "rays": None,
+                "wall_time": timing["wall_time"], "cpu_time": timing.get("cpu_time"), "light_time": None, "shading_time": None, "rays": None,
                 "samples_done": timing.get("samples_done"), "timing_source": timing.get("timing_source"),
                 "blender_version": timing.get("blender_version"),
                 "cycles_sampling_pattern": timing.get("sampling_pattern")}

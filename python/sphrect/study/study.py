@@ -89,21 +89,37 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
     return records, failures
 
 
-def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
-    """Default equal-time budget: the wall time our `rectangle` technique (or the first technique) took, with
-    the last grid MIS mode and the grid pattern, at a quarter of the ladder's top sample count."""
-    technique = "rectangle" if "rectangle" in config.techniques else config.techniques[0]
-    quarter = max(config.ladder[-1] // 4, config.ladder[0])
-    middle = min(config.ladder, key=lambda n: abs(n - quarter))
+def time_of(record: Dict, threads: int) -> float:
+    """The time a run is judged by: its CPU time when it rendered with one thread (robust to other load on the
+    machine), else its wall time (see executors.py and the report)."""
+    if threads == 1 and record.get("cpu_time"):
+        return float(record["cpu_time"])
+    return float(record["wall_time"])
+
+
+def seconds_per_sample(records: List[Dict], threads: int) -> Dict[Tuple[str, str, str], float]:
+    """(engine, technique, mis) -> seconds per sample per pixel, from each configuration's largest ladder run
+    (median over patterns)."""
+    best: Dict[Tuple[str, str, str, str], Dict] = {}
     for r in records:
         j = r["job"]
-        if (j["engine"] == SPHRECT and j["technique"] == technique and j["mis"] == config.grid_mis[-1]
-                and j["pattern"] == config.grid_pattern and j["samples"] == middle):
-            return float(r["wall_time"])
-    times = [r["wall_time"] for r in records if r["job"]["engine"] == SPHRECT and r.get("wall_time")]
-    if not times:
+        key = (j["engine"], j["technique"], j["mis"], j["pattern"])
+        if key not in best or j["samples"] > best[key]["job"]["samples"]:
+            best[key] = r
+    costs: Dict[Tuple[str, str, str], List[float]] = {}
+    for (engine, technique, mis, _), r in best.items():
+        costs.setdefault((engine, technique, mis), []).append(time_of(r, threads) / r["job"]["samples"])
+    return {k: float(np.median(v)) for k, v in costs.items()}
+
+
+def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
+    """Default equal-time budget: the time our `rectangle` technique (or the first technique) takes, with the
+    last grid MIS mode, for a quarter of the ladder's top sample count."""
+    technique = "rectangle" if "rectangle" in config.techniques else config.techniques[0]
+    cost = seconds_per_sample(records, config.threads).get((SPHRECT, technique, config.grid_mis[-1]))
+    if not cost:
         raise RuntimeError("no ladder run measured: cannot choose the equal-time budget")
-    return float(np.median(times))
+    return cost * max(config.ladder[-1] // 4, 1)
 
 
 STATE_FILE = "state.json"
@@ -179,7 +195,8 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
 
     # 3. Equal time.
     budget = config.equal_time or equal_time_budget(ladder_records, config)
-    et_records, et_failures = _run_phase(executor, context, store, equal_time_jobs(config, budget),
+    et_jobs = equal_time_jobs(config, budget, seconds_per_sample(ladder_records, config.threads))
+    et_records, et_failures = _run_phase(executor, context, store, et_jobs,
                                          f"equal time ({budget:.3g} s)", progress)
 
     _write_state(out_dir, equal_time_budget=budget)
