@@ -12,6 +12,9 @@ Modules: jobs (the job list), executors (who runs it), runner (one job), store (
 reference (the reference and its error), metrics, cycles (Blender subprocesses), report, study (the phases),
 cli.
 """
+__all__ = ["Executor", "LocalProcessPool", "SerialExecutor", "Job", "StudyConfig", "build_plan", "sample_ladder",
+           "ReferenceSettings", "run_study"]
+
 from .executors import Executor, LocalProcessPool, SerialExecutor  # noqa: F401
 from .jobs import Job, StudyConfig, build_plan, sample_ladder  # noqa: F401
 from .reference import ReferenceSettings  # noqa: F401

@@ -28,12 +28,16 @@ def find_blender(explicit: Optional[str] = None) -> Optional[str]:
 
 
 def repo_addon_dir() -> Optional[str]:
-    """addon/ of the repository this package was built from (build/python/sphrect -> repo), if found."""
-    here = _HERE
-    for _ in range(6):
-        here = os.path.dirname(here)
-        if os.path.isdir(os.path.join(here, "addon", "sphrect_blender")):
-            return os.path.join(here, "addon")
+    """The add-on's folder: $SPHRECT_ADDON_DIR, else addon/ of the repository this package was built from
+    (build/python/sphrect -> repo) or of the current directory's repository, if found."""
+    if os.environ.get("SPHRECT_ADDON_DIR"):
+        return os.environ["SPHRECT_ADDON_DIR"]
+    for start in (_HERE, os.getcwd()):
+        here = os.path.join(start, "_")
+        for _ in range(6):
+            here = os.path.dirname(here)
+            if os.path.isdir(os.path.join(here, "addon", "sphrect_blender")):
+                return os.path.join(here, "addon")
     return None
 
 

@@ -7,9 +7,10 @@ knows nothing of the executor, so a cluster or batch-queue executor can be added
 Timing policy (why the default pool renders each job with one thread): on a small machine, timing runs
 that share cores perturb each other. Each job renders single-threaded and the pool runs one job per core,
 so every job has a core of its own and all techniques (and Cycles, also held to one thread) are timed
-under the same conditions; the measured times are single-core times, comparable with each other. For the
-fewest perturbations at the cost of wall time, use ``--workers 1`` (:class:`SerialExecutor` semantics in a
-separate process) and, if wanted, ``--threads 0`` to give each job all cores.
+under the same conditions. The time a run is judged by is then its CPU time (runner.py, cycles.py), which
+does not grow when other processes compete for the cores (wall time does: on a shared 2-core machine it
+varied several-fold between identical runs); wall times are recorded too. ``--threads 0`` gives each job
+all cores and judges runs by wall time instead (then use ``--workers 1``).
 """
 from __future__ import annotations
 

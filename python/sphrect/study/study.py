@@ -11,17 +11,15 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
-import math
 import os
 import sys
 import time
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
-from . import jobs as jobs_module
 from .executors import Executor, LocalProcessPool
-from .jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, Job, StudyConfig, build_plan, equal_time_jobs, fingerprint
+from .jobs import SPHRECT, Job, StudyConfig, build_plan, equal_time_jobs, fingerprint
 from .progress import ProgressBar
 from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
 from .runner import RunContext, run_job
@@ -44,6 +42,19 @@ def scene_content_hash(path: str) -> str:
             digest.update(name.encode())
             digest.update(np.ascontiguousarray(data[name]).tobytes())
     return digest.hexdigest()[:16]
+
+
+def renderer_build_hash() -> str:
+    """Hash of the native module's file: results measured with another build of the renderer are stale."""
+    try:
+        from .. import _native
+        digest = hashlib.sha256()
+        with open(_native.__file__, "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                digest.update(block)
+        return digest.hexdigest()[:16]
+    except (ImportError, OSError, AttributeError):
+        return "unknown"
 
 
 def prepare_scene(input_path: str, out_dir: str, resolution: Optional[Tuple[int, int]] = None,
@@ -165,7 +176,9 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
     from ..scene import load_scene
     camera = load_scene(scene_path).camera
     width, height = resolution or (camera.width, camera.height)
-    scene_fp = fingerprint(scene=scene_content_hash(scene_path), width=width, height=height)
+    # Runs are redone when the scene, the resolution or the renderer's build changes.
+    scene_fp = fingerprint(scene=scene_content_hash(scene_path), width=width, height=height,
+                           renderer=renderer_build_hash())
     atomic_write_json(os.path.join(out_dir, CONFIG_FILE), {
         "input": os.path.abspath(input_path), "scene_file": scene_path, "blend": blend_path, "width": width,
         "height": height, "study": config.to_dict(), "reference": reference.__dict__, "exporter_warnings": warnings,
