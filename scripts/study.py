@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The comparative study in one command:
 
-    scripts/study.py blend_scenes/paper.blend --out out/study [--resolution 320x180 --max-samples 256 ...]
+    scripts/study.py blend_scenes/01_paper.blend --out out/study [--resolution 320x180 --max-samples 256 ...]
 
 Exports the .blend with Blender headless (or takes a .sphrect.npz), measures every light-sampling technique's
 error against time (and Cycles 3.4's), and writes out/study/report.html and report.md. Run it again to resume.

@@ -20,16 +20,15 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
 from __future__ import annotations
 
 import dataclasses
-import io
 import json
 import math
-import os
-import tempfile
 import zipfile
 from dataclasses import dataclass, field
 from typing import List, Optional, Tuple
 
 import numpy as np
+
+from .fileio import atomic_write
 
 FORMAT_NAME = "sphrect-scene"
 FORMAT_VERSION = 1
@@ -214,16 +213,7 @@ def save_scene(scene: Scene, path: str) -> None:
         if m.material_ids is not None:
             arrays[f"{key}.material_ids"] = np.asarray(m.material_ids, dtype=np.int32)
     arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=directory, suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.savez_compressed(f, **arrays)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    atomic_write(path, lambda f: np.savez_compressed(f, **arrays))
 
 
 def load_scene(path: str) -> Scene:

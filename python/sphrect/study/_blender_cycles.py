@@ -5,11 +5,13 @@ Not imported by the sphrect package: it only needs bpy and numpy. Arguments (JSO
 samples, seed, threads, width, height, time_limit (seconds or null), npy, json, exr.
 """
 import json
+import math
 import sys
 import time
 
 import bpy
 import numpy as np
+from mathutils import Matrix
 
 args = json.loads(sys.argv[sys.argv.index("--") + 1])
 scene = bpy.context.scene
@@ -48,6 +50,17 @@ settings = render.image_settings
 settings.file_format = "OPEN_EXR"
 settings.color_depth = "32"
 settings.exr_codec = "ZIP"
+
+# Cycles 3.4's area lights emit on one side only. A light sphrect renders two-sided (the add-on's switch,
+# read as a raw ID property so the add-on need not be registered) becomes two back-to-back lights, each
+# with the full power: each side then has the radiance P / (4 A) the two-sided light has on both.
+for obj in list(scene.objects):
+    if obj.type == "LIGHT" and obj.data.type == "AREA" and (obj.data.get("sphrect") or {}).get("two_sided"):
+        back = obj.copy()
+        back.data = obj.data.copy()
+        back.matrix_world = obj.matrix_world @ Matrix.Rotation(math.pi, 4, "X")
+        for collection in obj.users_collection:
+            collection.objects.link(back)
 
 # Timing: the operator's time includes scene sync and the BVH build; the host (cycles.py) splits it using
 # the status lines Cycles prints ("Time:mm:ss.ss | ... | Sample k/N"). Persistent data is NOT used to skip

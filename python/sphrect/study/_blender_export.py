@@ -8,6 +8,10 @@ import bpy
 
 args = json.loads(sys.argv[sys.argv.index("--") + 1])
 sys.path.insert(0, args["addon_dir"])
+import addon_utils  # noqa: E402
+
+# Registered, not just imported: the light's two-sided switch is the add-on's property.
+addon_utils.enable("sphrect_blender", default_set=True)
 import sphrect_blender  # noqa: E402
 
 if args.get("width") and args.get("height"):

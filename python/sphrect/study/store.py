@@ -15,11 +15,12 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 import warnings
 from typing import Dict, Iterator, Optional
 
 import numpy as np
+
+from ..fileio import atomic_write
 
 RUNS = "runs"
 FAILED = "failed"
@@ -27,19 +28,7 @@ IMAGES = "images"
 
 
 def atomic_write_bytes(path: str, data: bytes) -> None:
-    directory = os.path.dirname(os.path.abspath(path))
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=".", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    atomic_write(path, lambda f: f.write(data))
 
 
 def atomic_write_json(path: str, obj) -> None:
@@ -47,19 +36,7 @@ def atomic_write_json(path: str, obj) -> None:
 
 
 def atomic_save_npy(path: str, array: np.ndarray) -> None:
-    directory = os.path.dirname(os.path.abspath(path))
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=directory, prefix=".", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.save(f, np.ascontiguousarray(array))
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    atomic_write(path, lambda f: np.save(f, np.ascontiguousarray(array)))
 
 
 class ResultStore:
@@ -71,6 +48,14 @@ class ResultStore:
         self.root = os.path.abspath(root)
         for sub in (RUNS, FAILED, IMAGES):
             os.makedirs(os.path.join(self.root, sub), exist_ok=True)
+
+    def remove_stale_temporaries(self) -> None:
+        """Delete the temporaries of writes that never finished (a worker killed mid-write). Call only
+        while no job is running: a live write's temporary looks the same."""
+        for directory, _, names in os.walk(self.root):
+            for name in names:
+                if name.startswith(".") and name.endswith(".tmp"):
+                    os.unlink(os.path.join(directory, name))
 
     # -- runs ---------------------------------------------------------------------------------------
     def run_path(self, key: str) -> str:

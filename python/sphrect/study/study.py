@@ -1,7 +1,7 @@
 """Running a whole study: scene -> reference -> sample ladder -> equal-time renders -> report.
 
     from sphrect.study import StudyConfig, run_study
-    run_study("blend_scenes/paper.blend", "out/study", StudyConfig(cycles=True))
+    run_study("blend_scenes/01_paper.blend", "out/study", StudyConfig(cycles=True))
 
 Every phase is a list of independent jobs handed to an executor; each finished job is recorded at once
 (see store.py), so running the same command again resumes where an interrupted study stopped.
@@ -93,6 +93,7 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
                 else:
                     rmse = result.get("rmse")
                     bar.update(1, note=f"{job.label} n={job.samples}" + (f" rmse={rmse:.3g}" if rmse else ""))
+    store.remove_stale_temporaries()  # no worker is writing now; a killed one may have left its temporary
     for job, message in failures:
         log(f"  failed: {job.key}: {message.splitlines()[0] if message else ''}")
     records = [r for r in (store.read_run(j.key) for j in phase_jobs)
