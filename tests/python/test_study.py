@@ -13,7 +13,7 @@ import pytest
 import sphrect
 from sphrect.study import LocalProcessPool, ReferenceSettings, SerialExecutor, StudyConfig, run_study
 from sphrect.study import metrics, store as store_module
-from sphrect.study.jobs import Job, build_plan, equal_time_jobs, sample_ladder
+from sphrect.study.jobs import Job, build_plan, equal_time_jobs, sample_ladder, stratifiable_count
 from sphrect.study.reference import estimate_error
 from sphrect.study.store import ResultStore
 
@@ -244,3 +244,11 @@ def test_killed_worker_is_reported_and_others_finish(scene_file, tmp_path, monke
     summary = study(scene_file, out, executor=LocalProcessPool(2))
     assert summary["failures"] == [] and summary["ladder_runs"] == 4 * 2 * 2 * 4
     assert os.listdir(out / "failed") == []
+
+
+def test_equal_time_counts_for_stratified_are_near_square_grids():
+    for n in range(1, 2000):
+        m = stratifiable_count(n)
+        k = int(round(m ** 0.5 - 0.25))
+        assert m <= n and m in (k * k, k * (k + 1)), (n, m)
+        assert n - m <= 2 * n ** 0.5 + 1, (n, m)  # loses at most ~2 sqrt(n) samples of the budget

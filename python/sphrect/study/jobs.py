@@ -140,6 +140,16 @@ def build_plan(config: StudyConfig) -> List[Job]:
     return jobs
 
 
+def stratifiable_count(n: int) -> int:
+    """The largest count <= n that the stratified pattern lays out as a near-square grid (k x k or k x (k+1)):
+    a prime count would make it a 1 x n grid, stratified in one dimension only, which would misrepresent the
+    pattern in the equal-time comparison. Costs at most ~1/sqrt(n) of the budget."""
+    k = max(1, int(n ** 0.5))
+    while (k + 1) * (k + 1) <= n:
+        k += 1
+    return k * (k + 1) if k * (k + 1) <= n else k * k
+
+
 def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict[Tuple[str, str, str], float]
                     ) -> List[Job]:
     """One render per technique (x grid MIS mode), and Cycles, each given the sample count that the ladder
@@ -152,7 +162,10 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
 
     def samples(engine, technique, mis):
         cost = seconds_per_sample.get((engine, technique, mis))
-        return max(1, int(round(budget / cost))) if cost and cost > 0 else None
+        if not (cost and cost > 0):
+            return None
+        n = max(1, int(round(budget / cost)))
+        return stratifiable_count(n) if engine == SPHRECT and config.grid_pattern == "stratified" else n
 
     jobs = []
     for m in config.grid_mis:
