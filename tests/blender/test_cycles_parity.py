@@ -51,6 +51,18 @@ def mean_relative_difference(ours, theirs):
     return float(np.mean(np.abs(a[lit] - b[lit]) / b[lit]))
 
 
+def difference_to_cycles(scene, label, tmp_path, light_samples=2):
+    """Render `scene` with Cycles (2048 spp) and with SPHRECT (512 spp, rectangle); print and return the mean
+    relative difference, and both images."""
+    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=2048)
+    scene.render.engine = "SPHRECT"
+    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 512, 1, light_samples
+    ours = render()["images"]["rectangle"]
+    difference = mean_relative_difference(ours, cycles)
+    print(f"{label}: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
+    return difference, ours, cycles
+
+
 def test_diffuse_scene_matches_cycles(empty_scene, tmp_path):
     scene = lit_test_scene(empty_scene)
     bpy.data.objects["Light"].visible_camera = False
@@ -79,12 +91,7 @@ def test_every_light_type_matches_cycles(light, tmp_path):
         if obj.type == "LIGHT":
             obj.visible_camera = False
             obj.hide_render = obj.name != light
-    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=2048)
-    scene.render.engine = "SPHRECT"
-    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 512, 1, 2
-    ours = render()["images"]["rectangle"]
-    difference = mean_relative_difference(ours, cycles)
-    print(f"{light}: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
+    difference, _, _ = difference_to_cycles(scene, light, tmp_path)
     assert difference <= 0.02
 
 
@@ -109,12 +116,7 @@ def test_camera_models_match_cycles(empty_scene, camera, tmp_path):
         else:
             setattr(cam, k, v)
     set_resolution(scene, WIDTH, HEIGHT)
-    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=2048)
-    scene.render.engine = "SPHRECT"
-    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 512, 1, 2
-    ours = render()["images"]["rectangle"]
-    difference = mean_relative_difference(ours, cycles)
-    print(f"{camera}: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
+    difference, _, cycles = difference_to_cycles(scene, camera, tmp_path)
     assert difference <= 0.02
     if camera == "depth_of_field":  # the comparison sees the blur: without it we are further from Cycles
         cam.dof.use_dof = False
@@ -133,10 +135,5 @@ def test_blend_scenes_match_cycles(name, tmp_path):
     for obj in bpy.data.objects:
         if obj.type == "LIGHT":
             obj.visible_camera = False
-    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=2048)
-    scene.render.engine = "SPHRECT"
-    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 512, 1, 2
-    ours = render()["images"]["rectangle"]
-    difference = mean_relative_difference(ours, cycles)
-    print(f"{name}: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
+    difference, _, _ = difference_to_cycles(scene, name, tmp_path)
     assert difference <= 0.02
