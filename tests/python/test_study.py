@@ -90,7 +90,9 @@ def test_plan_and_keys():
     costs[("cycles", "cycles", "power")] = 0.02
     et = equal_time_jobs(config, 0.5, costs)
     assert len(et) == 4 * 2 + 1
-    assert sorted({j.samples for j in et}) == [25, 50]  # budget / time per sample
+    # budget / time per sample: Cycles 25; ours 50, laid out as a 7 x 7 grid when the grid's pattern is stratified
+    ours = stratifiable_count(50) if config.grid_pattern == "stratified" else 50
+    assert sorted({j.samples for j in et}) == [25, ours]
     with pytest.raises(ValueError, match="unknown technique"):
         StudyConfig(techniques=("rect",))
     with pytest.raises(ValueError, match="unknown sample pattern"):
