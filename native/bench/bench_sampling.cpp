@@ -8,6 +8,7 @@
 // constructor); "Sample" is one Sample(u, v) on a prepared sampler, (u, v) cycling
 // through 1024 precomputed uniform points; shading points cycle through 64 ordinary
 // configurations (above, beside and oblique to a 1 x 1.5 light at distances 0.3-5).
+// "SetupFromFrame" is the same with the light's frame precomputed, as in the renderer.
 // "SampleEdgeOn" is a nearly edge-on setup where `rectangle` refines its x-step.
 #include <benchmark/benchmark.h>
 
@@ -58,6 +59,19 @@ void BM_Setup(benchmark::State& state) {
     size_t i = 0;
     for (auto _ : state) {
         LightSampler<K, T> s(os[i++ & 63], n, L);
+        benchmark::DoNotOptimize(s);
+    }
+}
+
+// The setup as the renderer runs it: the light's frame (MakeRectLightFrame) computed once.
+template <Technique K, class T>
+void BM_SetupFromFrame(benchmark::State& state) {
+    const RectLightFrame<T> F = MakeRectLightFrame(Light<T>());
+    const Vec3<T> n(0, 0, 1);
+    const auto& os = Origins<T>();
+    size_t i = 0;
+    for (auto _ : state) {
+        LightSampler<K, T> s(os[i++ & 63], n, F);
         benchmark::DoNotOptimize(s);
     }
 }
@@ -131,6 +145,7 @@ BENCHMARK(BM_SampleEdgeOn<Technique::Triangles>)->Name("SampleEdgeOn/triangles/f
 #define SPHRECT_BENCH(K, name)                                                   \
     BENCHMARK(BM_Setup<Technique::K, float>)->Name("Setup/" name "/float");      \
     BENCHMARK(BM_Setup<Technique::K, double>)->Name("Setup/" name "/double");    \
+    BENCHMARK(BM_SetupFromFrame<Technique::K, float>)->Name("SetupFromFrame/" name "/float"); \
     BENCHMARK(BM_Sample<Technique::K, float>)->Name("Sample/" name "/float");    \
     BENCHMARK(BM_Sample<Technique::K, double>)->Name("Sample/" name "/double");  \
     BENCHMARK(BM_Pdf<Technique::K, float>)->Name("Pdf/" name "/float");          \

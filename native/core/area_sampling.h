@@ -18,6 +18,36 @@
 
 namespace sphrect {
 
+// What the local frames of one light share, whatever the shading point: unit edge
+// directions, normal and edge lengths in double.  Computed once per light (a renderer keeps
+// it with the light) or once per setup by MakeAreaRect(origin, light).
+template <class T>
+struct RectLightFrame {
+    RectLight<T> light;
+    Vec3d corner;          // the corner in double
+    Vec3d exh, eyh, n;     // unit edge directions; n along cross(ex, ey): the emitting side
+    double wx = 0, wy = 0; // edge lengths
+    T area = 0;
+    bool valid = false;    // false: degenerate (zero or non-finite edges, non-finite corner)
+};
+
+template <class T>
+RectLightFrame<T> MakeRectLightFrame(const RectLight<T>& light) {
+    RectLightFrame<T> f;
+    f.light = light;
+    const Vec3d c(light.corner), ex(light.ex), ey(light.ey);
+    f.corner = c;
+    f.wx = Length(ex);
+    f.wy = Length(ey);
+    if (!(f.wx > 0 && f.wy > 0) || !std::isfinite(f.wx * f.wy) || !IsFinite(c)) return f;
+    f.exh = ex / f.wx;
+    f.eyh = ey / f.wy;
+    f.n = Normalize(Cross(ex, ey));
+    f.area = T(f.wx * f.wy);
+    f.valid = f.area > 0 && std::isfinite(f.area);
+    return f;
+}
+
 template <class T>
 struct AreaRect {
     RectLight<T> light;
@@ -30,27 +60,29 @@ struct AreaRect {
     bool valid = false;   // false: degenerate light, or origin behind a one-sided light / in its plane
 };
 
+// The frame around `origin` from the light's precomputed frame.  (Built as one aggregate from
+// locals: zero-filling the struct first and then reading fields back from it costs more than
+// the arithmetic.)
+template <class T>
+AreaRect<T> MakeAreaRect(const Vec3<T>& origin, const RectLightFrame<T>& f) {
+    const Vec3d o(origin);
+    if (!f.valid || !IsFinite(o)) {
+        AreaRect<T> r;
+        r.light = f.light;
+        r.o = o;
+        r.wx = f.wx;
+        r.wy = f.wy;
+        return r;
+    }
+    const Vec3d d = f.corner - o;
+    const double z = Dot(d, f.n);  // < 0: o is on the emitting side of a one-sided light
+    return AreaRect<T>{f.light, o, f.exh, f.eyh, z < 0 ? -f.n : f.n, Dot(d, f.exh), Dot(d, f.eyh), f.wx, f.wy,
+                       std::abs(z), f.area, z != 0 && (f.light.two_sided || z < 0)};
+}
+
 template <class T>
 AreaRect<T> MakeAreaRect(const Vec3<T>& origin, const RectLight<T>& light) {
-    AreaRect<T> r;
-    r.light = light;
-    const Vec3d o(origin), c(light.corner), ex(light.ex), ey(light.ey);
-    r.o = o;
-    r.wx = Length(ex);
-    r.wy = Length(ey);
-    if (!(r.wx > 0 && r.wy > 0) || !std::isfinite(r.wx * r.wy) || !IsFinite(o) || !IsFinite(c)) return r;
-    r.exh = ex / r.wx;
-    r.eyh = ey / r.wy;
-    const Vec3d n = Normalize(Cross(ex, ey));
-    const Vec3d d = c - o;
-    const double z = Dot(d, n);  // < 0: o is on the emitting side of a one-sided light
-    r.x0 = Dot(d, r.exh);
-    r.y0 = Dot(d, r.eyh);
-    r.h = std::abs(z);
-    r.az = z < 0 ? -n : n;
-    r.area = T(r.wx * r.wy);
-    r.valid = z != 0 && (light.two_sided || z < 0) && r.area > 0 && std::isfinite(r.area);
-    return r;
+    return MakeAreaRect(origin, MakeRectLightFrame(light));
 }
 
 // Solid-angle pdf of uniform area sampling at the point with local in-plane

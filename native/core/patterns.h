@@ -62,32 +62,73 @@ inline uint32_t ReverseBits32(uint32_t v) {
     v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
     v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
     v = ((v >> 4) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4);
-    v = ((v >> 8) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8);
-    return (v >> 16) | (v << 16);
+    return __builtin_bswap32(v);  // the byte and half-word swaps in one instruction
 }
 
 // Nested uniform (Owen) scrambling of a 32-bit binary fraction.  In bit-reversed order the
 // most significant digit is bit 0, and each step below flips digit k by a function of the
 // digits before it only (adding a key carries upwards; x ^= x * even_constant flips bit k by
 // bits < k), which is exactly a nested uniform scramble.  Constants from Burley (2020).
-inline uint32_t OwenScramble(uint32_t x, uint32_t seed) {
-    x = ReverseBits32(x);
+// The scramble on digits already in bit-reversed order (most significant digit = bit 0).
+inline uint32_t OwenScrambleReversed(uint32_t x, uint32_t seed) {
     x += seed;
     x ^= x * 0x6c50b47cu;
     x ^= x * 0xb82f1e52u;
     x ^= x * 0xc7afe638u;
     x ^= x * 0x8d22f6e6u;
-    return ReverseBits32(x);
+    return x;
+}
+
+inline uint32_t OwenScramble(uint32_t x, uint32_t seed) {
+    return ReverseBits32(OwenScrambleReversed(ReverseBits32(x), seed));
 }
 
 // Second Sobol' dimension as a 32-bit binary fraction: its generator matrix is Pascal's
-// triangle mod 2, i.e. direction numbers v_{k+1} = v_k ^ (v_k >> 1) from v_0 = 1/2.
-inline uint32_t SobolDimension1(uint32_t index) {
-    uint32_t result = 0;
-    for (uint32_t v = 1u << 31; index != 0; index >>= 1, v ^= v >> 1)
-        if (index & 1u) result ^= v;
-    return result;
+// triangle mod 2, i.e. direction numbers v_{k+1} = v_k ^ (v_k >> 1) from v_0 = 1/2
+// (v_k is the column for bit k of the index).
+constexpr uint32_t SobolDirection1(int k) {
+    uint32_t v = 1u << 31;
+    for (int i = 0; i < k; ++i) v ^= v >> 1;
+    return v;
 }
+
+// The matrix-vector product over GF(2) a byte of the index at a time: table[b][x] is the XOR
+// of the columns of the bits set in byte b = x (4 x 256 entries, built at compile time).
+// `reversed` stores the columns bit-reversed, i.e. the fraction with its most significant
+// digit in bit 0, the order the Owen scramble works in.
+struct SobolByteTables {
+    uint32_t table[4][256];
+};
+
+constexpr SobolByteTables MakeSobolByteTables(bool reversed) {
+    SobolByteTables t{};
+    for (int b = 0; b < 4; ++b)
+        for (int x = 0; x < 256; ++x) {
+            uint32_t r = 0;
+            for (int j = 0; j < 8; ++j)
+                if (x & (1 << j)) {
+                    uint32_t v = SobolDirection1(8 * b + j);
+                    if (reversed) {
+                        uint32_t w = 0;
+                        for (int i = 0; i < 32; ++i) w |= ((v >> i) & 1u) << (31 - i);
+                        v = w;
+                    }
+                    r ^= v;
+                }
+            t.table[b][x] = r;
+        }
+    return t;
+}
+
+inline constexpr SobolByteTables kSobolDimension1Tables = MakeSobolByteTables(false);
+inline constexpr SobolByteTables kSobolDimension1ReversedTables = MakeSobolByteTables(true);
+
+inline uint32_t SobolByteProduct(const SobolByteTables& t, uint32_t index) {
+    return t.table[0][index & 0xffu] ^ t.table[1][(index >> 8) & 0xffu] ^ t.table[2][(index >> 16) & 0xffu] ^
+           t.table[3][index >> 24];
+}
+
+inline uint32_t SobolDimension1(uint32_t index) { return SobolByteProduct(kSobolDimension1Tables, index); }
 
 // A float in [index/count, (index+1)/count), at position rand32 / 2^32 inside that interval,
 // truncated to 24 bits (so < 1, and on the interval's side of every dyadic boundary that a
@@ -121,10 +162,21 @@ inline void ShufflePoints(Point2<float>* p, uint32_t n, PCG32& rng) {
 }
 
 // Point `index` of Sobol' (first two dimensions), each Owen-scrambled with its own key.
+// The first dimension is the radical inverse of the index, whose bit-reversed digits are the
+// index itself; the second comes from the bit-reversed table: one reversal per coordinate.
 inline Point2<float> ScrambledSobolPoint(uint32_t index, uint32_t key_x, uint32_t key_y) {
-    return {BitsToUnitFloat(OwenScramble(ReverseBits32(index), key_x)),
-            BitsToUnitFloat(OwenScramble(SobolDimension1(index), key_y))};
+    const uint32_t x = ReverseBits32(OwenScrambleReversed(index, key_x));
+    const uint32_t y =
+        ReverseBits32(OwenScrambleReversed(SobolByteProduct(kSobolDimension1ReversedTables, index), key_y));
+    return {BitsToUnitFloat(x), BitsToUnitFloat(y)};
 }
+
+// The two scramble keys of the sequence selected by `seed` (what SobolPoint uses).
+struct SobolKeys {
+    uint32_t x, y;
+};
+
+inline SobolKeys MakeSobolKeys(uint64_t seed) { return {SubSeed(seed, 1), SubSeed(seed, 2)}; }
 
 }  // namespace pattern_detail
 
@@ -132,7 +184,8 @@ inline Point2<float> ScrambledSobolPoint(uint32_t index, uint32_t key_x, uint32_
 // index over progressive passes continues the same sequence (prefixes of 2^m points are nets).
 inline Point2<float> SobolPoint(uint32_t index, uint64_t seed) {
     using namespace pattern_detail;
-    return ScrambledSobolPoint(index, SubSeed(seed, 1), SubSeed(seed, 2));
+    const SobolKeys k = MakeSobolKeys(seed);
+    return ScrambledSobolPoint(index, k.x, k.y);
 }
 
 // Writes n points of the pattern into out[0..n).
@@ -190,8 +243,8 @@ inline void GeneratePattern(Pattern pattern, uint32_t n, uint64_t seed, Point2<f
             return;
         }
         case Pattern::Sobol: {
-            const uint32_t key_x = SubSeed(seed, 1), key_y = SubSeed(seed, 2);  // as SobolPoint
-            for (uint32_t i = 0; i < n; ++i) out[i] = ScrambledSobolPoint(i, key_x, key_y);
+            const SobolKeys k = MakeSobolKeys(seed);  // as SobolPoint
+            for (uint32_t i = 0; i < n; ++i) out[i] = ScrambledSobolPoint(i, k.x, k.y);
             return;
         }
     }

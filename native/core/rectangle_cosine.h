@@ -26,9 +26,8 @@ struct CosineRectangle {
 };
 
 template <class T>
-CosineRectangle<T> MakeCosineRectangle(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light) {
-    CosineRectangle<T> r;
-    r.rect = MakeSphericalRectangle(origin, light);
+CosineRectangle<T> MakeCosineRectangle(const Vec3<T>& origin, const Vec3<T>& normal, const RectLightFrame<T>& frame) {
+    CosineRectangle<T> r{MakeSphericalRectangle(origin, frame)};  // built in place
     if (!r.rect.valid) return r;
     const Vec3d n(normal);
     const double ln = Length(n);
@@ -43,6 +42,11 @@ CosineRectangle<T> MakeCosineRectangle(const Vec3<T>& origin, const Vec3<T>& nor
         }
     r.valid = r.w[0] + r.w[1] + r.w[2] + r.w[3] > 0;
     return r;
+}
+
+template <class T>
+CosineRectangle<T> MakeCosineRectangle(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light) {
+    return MakeCosineRectangle(origin, normal, MakeRectLightFrame(light));
 }
 
 template <class T>

@@ -18,7 +18,9 @@
 //    height h the triple product is exactly h w l (column operations), and inside
 //    one quadrant every dot product is positive, so the denominator is a sum of
 //    positive terms.  (Without the split, a foot of o on a diagonal makes it cancel:
-//    error eps / h.)  A piece with a corner at the foot is atan(w l / (h r)).
+//    error eps / h.)  A piece with a corner at the foot is atan(w l / (h r)).  The
+//    half-angles of all pieces are summed as the argument of a complex product
+//    (HalfAngleSum): one atan2 per solid angle instead of one per triangle.
 //    Omega is accurate to a few ulps of double in every configuration.
 //
 //  * x-step.  With s = sin(theta), x = h tan(theta), the solid angle of the strip
@@ -87,14 +89,40 @@ struct Interval {
     double a0, a1, w;
 };
 
-// Solid angle of X x Y in the plane z = h > 0 seen from the origin, for a0 >= 0 in
-// both: Van Oosterom & Strackee on the triangles (00,10,11), (00,11,01).  In one
-// quadrant every dot product is >= h^2 > 0, so the denominators are sums of positive
-// terms, and the triple product is exactly h wx wy: a relative error of a few ulps.
-inline double QuadrantRectSolidAngle(const Interval& X, const Interval& Y, double h) {
+// Half solid angles added as arguments of a complex product: each spherical triangle (or
+// corner piece) contributes the factor 1 + i tan(W_k / 2), and W = 2 arg(prod), so a region
+// made of up to eight triangles costs one atan2 instead of eight.  Every factor has
+// 0 <= tan(W_k / 2) <= 1 (a triangle inside one quadrant of the plane subtends less than
+// pi / 2), so the product stays between 1 and 16 in magnitude (no overflow).  Precision: the
+// imaginary part is a sum of non-negative terms while the real part is positive, i.e. while
+// W < pi, so a small W keeps a relative error of a few ulps; the real part can cancel, but
+// only near W = pi, where the few-ulp normwise error of the product is also a few ulps of W.
+struct HalfAngleSum {
+    double re = 1, im = 0;
+    void Add(double tan_half) {
+        const double r = re - im * tan_half, i = im + re * tan_half;
+        re = r;
+        im = i;
+    }
+    // (im >= 0 mathematically; rounding could push it below 0 only when W is within a few ulps
+    // of 2 pi, where +0 keeps W = 2 pi rather than jumping to -2 pi.)
+    double SolidAngle() const { return 2 * std::atan2(std::max(im, 0.0), re); }
+};
+
+// Adds the solid angle of X x Y in the plane z = h > 0 seen from the origin, for a0 >= 0
+// in both: Van Oosterom & Strackee on the triangles (00,10,11), (00,11,01),
+// tan(W/2) = |a.(b x c)| / (abc + (a.b)c + (a.c)b + (b.c)a).  In one quadrant every dot
+// product is >= h^2 > 0, so the denominators are sums of positive terms, and the triple
+// product is exactly h wx wy: a relative error of a few ulps.
+inline void AddQuadrantRectSolidAngle(const Interval& X, const Interval& Y, double h, HalfAngleSum& sum) {
     const double x0 = X.a0, x1 = X.a1, y0 = Y.a0, y1 = Y.a1, h2 = h * h;
-    // A corner at the foot of o: the closed form atan(w l / (h r)), all terms positive.
-    if (x0 == 0 && y0 == 0) return std::atan2(X.w * Y.w, h * std::sqrt(x1 * x1 + y1 * y1 + h2));
+    if (x0 == 0 && y0 == 0) {
+        // A corner at the foot of o: W = atan(w l / (h r)), whose half-angle tangent is
+        // w l / (h r + |(h r, w l)|), |(h r, w l)|^2 = (h^2 + w^2)(h^2 + l^2): all terms positive.
+        const double r = std::sqrt(x1 * x1 + y1 * y1 + h2);
+        sum.Add(X.w * Y.w / (h * r + std::sqrt((h2 + x1 * x1) * (h2 + y1 * y1))));
+        return;
+    }
     const double l00 = std::sqrt(x0 * x0 + y0 * y0 + h2), l10 = std::sqrt(x1 * x1 + y0 * y0 + h2);
     const double l11 = std::sqrt(x1 * x1 + y1 * y1 + h2), l01 = std::sqrt(x0 * x0 + y1 * y1 + h2);
     const double num = h * X.w * Y.w;
@@ -102,14 +130,21 @@ inline double QuadrantRectSolidAngle(const Interval& X, const Interval& Y, doubl
                         (x1 * x1 + y0 * y1 + h2) * l00;
     const double den2 = l00 * l11 * l01 + (x0 * x1 + y0 * y1 + h2) * l01 + (x0 * x0 + y0 * y1 + h2) * l11 +
                         (x0 * x1 + y1 * y1 + h2) * l00;
-    return 2 * (std::atan2(num, den1) + std::atan2(num, den2));
+    sum.Add(num / den1);
+    sum.Add(num / den2);
 }
 
-// Solid angle of X x Y in the plane z = h > 0 seen from the origin: split at x = 0 and
-// y = 0 into up to four quadrant pieces, each mirrored into the first quadrant.
-// (Without the split, a foot of o on a diagonal or near an edge makes the
-// denominators cancel: relative error eps / h.)
-inline double RectSolidAngleLocal(const Interval& X, const Interval& Y, double h) {
+inline double QuadrantRectSolidAngle(const Interval& X, const Interval& Y, double h) {
+    HalfAngleSum sum;
+    AddQuadrantRectSolidAngle(X, Y, h, sum);
+    return sum.SolidAngle();
+}
+
+// Adds the solid angle of X x Y in the plane z = h > 0 seen from the origin: split at
+// x = 0 and y = 0 into up to four quadrant pieces, each mirrored into the first quadrant.
+// (Without the split, a foot of o on a diagonal or near an edge makes the denominators
+// cancel: relative error eps / h.)
+inline void AddRectSolidAngleLocal(const Interval& X, const Interval& Y, double h, HalfAngleSum& sum) {
     Interval xs[2], ys[2];
     auto pieces = [](const Interval& I, Interval* out) {
         if (I.a0 >= 0) { out[0] = I; return 1; }
@@ -119,10 +154,14 @@ inline double RectSolidAngleLocal(const Interval& X, const Interval& Y, double h
         return 2;
     };
     const int nx = pieces(X, xs), ny = pieces(Y, ys);
-    double sum = 0;
     for (int i = 0; i < nx; ++i)
-        for (int j = 0; j < ny; ++j) sum += QuadrantRectSolidAngle(xs[i], ys[j], h);
-    return sum;
+        for (int j = 0; j < ny; ++j) AddQuadrantRectSolidAngle(xs[i], ys[j], h, sum);
+}
+
+inline double RectSolidAngleLocal(const Interval& X, const Interval& Y, double h) {
+    HalfAngleSum sum;
+    AddRectSolidAngleLocal(X, Y, h, sum);
+    return sum.SolidAngle();
 }
 
 // b(yb) - b(ya) with b(y) = y / sqrt(y^2 + d^2), without cancellation; dy = yb - ya
@@ -130,6 +169,12 @@ inline double RectSolidAngleLocal(const Interval& X, const Interval& Y, double h
 inline double DiffB(double ya, double yb, double d, double dy) {
     const double d2 = d * d;
     const double ra = std::sqrt(ya * ya + d2), rb = std::sqrt(yb * yb + d2);
+    if (ya * yb > 0) return d2 * dy * (yb + ya) / (ra * rb * (yb * ra + ya * rb));
+    return yb / rb - ya / ra;
+}
+
+// The same with ra = sqrt(ya^2 + d^2), rb = sqrt(yb^2 + d^2) and d2 = d^2 already known.
+inline double DiffB(double ya, double yb, double ra, double rb, double d2, double dy) {
     if (ya * yb > 0) return d2 * dy * (yb + ya) / (ra * rb * (yb * ra + ya * rb));
     return yb / rb - ya / ra;
 }
@@ -164,16 +209,15 @@ struct SphericalRectangle {
 };
 
 template <class T>
-SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLight<T>& light) {
+SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLightFrame<T>& frame) {
     using namespace srect;
-    SphericalRectangle<T> sr;
-    sr.plane = MakeAreaRect(origin, light);
+    SphericalRectangle<T> sr{MakeAreaRect(origin, frame)};  // the plane built in place
     const AreaRect<T>& p = sr.plane;
     if (!p.valid) return sr;
     // Choose the frame: the x-slab should contain the foot of o (or be the nearer one).
     const double X0 = p.x0, X1 = p.x0 + p.wx, Y0 = p.y0, Y1 = p.y0 + p.wy;
-    const double gx = std::max({0.0, X0, -X1}) / p.wx, gy = std::max({0.0, Y0, -Y1}) / p.wy;
-    sr.swap = gy < gx;
+    // Gaps relative to the edge lengths, gy / wy < gx / wx, compared without dividing.
+    sr.swap = std::max({0.0, Y0, -Y1}) * p.wx < std::max({0.0, X0, -X1}) * p.wy;
     double a0 = sr.swap ? Y0 : X0, a1 = sr.swap ? Y1 : X1;
     double c0 = sr.swap ? X0 : Y0, c1 = sr.swap ? X1 : Y1;
     if (a1 < 0) { sr.sx = -1; std::swap(a0, a1); a0 = -a0; a1 = -a1; }  // near edge first
@@ -199,35 +243,49 @@ SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLi
     if (!(sr.solid_angle > 0) || !std::isfinite(sr.pdf)) return sr;
     sr.valid = true;
 
-    sr.b0 = c0 / std::sqrt(c0 * c0 + h * h);
-    sr.b1 = c1 / std::sqrt(c1 * c1 + h * h);
-    sr.db = DiffB(c0, c1, h, wc);
-    sr.pb = c0 < 0 ? DiffB(-c0, c1, h, c1 + c0) : sr.b1 + sr.b0;
-    sr.s0 = a0 / std::sqrt(a0 * a0 + h * h);
-    sr.s1 = a1 / std::sqrt(a1 * a1 + h * h);
+    // Distances shared by the constants below (each square root taken once).
+    const double h2 = h * h;
+    const double rc0 = std::sqrt(c0 * c0 + h2), rc1 = std::sqrt(c1 * c1 + h2);  // |(0, y_i, h)|
+    const double ra0 = std::sqrt(a0 * a0 + h2), ra1 = std::sqrt(a1 * a1 + h2);  // |(x_i, 0, h)|
+    sr.b0 = c0 / rc0;
+    sr.b1 = c1 / rc1;
+    sr.db = DiffB(c0, c1, rc0, rc1, h2, wc);
+    sr.pb = c0 < 0 ? DiffB(-c0, c1, rc0, rc1, h2, c1 + c0) : sr.b1 + sr.b0;
+    sr.s0 = a0 / ra0;
+    sr.s1 = a1 / ra1;
     sr.y_beside = c0 > 0;
 
     // First-order rounding error of the map in (u, v) space (unit roundoff eps):
     //  x-step: T = T0 + u Omega, and s rounded near its ends: eps (|T0| + Omega + |F'(s) s|) / Omega;
     //  y-step: eps max(|hy|) / (hy1 - hy0) at the largest d.
     constexpr double eps = std::numeric_limits<double>::epsilon();
-    auto slope = [&](double x) {  // |F'(s) s| at x; F'(s) = b1/q1 - b0/q0, q_i^2 = 1 - b_i^2 s^2, cancellation-free
-        const double s = x / std::sqrt(x * x + h * h), oms2 = h * h / (x * x + h * h);  // 1 - s^2
-        const double e0 = h * h / (h * h + c0 * c0), e1 = h * h / (h * h + c1 * c1);  // 1 - b_i^2
+    const double e0 = h2 / (h2 + c0 * c0), e1 = h2 / (h2 + c1 * c1);  // 1 - b_i^2
+    // |F'(s) s| at x, s = x / |(x, 0, h)|; F'(s) = b1/q1 - b0/q0, q_i^2 = 1 - b_i^2 s^2, cancellation-free.
+    auto slope = [&](double x, double s) {
+        const double oms2 = h2 / (x * x + h2);  // 1 - s^2
         const double q0 = std::sqrt(e0 + sr.b0 * sr.b0 * oms2), q1 = std::sqrt(e1 + sr.b1 * sr.b1 * oms2);
         const double fp = sr.b0 >= 0 ? sr.db * (sr.b1 + sr.b0) / (q0 * q1 * (sr.b1 * q0 + sr.b0 * q1))
                                      : sr.b1 / q1 - sr.b0 / q0;
         return std::abs(fp * s);
     };
-    const double ex = eps * (std::abs(sr.T0) + sr.omega + std::max(slope(a0), slope(a1))) / sr.omega;
-    const double dmax = std::sqrt(std::max(a0 * a0, a1 * a1) + h * h);
+    const double ex = eps * (std::abs(sr.T0) + sr.omega + std::max(slope(a0, sr.s0), slope(a1, sr.s1))) / sr.omega;
     // (Inside the y-slab |hy| <= hy1 - hy0, so the error is a few eps.)
-    const double ey = sr.y_beside ? eps * OneMinusB(c0, dmax * dmax) / DiffB(c0, c1, dmax, wc) : 2 * eps;
+    double ey = 2 * eps;
+    if (sr.y_beside) {
+        const double dmax = std::max(ra0, ra1), dmax2 = dmax * dmax;
+        const double r0 = std::sqrt(c0 * c0 + dmax2), r1 = std::sqrt(c1 * c1 + dmax2);
+        ey = eps * (dmax2 / (r0 * (r0 + c0))) / DiffB(c0, c1, r0, r1, dmax2, wc);  // (1 - hy0) / (hy1 - hy0)
+    }
     sr.error_x = ex;
     sr.polish_x = ex > kSphericalRectanglePolishAbove;
     sr.error_estimate = (sr.polish_x ? kSphericalRectanglePolishedError : ex) + ey;
     sr.area_fallback = !(sr.error_estimate <= kSphericalRectangleMaxError);
     return sr;
+}
+
+template <class T>
+SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLight<T>& light) {
+    return MakeSphericalRectangle(origin, MakeRectLightFrame(light));
 }
 
 // Local map coordinates (x, y) -> coordinates (X, Y) along the light's edges.

@@ -33,21 +33,38 @@ struct SphericalTriangle {
     double area = 0;            // solid angle
 };
 
-// a, b, c: the vertices as vectors from the viewpoint (any length).
-inline SphericalTriangle MakeSphericalTriangle(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+// a, b, c: the vertices as vectors from the viewpoint (any length), with their lengths
+// (callers sharing vertices between triangles compute each length once).
+inline SphericalTriangle MakeSphericalTriangle(const Vec3d& a, const Vec3d& b, const Vec3d& c, double la, double lb,
+                                               double lc) {
     SphericalTriangle t;
-    t.A = Normalize(a);
-    t.B = Normalize(b);
-    t.C = Normalize(c);
-    t.area = SphericalTriangleSolidAngle(a, b, c);
-    // Angle at A between the planes (A, B) and (A, C).
+    t.A = a / la;
+    t.B = b / lb;
+    t.C = c / lc;
+    // SphericalTriangleSolidAngle(a, b, c) with the lengths at hand.
+    const double num = std::abs(Dot(a, Cross(b, c)));
+    const double den = la * lb * lc + Dot(a, b) * lc + Dot(a, c) * lb + Dot(b, c) * la;
+    t.area = 2 * std::atan2(num, den);
+    // Angle at A between the planes (A, B) and (A, C); its cosine and sine straight from the
+    // same two numbers (no cos/sin of the angle).
     const Vec3d nab = Cross(t.A, t.B), nac = Cross(t.A, t.C);
-    t.alpha = std::atan2(Length(Cross(nab, nac)), Dot(nab, nac));
-    t.cos_alpha = std::cos(t.alpha);
-    t.sin_alpha = std::sin(t.alpha);
+    const double y = Length(Cross(nab, nac)), x = Dot(nab, nac);
+    t.alpha = std::atan2(y, x);
+    const double r = std::sqrt(x * x + y * y);
+    if (r > 0 && std::isfinite(r)) {
+        t.cos_alpha = x / r;
+        t.sin_alpha = y / r;
+    } else {
+        t.cos_alpha = std::cos(t.alpha);
+        t.sin_alpha = std::sin(t.alpha);
+    }
     t.cos_c = Dot(t.A, t.B);
     t.C_perp = Normalize(t.C - t.A * Dot(t.C, t.A));
     return t;
+}
+
+inline SphericalTriangle MakeSphericalTriangle(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+    return MakeSphericalTriangle(a, b, c, Length(a), Length(b), Length(c));
 }
 
 // The unit direction M(u, v) in the triangle.

@@ -2,6 +2,8 @@
 // bindings can be templated on the technique (no run-time branch per sample).
 //
 //   LightSampler<K, T> s(origin, normal, light);   // per (shading point, light) setup
+//   LightSampler<K, T> s(origin, normal, frame);   // the same from MakeRectLightFrame(light),
+//                                                  // computed once per light
 //   s.Valid()                                      // false: every sample has pdf 0
 //   s.Sample({u, v}) -> LightSample<T>
 //   s.Pdf(point_on_light) -> solid-angle pdf of choosing that point (for MIS)
@@ -49,6 +51,8 @@ struct LightSampler<Technique::Area, T> {
     AreaRect<T> r;
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLight<T>& light)
         : r(MakeAreaRect(origin, light)) {}
+    LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLightFrame<T>& frame)
+        : r(MakeAreaRect(origin, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleRectangleArea(r, uv); }
     T Pdf(const Vec3<T>& p) const { return RectangleAreaPDF(r, p); }
@@ -59,6 +63,8 @@ struct LightSampler<Technique::Triangles, T> {
     TwoTriangles<T> r;
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLight<T>& light)
         : r(MakeTwoTriangles(origin, light)) {}
+    LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLightFrame<T>& frame)
+        : r(MakeTwoTriangles(origin, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleTwoTriangles(r, uv); }
     T Pdf(const Vec3<T>& p) const { return TwoTrianglesPDF(r, p); }
@@ -69,6 +75,8 @@ struct LightSampler<Technique::Rectangle, T> {
     SphericalRectangle<T> r;
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLight<T>& light)
         : r(MakeSphericalRectangle(origin, light)) {}
+    LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLightFrame<T>& frame)
+        : r(MakeSphericalRectangle(origin, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleSphericalRectangle(r, uv); }
     T Pdf(const Vec3<T>& p) const { return SphericalRectanglePDF(r, p); }
@@ -79,6 +87,8 @@ struct LightSampler<Technique::RectangleCosine, T> {
     CosineRectangle<T> r;
     LightSampler(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light)
         : r(MakeCosineRectangle(origin, normal, light)) {}
+    LightSampler(const Vec3<T>& origin, const Vec3<T>& normal, const RectLightFrame<T>& frame)
+        : r(MakeCosineRectangle(origin, normal, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleCosineRectangle(r, uv); }
     T Pdf(const Vec3<T>& p) const { return CosineRectanglePDF(r, p); }

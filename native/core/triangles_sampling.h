@@ -31,7 +31,7 @@ constexpr double kTwoTrianglesMinSolidAngle = 1e-7;
 template <class T>
 struct TwoTriangles {
     AreaRect<T> plane;  // frame around o, and the planar fallback's geometry
-    SphericalTriangle tri[2];  // (00, 10, 11) and (00, 11, 01) in light fractions (a, b)
+    SphericalTriangle tri[2] = {};  // (00, 10, 11) and (00, 11, 01) in light fractions (a, b)
     bool planar[2] = {false, false};  // sampled by area on the planar triangle
     double p1 = 0;      // probability of the first triangle
     double omega = 0;   // solid angle of the rectangle (stable)
@@ -41,16 +41,16 @@ struct TwoTriangles {
 };
 
 template <class T>
-TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLight<T>& light) {
-    TwoTriangles<T> r;
-    r.plane = MakeAreaRect(origin, light);
+TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLightFrame<T>& frame) {
+    TwoTriangles<T> r{MakeAreaRect(origin, frame)};  // the plane built in place
     const AreaRect<T>& p = r.plane;
     if (!p.valid) return r;
     // Corners relative to o from the local coordinates (no cancellation for o near the plane).
     auto corner = [&](int i, int j) { return p.exh * (p.x0 + i * p.wx) + p.eyh * (p.y0 + j * p.wy) + p.az * p.h; };
     const Vec3d c00 = corner(0, 0), c10 = corner(1, 0), c11 = corner(1, 1), c01 = corner(0, 1);
-    r.tri[0] = MakeSphericalTriangle(c00, c10, c11);
-    r.tri[1] = MakeSphericalTriangle(c00, c11, c01);
+    const double l00 = Length(c00), l10 = Length(c10), l11 = Length(c11), l01 = Length(c01);
+    r.tri[0] = MakeSphericalTriangle(c00, c10, c11, l00, l10, l11);
+    r.tri[1] = MakeSphericalTriangle(c00, c11, c01, l00, l11, l01);
     r.omega = srect::RectSolidAngleLocal({p.x0, p.x0 + p.wx, p.wx}, {p.y0, p.y0 + p.wy, p.wy}, p.h);
     const double sum = r.tri[0].area + r.tri[1].area;
     r.pdf = T(1 / sum);
@@ -61,6 +61,11 @@ TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLight<T>& ligh
     r.area_fallback = r.planar[0] && r.planar[1];
     if (r.area_fallback) r.p1 = 0.5;  // halves of the area: plain uniform area sampling
     return r;
+}
+
+template <class T>
+TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLight<T>& light) {
+    return MakeTwoTriangles(origin, MakeRectLightFrame(light));
 }
 
 // Which triangle the light fractions (a, b) lie in: 0 below the diagonal b = a.

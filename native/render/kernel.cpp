@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <type_traits>
 #include <utility>
 
@@ -75,11 +76,14 @@ void FillPattern(Pattern pattern, uint32_t n, uint32_t first, uint32_t pass, uin
                  Point2<float>* out) {
     const uint32_t shuffle_seed = uint32_t(MixBits(seed ^ 0x2545f4914f6cdd1dull) >> 32);
     if (pattern == Pattern::Sobol) {
+        // SobolPoint(index, seed) point by point, with the scramble keys derived once.
+        const pattern_detail::SobolKeys keys = pattern_detail::MakeSobolKeys(seed);
         if (shuffle) {
             for (uint32_t i = 0; i < n; ++i)
-                out[i] = SobolPoint(pattern_detail::OwenScramble(first + i, shuffle_seed), seed);
+                out[i] = pattern_detail::ScrambledSobolPoint(pattern_detail::OwenScramble(first + i, shuffle_seed),
+                                                             keys.x, keys.y);
         } else {
-            for (uint32_t i = 0; i < n; ++i) out[i] = SobolPoint(first + i, seed);
+            for (uint32_t i = 0; i < n; ++i) out[i] = pattern_detail::ScrambledSobolPoint(first + i, keys.x, keys.y);
         }
         return;
     }
@@ -198,7 +202,7 @@ inline float LightSamplingPDF(const RenderScene& scene, int index, const Vec3f& 
     } else if (cached && cached_index == index) {
         pdf = cached->Pdf(p);
     } else {
-        const LightSampler<K, float> s(origin, normal, l.rect);
+        const LightSampler<K, float> s(origin, normal, l.frame);
         pdf = s.Valid() ? s.Pdf(p) : 0.0f;
     }
     ticks += ReadTicks() - t0;
@@ -241,6 +245,8 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
     Spectrum area_sum;
     // Without area lights and BSDF rays (only delta lights) there is nothing to sample.
     const int n_pairs = (!scene.light_selector.Empty() || c.trace_bsdf) ? c.light_samples : 0;
+    std::optional<LightSampler<K, float>> sampler;  // set up for area light `sampler_light`
+    int sampler_light = -1;
     for (int j = 0; j < n_pairs; ++j) {
         int chosen = -1;
         float pmf = 0;
@@ -249,13 +255,17 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
             pmf = scene.light_selector.pmf[chosen];
         }
         const AreaLight* light = chosen >= 0 ? &scene.area_lights[chosen] : nullptr;
-        // Light sample.  The sampler lives in this scope so the paired BSDF sample can reuse it.
+        // Light sample.  The sampler's setup is done once per (shading point, light) and reused
+        // by the following light samples of the same light and by the paired BSDF samples.
         const uint64_t t0 = ReadTicks();
         const bool is_rect = light && light->shape == AreaShape::Rectangle;
-        const LightSampler<K, float> sampler(h.p, h.ns, is_rect ? light->rect : RectLight<float>{});
+        if (is_rect && sampler_light != chosen) {
+            sampler.emplace(h.p, h.ns, light->frame);
+            sampler_light = chosen;
+        }
         LightSample<float> ls;
         if (is_rect) {
-            if (sampler.Valid()) ls = sampler.Sample(light_points[j]);
+            if (sampler->Valid()) ls = sampler->Sample(light_points[j]);
         } else if (light) {
             ls = SampleEllipseArea(*light, h.p, light_points[j]);
         }
@@ -288,7 +298,7 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
                     if (std::isinf(t_hit)) li += scene.background * SegmentTransmittance<kMedium>(scene, kInf);
                     if (c.mis != MisMode::None)
                         li += LightsAlongRay<K, kMedium>(c, origin, wi_world, t_hit, bs.pdf, h.p, h.ns,
-                                                         is_rect ? &sampler : nullptr, chosen, tally.light_ticks);
+                                                         is_rect ? &*sampler : nullptr, chosen, tally.light_ticks);
                     if (!IsBlack(li)) area_sum += bs.f * li * (bs.wi.z / bs.pdf);
                 }
             }
@@ -324,7 +334,7 @@ Spectrum InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ra
     const float pmf = chosen >= 0 ? scene.light_selector.pmf[chosen] : 0.0f;
     const uint64_t t0 = ReadTicks();
     const bool is_rect = light && light->shape == AreaShape::Rectangle;
-    const LightSampler<MK, float> sampler(x, ray_dir, is_rect ? light->rect : RectLight<float>{});
+    const LightSampler<MK, float> sampler(x, ray_dir, is_rect ? light->frame : RectLightFrame<float>{});
     LightSample<float> ls;
     if (is_rect) {
         if (sampler.Valid()) ls = sampler.Sample(light_point);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/area_sampling.h"
 #include "core/rect_light.h"
 #include "sampling_util.h"
 
@@ -21,6 +22,7 @@ enum class AreaShape { Rectangle, Ellipse };
 struct AreaLight {
     AreaShape shape = AreaShape::Rectangle;
     RectLight<float> rect;  // Rectangle: corner, edges ex, ey; two_sided
+    RectLightFrame<float> frame;  // MakeRectLightFrame(rect), once per light for the samplers' setups
     Vec3f center, ax, ay;   // Ellipse: centre and semi-axes (Rectangle: centre and half edges)
     Vec3f n;                // unit normal, cross(ex, ey) direction: the emitting side
     Vec3f inv_x, inv_y;     // ex / |ex|^2, ey / |ey|^2 (resp. the ellipse's semi-axes): plane coordinates
@@ -35,6 +37,7 @@ inline AreaLight MakeRectAreaLight(const Vec3f& corner, const Vec3f& ex, const V
     AreaLight l;
     l.shape = AreaShape::Rectangle;
     l.rect = {corner, ex, ey, two_sided};
+    l.frame = MakeRectLightFrame(l.rect);
     l.center = corner + ex * 0.5f + ey * 0.5f;
     l.ax = ex * 0.5f;
     l.ay = ey * 0.5f;
@@ -66,6 +69,7 @@ inline AreaLight MakeEllipseAreaLight(const Vec3f& center, const Vec3f& ax, cons
     l.visible = visible;
     // rect unused for ellipses, but keep it well defined.
     l.rect = {center - ax - ay, ax * 2.0f, ay * 2.0f, two_sided};
+    l.frame = MakeRectLightFrame(l.rect);
     return l;
 }
 
