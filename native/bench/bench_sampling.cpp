@@ -51,28 +51,22 @@ const std::vector<Point2<T>>& UVs() {
     return uv;
 }
 
-template <Technique K, class T>
+// kFromFrame: the setup as the renderer runs it, with the light's frame (MakeRectLightFrame) computed once.
+template <Technique K, class T, bool kFromFrame = false>
 void BM_Setup(benchmark::State& state) {
     const RectLight<T> L = Light<T>();
+    const RectLightFrame<T> F = MakeRectLightFrame(L);
     const Vec3<T> n(0, 0, 1);
     const auto& os = Origins<T>();
     size_t i = 0;
     for (auto _ : state) {
-        LightSampler<K, T> s(os[i++ & 63], n, L);
-        benchmark::DoNotOptimize(s);
-    }
-}
-
-// The setup as the renderer runs it: the light's frame (MakeRectLightFrame) computed once.
-template <Technique K, class T>
-void BM_SetupFromFrame(benchmark::State& state) {
-    const RectLightFrame<T> F = MakeRectLightFrame(Light<T>());
-    const Vec3<T> n(0, 0, 1);
-    const auto& os = Origins<T>();
-    size_t i = 0;
-    for (auto _ : state) {
-        LightSampler<K, T> s(os[i++ & 63], n, F);
-        benchmark::DoNotOptimize(s);
+        if constexpr (kFromFrame) {
+            LightSampler<K, T> s(os[i++ & 63], n, F);
+            benchmark::DoNotOptimize(s);
+        } else {
+            LightSampler<K, T> s(os[i++ & 63], n, L);
+            benchmark::DoNotOptimize(s);
+        }
     }
 }
 
@@ -145,7 +139,7 @@ BENCHMARK(BM_SampleEdgeOn<Technique::Triangles>)->Name("SampleEdgeOn/triangles/f
 #define SPHRECT_BENCH(K, name)                                                   \
     BENCHMARK(BM_Setup<Technique::K, float>)->Name("Setup/" name "/float");      \
     BENCHMARK(BM_Setup<Technique::K, double>)->Name("Setup/" name "/double");    \
-    BENCHMARK(BM_SetupFromFrame<Technique::K, float>)->Name("SetupFromFrame/" name "/float"); \
+    BENCHMARK(BM_Setup<Technique::K, float, true>)->Name("SetupFromFrame/" name "/float"); \
     BENCHMARK(BM_Sample<Technique::K, float>)->Name("Sample/" name "/float");    \
     BENCHMARK(BM_Sample<Technique::K, double>)->Name("Sample/" name "/double");  \
     BENCHMARK(BM_Pdf<Technique::K, float>)->Name("Pdf/" name "/float");          \

@@ -17,6 +17,13 @@
 
 namespace sphrect_test {
 
+// A light seen from one shading point (with its normal), named for test messages.
+struct LightConfig {
+    const char* name;
+    sphrect::RectLight<float> light;
+    sphrect::Vec3f origin, normal;
+};
+
 using namespace sphrect;
 using Q = __float128;
 

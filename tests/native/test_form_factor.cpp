@@ -15,13 +15,7 @@ using namespace sphrect_test;
 
 namespace {
 
-struct Receiver {
-    const char* name;
-    RectLight<float> light;
-    Vec3f origin, normal;
-};
-
-std::vector<Receiver> Receivers() {
+std::vector<LightConfig> Receivers() {
     // Parallel: a 1 x 2 light at height 1 facing down (cross(ex, ey) = -z).
     const RectLight<float> ceiling{{-0.5f, -1.f, 1.f}, {0, 2, 0}, {1, 0, 0}, false};
     // Perpendicular: a light in the plane x = 1 spanning z in [0, 1.5] (above the horizon).
@@ -41,7 +35,7 @@ std::vector<Receiver> Receivers() {
 template <Technique K, class T>
 void CheckAll() {
     uint64_t seed = 77 + 100 * uint64_t(K) + sizeof(T);
-    for (const Receiver& r : Receivers()) {
+    for (const LightConfig& r : Receivers()) {
         const RectLight<T> L{Vec3<T>(r.light.corner), Vec3<T>(r.light.ex), Vec3<T>(r.light.ey), r.light.two_sided};
         const Vec3<T> o(r.origin), n(r.normal);
         const double ref = ReferenceIrradiance(o, Vec3d(n), L);

@@ -18,13 +18,7 @@ using namespace sphrect_test;
 
 namespace {
 
-struct Config {
-    const char* name;
-    RectLight<float> light;
-    Vec3f origin, normal;
-};
-
-std::vector<Config> Configs() {
+std::vector<LightConfig> Configs() {
     const RectLight<float> unit{{-0.5f, -0.5f, 0}, {1, 0, 0}, {0, 1, 0}, true};
     const RectLight<float> wide{{-2.f, -0.25f, 0.5f}, {4, 0, 0}, {0, 0.5f, 0}, true};
     const RectLight<float> thin{{-0.5f, -5e-4f, 0}, {1, 0, 0}, {0, 1e-3f, 0}, true};
@@ -60,7 +54,7 @@ const double kAlpha = 1 - std::pow(1 - 0.01, 1.0 / kTests);  // Sidak
 template <Technique K>
 void Chi2All() {
     uint64_t seed = 1000 * uint64_t(K);
-    for (const Config& c : Configs()) {
+    for (const LightConfig& c : Configs()) {
         const Chi2Result r = Chi2Technique<K, float>(c.origin, c.normal, c.light, 200000, ++seed);
         std::printf("chi2 %-16s %-24s bins %3d chi2 %8.2f p %.4f integral %.6f\n", TechniqueName(K), c.name, r.bins,
                     r.statistic, r.p_value, r.total_expected);
@@ -80,7 +74,7 @@ TEST(Chi2, RectangleCosine) { Chi2All<Technique::RectangleCosine>(); }
 
 // The test can fail: a technique whose pdf is off by a few percent is rejected.
 TEST(Chi2, DetectsAWrongPdf) {
-    const Config c = Configs()[0];
+    const LightConfig c = Configs()[0];
     // Rectangle samples checked against a pdf 3% too large on half of the light.
     struct Skewed {
         LightSampler<Technique::Rectangle, float> s;
