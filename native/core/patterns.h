@@ -28,6 +28,7 @@
 #include <cstring>
 #include <string>
 
+#include "enum_names.h"
 #include "light_sample.h"
 #include "rng.h"
 
@@ -51,9 +52,7 @@ inline const char* PatternName(Pattern p) {
 
 // False when `name` is not a pattern.
 inline bool ParsePattern(const std::string& name, Pattern* out) {
-    for (Pattern p : kAllPatterns)
-        if (name == PatternName(p)) { *out = p; return true; }
-    return false;
+    return ParseEnumName(name, kAllPatterns, PatternName, out);
 }
 
 namespace pattern_detail {

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "area_sampling.h"
+#include "enum_names.h"
 #include "rectangle_cosine.h"
 #include "spherical_rectangle.h"
 #include "triangles_sampling.h"
@@ -38,9 +39,7 @@ inline const char* TechniqueName(Technique t) {
 
 // False when `name` is not a technique.
 inline bool ParseTechnique(const std::string& name, Technique* out) {
-    for (Technique t : kAllTechniques)
-        if (name == TechniqueName(t)) { *out = t; return true; }
-    return false;
+    return ParseEnumName(name, kAllTechniques, TechniqueName, out);
 }
 
 template <Technique K, class T>

@@ -1,20 +1,19 @@
 #include "renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
 #include <stdexcept>
 #include <thread>
 
+#include "core/enum_names.h"
 #include "kernel.h"
-
 namespace sphrect::render {
 
 bool ParseMisMode(const std::string& name, MisMode* out) {
-    for (MisMode m : {MisMode::None, MisMode::Balance, MisMode::Power})
-        if (name == MisModeName(m)) { *out = m; return true; }
-    return false;
+    return ParseEnumName(name, std::array{MisMode::None, MisMode::Balance, MisMode::Power}, MisModeName, out);
 }
 
 const char* MisModeName(MisMode m) {
@@ -27,9 +26,8 @@ const char* MisModeName(MisMode m) {
 }
 
 bool ParseMediumSampling(const std::string& name, MediumSampling* out) {
-    for (MediumSampling m : {MediumSampling::Mis, MediumSampling::Distance, MediumSampling::EquiAngular})
-        if (name == MediumSamplingName(m)) { *out = m; return true; }
-    return false;
+    return ParseEnumName(name, std::array{MediumSampling::Mis, MediumSampling::Distance, MediumSampling::EquiAngular},
+                         MediumSamplingName, out);
 }
 
 const char* MediumSamplingName(MediumSampling m) {
