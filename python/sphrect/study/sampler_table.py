@@ -150,9 +150,15 @@ def find_benchmark(name: str = "bench_sampling") -> Optional[str]:
     return None
 
 
-def benchmark_rows(program: Optional[str] = None, min_time: float = 0.05) -> Tuple[List[str], List[List[str]]]:
+# bench_sampling's stages (benchmark name prefix -> column title), in the table's order.
+STAGES = {"Setup": "setup", "SetupFromFrame": "setup from the light's frame (renderer)", "Sample": "sample",
+          "SampleEdgeOn": "sample, nearly edge-on setup", "Pdf": "pdf"}
+SAMPLE_COLUMN = 2 + list(STAGES).index("Sample")
+
+
+def benchmark_rows(program: Optional[str] = None, min_time: float = 0.2) -> Tuple[List[str], List[List[str]]]:
     """(header, rows) from the benchmark's JSON output: benchmarks named "<Stage>/<technique>/<precision>"
-    (Setup, Sample, Pdf) pivot into one row per technique and precision, in ns; other names are listed flat."""
+    (the stages of STAGES) pivot into one row per technique and precision, in ns; other names are listed flat."""
     program = program or find_benchmark()
     if program is None:
         raise FileNotFoundError("bench_sampling was not built (cmake --build build)")
@@ -172,13 +178,13 @@ def benchmark_rows(program: Optional[str] = None, min_time: float = 0.05) -> Tup
         scale = {"ns": 1, "us": 1e3, "ms": 1e6, "s": 1e9}.get(b.get("time_unit", "ns"), 1)
         ns = 1e9 / b["items_per_second"] if b.get("items_per_second") else b["real_time"] * scale
         parts = b["name"].split("/")
-        if len(parts) == 3 and parts[0] in ("Setup", "Sample", "Pdf"):
+        if len(parts) == 3 and parts[0] in STAGES:
             table.setdefault((parts[1], parts[2]), {})[parts[0]] = ns
         else:
             flat.append([b["name"], "", f"{ns:.3g}", "", ""])
-    rows = [[technique, precision] + [f"{stages[k]:.3g}" if k in stages else "–" for k in ("Setup", "Sample", "Pdf")]
+    rows = [[technique, precision] + [f"{stages[k]:.3g}" if k in stages else "–" for k in STAGES]
             for (technique, precision), stages in table.items()]
-    return ["technique", "precision", "setup [ns]", "sample [ns]", "pdf [ns]"], rows + flat
+    return ["technique", "precision"] + [f"{title} [ns]" for title in STAGES.values()], rows + flat
 
 
 def sampler_tables():
@@ -202,9 +208,10 @@ def sampler_tables():
         tables.append(("Cost: bench_sampling (Google Benchmark, ns per call) on this machine", header, rows))
         by = {(r[0], r[1]): r for r in rows}
         textbook, robust = by.get(("textbook_rectangle", "float")), by.get(("rectangle", "float"))
-        if textbook and robust and textbook[3] != "–" and robust[3] != "–":
+        k = SAMPLE_COLUMN
+        if textbook and robust and textbook[k] != "–" and robust[k] != "–":
             notes.append(f"Robust single-precision `rectangle` sample / textbook sample: "
-                         f"{float(robust[3]) / float(textbook[3]):.2f}x (goal: at most 1.5x).")
+                         f"{float(robust[k]) / float(textbook[k]):.2f}x (goal: at most 1.5x).")
     except Exception as e:
         notes.append(f"(cost table unavailable: {e})")
     return tables, notes
