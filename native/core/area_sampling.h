@@ -122,12 +122,18 @@ LightSample<T> LightSampleAt(const AreaRect<T>& r, double a, double b, double X,
     return s;
 }
 
-// The same from the local coordinates alone, clamped onto the light (NaN -> the
-// corner) so that rounding never leaves it.
+// Local in-plane coordinates clamped onto the light (NaN -> the corner's).
 template <class T>
-LightSample<T> LightSampleFromLocal(const AreaRect<T>& r, double X, double Y, T pdf, double dist = 0) {
+void ClampLocalToLight(const AreaRect<T>& r, double& X, double& Y) {
     X = X > r.x0 ? std::min(X, r.x0 + r.wx) : r.x0;
     Y = Y > r.y0 ? std::min(Y, r.y0 + r.wy) : r.y0;
+}
+
+// The same from the local coordinates alone, clamped onto the light so that rounding
+// never leaves it.
+template <class T>
+LightSample<T> LightSampleFromLocal(const AreaRect<T>& r, double X, double Y, T pdf, double dist = 0) {
+    ClampLocalToLight(r, X, Y);
     const double a = std::min((X - r.x0) / r.wx, 1.0), b = std::min((Y - r.y0) / r.wy, 1.0);
     return LightSampleAt(r, a, b, X, Y, pdf, dist);
 }

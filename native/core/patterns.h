@@ -237,7 +237,7 @@ inline void GeneratePattern(Pattern pattern, uint32_t n, uint64_t seed, Point2<f
             const uint32_t scramble = SubSeed(seed, 3);
             for (uint32_t i = 0; i < n; ++i)
                 out[i] = {JitterInStratum(i, n, rng.NextU32()),
-                          BitsToUnitFloat(OwenScramble(ReverseBits32(i), scramble))};
+                          BitsToUnitFloat(ReverseBits32(OwenScrambleReversed(i, scramble)))};
             ShufflePoints(out, n, rng);
             return;
         }

@@ -134,12 +134,6 @@ inline void AddQuadrantRectSolidAngle(const Interval& X, const Interval& Y, doub
     sum.Add(num / den2);
 }
 
-inline double QuadrantRectSolidAngle(const Interval& X, const Interval& Y, double h) {
-    HalfAngleSum sum;
-    AddQuadrantRectSolidAngle(X, Y, h, sum);
-    return sum.SolidAngle();
-}
-
 // Adds the solid angle of X x Y in the plane z = h > 0 seen from the origin: split at
 // x = 0 and y = 0 into up to four quadrant pieces, each mirrored into the first quadrant.
 // (Without the split, a foot of o on a diagonal or near an edge makes the denominators
@@ -165,25 +159,20 @@ inline double RectSolidAngleLocal(const Interval& X, const Interval& Y, double h
 }
 
 // b(yb) - b(ya) with b(y) = y / sqrt(y^2 + d^2), without cancellation; dy = yb - ya
-// (passed, exact).
-inline double DiffB(double ya, double yb, double d, double dy) {
-    const double d2 = d * d;
-    const double ra = std::sqrt(ya * ya + d2), rb = std::sqrt(yb * yb + d2);
-    if (ya * yb > 0) return d2 * dy * (yb + ya) / (ra * rb * (yb * ra + ya * rb));
-    return yb / rb - ya / ra;
-}
-
-// The same with ra = sqrt(ya^2 + d^2), rb = sqrt(yb^2 + d^2) and d2 = d^2 already known.
+// (passed, exact), ra = sqrt(ya^2 + d^2), rb = sqrt(yb^2 + d^2) and d2 = d^2.
 inline double DiffB(double ya, double yb, double ra, double rb, double d2, double dy) {
     if (ya * yb > 0) return d2 * dy * (yb + ya) / (ra * rb * (yb * ra + ya * rb));
     return yb / rb - ya / ra;
 }
 
-// 1 - b(y) for y >= 0.
-inline double OneMinusB(double y, double d2) {
-    const double r = std::sqrt(y * y + d2);
-    return d2 / (r * (r + y));
+// The same from d alone.
+inline double DiffB(double ya, double yb, double d, double dy) {
+    const double d2 = d * d;
+    return DiffB(ya, yb, std::sqrt(ya * ya + d2), std::sqrt(yb * yb + d2), d2, dy);
 }
+
+// 1 - b(y) for y >= 0, with r = sqrt(y^2 + d^2) and d2 = d^2.
+inline double OneMinusB(double y, double r, double d2) { return d2 / (r * (r + y)); }
 
 }  // namespace srect
 
@@ -274,7 +263,7 @@ SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLi
     if (sr.y_beside) {
         const double dmax = std::max(ra0, ra1), dmax2 = dmax * dmax;
         const double r0 = std::sqrt(c0 * c0 + dmax2), r1 = std::sqrt(c1 * c1 + dmax2);
-        ey = eps * (dmax2 / (r0 * (r0 + c0))) / DiffB(c0, c1, r0, r1, dmax2, wc);  // (1 - hy0) / (hy1 - hy0)
+        ey = eps * OneMinusB(c0, r0, dmax2) / DiffB(c0, c1, r0, r1, dmax2, wc);  // (1 - hy0) / (hy1 - hy0)
     }
     sr.error_x = ex;
     sr.polish_x = ex > kSphericalRectanglePolishAbove;
@@ -323,10 +312,10 @@ inline void SphericalRectangleMapLocal(const SphericalRectangle<T>& sr, double u
     if (sr.polish_x) {
         // Nearly edge-on: x(s) loses precision where |s| -> 1.  Newton on the stable
         // W([x0, x] x [y0, y1]) = u Omega, W' = h / (x^2 + h^2) (hy1 - hy0).
+        const srect::Interval Y{sr.y0, sr.y1, sr.wy};
         double lo = sr.x0, hi = sr.x1;
         for (int it = 0; it < 64; ++it) {
             // Residual from the nearer end, so that W is small and exact near it.
-            const srect::Interval Y{sr.y0, sr.y1, sr.wy};
             const double g = u < 0.5 ? srect::RectSolidAngleLocal({sr.x0, x, x - sr.x0}, Y, sr.h) - u * sr.omega
                                      : (1 - u) * sr.omega - srect::RectSolidAngleLocal({x, sr.x1, sr.x1 - x}, Y, sr.h);
             const double d2 = x * x + sr.h * sr.h;
@@ -347,9 +336,7 @@ inline void SphericalRectangleMapLocal(const SphericalRectangle<T>& sr, double u
     const double r0 = std::sqrt(sr.y0 * sr.y0 + d2), r1 = std::sqrt(sr.y1 * sr.y1 + d2);
     double hy, omh;  // hy and 1 - hy
     if (sr.y_beside) {  // interpolate 1 - hy: q0 - v (hy1 - hy0), both terms cancellation-free
-        const double q0 = d2 / (r0 * (r0 + sr.y0));
-        const double dh = d2 * sr.wy * (sr.y1 + sr.y0) / (r0 * r1 * (sr.y1 * r0 + sr.y0 * r1));
-        omh = q0 - v * dh;
+        omh = srect::OneMinusB(sr.y0, r0, d2) - v * srect::DiffB(sr.y0, sr.y1, r0, r1, d2, sr.wy);
         hy = 1 - omh;
     } else {  // y0 <= 0 < y1: hy1 - hy0 is a sum of two non-negative terms
         const double hy0 = sr.y0 / r0;

@@ -16,10 +16,10 @@
 
 namespace sphrect {
 
-// Solid angle of the triangle abc (vectors from the viewpoint, any length):
-// Van Oosterom & Strackee, tan(W/2) = |a.(b x c)| / (abc + (a.b)c + (a.c)b + (b.c)a).
-inline double SphericalTriangleSolidAngle(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
-    const double la = Length(a), lb = Length(b), lc = Length(c);
+// Solid angle of the triangle abc (vectors from the viewpoint, any length; la, lb, lc their
+// lengths): Van Oosterom & Strackee, tan(W/2) = |a.(b x c)| / (abc + (a.b)c + (a.c)b + (b.c)a).
+inline double SphericalTriangleSolidAngle(const Vec3d& a, const Vec3d& b, const Vec3d& c, double la, double lb,
+                                          double lc) {
     const double num = std::abs(Dot(a, Cross(b, c)));
     const double den = la * lb * lc + Dot(a, b) * lc + Dot(a, c) * lb + Dot(b, c) * la;
     return 2 * std::atan2(num, den);
@@ -41,10 +41,7 @@ inline SphericalTriangle MakeSphericalTriangle(const Vec3d& a, const Vec3d& b, c
     t.A = a / la;
     t.B = b / lb;
     t.C = c / lc;
-    // SphericalTriangleSolidAngle(a, b, c) with the lengths at hand.
-    const double num = std::abs(Dot(a, Cross(b, c)));
-    const double den = la * lb * lc + Dot(a, b) * lc + Dot(a, c) * lb + Dot(b, c) * la;
-    t.area = 2 * std::atan2(num, den);
+    t.area = SphericalTriangleSolidAngle(a, b, c, la, lb, lc);
     // Angle at A between the planes (A, B) and (A, C); its cosine and sine straight from the
     // same two numbers (no cos/sin of the angle).
     const Vec3d nab = Cross(t.A, t.B), nac = Cross(t.A, t.C);

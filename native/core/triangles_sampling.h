@@ -111,8 +111,7 @@ LightSample<T> SampleTwoTriangles(const TwoTriangles<T>& r, Point2<T> uv) {
     // density of the side it lands on), the distance from the exact local coordinates.
     const Vec3d q = Vec3d(s.point) - Vec3d(p.light.corner);
     const int side = TwoTrianglesIndex(Dot(q, p.exh) / p.wx, Dot(q, p.eyh) / p.wy);
-    X = X > p.x0 ? std::min(X, p.x0 + p.wx) : p.x0;
-    Y = Y > p.y0 ? std::min(Y, p.y0 + p.wy) : p.y0;
+    ClampLocalToLight(p, X, Y);
     s.pdf = TwoTrianglesPDFLocal(r, side, X, Y);
     return s;
 }

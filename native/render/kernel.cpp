@@ -91,8 +91,11 @@ void FillPattern(Pattern pattern, uint32_t n, uint32_t first, uint32_t pass, uin
     GeneratePattern(pattern, n, pass_seed, out);
     if (!shuffle) return;
     PCG32 rng(MixBits(pass_seed ^ shuffle_seed), 0x9e3779b9ull);
-    for (uint32_t i = n; i > 1; --i) std::swap(out[i - 1], out[rng.NextBounded(i)]);
+    pattern_detail::ShufflePoints(out, n, rng);
 }
+
+// Length of the shadow ray towards a light `dist` away (kInf: the sun), stopping just short of it.
+inline float ShadowRayLength(float dist) { return std::isinf(dist) ? kInf : dist * (1 - 1e-4f); }
 
 // Shadow-ray origin pushed off the surface along the geometric normal (scale-aware).
 inline Vec3f OffsetOrigin(const Vec3f& p, const Vec3f& ng) { return p + ng * (1e-4f * (1 + MaxAbsComponent(p))); }
@@ -281,7 +284,7 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
                                         ? 1.0f
                                         : MisWeight(c.mis, pdf_light, BsdfPDF<kGlossy>(mat, wo, wi));
                     ++tally.rays;
-                    if (!Occluded(rtc, origin, ls.dir, ls.dist * (1 - 1e-4f)))
+                    if (!Occluded(rtc, origin, ls.dir, ShadowRayLength(ls.dist)))
                         area_sum += f * le * SegmentTransmittance<kMedium>(scene, ls.dist) * (wi.z * w / pdf_light);
                 }
             }
@@ -313,7 +316,7 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
         const Spectrum f = EvalBsdf<kGlossy>(mat, wo, wi);
         if (IsBlack(f)) continue;
         ++tally.rays;
-        if (!Occluded(rtc, origin, di.wi, std::isinf(di.dist) ? kInf : di.dist * (1 - 1e-4f)))
+        if (!Occluded(rtc, origin, di.wi, ShadowRayLength(di.dist)))
             result += f * di.li * SegmentTransmittance<kMedium>(scene, di.dist) * wi.z;
     }
     return result;
@@ -349,7 +352,7 @@ Spectrum InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ra
             const float pdf_light = pmf * ls.pdf;
             const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, pdf_light, phase);
             ++tally.rays;
-            if (!Occluded(rtc, x, ls.dir, ls.dist * (1 - 1e-4f)))
+            if (!Occluded(rtc, x, ls.dir, ShadowRayLength(ls.dist)))
                 s += le * Transmittance(scene.medium, ls.dist) * (phase * w / pdf_light);
         }
     }
@@ -368,7 +371,7 @@ Spectrum InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ra
         const DeltaIllumination di = IlluminateFromDelta(d, x);
         if (IsBlack(di.li)) continue;
         ++tally.rays;
-        if (!Occluded(rtc, x, di.wi, std::isinf(di.dist) ? kInf : di.dist * (1 - 1e-4f)))
+        if (!Occluded(rtc, x, di.wi, ShadowRayLength(di.dist)))
             s += di.li * Transmittance(scene.medium, di.dist) * HenyeyGreenstein(Dot(di.wi, ray_dir), g);
     }
     return s * scene.medium.sigma_s;
