@@ -13,4 +13,12 @@ bool ParseEnumName(const std::string& name, const Values& values, NameOf name_of
     return false;
 }
 
+// The names of `values`, quoted and comma-separated, for error messages: "'a', 'b', 'c'".
+template <class Values, class NameOf>
+std::string EnumNameList(const Values& values, NameOf name_of) {
+    std::string s;
+    for (auto v : values) s += std::string(s.empty() ? "'" : ", '") + name_of(v) + "'";
+    return s;
+}
+
 }  // namespace sphrect

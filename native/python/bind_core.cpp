@@ -24,22 +24,10 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Names
 
-std::string TechniqueNames() {
-    std::string s;
-    for (Technique t : kAllTechniques) s += std::string(s.empty() ? "" : ", ") + "'" + TechniqueName(t) + "'";
-    return s;
-}
-
-std::string PatternNames() {
-    std::string s;
-    for (Pattern p : kAllPatterns) s += std::string(s.empty() ? "" : ", ") + "'" + PatternName(p) + "'";
-    return s;
-}
-
 Technique ToTechnique(const std::string& name) {
     Technique t;
     if (!ParseTechnique(name, &t))
-        throw py::value_error("unknown technique '" + name + "'; valid techniques: " + TechniqueNames());
+        throw py::value_error("unknown technique '" + name + "'; valid techniques: " + EnumNameList(kAllTechniques, TechniqueName));
     return t;
 }
 
@@ -313,7 +301,7 @@ py::object SolidAngleImpl(const py::object& origin, const py::object& corner, co
 py::array PatternImpl(const std::string& name, const py::object& n_obj, const py::object& seed_obj) {
     Pattern p;
     if (!ParsePattern(name, &p))
-        throw py::value_error("unknown pattern '" + name + "'; valid patterns: " + PatternNames());
+        throw py::value_error("unknown pattern '" + name + "'; valid patterns: " + EnumNameList(kAllPatterns, PatternName));
     // n must fit the core's uint32 index; a cap well below that keeps a typo from exhausting memory.
     const uint32_t n = uint32_t(ToInteger(n_obj, "n", 1u << 28));
     const uint64_t seed = ToInteger(seed_obj, "seed", std::numeric_limits<uint64_t>::max());

@@ -90,25 +90,22 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
     o.techniques.clear();
     for (const auto& name : techniques) {
         Technique t;
-        if (!ParseTechnique(name, &t)) {
-            std::string all;
-            for (Technique k : kAllTechniques) all += std::string(all.empty() ? "" : ", ") + TechniqueName(k);
-            throw py::value_error("unknown technique '" + name + "' (expected one of: " + all + ")");
-        }
+        if (!ParseTechnique(name, &t))
+            throw py::value_error("unknown technique '" + name +
+                                  "' (expected one of: " + EnumNameList(kAllTechniques, TechniqueName) + ")");
         for (Technique k : o.techniques)
             if (k == t) throw py::value_error("technique '" + name + "' listed twice");
         o.techniques.push_back(t);
     }
-    if (!ParsePattern(pattern, &o.pattern)) {
-        std::string all;
-        for (Pattern p : kAllPatterns) all += std::string(all.empty() ? "" : ", ") + PatternName(p);
-        throw py::value_error("unknown pattern '" + pattern + "' (expected one of: " + all + ")");
-    }
+    if (!ParsePattern(pattern, &o.pattern))
+        throw py::value_error("unknown pattern '" + pattern +
+                              "' (expected one of: " + EnumNameList(kAllPatterns, PatternName) + ")");
     if (!render::ParseMisMode(mis, &o.mis))
-        throw py::value_error("unknown mis '" + mis + "' (expected one of: none, balance, power)");
+        throw py::value_error("unknown mis '" + mis +
+                              "' (expected one of: " + EnumNameList(render::kAllMisModes, render::MisModeName) + ")");
     if (!render::ParseMediumSampling(medium_sampling, &o.medium_sampling))
-        throw py::value_error("unknown medium_sampling '" + medium_sampling +
-                              "' (expected one of: mis, distance, equiangular)");
+        throw py::value_error("unknown medium_sampling '" + medium_sampling + "' (expected one of: " +
+                              EnumNameList(render::kAllMediumSamplings, render::MediumSamplingName) + ")");
     o.light_samples = light_samples;
     o.seed = seed;
     o.threads = threads;

@@ -1,7 +1,6 @@
 #include "renderer.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <condition_variable>
 #include <exception>
@@ -13,7 +12,7 @@
 namespace sphrect::render {
 
 bool ParseMisMode(const std::string& name, MisMode* out) {
-    return ParseEnumName(name, std::array{MisMode::None, MisMode::Balance, MisMode::Power}, MisModeName, out);
+    return ParseEnumName(name, kAllMisModes, MisModeName, out);
 }
 
 const char* MisModeName(MisMode m) {
@@ -26,8 +25,7 @@ const char* MisModeName(MisMode m) {
 }
 
 bool ParseMediumSampling(const std::string& name, MediumSampling* out) {
-    return ParseEnumName(name, std::array{MediumSampling::Mis, MediumSampling::Distance, MediumSampling::EquiAngular},
-                         MediumSamplingName, out);
+    return ParseEnumName(name, kAllMediumSamplings, MediumSamplingName, out);
 }
 
 const char* MediumSamplingName(MediumSampling m) {

@@ -2,6 +2,7 @@
 // sharing camera rays and first hits, each with its own accumulation buffer and timings.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -18,6 +19,10 @@ namespace sphrect::render {
 
 // How the scattering distance along camera rays is chosen in a medium.
 enum class MediumSampling { Mis, Distance, EquiAngular };
+
+constexpr std::array<MisMode, 3> kAllMisModes = {MisMode::None, MisMode::Balance, MisMode::Power};
+constexpr std::array<MediumSampling, 3> kAllMediumSamplings = {MediumSampling::Mis, MediumSampling::Distance,
+                                                               MediumSampling::EquiAngular};
 
 bool ParseMisMode(const std::string& name, MisMode* out);
 const char* MisModeName(MisMode m);
