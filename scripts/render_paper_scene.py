@@ -22,6 +22,7 @@ import time
 import numpy as np
 
 import sphrect
+from sphrect.study.metrics import rmse, tonemap
 
 TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
 LABELS = {"area": "area", "triangles": "solid angle (two triangles)", "rectangle": "solid angle (rectangle)",
@@ -87,13 +88,7 @@ def paper_scene(width, height):
 
 
 def to_srgb8(img, exposure):
-    x = np.clip(img[:, :, :3] * exposure, 0, 1)
-    x = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
-    return (x * 255 + 0.5).astype(np.uint8)
-
-
-def rmse(img, ref):
-    return float(np.sqrt(np.mean((img[:, :, :3].astype(np.float64) - ref[:, :, :3]) ** 2)))
+    return (tonemap(img, white=1 / exposure) * 255 + 0.5).astype(np.uint8)
 
 
 def main(argv=None):
