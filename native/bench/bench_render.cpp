@@ -8,13 +8,16 @@
 //                                technique's light sampling in its thread time.
 //  BM_RawEmbree/<technique>/<mis>/<light samples>
 //                                the ray-casting floor of the same render: the same number of
-//                                camera rays (rtcIntersect1, same camera), and per hit the rays the
-//                                renderer casts there -- one rtcOccluded1 per valid light sample
-//                                that leaves the surface, towards a point drawn by the same
-//                                technique (so the ray directions have the same distribution),
-//                                and with MIS one rtcIntersect1 per cosine-distributed BSDF ray.
-//                                The secondary rays are generated before the clock starts; only
-//                                the tracing is timed (no sampling, no shading, no accumulation).
+//                                camera rays (same camera), and per hit the rays the renderer casts
+//                                there -- one occlusion ray per valid light sample that leaves the
+//                                surface, towards a point drawn by the same technique (so the ray
+//                                directions have the same distribution), and with MIS one
+//                                closest-hit ray per cosine-distributed BSDF ray -- traced in the
+//                                renderer's order and with its calls: per 16 x 16 tile the camera
+//                                rays as one coherent rtcIntersect1M stream, then the BSDF rays
+//                                (rtcIntersect1), then the shadow rays (rtcOccluded1).
+//                                All rays are generated before the clock starts; only the tracing
+//                                is timed (no sampling, no shading, no accumulation).
 //                                The counter `secondary/sample` lets one check that the ray
 //                                counts match the renderer's (rays/s x s/sample - 1).
 //  BM_DiffuseKernel/<forced>     the diffuse scene with the kernel the scene selects (0: no medium,
@@ -138,7 +141,8 @@ BENCHMARK(BM_Render)->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}, {4}})->Unit(benchm
 
 // The rays of one render, generated once (untimed) and traced by BM_RawEmbree.
 struct RawRays {
-    std::vector<Ray> camera;             // one per camera sample
+    std::vector<RTCRayHit> camera;       // one per camera sample, ready to trace
+    std::vector<uint32_t> tile_first;    // camera samples of tile t: [tile_first[t], tile_first[t + 1])
     std::vector<uint32_t> first;         // secondary rays of camera sample i: [first[i], first[i + 1])
     std::vector<RTCRay> secondary;
     std::vector<uint8_t> closest_hit;    // 1: BSDF ray (rtcIntersect1), 0: shadow ray (rtcOccluded1)
@@ -153,39 +157,46 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
         out.secondary.push_back({o.x, o.y, o.z, 0, d.x, d.y, d.z, 0, tfar, 0xffffffffu, 0, 0});
         out.closest_hit.push_back(closest);
     };
-    for (int y = 0; y < kHeight; ++y)
-        for (int x = 0; x < kWidth; ++x)
-            for (int i = 0; i < kSamples; ++i) {
-                const Ray ray = GenerateCameraRay<false>(s.camera, x + rng.NextFloat(), y + rng.NextFloat(), {});
-                out.camera.push_back(ray);
-                out.first.push_back(uint32_t(out.secondary.size()));
-                RTCIntersectContext ctx;
-                rtcInitIntersectContext(&ctx);
-                RTCRayHit rh;
-                rh.ray = {ray.o.x, ray.o.y, ray.o.z, ray.tmin, ray.d.x, ray.d.y, ray.d.z, 0, ray.tmax, 0xffffffffu, 0, 0};
-                rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect1(s.rtc_scene, &ctx, &rh);
-                if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-                // As the renderer: unit geometric normal facing the camera, offset shadow origin.
-                Vec3f n = Normalize(Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
-                if (Dot(n, ray.d) > 0) n = -n;
-                const Vec3f p = ray.o + ray.d * rh.ray.tfar;
-                const Vec3f origin = p + n * (1e-4f * (1 + MaxAbsComponent(p)));
-                const LightSampler<K, float> sampler(p, n, light.rect);
-                const Frame frame = Frame::FromZ(n);
-                for (int j = 0; j < light_samples; ++j) {
-                    const float u = rng.NextFloat(), v = rng.NextFloat();
-                    const LightSample<float> ls = sampler.Valid() ? sampler.Sample({u, v}) : LightSample<float>{};
-                    if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, n) > 0)
-                        add(origin, ls.dir, ls.dist * (1 - 1e-4f), false);
-                    if (mis) {
-                        const float a = rng.NextFloat(), b = rng.NextFloat();
-                        add(origin, frame.FromLocal(SampleCosineHemisphere({a, b})), kInf, true);
-                    }
-                }
+    auto camera_sample = [&](int x, int y) {
+        const Ray ray = GenerateCameraRay<false>(s.camera, x + rng.NextFloat(), y + rng.NextFloat(), {});
+        RTCRayHit rh;
+        rh.ray = {ray.o.x, ray.o.y, ray.o.z, ray.tmin, ray.d.x, ray.d.y, ray.d.z, 0, ray.tmax, 0xffffffffu, 0, 0};
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        out.camera.push_back(rh);
+        out.first.push_back(uint32_t(out.secondary.size()));
+        RTCIntersectContext ctx;
+        rtcInitIntersectContext(&ctx);
+        rtcIntersect1(s.rtc_scene, &ctx, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+        // As the renderer: unit geometric normal facing the camera, offset shadow origin.
+        Vec3f n = Normalize(Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+        if (Dot(n, ray.d) > 0) n = -n;
+        const Vec3f p = ray.o + ray.d * rh.ray.tfar;
+        const Vec3f origin = p + n * (1e-4f * (1 + MaxAbsComponent(p)));
+        const LightSampler<K, float> sampler(p, n, light.rect);
+        const Frame frame = Frame::FromZ(n);
+        for (int j = 0; j < light_samples; ++j) {
+            const float u = rng.NextFloat(), v = rng.NextFloat();
+            const LightSample<float> ls = sampler.Valid() ? sampler.Sample({u, v}) : LightSample<float>{};
+            if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, n) > 0)
+                add(origin, ls.dir, ls.dist * (1 - 1e-4f), false);
+            if (mis) {
+                const float a = rng.NextFloat(), b = rng.NextFloat();
+                add(origin, frame.FromLocal(SampleCosineHemisphere({a, b})), kInf, true);
             }
+        }
+    };
+    // Pixels in the renderer's order: 16 x 16 tiles, row by row inside each.
+    constexpr int kTile = 16;
+    for (int ty = 0; ty < kHeight; ty += kTile)
+        for (int tx = 0; tx < kWidth; tx += kTile, out.tile_first.push_back(uint32_t(out.camera.size())))
+            for (int y = ty; y < std::min(ty + kTile, kHeight); ++y)
+                for (int x = tx; x < std::min(tx + kTile, kWidth); ++x)
+                    for (int i = 0; i < kSamples; ++i) camera_sample(x, y);
     out.first.push_back(uint32_t(out.secondary.size()));
+    out.tile_first.insert(out.tile_first.begin(), 0);
     return out;
 }
 
@@ -197,32 +208,35 @@ void BM_RawEmbree(benchmark::State& state) {
         return MakeRawRays<decltype(tag)::value>(s, mis, light_samples);
     });
     uint64_t rays = 0, samples = 0;
+    std::vector<RTCRayHit> camera;
     for (auto _ : state) {
+        camera = rays_in.camera;  // (traced in place; the copy is not timed)
         const double t0 = ProcessCpuSeconds();
         uint64_t blocked = 0;
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
-        for (size_t i = 0; i < rays_in.camera.size(); ++i) {
-            const Ray& ray = rays_in.camera[i];
-            RTCRayHit rh;
-            rh.ray = {ray.o.x, ray.o.y, ray.o.z, ray.tmin, ray.d.x, ray.d.y, ray.d.z, 0, ray.tmax, 0xffffffffu, 0, 0};
-            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-            rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-            rtcIntersect1(s.rtc_scene, &ctx, &rh);
-            blocked += rh.hit.geomID;
-            for (uint32_t k = rays_in.first[i]; k < rays_in.first[i + 1]; ++k) {
-                if (rays_in.closest_hit[k]) {
-                    RTCRayHit bh;
-                    bh.ray = rays_in.secondary[k];
-                    bh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                    bh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                    rtcIntersect1(s.rtc_scene, &ctx, &bh);
-                    blocked += bh.hit.geomID;
-                } else {
-                    RTCRay r = rays_in.secondary[k];
-                    rtcOccluded1(s.rtc_scene, &ctx, &r);
-                    blocked += r.tfar < 0;
-                }
+        RTCIntersectContext coherent = ctx;
+        coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        // As the renderer traces them: per tile, the camera rays as one coherent stream, then
+        // the BSDF rays (found while shading), then the shadow rays, one by one.
+        for (size_t t = 0; t + 1 < rays_in.tile_first.size(); ++t) {
+            const uint32_t c0 = rays_in.tile_first[t], c1 = rays_in.tile_first[t + 1];
+            rtcIntersect1M(s.rtc_scene, &coherent, &camera[c0], c1 - c0, sizeof(RTCRayHit));
+            for (uint32_t i = c0; i < c1; ++i) blocked += camera[i].hit.geomID;
+            for (uint32_t k = rays_in.first[c0]; k < rays_in.first[c1]; ++k) {
+                if (!rays_in.closest_hit[k]) continue;
+                RTCRayHit bh;
+                bh.ray = rays_in.secondary[k];
+                bh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+                bh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+                rtcIntersect1(s.rtc_scene, &ctx, &bh);
+                blocked += bh.hit.geomID;
+            }
+            for (uint32_t k = rays_in.first[c0]; k < rays_in.first[c1]; ++k) {
+                if (rays_in.closest_hit[k]) continue;
+                RTCRay r = rays_in.secondary[k];
+                rtcOccluded1(s.rtc_scene, &ctx, &r);
+                blocked += r.tfar < 0;
             }
         }
         benchmark::DoNotOptimize(blocked);

@@ -14,10 +14,14 @@ struct TileRect {
 };
 
 struct PrimaryHit;
+struct DeferredShadowRay;
 
 // Per-thread buffers reused across tiles.
 struct ThreadScratch {
     std::vector<PrimaryHit> hits;
+    std::vector<RTCRayHit> camera_hits;              // Embree's answers for `hits`' rays
+    std::vector<Spectrum> sample_values;             // radiance per camera sample of a chunk
+    std::vector<DeferredShadowRay> shadow_rays;      // queued by shading, traced after it
     std::vector<Point2<float>> pixel_points, lens_points, light_points, bsdf_points;
     ThreadScratch();
     ~ThreadScratch();
