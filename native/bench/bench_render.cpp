@@ -175,7 +175,7 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
         if (Dot(n, ray.d) > 0) n = -n;
         const Vec3f p = ray.o + ray.d * rh.ray.tfar;
         const Vec3f origin = p + n * (1e-4f * (1 + MaxAbsComponent(p)));
-        const LightSampler<K, float> sampler(p, n, light.rect);
+        const LightSampler<K, float> sampler(p, n, light.frame);
         const Frame frame = Frame::FromZ(n);
         for (int j = 0; j < light_samples; ++j) {
             const float u = rng.NextFloat(), v = rng.NextFloat();

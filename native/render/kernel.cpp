@@ -215,36 +215,66 @@ inline Spectrum SegmentTransmittance(const RenderScene& scene, float d) {
 template <Technique K>
 constexpr Technique kMediumTechnique = K == Technique::RectangleCosine ? Technique::Rectangle : K;
 
-// Solid-angle pdf with which light sampling (technique K at (origin, normal)) produces point p
-// on area light `index`, light selection included.  `cached` is a sampler already set up for
-// light `cached_index` at the same origin.
+// Light sampling at one shading or scattering point (origin, normal): a point on area light
+// `index` by technique K on rectangles, uniformly by area on ellipses.  A rectangle's sampler
+// is set up once per (point, light) and kept for the following samples of that light and for
+// the MIS pdfs of the paired BSDF/phase rays.  Time spent is added to `ticks`.
 template <Technique K>
-inline float LightSamplingPDF(const RenderScene& scene, int index, const Vec3f& origin, const Vec3f& normal,
-                              const Vec3f& p, const LightSampler<K, float>* cached, int cached_index,
-                              uint64_t& ticks) {
-    const AreaLight& l = scene.area_lights[index];
-    const float pmf = scene.light_selector.pmf[index];
-    if (!(pmf > 0)) return 0;
-    const uint64_t t0 = ReadTicks();
-    float pdf;
-    if (l.shape == AreaShape::Ellipse) {
-        pdf = EllipseAreaPDF(l, origin, p);
-    } else if (cached && cached_index == index) {
-        pdf = cached->Pdf(p);
-    } else {
-        const LightSampler<K, float> s(origin, normal, l.frame);
-        pdf = s.Valid() ? s.Pdf(p) : 0.0f;
+class LightSamplingAt {
+  public:
+    LightSamplingAt(const RenderScene& scene, const Vec3f& origin, const Vec3f& normal, uint64_t& ticks)
+        : scene_(scene), origin_(origin), normal_(normal), ticks_(ticks) {}
+
+    LightSample<float> Sample(int index, Point2<float> u) {
+        const uint64_t t0 = ReadTicks();
+        const AreaLight& l = scene_.area_lights[index];
+        LightSample<float> ls;
+        if (l.shape == AreaShape::Ellipse) {
+            ls = SampleEllipseArea(l, origin_, u);
+        } else {
+            if (index != cached_index_) {
+                cached_.emplace(origin_, normal_, l.frame);
+                cached_index_ = index;
+            }
+            if (cached_->Valid()) ls = cached_->Sample(u);
+        }
+        ticks_ += ReadTicks() - t0;
+        return ls;
     }
-    ticks += ReadTicks() - t0;
-    return pmf * pdf;
-}
+
+    // Solid-angle pdf with which Sample, after choosing the light by power, produces point p
+    // on area light `index`.
+    float PDF(int index, const Vec3f& p) {
+        const AreaLight& l = scene_.area_lights[index];
+        const float pmf = scene_.light_selector.pmf[index];
+        if (!(pmf > 0)) return 0;
+        const uint64_t t0 = ReadTicks();
+        float pdf;
+        if (l.shape == AreaShape::Ellipse) {
+            pdf = EllipseAreaPDF(l, origin_, p);
+        } else if (index == cached_index_) {
+            pdf = cached_->Pdf(p);
+        } else {
+            const LightSampler<K, float> s(origin_, normal_, l.frame);
+            pdf = s.Valid() ? s.Pdf(p) : 0.0f;
+        }
+        ticks_ += ReadTicks() - t0;
+        return pmf * pdf;
+    }
+
+  private:
+    const RenderScene& scene_;
+    Vec3f origin_, normal_;
+    uint64_t& ticks_;
+    std::optional<LightSampler<K, float>> cached_;  // set up for rectangle light `cached_index_`
+    int cached_index_ = -1;
+};
 
 // Area lights crossed by the ray (o, d) before t_max, each weighted against light sampling:
 // sum of Le * T * w_bsdf.  pdf_dir is the pdf of the direction under BSDF/phase sampling.
 template <Technique K, bool kMedium>
 inline Spectrum LightsAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float t_max, float pdf_dir,
-                               const Vec3f& pdf_origin, const Vec3f& normal, const LightSampler<K, float>* cached,
-                               int cached_index, uint64_t& ticks) {
+                               LightSamplingAt<K>& light_sampling) {
     Spectrum sum;
     const auto& lights = c.scene.area_lights;
     for (int i = 0; i < int(lights.size()); ++i) {
@@ -253,7 +283,7 @@ inline Spectrum LightsAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3
         const Spectrum le = EmittedRadiance(lights[i], -d);
         if (IsBlack(le)) continue;
         const Vec3f p = o + d * t;
-        const float pdf_light = LightSamplingPDF<K>(c.scene, i, pdf_origin, normal, p, cached, cached_index, ticks);
+        const float pdf_light = light_sampling.PDF(i, p);
         sum += le * SegmentTransmittance<kMedium>(c.scene, t) * MisWeight(c.mis, pdf_dir, pdf_light);
     }
     return sum;
@@ -276,8 +306,7 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
     const ShadowSink light_sink = sink.Scaled(1.0f / c.light_samples);
     // Without area lights and BSDF rays (only delta lights) there is nothing to sample.
     const int n_pairs = (!scene.light_selector.Empty() || c.trace_bsdf) ? c.light_samples : 0;
-    std::optional<LightSampler<K, float>> sampler;  // set up for area light `sampler_light`
-    int sampler_light = -1;
+    LightSamplingAt<K> light_sampling(scene, h.p, h.ns, tally.light_ticks);
     for (int j = 0; j < n_pairs; ++j) {
         int chosen = -1;
         float pmf = 0;
@@ -286,21 +315,7 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
             pmf = scene.light_selector.pmf[chosen];
         }
         const AreaLight* light = chosen >= 0 ? &scene.area_lights[chosen] : nullptr;
-        // Light sample.  The sampler's setup is done once per (shading point, light) and reused
-        // by the following light samples of the same light and by the paired BSDF samples.
-        const uint64_t t0 = ReadTicks();
-        const bool is_rect = light && light->shape == AreaShape::Rectangle;
-        if (is_rect && sampler_light != chosen) {
-            sampler.emplace(h.p, h.ns, light->frame);
-            sampler_light = chosen;
-        }
-        LightSample<float> ls;
-        if (is_rect) {
-            if (sampler->Valid()) ls = sampler->Sample(light_points[j]);
-        } else if (light) {
-            ls = SampleEllipseArea(*light, h.p, light_points[j]);
-        }
-        tally.light_ticks += ReadTicks() - t0;
+        const LightSample<float> ls = light ? light_sampling.Sample(chosen, light_points[j]) : LightSample<float>{};
         if (ls.pdf > 0 && std::isfinite(ls.pdf)) {
             const Spectrum le = EmittedRadiance(*light, -ls.dir);
             const Vec3f wi = frame.ToLocal(ls.dir);
@@ -328,8 +343,7 @@ Spectrum DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const 
                     Spectrum li;
                     if (std::isinf(t_hit)) li += scene.background * SegmentTransmittance<kMedium>(scene, kInf);
                     if (c.mis != MisMode::None)
-                        li += LightsAlongRay<K, kMedium>(c, origin, wi_world, t_hit, bs.pdf, h.p, h.ns,
-                                                         is_rect ? &*sampler : nullptr, chosen, tally.light_ticks);
+                        li += LightsAlongRay<K, kMedium>(c, origin, wi_world, t_hit, bs.pdf, light_sampling);
                     if (!IsBlack(li)) area_sum += bs.f * li * (bs.wi.z / bs.pdf);
                 }
             }
@@ -363,16 +377,8 @@ Spectrum InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ra
     const ShadowSink out = sink.Scaled(scene.medium.sigma_s);
     const AreaLight* light = chosen >= 0 ? &scene.area_lights[chosen] : nullptr;
     const float pmf = chosen >= 0 ? scene.light_selector.pmf[chosen] : 0.0f;
-    const uint64_t t0 = ReadTicks();
-    const bool is_rect = light && light->shape == AreaShape::Rectangle;
-    const LightSampler<MK, float> sampler(x, ray_dir, is_rect ? light->frame : RectLightFrame<float>{});
-    LightSample<float> ls;
-    if (is_rect) {
-        if (sampler.Valid()) ls = sampler.Sample(light_point);
-    } else if (light) {
-        ls = SampleEllipseArea(*light, x, light_point);
-    }
-    tally.light_ticks += ReadTicks() - t0;
+    LightSamplingAt<MK> light_sampling(scene, x, ray_dir, tally.light_ticks);
+    const LightSample<float> ls = light ? light_sampling.Sample(chosen, light_point) : LightSample<float>{};
     if (ls.pdf > 0 && std::isfinite(ls.pdf)) {
         const Spectrum le = EmittedRadiance(*light, -ls.dir);
         if (!IsBlack(le)) {
@@ -391,8 +397,7 @@ Spectrum InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ra
         const float t_hit = NearestSurface(rtc, x, wi);
         if (std::isinf(t_hit)) s += scene.background * Transmittance(scene.medium, kInf);
         if (c.mis != MisMode::None)
-            s += LightsAlongRay<MK, true>(c, x, wi, t_hit, pdf_phase, x, ray_dir, is_rect ? &sampler : nullptr,
-                                          chosen, tally.light_ticks);
+            s += LightsAlongRay<MK, true>(c, x, wi, t_hit, pdf_phase, light_sampling);
     }
     for (const DeltaLight& d : scene.delta_lights) {
         const DeltaIllumination di = IlluminateFromDelta(d, x);

@@ -21,8 +21,9 @@ enum class AreaShape { Rectangle, Ellipse };
 
 struct AreaLight {
     AreaShape shape = AreaShape::Rectangle;
-    RectLight<float> rect;  // Rectangle: corner, edges ex, ey; two_sided
-    RectLightFrame<float> frame;  // MakeRectLightFrame(rect), once per light for the samplers' setups
+    // Rectangle: the light (frame.light: corner, edges ex, ey) with what the samplers' setups
+    // need of it, computed once per light.  Ellipses leave it invalid.
+    RectLightFrame<float> frame;
     Vec3f center, ax, ay;   // Ellipse: centre and semi-axes (Rectangle: centre and half edges)
     Vec3f n;                // unit normal, cross(ex, ey) direction: the emitting side
     Vec3f inv_x, inv_y;     // ex / |ex|^2, ey / |ey|^2 (resp. the ellipse's semi-axes): plane coordinates
@@ -36,8 +37,7 @@ inline AreaLight MakeRectAreaLight(const Vec3f& corner, const Vec3f& ex, const V
                                    bool two_sided, bool visible) {
     AreaLight l;
     l.shape = AreaShape::Rectangle;
-    l.rect = {corner, ex, ey, two_sided};
-    l.frame = MakeRectLightFrame(l.rect);
+    l.frame = MakeRectLightFrame(RectLight<float>{corner, ex, ey, two_sided});
     l.center = corner + ex * 0.5f + ey * 0.5f;
     l.ax = ex * 0.5f;
     l.ay = ey * 0.5f;
@@ -67,9 +67,6 @@ inline AreaLight MakeEllipseAreaLight(const Vec3f& center, const Vec3f& ax, cons
     l.radiance = radiance;
     l.two_sided = two_sided;
     l.visible = visible;
-    // rect unused for ellipses, but keep it well defined.
-    l.rect = {center - ax - ay, ax * 2.0f, ay * 2.0f, two_sided};
-    l.frame = MakeRectLightFrame(l.rect);
     return l;
 }
 
@@ -82,7 +79,7 @@ inline Spectrum EmittedRadiance(const AreaLight& l, const Vec3f& toward) {
 inline float IntersectAreaLight(const AreaLight& l, const Vec3f& o, const Vec3f& d, float tmax) {
     const float denom = Dot(l.n, d);
     if (denom == 0) return kInf;
-    const Vec3f origin = l.shape == AreaShape::Rectangle ? l.rect.corner : l.center;
+    const Vec3f origin = l.shape == AreaShape::Rectangle ? l.frame.light.corner : l.center;
     const float t = Dot(l.n, origin - o) / denom;
     if (!(t > 0 && t < tmax)) return kInf;
     const Vec3f q = o + d * t - origin;

@@ -146,7 +146,7 @@ TEST(RenderLights, SampledPointsAreFoundByIntersection) {
         ASSERT_GT(s.pdf, 0);
         EXPECT_NEAR(IntersectAreaLight(ellipse, origin, s.dir, kInf), s.dist, 1e-4f * s.dist);
         EXPECT_NEAR(EllipseAreaPDF(ellipse, origin, s.point), s.pdf, 1e-3f * s.pdf);
-        const Vec3f p = rect.rect.corner + rect.rect.ex * u.u + rect.rect.ey * u.v;
+        const Vec3f p = rect.frame.light.corner + rect.frame.light.ex * u.u + rect.frame.light.ey * u.v;
         const Vec3f w = Normalize(p - origin);
         EXPECT_NEAR(IntersectAreaLight(rect, origin, w, kInf), Length(p - origin), 1e-4f);
     }
