@@ -128,7 +128,7 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
                 kernel(params, tiles[i], scratch, local);
                 std::lock_guard<std::mutex> l(mutex);
                 ++done;
-                cv.notify_all();
+                if (progress) cv.notify_all();  // (without a callback, only the end wakes the caller)
             }
         } catch (...) {
             std::lock_guard<std::mutex> l(mutex);
