@@ -116,6 +116,25 @@ def test_metrics():
         metrics.rmse(img, ref[:4])
 
 
+def _curve(mse, samples=(1, 2, 4, 8, 16, 32, 64, 128, 256), seconds_per_sample=0.01):
+    return [{"job": {"samples": n}, "rmse": math.sqrt(mse(n)), "time": n * seconds_per_sample} for n in samples]
+
+
+def test_a_plateaued_cycles_error_is_not_reported_as_a_time_ratio():
+    from sphrect.study.report import SYSTEMATIC_SHARE_LIMIT, cycles_comparison, systematic_share
+    assert systematic_share(_curve(lambda n: 1.0 / n)) == pytest.approx(0.0, abs=1e-9)
+    biased = _curve(lambda n: 0.01 + 1.0 / n)  # at 256 spp: 0.01 of 0.0139 is systematic
+    assert systematic_share(biased) == pytest.approx(0.01 / (0.01 + 1 / 256), rel=1e-9)
+    assert systematic_share(biased) > SYSTEMATIC_SHARE_LIMIT
+    study = {"reference": {"estimated_rmse": 1e-6}}
+    ours = {("rectangle", "none", "sobol"): _curve(lambda n: 0.1 / n, seconds_per_sample=0.001)}
+    lines, rows, ratio = cycles_comparison(study, {**ours, ("cycles", "power", "default"): _curve(lambda n: 1.0 / n)})
+    assert ratio == pytest.approx(0.01, rel=0.05) and "meets the goal" in lines[0]
+    lines, rows, ratio = cycles_comparison(study, {**ours, ("cycles", "power", "default"): biased})
+    assert ratio is None and "not measurable" in lines[0] and "systematic" in lines[0]
+    assert len(rows) == 9  # the table is still there
+
+
 def test_reference_error_estimate_is_right():
     # 8 chunks of truth + N(0, 0.2): the mean's true RMSE is 0.2/sqrt(8) = 0.0707. With 16x12x3 pixels the
     # estimate's relative standard deviation is ~ sqrt(2/(7*576)) = 2.4%; 15% is > 6 sigma (false failure
