@@ -4,8 +4,9 @@ closed-form irradiance averaged over the pixel (Gauss-Legendre).  Each technique
 must pass a per-pixel t-test over independent replicates.
 
 False-failure rate: each image is one family of pixel tests with family-wise rate 1e-4 (Sidak
-correction); there are 4 x 4 x 3 + 2 + 1 = 51 images, so a correct renderer fails this file with
-probability < 0.6 % (seeds are fixed, so the outcome is deterministic).  The last test shows the
+correction); there are 4 x 4 x 3 + 2 + 1 + 2 + 4 x 2 = 61 images tested (rectangles, disc, delta lights,
+the power check's correct images, several light samples), so a correct renderer fails this file with
+probability < 0.7 % (seeds are fixed, so the outcome is deterministic).  The last test shows the
 test has power: a 3 % error in the expected image is rejected."""
 import math
 
@@ -117,6 +118,28 @@ def test_delta_lights_on_plane():
     reps = replicate_images(scene, ["rectangle"], REPLICATES, 8)
     ok, p_min, alpha = pixel_t_test(reps["rectangle"], expected, FAMILY_ALPHA, rel_tol=1e-4)
     assert ok, f"delta lights: worst p = {p_min:.3g} < {alpha:.3g}"
+
+
+@pytest.mark.parametrize("mis", ["none", "balance"])
+def test_several_light_samples_with_a_delta_light(mis):
+    """light_samples = 3: each camera sample averages three light (and BSDF) samples of the rectangle,
+    while the point light is evaluated once; both must come out at their closed-form values."""
+    light = RECT_SCENES["parallel"]
+    point = sphrect.PointLight(position=(0.5, 0.2, 1.0), intensity=(0.7, 0.7, 0.7))
+    scene = sphrect.Scene(camera=top_camera(), meshes=[plane_mesh()], lights=[light, point],
+                          materials=[sphrect.Material(base_color=(ALBEDO,) * 3)])
+    verts = rect_verts(light.corner, light.edge_x, light.edge_y)
+
+    def irradiance(P):
+        d = np.asarray(point.position) - P
+        dist = np.linalg.norm(d, axis=-1)
+        return polygon_irradiance(P, (0, 0, 1), verts) + 0.7 * (d[..., 2] / dist) / dist ** 2
+
+    expected = expected_plane_image(scene.camera, ALBEDO, irradiance)
+    reps = replicate_images(scene, ALL_TECHNIQUES, REPLICATES, 8, mis=mis, light_samples=3)
+    for t in ALL_TECHNIQUES:
+        ok, p_min, alpha = pixel_t_test(reps[t], expected, FAMILY_ALPHA)
+        assert ok, f"{mis}/{t}: worst p = {p_min:.3g} < {alpha:.3g}"
 
 
 def test_t_test_detects_a_small_error():
