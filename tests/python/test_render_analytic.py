@@ -4,9 +4,9 @@ closed-form irradiance averaged over the pixel (Gauss-Legendre).  Each technique
 must pass a per-pixel t-test over independent replicates.
 
 False-failure rate: each image is one family of pixel tests with family-wise rate 1e-4 (Sidak
-correction); there are 4 x 4 x 3 + 2 + 1 + 2 + 4 x 2 = 61 images tested (rectangles, disc, delta lights,
-the power check's correct images, several light samples), so a correct renderer fails this file with
-probability < 0.7 % (seeds are fixed, so the outcome is deterministic).  The last test shows the
+correction); there are 4 x 4 x 3 + 2 + 1 + 2 + 4 x 2 + 4 = 65 images tested (rectangles, disc, delta
+lights, the power check's correct images, several light samples, two lights), so a correct renderer fails
+this file with probability < 0.7 % (seeds are fixed, so the outcome is deterministic).  The last test shows the
 test has power: a 3 % error in the expected image is rejected."""
 import math
 
@@ -140,6 +140,23 @@ def test_several_light_samples_with_a_delta_light(mis):
     for t in ALL_TECHNIQUES:
         ok, p_min, alpha = pixel_t_test(reps[t], expected, FAMILY_ALPHA)
         assert ok, f"{mis}/{t}: worst p = {p_min:.3g} < {alpha:.3g}"
+
+
+def test_two_rectangle_lights():
+    """Two rectangles of different power: one is chosen per light sample by power, and with MIS a
+    BSDF ray that finds the other one weighs it with that light's pdf (a setup of its own)."""
+    small = sphrect.RectLight(corner=(-0.6, -0.5, 0.6), edge_x=(0, 0.3, 0), edge_y=(0.3, 0, 0), radiance=(4, 4, 4),
+                              visible=False)
+    big = RECT_SCENES["parallel"]
+    scene = sphrect.Scene(camera=top_camera(), meshes=[plane_mesh()], lights=[small, big],
+                          materials=[sphrect.Material(base_color=(ALBEDO,) * 3)])
+    expected = expected_plane_image(scene.camera, ALBEDO, lambda P: sum(
+        l.radiance[0] * polygon_irradiance(P, (0, 0, 1), rect_verts(l.corner, l.edge_x, l.edge_y))
+        for l in (small, big)))
+    reps = replicate_images(scene, ALL_TECHNIQUES, REPLICATES, 8, mis="balance", light_samples=2)
+    for t in ALL_TECHNIQUES:
+        ok, p_min, alpha = pixel_t_test(reps[t], expected, FAMILY_ALPHA)
+        assert ok, f"two lights/{t}: worst p = {p_min:.3g} < {alpha:.3g}"
 
 
 def test_t_test_detects_a_small_error():
