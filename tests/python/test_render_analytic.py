@@ -159,6 +159,25 @@ def test_two_rectangle_lights():
         assert ok, f"two lights/{t}: worst p = {p_min:.3g} < {alpha:.3g}"
 
 
+@pytest.mark.parametrize("facing_camera, two_sided, visible, seen", [
+    (True, False, True, True), (False, False, True, False), (False, True, True, True), (True, False, False, False)])
+def test_a_light_seen_by_the_camera(facing_camera, two_sided, visible, seen):
+    """Camera rays that meet a light see its radiance exactly (from its emitting side, or either side of a
+    two-sided light, and only when it is visible); here over a black plane, on pixels it covers fully."""
+    ex, ey = ((1, 0, 0), (0, 1, 0)) if facing_camera else ((0, 1, 0), (1, 0, 0))  # cross(ex, ey) = +z or -z
+    light = sphrect.RectLight(corner=(-0.5, -0.5, 1.0), edge_x=ex, edge_y=ey, radiance=(2.0, 3.0, 4.0),
+                              two_sided=two_sided, visible=visible)
+    scene = sphrect.Scene(camera=top_camera(), meshes=[plane_mesh()], lights=[light],
+                          materials=[sphrect.Material(base_color=(0, 0, 0))])
+    r = sphrect.Renderer(scene, techniques=ALL_TECHNIQUES)
+    assert r.render(4)
+    for t in ALL_TECHNIQUES:
+        image = r.image(t)[:, :, :3]
+        inside = image[3:9, 3:9]  # pixels 1/6 wide: [-0.5, 0.5]^2 is the 6 x 6 block in the middle
+        np.testing.assert_array_equal(inside, np.broadcast_to([2.0, 3.0, 4.0] if seen else [0, 0, 0], inside.shape))
+        assert np.all(image[:2] == 0) and np.all(image[:, :2] == 0)  # well outside: the black plane
+
+
 def test_t_test_detects_a_small_error():
     """Power check: the same test rejects an expected image that is 3 % off (light sampling only),
     or 10 % off (MIS, whose BSDF samples make the estimate noisier here)."""
