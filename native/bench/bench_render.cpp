@@ -3,7 +3,8 @@
 //  BM_Render/<technique>/<mis>/<pattern>/<light samples>
 //                                one technique per renderer, 1 thread, on a ~100k-triangle scene
 //                                (ground + four tessellated spheres, one rectangle light standing
-//                                on the ground).  Counters: rays/s (camera + shadow + BSDF rays),
+//                                on the ground; SPHRECT_BENCH_SCENE=dense: a 72k-triangle bumpy
+//                                ground and coarser spheres, so that rays cost more).  Counters: rays/s (camera + shadow + BSDF rays),
 //                                CPU seconds per camera sample, light_frac = share of the
 //                                technique's light sampling in its thread time.
 //  BM_RawEmbree/<technique>/<mis>/<light samples>
@@ -34,7 +35,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "core/rng.h"
@@ -70,6 +73,30 @@ void AddSphere(RenderScene& s, const Vec3f& c, float r, int rings, int segments)
     s.AddMesh("sphere", v.data(), v.size() / 3, t.data(), t.size() / 3, nullptr, nullptr);
 }
 
+// Bumpy ground: an n x n grid over [-h, h]^2, z = a sin(3x) sin(3y) (2 n^2 triangles).
+void AddBumpyGround(RenderScene& s, float h, int n, float a) {
+    std::vector<float> v;
+    std::vector<int32_t> t;
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+            const float x = -h + 2 * h * j / n, y = -h + 2 * h * i / n;
+            v.insert(v.end(), {x, y, a * std::sin(3 * x) * std::sin(3 * y)});
+        }
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            const int k = i * (n + 1) + j;
+            t.insert(t.end(), {k, k + 1, k + n + 2, k, k + n + 2, k + n + 1});
+        }
+    s.AddMesh("ground", v.data(), v.size() / 3, t.data(), t.size() / 3, nullptr, nullptr);
+}
+
+// SPHRECT_BENCH_SCENE=dense: the same camera, light and spheres, but most of the triangles in a bumpy
+// ground the camera rays hit (rays cost more); default: a two-triangle ground and finer spheres.
+bool DenseScene() {
+    const char* v = std::getenv("SPHRECT_BENCH_SCENE");
+    return v && std::string(v) == "dense";
+}
+
 std::shared_ptr<RenderScene> BenchScene() {
     auto s = std::make_shared<RenderScene>();
     CameraModel c;
@@ -81,11 +108,17 @@ std::shared_ptr<RenderScene> BenchScene() {
     std::copy(&m[0][0], &m[0][0] + 12, &c.to_world[0][0]);
     s->SetCamera(c);
     s->AddDiffuseMaterial({0.6f, 0.6f, 0.6f});
-    const float ground[] = {-20, -20, 0, 20, -20, 0, 20, 20, 0, -20, 20, 0};
-    const int32_t gt[] = {0, 1, 2, 0, 2, 3};
-    s->AddMesh("ground", ground, 4, gt, 2, nullptr, nullptr);
+    const bool dense = DenseScene();
+    if (dense) {
+        AddBumpyGround(*s, 6.0f, 190, 0.04f);  // 72.2k triangles
+    } else {
+        const float ground[] = {-20, -20, 0, 20, -20, 0, 20, 20, 0, -20, 20, 0};
+        const int32_t gt[] = {0, 1, 2, 0, 2, 3};
+        s->AddMesh("ground", ground, 4, gt, 2, nullptr, nullptr);
+    }
     const Vec3f centres[] = {{-1.2f, -0.5f, 0.5f}, {0.2f, -1.0f, 0.6f}, {1.3f, 0.2f, 0.45f}, {-0.3f, 0.7f, 0.4f}};
-    for (const Vec3f& ct : centres) AddSphere(*s, ct, ct.z, 112, 112);  // 4 x 24.9k triangles
+    const int rings = dense ? 56 : 112;  // 4 x 6.1k or 4 x 24.9k triangles
+    for (const Vec3f& ct : centres) AddSphere(*s, ct, ct.z, rings, rings);
     s->AddRectLight({-1.0f, 1.6f, 0.02f}, {2.0f, 0, 0}, {0, 0, 1.2f}, {6, 6, 6}, true, false);
     s->Commit();
     return s;
