@@ -481,7 +481,7 @@ inline Spectrum ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, c
 }
 
 // Traces the camera rays of out[0..n) into hits[0..n) as one coherent stream: a chunk's
-// camera rays start at one point (or a small lens) and fan out over a tile, so Embree's
+// camera rays leave one point (a small lens; or are parallel) and cover one tile, so Embree's
 // packet traversal is ~40% faster on them than ray by ray.  (Shadow rays start all over the
 // tile and are traced one by one: as a coherent stream they were 2x slower.)
 void TraceCameraRays(RTCScene scene, const PrimaryHit* out, size_t n, RTCRayHit* hits) {
