@@ -6,9 +6,11 @@
 // Every point lies in [0,1)^2 (never 1.0).  Header-only, no allocation.
 //
 //  independent  PCG32 stream chosen by the seed.
-//  stratified   jittered grid of rows x cols = n cells, rows the largest divisor of n not above
-//               sqrt(n) (so a square grid when n is a square, 1 x n when n is prime); one point
-//               uniformly in each cell.
+//  stratified   n cells of area 1/n, one point uniformly in each.  When n = rows x cols with
+//               rows <= cols <= 2 rows (rows the largest divisor of n not above sqrt(n)) the cells
+//               are that grid; otherwise (n prime, 2 x 11, ...) round(sqrt(n)) rows of n / rows
+//               or n / rows + 1 cells each, every row as tall as its share of the cells, so the
+//               cells stay near-square instead of a 1 x n grid of slivers.
 //  latin        N-rooks: x-stratum a uniformly random permutation of the y-stratum (Fisher-Yates),
 //               jittered within each 1/n x 1/n cell: one point in every row and every column.
 //  hammersley   (i/n, radical inverse of i) randomised so that the point set stays a (0,m,2)-net in
@@ -23,6 +25,7 @@
 //  stratum for every seed (which would correlate pixels, and dimensions, index by index).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -144,6 +147,34 @@ inline uint32_t StratifiedRows(uint32_t n) {
     return r < 1 ? 1 : r;
 }
 
+// The cells of `stratified`: `rows` rows, the first `wide_rows` of them with `cols` + 1 cells, the
+// others with `cols`; row r spans y in [first cell of the row, first cell of the next row) / n.
+struct StratifiedLayout {
+    uint32_t rows, cols, wide_rows;
+
+    explicit StratifiedLayout(uint32_t n) {
+        rows = StratifiedRows(n);
+        if (uint64_t(n / rows) > 2ull * rows) rows = std::max(1u, uint32_t(std::lround(std::sqrt(double(n)))));
+        cols = n / rows;
+        wide_rows = n % rows;
+    }
+    // Row, column, cells in that row, and cells before the row, of cell i (row by row).
+    void Cell(uint32_t i, uint32_t* row, uint32_t* col, uint32_t* row_cells, uint32_t* before) const {
+        const uint32_t wide_cells = wide_rows * (cols + 1);
+        if (i < wide_cells) {
+            *row = i / (cols + 1);
+            *col = i % (cols + 1);
+            *row_cells = cols + 1;
+            *before = *row * (cols + 1);
+        } else {
+            *row = wide_rows + (i - wide_cells) / cols;
+            *col = (i - wide_cells) % cols;
+            *row_cells = cols;
+            *before = wide_cells + (*row - wide_rows) * cols;
+        }
+    }
+};
+
 // Per-pattern sub-seeds, so x and y (and different patterns) never share randomness.
 inline uint32_t SubSeed(uint64_t seed, uint64_t salt) {
     return uint32_t(MixBits(MixBits(seed) ^ (salt * 0x9e3779b97f4a7c15ull)) >> 32);
@@ -201,11 +232,16 @@ inline void GeneratePattern(Pattern pattern, uint32_t n, uint64_t seed, Point2<f
         }
         case Pattern::Stratified: {
             if (n == 0) return;
-            const uint32_t rows = StratifiedRows(n), cols = n / rows;
+            const StratifiedLayout layout(n);
             PCG32 rng(MixBits(seed), MixBits(seed ^ 0x13198a2e03707344ull));
             for (uint32_t i = 0; i < n; ++i) {
                 const uint32_t rx = rng.NextU32(), ry = rng.NextU32();
-                out[i] = {JitterInStratum(i % cols, cols, rx), JitterInStratum(i / cols, rows, ry)};
+                uint32_t row, col, row_cells, before;
+                layout.Cell(i, &row, &col, &row_cells, &before);
+                // y = (before + row_cells * ry / 2^32) / n, in 2^-32 steps (< n 2^32 < 2^64: no overflow);
+                // for a full grid exactly JitterInStratum(row, rows, ry).
+                const uint64_t y_bits = ((uint64_t(before) << 32) + uint64_t(row_cells) * ry) / n;
+                out[i] = {JitterInStratum(col, row_cells, rx), BitsToUnitFloat(uint32_t(y_bits))};
             }
             ShufflePoints(out, n, rng);
             return;

@@ -93,21 +93,58 @@ TEST(Patterns, PointsInHalfOpenUnitSquare) {
 }
 
 TEST(Patterns, StratifiedHasOnePointPerStratum) {
-    for (uint32_t n : {1u, 4u, 12u, 16u, 30u, 64u, 97u, 100u, 1024u}) {
-        const uint32_t rows = pattern_detail::StratifiedRows(n), cols = n / rows;
-        ASSERT_EQ(rows * cols, n);
-        ASSERT_LE(rows, cols);
-        ASSERT_LE(uint64_t(rows) * rows, n);
+    for (uint32_t n : {1u, 2u, 3u, 4u, 7u, 12u, 16u, 22u, 30u, 64u, 97u, 100u, 1024u, 1031u}) {
+        const pattern_detail::StratifiedLayout layout(n);
+        // Cells: every row as tall as its share of the cells, all cells of area 1/n, near-square.
+        ASSERT_EQ(layout.wide_rows * (layout.cols + 1) + (layout.rows - layout.wide_rows) * layout.cols, n);
+        ASSERT_LT(layout.wide_rows, layout.rows);
+        ASSERT_LE(layout.cols + (layout.wide_rows > 0), 2 * layout.rows + 1) << "n=" << n;
+        ASSERT_LE(layout.rows, layout.cols + 1) << "n=" << n;
         for (uint64_t seed : {0ull, 3ull, 99ull}) {
             std::vector<int> count(n, 0);
-            for (const auto& p : Generate(Pattern::Stratified, n, seed))
-                ++count[uint32_t(p.v * rows) * cols + uint32_t(p.u * cols)];
+            for (const auto& p : Generate(Pattern::Stratified, n, seed)) {
+                // The row whose y-range [before, before + row cells) / n holds p.v, then the column.
+                uint32_t i = 0;
+                for (; i < n; ++i) {
+                    uint32_t row, col, cells, before;
+                    layout.Cell(i, &row, &col, &cells, &before);
+                    if (col == 0 && double(p.v) >= double(before) / n && double(p.v) < double(before + cells) / n) {
+                        i += uint32_t(p.u * cells);
+                        break;
+                    }
+                }
+                ASSERT_LT(i, n) << "n=" << n << " point outside every row";
+                ++count[i];
+            }
             for (uint32_t c = 0; c < n; ++c) ASSERT_EQ(count[c], 1) << "n=" << n << " cell " << c;
         }
     }
-    EXPECT_EQ(pattern_detail::StratifiedRows(16), 4u);
-    EXPECT_EQ(pattern_detail::StratifiedRows(32), 4u);  // 4 x 8
-    EXPECT_EQ(pattern_detail::StratifiedRows(97), 1u);  // prime: 1 x 97
+    // Near-square factorisations keep their exact grid (unchanged outputs); others get rows of
+    // unequal cell counts instead of a 1 x n grid.
+    EXPECT_EQ(pattern_detail::StratifiedLayout(16).rows, 4u);
+    EXPECT_EQ(pattern_detail::StratifiedLayout(32).rows, 4u);  // 4 x 8
+    EXPECT_EQ(pattern_detail::StratifiedLayout(32).wide_rows, 0u);
+    const pattern_detail::StratifiedLayout prime(97);  // 10 rows: 7 of 10 cells, 3 of 9
+    EXPECT_EQ(prime.rows, 10u);
+    EXPECT_EQ(prime.cols, 9u);
+    EXPECT_EQ(prime.wide_rows, 7u);
+}
+
+TEST(Patterns, StratifiedIsUniformForAnyCount) {
+    // Equal-area cells: the mean of many seeds' points is uniform.  Chi-square over an 8 x 8 histogram
+    // of 2000 seeds x n points; 63 degrees of freedom, critical value at 1e-4: 117.
+    for (uint32_t n : {7u, 22u, 97u}) {
+        std::vector<double> hist(64, 0.0);
+        double total = 0;
+        for (uint64_t seed = 0; seed < 2000; ++seed)
+            for (const auto& p : Generate(Pattern::Stratified, n, seed)) {
+                hist[uint32_t(p.v * 8) * 8 + uint32_t(p.u * 8)] += 1;
+                total += 1;
+            }
+        double chi2 = 0;
+        for (double h : hist) chi2 += (h - total / 64) * (h - total / 64) / (total / 64);
+        EXPECT_LT(chi2, 117.0) << "n=" << n;
+    }
 }
 
 TEST(Patterns, LatinHasOnePointPerRowAndColumn) {

@@ -251,10 +251,14 @@ def test_pattern_names_and_shapes():
                           sphrect.pattern("sobol", 8, seed=2**64 - 1))
 
 
-@pytest.mark.parametrize("n, rows, cols", [(16, 4, 4), (12, 3, 4), (64, 8, 8), (7, 1, 7)])
-def test_stratified_one_point_per_cell(n, rows, cols):
-    p = sphrect.pattern("stratified", n, seed=9)
-    cells = np.floor(p[:, 1] * rows).astype(int) * cols + np.floor(p[:, 0] * cols).astype(int)
+@pytest.mark.parametrize("n, row_cells", [(16, [4] * 4), (12, [4] * 3), (64, [8] * 8), (7, [3, 2, 2]),
+                                           (22, [5, 5, 4, 4, 4])])
+def test_stratified_one_point_per_cell(n, row_cells):
+    """Rows as tall as their share of the n equal-area cells (a plain grid when n factors near-square)."""
+    p = sphrect.pattern("stratified", n, seed=9).astype(np.float64)
+    bounds = np.cumsum([0] + row_cells) / n
+    rows = np.searchsorted(bounds, p[:, 1], side="right") - 1
+    cells = [sum(row_cells[:r]) + int(u * row_cells[r]) for r, u in zip(rows, p[:, 0])]
     assert sorted(cells) == list(range(n))
 
 
