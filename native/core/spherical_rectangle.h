@@ -26,8 +26,12 @@
 //  * x-step.  With s = sin(theta), x = h tan(theta), the solid angle of the strip
 //    [0, x] x [y0, y1] is F(s) = asin(b1 s) - asin(b0 s), b_i = y_i / sqrt(y_i^2+h^2)
 //    (integrate dW = (h1 - h0) dtheta).  Solving F(s) = T gives
-//        s = sin T / |b1 - b0 e^{iT}|   (sign of b1 - b0 cos T),
-//    the paper's formula in other variables.  T = T0 + u Omega with T0 = F(s0), the
+//        s = sin T / |b1 - b0 e^{iT}|,
+//    the paper's formula in other variables.  (Its sign factor, the sign of
+//    b1 - b0 cos T, is always +: b1 - b0 cos T >= b1 - b0 > 0 when b0 >= 0, and when
+//    b0 < 0 every reachable T has |T| <= asin b1 + asin|b0|, so that
+//    b1 - b0 cos T >= b1 (1 - b0^2) + |b0| sqrt((1 - b1^2)(1 - b0^2)) > 0.  Testing the
+//    computed sign could only flip s to the wrong side where rounding makes it ~0.)  T = T0 + u Omega with T0 = F(s0), the
 //    signed strip from the foot of o to the near edge, computed by Van Oosterom &
 //    Strackee.  The frame is chosen (axes swapped / mirrored, once per setup) so
 //    that the foot of o lies inside the x-slab, or as close to it as possible, and
@@ -295,19 +299,15 @@ inline void SphericalRectangleMapLocal(const SphericalRectangle<T>& sr, double u
     const double Tu = sr.T0 + u * sr.omega;
     const double sT = std::sin(Tu), cT = std::cos(Tu);
     const double omc = cT > 0 ? sT * sT / (1 + cT) : 1 - cT;  // 1 - cos T
-    // |b1 - b0 e^{iT}|^2 and b1 - b0 cos T as sums of positive terms.
-    double R2, k;
+    // |b1 - b0 e^{iT}|^2 as a sum of positive terms.
+    double R2;
     if (sr.b0 >= 0) {  // light beside o in y: b1 - b0 > 0 small, 1 - cos T
         R2 = sr.db * sr.db + 2 * sr.b0 * sr.b1 * omc;
-        k = sr.db + sr.b0 * omc;
-    } else {  // b0 < 0 < b1: b1 + b0 (stable, may be ~0) and 1 + cos T (~0 when T ~ +-pi)
+    } else {  // b0 < 0 < b1: b1 + b0 (stable, may be ~0) and 1 + cos T (~0 as |T| nears pi: grazing)
         const double opc = cT < 0 ? sT * sT / (1 - cT) : 1 + cT;
         R2 = sr.pb * sr.pb - 2 * sr.b0 * sr.b1 * opc;
-        k = sr.pb - sr.b0 * opc;
     }
-    double s = sT / std::sqrt(R2);
-    if (k < 0) s = -s;
-    s = ClampNaN(s, sr.s0, sr.s1);
+    const double s = ClampNaN(sT / std::sqrt(R2), sr.s0, sr.s1);
     double x = ClampNaN(sr.h * s / std::sqrt((1 - s) * (1 + s)), sr.x0, sr.x1);
     if (sr.polish_x) {
         // Nearly edge-on: x(s) loses precision where |s| -> 1.  Newton on the stable
