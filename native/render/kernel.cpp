@@ -110,18 +110,24 @@ inline float ShadowRayLength(float dist) { return std::isinf(dist) ? kInf : dist
 // Shadow-ray origin pushed off the surface along the geometric normal (scale-aware).
 inline Vec3f OffsetOrigin(const Vec3f& p, const Vec3f& ng) { return p + ng * (1e-4f * (1 + MaxAbsComponent(p))); }
 
+// Embree's ray (and ray + empty hit) for the segment (tnear, tfar) of o + t d.
+inline RTCRay MakeRTCRay(const Vec3f& o, const Vec3f& d, float tnear, float tfar) {
+    return {o.x, o.y, o.z, tnear, d.x, d.y, d.z, 0, tfar, 0xffffffffu, 0, 0};
+}
+
+inline RTCRayHit MakeRTCRayHit(const Vec3f& o, const Vec3f& d, float tnear, float tfar) {
+    RTCRayHit rh;
+    rh.ray = MakeRTCRay(o, d, tnear, tfar);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+
 inline bool Intersect(RTCScene scene, const Vec3f& o, const Vec3f& d, float tnear, float tfar, RTCRayHit* rh) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    RTCRay& r = rh->ray;
-    r.org_x = o.x; r.org_y = o.y; r.org_z = o.z;
-    r.dir_x = d.x; r.dir_y = d.y; r.dir_z = d.z;
-    r.tnear = tnear;
-    r.tfar = tfar;
-    r.time = 0; r.mask = 0xffffffffu; r.id = 0; r.flags = 0;
-    rh->hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh->hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rh->hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    *rh = MakeRTCRayHit(o, d, tnear, tfar);
     rtcIntersect1(scene, &ctx, rh);
     return rh->hit.geomID != RTC_INVALID_GEOMETRY_ID;
 }
@@ -151,12 +157,7 @@ void ResolveShadowRays(RTCScene scene, const std::vector<DeferredShadowRay>& que
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     for (const DeferredShadowRay& q : queue) {
-        RTCRay r;
-        r.org_x = q.o.x; r.org_y = q.o.y; r.org_z = q.o.z;
-        r.dir_x = q.d.x; r.dir_y = q.d.y; r.dir_z = q.d.z;
-        r.tnear = 0;
-        r.tfar = q.tfar;
-        r.time = 0; r.mask = 0xffffffffu; r.id = 0; r.flags = 0;
+        RTCRay r = MakeRTCRay(q.o, q.d, 0, q.tfar);
         rtcOccluded1(scene, &ctx, &r);
         if (r.tfar >= 0) sample_values[q.sample] += q.contribution;
     }
@@ -485,14 +486,7 @@ inline Spectrum ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, c
 // packet traversal is ~40% faster on them than ray by ray.  (Shadow rays start all over the
 // tile and are traced one by one: as a coherent stream they were 2x slower.)
 void TraceCameraRays(RTCScene scene, const PrimaryHit* out, size_t n, RTCRayHit* hits) {
-    for (size_t i = 0; i < n; ++i) {
-        const Ray& ray = out[i].ray;
-        RTCRayHit& rh = hits[i];
-        rh.ray = {ray.o.x, ray.o.y, ray.o.z, ray.tmin, ray.d.x, ray.d.y, ray.d.z, 0, ray.tmax, 0xffffffffu, 0, 0};
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    }
+    for (size_t i = 0; i < n; ++i) hits[i] = MakeRTCRayHit(out[i].ray.o, out[i].ray.d, out[i].ray.tmin, out[i].ray.tmax);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
