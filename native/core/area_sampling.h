@@ -27,7 +27,6 @@ struct RectLightFrame {
     Vec3d corner;          // the corner in double
     Vec3d exh, eyh, n;     // unit edge directions; n along cross(ex, ey): the emitting side
     double wx = 0, wy = 0; // edge lengths
-    T area = 0;
     bool valid = false;    // false: degenerate (zero or non-finite edges, non-finite corner)
 };
 
@@ -43,8 +42,8 @@ RectLightFrame<T> MakeRectLightFrame(const RectLight<T>& light) {
     f.exh = ex / f.wx;
     f.eyh = ey / f.wy;
     f.n = Normalize(Cross(ex, ey));
-    f.area = T(f.wx * f.wy);
-    f.valid = f.area > 0 && std::isfinite(f.area);
+    const T area = T(f.wx * f.wy);  // (in T: a float light whose area overflows is degenerate)
+    f.valid = area > 0 && std::isfinite(area);
     return f;
 }
 
@@ -56,7 +55,6 @@ struct AreaRect {
     double x0 = 0, y0 = 0;  // the corner in the (exh, eyh) frame centred at o
     double wx = 0, wy = 0;  // edge lengths
     double h = 0;         // distance from o to the light's plane (> 0 when valid)
-    T area = 0;
     bool valid = false;   // false: degenerate light, or origin behind a one-sided light / in its plane
 };
 
@@ -77,7 +75,7 @@ AreaRect<T> MakeAreaRect(const Vec3<T>& origin, const RectLightFrame<T>& f) {
     const Vec3d d = f.corner - o;
     const double z = Dot(d, f.n);  // < 0: o is on the emitting side of a one-sided light
     return AreaRect<T>{f.light, o, f.exh, f.eyh, z < 0 ? -f.n : f.n, Dot(d, f.exh), Dot(d, f.eyh), f.wx, f.wy,
-                       std::abs(z), f.area, z != 0 && (f.light.two_sided || z < 0)};
+                       std::abs(z), z != 0 && (f.light.two_sided || z < 0)};
 }
 
 template <class T>
@@ -103,6 +101,13 @@ T RectangleAreaPDF(const AreaRect<T>& r, const Vec3<T>& p) {
     return AreaPDFLocal(r, r.x0 + Dot(q, r.exh), r.y0 + Dot(q, r.eyh));
 }
 
+// Vector from the shading point to the point of the light's plane with local in-plane
+// coordinates (X, Y).
+template <class T>
+Vec3d LocalVector(const AreaRect<T>& r, double X, double Y) {
+    return r.exh * X + r.eyh * Y + r.az * r.h;
+}
+
 // The sample at the point corner + a ex + b ey, whose local in-plane coordinates
 // (along exh, eyh, relative to the shading point) are (X, Y), given its pdf.  The
 // point is built from the corner and the edges, so it lies on the light even when o
@@ -114,7 +119,7 @@ LightSample<T> LightSampleAt(const AreaRect<T>& r, double a, double b, double X,
                              double dist = 0) {
     LightSample<T> s;
     s.point = Vec3<T>(Vec3d(r.light.corner) + Vec3d(r.light.ex) * a + Vec3d(r.light.ey) * b);
-    const Vec3d d = r.exh * X + r.eyh * Y + r.az * r.h;
+    const Vec3d d = LocalVector(r, X, Y);
     if (!(dist > 0) || !std::isfinite(dist)) dist = Length(d);
     s.dist = T(dist);
     s.dir = Vec3<T>(d / dist);
@@ -125,8 +130,8 @@ LightSample<T> LightSampleAt(const AreaRect<T>& r, double a, double b, double X,
 // Local in-plane coordinates clamped onto the light (NaN -> the corner's).
 template <class T>
 void ClampLocalToLight(const AreaRect<T>& r, double& X, double& Y) {
-    X = X > r.x0 ? std::min(X, r.x0 + r.wx) : r.x0;
-    Y = Y > r.y0 ? std::min(Y, r.y0 + r.wy) : r.y0;
+    X = ClampNaN(X, r.x0, r.x0 + r.wx);
+    Y = ClampNaN(Y, r.y0, r.y0 + r.wy);
 }
 
 // The same from the local coordinates alone, clamped onto the light so that rounding
@@ -142,8 +147,8 @@ LightSample<T> LightSampleFromLocal(const AreaRect<T>& r, double X, double Y, T 
 template <class T>
 LightSample<T> AreaSampleAt(const AreaRect<T>& r, double a, double b) {
     if (!r.valid) return {};
-    a = a > 0 ? std::min(a, 1.0) : 0.0;
-    b = b > 0 ? std::min(b, 1.0) : 0.0;
+    a = ClampNaN(a, 0, 1);
+    b = ClampNaN(b, 0, 1);
     const double X = r.x0 + a * r.wx, Y = r.y0 + b * r.wy;
     return LightSampleAt(r, a, b, X, Y, AreaPDFLocal(r, X, Y));
 }
@@ -153,11 +158,17 @@ LightSample<T> SampleRectangleArea(const AreaRect<T>& r, Point2<T> uv) {
     return AreaSampleAt(r, double(uv.u), double(uv.v));
 }
 
-// Inverse of the area map: the fractions of the point along ex and ey.
+// Inverse of the area map: the fractions of the point along ex and ey, in [0,1] (NaN -> 0).
+template <class T>
+Point2<double> InvertRectangleAreaLocal(const AreaRect<T>& r, const Vec3<T>& p) {
+    const Vec3d q = Vec3d(p) - Vec3d(r.light.corner);  // offsets along the edges: no large differences
+    return {ClampNaN(Dot(q, r.exh) / r.wx, 0, 1), ClampNaN(Dot(q, r.eyh) / r.wy, 0, 1)};
+}
+
 template <class T>
 Point2<T> InvertRectangleAreaSample(const AreaRect<T>& r, const Vec3<T>& p) {
-    const Vec3d q = Vec3d(p) - Vec3d(r.light.corner);
-    return {T(Dot(q, r.exh) / r.wx), T(Dot(q, r.eyh) / r.wy)};
+    const Point2<double> uv = InvertRectangleAreaLocal(r, p);
+    return {T(uv.u), T(uv.v)};
 }
 
 }  // namespace sphrect

@@ -20,7 +20,7 @@ using BilinearWeights = std::array<double, 4>;  // w00, w10, w01, w11
 inline double SampleLinear(double xi, double a, double b) {
     if (a == b) return xi;
     const double x = xi * (a + b) / (a + std::sqrt((1 - xi) * a * a + xi * b * b));
-    return x > 0 ? std::min(x, 1.0) : 0.0;  // NaN (a = xi = 0) -> 0
+    return ClampNaN(x, 0, 1);  // NaN (a = xi = 0) -> 0
 }
 
 inline double LinearPDF(double x, double a, double b) {

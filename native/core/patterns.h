@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <utility>
 
 #include "enum_names.h"
 #include "light_sample.h"
@@ -180,15 +181,16 @@ inline uint32_t SubSeed(uint64_t seed, uint64_t salt) {
     return uint32_t(MixBits(MixBits(seed) ^ (salt * 0x9e3779b97f4a7c15ull)) >> 32);
 }
 
-// Random order (Fisher-Yates): without it, point i of `stratified`, `latin` and `hammersley`
-// would sit in the same stratum for every seed, correlating pixels (and dimensions) index-wise.
+// Fisher-Yates: swap(i - 1, j) for i = n .. 2, j uniform in [0, i).
+template <class Swap>
+inline void FisherYates(uint32_t n, PCG32& rng, Swap swap) {
+    for (uint32_t i = n; i > 1; --i) swap(i - 1, rng.NextBounded(i));
+}
+
+// Random order: without it, point i of `stratified`, `latin` and `hammersley` would sit in
+// the same stratum for every seed, correlating pixels (and dimensions) index-wise.
 inline void ShufflePoints(Point2<float>* p, uint32_t n, PCG32& rng) {
-    for (uint32_t i = n; i > 1; --i) {
-        const uint32_t j = rng.NextBounded(i);
-        const Point2<float> t = p[i - 1];
-        p[i - 1] = p[j];
-        p[j] = t;
-    }
+    FisherYates(n, rng, [p](uint32_t a, uint32_t b) { std::swap(p[a], p[b]); });
 }
 
 // Point `index` of Sobol' (first two dimensions), each Owen-scrambled with its own key.
@@ -251,14 +253,13 @@ inline void GeneratePattern(Pattern pattern, uint32_t n, uint64_t seed, Point2<f
             // (no allocation), then each (column, row) cell gets a jittered point.
             PCG32 rng(MixBits(seed), MixBits(seed ^ 0xa4093822299f31d0ull));
             for (uint32_t i = 0; i < n; ++i) std::memcpy(&out[i].u, &i, sizeof(uint32_t));
-            for (uint32_t i = n; i > 1; --i) {
-                const uint32_t j = rng.NextBounded(i);
+            FisherYates(n, rng, [out](uint32_t i, uint32_t j) {
                 uint32_t a, b;  // swapped as integers: the bits are not meaningful floats
-                std::memcpy(&a, &out[i - 1].u, sizeof a);
+                std::memcpy(&a, &out[i].u, sizeof a);
                 std::memcpy(&b, &out[j].u, sizeof b);
-                std::memcpy(&out[i - 1].u, &b, sizeof b);
+                std::memcpy(&out[i].u, &b, sizeof b);
                 std::memcpy(&out[j].u, &a, sizeof a);
-            }
+            });
             for (uint32_t i = 0; i < n; ++i) {
                 uint32_t col;
                 std::memcpy(&col, &out[i].u, sizeof(uint32_t));

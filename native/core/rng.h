@@ -25,9 +25,8 @@ inline constexpr uint64_t MixBits(uint64_t v) {
     return v;
 }
 
-// Largest floats/doubles below 1: every [0,1) result is clamped to these.
+// Largest float below 1.
 inline constexpr float kOneMinusEpsilonF = 0x1.fffffep-1f;
-inline constexpr double kOneMinusEpsilonD = 0x1.fffffffffffffp-1;
 
 // uint32 -> float in [0,1): the top 24 bits, exactly representable, so never 1.
 inline constexpr float BitsToUnitFloat(uint32_t bits) { return float(bits >> 8) * 0x1p-24f; }

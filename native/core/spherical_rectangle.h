@@ -83,9 +83,6 @@ constexpr double kSphericalRectanglePolishedError = 1e-12;
 
 namespace srect {
 
-// Clamp that maps NaN to lo.
-inline double ClampNaN(double x, double lo, double hi) { return x > lo ? (x < hi ? x : hi) : lo; }
-
 // An interval [a0, a1] with its width w = a1 - a0 carried exactly: both the endpoints
 // and the width matter, and neither can be recomputed from the others (a light 1e6
 // sizes away loses its width in a1 - a0; a foot of o 1e-9 from a1 loses a1 in a0 + w).
@@ -198,7 +195,6 @@ struct SphericalRectangle {
     bool y_beside = false;  // y0 > 0: the y-step interpolates 1 - hy
     bool polish_x = false;  // refine the x-step by Newton steps (nearly edge-on setups)
     double error_estimate = 0;  // first-order rounding error of the map in (u, v) space
-    double error_x = 0;         // its x-step (u) part
 };
 
 template <class T>
@@ -269,7 +265,6 @@ SphericalRectangle<T> MakeSphericalRectangle(const Vec3<T>& origin, const RectLi
         const double r0 = std::sqrt(c0 * c0 + dmax2), r1 = std::sqrt(c1 * c1 + dmax2);
         ey = eps * OneMinusB(c0, r0, dmax2) / DiffB(c0, c1, r0, r1, dmax2, wc);  // (1 - hy0) / (hy1 - hy0)
     }
-    sr.error_x = ex;
     sr.polish_x = ex > kSphericalRectanglePolishAbove;
     sr.error_estimate = (sr.polish_x ? kSphericalRectanglePolishedError : ex) + ey;
     sr.area_fallback = !(sr.error_estimate <= kSphericalRectangleMaxError);
@@ -294,7 +289,6 @@ inline void SphericalRectangleToEdgeFrame(const SphericalRectangle<T>& sr, doubl
 template <class T>
 inline void SphericalRectangleMapLocal(const SphericalRectangle<T>& sr, double u, double v, double* px,
                                        double* py, double* dist = nullptr) {
-    using srect::ClampNaN;
     // x-step: solve F(s) = T0 + u Omega.
     const double Tu = sr.T0 + u * sr.omega;
     const double sT = std::sin(Tu), cT = std::cos(Tu);
@@ -377,21 +371,21 @@ T SphericalRectanglePDF(const SphericalRectangle<T>& sr, const Vec3<T>& p) {
 template <class T>
 Point2<double> InvertSphericalRectangleLocal(const SphericalRectangle<T>& sr, const Vec3<T>& p) {
     if (!sr.valid) return {};
+    if (sr.area_fallback) return InvertRectangleAreaLocal(sr.plane, p);
     const Vec3d q = Vec3d(p) - Vec3d(sr.plane.light.corner);
     // Offsets along the light's edges (no difference of two large coordinates).
     const double oX = Dot(q, sr.plane.exh), oY = Dot(q, sr.plane.eyh);
-    if (sr.area_fallback) return {srect::ClampNaN(oX / sr.plane.wx, 0, 1), srect::ClampNaN(oY / sr.plane.wy, 0, 1)};
     // Offsets from the map's x0 / y0 edges.
     const double oa = sr.swap ? oY : oX, ob = sr.swap ? oX : oY;
-    const double ox = srect::ClampNaN(sr.sx > 0 ? oa : sr.wx - oa, 0, sr.wx);
-    const double oy = srect::ClampNaN(sr.sy > 0 ? ob : sr.wy - ob, 0, sr.wy);
+    const double ox = ClampNaN(sr.sx > 0 ? oa : sr.wx - oa, 0, sr.wx);
+    const double oy = ClampNaN(sr.sy > 0 ? ob : sr.wy - ob, 0, sr.wy);
     const double x = sr.x0 + ox;
     const srect::Interval Y{sr.y0, sr.y1, sr.wy};
     const double u = ox <= sr.wx / 2 ? srect::RectSolidAngleLocal({sr.x0, x, ox}, Y, sr.h) / sr.omega
                                      : 1 - srect::RectSolidAngleLocal({x, sr.x1, sr.wx - ox}, Y, sr.h) / sr.omega;
     const double d = std::sqrt(x * x + sr.h * sr.h);
     const double v = srect::DiffB(sr.y0, sr.y0 + oy, d, oy) / srect::DiffB(sr.y0, sr.y1, d, sr.wy);
-    return {srect::ClampNaN(u, 0, 1), srect::ClampNaN(v, 0, 1)};
+    return {ClampNaN(u, 0, 1), ClampNaN(v, 0, 1)};
 }
 
 template <class T>
@@ -410,7 +404,7 @@ Vec3d SphericalRectangleCornerVector(const SphericalRectangle<T>& sr, int i, int
     } else {
         SphericalRectangleToEdgeFrame(sr, i ? sr.x1 : sr.x0, j ? sr.y1 : sr.y0, &X, &Y);
     }
-    return sr.plane.exh * X + sr.plane.eyh * Y + sr.plane.az * sr.plane.h;
+    return LocalVector(sr.plane, X, Y);
 }
 
 // Solid angle of the light seen from `origin` (0 where the setup is invalid), in double.

@@ -46,7 +46,7 @@ TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLightFrame<T>&
     const AreaRect<T>& p = r.plane;
     if (!p.valid) return r;
     // Corners relative to o from the local coordinates (no cancellation for o near the plane).
-    auto corner = [&](int i, int j) { return p.exh * (p.x0 + i * p.wx) + p.eyh * (p.y0 + j * p.wy) + p.az * p.h; };
+    auto corner = [&](int i, int j) { return LocalVector(p, p.x0 + i * p.wx, p.y0 + j * p.wy); };
     const Vec3d c00 = corner(0, 0), c10 = corner(1, 0), c11 = corner(1, 1), c01 = corner(0, 1);
     const double l00 = Length(c00), l10 = Length(c10), l11 = Length(c11), l01 = Length(c01);
     r.tri[0] = MakeSphericalTriangle(c00, c10, c11, l00, l10, l11);

@@ -7,6 +7,9 @@
 
 namespace sphrect {
 
+// Clamp to [lo, hi] that maps NaN to lo.
+inline double ClampNaN(double x, double lo, double hi) { return x > lo ? (x < hi ? x : hi) : lo; }
+
 template <class T>
 struct Vec3 {
     T x = 0, y = 0, z = 0;
