@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/rng.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -137,11 +138,11 @@ inline BsdfSample SampleBsdf(const Material& m, const Vec3f& wo, Point2<float> u
             // One uniform number picks the lobe and is rescaled to [0,1) for the lobe's own warp.
             const float ps = m.specular_probability;
             if (u.u < ps) {
-                u.u = std::min(u.u / ps, 0x1.fffffep-1f);
+                u.u = std::min(u.u / ps, kOneMinusEpsilonF);
                 const Vec3f h = SampleGgxVisibleNormal(wo, m.alpha, u);
                 s.wi = h * (2 * Dot(wo, h)) - wo;
             } else {
-                u.u = std::min((u.u - ps) / (1 - ps), 0x1.fffffep-1f);
+                u.u = std::min((u.u - ps) / (1 - ps), kOneMinusEpsilonF);
                 s.wi = SampleCosineHemisphere(u);
             }
             s.pdf = BsdfPDF<true>(m, wo, s.wi);

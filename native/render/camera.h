@@ -55,11 +55,13 @@ inline Ray GenerateCameraRay(const CameraModel& c, float fx, float fy, Point2<fl
         }
     }
     // Clipping distances are depths along the view axis (as in Blender).
-    const float depth_per_unit = std::abs(d_cam.z) / Length(d_cam);
+    const float len_cam = Length(d_cam);
+    const float depth_per_unit = std::abs(d_cam.z) / len_cam;
     const Vec3f dw = c.VectorToWorld(d_cam);
+    const float len_world = Length(dw);
     r.o = c.PointToWorld(o_cam);
-    r.d = Normalize(dw);
-    const float scale = Length(dw) / Length(d_cam);  // world length of one camera-space unit
+    r.d = dw / len_world;
+    const float scale = len_world / len_cam;  // world length of one camera-space unit
     r.tmin = c.clip_start * scale / depth_per_unit;
     r.tmax = c.clip_end >= 1e30f ? kInf : c.clip_end * scale / depth_per_unit;
     return r;

@@ -385,7 +385,7 @@ Spectrum InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ra
         if (!IsBlack(le)) {
             const float phase = HenyeyGreenstein(Dot(ls.dir, ray_dir), g);
             const float pdf_light = pmf * ls.pdf;
-            const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, pdf_light, phase);
+            const float w = MisWeight(c.mis, pdf_light, phase);
             ++tally.rays;
             out.Add(x, ls.dir, ls.dist, le * Transmittance(scene.medium, ls.dist) * (phase * w / pdf_light));
         }
@@ -422,13 +422,13 @@ Spectrum SingleScattering(const ShadeContext& c, const PrimaryHit& ph, const Poi
     const Ray& ray = ph.ray;
     const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
     const float per_sample = 1.0f / c.light_samples;
+    const bool has_centre = !scene.medium_centre_selector.Empty();
     Spectrum sum;
     for (int j = 0; j < c.light_samples; ++j) {
         // The area light for the light sample at the scattering point, and (independently) the
         // centre for equi-angular sampling: any area, point or spot light, by power.
         const int chosen = scene.light_selector.Empty() ? -1 : scene.light_selector.Select(rng.NextFloat());
         const float u_centre = rng.NextFloat();
-        const bool has_centre = !scene.medium_centre_selector.Empty();
         const Vec3f centre =
             has_centre ? scene.medium_centres[scene.medium_centre_selector.Select(u_centre)] : Vec3f();
         const EquiAngular ea = has_centre ? MakeEquiAngular(ray.o, ray.d, ph.t_end, centre) : EquiAngular{};
@@ -534,16 +534,16 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
     scratch.bsdf_points.resize(chunk_samples * nl);
     const ShadeContext ctx{scene, opt.mis, opt.medium_sampling, opt.light_samples,
                            opt.mis != MisMode::None || !IsBlack(scene.background)};
-    // BSDF/phase sample positions are only drawn when those rays are traced.
-    const bool need_bsdf_points = ctx.trace_bsdf;
     tally.technique.resize(opt.techniques.size());
     std::vector<Spectrum> pixel_sums(size_t(chunk_pixels) * opt.techniques.size());
     for (int first = 0; first < tile_pixels; first += chunk_pixels) {
         const int count = std::min(chunk_pixels, tile_pixels - first);
+        auto pixel_x = [&](int c) { return tile.x0 + (first + c) % tile_w; };
+        auto pixel_y = [&](int c) { return tile.y0 + (first + c) / tile_w; };
         // Camera stage.
         const auto c0 = Clock::now();
         for (int c = 0; c < count; ++c) {
-            const int x = tile.x0 + (first + c) % tile_w, y = tile.y0 + (first + c) / tile_w;
+            const int x = pixel_x(c), y = pixel_y(c);
             const uint64_t pixel = uint64_t(y) * w + x;
             const uint64_t pixel_seed = MixBits(MixBits(opt.seed + 0x632be59bd9b4e019ull) ^ (pixel + 1));
             FillPattern(opt.pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimPixel), false,
@@ -554,7 +554,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             Point2<float>* light_points = &scratch.light_points[size_t(c) * n * nl];
             FillPattern(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimLight), true,
                         light_points);
-            if (need_bsdf_points)
+            if (ctx.trace_bsdf)  // BSDF/phase sample positions only when those rays are traced
                 FillPattern(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimBsdf), true,
                             &scratch.bsdf_points[size_t(c) * n * nl]);
             const uint64_t rng_base = DimensionSeed(pixel_seed, kDimRng);
@@ -570,7 +570,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
         TraceCameraRays(scene.rtc_scene, scratch.hits.data(), chunk_n, scratch.camera_hits.data());
         for (size_t s = 0; s < chunk_n; ++s) FinishCameraSample<kMedium>(scene, scratch.camera_hits[s], scratch.hits[s]);
         tally.camera_seconds += std::chrono::duration<double>(Clock::now() - c0).count();
-        tally.camera_rays += uint64_t(count) * n;
+        tally.camera_rays += chunk_n;
         // Shading stage, once per technique, over the same camera samples.
         for (size_t k = 0; k < opt.techniques.size(); ++k) {
             TechniqueTally& tt = tally.technique[k];
@@ -579,7 +579,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
                 constexpr Technique K = decltype(tag)::value;
                 auto& queue = scratch.shadow_rays;
                 queue.clear();
-                for (uint32_t s = 0; s < uint32_t(count) * n; ++s)
+                for (uint32_t s = 0; s < uint32_t(chunk_n); ++s)
                     values[s] = scratch.hits[s].seen +
                                 ShadeCameraSample<K, kGlossy, kMedium>(ctx, scratch.hits[s], &scratch.light_points[s * nl],
                                                                        &scratch.bsdf_points[s * nl],
@@ -603,8 +603,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             tt.total_seconds += std::chrono::duration<double>(Clock::now() - s0).count();
         }
         for (int c = 0; c < count; ++c) {
-            const int x = tile.x0 + (first + c) % tile_w, y = tile.y0 + (first + c) / tile_w;
-            const uint64_t pixel = uint64_t(y) * w + x;
+            const uint64_t pixel = uint64_t(pixel_y(c)) * w + pixel_x(c);
             for (size_t k = 0; k < opt.techniques.size(); ++k) {
                 const Spectrum& sum = pixel_sums[k * chunk_pixels + c];
                 double* px = p.sums[k] + 3 * pixel;

@@ -24,7 +24,8 @@ struct AreaLight {
     // Rectangle: the light (frame.light: corner, edges ex, ey) with what the samplers' setups
     // need of it, computed once per light.  Ellipses leave it invalid.
     RectLightFrame<float> frame;
-    Vec3f center, ax, ay;   // Ellipse: centre and semi-axes (Rectangle: centre and half edges)
+    Vec3f center;           // centre
+    Vec3f ax, ay;           // Ellipse: semi-axes
     Vec3f n;                // unit normal, cross(ex, ey) direction: the emitting side
     Vec3f inv_x, inv_y;     // ex / |ex|^2, ey / |ey|^2 (resp. the ellipse's semi-axes): plane coordinates
     Spectrum radiance;
@@ -39,8 +40,6 @@ inline AreaLight MakeRectAreaLight(const Vec3f& corner, const Vec3f& ex, const V
     l.shape = AreaShape::Rectangle;
     l.frame = MakeRectLightFrame(RectLight<float>{corner, ex, ey, two_sided});
     l.center = corner + ex * 0.5f + ey * 0.5f;
-    l.ax = ex * 0.5f;
-    l.ay = ey * 0.5f;
     const Vec3f c = Cross(ex, ey);
     l.area = Length(c);
     l.n = c / l.area;
@@ -97,6 +96,11 @@ inline float AreaToSolidAnglePDF(const AreaLight& l, const Vec3f& origin, const 
     return std::isfinite(pdf) && pdf > 0 ? pdf : 0.0f;
 }
 
+inline float EllipseAreaPDF(const AreaLight& l, const Vec3f& origin, const Vec3f& p) {
+    if (!l.two_sided && Dot(l.n, origin - l.center) <= 0) return 0;  // behind a one-sided light
+    return AreaToSolidAnglePDF(l, origin, p);
+}
+
 // Ellipse: concentric disc mapped by the semi-axes (uniform in area).
 inline LightSample<float> SampleEllipseArea(const AreaLight& l, const Vec3f& origin, Point2<float> u) {
     LightSample<float> s;
@@ -106,14 +110,8 @@ inline LightSample<float> SampleEllipseArea(const AreaLight& l, const Vec3f& ori
     s.dist = Length(w);
     if (!(s.dist > 0)) return s;
     s.dir = w / s.dist;
-    if (!l.two_sided && Dot(l.n, origin - l.center) <= 0) return s;  // behind a one-sided light
-    s.pdf = AreaToSolidAnglePDF(l, origin, s.point);
+    s.pdf = EllipseAreaPDF(l, origin, s.point);
     return s;
-}
-
-inline float EllipseAreaPDF(const AreaLight& l, const Vec3f& origin, const Vec3f& p) {
-    if (!l.two_sided && Dot(l.n, origin - l.center) <= 0) return 0;
-    return AreaToSolidAnglePDF(l, origin, p);
 }
 
 // Emitted flux up to the common factor pi: luminance(L) * area * sides.

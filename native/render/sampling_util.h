@@ -18,7 +18,6 @@ constexpr float kInf = INFINITY;
 
 inline float Luminance(const Spectrum& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 inline bool IsBlack(const Spectrum& c) { return c.x == 0 && c.y == 0 && c.z == 0; }
-inline float MaxComponent(const Spectrum& c) { return std::max(c.x, std::max(c.y, c.z)); }
 inline float MaxAbsComponent(const Vec3f& v) { return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z))); }
 
 // Orthonormal basis around a unit vector n (Duff et al., "Building an Orthonormal Basis, Revisited", 2017).
@@ -59,26 +58,16 @@ inline float CosineHemispherePDF(float cos_theta) { return std::max(cos_theta, 0
 // MIS heuristics for one sample from each of two strategies (Veach 1997, ch. 9).
 enum class MisMode { None, Balance, Power };
 
-template <MisMode M>
-inline float MisWeight(float pdf_this, float pdf_other) {
-    if constexpr (M == MisMode::None) {
-        return 1.0f;
-    } else if constexpr (M == MisMode::Balance) {
-        return pdf_this / (pdf_this + pdf_other);
-    } else {
-        const float a = pdf_this * pdf_this, b = pdf_other * pdf_other;
-        // Squares of huge pdfs overflow to inf (inf/inf = NaN): fall back to the ratio form.
-        if (!std::isfinite(a + b)) return pdf_this >= pdf_other ? 1.0f : 0.0f;
-        return a / (a + b);
-    }
-}
-
-// Run-time version, for the few places outside the inner loops.
 inline float MisWeight(MisMode m, float pdf_this, float pdf_other) {
     switch (m) {
         case MisMode::None: return 1.0f;
-        case MisMode::Balance: return MisWeight<MisMode::Balance>(pdf_this, pdf_other);
-        case MisMode::Power: return MisWeight<MisMode::Power>(pdf_this, pdf_other);
+        case MisMode::Balance: return pdf_this / (pdf_this + pdf_other);
+        case MisMode::Power: {
+            const float a = pdf_this * pdf_this, b = pdf_other * pdf_other;
+            // Squares of huge pdfs overflow to inf (inf/inf = NaN): fall back to the ratio form.
+            if (!std::isfinite(a + b)) return pdf_this >= pdf_other ? 1.0f : 0.0f;
+            return a / (a + b);
+        }
     }
     return 1.0f;
 }

@@ -10,11 +10,10 @@ namespace {
 
 [[noreturn]] void Fail(const std::string& what) { throw std::invalid_argument(what); }
 
-bool Finite(const Spectrum& c) { return IsFinite(c); }
 bool NonNegative(const Spectrum& c) { return c.x >= 0 && c.y >= 0 && c.z >= 0; }
 
 void CheckColor(const std::string& what, const Spectrum& c) {
-    if (!Finite(c) || !NonNegative(c)) Fail(what + " must be finite and non-negative");
+    if (!IsFinite(c) || !NonNegative(c)) Fail(what + " must be finite and non-negative");
 }
 
 void CheckVector(const std::string& what, const Vec3f& v) {
