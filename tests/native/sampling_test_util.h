@@ -240,10 +240,10 @@ struct Chi2Result {
 // expected count of a cell is N times the integral of the pdf over the cell, in
 // solid angle: pdf(p) h / |p - o|^3 dA, by adaptive Gauss-Legendre.  Cells with an
 // expectation below 5 are pooled into one bin.
-template <Technique K, class T>
-Chi2Result Chi2Technique(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light, int n_samples,
-                         uint64_t seed, int na = 16, int nb = 16) {
-    LightSampler<K, T> sampler(origin, normal, light);
+// `sampler`: anything with Sample(Point2<T>) and Pdf(point) for the light, set up at `origin`.
+template <class T, class Sampler>
+Chi2Result Chi2Sampler(const Sampler& sampler, const Vec3<T>& origin, const RectLight<T>& light, int n_samples,
+                       uint64_t seed, int na = 16, int nb = 16) {
     Chi2Result res;
     const Vec3d c(light.corner), ex(light.ex), ey(light.ey), o(origin);
     const double lx2 = Dot(ex, ex), ly2 = Dot(ey, ey);
@@ -301,6 +301,12 @@ Chi2Result Chi2Technique(const Vec3<T>& origin, const Vec3<T>& normal, const Rec
     res.statistic = chi2;
     res.p_value = bins > 1 ? GammaQ((bins - 1) / 2.0, chi2 / 2) : 1;
     return res;
+}
+
+template <Technique K, class T>
+Chi2Result Chi2Technique(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light, int n_samples,
+                         uint64_t seed, int na = 16, int nb = 16) {
+    return Chi2Sampler(LightSampler<K, T>(origin, normal, light), origin, light, n_samples, seed, na, nb);
 }
 
 }  // namespace sphrect_test
