@@ -1,6 +1,8 @@
 """Render Properties panels for scene.sphrect and the area light's two-sided switch."""
 import bpy
 
+from .properties import TECHNIQUES
+
 
 class SphrectPanel:
     bl_space_type = "PROPERTIES"
@@ -47,7 +49,7 @@ class RENDER_PT_sphrect_compare(SphrectPanel, bpy.types.Panel):
         layout.use_property_decorate = False
         layout.active = s.compare
         col = layout.column(heading="Techniques", align=True)
-        for name in ("area", "triangles", "rectangle", "rectangle_cosine"):
+        for _, name, _, _ in TECHNIQUES:
             col.prop(s, "compare_" + name)
         col = layout.column()
         col.prop(s, "equal_time")

@@ -45,10 +45,8 @@ def test_render_result_pixels_and_scene_file_round_trip(empty_scene, tmp_path):
     scene.render.filepath = exr
     bpy.ops.render.render(write_still=True)
     ours = engine_module().last_render["images"]["rectangle_cosine"]
-    img = bpy.data.images.load(exr)
-    pixels = np.empty(32 * 24 * 4, dtype=np.float32)
-    img.pixels.foreach_get(pixels)
-    blender = np.flipud(pixels.reshape(24, 32, 4))
+    blender = engine_module().read_image_rgba(exr)
+    assert blender.shape == ours.shape == (24, 32, 4)
     assert np.allclose(blender[..., :3], ours[..., :3], rtol=1e-6, atol=1e-7)
 
     path = str(tmp_path / "scene.sphrect.npz")

@@ -88,6 +88,19 @@ def _flat_rgba(image):
     return np.ascontiguousarray(np.flipud(np.asarray(image, dtype=np.float32))).reshape(-1, 4)
 
 
+def read_image_rgba(path):
+    """float32 RGBA [H, W, 4] of an image file (e.g. an EXR), row 0 = top like sphrect's images. Loads it
+    through bpy.data (main thread only) and removes it from there again."""
+    img = bpy.data.images.load(path, check_existing=False)
+    try:
+        width, height = img.size
+        pixels = np.empty(width * height * 4, dtype=np.float32)
+        img.pixels.foreach_get(pixels)
+    finally:
+        bpy.data.images.remove(img)
+    return np.flipud(pixels.reshape(height, width, 4))
+
+
 _reference_cache = {}  # (absolute path, mtime) -> RGBA [H, W, 4], row 0 = top
 
 
@@ -100,15 +113,9 @@ def cache_reference_image(path):
         raise ValueError(f"reference image '{path}' not found")
     key = (path, os.path.getmtime(path))
     if key not in _reference_cache:
-        img = bpy.data.images.load(path, check_existing=False)
-        try:
-            width, height = img.size
-            pixels = np.empty(width * height * 4, dtype=np.float32)
-            img.pixels.foreach_get(pixels)
-        finally:
-            bpy.data.images.remove(img)
+        image = read_image_rgba(path)
         _reference_cache.clear()
-        _reference_cache[key] = np.flipud(pixels.reshape(height, width, 4))
+        _reference_cache[key] = image
     return _reference_cache[key]
 
 
@@ -186,6 +193,7 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         settings = bl_scene.sphrect
         techniques = chosen_techniques(settings)
         with_reference = settings.compare and settings.reference != "NONE"
+        equal_time = settings.compare and settings.equal_time
         self.update_stats("SPHRECT", "Exporting scene")
         t0 = time.perf_counter()
         scene, log = scene_from_depsgraph(depsgraph)
@@ -214,7 +222,7 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
                 make = lambda ts: sphrect.Renderer(scene, techniques=list(ts), **options)
-                if settings.compare and settings.equal_time:
+                if equal_time:
                     renderers = {t: make([t]) for t in techniques}
                 else:
                     shared = make(techniques)
@@ -243,10 +251,10 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         shown = display_technique(settings, techniques)
         self._cancelled = False
         try:
-            if settings.compare and settings.equal_time:
+            if equal_time:
                 self._render_equal_time(renderers, techniques, settings, result, layer, shown)
             else:
-                self._render_equal_samples(renderers[techniques[0]], techniques, settings, result, layer, shown)
+                self._render_equal_samples(renderers, techniques, settings, result, layer, shown)
             entries = [dict(name=t, image=renderers[t].image(t), **self._stats(renderers[t], t))
                        for t in techniques]
             last_render["images"] = {e["name"]: e["image"] for e in entries}
@@ -297,7 +305,8 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
             return
         render_pass.rect.foreach_set(_flat_rgba(image))
 
-    def _render_equal_samples(self, renderer, techniques, settings, result, layer, shown):
+    def _render_equal_samples(self, renderers, techniques, settings, result, layer, shown):
+        renderer = renderers[techniques[0]]  # one renderer for all techniques
         calls = sample_schedule(settings.samples, settings.passes, self._pixels)
         pass_ends = set(np.cumsum(split_samples(settings.samples, settings.passes)).tolist())
         done, last_show = 0, time.perf_counter()
@@ -309,7 +318,7 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
             # Display at the end of each pass, and at most once a second in between (copying every
             # technique's image costs ~50 ms per megapixel).
             if stop or done in pass_ends or time.perf_counter() - last_show > 1.0:
-                self._show(result, layer, {t: renderer for t in techniques}, techniques, shown)
+                self._show(result, layer, renderers, techniques, shown)
                 last_show = time.perf_counter()
             if stop:
                 self._cancelled = True
