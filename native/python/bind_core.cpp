@@ -315,12 +315,11 @@ py::array PatternImpl(const std::string& name, const py::object& n_obj, const py
     return std::move(out);
 }
 
-py::tuple NameTuple(bool techniques) {
+// The names of all values of an enum, in order (as EnumNameList, for Python).
+template <class Values, class NameOf>
+py::tuple NameTuple(const Values& values, NameOf name_of) {
     py::list l;
-    if (techniques)
-        for (Technique t : kAllTechniques) l.append(TechniqueName(t));
-    else
-        for (Pattern p : kAllPatterns) l.append(PatternName(p));
+    for (auto v : values) l.append(name_of(v));
     return py::tuple(l);
 }
 
@@ -328,8 +327,8 @@ py::tuple NameTuple(bool techniques) {
 
 void BindCore(py::module_& m) {
     using py::arg;
-    m.attr("techniques") = NameTuple(true);
-    m.attr("patterns") = NameTuple(false);
+    m.attr("techniques") = NameTuple(kAllTechniques, TechniqueName);
+    m.attr("patterns") = NameTuple(kAllPatterns, PatternName);
 
     m.def(
         "solid_angle",
