@@ -49,6 +49,31 @@ def test_area_light_power_size_and_orientation(empty_scene, shape, scale):
     assert log.warning_text() == ""
 
 
+def test_sheared_area_light_keeps_its_plane_and_power(empty_scene):
+    """A rotated light under a non-uniformly scaled parent is a parallelogram in world space: exported as a
+    rectangle of the same area (so the same power) in the same plane, emitting on the same side."""
+    parent = bpy.data.objects.new("Parent", None)
+    bpy.context.scene.collection.objects.link(parent)
+    parent.scale = (1.0, 3.0, 1.0)
+    obj = builders.area_light("L", "RECTANGLE", size=0.5, size_y=0.25, power=100.0, rotation=(0.4, 0.0, 0.6))
+    obj.parent = parent
+    bpy.context.view_layer.update()
+    m = np.array(obj.matrix_world)
+    u, v = m[:3, 0] * 0.5, m[:3, 1] * 0.25  # the world-space edges: not orthogonal
+    assert abs(np.dot(_unit(u), _unit(v))) > 0.1
+    area = np.linalg.norm(np.cross(u, v))
+    scene, log = export()
+    (light,) = scene.lights
+    ex, ey = np.array(light.edge_x), np.array(light.edge_y)
+    assert abs(np.dot(ex, ey)) < 1e-5 * np.linalg.norm(ex) * np.linalg.norm(ey)
+    assert np.linalg.norm(np.cross(ex, ey)) == pytest.approx(area, rel=1e-5)
+    assert light.radiance == pytest.approx([100.0 / (4.0 * area)] * 3, rel=1e-5)
+    normal = _unit(np.cross(ex, ey))
+    assert abs(np.dot(normal, _unit(np.cross(u, v)))) == pytest.approx(1.0, abs=1e-5)  # the same plane
+    assert np.dot(normal, -m[:3, 2]) > 0  # emitting towards local -Z
+    assert "sheared" in log.warning_text()
+
+
 def test_point_spot_and_sun(empty_scene):
     builders.other_light("P", "POINT", 50.0, location=(1, 2, 3), color=(1, 0.5, 0))
     builders.other_light("S", "SPOT", 80.0, location=(0, 0, 4), rotation=(0.5, 0, 0), spot_size=0.7,

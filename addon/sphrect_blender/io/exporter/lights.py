@@ -87,9 +87,10 @@ def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, lo
         log.problem(f"area light '{name}' has zero size: skipped")
         return None
     if abs(np.dot(ex, ey)) > 1e-6 * np.linalg.norm(ex) * np.linalg.norm(ey):
-        # Sheared by a parent's non-uniform scale: keep the area and facing, make the edges orthogonal.
+        # Sheared by a parent's non-uniform scale: keep the area, the plane and the emitting side (the
+        # plane's normal, which local -Z no longer is), make the edges orthogonal.
         log.unsupported_feature("sheared area lights (edges made orthogonal)", light.name)
-        ey = np.cross(direction, ex) * (rect_area / np.linalg.norm(ex) ** 2)
+        ey = np.cross(np.cross(ex, ey) / rect_area, ex) * (rect_area / np.linalg.norm(ex) ** 2)
     if light.spread < math.pi - 1e-6:
         log.unsupported_feature("area light spread (full hemisphere used)", light.name)
     two_sided = bool(getattr(getattr(light, "sphrect", None), "two_sided", False))
