@@ -42,6 +42,7 @@
 
 #include "core/rng.h"
 #include "core/technique.h"
+#include "render/embree_rays.h"
 #include "render/renderer.h"
 #include "render/sampling_util.h"
 #include "render/scene.h"
@@ -187,16 +188,12 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
     RawRays out;
     PCG32 rng(1);
     auto add = [&](const Vec3f& o, const Vec3f& d, float tfar, bool closest) {
-        out.secondary.push_back({o.x, o.y, o.z, 0, d.x, d.y, d.z, 0, tfar, 0xffffffffu, 0, 0});
+        out.secondary.push_back(MakeRTCRay(o, d, 0, tfar));
         out.closest_hit.push_back(closest);
     };
     auto camera_sample = [&](int x, int y) {
         const Ray ray = GenerateCameraRay<false>(s.camera, x + rng.NextFloat(), y + rng.NextFloat(), {});
-        RTCRayHit rh;
-        rh.ray = {ray.o.x, ray.o.y, ray.o.z, ray.tmin, ray.d.x, ray.d.y, ray.d.z, 0, ray.tmax, 0xffffffffu, 0, 0};
-        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        RTCRayHit rh = MakeRTCRayHit(ray.o, ray.d, ray.tmin, ray.tmax);
         out.camera.push_back(rh);
         out.first.push_back(uint32_t(out.secondary.size()));
         RTCIntersectContext ctx;
@@ -207,14 +204,14 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
         Vec3f n = Normalize(Vec3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
         if (Dot(n, ray.d) > 0) n = -n;
         const Vec3f p = ray.o + ray.d * rh.ray.tfar;
-        const Vec3f origin = p + n * (1e-4f * (1 + MaxAbsComponent(p)));
+        const Vec3f origin = OffsetOrigin(p, n);
         const LightSampler<K, float> sampler(p, n, light.frame);
         const Frame frame = Frame::FromZ(n);
         for (int j = 0; j < light_samples; ++j) {
             const float u = rng.NextFloat(), v = rng.NextFloat();
             const LightSample<float> ls = sampler.Valid() ? sampler.Sample({u, v}) : LightSample<float>{};
             if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, n) > 0)
-                add(origin, ls.dir, ls.dist * (1 - 1e-4f), false);
+                add(origin, ls.dir, ShadowRayLength(ls.dist), false);
             if (mis) {
                 const float a = rng.NextFloat(), b = rng.NextFloat();
                 add(origin, frame.FromLocal(SampleCosineHemisphere({a, b})), kInf, true);
