@@ -1,6 +1,7 @@
 // Names of the enums that users pick by string (techniques, patterns, MIS modes, ...).
 #pragma once
 
+#include <stdexcept>
 #include <string>
 
 namespace sphrect {
@@ -19,6 +20,16 @@ std::string EnumNameList(const Values& values, NameOf name_of) {
     std::string s;
     for (auto v : values) s += std::string(s.empty() ? "'" : ", '") + name_of(v) + "'";
     return s;
+}
+
+// ParseEnumName, or std::invalid_argument (Python: ValueError) naming the valid values:
+// "unknown <what> '<name>'; valid <plural>: 'a', 'b'".
+template <class Values, class E, class NameOf>
+void ParseEnumNameOrThrow(const std::string& what, const std::string& plural, const std::string& name,
+                          const Values& values, NameOf name_of, E* out) {
+    if (!ParseEnumName(name, values, name_of, out))
+        throw std::invalid_argument("unknown " + what + " '" + name + "'; valid " + plural + ": " +
+                                    EnumNameList(values, name_of));
 }
 
 }  // namespace sphrect

@@ -26,8 +26,7 @@ namespace {
 
 Technique ToTechnique(const std::string& name) {
     Technique t;
-    if (!ParseTechnique(name, &t))
-        throw py::value_error("unknown technique '" + name + "'; valid techniques: " + EnumNameList(kAllTechniques, TechniqueName));
+    ParseEnumNameOrThrow("technique", "techniques", name, kAllTechniques, TechniqueName, &t);
     return t;
 }
 
@@ -300,8 +299,7 @@ py::object SolidAngleImpl(const py::object& origin, const py::object& corner, co
 
 py::array PatternImpl(const std::string& name, const py::object& n_obj, const py::object& seed_obj) {
     Pattern p;
-    if (!ParsePattern(name, &p))
-        throw py::value_error("unknown pattern '" + name + "'; valid patterns: " + EnumNameList(kAllPatterns, PatternName));
+    ParseEnumNameOrThrow("pattern", "patterns", name, kAllPatterns, PatternName, &p);
     // n must fit the core's uint32 index; a cap well below that keeps a typo from exhausting memory.
     const uint32_t n = uint32_t(ToInteger(n_obj, "n", 1u << 28));
     const uint64_t seed = ToInteger(seed_obj, "seed", std::numeric_limits<uint64_t>::max());

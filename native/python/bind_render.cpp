@@ -90,22 +90,15 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
     o.techniques.clear();
     for (const auto& name : techniques) {
         Technique t;
-        if (!ParseTechnique(name, &t))
-            throw py::value_error("unknown technique '" + name +
-                                  "' (expected one of: " + EnumNameList(kAllTechniques, TechniqueName) + ")");
+        ParseEnumNameOrThrow("technique", "techniques", name, kAllTechniques, TechniqueName, &t);
         for (Technique k : o.techniques)
             if (k == t) throw py::value_error("technique '" + name + "' listed twice");
         o.techniques.push_back(t);
     }
-    if (!ParsePattern(pattern, &o.pattern))
-        throw py::value_error("unknown pattern '" + pattern +
-                              "' (expected one of: " + EnumNameList(kAllPatterns, PatternName) + ")");
-    if (!render::ParseMisMode(mis, &o.mis))
-        throw py::value_error("unknown mis '" + mis +
-                              "' (expected one of: " + EnumNameList(render::kAllMisModes, render::MisModeName) + ")");
-    if (!render::ParseMediumSampling(medium_sampling, &o.medium_sampling))
-        throw py::value_error("unknown medium_sampling '" + medium_sampling + "' (expected one of: " +
-                              EnumNameList(render::kAllMediumSamplings, render::MediumSamplingName) + ")");
+    ParseEnumNameOrThrow("pattern", "patterns", pattern, kAllPatterns, PatternName, &o.pattern);
+    ParseEnumNameOrThrow("mis", "mis modes", mis, render::kAllMisModes, render::MisModeName, &o.mis);
+    ParseEnumNameOrThrow("medium_sampling", "medium_sampling values", medium_sampling, render::kAllMediumSamplings,
+                         render::MediumSamplingName, &o.medium_sampling);
     o.light_samples = light_samples;
     o.seed = seed;
     o.threads = threads;

@@ -11,10 +11,6 @@
 #include "kernel.h"
 namespace sphrect::render {
 
-bool ParseMisMode(const std::string& name, MisMode* out) {
-    return ParseEnumName(name, kAllMisModes, MisModeName, out);
-}
-
 const char* MisModeName(MisMode m) {
     switch (m) {
         case MisMode::None: return "none";
@@ -22,10 +18,6 @@ const char* MisModeName(MisMode m) {
         case MisMode::Power: return "power";
     }
     return "?";
-}
-
-bool ParseMediumSampling(const std::string& name, MediumSampling* out) {
-    return ParseEnumName(name, kAllMediumSamplings, MediumSamplingName, out);
 }
 
 const char* MediumSamplingName(MediumSampling m) {

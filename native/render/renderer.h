@@ -24,9 +24,7 @@ constexpr std::array<MisMode, 3> kAllMisModes = {MisMode::None, MisMode::Balance
 constexpr std::array<MediumSampling, 3> kAllMediumSamplings = {MediumSampling::Mis, MediumSampling::Distance,
                                                                MediumSampling::EquiAngular};
 
-bool ParseMisMode(const std::string& name, MisMode* out);
 const char* MisModeName(MisMode m);
-bool ParseMediumSampling(const std::string& name, MediumSampling* out);
 const char* MediumSamplingName(MediumSampling m);
 
 struct RenderOptions {
