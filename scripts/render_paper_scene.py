@@ -24,7 +24,7 @@ import numpy as np
 import sphrect
 from sphrect.study.metrics import rmse, tonemap
 
-TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
+TECHNIQUES = sphrect.techniques  # area, triangles, rectangle, rectangle_cosine
 LABELS = {"area": "area", "triangles": "solid angle (two triangles)", "rectangle": "solid angle (rectangle)",
           "rectangle_cosine": "rectangle + cosine warp"}
 

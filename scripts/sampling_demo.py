@@ -29,7 +29,7 @@ except ImportError:  # run from the repository without PYTHONPATH: use the defau
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
     import sphrect
 
-TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine")
+TECHNIQUES = sphrect.techniques  # area, triangles, rectangle, rectangle_cosine
 
 # One shading point (the origin) under a 3 x 2 light in the plane z = 0.5 that starts just beside
 # it: the near edge subtends far more solid angle than the far one, so the techniques differ.

@@ -28,8 +28,8 @@ import numpy as np
 from . import _native
 from .scene import Camera, EllipseLight, PointLight, RectLight, Scene, SpotLight, SunLight
 
-TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine")
-PATTERNS = ("independent", "stratified", "latin", "hammersley", "sobol")
+TECHNIQUES = tuple(_native.techniques)
+PATTERNS = tuple(_native.patterns)
 MIS_MODES = ("none", "balance", "power")
 MEDIUM_SAMPLING = ("mis", "distance", "equiangular")
 
@@ -214,6 +214,6 @@ class Renderer:
 def render(scene: Scene, samples: int = 16, techniques: Union[str, Iterable[str]] = ("rectangle",),
            **kw) -> Dict[str, np.ndarray]:
     """Render `scene` with each technique; {technique: float32 [H, W, 4]}."""
-    r = Renderer(scene, techniques=list([techniques] if isinstance(techniques, str) else techniques), **kw)
+    r = Renderer(scene, techniques=techniques, **kw)
     r.render(samples)
     return {t: r.image(t) for t in r.techniques}

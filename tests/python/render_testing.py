@@ -4,6 +4,7 @@ import numpy as np
 from scipy import stats
 
 import sphrect
+from chi2 import sidak_alpha
 
 ALL_TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
 
@@ -89,5 +90,5 @@ def pixel_t_test(reps, expected, family_alpha, rel_tol=2e-5):
     t = (mean - expected) / se
     p = 2 * stats.t.sf(np.abs(t), df=k - 1)
     n = expected.size
-    alpha_pixel = 1 - (1 - family_alpha) ** (1 / n)
+    alpha_pixel = sidak_alpha(family_alpha, n)
     return bool(p.min() >= alpha_pixel), float(p.min()), alpha_pixel

@@ -5,13 +5,13 @@ converges to the medium-free image, and the camera models put things where Blend
 Comparisons are per-pixel Welch t-tests between independent replicate renders, Sidak-corrected
 per image pair with family-wise false-failure rate 1e-4; with the 16 image pairs below a correct
 renderer fails this file with probability < 0.2 % (fixed seeds: the outcome is deterministic)."""
-import math
 
 import numpy as np
 import pytest
 from scipy import stats
 
 import sphrect
+from chi2 import sidak_alpha
 from render_testing import ALL_TECHNIQUES, plane_mesh, replicate_images
 from test_render_api import box_mesh
 
@@ -28,7 +28,7 @@ def welch_agree(a, b, family_alpha=FAMILY_ALPHA, rel_tol=1e-4):
     # Welch-Satterthwaite degrees of freedom.
     df = se2 ** 2 / (va ** 2 / (len(a) - 1) + vb ** 2 / (len(b) - 1) + floor ** 2 / 1e9)
     p = 2 * stats.t.sf(np.abs(t), df=np.maximum(df, 1))
-    alpha_pixel = 1 - (1 - family_alpha) ** (1 / ma.size)
+    alpha_pixel = sidak_alpha(family_alpha, ma.size)
     return bool(p.min() >= alpha_pixel), float(p.min())
 
 

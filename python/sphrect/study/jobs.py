@@ -14,9 +14,7 @@ import re
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
-TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine")
-MIS_MODES = ("none", "balance", "power")
-PATTERNS = ("independent", "stratified", "latin", "hammersley", "sobol")
+from ..render import MIS_MODES, PATTERNS, TECHNIQUES  # noqa: F401  (cli.py imports them from here)
 
 SPHRECT = "sphrect"
 CYCLES = "cycles"

@@ -45,7 +45,7 @@ def load_study(out_dir: str) -> Dict:
     for r in records:  # the time each run is judged by (CPU time for single-thread runs; see time_of)
         r["time"] = time_of(r, study.threads)
     return {"config": config, "state": state, "store": store, "reference": load_reference_info(store),
-            "study": StudyConfig.from_dict(config["study"]),
+            "study": study,
             "ladder": [r for r in records if r["job"]["kind"] == LADDER],
             "equal_time": [r for r in records if r["job"]["kind"] == EQUAL_TIME],
             "failures": list(store.failures())}
@@ -439,10 +439,11 @@ def cycles_comparison(study: Dict, all_curves: Dict) -> Tuple[List[str], List[Li
     return lines, rows, None
 
 
-def summary_lines(study: Dict, all_curves: Dict) -> List[str]:
-    """The headline numbers, each computed by the finding functions below the summary."""
+def summary_lines(study: Dict, ordering: List[str], slopes: List[str], cosine: List[str], cycles_lines: List[str],
+                  ratio: Optional[float]) -> List[str]:
+    """The headline numbers, from the lines of the findings (ordering_finding, slope_finding, cosine_finding,
+    cycles_comparison with its ratio) that the report shows below the summary."""
     lines = []
-    cycles_lines, _, ratio = cycles_comparison(study, all_curves)
     if ratio is not None:
         lines.append(f"- Goal (our best configuration needs at most 1/3 of Cycles 3.4's time for Cycles' RMSE at the "
                      f"top of the ladder, or the highest count whose error our runs reach): measured ratio "
@@ -450,16 +451,13 @@ def summary_lines(study: Dict, all_curves: Dict) -> List[str]:
                      + ("**met**." if ratio <= 1 / 3 else "**not met**."))
     else:
         lines.append("- " + cycles_lines[0])
-    ordering, _ = ordering_finding(study, all_curves)
     lines += [l for l in ordering if l.startswith("- ")]
-    slopes, _ = slope_finding(study, all_curves)
     faster = [l for l in slopes if "converges faster" in l]
     slower = [l for l in slopes if "SLOWER" in l]
     if slopes:
         lines.append(f"- Stratification (convergence slopes, stratified/low-discrepancy patterns): the area-preserving "
                      f"map converges faster than the two-triangle map in {len(faster)} of {len(slopes)} "
                      f"(pattern, MIS) cases, slower in {len(slower)}, indistinguishable in the rest.")
-    cosine = cosine_finding(study, all_curves)
     better = [l for l in cosine if "(better than rectangle)" in l]
     if cosine:
         lines.append(f"- rectangle_cosine is more efficient (1 / (MSE x time)) than rectangle in {len(better)} of "
@@ -555,8 +553,13 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
         doc.para(f"**{len(non_finite)} runs produced NaN/Inf pixels** (their RMSE is infinite): "
                  + ", ".join(non_finite[:8]))
 
+    ordering_lines, ordering_rows = ordering_finding(study, all_curves)
+    slope_lines, slope_rows = slope_finding(study, all_curves)
+    cosine_lines = cosine_finding(study, all_curves)
+    cycles_lines, cycles_rows, cycles_ratio = cycles_comparison(study, all_curves)
+
     doc.heading("Summary")
-    for line in summary_lines(study, all_curves):
+    for line in summary_lines(study, ordering_lines, slope_lines, cosine_lines, cycles_lines, cycles_ratio):
         doc.para(line)
     for pattern in [p for p in ("stratified", "sobol", "independent") if p in cfg.patterns][:1]:
         doc.image(f"plots/rmse_vs_time_{pattern}.png", f"RMSE vs time, pattern {pattern} (more below)")
@@ -588,28 +591,25 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
 
     doc.heading("The paper's findings, measured")
     doc.para("**1. Equal samples: rectangle < triangles < area.**")
-    lines, rows = ordering_finding(study, all_curves)
-    for line in lines:
+    for line in ordering_lines:
         doc.para(line)
     doc.table(["MIS", "pattern", "order holds at", "rectangle < triangles at", "RMSE triangles/rectangle (top N)",
-               "RMSE area/rectangle (top N)"], rows)
+               "RMSE area/rectangle (top N)"], ordering_rows)
     doc.para("**2. Stratification: fitted convergence slopes (RMSE vs samples).**")
-    lines, rows = slope_finding(study, all_curves)
     name = "slopes.png"
     plot_slopes(study, all_curves, os.path.join(plots, name))
     doc.image(f"plots/{name}", "fitted slopes per technique and pattern")
-    doc.table(["technique", "MIS"] + list(cfg.patterns), rows)
-    for line in lines:
+    doc.table(["technique", "MIS"] + list(cfg.patterns), slope_rows)
+    for line in slope_lines:
         doc.para(line)
     doc.para("**3. Where rectangle_cosine stands** (against rectangle, same MIS and pattern, top of the ladder).")
-    for line in cosine_finding(study, all_curves) or ["rectangle_cosine or rectangle was not part of the study."]:
+    for line in cosine_lines or ["rectangle_cosine or rectangle was not part of the study."]:
         doc.para(line)
     doc.para("**4. Cycles 3.4 at equal error: time our best configuration needs to reach Cycles' RMSE.**")
-    lines, rows, cycles_ratio = cycles_comparison(study, all_curves)
-    for line in lines:
+    for line in cycles_lines:
         doc.para(line)
     doc.table(["Cycles spp", "Cycles RMSE", "Cycles time [s]", "our best configuration", "its time [s]",
-               "time ratio (ours/Cycles)"], rows)
+               "time ratio (ours/Cycles)"], cycles_rows)
 
     doc.heading("Time to reach a target error")
     cycles_curve = all_curves.get(("cycles", "power", "default"))
