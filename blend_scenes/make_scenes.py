@@ -29,6 +29,14 @@ def enable_addon():
     addon_utils.enable("sphrect_blender", default_set=True)
 
 
+def black_world(scene):
+    """A world whose background emits nothing (only the scene's lights light it)."""
+    world = bpy.data.worlds.new("World")
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
+    scene.world = world
+
+
 def fresh_scene(name):
     bpy.ops.wm.read_factory_settings(use_empty=True)
     enable_addon()
@@ -40,10 +48,7 @@ def fresh_scene(name):
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
     scene.sphrect.samples = 16
-    world = bpy.data.worlds.new("World")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    scene.world = world
+    black_world(scene)
     return scene
 
 

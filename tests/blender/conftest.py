@@ -44,10 +44,7 @@ def empty_scene():
     scene.render.engine = "SPHRECT"
     set_resolution(scene, 32, 24)
     scene.view_settings.view_transform = "Standard"
-    world = bpy.data.worlds.new("World")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0, 0, 0, 1)
-    scene.world = world
+    builders.black_world(scene)
     builders.camera((0.0, -6.0, 2.0), (0.0, 0.0, 0.3), lens=35.0)
     bpy.context.view_layer.update()
     return scene
@@ -61,7 +58,7 @@ def open_blend(name, width=32, height=24):
     return scene
 
 
-def export(scene=None):
+def export():
     """(sphrect.Scene, ExportLog) of the current scene's evaluated depsgraph."""
     return exporter().scene_from_depsgraph(bpy.context.evaluated_depsgraph_get())
 

@@ -66,18 +66,21 @@ def scene_from_depsgraph(depsgraph):
         if not getattr(obj, "visible_camera", True) or not getattr(obj, "visible_shadow", True):
             log.unsupported_feature("per-object ray visibility (object rendered as visible)", obj.name)
         key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
-        if key not in cache:
-            cache[key] = triangulate(obj)
-        local = cache[key]
-        if local is None:
+        if key not in cache:  # instances share the triangulation and the material ids
+            local = triangulate(obj)
+            if local is not None:
+                slots = materials.slot_ids(obj)
+                cache[key] = (local, slots[np.clip(local.material_index, 0, len(slots) - 1)])
+            else:
+                cache[key] = None
+        if cache[key] is None:
             continue
+        local, material_ids = cache[key]
         world = to_world(local, inst.matrix_world)
         if world is None:
             log.problem(f"object '{name}' has zero scale: skipped")
             continue
         vertices, triangles, normals = world
-        slots = materials.slot_ids(obj)
-        material_ids = slots[np.clip(local.material_index, 0, len(slots) - 1)]
         scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
                                          material_ids=material_ids, name=name))
     scene.materials = materials.list

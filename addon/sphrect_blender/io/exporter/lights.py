@@ -53,9 +53,9 @@ def export_light(sphrect, obj, matrix_world, name, log):
     if power <= 0 or not np.any(color > 0):
         log.problem(f"light '{name}' has no power: skipped")
         return None
-    x, y, z, position = _axes(matrix_world)
     if light.type == "AREA":
         return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log)
+    _, _, z, position = _axes(matrix_world)
     if light.type in {"POINT", "SPOT"}:
         if light.shadow_soft_size > 0:
             log.unsupported_feature("point/spot light radius (treated as 0: hard shadows)", light.name)
