@@ -18,6 +18,15 @@ from ..render import MIS_MODES, PATTERNS, TECHNIQUES  # noqa: F401  (cli.py impo
 
 SPHRECT = "sphrect"
 CYCLES = "cycles"
+# Cycles' curve in the (technique, mis, pattern) terms of ours: it has its own sampling.
+CYCLES_CURVE = ("cycles", "power", "default")
+
+
+def curve_label(technique: str, mis: str, pattern: str) -> str:
+    """The name of the curve (technique, mis, pattern), or Cycles'."""
+    if (technique, mis, pattern) == CYCLES_CURVE:
+        return "Cycles 3.4"
+    return f"{technique} / mis={mis} / {pattern}"
 LADDER = "ladder"
 EQUAL_TIME = "equal_time"
 
@@ -47,9 +56,7 @@ class Job:
     @property
     def label(self) -> str:
         """The curve this job belongs to (everything but the sample count)."""
-        if self.engine == CYCLES:
-            return "Cycles 3.4"
-        return f"{self.technique} / mis={self.mis} / {self.pattern}"
+        return curve_label(self.technique, self.mis, self.pattern)
 
     def to_dict(self) -> Dict:
         return dataclasses.asdict(self)
@@ -132,7 +139,7 @@ def build_plan(config: StudyConfig) -> List[Job]:
     jobs = [Job(SPHRECT, t, m, p, n, config.light_samples, config.seed, config.threads)
             for n in config.ladder for t in config.techniques for m in config.mis for p in config.patterns]
     if config.cycles:
-        jobs += [Job(CYCLES, "cycles", "power", "default", n, 1, config.seed, config.threads)
+        jobs += [Job(CYCLES, *CYCLES_CURVE, n, 1, config.seed, config.threads)
                  for n in config.ladder]
     jobs.sort(key=lambda j: (j.samples, j.engine != SPHRECT))
     return jobs
@@ -174,5 +181,5 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
                                 config.threads, EQUAL_TIME, budget))
     n = samples(CYCLES, "cycles", "power")
     if config.cycles and n:
-        jobs.append(Job(CYCLES, "cycles", "power", "default", n, 1, config.seed, config.threads, EQUAL_TIME, budget))
+        jobs.append(Job(CYCLES, *CYCLES_CURVE, n, 1, config.seed, config.threads, EQUAL_TIME, budget))
     return jobs

@@ -16,7 +16,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from . import metrics
-from .jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, StudyConfig
+from .jobs import CYCLES, CYCLES_CURVE, EQUAL_TIME, LADDER, SPHRECT, StudyConfig, curve_label
 from .reference import load_reference_info
 from .store import ResultStore, atomic_write_bytes, atomic_write_json
 
@@ -52,7 +52,7 @@ def load_study(out_dir: str) -> Dict:
 
 
 def curves(records: List[Dict]) -> Dict[Tuple[str, str, str], List[Dict]]:
-    """(technique, mis, pattern) -> records sorted by samples (Cycles: ("cycles", "power", "default"))."""
+    """(technique, mis, pattern) -> records sorted by samples (Cycles: CYCLES_CURVE)."""
     out = defaultdict(list)
     for r in records:
         j = r["job"]
@@ -63,7 +63,7 @@ def curves(records: List[Dict]) -> Dict[Tuple[str, str, str], List[Dict]]:
 
 
 def curve_name(key: Tuple[str, str, str]) -> str:
-    return "Cycles 3.4" if key[0] == "cycles" else f"{key[0]} / mis={key[1]} / {key[2]}"
+    return curve_label(*key)
 
 
 def fitted_slope(curve: List[Dict], x: str, reference_rmse: float) -> float:
@@ -153,7 +153,7 @@ def plot_convergence(study: Dict, all_curves: Dict, pattern: str, x: str, path: 
     ref_rmse = study["reference"]["estimated_rmse"]
     fig, axes = plt.subplots(1, len(mis_modes), figsize=(5.2 * len(mis_modes), 4.4), squeeze=False,
                              sharey=True)
-    cycles = all_curves.get(("cycles", "power", "default"))
+    cycles = all_curves.get(CYCLES_CURVE)
     for ax, mis in zip(axes[0], mis_modes):
         for technique in study["study"].techniques:
             curve = all_curves.get((technique, mis, pattern))
@@ -329,7 +329,7 @@ def slope_finding(study: Dict, all_curves: Dict) -> Tuple[List[str], List[List[s
         for technique in cfg.techniques:
             rows.append([technique, mis] + [fmt(fitted_slope(all_curves.get((technique, mis, p), []), "samples",
                                                               ref_rmse), 3) for p in cfg.patterns])
-    cycles = all_curves.get(("cycles", "power", "default"))
+    cycles = all_curves.get(CYCLES_CURVE)
     if cycles:
         rows.append(["Cycles 3.4", "power"] + [fmt(fitted_slope(cycles, "samples", ref_rmse), 3)
                                                 if i == 0 else "" for i in range(len(cfg.patterns))])
@@ -399,10 +399,10 @@ def systematic_share(curve: List[Dict]) -> float:
 def cycles_comparison(study: Dict, all_curves: Dict) -> Tuple[List[str], List[List[str]], Optional[float]]:
     """For each Cycles ladder point (N, RMSE e, time t): the time our best configuration needs to reach e.
     The ratio at the top is None when Cycles' error there is mostly a systematic difference."""
-    cycles = all_curves.get(("cycles", "power", "default"))
+    cycles = all_curves.get(CYCLES_CURVE)
     if not cycles:
         return ["Cycles was not part of this study (no Blender, no .blend, or --no-cycles)."], [], None
-    ours = {k: c for k, c in all_curves.items() if k[0] != "cycles"}
+    ours = {k: c for k, c in all_curves.items() if k != CYCLES_CURVE}
     rows, ratios = [], []
     for r in cycles:
         best = None
@@ -612,7 +612,7 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
                "time ratio (ours/Cycles)"], cycles_rows)
 
     doc.heading("Time to reach a target error")
-    cycles_curve = all_curves.get(("cycles", "power", "default"))
+    cycles_curve = all_curves.get(CYCLES_CURVE)
     if target_rmse is None:
         if cycles_curve:
             target_rmse = cycles_curve[-1]["rmse"]
