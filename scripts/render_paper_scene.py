@@ -128,6 +128,7 @@ def main(argv=None):
                          "light": "two-sided rectangle perpendicular to the ground, invisible"},
                "images": {}, "sweep": {}}
     images = {}
+    ref_rms = float(np.sqrt(np.mean(ref[:, :, :3] ** 2)))
     for mis in ("none", "balance"):
         r = sphrect.Renderer(scene, techniques=TECHNIQUES, mis=mis, pattern=args.pattern, seed=args.seed,
                              threads=args.threads)
@@ -136,7 +137,8 @@ def main(argv=None):
             img = r.image(t)
             images[(mis, t)] = img
             st = r.stats(t)
-            entry = {"rmse": rmse(img, ref), "relative_rmse": rmse(img, ref) / float(np.sqrt(np.mean(ref[:, :, :3] ** 2))),
+            error = rmse(img, ref)
+            entry = {"rmse": error, "relative_rmse": error / ref_rms,
                      "light_time": st["light_time"], "shading_time": st["shading_time"],
                      "camera_time": st["camera_time"], "rays": st["rays"], "samples": st["samples"]}
             figures["images"][f"{mis}/{t}"] = entry

@@ -11,10 +11,7 @@ import numpy as np
 import pytest
 
 import sphrect
-
-pytestmark = pytest.mark.skipif(not hasattr(sphrect, "Renderer"), reason="the renderer is not built")
-
-from sphrect.study import LocalProcessPool, ReferenceSettings, StudyConfig, run_study  # noqa: E402
+from sphrect.study import LocalProcessPool, ReferenceSettings, StudyConfig, run_study
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PAPER_BLEND = os.path.join(ROOT, "blend_scenes", "01_paper.blend")

@@ -107,12 +107,18 @@ def cost_to_reach(costs: Sequence[float], errors: Sequence[float], target: float
     return float(math.exp((math.log(target) - intercept) / slope)), "extrapolated"
 
 
+def white_point(image: np.ndarray) -> float:
+    """The 99.5th percentile of the image's positive RGB values (1 for a black image): what maps to white."""
+    rgb = colour(image)
+    positive = rgb[rgb > 0]
+    return float(np.percentile(positive, 99.5)) if positive.size else 1.0
+
+
 def tonemap(image: np.ndarray, white: Optional[float] = None) -> np.ndarray:
     """Linear radiance -> 8-bit-ready sRGB in [0, 1] for display: scale so that `white` maps to 1, clamp,
-    apply the sRGB transfer curve. `white` defaults to the 99.5th percentile of the image."""
+    apply the sRGB transfer curve. `white` defaults to white_point(image)."""
     rgb = colour(image)
     if white is None:
-        positive = rgb[rgb > 0]
-        white = float(np.percentile(positive, 99.5)) if positive.size else 1.0
+        white = white_point(image)
     x = np.clip(rgb / max(white, 1e-30), 0.0, 1.0)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)

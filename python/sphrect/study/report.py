@@ -212,8 +212,7 @@ def plot_equal_time_grid(study: Dict, path: str) -> List[List[str]]:
                                                           for r in records)]
     cycles = [r for r in records if r["job"]["engine"] == CYCLES]
     columns = list(study["study"].techniques) + (["cycles"] if cycles else []) + ["reference"]
-    white = float(np.percentile(metrics.colour(reference)[metrics.colour(reference) > 0], 99.5)) \
-        if np.any(reference[..., :3] > 0) else 1.0
+    white = metrics.white_point(reference)
     maps = {}
     for r in records:
         img = store.load_image(r["image"])

@@ -99,21 +99,20 @@ def pdf_errors() -> Dict[str, Dict]:
     has_textbook = hasattr(sphrect, "_native") and hasattr(sphrect._native, "_study_textbook_rectangle")
     f32 = lambda v: np.asarray(v, dtype=np.float32)
     for case, origin, corner, ex, ey in hard_cases():
-        exact32 = exact_solid_angle(*(np.asarray(v, np.float32) for v in (origin, corner, ex, ey)))
+        inputs32 = tuple(f32(v) for v in (origin, corner, ex, ey))  # what the float32 variants see
+        exact32 = exact_solid_angle(*inputs32)
         exact64 = exact_solid_angle(origin, corner, ex, ey)
         for name, dtype in variants.items():
             omega_exact = exact64 if dtype == "float64" else exact32
             if dtype is None:
                 if not has_textbook:
                     continue
-                points, pdf, omega = sphrect._native._study_textbook_rectangle(f32(origin), f32(corner), f32(ex),
-                                                                               f32(ey), uv.astype(np.float32))
-                rounded = (f32(origin), f32(corner), f32(ex), f32(ey))
+                points, pdf, omega = sphrect._native._study_textbook_rectangle(*inputs32, uv.astype(np.float32))
+                rounded = inputs32
             else:
                 points, pdf = sphrect.sample("rectangle", origin, corner, ex, ey, uv, dtype=dtype)
                 omega = sphrect.solid_angle(origin, corner, ex, ey, dtype=dtype)
-                rounded = (origin, corner, ex, ey) if dtype == "float64" else \
-                    (f32(origin), f32(corner), f32(ex), f32(ey))
+                rounded = (origin, corner, ex, ey) if dtype == "float64" else inputs32
             entry = out[name]
             omega_error = abs(float(omega) / omega_exact - 1.0) if math.isfinite(float(omega)) else 1.0
             if omega_error >= entry["omega"]:
@@ -124,7 +123,7 @@ def pdf_errors() -> Dict[str, Dict]:
             area_mode = good.size > 1 and np.ptp(good) > 1e-6 * np.mean(good)
             entry["area_fallback_cases"] += int(area_mode)
             if area_mode:
-                exact = np.array([exact_area_pdf(*rounded[:1], *rounded[1:2], rounded[2], rounded[3], p)
+                exact = np.array([exact_area_pdf(*rounded, p)
                                   if ok else np.nan for p, ok in zip(np.asarray(points, np.float64), ~bad)])
             else:
                 exact = np.full(len(pdf), 1.0 / omega_exact)
