@@ -19,9 +19,9 @@ SKIP_DIRS = {"__pycache__"}
 SKIP_SUFFIXES = (".pyc", ".pyo")
 
 
-def _files(root):
+def _files(root, skip_dirs=SKIP_DIRS):
     for d, dirs, files in os.walk(root):
-        dirs[:] = sorted(x for x in dirs if x not in SKIP_DIRS and x != "lib")
+        dirs[:] = sorted(x for x in dirs if x not in skip_dirs)
         for f in sorted(files):
             if not f.endswith(SKIP_SUFFIXES):
                 yield os.path.join(d, f)
@@ -34,14 +34,10 @@ def package(build_dir, output):
         raise SystemExit(f"no native module in {package_dir}: build first (cmake --build {build_dir})")
     os.makedirs(os.path.dirname(os.path.abspath(output)), exist_ok=True)
     with zipfile.ZipFile(output, "w", zipfile.ZIP_DEFLATED) as z:
-        for path in _files(addon):
+        for path in _files(addon, SKIP_DIRS | {"lib"}):  # (a lib/ left in the source tree is not shipped)
             z.write(path, os.path.join("sphrect_blender", os.path.relpath(path, addon)))
-        for d, dirs, files in os.walk(package_dir):
-            dirs[:] = sorted(x for x in dirs if x not in SKIP_DIRS)
-            for f in sorted(files):
-                if not f.endswith(SKIP_SUFFIXES):
-                    path = os.path.join(d, f)
-                    z.write(path, os.path.join("sphrect_blender", "lib", "sphrect", os.path.relpath(path, package_dir)))
+        for path in _files(package_dir):
+            z.write(path, os.path.join("sphrect_blender", "lib", "sphrect", os.path.relpath(path, package_dir)))
     return output
 
 
