@@ -32,12 +32,28 @@ struct TechniqueTally {
     double total_seconds = 0;   // whole per-technique pass (light sampling included)
     uint64_t rays = 0;
     uint64_t dropped = 0;       // non-finite samples left out of the image
+
+    TechniqueTally& operator+=(const TechniqueTally& o) {
+        light_ticks += o.light_ticks;
+        total_seconds += o.total_seconds;
+        rays += o.rays;
+        dropped += o.dropped;
+        return *this;
+    }
 };
 
 struct TileTally {
     std::vector<TechniqueTally> technique;
     double camera_seconds = 0;
     uint64_t camera_rays = 0;
+
+    // (Both tallies have one entry per technique.)
+    TileTally& operator+=(const TileTally& o) {
+        camera_seconds += o.camera_seconds;
+        camera_rays += o.camera_rays;
+        for (size_t k = 0; k < o.technique.size(); ++k) technique[k] += o.technique[k];
+        return *this;
+    }
 };
 
 struct KernelParams {

@@ -128,14 +128,7 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
             cancel_.store(true);
         }
         std::lock_guard<std::mutex> l(mutex);
-        tally.camera_seconds += local.camera_seconds;
-        tally.camera_rays += local.camera_rays;
-        for (size_t k = 0; k < local.technique.size(); ++k) {
-            tally.technique[k].light_ticks += local.technique[k].light_ticks;
-            tally.technique[k].total_seconds += local.technique[k].total_seconds;
-            tally.technique[k].rays += local.technique[k].rays;
-            tally.technique[k].dropped += local.technique[k].dropped;
-        }
+        tally += local;
         ++finished_workers;
         cv.notify_all();
     };
