@@ -11,6 +11,7 @@
 #include <limits>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/technique.h"
@@ -88,6 +89,25 @@ inline double ReferenceIrradiance(const Vec3<T>& o, const Vec3d& n, const RectLi
 }
 
 // Distance of p from the light's rectangle (in-plane and off-plane), long double.
+// Irradiance estimate of technique K with N independent samples (uniform doubles rounded to T,
+// from mt19937_64(seed)): (mean of cos / pdf, its standard error).
+template <Technique K, class T>
+std::pair<double, double> EstimateIrradiance(const Vec3<T>& o, const Vec3<T>& n, const RectLight<T>& L, int N,
+                                             uint64_t seed) {
+    const LightSampler<K, T> s(o, n, L);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> U(0, 1);
+    double sum = 0, sum2 = 0;
+    for (int i = 0; i < N; ++i) {
+        const LightSample<T> ls = s.Sample({T(U(rng)), T(U(rng))});
+        const double f = ls.pdf > 0 ? std::max(0.0, double(Dot(ls.dir, n))) / double(ls.pdf) : 0.0;
+        sum += f;
+        sum2 += f * f;
+    }
+    const double mean = sum / N;
+    return {mean, std::sqrt(std::max(0.0, sum2 / N - mean * mean) / N)};
+}
+
 template <class T>
 inline double DistanceToLight(const Vec3<T>& p, const RectLight<T>& L) {
     using R = long double;

@@ -39,19 +39,8 @@ void CheckAll() {
         const RectLight<T> L{Vec3<T>(r.light.corner), Vec3<T>(r.light.ex), Vec3<T>(r.light.ey), r.light.two_sided};
         const Vec3<T> o(r.origin), n(r.normal);
         const double ref = ReferenceIrradiance(o, Vec3d(n), L);
-        const LightSampler<K, T> s(o, n, L);
-        ASSERT_TRUE(s.Valid()) << r.name;
-        std::mt19937_64 rng(++seed);
-        std::uniform_real_distribution<double> U(0, 1);
-        const int N = 100000;
-        double sum = 0, sum2 = 0;
-        for (int i = 0; i < N; ++i) {
-            const LightSample<T> ls = s.Sample({T(U(rng)), T(U(rng))});
-            const double f = ls.pdf > 0 ? std::max(0.0, double(Dot(ls.dir, n))) / double(ls.pdf) : 0.0;
-            sum += f;
-            sum2 += f * f;
-        }
-        const double mean = sum / N, se = std::sqrt(std::max(0.0, sum2 / N - mean * mean) / N);
+        ASSERT_TRUE((LightSampler<K, T>(o, n, L).Valid())) << r.name;
+        const auto [mean, se] = EstimateIrradiance<K, T>(o, n, L, 100000, ++seed);
         std::printf("%-16s %-6s %-22s E %.7f estimate %.7f se %.2e (%+.2f se)\n", TechniqueName(K),
                     sizeof(T) == 4 ? "float" : "double", r.name, ref, mean, se, se > 0 ? (mean - ref) / se : 0.0);
         EXPECT_LE(std::abs(mean - ref), 4 * se + 1e-6 * ref) << TechniqueName(K) << " " << r.name;

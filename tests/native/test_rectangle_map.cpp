@@ -148,24 +148,6 @@ TEST(RectangleMap, TextbookFloatSolidAngleFailsFarAway) {
 
 namespace {
 
-// Irradiance estimate with N independent samples: (mean, standard error).
-template <Technique K>
-std::pair<double, double> EstimateIrradiance(const Vec3f& o, const Vec3f& n, const RectLight<float>& L, int N,
-                                             uint64_t seed) {
-    const LightSampler<K, float> s(o, n, L);
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<float> U(0, 1);
-    double sum = 0, sum2 = 0;
-    for (int i = 0; i < N; ++i) {
-        const LightSample<float> ls = s.Sample({U(rng), U(rng)});
-        const double f = ls.pdf > 0 ? std::max(0.0, double(Dot(ls.dir, n))) / ls.pdf : 0.0;
-        sum += f;
-        sum2 += f * f;
-    }
-    const double mean = sum / N, var = std::max(0.0, sum2 / N - mean * mean);
-    return {mean, std::sqrt(var / N)};
-}
-
 // Bisection (in log space) of the parameter where `fallback(p)` switches.
 template <class F>
 std::pair<double, double> FindSwitch(double lo, double hi, F fallback) {
@@ -182,7 +164,7 @@ void ExpectUnbiasedAcross(const char* what, const Vec3f& o_lo, const Vec3f& o_hi
                           const RectLight<float>& L) {
     for (const Vec3f& o : {o_lo, o_hi}) {
         const double ref = ReferenceIrradiance(o, Vec3d(n), L);
-        const auto [mean, se] = EstimateIrradiance<K>(o, n, L, 200000, 5);
+        const auto [mean, se] = EstimateIrradiance<K, float>(o, n, L, 200000, 5);
         std::printf("%s %s: o = (%.9g %.9g %.9g) E = %.9g estimate %.9g +- %.3g\n", what, TechniqueName(K), o.x, o.y,
                     o.z, ref, mean, se);
         // 4 standard errors: false-failure probability ~6e-5 per check (normal approx.).
