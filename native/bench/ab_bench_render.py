@@ -1,47 +1,87 @@
 #!/usr/bin/python3
-"""A/B comparison of two bench_render builds on a shared, noisy machine.
+"""bench_render's figures on a shared, noisy machine: one build, or an A/B comparison of two.
 
+    /usr/bin/python3 native/bench/ab_bench_render.py BUILD/bench_render [rounds]
     /usr/bin/python3 native/bench/ab_bench_render.py OLD/bench_render NEW/bench_render [rounds] [filter]
 
-Runs the two executables alternately (`rounds` times each, order swapped every round, so that
-load drifting over time hits both alike) and keeps, per benchmark, the fastest run's CPU time
-per camera sample.  Prints, per technique / MIS / light samples, the ray-casting floor
-(BM_RawEmbree: the same rays, no sampling or shading), the render time and their ratio, for
-both builds, and the speed-up of the render.
+Runs the executable(s) `rounds` times (two builds alternately, order swapped every round, so that
+load drifting over time hits both alike) and keeps, per benchmark, the fastest run's CPU time per
+camera sample.
+
+One build: per technique / MIS / light samples, the ray-casting floor (BM_RawEmbree: the same
+rays, no sampling or shading), without MIS also the rays plus only the technique's setup and map
+(BM_RaysAndSampler: the least a renderer on this sampling core can add), the render, and their
+ratios to the raw rays; the issue's goal is render / raw <= 1.3.
+
+Two builds: raw, render and their ratio for both, and the speed-up of the render.
 """
 import collections
 import json
 import subprocess
 import sys
 
+TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
 
-def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    bins = {"old": sys.argv[1], "new": sys.argv[2]}
-    rounds = int(sys.argv[3]) if len(sys.argv) > 3 else 6
-    filt = sys.argv[4] if len(sys.argv) > 4 else "BM_Render|BM_RawEmbree"
-    best = collections.defaultdict(dict)  # run name -> build -> min ns per camera sample
+
+def best_times(bins, rounds, filt):
+    """{run name: {build tag: min ns per camera sample}} over `rounds` alternating runs."""
+    best = collections.defaultdict(dict)
+    tags = list(bins)
     for r in range(rounds):
-        for tag in (("old", "new") if r % 2 == 0 else ("new", "old")):
+        for tag in (tags if r % 2 == 0 else tags[::-1]):
             out = subprocess.run([bins[tag], f"--benchmark_filter={filt}", "--benchmark_min_time=0.15",
                                   "--benchmark_format=json"], capture_output=True, text=True, check=True).stdout
             for b in json.loads(out)["benchmarks"]:
+                if b.get("error_occurred"):
+                    sys.exit(f"{b['run_name']}: {b.get('error_message')}")
                 ns = b["s/sample"] * 1e9
                 best[b["run_name"]][tag] = min(ns, best[b["run_name"]].get(tag, float("inf")))
-    names = ["area", "triangles", "rectangle", "rectangle_cosine"]
-    print(f"{'technique':17s} {'MIS':7s} ls | {'old: raw':>8s} {'render':>7s} {'ratio':>5s} | "
-          f"{'new: raw':>8s} {'render':>7s} {'ratio':>5s} | speed-up   (ns per camera sample)")
+    return best
+
+
+def rows(best):
+    """(technique, mis, light samples, raw, render, rays + sampler or None) for every measured case."""
     for ls in (1, 4):
         for mis in (0, 1):
-            for t in range(4):
+            for t, name in enumerate(TECHNIQUES):
                 raw = best.get(f"BM_RawEmbree/{t}/{mis}/{ls}/manual_time")
                 ren = best.get(f"BM_Render/{t}/{mis}/4/{ls}/manual_time")
-                if not raw or not ren or len(raw) < 2 or len(ren) < 2:
-                    continue
-                print(f"{names[t]:17s} {'balance' if mis else 'none':7s} {ls}  | {raw['old']:8.0f} {ren['old']:7.0f} "
-                      f"{ren['old'] / raw['old']:5.2f} | {raw['new']:8.0f} {ren['new']:7.0f} {ren['new'] / raw['new']:5.2f}"
-                      f" | {ren['old'] / ren['new']:5.2f}x")
+                floor = best.get(f"BM_RaysAndSampler/{t}/{ls}/manual_time") if not mis else None
+                if raw and ren:
+                    yield name, "balance" if mis else "none", ls, raw, ren, floor
+
+
+def report_one(binary, rounds):
+    best = best_times({"build": binary}, rounds, "BM_Render/./././|BM_RawEmbree|BM_RaysAndSampler")
+    print(f"{'technique':17s} {'MIS':7s} ls | {'raw':>5s} {'rays+sampler':>12s} {'render':>7s} | "
+          f"{'floor/raw':>9s} {'render/raw':>10s}   (ns per camera sample; goal render/raw <= 1.3)")
+    for name, mis, ls, raw, ren, floor in rows(best):
+        r, n = raw["build"], ren["build"]
+        f = floor["build"] if floor else None
+        print(f"{name:17s} {mis:7s} {ls}  | {r:5.0f} {f'{f:12.0f}' if f else ' ' * 12} {n:7.0f} | "
+              f"{f'{f / r:9.2f}' if f else ' ' * 9} {n / r:10.2f}")
+
+
+def report_ab(old, new, rounds, filt):
+    best = best_times({"old": old, "new": new}, rounds, filt)
+    print(f"{'technique':17s} {'MIS':7s} ls | {'old: raw':>8s} {'render':>7s} {'ratio':>5s} | "
+          f"{'new: raw':>8s} {'render':>7s} {'ratio':>5s} | speed-up   (ns per camera sample)")
+    for name, mis, ls, raw, ren, _ in rows(best):
+        if len(raw) < 2 or len(ren) < 2:
+            continue
+        print(f"{name:17s} {mis:7s} {ls}  | {raw['old']:8.0f} {ren['old']:7.0f} {ren['old'] / raw['old']:5.2f} | "
+              f"{raw['new']:8.0f} {ren['new']:7.0f} {ren['new'] / raw['new']:5.2f} | {ren['old'] / ren['new']:5.2f}x")
+
+
+def main():
+    args = sys.argv[1:]
+    if not args:
+        sys.exit(__doc__)
+    if len(args) == 1 or args[1].isdigit():
+        report_one(args[0], int(args[1]) if len(args) > 1 else 6)
+    else:
+        report_ab(args[0], args[1], int(args[2]) if len(args) > 2 else 6,
+                  args[3] if len(args) > 3 else "BM_Render|BM_RawEmbree")
 
 
 if __name__ == "__main__":

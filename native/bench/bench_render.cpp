@@ -21,6 +21,13 @@
 //                                is timed (no sampling, no shading, no accumulation).
 //                                The counter `secondary/sample` lets one check that the ray
 //                                counts match the renderer's (rays/s x s/sample - 1).
+//  BM_RaysAndSampler/<technique>/<light samples>
+//                                BM_RawEmbree without MIS plus only the technique's own work: its
+//                                setup per shading point and its map per light sample (the same
+//                                points, (u, v) and hence rays), in the renderer's per-tile order.
+//                                The floor for any renderer that calls this core's samplers
+//                                (ab_bench_render.py BUILD/bench_render prints it next to the
+//                                raw rays and the render).
 //  BM_DiffuseKernel/<forced>     the diffuse scene with the kernel the scene selects (0: no medium,
 //                                glossy or lens code at all, i.e. exactly a renderer built without
 //                                them) and with the kernel that has medium + glossy + depth of field
@@ -180,6 +187,15 @@ struct RawRays {
     std::vector<uint32_t> first;         // secondary rays of camera sample i: [first[i], first[i + 1])
     std::vector<RTCRay> secondary;
     std::vector<uint8_t> closest_hit;    // 1: BSDF ray (rtcIntersect1), 0: shadow ray (rtcOccluded1)
+    // What the shadow rays were drawn from, for BM_RaysAndSampler (without MIS): per camera sample
+    // that hit, its point, unit geometric normal (facing the camera) and shadow-ray origin; per
+    // light sample its (u, v).
+    struct ShadingPoint {
+        Vec3f p, n, origin;
+    };
+    std::vector<ShadingPoint> points;
+    std::vector<uint32_t> tile_points;   // shading points of tile t: [tile_points[t], tile_points[t + 1])
+    std::vector<Point2<float>> light_uv; // light_samples per shading point
 };
 
 template <Technique K>
@@ -205,10 +221,12 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
         if (Dot(n, ray.d) > 0) n = -n;
         const Vec3f p = ray.o + ray.d * rh.ray.tfar;
         const Vec3f origin = OffsetOrigin(p, n);
+        out.points.push_back({p, n, origin});
         const LightSampler<K, float> sampler(p, n, light.frame);
         const Frame frame = Frame::FromZ(n);
         for (int j = 0; j < light_samples; ++j) {
             const float u = rng.NextFloat(), v = rng.NextFloat();
+            out.light_uv.push_back({u, v});
             const LightSample<float> ls = sampler.Valid() ? sampler.Sample({u, v}) : LightSample<float>{};
             if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, n) > 0)
                 add(origin, ls.dir, ShadowRayLength(ls.dist), false);
@@ -221,12 +239,16 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
     // Pixels in the renderer's order: 16 x 16 tiles, row by row inside each.
     constexpr int kTile = 16;
     for (int ty = 0; ty < kHeight; ty += kTile)
-        for (int tx = 0; tx < kWidth; tx += kTile, out.tile_first.push_back(uint32_t(out.camera.size())))
+        for (int tx = 0; tx < kWidth; tx += kTile) {
             for (int y = ty; y < std::min(ty + kTile, kHeight); ++y)
                 for (int x = tx; x < std::min(tx + kTile, kWidth); ++x)
                     for (int i = 0; i < kSamples; ++i) camera_sample(x, y);
+            out.tile_first.push_back(uint32_t(out.camera.size()));
+            out.tile_points.push_back(uint32_t(out.points.size()));
+        }
     out.first.push_back(uint32_t(out.secondary.size()));
     out.tile_first.insert(out.tile_first.begin(), 0);
+    out.tile_points.insert(out.tile_points.begin(), 0);
     return out;
 }
 
@@ -282,6 +304,77 @@ void BM_RawEmbree(benchmark::State& state) {
     state.counters["secondary/sample"] = benchmark::Counter(double(rays_in.secondary.size()) / rays_in.camera.size());
 }
 BENCHMARK(BM_RawEmbree)->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {1, 4}})->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
+
+// One tile of BM_RaysAndSampler: the camera stream, then per shading point the technique's
+// setup and its light samples, queued as shadow rays, then the queue traced one by one.
+template <Technique K>
+uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light_samples, size_t tile,
+                              RTCRayHit* camera, std::vector<RTCRay>& queue) {
+    const RectLightFrame<float>& light = s.area_lights[0].frame;
+    uint64_t blocked = 0;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCIntersectContext coherent = ctx;
+    coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const uint32_t c0 = in.tile_first[tile], c1 = in.tile_first[tile + 1];
+    rtcIntersect1M(s.rtc_scene, &coherent, camera + c0, c1 - c0, sizeof(RTCRayHit));
+    for (uint32_t i = c0; i < c1; ++i) blocked += camera[i].hit.geomID;
+    queue.clear();
+    for (uint32_t k = in.tile_points[tile]; k < in.tile_points[tile + 1]; ++k) {
+        const RawRays::ShadingPoint& sp = in.points[k];
+        const LightSampler<K, float> sampler(sp.p, sp.n, light);
+        for (int j = 0; j < light_samples; ++j) {
+            const LightSample<float> ls =
+                sampler.Valid() ? sampler.Sample(in.light_uv[size_t(k) * light_samples + j]) : LightSample<float>{};
+            if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, sp.n) > 0)
+                queue.push_back(MakeRTCRay(sp.origin, ls.dir, 0, ShadowRayLength(ls.dist)));
+        }
+    }
+    for (RTCRay& r : queue) {
+        rtcOccluded1(s.rtc_scene, &ctx, &r);
+        blocked += r.tfar < 0;
+    }
+    return blocked;
+}
+
+// BM_RaysAndSampler/<technique>/<light samples>: BM_RawEmbree (no MIS) plus the one piece of work
+// no renderer using the technique can skip -- its setup at each shading point and its map per
+// light sample, from the same points and (u, v) as the raw rays (so the shadow rays are the same).
+// No pattern, camera, BSDF, shading or accumulation.  (this - raw) / raw is the least a renderer
+// calling this core's sampler per shading point and light sample adds to the raw rays.
+void BM_RaysAndSampler(benchmark::State& state) {
+    const RenderScene& s = *Scene();
+    const Technique technique = kAllTechniques[state.range(0)];
+    const int light_samples = int(state.range(1));
+    const RawRays rays_in = DispatchTechnique(technique, [&](auto tag) {
+        return MakeRawRays<decltype(tag)::value>(s, false, light_samples);
+    });
+    uint64_t rays = 0, samples = 0, shadow_rays = 0;
+    std::vector<RTCRayHit> camera;
+    std::vector<RTCRay> queue;
+    for (auto _ : state) {
+        camera = rays_in.camera;  // (traced in place; the copy is not timed)
+        shadow_rays = 0;
+        const double t0 = ProcessCpuSeconds();
+        uint64_t blocked = 0;
+        DispatchTechnique(technique, [&](auto tag) {
+            for (size_t t = 0; t + 1 < rays_in.tile_first.size(); ++t) {
+                blocked += TraceTileWithSampler<decltype(tag)::value>(s, rays_in, light_samples, t, camera.data(), queue);
+                shadow_rays += queue.size();
+            }
+        });
+        benchmark::DoNotOptimize(blocked);
+        state.SetIterationTime(ProcessCpuSeconds() - t0);
+        rays += rays_in.camera.size() + shadow_rays;
+        samples += rays_in.camera.size();
+    }
+    if (shadow_rays != rays_in.secondary.size()) state.SkipWithError("shadow rays differ from BM_RawEmbree's");
+    state.SetLabel(std::string(TechniqueName(technique)) + "/no-mis/ls=" + std::to_string(light_samples));
+    state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+    state.counters["s/sample"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate |
+                                                                          benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_RaysAndSampler)->ArgsProduct({{0, 1, 2, 3}, {1, 4}})->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
 
 void BM_DiffuseKernel(benchmark::State& state) {
     RenderOptions o;
