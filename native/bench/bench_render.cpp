@@ -252,6 +252,18 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
     return out;
 }
 
+// Traces tile `tile`'s camera rays (in place) as the renderer does: one coherent stream.
+uint64_t TraceCameraTile(const RenderScene& s, const RawRays& in, size_t tile, RTCRayHit* camera) {
+    RTCIntersectContext coherent;
+    rtcInitIntersectContext(&coherent);
+    coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const uint32_t c0 = in.tile_first[tile], c1 = in.tile_first[tile + 1];
+    rtcIntersect1M(s.rtc_scene, &coherent, camera + c0, c1 - c0, sizeof(RTCRayHit));
+    uint64_t hits = 0;
+    for (uint32_t i = c0; i < c1; ++i) hits += camera[i].hit.geomID;
+    return hits;
+}
+
 void BM_RawEmbree(benchmark::State& state) {
     const RenderScene& s = *Scene();
     const bool mis = state.range(1) != 0;
@@ -267,14 +279,11 @@ void BM_RawEmbree(benchmark::State& state) {
         uint64_t blocked = 0;
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
-        RTCIntersectContext coherent = ctx;
-        coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         // As the renderer traces them: per tile, the camera rays as one coherent stream, then
         // the BSDF rays (found while shading), then the shadow rays, one by one.
         for (size_t t = 0; t + 1 < rays_in.tile_first.size(); ++t) {
+            blocked += TraceCameraTile(s, rays_in, t, camera.data());
             const uint32_t c0 = rays_in.tile_first[t], c1 = rays_in.tile_first[t + 1];
-            rtcIntersect1M(s.rtc_scene, &coherent, &camera[c0], c1 - c0, sizeof(RTCRayHit));
-            for (uint32_t i = c0; i < c1; ++i) blocked += camera[i].hit.geomID;
             for (uint32_t k = rays_in.first[c0]; k < rays_in.first[c1]; ++k) {
                 if (!rays_in.closest_hit[k]) continue;
                 RTCRayHit bh;
@@ -311,14 +320,7 @@ template <Technique K>
 uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light_samples, size_t tile,
                               RTCRayHit* camera, std::vector<RTCRay>& queue) {
     const RectLightFrame<float>& light = s.area_lights[0].frame;
-    uint64_t blocked = 0;
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCIntersectContext coherent = ctx;
-    coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    const uint32_t c0 = in.tile_first[tile], c1 = in.tile_first[tile + 1];
-    rtcIntersect1M(s.rtc_scene, &coherent, camera + c0, c1 - c0, sizeof(RTCRayHit));
-    for (uint32_t i = c0; i < c1; ++i) blocked += camera[i].hit.geomID;
+    uint64_t blocked = TraceCameraTile(s, in, tile, camera);
     queue.clear();
     for (uint32_t k = in.tile_points[tile]; k < in.tile_points[tile + 1]; ++k) {
         const RawRays::ShadingPoint& sp = in.points[k];
@@ -330,6 +332,8 @@ uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light
                 queue.push_back(MakeRTCRay(sp.origin, ls.dir, 0, ShadowRayLength(ls.dist)));
         }
     }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
     for (RTCRay& r : queue) {
         rtcOccluded1(s.rtc_scene, &ctx, &r);
         blocked += r.tfar < 0;
