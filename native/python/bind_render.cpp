@@ -186,6 +186,8 @@ void BindRender(py::module_& m) {
         .def_property_readonly("features", &Renderer::Features)
         .def_property_readonly("width", &Renderer::width)
         .def_property_readonly("height", &Renderer::height);
+    m.attr("MAX_LIGHT_SAMPLES") = render::kMaxLightSamples;
+    m.attr("MAX_SAMPLES_PER_CALL") = render::kMaxSamplesPerCall;
 }
 
 }  // namespace sphrect::python

@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <exception>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "core/enum_names.h"
@@ -33,8 +34,8 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
     : scene_(std::move(scene)), options_(std::move(options)) {
     if (!scene_ || !scene_->committed()) throw std::invalid_argument("the renderer needs a committed scene");
     if (options_.techniques.empty()) throw std::invalid_argument("at least one technique is needed");
-    if (options_.light_samples < 1 || options_.light_samples > 4096)
-        throw std::invalid_argument("light_samples must be in 1..4096");
+    if (options_.light_samples < 1 || options_.light_samples > kMaxLightSamples)
+        throw std::invalid_argument("light_samples must be in 1.." + std::to_string(kMaxLightSamples));
     if (options_.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");
     if (options_.tile_size < 1) throw std::invalid_argument("tile_size must be positive");
     threads_ = options_.threads > 0 ? options_.threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -47,7 +48,8 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
 Renderer::~Renderer() = default;
 
 bool Renderer::Render(int samples, double time_budget, const std::function<void(int, int)>& progress) {
-    if (samples < 1 || samples > (1 << 20)) throw std::invalid_argument("samples must be in 1..2^20");
+    if (samples < 1 || samples > kMaxSamplesPerCall)
+        throw std::invalid_argument("samples must be in 1.." + std::to_string(kMaxSamplesPerCall));
     // One pass keeps samples x light_samples pattern points per pixel in memory.
     if (uint64_t(samples) * uint64_t(options_.light_samples) > (uint64_t(1) << 22))
         throw std::invalid_argument("samples x light_samples must be at most 2^22 per render() call "

@@ -27,6 +27,10 @@ constexpr std::array<MediumSampling, 3> kAllMediumSamplings = {MediumSampling::M
 const char* MisModeName(MisMode m);
 const char* MediumSamplingName(MediumSampling m);
 
+// Limits of a Renderer and of one Render() call (the bindings export them to Python).
+constexpr int kMaxLightSamples = 4096;
+constexpr int kMaxSamplesPerCall = 1 << 20;
+
 struct RenderOptions {
     std::vector<Technique> techniques = {Technique::Rectangle};
     int light_samples = 1;               // light samples (and BSDF samples) per camera sample

@@ -20,6 +20,13 @@ void CheckVector(const std::string& what, const Vec3f& v) {
     if (!IsFinite(v)) Fail(what + " must be finite");
 }
 
+// Why an area light of this area is skipped ("" if it is not).
+std::string SkippedForArea(const std::string& what, float area) {
+    if (!(area > 0)) return what + " with zero area skipped";
+    if (!std::isfinite(area)) return what + " whose area overflows float skipped";
+    return {};
+}
+
 }  // namespace
 
 std::vector<std::string> SceneFeatures::Names() const {
@@ -112,9 +119,14 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
     RequireNotCommitted();
     const std::string who = "mesh '" + name + "'";
     if (nv > (size_t(1) << 31) || nt > (size_t(1) << 31)) Fail(who + " is too large");
-    for (size_t i = 0; i < 3 * nv; ++i)
+    // Embree silently drops triangles with a coordinate beyond its valid range, +-1.844e18.
+    constexpr float kEmbreeMaxCoordinate = 1.844e18f;
+    for (size_t i = 0; i < 3 * nv; ++i) {
         if (!std::isfinite(vertices[i]))
             Fail(who + ": vertex " + std::to_string(i / 3) + " is not finite (NaN or inf)");
+        if (std::abs(vertices[i]) >= kEmbreeMaxCoordinate)
+            Fail(who + ": vertex " + std::to_string(i / 3) + " lies beyond +-1.844e18, outside Embree's range");
+    }
     for (size_t i = 0; i < 3 * nt; ++i)
         if (triangles[i] < 0 || size_t(triangles[i]) >= nv)
             Fail(who + ": triangle " + std::to_string(i / 3) + " has vertex index " + std::to_string(triangles[i]) +
@@ -166,8 +178,8 @@ std::string RenderScene::AddRectLight(const Vec3f& corner, const Vec3f& ex, cons
     CheckColor("rectangle light radiance", radiance);
     const std::string problem = ValidateRectLight(RectLight<float>{corner, ex, ey, two_sided});
     if (!problem.empty()) Fail(problem);
-    const float area = Length(Cross(ex, ey));
-    if (!(area > 0) || !std::isfinite(area)) return "rectangle light with zero area skipped";
+    const std::string skipped = SkippedForArea("rectangle light", Length(Cross(ex, ey)));
+    if (!skipped.empty()) return skipped;
     if (IsBlack(radiance)) return "rectangle light with zero radiance skipped";
     area_lights.push_back(MakeRectAreaLight(corner, ex, ey, radiance, two_sided, visible));
     return {};
@@ -183,8 +195,8 @@ std::string RenderScene::AddEllipseLight(const Vec3f& center, const Vec3f& ax, c
     const float la = Length(ax), lb = Length(ay);
     if (la > 0 && lb > 0 && std::abs(Dot(ax, ay)) > 1e-4f * la * lb)
         Fail("ellipse light axes axis_x and axis_y must be orthogonal");
-    const float area = Length(Cross(ax, ay));
-    if (!(area > 0) || !std::isfinite(area)) return "ellipse light with zero area skipped";
+    const std::string skipped = SkippedForArea("ellipse light", Length(Cross(ax, ay)));
+    if (!skipped.empty()) return skipped;
     if (IsBlack(radiance)) return "ellipse light with zero radiance skipped";
     area_lights.push_back(MakeEllipseAreaLight(center, ax, ay, radiance, two_sided, visible));
     return {};

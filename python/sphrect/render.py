@@ -46,6 +46,13 @@ def _rgb(value, what: str):
     return c
 
 
+def _int_argument(name: str, value, lo: int, hi: int = 2 ** 31 - 1) -> int:
+    """An integer argument in lo..hi (by default: one the native side's int holds), else ValueError."""
+    if not isinstance(value, numbers.Integral) or isinstance(value, bool) or not lo <= value <= hi:
+        raise ValueError(f"{name} must be an integer in {lo}..{hi}, got {value!r}")
+    return int(value)
+
+
 def _int_array(a, what: str, upper: Optional[int] = None) -> np.ndarray:
     """int32 copy-free when possible; range-checked before narrowing so nothing wraps around."""
     a = np.asarray(a)
@@ -145,16 +152,15 @@ class Renderer:
         techniques = list(techniques)
         if not techniques:
             raise ValueError("at least one technique is needed")
-        for name, v, lo in (("light_samples", light_samples, 1), ("threads", threads, 0),
-                            ("tile_size", tile_size, 1), ("seed", seed, 0)):
-            if not isinstance(v, numbers.Integral) or isinstance(v, bool) or v < lo:
-                raise ValueError(f"{name} must be an integer >= {lo}, got {v!r}")
+        light_samples = _int_argument("light_samples", light_samples, 1, _native.MAX_LIGHT_SAMPLES)
+        threads, tile_size = _int_argument("threads", threads, 0), _int_argument("tile_size", tile_size, 1)
+        seed = _int_argument("seed", seed, 0, 2 ** 64 - 1)
         native, skipped = build_native_scene(scene)
         for msg in skipped:
             warnings.warn(msg, RuntimeWarning, stacklevel=2)
         self._scene = native
-        self._r = _native._Renderer(native, techniques, int(light_samples), str(pattern), str(mis),
-                                    str(medium_sampling), int(seed) % (1 << 64), int(threads), int(tile_size))
+        self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
+                                    seed, threads, tile_size)
         self._techniques = techniques
 
     @property
@@ -187,14 +193,13 @@ class Renderer:
                progress: Optional[Callable[[int, int], None]] = None) -> bool:
         """Add `samples` camera samples per pixel (or passes of them until `time_budget` seconds
         are spent).  progress(done_tiles, total_tiles) runs on this thread.  False if cancelled."""
-        if not isinstance(samples, numbers.Integral) or isinstance(samples, bool) or samples < 1:
-            raise ValueError(f"samples must be a positive integer, got {samples!r}")
+        samples = _int_argument("samples", samples, 1, _native.MAX_SAMPLES_PER_CALL)
         budget = 0.0
         if time_budget is not None:
             budget = float(time_budget)
             if not (budget > 0 and math.isfinite(budget)):
                 raise ValueError(f"time_budget must be a positive number of seconds, got {time_budget!r}")
-        return self._r.render(int(samples), budget, progress)
+        return self._r.render(samples, budget, progress)
 
     def cancel(self) -> None:
         """Stop the current render() at the next tile (thread-safe)."""

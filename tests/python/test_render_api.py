@@ -196,6 +196,8 @@ TRI = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
     (lambda: with_mesh(TRI, [[0.0, 1.5, 2.0]]), "integers"),
     (lambda: with_mesh(TRI, [[0, 1, 2]], material_ids=np.array([5])), "material_ids"),
     (lambda: with_mesh(TRI, [[0, 1, 2]], normals=np.zeros((2, 3), np.float32)), "normals"),
+    # Embree would silently drop the triangle (its documented range is +-1.844e18).
+    (lambda: with_mesh([[0, 0, 0], [1e19, 0, 0], [0, 1, 0]], [[0, 1, 2]]), "Embree's range"),
     (lambda: sphrect.Scene(camera=sphrect.Camera(width=8, height=8)), "empty scene"),
 ])
 def test_bad_scene_raises_value_error(scene, match):
@@ -219,7 +221,11 @@ def test_absurd_resolution(width, height):
     (dict(mis="heuristic"), "unknown mis"),
     (dict(medium_sampling="x"), "unknown medium_sampling"),
     (dict(light_samples=0), "light_samples"),
+    (dict(light_samples=sphrect.MAX_LIGHT_SAMPLES + 1), "light_samples"),
+    (dict(light_samples=2 ** 31), "light_samples"),  # beyond a C int: a ValueError, not pybind's TypeError
     (dict(threads=-1), "threads"),
+    (dict(tile_size=2 ** 31), "tile_size"),
+    (dict(seed=2 ** 64), "seed"),
 ])
 def test_bad_options(kw, match):
     with pytest.raises(ValueError, match=match):
@@ -228,8 +234,8 @@ def test_bad_options(kw, match):
 
 def test_bad_render_arguments():
     r = sphrect.Renderer(simple_scene(8, 8))
-    for bad in (0, -3, 1.5):
-        with pytest.raises(ValueError):
+    for bad in (0, -3, 1.5, True, sphrect.MAX_SAMPLES_PER_CALL + 1, 2 ** 40):
+        with pytest.raises(ValueError, match="samples"):
             r.render(bad)
     with pytest.raises(ValueError):
         r.render(1, time_budget=-1)
@@ -269,6 +275,14 @@ def test_zero_area_light_is_skipped_with_a_warning():
         r = sphrect.Renderer(s)
     r.render(1)
     assert r.image()[:, :, :3].max() == 0
+
+
+def test_light_whose_area_overflows_is_skipped_with_a_warning():
+    s = simple_scene()
+    s.lights.append(sphrect.RectLight(corner=(0, 0, 1), edge_x=(1e20, 0, 0), edge_y=(0, 1e20, 0), radiance=(1, 1, 1),
+                                      name="vast"))
+    with pytest.warns(RuntimeWarning, match="vast.*overflows"):
+        sphrect.Renderer(s)
 
 
 def test_large_mesh_from_numpy():
