@@ -12,11 +12,11 @@
 //                                camera rays (same camera), and per hit the rays the renderer casts
 //                                there -- one occlusion ray per valid light sample that leaves the
 //                                surface, towards a point drawn by the same technique (so the ray
-//                                directions have the same distribution), and with MIS one
-//                                closest-hit ray per cosine-distributed BSDF ray -- traced in the
-//                                renderer's order and with its calls: per 16 x 16 tile the camera
-//                                rays as one coherent rtcIntersect1M stream, then the BSDF rays
-//                                (rtcIntersect1), then the shadow rays (rtcOccluded1).
+//                                directions have the same distribution), and with MIS one per
+//                                cosine-distributed BSDF direction that reaches the light, up to it
+//                                -- traced in the renderer's order and with its calls: per 16 x 16
+//                                tile the camera rays as one coherent rtcIntersect1M stream, then
+//                                the occlusion rays as one rtcOccluded1M stream.
 //                                All rays are generated before the clock starts; only the tracing
 //                                is timed (no sampling, no shading, no accumulation).
 //                                The counter `secondary/sample` lets one check that the ray
@@ -184,9 +184,8 @@ BENCHMARK(BM_Render)->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}, {4}})->Unit(benchm
 struct RawRays {
     std::vector<RTCRayHit> camera;       // one per camera sample, ready to trace
     std::vector<uint32_t> tile_first;    // camera samples of tile t: [tile_first[t], tile_first[t + 1])
-    std::vector<uint32_t> first;         // secondary rays of camera sample i: [first[i], first[i + 1])
-    std::vector<RTCRay> secondary;
-    std::vector<uint8_t> closest_hit;    // 1: BSDF ray (rtcIntersect1), 0: shadow ray (rtcOccluded1)
+    std::vector<RTCRay> shadow;          // occlusion rays (light and BSDF samples), tile by tile
+    std::vector<uint32_t> tile_shadow;   // their ranges per tile, as tile_first
     // What the shadow rays were drawn from, for BM_RaysAndSampler (without MIS): per camera sample
     // that hit, its point, unit geometric normal (facing the camera) and shadow-ray origin; per
     // light sample its (u, v).
@@ -203,15 +202,10 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
     const AreaLight& light = s.area_lights[0];
     RawRays out;
     PCG32 rng(1);
-    auto add = [&](const Vec3f& o, const Vec3f& d, float tfar, bool closest) {
-        out.secondary.push_back(MakeRTCRay(o, d, 0, tfar));
-        out.closest_hit.push_back(closest);
-    };
     auto camera_sample = [&](int x, int y) {
         const Ray ray = GenerateCameraRay<false>(s.camera, x + rng.NextFloat(), y + rng.NextFloat(), {});
         RTCRayHit rh = MakeRTCRayHit(ray.o, ray.d, ray.tmin, ray.tmax);
         out.camera.push_back(rh);
-        out.first.push_back(uint32_t(out.secondary.size()));
         RTCIntersectContext ctx;
         rtcInitIntersectContext(&ctx);
         rtcIntersect1(s.rtc_scene, &ctx, &rh);
@@ -229,10 +223,12 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
             out.light_uv.push_back({u, v});
             const LightSample<float> ls = sampler.Valid() ? sampler.Sample({u, v}) : LightSample<float>{};
             if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, n) > 0)
-                add(origin, ls.dir, ShadowRayLength(ls.dist), false);
+                out.shadow.push_back(MakeRTCRay(origin, ls.dir, 0, ShadowRayLength(ls.dist)));
             if (mis) {
                 const float a = rng.NextFloat(), b = rng.NextFloat();
-                add(origin, frame.FromLocal(SampleCosineHemisphere({a, b})), kInf, true);
+                const Vec3f d = frame.FromLocal(SampleCosineHemisphere({a, b}));
+                const float t = IntersectAreaLight(light, origin, d, kInf);
+                if (!std::isinf(t)) out.shadow.push_back(MakeRTCRay(origin, d, 0, ShadowRayLength(t)));
             }
         }
     };
@@ -245,10 +241,9 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
                     for (int i = 0; i < kSamples; ++i) camera_sample(x, y);
             out.tile_first.push_back(uint32_t(out.camera.size()));
             out.tile_points.push_back(uint32_t(out.points.size()));
+            out.tile_shadow.push_back(uint32_t(out.shadow.size()));
         }
-    out.first.push_back(uint32_t(out.secondary.size()));
-    out.tile_first.insert(out.tile_first.begin(), 0);
-    out.tile_points.insert(out.tile_points.begin(), 0);
+    for (auto* v : {&out.tile_first, &out.tile_points, &out.tile_shadow}) v->insert(v->begin(), 0);
     return out;
 }
 
@@ -264,6 +259,17 @@ uint64_t TraceCameraTile(const RenderScene& s, const RawRays& in, size_t tile, R
     return hits;
 }
 
+// Traces shadow rays[0..n) (in place) as the renderer does: one incoherent stream.
+uint64_t TraceShadowRays(const RenderScene& s, RTCRay* rays, size_t n) {
+    if (n == 0) return 0;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rtcOccluded1M(s.rtc_scene, &ctx, rays, unsigned(n), sizeof(RTCRay));
+    uint64_t blocked = 0;
+    for (size_t i = 0; i < n; ++i) blocked += rays[i].tfar < 0;
+    return blocked;
+}
+
 void BM_RawEmbree(benchmark::State& state) {
     const RenderScene& s = *Scene();
     const bool mis = state.range(1) != 0;
@@ -272,37 +278,24 @@ void BM_RawEmbree(benchmark::State& state) {
         return MakeRawRays<decltype(tag)::value>(s, mis, light_samples);
     });
     uint64_t rays = 0, samples = 0;
+    const size_t secondary = rays_in.shadow.size();
     std::vector<RTCRayHit> camera;
+    std::vector<RTCRay> shadow;
     for (auto _ : state) {
-        camera = rays_in.camera;  // (traced in place; the copy is not timed)
+        camera = rays_in.camera;  // (traced in place; the copies are not timed)
+        shadow = rays_in.shadow;
         const double t0 = ProcessCpuSeconds();
         uint64_t blocked = 0;
-        RTCIntersectContext ctx;
-        rtcInitIntersectContext(&ctx);
         // As the renderer traces them: per tile, the camera rays as one coherent stream, then
-        // the BSDF rays (found while shading), then the shadow rays, one by one.
+        // the occlusion rays queued by shading as one stream.
         for (size_t t = 0; t + 1 < rays_in.tile_first.size(); ++t) {
             blocked += TraceCameraTile(s, rays_in, t, camera.data());
-            const uint32_t c0 = rays_in.tile_first[t], c1 = rays_in.tile_first[t + 1];
-            for (uint32_t k = rays_in.first[c0]; k < rays_in.first[c1]; ++k) {
-                if (!rays_in.closest_hit[k]) continue;
-                RTCRayHit bh;
-                bh.ray = rays_in.secondary[k];
-                bh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-                bh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-                rtcIntersect1(s.rtc_scene, &ctx, &bh);
-                blocked += bh.hit.geomID;
-            }
-            for (uint32_t k = rays_in.first[c0]; k < rays_in.first[c1]; ++k) {
-                if (rays_in.closest_hit[k]) continue;
-                RTCRay r = rays_in.secondary[k];
-                rtcOccluded1(s.rtc_scene, &ctx, &r);
-                blocked += r.tfar < 0;
-            }
+            const uint32_t k0 = rays_in.tile_shadow[t], k1 = rays_in.tile_shadow[t + 1];
+            blocked += TraceShadowRays(s, shadow.data() + k0, k1 - k0);
         }
         benchmark::DoNotOptimize(blocked);
         state.SetIterationTime(ProcessCpuSeconds() - t0);
-        rays += rays_in.camera.size() + rays_in.secondary.size();
+        rays += rays_in.camera.size() + secondary;
         samples += rays_in.camera.size();
     }
     state.SetLabel(std::string(TechniqueName(kAllTechniques[state.range(0)])) + (mis ? "/balance" : "/no-mis") +
@@ -310,12 +303,12 @@ void BM_RawEmbree(benchmark::State& state) {
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
     state.counters["s/sample"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate |
                                                                           benchmark::Counter::kInvert);
-    state.counters["secondary/sample"] = benchmark::Counter(double(rays_in.secondary.size()) / rays_in.camera.size());
+    state.counters["secondary/sample"] = benchmark::Counter(double(secondary) / rays_in.camera.size());
 }
 BENCHMARK(BM_RawEmbree)->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {1, 4}})->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
 
 // One tile of BM_RaysAndSampler: the camera stream, then per shading point the technique's
-// setup and its light samples, queued as shadow rays, then the queue traced one by one.
+// setup and its light samples, queued as shadow rays, then the queue traced as one stream.
 template <Technique K>
 uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light_samples, size_t tile,
                               RTCRayHit* camera, std::vector<RTCRay>& queue) {
@@ -332,13 +325,7 @@ uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light
                 queue.push_back(MakeRTCRay(sp.origin, ls.dir, 0, ShadowRayLength(ls.dist)));
         }
     }
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    for (RTCRay& r : queue) {
-        rtcOccluded1(s.rtc_scene, &ctx, &r);
-        blocked += r.tfar < 0;
-    }
-    return blocked;
+    return blocked + TraceShadowRays(s, queue.data(), queue.size());
 }
 
 // BM_RaysAndSampler/<technique>/<light samples>: BM_RawEmbree (no MIS) plus the one piece of work
@@ -372,7 +359,7 @@ void BM_RaysAndSampler(benchmark::State& state) {
         rays += rays_in.camera.size() + shadow_rays;
         samples += rays_in.camera.size();
     }
-    if (shadow_rays != rays_in.secondary.size()) state.SkipWithError("shadow rays differ from BM_RawEmbree's");
+    if (shadow_rays != rays_in.shadow.size()) state.SkipWithError("shadow rays differ from BM_RawEmbree's");
     state.SetLabel(std::string(TechniqueName(technique)) + "/no-mis/ls=" + std::to_string(light_samples));
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
     state.counters["s/sample"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate |

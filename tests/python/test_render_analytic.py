@@ -201,3 +201,25 @@ def test_plane_under_a_constant_sky(mis):
     assert r.features == ["orthographic", "background"]
     r.render(4)
     np.testing.assert_allclose(r.image()[:, :, :3], np.broadcast_to([0.15, 0.3, 0.45], (12, 12, 3)), rtol=1e-3)
+
+
+@pytest.mark.parametrize("medium", [False, True])
+@pytest.mark.parametrize("mis", ["none", "balance", "power"])
+def test_umbra_is_black(mis, medium):
+    """Under an opaque board between the plane and the light no light arrives by any strategy: every
+    pixel is exactly 0 for every technique -- light samples, BSDF (phase) samples that find the light
+    and the sky, and scattering in a medium filling the gap.  The camera hangs between the plane and
+    the board; every point it sees is in the board's umbra."""
+    light = sphrect.RectLight(corner=(-0.5, 0.5, 2.0), edge_x=(1, 0, 0), edge_y=(0, -1, 0), radiance=(5, 5, 5))
+    board = plane_mesh(size=1e4, z=1.0)  # wide enough to hide the sky too (a cosine sample below it: p ~ 1e-8)
+    board.name = "board"
+    world = sphrect.World(background=(0.5, 0.5, 0.5),
+                          medium=sphrect.Medium(sigma_s=(0.3,) * 3, sigma_a=(0.05,) * 3) if medium else None)
+    scene = sphrect.Scene(camera=top_camera(half=1.0, height_above=0.5), meshes=[plane_mesh(), board],
+                          lights=[light, sphrect.PointLight(position=(0.2, 0.1, 1.8), intensity=(3, 3, 3))],
+                          materials=[sphrect.Material(base_color=(ALBEDO,) * 3)], world=world)
+    r = sphrect.Renderer(scene, techniques=ALL_TECHNIQUES, mis=mis, light_samples=2)
+    assert r.render(8)
+    for t in ALL_TECHNIQUES:
+        assert r.stats(t)["rays"] > 0
+        np.testing.assert_array_equal(r.image(t)[:, :, :3], 0, err_msg=f"{t}, mis={mis}, medium={medium}")
