@@ -124,7 +124,7 @@ struct ShadowSink {
 };
 
 // Traces the queued shadow rays and adds the unblocked contributions to their camera samples.
-// One incoherent stream call (rtcOccluded1M): 10-25% faster renders than a call per ray, most
+// One incoherent stream call (rtcOccluded1M): renders 6-29% faster than with a call per ray, most
 // with several light samples.  (Flagged coherent, the same stream was 2x slower: the rays
 // start all over the chunk's tile.)
 void ResolveShadowRays(RTCScene scene, std::vector<DeferredShadowRay>& queue, Spectrum* sample_values) {
