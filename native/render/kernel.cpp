@@ -468,10 +468,11 @@ void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, PrimaryHi
     out.seen = seen;
 }
 
-// Pixels are processed in chunks of at most ~kChunkSamples camera samples: first the camera
-// stage for the whole chunk, then each technique over it, so timers run once per chunk and the
-// buffers stay small whatever the sample count.
-constexpr uint32_t kChunkSamples = 1024;
+// Pixels are processed in chunks of at most ~kChunkSamples camera samples and ~kChunkLightSamples
+// light samples (each queues its occlusion rays): first the camera stage for the whole chunk, then
+// each technique over it, so timers run once per chunk and the buffers stay small whatever the
+// sample counts.
+constexpr uint64_t kChunkSamples = 1024, kChunkLightSamples = 4096;
 
 template <bool kDof, bool kGlossy, bool kMedium>
 void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scratch, TileTally& tally) {
@@ -480,7 +481,8 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
     const int w = scene.camera.width;
     const uint32_t n = uint32_t(p.samples), nl = uint32_t(opt.light_samples);
     const int tile_w = tile.x1 - tile.x0, tile_pixels = tile_w * (tile.y1 - tile.y0);
-    const int chunk_pixels = int(std::max<uint32_t>(1, std::min<uint32_t>(kChunkSamples / n, tile_pixels)));
+    const int chunk_pixels = int(std::clamp<uint64_t>(std::min(kChunkSamples / n, kChunkLightSamples / (uint64_t(n) * nl)),
+                                                      1, uint64_t(tile_pixels)));
     const size_t chunk_samples = size_t(chunk_pixels) * n;
     scratch.hits.resize(chunk_samples);
     scratch.camera_hits.resize(chunk_samples);
