@@ -135,6 +135,36 @@ def test_a_plateaued_cycles_error_is_not_reported_as_a_time_ratio():
     assert len(rows) == 9  # the table is still there
 
 
+def test_cosine_finding_pools_costs_and_reports_ties():
+    """rectangle_cosine vs rectangle: the cost per sample is the mean over the top runs, and an efficiency ratio
+    inside two standard errors of the timing is a tie, not a win decided by one run's time."""
+    from sphrect.study.report import COST_RUNGS, cosine_finding, cost_per_sample
+    from sphrect.study.jobs import StudyConfig
+
+    def with_costs(curve, costs):  # the top runs' seconds per sample
+        for r, c in zip(curve[-len(costs):], costs):
+            r["time"] = c * r["job"]["samples"]
+        return curve
+    steady = _curve(lambda n: 1.0 / n, seconds_per_sample=0.01)
+    noisy = with_costs(_curve(lambda n: 1.0 / n, seconds_per_sample=0.01), [0.008, 0.010, 0.012])
+    assert COST_RUNGS == 3
+    assert cost_per_sample(steady) == pytest.approx((0.01, 0.0), abs=1e-12)
+    cost, rel_se = cost_per_sample(noisy)
+    assert cost == pytest.approx(0.01) and rel_se == pytest.approx(0.2 / math.sqrt(3))
+    study = {"study": StudyConfig(techniques=("rectangle", "rectangle_cosine"), mis=("none",), patterns=("sobol",))}
+
+    def verdict(cosine_mse, cosine_cost, rectangle_curve):
+        curves = {("rectangle", "none", "sobol"): rectangle_curve,
+                  ("rectangle_cosine", "none", "sobol"): _curve(cosine_mse, seconds_per_sample=cosine_cost)}
+        (line,) = cosine_finding(study, curves)
+        return line[line.rindex("(") + 1:-2]
+    # Efficiency 1 / (MSE x cost): 0.87x the MSE at the same cost is 1.15x as efficient -- a win against steady
+    # timings, a tie against timings that scatter by +-20% (two standard errors of the mean: +-23%).
+    assert verdict(lambda n: 0.87 / n, 0.01, steady) == "better than rectangle"
+    assert verdict(lambda n: 0.87 / n, 0.01, noisy) == "within the timing noise"
+    assert verdict(lambda n: 1.0 / n, 0.012, steady) == "worse than rectangle"
+
+
 def test_reference_error_estimate_is_right():
     # 8 chunks of truth + N(0, 0.2): the mean's true RMSE is 0.2/sqrt(8) = 0.0707. With 16x12x3 pixels the
     # estimate's relative standard deviation is ~ sqrt(2/(7*576)) = 2.4%; 15% is > 6 sigma (false failure

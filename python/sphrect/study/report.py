@@ -358,26 +358,50 @@ def slope_finding(study: Dict, all_curves: Dict) -> Tuple[List[str], List[List[s
     return lines, rows
 
 
+# How many of a curve's top runs pool their times into its cost per sample.
+COST_RUNGS = 3
+
+
+def cost_per_sample(curve: List[Dict], rungs: int = COST_RUNGS) -> Tuple[float, float]:
+    """Seconds per sample of a ladder curve: the mean over its top `rungs` runs (one run's time is noisy on a
+    shared machine), and the relative standard error of that mean from the runs' scatter (0 from one run)."""
+    per_sample = np.array([r["time"] / r["job"]["samples"] for r in curve if r.get("time")][-rungs:])
+    if len(per_sample) == 0:
+        return float("nan"), float("nan")
+    cost = float(np.mean(per_sample))
+    rel_se = float(np.std(per_sample, ddof=1) / cost / math.sqrt(len(per_sample))) if len(per_sample) > 1 else 0.0
+    return cost, rel_se
+
+
 def cosine_finding(study: Dict, all_curves: Dict) -> List[str]:
+    """rectangle_cosine against rectangle per (MIS, pattern): RMSE at the top of the ladder, cost per sample
+    (cost_per_sample) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
+    cost ratio of 1 is reported as a tie: single runs' times move by more than that between studies.  (The
+    top run's MSE has its own noise, which this margin does not count.)"""
     cfg = study["study"]
     if "rectangle_cosine" not in cfg.techniques or "rectangle" not in cfg.techniques:
         return []
     lines = []
     for mis in cfg.mis:
         for pattern in cfg.patterns:
-            a = {r["job"]["samples"]: r for r in all_curves.get(("rectangle_cosine", mis, pattern), [])}
-            b = {r["job"]["samples"]: r for r in all_curves.get(("rectangle", mis, pattern), [])}
+            curve_a = all_curves.get(("rectangle_cosine", mis, pattern), [])
+            curve_b = all_curves.get(("rectangle", mis, pattern), [])
+            a = {r["job"]["samples"]: r for r in curve_a}
+            b = {r["job"]["samples"]: r for r in curve_b}
             ns = sorted(set(a) & set(b))
             if not ns:
                 continue
             n = ns[-1]
+            (cost_a, se_a), (cost_b, se_b) = cost_per_sample(curve_a), cost_per_sample(curve_b)
             ratio = a[n]["rmse"] / b[n]["rmse"]
-            tr = a[n]["time"] / b[n]["time"] if b[n]["time"] else float("nan")
-            eff = (b[n]["rmse"] ** 2 * b[n]["time"]) / (a[n]["rmse"] ** 2 * a[n]["time"]) \
-                if a[n]["time"] and a[n]["rmse"] else float("nan")
+            eff = (b[n]["rmse"] ** 2 * cost_b) / (a[n]["rmse"] ** 2 * cost_a) if a[n]["rmse"] else float("nan")
+            noise = 2 * math.hypot(se_a, se_b)
+            verdict = ("within the timing noise" if abs(math.log(eff)) <= noise
+                       else "better than rectangle" if eff > 1 else "worse than rectangle") \
+                if math.isfinite(eff) and eff > 0 and math.isfinite(noise) else "not measured"
             lines.append(f"- MIS {mis}, {pattern}, {n} spp: RMSE(rectangle_cosine)/RMSE(rectangle) = {fmt(ratio)}, "
-                         f"time ratio {fmt(tr)}, efficiency (1/(MSE x time)) ratio {fmt(eff)} "
-                         f"({'better' if eff > 1 else 'worse'} than rectangle).")
+                         f"cost ratio {fmt(cost_a / cost_b)} (per sample, top {COST_RUNGS} runs), efficiency "
+                         f"(1/(MSE x time)) ratio {fmt(eff)}, timing noise +-{fmt(100 * noise, 2)}% ({verdict}).")
     return lines
 
 
@@ -458,9 +482,11 @@ def summary_lines(study: Dict, ordering: List[str], slopes: List[str], cosine: L
                      f"map converges faster than the two-triangle map in {len(faster)} of {len(slopes)} "
                      f"(pattern, MIS) cases, slower in {len(slower)}, indistinguishable in the rest.")
     better = [l for l in cosine if "(better than rectangle)" in l]
+    worse = [l for l in cosine if "(worse than rectangle)" in l]
     if cosine:
         lines.append(f"- rectangle_cosine is more efficient (1 / (MSE x time)) than rectangle in {len(better)} of "
-                     f"{len(cosine)} (MIS, pattern) cases at the top of the ladder.")
+                     f"{len(cosine)} (MIS, pattern) cases at the top of the ladder, less in {len(worse)}, "
+                     f"indistinguishable within the timing noise in the rest.")
     ref = study["reference"]
     rmse = [r["rmse"] for r in study["ladder"] if r.get("rmse") and math.isfinite(r["rmse"])]
     if rmse:
