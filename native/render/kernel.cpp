@@ -175,7 +175,7 @@ struct ShadeContext {
     MisMode mis;
     MediumSampling medium_sampling;
     int light_samples;
-    bool trace_bsdf;  // BSDF/phase rays are needed: MIS on, or a background to find
+    bool sample_bsdf;  // BSDF/phase samples are drawn: MIS on, or a background to find
 };
 
 template <bool kMedium>
@@ -285,7 +285,7 @@ void DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3
     const Vec3f origin = OffsetOrigin(h.p, h.ng);
     const ShadowSink light_sink = sink.Scaled(1.0f / c.light_samples);
     // Without area lights and BSDF rays (only delta lights) there is nothing to sample.
-    const int n_pairs = (!scene.light_selector.Empty() || c.trace_bsdf) ? c.light_samples : 0;
+    const int n_pairs = (!scene.light_selector.Empty() || c.sample_bsdf) ? c.light_samples : 0;
     LightSamplingAt<K> light_sampling(scene, h.p, h.ns, tally.light_ticks);
     for (int j = 0; j < n_pairs; ++j) {
         int chosen = -1;
@@ -313,7 +313,7 @@ void DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3
             }
         }
         // BSDF sample: finds area lights (MIS partner) and the background.
-        if (c.trace_bsdf) {
+        if (c.sample_bsdf) {
             const BsdfSample bs = SampleBsdf<kGlossy>(mat, wo, bsdf_points[j]);
             if (bs.pdf > 0) {
                 const Vec3f wi_world = frame.FromLocal(bs.wi);
@@ -359,7 +359,7 @@ void InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ray_di
             out.Add(x, ls.dir, ls.dist, le * Transmittance(scene.medium, ls.dist) * (phase * w / pdf_light));
         }
     }
-    if (c.trace_bsdf) {
+    if (c.sample_bsdf) {
         // Phase sampling: the weight phase / pdf is 1.
         const Vec3f wi = SampleHenyeyGreenstein(ray_dir, g, phase_point);
         const float pdf_phase = HenyeyGreenstein(Dot(wi, ray_dir), g);
@@ -514,7 +514,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             Point2<float>* light_points = &scratch.light_points[size_t(c) * n * nl];
             FillPattern(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimLight), true,
                         light_points);
-            if (ctx.trace_bsdf)  // BSDF/phase sample positions only when those rays are traced
+            if (ctx.sample_bsdf)  // BSDF/phase sample positions only when those samples are drawn
                 FillPattern(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimBsdf), true,
                             &scratch.bsdf_points[size_t(c) * n * nl]);
             const uint64_t rng_base = DimensionSeed(pixel_seed, kDimRng);
