@@ -130,6 +130,12 @@ def test_a_plateaued_cycles_error_is_not_reported_as_a_time_ratio():
     ours = {("rectangle", "none", "sobol"): _curve(lambda n: 0.1 / n, seconds_per_sample=0.001)}
     lines, rows, ratio = cycles_comparison(study, {**ours, ("cycles", "power", "default"): _curve(lambda n: 1.0 / n)})
     assert ratio == pytest.approx(0.01, rel=0.05) and "meets the goal" in lines[0]
+    # Times come from each curve's cost per sample over its 3 largest runs: one slow Cycles run (1.6x) moves
+    # the ratio by 1/1.2, not by 1/1.6.
+    slow_top = _curve(lambda n: 1.0 / n)
+    slow_top[-1]["time"] *= 1.6
+    lines, rows, ratio = cycles_comparison(study, {**ours, ("cycles", "power", "default"): slow_top})
+    assert ratio == pytest.approx(0.01 / 1.2, rel=0.05)
     lines, rows, ratio = cycles_comparison(study, {**ours, ("cycles", "power", "default"): biased})
     assert ratio is None and "not measurable" in lines[0] and "systematic" in lines[0]
     assert len(rows) == 9  # the table is still there
@@ -138,7 +144,7 @@ def test_a_plateaued_cycles_error_is_not_reported_as_a_time_ratio():
 def test_cosine_finding_pools_costs_and_reports_ties():
     """rectangle_cosine vs rectangle: the cost per sample is the mean over the top runs, and an efficiency ratio
     inside two standard errors of the timing is a tie, not a win decided by one run's time."""
-    from sphrect.study.report import COST_RUNGS, cosine_finding, cost_per_sample
+    from sphrect.study.report import cosine_finding, curve_cost
     from sphrect.study.jobs import StudyConfig
 
     def with_costs(curve, costs):  # the top runs' seconds per sample
@@ -147,9 +153,9 @@ def test_cosine_finding_pools_costs_and_reports_ties():
         return curve
     steady = _curve(lambda n: 1.0 / n, seconds_per_sample=0.01)
     noisy = with_costs(_curve(lambda n: 1.0 / n, seconds_per_sample=0.01), [0.008, 0.010, 0.012])
-    assert COST_RUNGS == 3
-    assert cost_per_sample(steady) == pytest.approx((0.01, 0.0), abs=1e-12)
-    cost, rel_se = cost_per_sample(noisy)
+    assert metrics.COST_RUNS == 3
+    assert curve_cost(steady) == pytest.approx((0.01, 0.0), abs=1e-12)
+    cost, rel_se = curve_cost(noisy)
     assert cost == pytest.approx(0.01) and rel_se == pytest.approx(0.2 / math.sqrt(3))
     study = {"study": StudyConfig(techniques=("rectangle", "rectangle_cosine"), mis=("none",), patterns=("sobol",))}
 

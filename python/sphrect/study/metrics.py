@@ -74,6 +74,22 @@ def fit_slope_with_error(x: Sequence[float], y: Sequence[float]) -> Tuple[float,
     return slope, math.sqrt(variance / float(np.sum((lx - lx.mean()) ** 2)))
 
 
+# How many of a sample ladder's largest runs pool their times into its cost per sample.
+COST_RUNS = 3
+
+
+def cost_per_sample(times: Sequence[float], samples: Sequence[int], top: int = COST_RUNS) -> Tuple[float, float]:
+    """Seconds per sample from the runs of a sample ladder (ascending samples): the mean of time / samples over
+    its `top` largest runs -- one run's time is noisy on a shared machine -- and the relative standard error of
+    that mean from their scatter (0 from one run; NaN without runs)."""
+    per_sample = np.array([t / n for t, n in zip(times, samples) if t and t > 0 and n > 0][-top:], dtype=np.float64)
+    if len(per_sample) == 0:
+        return float("nan"), float("nan")
+    cost = float(per_sample.mean())
+    rel_se = float(per_sample.std(ddof=1) / cost / math.sqrt(len(per_sample))) if len(per_sample) > 1 else 0.0
+    return cost, rel_se
+
+
 def cost_to_reach(costs: Sequence[float], errors: Sequence[float], target: float) -> Tuple[float, str]:
     """Cost (time or samples) at which the error first falls to `target`.
 

@@ -117,14 +117,26 @@ def write_csv(path: str, records: List[Dict]) -> None:
     atomic_write_bytes(path, buffer.getvalue().encode("utf-8"))
 
 
+COST_NOTE = (f"Times are samples per pixel x the configuration's cost per sample, the mean of time / samples over "
+             f"its {metrics.COST_RUNS} largest runs: single runs' times scatter by 10-20% on a shared machine.")
+
+
+def curve_cost(curve: List[Dict]) -> Tuple[float, float]:
+    """metrics.cost_per_sample of a ladder curve: (seconds per sample, its relative standard error)."""
+    return metrics.cost_per_sample([r.get("time") for r in curve], [r["job"]["samples"] for r in curve])
+
+
 def time_to_target(curve: List[Dict], target: float, reference_rmse: float = 0.0) -> Tuple[float, str, float]:
-    """(seconds, how, samples) to reach RMSE `target` (see metrics.cost_to_reach). Extrapolation uses only the
-    points whose error is above 3x the reference's own (below, the reference's noise bends the curve), and is
-    refused ("below reference accuracy") for targets under that level."""
+    """(seconds, how, samples) to reach RMSE `target`: the samples per pixel it takes (metrics.cost_to_reach on
+    the samples) times the curve's cost per sample (curve_cost: averaged over its largest runs, so that one
+    run's time does not decide a comparison).  Extrapolation uses only the points whose error is above 3x the
+    reference's own (below, the reference's noise bends the curve), and is refused ("below reference accuracy")
+    for targets under that level."""
+    cost, _ = curve_cost(curve)
+
     def reach(points):
-        t, how = metrics.cost_to_reach([r["time"] for r in points], [r["rmse"] for r in points], target)
-        n, _ = metrics.cost_to_reach([r["job"]["samples"] for r in points], [r["rmse"] for r in points], target)
-        return t, how, n
+        n, how = metrics.cost_to_reach([r["job"]["samples"] for r in points], [r["rmse"] for r in points], target)
+        return n * cost, how, n
     t, how, n = reach(curve)
     if how != "extrapolated":
         return t, how, n
@@ -358,24 +370,9 @@ def slope_finding(study: Dict, all_curves: Dict) -> Tuple[List[str], List[List[s
     return lines, rows
 
 
-# How many of a curve's top runs pool their times into its cost per sample.
-COST_RUNGS = 3
-
-
-def cost_per_sample(curve: List[Dict], rungs: int = COST_RUNGS) -> Tuple[float, float]:
-    """Seconds per sample of a ladder curve: the mean over its top `rungs` runs (one run's time is noisy on a
-    shared machine), and the relative standard error of that mean from the runs' scatter (0 from one run)."""
-    per_sample = np.array([r["time"] / r["job"]["samples"] for r in curve if r.get("time")][-rungs:])
-    if len(per_sample) == 0:
-        return float("nan"), float("nan")
-    cost = float(np.mean(per_sample))
-    rel_se = float(np.std(per_sample, ddof=1) / cost / math.sqrt(len(per_sample))) if len(per_sample) > 1 else 0.0
-    return cost, rel_se
-
-
 def cosine_finding(study: Dict, all_curves: Dict) -> List[str]:
     """rectangle_cosine against rectangle per (MIS, pattern): RMSE at the top of the ladder, cost per sample
-    (cost_per_sample) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
+    (curve_cost) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
     cost ratio of 1 is reported as a tie: single runs' times move by more than that between studies.  (The
     top run's MSE has its own noise, which this margin does not count.)"""
     cfg = study["study"]
@@ -392,7 +389,7 @@ def cosine_finding(study: Dict, all_curves: Dict) -> List[str]:
             if not ns:
                 continue
             n = ns[-1]
-            (cost_a, se_a), (cost_b, se_b) = cost_per_sample(curve_a), cost_per_sample(curve_b)
+            (cost_a, se_a), (cost_b, se_b) = curve_cost(curve_a), curve_cost(curve_b)
             ratio = a[n]["rmse"] / b[n]["rmse"]
             eff = (b[n]["rmse"] ** 2 * cost_b) / (a[n]["rmse"] ** 2 * cost_a) if a[n]["rmse"] else float("nan")
             noise = 2 * math.hypot(se_a, se_b)
@@ -400,7 +397,7 @@ def cosine_finding(study: Dict, all_curves: Dict) -> List[str]:
                        else "better than rectangle" if eff > 1 else "worse than rectangle") \
                 if math.isfinite(eff) and eff > 0 and math.isfinite(noise) else "not measured"
             lines.append(f"- MIS {mis}, {pattern}, {n} spp: RMSE(rectangle_cosine)/RMSE(rectangle) = {fmt(ratio)}, "
-                         f"cost ratio {fmt(cost_a / cost_b)} (per sample, top {COST_RUNGS} runs), efficiency "
+                         f"cost ratio {fmt(cost_a / cost_b)} (per sample, top {metrics.COST_RUNS} runs), efficiency "
                          f"(1/(MSE x time)) ratio {fmt(eff)}, timing noise +-{fmt(100 * noise, 2)}% ({verdict}).")
     return lines
 
@@ -426,19 +423,21 @@ def cycles_comparison(study: Dict, all_curves: Dict) -> Tuple[List[str], List[Li
     if not cycles:
         return ["Cycles was not part of this study (no Blender, no .blend, or --no-cycles)."], [], None
     ours = {k: c for k, c in all_curves.items() if k != CYCLES_CURVE}
+    cycles_cost, _ = curve_cost(cycles)
     rows, ratios = [], []
     for r in cycles:
+        cycles_time = r["job"]["samples"] * cycles_cost
         best = None
         for key, curve in ours.items():
             t, how, n = time_to_target(curve, r["rmse"], study["reference"]["estimated_rmse"])
             if math.isfinite(t) and how in ("measured", "below") and (best is None or t < best[0]):
                 best = (t, key, how, n)
         if best is None:
-            rows.append([fmt(r["job"]["samples"]), fmt(r["rmse"]), fmt(r["time"]), "–", "–", "–"])
+            rows.append([fmt(r["job"]["samples"]), fmt(r["rmse"]), fmt(cycles_time), "–", "–", "–"])
             continue
-        ratio = best[0] / r["time"]
+        ratio = best[0] / cycles_time
         ratios.append((r["job"]["samples"], ratio))
-        rows.append([fmt(r["job"]["samples"]), fmt(r["rmse"]), fmt(r["time"]), curve_name(best[1]),
+        rows.append([fmt(r["job"]["samples"]), fmt(r["rmse"]), fmt(cycles_time), curve_name(best[1]),
                      fmt(best[0]) + ("" if best[2] == "measured" else f" ({best[2]})"), fmt(ratio)])
     lines = []
     share = systematic_share(cycles)
@@ -633,6 +632,7 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
     doc.para("**4. Cycles 3.4 at equal error: time our best configuration needs to reach Cycles' RMSE.**")
     for line in cycles_lines:
         doc.para(line)
+    doc.para(COST_NOTE)
     doc.table(["Cycles spp", "Cycles RMSE", "Cycles time [s]", "our best configuration", "its time [s]",
                "time ratio (ours/Cycles)"], cycles_rows)
 
@@ -650,7 +650,7 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
     else:
         why = "given on the command line"
     doc.para(f"Target RMSE {fmt(target_rmse)} ({why}). 'measured' = interpolated between measured points "
-             f"(log-log); 'extrapolated' = along the power law fitted to the curve's upper half.")
+             f"(log-log); 'extrapolated' = along the power law fitted to the curve's upper half. {COST_NOTE}")
     rows = []
     ref_rmse = ref["estimated_rmse"]
     reached = {key: time_to_target(curve, target_rmse, ref_rmse) for key, curve in all_curves.items()}

@@ -18,6 +18,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from . import metrics
 from .executors import Executor, LocalProcessPool
 from .jobs import SPHRECT, Job, StudyConfig, build_plan, equal_time_jobs, fingerprint
 from .progress import ProgressBar
@@ -110,17 +111,17 @@ def time_of(record: Dict, threads: int) -> float:
 
 
 def seconds_per_sample(records: List[Dict], threads: int) -> Dict[Tuple[str, str, str], float]:
-    """(engine, technique, mis) -> seconds per sample per pixel, from each configuration's largest ladder run
-    (median over patterns)."""
-    best: Dict[Tuple[str, str, str, str], Dict] = {}
+    """(engine, technique, mis) -> seconds per sample per pixel: each configuration's metrics.cost_per_sample
+    over its ladder, median over patterns."""
+    ladders: Dict[Tuple[str, str, str, str], List[Dict]] = {}
     for r in records:
         j = r["job"]
-        key = (j["engine"], j["technique"], j["mis"], j["pattern"])
-        if key not in best or j["samples"] > best[key]["job"]["samples"]:
-            best[key] = r
+        ladders.setdefault((j["engine"], j["technique"], j["mis"], j["pattern"]), []).append(r)
     costs: Dict[Tuple[str, str, str], List[float]] = {}
-    for (engine, technique, mis, _), r in best.items():
-        costs.setdefault((engine, technique, mis), []).append(time_of(r, threads) / r["job"]["samples"])
+    for (engine, technique, mis, _), runs in ladders.items():
+        runs.sort(key=lambda r: r["job"]["samples"])
+        cost, _ = metrics.cost_per_sample([time_of(r, threads) for r in runs], [r["job"]["samples"] for r in runs])
+        costs.setdefault((engine, technique, mis), []).append(cost)
     return {k: float(np.median(v)) for k, v in costs.items()}
 
 
