@@ -197,6 +197,13 @@ struct RawRays {
     std::vector<Point2<float>> light_uv; // light_samples per shading point
 };
 
+// Queues the occlusion ray a light sample casts from a shading point (unit normal n, ray origin
+// `origin`), as the renderer does: none for an invalid sample or one below the surface.
+void AddShadowRay(const Vec3f& origin, const Vec3f& n, const LightSample<float>& ls, std::vector<RTCRay>& out) {
+    if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, n) > 0)
+        out.push_back(MakeRTCRay(origin, ls.dir, 0, ShadowRayLength(ls.dist)));
+}
+
 template <Technique K>
 RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
     const AreaLight& light = s.area_lights[0];
@@ -221,9 +228,7 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
         for (int j = 0; j < light_samples; ++j) {
             const float u = rng.NextFloat(), v = rng.NextFloat();
             out.light_uv.push_back({u, v});
-            const LightSample<float> ls = sampler.Valid() ? sampler.Sample({u, v}) : LightSample<float>{};
-            if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, n) > 0)
-                out.shadow.push_back(MakeRTCRay(origin, ls.dir, 0, ShadowRayLength(ls.dist)));
+            AddShadowRay(origin, n, sampler.Valid() ? sampler.Sample({u, v}) : LightSample<float>{}, out.shadow);
             if (mis) {
                 const float a = rng.NextFloat(), b = rng.NextFloat();
                 const Vec3f d = frame.FromLocal(SampleCosineHemisphere({a, b}));
@@ -319,10 +324,8 @@ uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light
         const RawRays::ShadingPoint& sp = in.points[k];
         const LightSampler<K, float> sampler(sp.p, sp.n, light);
         for (int j = 0; j < light_samples; ++j) {
-            const LightSample<float> ls =
-                sampler.Valid() ? sampler.Sample(in.light_uv[size_t(k) * light_samples + j]) : LightSample<float>{};
-            if (ls.pdf > 0 && std::isfinite(ls.pdf) && Dot(ls.dir, sp.n) > 0)
-                queue.push_back(MakeRTCRay(sp.origin, ls.dir, 0, ShadowRayLength(ls.dist)));
+            const Point2<float> uv = in.light_uv[size_t(k) * light_samples + j];
+            AddShadowRay(sp.origin, sp.n, sampler.Valid() ? sampler.Sample(uv) : LightSample<float>{}, queue);
         }
     }
     return blocked + TraceShadowRays(s, queue.data(), queue.size());

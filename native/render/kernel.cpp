@@ -176,6 +176,7 @@ struct ShadeContext {
     MediumSampling medium_sampling;
     int light_samples;
     bool sample_bsdf;  // BSDF/phase samples are drawn: MIS on, or a background to find
+    Spectrum sky;      // what a BSDF/phase ray that escapes brings: background x transmittance to infinity
 };
 
 template <bool kMedium>
@@ -252,10 +253,9 @@ class LightSamplingAt {
 template <Technique K, bool kMedium>
 void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
                            LightSamplingAt<K>& light_sampling, const ShadowSink& sink, TechniqueTally& tally) {
-    const Spectrum background = c.scene.background * SegmentTransmittance<kMedium>(c.scene, kInf);
-    if (!IsBlack(background)) {
+    if (!IsBlack(c.sky)) {
         ++tally.rays;
-        sink.Add(o, d, kInf, background);
+        sink.Add(o, d, kInf, c.sky);
     }
     if (c.mis == MisMode::None) return;
     const auto& lights = c.scene.area_lights;
@@ -275,8 +275,8 @@ void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d
 // averaged over the light samples; delta lights once.
 template <Technique K, bool kGlossy, bool kMedium>
 void DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3f& wo_world,
-                              const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
-                              const ShadowSink& sink, TechniqueTally& tally) {
+                          const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
+                          const ShadowSink& sink, TechniqueTally& tally) {
     const RenderScene& scene = c.scene;
     const Material& mat = scene.materials[h.material];
     const Frame frame = Frame::FromZ(h.ns);
@@ -284,7 +284,7 @@ void DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3
     if (wo.z <= 0) return;
     const Vec3f origin = OffsetOrigin(h.p, h.ng);
     const ShadowSink light_sink = sink.Scaled(1.0f / c.light_samples);
-    // Without area lights and BSDF rays (only delta lights) there is nothing to sample.
+    // Without area lights and BSDF samples (only delta lights) there is nothing to sample.
     const int n_pairs = (!scene.light_selector.Empty() || c.sample_bsdf) ? c.light_samples : 0;
     LightSamplingAt<K> light_sampling(scene, h.p, h.ns, tally.light_ticks);
     for (int j = 0; j < n_pairs; ++j) {
@@ -339,8 +339,8 @@ void DirectLightAtSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3
 // phase * Le * T over the lights, estimated with one light sample (technique K, for the area
 // light `chosen`) and one phase sample; delta lights in full.  Phase and pdfs are w.r.t. wi.
 template <Technique K>
-void InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ray_dir, int chosen,
-                          Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink, TechniqueTally& tally) {
+void InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ray_dir, int chosen, Point2<float> light_point,
+                      Point2<float> phase_point, const ShadowSink& sink, TechniqueTally& tally) {
     constexpr Technique MK = kMediumTechnique<K>;
     const RenderScene& scene = c.scene;
     const float g = scene.medium.g;
@@ -380,7 +380,7 @@ void InScatteredLight(const ShadeContext& c, const Vec3f& x, const Vec3f& ray_di
 // mixture is too.
 template <Technique K>
 void SingleScattering(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
-                          const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink, TechniqueTally& tally) {
+                      const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink, TechniqueTally& tally) {
     const RenderScene& scene = c.scene;
     const HomogeneousMedium& med = scene.medium;
     const Ray& ray = ph.ray;
@@ -493,7 +493,8 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
     scratch.light_points.resize(chunk_samples * nl);
     scratch.bsdf_points.resize(chunk_samples * nl);
     const ShadeContext ctx{scene, opt.mis, opt.medium_sampling, opt.light_samples,
-                           opt.mis != MisMode::None || !IsBlack(scene.background)};
+                           opt.mis != MisMode::None || !IsBlack(scene.background),
+                           scene.background * SegmentTransmittance<kMedium>(scene, kInf)};
     tally.technique.resize(opt.techniques.size());
     std::vector<Spectrum> pixel_sums(size_t(chunk_pixels) * opt.techniques.size());
     for (int first = 0; first < tile_pixels; first += chunk_pixels) {
