@@ -108,7 +108,7 @@ def image_fingerprints(scene_items):
     out = {}
     techniques = list(sphrect.techniques)
     for name, scene in scene_items:
-        for mis in ("none", "balance", "power"):
+        for mis in sphrect.mis_modes:
             for pattern, light_samples in (("sobol", 1), ("independent", 1), ("stratified", 2), ("sobol", 3)):
                 r = sphrect.Renderer(scene, techniques=techniques, mis=mis, pattern=pattern,
                                      light_samples=light_samples, seed=7, threads=2)

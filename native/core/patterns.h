@@ -2,6 +2,8 @@
 //
 //   GeneratePattern(pattern, n, seed, out)  // n points; different seeds give decorrelated sets
 //   SobolPoint(index, seed)                 // one point of the seeded Sobol' sequence, index-wise
+//   SampleDimensionPoints(pattern, n, first, pass, DimensionSeed(pixel_seed, dim), shuffle, out)
+//                                           // a renderer's points of one sample dimension of a pixel
 //
 // Every point lies in [0,1)^2 (never 1.0).  Header-only, no allocation.
 //
@@ -284,6 +286,47 @@ inline void GeneratePattern(Pattern pattern, uint32_t n, uint64_t seed, Point2<f
             return;
         }
     }
+}
+
+// The seed of one sample dimension (pixel position, lens, light, BSDF, ...) of the pixel whose
+// seed is `pixel_seed`; `dimension` is the dimension's salt.  Each dimension gets its own
+// pattern, so no two dimensions share randomness.
+inline uint64_t DimensionSeed(uint64_t pixel_seed, uint64_t dimension) {
+    return MixBits(pixel_seed ^ (dimension * 0x9e3779b97f4a7c15ull));
+}
+
+// The points of one sample dimension for the global sample indices first .. first + n - 1 of a
+// pixel (seed: DimensionSeed).  Sobol' continues one sequence across passes (index-wise); the
+// other patterns draw a fresh set per pass.
+//
+// Every dimension draws its points in its own random order: with the same order, point i of the
+// light pattern would be tied to point i of the pixel pattern (same stratum, or for Sobol' the
+// same digits of i), correlating where in the pixel a sample lands with where on the light it
+// goes -- unbiased, but skewed and much noisier.  Sobol' indices are shuffled by a nested uniform
+// scramble of the index (Burley 2020, "Practical Hash-based Owen Scrambling", sec. 4): bit k of
+// the index flips by a hash of the bits above it, so each aligned block of 2^m indices maps onto
+// an aligned block, a (0,m,2)-net again.  The other patterns are permuted with Fisher-Yates.  One
+// dimension (the pixel's) can keep its order: `shuffle` false.
+inline void SampleDimensionPoints(Pattern pattern, uint32_t n, uint32_t first, uint32_t pass, uint64_t seed,
+                                  bool shuffle, Point2<float>* out) {
+    using namespace pattern_detail;
+    const uint32_t shuffle_seed = uint32_t(MixBits(seed ^ 0x2545f4914f6cdd1dull) >> 32);
+    if (pattern == Pattern::Sobol) {
+        // SobolPoint(index, seed) point by point, with the scramble keys derived once.
+        const SobolKeys keys = MakeSobolKeys(seed);
+        if (shuffle) {
+            for (uint32_t i = 0; i < n; ++i)
+                out[i] = ScrambledSobolPoint(OwenScramble(first + i, shuffle_seed), keys.x, keys.y);
+        } else {
+            for (uint32_t i = 0; i < n; ++i) out[i] = ScrambledSobolPoint(first + i, keys.x, keys.y);
+        }
+        return;
+    }
+    const uint64_t pass_seed = MixBits(seed ^ (uint64_t(pass) * 0xd1b54a32d192ed03ull));
+    GeneratePattern(pattern, n, pass_seed, out);
+    if (!shuffle) return;
+    PCG32 rng(MixBits(pass_seed ^ shuffle_seed), 0x9e3779b9ull);
+    ShufflePoints(out, n, rng);
 }
 
 }  // namespace sphrect

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/patterns.h"
+#include "name_tuple.h"
 #include "core/rect_light.h"
 #include "core/spherical_rectangle.h"
 #include "core/technique.h"
@@ -313,13 +314,6 @@ py::array PatternImpl(const std::string& name, const py::object& n_obj, const py
     return std::move(out);
 }
 
-// The names of all values of an enum, in order (as EnumNameList, for Python).
-template <class Values, class NameOf>
-py::tuple NameTuple(const Values& values, NameOf name_of) {
-    py::list l;
-    for (auto v : values) l.append(name_of(v));
-    return py::tuple(l);
-}
 
 }  // namespace
 

@@ -12,6 +12,7 @@
 
 #include "render/renderer.h"
 #include "render/scene.h"
+#include "name_tuple.h"
 
 namespace py = pybind11;
 
@@ -188,6 +189,9 @@ void BindRender(py::module_& m) {
         .def_property_readonly("height", &Renderer::height);
     m.attr("MAX_LIGHT_SAMPLES") = render::kMaxLightSamples;
     m.attr("MAX_SAMPLES_PER_CALL") = render::kMaxSamplesPerCall;
+    m.attr("MAX_IMAGE_SIDE") = render::kMaxImageSide;
+    m.attr("mis_modes") = NameTuple(render::kAllMisModes, render::MisModeName);
+    m.attr("medium_samplings") = NameTuple(render::kAllMediumSamplings, render::MediumSamplingName);
 }
 
 }  // namespace sphrect::python

@@ -71,43 +71,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Salts of the sample dimensions; each gets its own pattern seed per pixel.
+// Salts of the sample dimensions (DimensionSeed); each gets its own pattern seed per pixel.
 enum Dimension : uint64_t { kDimPixel = 1, kDimLens = 2, kDimLight = 3, kDimBsdf = 4, kDimRng = 5 };
-
-uint64_t DimensionSeed(uint64_t pixel_seed, uint64_t dim) { return MixBits(pixel_seed ^ (dim * 0x9e3779b97f4a7c15ull)); }
-
-// n points of the pattern for global sample indices first .. first + n - 1.  Sobol' continues
-// one sequence across passes (index-wise); the other patterns draw a fresh set per pass.
-//
-// Every dimension (pixel, lens, light, BSDF) draws its points in its own random order: with the
-// same order, point i of the light pattern would be tied to point i of the pixel pattern (same
-// stratum, or for Sobol' the same digits of i), correlating where in the pixel a sample lands
-// with where on the light it goes -- unbiased, but skewed and much noisier.  Sobol' indices are
-// shuffled by a nested uniform scramble of the index (Burley 2020, "Practical Hash-based Owen
-// Scrambling", sec. 4): bit k of the index flips by a hash of the bits above it, so each aligned
-// block of 2^m indices maps onto an aligned block, a (0,m,2)-net again.  The other patterns are
-// permuted with Fisher-Yates.  One dimension (the pixel's) can keep its order: `shuffle` false.
-void FillPattern(Pattern pattern, uint32_t n, uint32_t first, uint32_t pass, uint64_t seed, bool shuffle,
-                 Point2<float>* out) {
-    const uint32_t shuffle_seed = uint32_t(MixBits(seed ^ 0x2545f4914f6cdd1dull) >> 32);
-    if (pattern == Pattern::Sobol) {
-        // SobolPoint(index, seed) point by point, with the scramble keys derived once.
-        const pattern_detail::SobolKeys keys = pattern_detail::MakeSobolKeys(seed);
-        if (shuffle) {
-            for (uint32_t i = 0; i < n; ++i)
-                out[i] = pattern_detail::ScrambledSobolPoint(pattern_detail::OwenScramble(first + i, shuffle_seed),
-                                                             keys.x, keys.y);
-        } else {
-            for (uint32_t i = 0; i < n; ++i) out[i] = pattern_detail::ScrambledSobolPoint(first + i, keys.x, keys.y);
-        }
-        return;
-    }
-    const uint64_t pass_seed = MixBits(seed ^ (uint64_t(pass) * 0xd1b54a32d192ed03ull));
-    GeneratePattern(pattern, n, pass_seed, out);
-    if (!shuffle) return;
-    PCG32 rng(MixBits(pass_seed ^ shuffle_seed), 0x9e3779b9ull);
-    pattern_detail::ShufflePoints(out, n, rng);
-}
 
 // Where shading sends its shadow rays: the queue, the camera sample they belong to, and the
 // factor the caller multiplies this estimate by (transmittance, MIS and pdf weights, 1 / samples).
@@ -507,16 +472,16 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             const int x = pixel_x(c), y = pixel_y(c);
             const uint64_t pixel = uint64_t(y) * w + x;
             const uint64_t pixel_seed = MixBits(MixBits(opt.seed + 0x632be59bd9b4e019ull) ^ (pixel + 1));
-            FillPattern(opt.pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimPixel), false,
+            SampleDimensionPoints(opt.pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimPixel), false,
                         scratch.pixel_points.data());
             if constexpr (kDof)
-                FillPattern(opt.pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimLens), true,
+                SampleDimensionPoints(opt.pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimLens), true,
                             scratch.lens_points.data());
             Point2<float>* light_points = &scratch.light_points[size_t(c) * n * nl];
-            FillPattern(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimLight), true,
+            SampleDimensionPoints(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimLight), true,
                         light_points);
             if (ctx.sample_bsdf)  // BSDF/phase sample positions only when those samples are drawn
-                FillPattern(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimBsdf), true,
+                SampleDimensionPoints(opt.pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimBsdf), true,
                             &scratch.bsdf_points[size_t(c) * n * nl]);
             const uint64_t rng_base = DimensionSeed(pixel_seed, kDimRng);
             for (uint32_t i = 0; i < n; ++i) {

@@ -59,9 +59,9 @@ void RenderScene::RequireNotCommitted() const {
 
 void RenderScene::SetCamera(const CameraModel& c) {
     RequireNotCommitted();
-    constexpr int kMaxSide = 1 << 15;
+    constexpr int kMaxSide = kMaxImageSide;
     if (c.width <= 0 || c.height <= 0 || c.width > kMaxSide || c.height > kMaxSide ||
-        int64_t(c.width) * c.height > (int64_t(1) << 27))
+        int64_t(c.width) * c.height > kMaxImagePixels)
         Fail("camera resolution " + std::to_string(c.width) + " x " + std::to_string(c.height) +
              " is out of range (each side 1.." + std::to_string(kMaxSide) + ", at most 2^27 pixels)");
     for (const auto& row : c.to_world)

@@ -16,6 +16,10 @@
 
 namespace sphrect::render {
 
+// Limits of a scene's camera: each image side, and the pixel count (the bindings export the side).
+constexpr int kMaxImageSide = 1 << 15;
+constexpr int64_t kMaxImagePixels = int64_t(1) << 27;
+
 struct MeshData {
     std::string name;
     const float* vertices = nullptr;    // Embree-owned, [3 * num_vertices]

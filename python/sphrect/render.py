@@ -30,10 +30,10 @@ from .scene import Camera, EllipseLight, PointLight, RectLight, Scene, SpotLight
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
-MIS_MODES = ("none", "balance", "power")
-MEDIUM_SAMPLING = ("mis", "distance", "equiangular")
+MIS_MODES = tuple(_native.mis_modes)
+MEDIUM_SAMPLING = tuple(_native.medium_samplings)
 
-_MAX_SIDE = 1 << 15
+_MAX_SIDE = _native.MAX_IMAGE_SIDE
 
 
 def _rgb(value, what: str):
