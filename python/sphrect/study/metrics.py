@@ -1,11 +1,12 @@
-"""Error metrics against a reference image, convergence-slope fits and time-to-error interpolation.
+"""Error metrics against a reference image, convergence-slope fits, the time a run is judged by, its cost per
+sample and time-to-error interpolation.
 
 Images are [H, W, C] arrays; only the colour channels (the first three) are compared.
 """
 from __future__ import annotations
 
 import math
-from typing import Optional, Sequence, Tuple
+from typing import Dict, Optional, Sequence, Tuple
 
 import numpy as np
 
@@ -22,56 +23,68 @@ def colour(image: np.ndarray) -> np.ndarray:
     return image[..., :3].astype(np.float64)
 
 
-def _check_shapes(image: np.ndarray, reference: np.ndarray) -> None:
+def squared_error(image: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """(x - r)^2 per pixel and colour channel, [H, W, 3]: what every error metric here averages."""
     if image.shape[:2] != reference.shape[:2]:
         raise ValueError(f"image {image.shape[:2]} and reference {reference.shape[:2]} differ in size")
+    return (colour(image) - colour(reference)) ** 2
 
 
 def mse(image: np.ndarray, reference: np.ndarray) -> float:
-    _check_shapes(image, reference)
-    return float(np.mean((colour(image) - colour(reference)) ** 2))
+    return float(np.mean(squared_error(image, reference)))
 
 
 def rmse(image: np.ndarray, reference: np.ndarray) -> float:
+    """The study's one RMSE: over all pixels and colour channels."""
     return math.sqrt(mse(image, reference))
 
 
 def relmse(image: np.ndarray, reference: np.ndarray, epsilon: float = RELMSE_EPSILON) -> float:
-    _check_shapes(image, reference)
     r = colour(reference)
-    return float(np.mean((colour(image) - r) ** 2 / (r * r + epsilon)))
+    return float(np.mean(squared_error(image, reference) / (r * r + epsilon)))
 
 
 def error_map(image: np.ndarray, reference: np.ndarray) -> np.ndarray:
     """Per-pixel RMS error over the colour channels, [H, W]."""
-    _check_shapes(image, reference)
-    return np.sqrt(np.mean((colour(image) - colour(reference)) ** 2, axis=2))
+    return np.sqrt(np.mean(squared_error(image, reference), axis=2))
+
+
+def _usable(x: Sequence[float], y: Sequence[float]) -> Tuple[np.ndarray, np.ndarray]:
+    """The points (x, y) a log-log fit can use: both positive and finite, as float64 arrays."""
+    x = np.asarray(x, dtype=np.float64)
+    y = np.asarray(y, dtype=np.float64)
+    keep = (x > 0) & (y > 0) & np.isfinite(x) & np.isfinite(y)
+    return x[keep], y[keep]
 
 
 def fit_slope(x: Sequence[float], y: Sequence[float]) -> Tuple[float, float]:
     """Least-squares line through (log x, log y): returns (slope, intercept), so y ~ exp(intercept) * x**slope.
     NaN when fewer than two usable points."""
-    x = np.asarray(x, dtype=np.float64)
-    y = np.asarray(y, dtype=np.float64)
-    keep = (x > 0) & (y > 0) & np.isfinite(x) & np.isfinite(y)
-    if np.count_nonzero(keep) < 2 or np.ptp(np.log(x[keep])) == 0:
+    x, y = _usable(x, y)
+    if len(x) < 2 or np.ptp(np.log(x)) == 0:
         return float("nan"), float("nan")
-    slope, intercept = np.polyfit(np.log(x[keep]), np.log(y[keep]), 1)
+    slope, intercept = np.polyfit(np.log(x), np.log(y), 1)
     return float(slope), float(intercept)
 
 
 def fit_slope_with_error(x: Sequence[float], y: Sequence[float]) -> Tuple[float, float]:
     """(slope, its standard error) of the log-log least-squares line; the error is NaN with < 3 points."""
-    x = np.asarray(x, dtype=np.float64)
-    y = np.asarray(y, dtype=np.float64)
-    keep = (x > 0) & (y > 0) & np.isfinite(x) & np.isfinite(y)
-    lx, ly = np.log(x[keep]), np.log(y[keep])
     slope, intercept = fit_slope(x, y)
+    x, y = _usable(x, y)
+    lx, ly = np.log(x), np.log(y)
     if len(lx) < 3 or not math.isfinite(slope):
         return slope, float("nan")
     residuals = ly - (slope * lx + intercept)
     variance = float(np.sum(residuals ** 2)) / (len(lx) - 2)
     return slope, math.sqrt(variance / float(np.sum((lx - lx.mean()) ** 2)))
+
+
+def time_of(record: Dict, threads: int) -> float:
+    """The time a run is judged by: its CPU time when it rendered with one thread (robust to other load on the
+    machine), else its wall time (see executors.py)."""
+    if threads == 1 and record.get("cpu_time"):
+        return float(record["cpu_time"])
+    return float(record["wall_time"])
 
 
 # How many of a sample ladder's largest runs pool their times into its cost per sample.
@@ -96,10 +109,7 @@ def cost_to_reach(costs: Sequence[float], errors: Sequence[float], target: float
     Piecewise log-log interpolation between the measured points when the target lies inside the measured
     range ("measured"); otherwise extrapolation along a power law fitted to the points ("extrapolated"),
     or NaN when no fit is possible ("unreachable")."""
-    c = np.asarray(costs, dtype=np.float64)
-    e = np.asarray(errors, dtype=np.float64)
-    keep = (c > 0) & (e > 0) & np.isfinite(c) & np.isfinite(e)
-    c, e = c[keep], e[keep]
+    c, e = _usable(costs, errors)
     if len(c) == 0 or not target > 0:
         return float("nan"), "unreachable"
     order = np.argsort(c)

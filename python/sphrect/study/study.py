@@ -21,6 +21,7 @@ import numpy as np
 from . import metrics
 from .executors import Executor, LocalProcessPool
 from .jobs import SPHRECT, Job, StudyConfig, build_plan, equal_time_jobs, fingerprint
+from .metrics import time_of
 from .progress import ProgressBar
 from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
 from .runner import RunContext, run_job
@@ -100,14 +101,6 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
     records = [r for r in (store.read_run(j.key) for j in phase_jobs)
                if r is not None and r.get("fingerprint") == context.fingerprint]
     return records, failures
-
-
-def time_of(record: Dict, threads: int) -> float:
-    """The time a run is judged by: its CPU time when it rendered with one thread (robust to other load on the
-    machine), else its wall time (see executors.py and the report)."""
-    if threads == 1 and record.get("cpu_time"):
-        return float(record["cpu_time"])
-    return float(record["wall_time"])
 
 
 def seconds_per_sample(records: List[Dict], threads: int) -> Dict[Tuple[str, str, str], float]:
