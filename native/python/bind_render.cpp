@@ -10,9 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
+#include "name_tuple.h"
 #include "render/renderer.h"
 #include "render/scene.h"
-#include "name_tuple.h"
 
 namespace py = pybind11;
 
@@ -92,9 +93,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
     for (const auto& name : techniques) {
         Technique t;
         ParseEnumNameOrThrow("technique", "techniques", name, kAllTechniques, TechniqueName, &t);
-        for (Technique k : o.techniques)
-            if (k == t) throw py::value_error("technique '" + name + "' listed twice");
-        o.techniques.push_back(t);
+        o.techniques.push_back(t);  // (the Renderer refuses one listed twice)
     }
     ParseEnumNameOrThrow("pattern", "patterns", pattern, kAllPatterns, PatternName, &o.pattern);
     ParseEnumNameOrThrow("mis", "mis modes", mis, render::kAllMisModes, render::MisModeName, &o.mis);

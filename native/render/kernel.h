@@ -1,5 +1,7 @@
 // The per-tile integrator kernel, specialised at compile time on the scene's features
 // (depth of field, glossy materials, medium) and, inside, on the light-sampling technique.
+// This is what the Renderer sees of it; the kernel itself is in integrator/ (render_tile.cpp
+// drives the stages, one header each).
 #pragma once
 
 #include <cstdint>
@@ -23,14 +25,15 @@ struct ThreadScratch {
     std::vector<Spectrum> sample_values;             // radiance per camera sample of a chunk
     std::vector<DeferredShadowRay> shadow_rays;      // queued by shading, traced after it
     std::vector<Point2<float>> pixel_points, lens_points, light_points, bsdf_points;
+    std::vector<Spectrum> pixel_sums;                // per technique, per pixel of a chunk
     ThreadScratch();
     ~ThreadScratch();
 };
 
 struct TechniqueTally {
-    uint64_t light_ticks = 0;   // ReadTicks() units
+    uint64_t light_ticks = 0;   // ReadTicks() units (ticks.h), counted by TimedLightSamplingAt
     double total_seconds = 0;   // whole per-technique pass (light sampling included)
-    uint64_t rays = 0;
+    uint64_t rays = 0;          // occlusion rays traced (the shadow-ray queue's lengths)
     uint64_t dropped = 0;       // non-finite samples left out of the image
 
     TechniqueTally& operator+=(const TechniqueTally& o) {
@@ -68,8 +71,5 @@ struct KernelParams {
 
 using TileKernel = void (*)(const KernelParams&, const TileRect&, ThreadScratch&, TileTally&);
 TileKernel SelectTileKernel(bool dof, bool glossy, bool medium);
-
-// Cheap timestamp (the TSC on x86); converted to seconds with a rate measured per pass.
-uint64_t ReadTicks();
 
 }  // namespace sphrect::render

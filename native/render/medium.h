@@ -4,6 +4,7 @@
 // Fajardo, "Importance Sampling Techniques for Path Tracing in Participating Media", EGSR 2012).
 #pragma once
 
+#include <array>
 #include <cmath>
 
 #include "sampling_util.h"
@@ -20,6 +21,13 @@ struct HomogeneousMedium {
 inline Spectrum Transmittance(const HomogeneousMedium& m, float d) {
     auto tr = [d](float s) { return s > 0 ? std::exp(-s * d) : 1.0f; };
     return {tr(m.sigma_t.x), tr(m.sigma_t.y), tr(m.sigma_t.z)};
+}
+
+// Transmittance along a segment of length d in a kernel compiled with a medium (kMedium), or 1.
+template <bool kMedium>
+inline Spectrum SegmentTransmittance(const HomogeneousMedium& m, float d) {
+    if constexpr (kMedium) return Transmittance(m, d);
+    return {1, 1, 1};
 }
 
 // p(cos theta) with cos theta = dot(wi, d), wi pointing to the light and d the camera ray's
@@ -42,6 +50,22 @@ inline Vec3f SampleHenyeyGreenstein(const Vec3f& axis, float g, Point2<float> u)
     cos_theta = std::clamp(cos_theta, -1.0f, 1.0f);
     const float sin_theta = SafeSqrt(1 - cos_theta * cos_theta), phi = 2 * kPi * u.v;
     return Frame::FromZ(axis).FromLocal({sin_theta * std::cos(phi), sin_theta * std::sin(phi), cos_theta});
+}
+
+// How the scattering distance along a camera ray is chosen: both strategies below combined by
+// MIS, or one of them alone.
+enum class MediumSampling { Mis, Distance, EquiAngular };
+
+constexpr std::array<MediumSampling, 3> kAllMediumSamplings = {MediumSampling::Mis, MediumSampling::Distance,
+                                                               MediumSampling::EquiAngular};
+
+constexpr const char* MediumSamplingName(MediumSampling m) {
+    switch (m) {
+        case MediumSampling::Mis: return "mis";
+        case MediumSampling::Distance: return "distance";
+        case MediumSampling::EquiAngular: return "equiangular";
+    }
+    return "?";
 }
 
 // --- Distance sampling: t ~ sigma exp(-sigma t) on [0, infinity) -------------------------------

@@ -8,36 +8,15 @@
 #include <string>
 #include <thread>
 
-#include "core/enum_names.h"
 #include "kernel.h"
+#include "ticks.h"
+
 namespace sphrect::render {
-
-const char* MisModeName(MisMode m) {
-    switch (m) {
-        case MisMode::None: return "none";
-        case MisMode::Balance: return "balance";
-        case MisMode::Power: return "power";
-    }
-    return "?";
-}
-
-const char* MediumSamplingName(MediumSampling m) {
-    switch (m) {
-        case MediumSampling::Mis: return "mis";
-        case MediumSampling::Distance: return "distance";
-        case MediumSampling::EquiAngular: return "equiangular";
-    }
-    return "?";
-}
 
 Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions options)
     : scene_(std::move(scene)), options_(std::move(options)) {
     if (!scene_ || !scene_->committed()) throw std::invalid_argument("the renderer needs a committed scene");
-    if (options_.techniques.empty()) throw std::invalid_argument("at least one technique is needed");
-    if (options_.light_samples < 1 || options_.light_samples > kMaxLightSamples)
-        throw std::invalid_argument("light_samples must be in 1.." + std::to_string(kMaxLightSamples));
-    if (options_.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");
-    if (options_.tile_size < 1) throw std::invalid_argument("tile_size must be positive");
+    ValidateOptions(options_);
     threads_ = options_.threads > 0 ? options_.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     const size_t pixels = size_t(width()) * height();
     sums_.assign(options_.techniques.size(), std::vector<double>(3 * pixels, 0.0));
@@ -48,19 +27,13 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
 Renderer::~Renderer() = default;
 
 bool Renderer::Render(int samples, double time_budget, const std::function<void(int, int)>& progress) {
-    if (samples < 1 || samples > kMaxSamplesPerCall)
-        throw std::invalid_argument("samples must be in 1.." + std::to_string(kMaxSamplesPerCall));
-    // One pass keeps samples x light_samples pattern points per pixel in memory.
-    if (uint64_t(samples) * uint64_t(options_.light_samples) > (uint64_t(1) << 22))
-        throw std::invalid_argument("samples x light_samples must be at most 2^22 per render() call "
-                                    "(render in several calls, or use time_budget)");
+    ValidateRenderCall(options_, samples);
     if (!(time_budget >= 0)) throw std::invalid_argument("time_budget must be >= 0");
     std::unique_lock<std::mutex> lock(render_mutex_, std::try_to_lock);
     if (!lock.owns_lock())  // e.g. render() called from its own progress callback, or from two threads
         throw std::logic_error("this Renderer is already rendering");
-    // Sample indices (camera samples x light samples) must stay within 32 bits.
     auto exhausted = [&] {
-        return (uint64_t(next_sample_) + uint64_t(samples)) * uint64_t(options_.light_samples) >= (uint64_t(1) << 31);
+        return (uint64_t(next_sample_) + uint64_t(samples)) * uint64_t(options_.light_samples) >= kSampleIndexLimit;
     };
     if (exhausted()) throw std::invalid_argument("too many samples accumulated in this renderer");
     cancel_.store(false);

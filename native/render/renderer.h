@@ -2,7 +2,6 @@
 // sharing camera rays and first hits, each with its own accumulation buffer and timings.
 #pragma once
 
-#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -11,39 +10,10 @@
 #include <string>
 #include <vector>
 
-#include "core/patterns.h"
-#include "core/technique.h"
+#include "options.h"
 #include "scene.h"
 
 namespace sphrect::render {
-
-// How the scattering distance along camera rays is chosen in a medium.
-enum class MediumSampling { Mis, Distance, EquiAngular };
-
-constexpr std::array<MisMode, 3> kAllMisModes = {MisMode::None, MisMode::Balance, MisMode::Power};
-constexpr std::array<MediumSampling, 3> kAllMediumSamplings = {MediumSampling::Mis, MediumSampling::Distance,
-                                                               MediumSampling::EquiAngular};
-
-const char* MisModeName(MisMode m);
-const char* MediumSamplingName(MediumSampling m);
-
-// Limits of a Renderer and of one Render() call (the bindings export them to Python).
-constexpr int kMaxLightSamples = 4096;
-constexpr int kMaxSamplesPerCall = 1 << 20;
-
-struct RenderOptions {
-    std::vector<Technique> techniques = {Technique::Rectangle};
-    int light_samples = 1;               // light samples (and BSDF samples) per camera sample
-    Pattern pattern = Pattern::Sobol;    // drives pixel, lens, light and BSDF sample positions
-    MisMode mis = MisMode::Balance;      // light sampling vs BSDF (or phase) sampling
-    MediumSampling medium_sampling = MediumSampling::Mis;
-    uint64_t seed = 0;
-    int threads = 0;                     // 0: all hardware threads
-    int tile_size = 16;
-    // Benchmarks only: run the kernel with every feature compiled in (medium, glossy, depth of
-    // field) whatever the scene needs, to measure what the specialised kernels save.
-    bool force_all_features = false;
-};
 
 struct TechniqueStats {
     uint64_t samples = 0;       // camera samples per pixel accumulated (pixels of cancelled tiles may have fewer)

@@ -55,23 +55,6 @@ inline Vec3f SampleCosineHemisphere(Point2<float> u) {
 }
 inline float CosineHemispherePDF(float cos_theta) { return std::max(cos_theta, 0.0f) * kInvPi; }
 
-// MIS heuristics for one sample from each of two strategies (Veach 1997, ch. 9).
-enum class MisMode { None, Balance, Power };
-
-inline float MisWeight(MisMode m, float pdf_this, float pdf_other) {
-    switch (m) {
-        case MisMode::None: return 1.0f;
-        case MisMode::Balance: return pdf_this / (pdf_this + pdf_other);
-        case MisMode::Power: {
-            const float a = pdf_this * pdf_this, b = pdf_other * pdf_other;
-            // Squares of huge pdfs overflow to inf (inf/inf = NaN): fall back to the ratio form.
-            if (!std::isfinite(a + b)) return pdf_this >= pdf_other ? 1.0f : 0.0f;
-            return a / (a + b);
-        }
-    }
-    return 1.0f;
-}
-
 inline float SafeSqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
 
 }  // namespace sphrect::render

@@ -1,0 +1,88 @@
+// The camera stage of a chunk: its camera samples' pattern points and rays, traced together,
+// and what each sees directly -- visible lights before the first surface and the background.
+// It is the same for every technique, which then shades the same first hits.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "chunk.h"
+#include "render/camera.h"
+#include "render/embree_rays.h"
+#include "render/kernel.h"
+#include "sample_dimensions.h"
+#include "surface_hit.h"
+
+namespace sphrect::render {
+
+struct PrimaryHit {
+    Ray ray;
+    float t_end = kInf;   // end of the camera ray's segment: surface hit or escape
+    bool hit = false;
+    SurfaceHit surface;
+    Spectrum seen;        // technique-independent part: visible lights before the surface, background
+    uint64_t rng_seed = 0;
+};
+
+// Pattern points and camera rays of the chunk's camera samples, pixel by pixel:
+// scratch.hits[c * samples + i] is sample i of chunk pixel c, its light and BSDF points at
+// scratch.light_points / bsdf_points [(c * samples + i) * light_samples ...].
+template <bool kDof>
+inline void GenerateCameraSamples(const KernelParams& p, const TileChunk& chunk, bool sample_bsdf,
+                                  ThreadScratch& scratch) {
+    const CameraModel& camera = p.scene->camera;
+    const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
+    for (int c = 0; c < chunk.count; ++c) {
+        const int x = chunk.X(c), y = chunk.Y(c);
+        const uint64_t pixel_seed = PixelSeed(p.options->seed, chunk.PixelIndex(c, camera.width));
+        const size_t first_point = size_t(c) * n * nl;
+        FillPixelSamplePoints<kDof>(p, pixel_seed, sample_bsdf,
+                                    {scratch.pixel_points.data(), scratch.lens_points.data(),
+                                     &scratch.light_points[first_point], &scratch.bsdf_points[first_point]});
+        PrimaryHit* hits = &scratch.hits[size_t(c) * n];
+        for (uint32_t i = 0; i < n; ++i) {
+            const Point2<float> jitter = scratch.pixel_points[i];
+            hits[i].ray = GenerateCameraRay<kDof>(camera, x + jitter.u, y + jitter.v,
+                                                  kDof ? scratch.lens_points[i] : Point2<float>{});
+            hits[i].rng_seed = CameraSampleRngSeed(pixel_seed, p.first_sample + i);
+        }
+    }
+}
+
+// Traces the camera rays of hits[0..n) into rtc_hits[0..n) as one coherent stream: a chunk's
+// camera rays leave one point (a small lens; or are parallel) and cover one tile, so Embree's
+// packet traversal is ~40% faster on them than ray by ray.
+inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_t n, RTCRayHit* rtc_hits) {
+    for (size_t i = 0; i < n; ++i)
+        rtc_hits[i] = MakeRTCRayHit(hits[i].ray.o, hits[i].ray.d, hits[i].ray.tmin, hits[i].ray.tmax);
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    rtcIntersect1M(scene, &ctx, rtc_hits, unsigned(n), sizeof(RTCRayHit));
+}
+
+// The camera ray's first hit, and what it sees directly (shared by all techniques).
+template <bool kMedium>
+inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, PrimaryHit& out) {
+    out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    out.t_end = out.hit ? rh.ray.tfar : kInf;
+    if (out.hit) out.surface = MakeSurfaceHit(scene, out.ray, rh);
+    Spectrum seen;
+    for (const AreaLight& l : scene.area_lights) {
+        if (!l.visible) continue;
+        const float t = IntersectAreaLight(l, out.ray.o, out.ray.d, std::min(out.t_end, out.ray.tmax));
+        if (std::isinf(t) || t < out.ray.tmin) continue;
+        seen += EmittedRadiance(l, -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);
+    }
+    if (!out.hit) seen += scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
+    out.seen = seen;
+}
+
+template <bool kMedium>
+inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit* rtc_hits, size_t n, PrimaryHit* hits) {
+    for (size_t s = 0; s < n; ++s) FinishCameraSample<kMedium>(scene, rtc_hits[s], hits[s]);
+}
+
+}  // namespace sphrect::render

@@ -1,0 +1,49 @@
+// What a chunk's camera samples add to the image: per pixel the sum of its samples' radiance
+// (non-finite samples dropped and counted), added to each technique's buffers with the count.
+#pragma once
+
+#include <cstdint>
+
+#include "chunk.h"
+#include "render/kernel.h"
+
+namespace sphrect::render {
+
+// sums[c] = sum of the `samples` values of chunk pixel c (values[c * samples ...]), for c < count.
+// Returns how many values were dropped: a NaN or inf sample would poison the pixel forever, so
+// it is left out and counted (reported in the stats; never expected).
+inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32_t samples, Spectrum* sums) {
+    uint64_t dropped = 0;
+    for (int c = 0; c < count; ++c) {
+        Spectrum sum;
+        for (uint32_t i = 0; i < samples; ++i) {
+            const Spectrum& l = values[size_t(c) * samples + i];
+            if (IsFinite(l)) {
+                sum += l;
+            } else {
+                ++dropped;
+            }
+        }
+        sums[c] = sum;
+    }
+    return dropped;
+}
+
+// Adds the chunk's pixel sums (technique k's at pixel_sums[k * stride + c]) to the pass's
+// buffers, and its samples to the pixels' counts.
+inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk, const Spectrum* pixel_sums, int stride) {
+    const size_t techniques = p.options->techniques.size();
+    for (int c = 0; c < chunk.count; ++c) {
+        const uint64_t pixel = chunk.PixelIndex(c, p.scene->camera.width);
+        for (size_t k = 0; k < techniques; ++k) {
+            const Spectrum& sum = pixel_sums[k * stride + c];
+            double* px = p.sums[k] + 3 * pixel;
+            px[0] += sum.x;
+            px[1] += sum.y;
+            px[2] += sum.z;
+        }
+        p.counts[pixel] += uint32_t(p.samples);
+    }
+}
+
+}  // namespace sphrect::render

@@ -1,0 +1,55 @@
+// The sample dimensions of a camera sample -- pixel jitter, lens, light samples, BSDF/phase
+// samples, and a seed for its remaining random numbers -- each drawn from the pass's pattern
+// with a seed of its own per pixel (core/patterns.h: SampleDimensionPoints, DimensionSeed).
+#pragma once
+
+#include <cstdint>
+
+#include "core/patterns.h"
+#include "core/rng.h"
+#include "render/kernel.h"
+
+namespace sphrect::render {
+
+// Salts of the sample dimensions (DimensionSeed).
+enum Dimension : uint64_t { kDimPixel = 1, kDimLens = 2, kDimLight = 3, kDimBsdf = 4, kDimRng = 5 };
+
+// The seed of pixel `pixel`'s patterns under the render's seed.
+inline uint64_t PixelSeed(uint64_t render_seed, uint64_t pixel) {
+    return MixBits(MixBits(render_seed + 0x632be59bd9b4e019ull) ^ (pixel + 1));
+}
+
+// Where a pixel's pattern points go: per camera sample one pixel jitter and one lens point, and
+// light_samples light and BSDF/phase points each.
+struct PixelSamplePoints {
+    Point2<float>* pixel;
+    Point2<float>* lens;   // used when kDof
+    Point2<float>* light;
+    Point2<float>* bsdf;   // used when BSDF/phase samples are drawn
+};
+
+// The points of the pass's camera samples [first_sample, first_sample + samples) of one pixel.
+// Light and BSDF points are numbered over (camera sample, light sample) pairs; every dimension
+// but the pixel jitter draws its points in its own order, so that no two are tied together.
+template <bool kDof>
+inline void FillPixelSamplePoints(const KernelParams& p, uint64_t pixel_seed, bool sample_bsdf,
+                                  const PixelSamplePoints& out) {
+    const Pattern pattern = p.options->pattern;
+    const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
+    SampleDimensionPoints(pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimPixel), false, out.pixel);
+    if constexpr (kDof)
+        SampleDimensionPoints(pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimLens), true, out.lens);
+    SampleDimensionPoints(pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimLight), true,
+                          out.light);
+    if (sample_bsdf)  // BSDF/phase sample positions only when those samples are drawn
+        SampleDimensionPoints(pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimBsdf), true,
+                              out.bsdf);
+}
+
+// The seed of the random numbers camera sample `sample_index` (global) of the pixel draws
+// outside the pattern: light choice, medium distances.
+inline uint64_t CameraSampleRngSeed(uint64_t pixel_seed, uint32_t sample_index) {
+    return MixBits(DimensionSeed(pixel_seed, kDimRng) ^ (uint64_t(sample_index) * 0xbf58476d1ce4e5b9ull));
+}
+
+}  // namespace sphrect::render

@@ -1,0 +1,94 @@
+// Direct light reflected at the camera ray's surface hit: per light sample one sample of the
+// area lights (technique K) and, for MIS and the background, one BSDF sample; delta lights
+// once.  Everything is queued on a ShadowSink with its occlusion ray.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "emitters_along_ray.h"
+#include "render/bsdf.h"
+#include "surface_hit.h"
+
+namespace sphrect::render {
+
+// A surface point as shading sees it: the hit, its material, the shading frame, the direction
+// towards the camera in it, and where its occlusion rays start (off the surface).
+struct SurfaceShadingPoint {
+    const SurfaceHit& hit;
+    const Material& material;
+    Frame frame;
+    Vec3f wo;
+    Vec3f origin;
+};
+
+// Light sampling: f Le T cos w / (pmf pdf) for a point on the chosen light, w its MIS weight
+// against the BSDF sample.
+template <Technique K, bool kGlossy, bool kMedium>
+inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
+                                    Point2<float> u, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    if (light.index < 0) return;
+    const LightSample<float> ls = light_sampling.Sample(light.index, u);
+    if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return;
+    const Spectrum le = EmittedRadiance(c.scene.area_lights[light.index], -ls.dir);
+    const Vec3f wi = sp.frame.ToLocal(ls.dir);
+    if (IsBlack(le) || !(wi.z > 0) || !(Dot(ls.dir, sp.hit.ng) > 0)) return;
+    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+    if (IsBlack(f)) return;
+    const float pdf_light = light.pmf * ls.pdf;
+    const float w =
+        c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, pdf_light, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
+    sink.Add(sp.origin, ls.dir, ls.dist,
+             f * le * SegmentTransmittance<kMedium>(c.scene.medium, ls.dist) * (wi.z * w / pdf_light));
+}
+
+// BSDF sampling: finds the area lights (MIS partner of the light sample) and the background,
+// with the sample's weight f cos / pdf.
+template <Technique K, bool kGlossy, bool kMedium>
+inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
+                                   TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    const BsdfSample bs = SampleBsdf<kGlossy>(sp.material, sp.wo, u);
+    if (!(bs.pdf > 0)) return;
+    const Vec3f wi_world = sp.frame.FromLocal(bs.wi);
+    if (!(Dot(wi_world, sp.hit.ng) > 0)) return;
+    QueueEmittersAlongRay<K, kMedium>(c, sp.origin, wi_world, bs.pdf, light_sampling,
+                                      sink.Scaled(bs.f * (bs.wi.z / bs.pdf)));
+}
+
+// Point, spot and sun lights: f Li T cos, each once.
+template <bool kGlossy, bool kMedium>
+inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp, const ShadowSink& sink) {
+    for (const DeltaLight& d : c.scene.delta_lights) {
+        const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p);
+        if (IsBlack(di.li) || Dot(di.wi, sp.hit.ng) <= 0) continue;
+        const Vec3f wi = sp.frame.ToLocal(di.wi);
+        if (wi.z <= 0) continue;
+        const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+        if (IsBlack(f)) continue;
+        sink.Add(sp.origin, di.wi, di.dist, f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * wi.z);
+    }
+}
+
+// Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
+// pairs averaged, then the delta lights.  light_ticks counts the time in light sampling.
+template <Technique K, bool kGlossy, bool kMedium>
+inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3f& wo_world,
+                         const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
+                         const ShadowSink& sink, uint64_t& light_ticks) {
+    const RenderScene& scene = c.scene;
+    const Frame frame = Frame::FromZ(h.ns);
+    const SurfaceShadingPoint sp{h, scene.materials[h.material], frame, frame.ToLocal(wo_world), OffsetOrigin(h.p, h.ng)};
+    if (sp.wo.z <= 0) return;
+    const ShadowSink pair_sink = sink.Scaled(1.0f / c.light_samples);
+    // Without area lights and BSDF samples (only delta lights) there is nothing to sample.
+    const int n_pairs = (!scene.light_selector.Empty() || c.sample_bsdf) ? c.light_samples : 0;
+    TimedLightSamplingAt<K> light_sampling(scene, h.p, h.ns, light_ticks);
+    for (int j = 0; j < n_pairs; ++j) {
+        const ChosenLight light = ChooseAreaLight(scene.light_selector, rng);
+        QueueSurfaceLightSample<K, kGlossy, kMedium>(c, sp, light, light_points[j], light_sampling, pair_sink);
+        if (c.sample_bsdf) QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);
+    }
+    QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, sink);
+}
+
+}  // namespace sphrect::render

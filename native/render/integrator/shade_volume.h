@@ -1,0 +1,150 @@
+// Single scattering in the homogeneous medium along the camera ray: scattering distances by
+// transmittance and equi-angular sampling, combined by MIS, and at each scattering point the
+// light in-scattered towards the camera (one light and one phase sample; delta lights once).
+// Everything is queued on a ShadowSink with its occlusion ray.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "camera_stage.h"
+#include "emitters_along_ray.h"
+#include "render/medium.h"
+
+namespace sphrect::render {
+
+// The medium has no normal: the cosine-weighted technique would drop light behind its
+// made-up horizon, so scattering points use the spherical rectangle instead.
+template <Technique K>
+constexpr Technique kMediumTechnique = K == Technique::RectangleCosine ? Technique::Rectangle : K;
+
+// A scattering point x on the camera ray of direction ray_dir.  Phase values and pdfs are
+// w.r.t. wi, the direction towards the light (HenyeyGreenstein(dot(wi, ray_dir), g)).
+struct ScatteringPoint {
+    Vec3f x;
+    Vec3f ray_dir;
+};
+
+// Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample.
+template <Technique K>
+inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
+                                   Point2<float> u, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    if (light.index < 0) return;
+    const LightSample<float> ls = light_sampling.Sample(light.index, u);
+    if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return;
+    const Spectrum le = EmittedRadiance(c.scene.area_lights[light.index], -ls.dir);
+    if (IsBlack(le)) return;
+    const float phase = HenyeyGreenstein(Dot(ls.dir, sp.ray_dir), c.scene.medium.g);
+    const float pdf_light = light.pmf * ls.pdf;
+    const float w = MisWeight(c.mis, pdf_light, phase);
+    sink.Add(sp.x, ls.dir, ls.dist, le * Transmittance(c.scene.medium, ls.dist) * (phase * w / pdf_light));
+}
+
+// Phase sampling (the weight phase / pdf is 1): finds the area lights and the background.
+template <Technique K>
+inline void QueueMediumPhaseSample(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
+                                   TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    const float g = c.scene.medium.g;
+    const Vec3f wi = SampleHenyeyGreenstein(sp.ray_dir, g, u);
+    const float pdf_phase = HenyeyGreenstein(Dot(wi, sp.ray_dir), g);
+    QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, light_sampling, sink);
+}
+
+// Point, spot and sun lights: phase Li T, each once.
+inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint& sp, const ShadowSink& sink) {
+    const HomogeneousMedium& med = c.scene.medium;
+    for (const DeltaLight& d : c.scene.delta_lights) {
+        const DeltaIllumination di = IlluminateFromDelta(d, sp.x);
+        if (IsBlack(di.li)) continue;
+        sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
+    }
+}
+
+// Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights.
+template <Technique K>
+inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
+                             Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
+                             uint64_t& light_ticks) {
+    constexpr Technique MK = kMediumTechnique<K>;
+    const ShadowSink out = sink.Scaled(c.scene.medium.sigma_s);
+    TimedLightSamplingAt<MK> light_sampling(c.scene, sp.x, sp.ray_dir, light_ticks);
+    QueueMediumLightSample<MK>(c, sp, light, light_point, light_sampling, out);
+    if (c.sample_bsdf) QueueMediumPhaseSample<MK>(c, sp, phase_point, light_sampling, out);
+    QueueMediumDeltaLights(c, sp, out);
+}
+
+// A scattering distance on the camera ray's segment [0, t_end) and its pdf (0: none).
+struct ScatterDistance {
+    float t = 0, pdf = 0;
+};
+
+// Distance sampling: t ~ sigma exp(-sigma t), kept inside the segment.
+inline ScatterDistance SampleDistanceByTransmittance(const HomogeneousMedium& med, float t_end, float u) {
+    const float t = SampleExponentialDistance(med.sigma_sampling, u);
+    if (!(t < t_end)) return {};
+    return {t, ExponentialDistancePDF(med.sigma_sampling, t)};
+}
+
+// Equi-angular sampling about the centre of `ea`.
+inline ScatterDistance SampleDistanceEquiAngular(const EquiAngular& ea, float t_end, float u) {
+    const float t = SampleEquiAngular(ea, u);
+    const float pdf = EquiAngularPDF(ea, t);
+    if (!(t > 0 && t < t_end && pdf > 0 && std::isfinite(pdf))) return {};
+    return {t, pdf};
+}
+
+// Equi-angular sampling of the segment about a light picked by power (any area, point or spot
+// light; u picks it); invalid when the scene has none.
+inline EquiAngular EquiAngularAboutALight(const RenderScene& scene, const Ray& ray, float t_end, float u) {
+    if (scene.medium_centre_selector.Empty()) return {};
+    return MakeEquiAngular(ray.o, ray.d, t_end, scene.medium_centres[scene.medium_centre_selector.Select(u)]);
+}
+
+// Queues the in-scattered light at distance d.t along the ray, weighted by T(t) w / pdf and
+// averaged over the light samples.
+template <Technique K>
+inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDistance d, float w, ChosenLight light,
+                                Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
+                                uint64_t& light_ticks) {
+    const Spectrum weight = Transmittance(c.scene.medium, d.t) * (w / d.pdf);
+    InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d}, light, light_point, phase_point,
+                        sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
+}
+
+// Single scattering along the camera ray's segment [0, t_end): integral of T(t) * inscattered(t),
+// with distance sampling and equi-angular sampling (about a light's centre), combined by
+// one-sample-per-strategy MIS (the renderer's heuristic; balance when MIS is off).  The
+// equi-angular centre is a random light; for each choice the combination is unbiased, so the
+// mixture is too.
+template <Technique K>
+inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
+                        const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink, uint64_t& light_ticks) {
+    const RenderScene& scene = c.scene;
+    const Ray& ray = ph.ray;
+    const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
+    for (int j = 0; j < c.light_samples; ++j) {
+        // The area light for the light sample at the scattering point, and (independently) the
+        // centre for equi-angular sampling.
+        const ChosenLight light = ChooseAreaLight(scene.light_selector, rng);
+        const EquiAngular ea = EquiAngularAboutALight(scene, ray, ph.t_end, rng.NextFloat());
+        const bool use_equi = c.medium_sampling != MediumSampling::Distance && ea.valid;
+        const bool use_distance = c.medium_sampling != MediumSampling::EquiAngular || !ea.valid;
+        const float u_distance = rng.NextFloat(), u_equi = rng.NextFloat();
+        if (use_distance) {
+            const ScatterDistance d = SampleDistanceByTransmittance(scene.medium, ph.t_end, u_distance);
+            const float w = use_equi ? MisWeight(strategy_mis, d.pdf, EquiAngularPDF(ea, d.t)) : 1.0f;
+            if (d.pdf > 0 && w > 0)
+                QueueInScatteringAt<K>(c, ray, d, w, light, light_points[j], bsdf_points[j], sink, light_ticks);
+        }
+        if (use_equi) {
+            const ScatterDistance d = SampleDistanceEquiAngular(ea, ph.t_end, u_equi);
+            const float w =
+                use_distance ? MisWeight(strategy_mis, d.pdf, ExponentialDistancePDF(scene.medium.sigma_sampling, d.t))
+                             : 1.0f;
+            if (d.pdf > 0 && w > 0)
+                QueueInScatteringAt<K>(c, ray, d, w, light, light_points[j], bsdf_points[j], sink, light_ticks);
+        }
+    }
+}
+
+}  // namespace sphrect::render

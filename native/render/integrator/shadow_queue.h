@@ -1,0 +1,50 @@
+// Deferred visibility: shading queues every contribution with the occlusion ray it depends on
+// -- to a light sample, a delta light, or the light or background a BSDF/phase ray reaches --
+// and a chunk's rays are traced together after its shading (ResolveShadowRays).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "render/embree_rays.h"
+#include "render/kernel.h"
+
+namespace sphrect::render {
+
+// A shadow ray whose contribution counts for camera sample `sample` if nothing blocks it.
+// Traced in place as one Embree stream: the stride skips the payload.
+struct DeferredShadowRay {
+    RTCRay ray;
+    Spectrum contribution;
+    uint32_t sample;
+};
+
+// Where shading sends its shadow rays: the queue, the camera sample they belong to, and the
+// factor the caller multiplies this estimate by (transmittance, MIS and pdf weights, 1 / samples).
+struct ShadowSink {
+    std::vector<DeferredShadowRay>* queue;
+    uint32_t sample;
+    Spectrum scale{1, 1, 1};
+
+    ShadowSink Scaled(const Spectrum& f) const { return {queue, sample, scale * f}; }
+    ShadowSink Scaled(float f) const { return {queue, sample, scale * f}; }
+    // Queues `contribution` (times scale), seen from o along d if nothing lies within `dist`.
+    void Add(const Vec3f& o, const Vec3f& d, float dist, const Spectrum& contribution) const {
+        queue->push_back({MakeRTCRay(o, d, 0, ShadowRayLength(dist)), contribution * scale, sample});
+    }
+};
+
+// Traces the queued shadow rays and adds the unblocked contributions to their camera samples.
+// One incoherent stream call (rtcOccluded1M): renders 6-29% faster than with a call per ray, most
+// with several light samples.  (Flagged coherent, the same stream was 2x slower: the rays
+// start all over the chunk's tile.)
+inline void ResolveShadowRays(RTCScene scene, std::vector<DeferredShadowRay>& queue, Spectrum* sample_values) {
+    if (queue.empty()) return;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);  // RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT
+    rtcOccluded1M(scene, &ctx, &queue[0].ray, unsigned(queue.size()), sizeof(DeferredShadowRay));
+    for (const DeferredShadowRay& q : queue)
+        if (q.ray.tfar >= 0) sample_values[q.sample] += q.contribution;
+}
+
+}  // namespace sphrect::render

@@ -1,0 +1,38 @@
+// LightSamplingAt with its time counted: the stats' light_time (thread-seconds in light
+// sampling: sampler setup, Sample, PDF) is the sum of these calls' ticks, so the shading code
+// that calls them carries no timing of its own.
+#pragma once
+
+#include <cstdint>
+
+#include "light_sampling_at.h"
+#include "render/ticks.h"
+
+namespace sphrect::render {
+
+template <Technique K>
+class TimedLightSamplingAt {
+  public:
+    TimedLightSamplingAt(const RenderScene& scene, const Vec3f& origin, const Vec3f& normal, uint64_t& ticks)
+        : sampling_(scene, origin, normal), ticks_(ticks) {}
+
+    LightSample<float> Sample(int index, Point2<float> u) {
+        const uint64_t t0 = ReadTicks();
+        const LightSample<float> ls = sampling_.Sample(index, u);
+        ticks_ += ReadTicks() - t0;
+        return ls;
+    }
+
+    float PDF(int index, const Vec3f& p) {
+        const uint64_t t0 = ReadTicks();
+        const float pdf = sampling_.PDF(index, p);
+        ticks_ += ReadTicks() - t0;
+        return pdf;
+    }
+
+  private:
+    LightSamplingAt<K> sampling_;
+    uint64_t& ticks_;
+};
+
+}  // namespace sphrect::render

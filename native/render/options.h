@@ -1,0 +1,42 @@
+// What a Renderer is asked to do, and the limits of its options and of one Render() call
+// (the bindings parse the names against the enums' lists and export the limits to Python).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/patterns.h"
+#include "core/technique.h"
+#include "medium.h"  // MediumSampling
+#include "mis.h"
+
+namespace sphrect::render {
+
+constexpr int kMaxLightSamples = 4096;
+constexpr int kMaxSamplesPerCall = 1 << 20;
+// One pass keeps samples x light_samples pattern points per pixel in memory.
+constexpr int kMaxPatternPointsPerCallLog2 = 22;
+// Sample indices (camera samples x light samples) must stay within 31 bits.
+constexpr uint64_t kSampleIndexLimit = uint64_t(1) << 31;
+
+struct RenderOptions {
+    std::vector<Technique> techniques = {Technique::Rectangle};
+    int light_samples = 1;               // light samples (and BSDF samples) per camera sample
+    Pattern pattern = Pattern::Sobol;    // drives pixel, lens, light and BSDF sample positions
+    MisMode mis = MisMode::Balance;      // light sampling vs BSDF (or phase) sampling
+    MediumSampling medium_sampling = MediumSampling::Mis;
+    uint64_t seed = 0;
+    int threads = 0;                     // 0: all hardware threads
+    int tile_size = 16;
+    // Benchmarks only: run the kernel with every feature compiled in (medium, glossy, depth of
+    // field) whatever the scene needs, to measure what the specialised kernels save.
+    bool force_all_features = false;
+};
+
+// Throws std::invalid_argument naming the first option out of range.
+void ValidateOptions(const RenderOptions& o);
+
+// Throws std::invalid_argument if one Render(samples) call is out of range for `o`.
+void ValidateRenderCall(const RenderOptions& o, int samples);
+
+}  // namespace sphrect::render

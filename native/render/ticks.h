@@ -1,0 +1,24 @@
+// A cheap timestamp for the time spent in light sampling, read around every light-sampling
+// call (TimedLightSamplingAt): the TSC on x86, converted to seconds with a rate measured per
+// pass (Renderer::RenderPass); elsewhere nanoseconds of the steady clock.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <x86intrin.h>
+#endif
+
+namespace sphrect::render {
+
+inline uint64_t ReadTicks() {
+#if defined(__x86_64__) || defined(__i386__)
+    return __rdtsc();
+#else
+    return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                        std::chrono::steady_clock::now().time_since_epoch()).count());
+#endif
+}
+
+}  // namespace sphrect::render
