@@ -5,11 +5,10 @@
 // marginal in u, then a linear conditional in v.
 #pragma once
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 
-#include "light_sample.h"
+#include "vec3.h"
 
 namespace sphrect {
 
@@ -21,11 +20,6 @@ inline double SampleLinear(double xi, double a, double b) {
     if (a == b) return xi;
     const double x = xi * (a + b) / (a + std::sqrt((1 - xi) * a * a + xi * b * b));
     return ClampNaN(x, 0, 1);  // NaN (a = xi = 0) -> 0
-}
-
-inline double LinearPDF(double x, double a, double b) {
-    if (a == b) return 1;
-    return 2 * ((1 - x) * a + x * b) / (a + b);
 }
 
 // The CDF: xi such that SampleLinear(xi, a, b) = x.

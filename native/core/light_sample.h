@@ -15,9 +15,4 @@ struct LightSample {
     bool Valid() const { return pdf > 0; }
 };
 
-template <class T>
-struct Point2 {
-    T u = 0, v = 0;
-};
-
 }  // namespace sphrect

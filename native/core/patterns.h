@@ -35,8 +35,8 @@
 #include <utility>
 
 #include "enum_names.h"
-#include "light_sample.h"
 #include "rng.h"
+#include "vec3.h"
 
 namespace sphrect {
 

@@ -1,4 +1,5 @@
-// A rectangular emitter: corner s and two orthogonal edges ex, ey.
+// A rectangular emitter: corner s and two orthogonal edges ex, ey, and its frame
+// (what every technique's setup needs of the light alone, computed once per light).
 // The emitting side of a one-sided light is the one cross(ex, ey) points to.
 #pragma once
 
@@ -32,6 +33,35 @@ std::string ValidateRectLight(const RectLight<T>& r) {
         return "rectangle edges edge_x and edge_y must be orthogonal (|cos angle| = " +
                std::to_string(std::abs(double(Dot(r.ex, r.ey))) / (lx * ly)) + ")";
     return {};
+}
+
+// What the local frames of one light share, whatever the shading point: unit edge
+// directions, normal and edge lengths in double.  Computed once per light (a renderer keeps
+// it with the light) or once per setup by MakeLocalRect(origin, light).
+template <class T>
+struct RectLightFrame {
+    RectLight<T> light;
+    Vec3d corner;          // the corner in double
+    Vec3d exh, eyh, n;     // unit edge directions; n along cross(ex, ey): the emitting side
+    double wx = 0, wy = 0; // edge lengths
+    bool valid = false;    // false: degenerate (zero or non-finite edges, non-finite corner)
+};
+
+template <class T>
+RectLightFrame<T> MakeRectLightFrame(const RectLight<T>& light) {
+    RectLightFrame<T> f;
+    f.light = light;
+    const Vec3d c(light.corner), ex(light.ex), ey(light.ey);
+    f.corner = c;
+    f.wx = Length(ex);
+    f.wy = Length(ey);
+    if (!(f.wx > 0 && f.wy > 0) || !std::isfinite(f.wx * f.wy) || !IsFinite(c)) return f;
+    f.exh = ex / f.wx;
+    f.eyh = ey / f.wy;
+    f.n = Normalize(Cross(ex, ey));
+    const T area = T(f.wx * f.wy);  // (in T: a float light whose area overflows is degenerate)
+    f.valid = area > 0 && std::isfinite(area);
+    return f;
 }
 
 }  // namespace sphrect

@@ -12,18 +12,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solid_angle.h"
 #include "vec3.h"
 
 namespace sphrect {
-
-// Solid angle of the triangle abc (vectors from the viewpoint, any length; la, lb, lc their
-// lengths): Van Oosterom & Strackee, tan(W/2) = |a.(b x c)| / (abc + (a.b)c + (a.c)b + (b.c)a).
-inline double SphericalTriangleSolidAngle(const Vec3d& a, const Vec3d& b, const Vec3d& c, double la, double lb,
-                                          double lc) {
-    const double num = std::abs(Dot(a, Cross(b, c)));
-    const double den = la * lb * lc + Dot(a, b) * lc + Dot(a, c) * lb + Dot(b, c) * la;
-    return 2 * std::atan2(num, den);
-}
 
 struct SphericalTriangle {
     Vec3d A, B, C;              // unit vertices

@@ -10,15 +10,14 @@
 #pragma once
 
 #include <array>
-#include <cstring>
-#include <type_traits>
 #include <string>
+#include <type_traits>
 
-#include "area_sampling.h"
+#include "area.h"
 #include "enum_names.h"
+#include "rectangle.h"
 #include "rectangle_cosine.h"
-#include "spherical_rectangle.h"
-#include "triangles_sampling.h"
+#include "triangles.h"
 
 namespace sphrect {
 
@@ -47,50 +46,50 @@ struct LightSampler;
 
 template <class T>
 struct LightSampler<Technique::Area, T> {
-    AreaRect<T> r;
+    LocalRect<T> r;
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLight<T>& light)
-        : r(MakeAreaRect(origin, light)) {}
+        : r(MakeLocalRect(origin, light)) {}
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLightFrame<T>& frame)
-        : r(MakeAreaRect(origin, frame)) {}
+        : r(MakeLocalRect(origin, frame)) {}
     bool Valid() const { return r.valid; }
-    LightSample<T> Sample(Point2<T> uv) const { return SampleRectangleArea(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return RectangleAreaPDF(r, p); }
+    LightSample<T> Sample(Point2<T> uv) const { return SampleArea(r, uv); }
+    T Pdf(const Vec3<T>& p) const { return AreaPDF(r, p); }
 };
 
 template <class T>
 struct LightSampler<Technique::Triangles, T> {
-    TwoTriangles<T> r;
+    TrianglesSetup<T> r;
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLight<T>& light)
-        : r(MakeTwoTriangles(origin, light)) {}
+        : r(MakeTrianglesSetup(origin, light)) {}
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLightFrame<T>& frame)
-        : r(MakeTwoTriangles(origin, frame)) {}
+        : r(MakeTrianglesSetup(origin, frame)) {}
     bool Valid() const { return r.valid; }
-    LightSample<T> Sample(Point2<T> uv) const { return SampleTwoTriangles(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return TwoTrianglesPDF(r, p); }
+    LightSample<T> Sample(Point2<T> uv) const { return SampleTriangles(r, uv); }
+    T Pdf(const Vec3<T>& p) const { return TrianglesPDF(r, p); }
 };
 
 template <class T>
 struct LightSampler<Technique::Rectangle, T> {
-    SphericalRectangle<T> r;
+    RectangleSetup<T> r;
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLight<T>& light)
-        : r(MakeSphericalRectangle(origin, light)) {}
+        : r(MakeRectangleSetup(origin, light)) {}
     LightSampler(const Vec3<T>& origin, const Vec3<T>& /*normal*/, const RectLightFrame<T>& frame)
-        : r(MakeSphericalRectangle(origin, frame)) {}
+        : r(MakeRectangleSetup(origin, frame)) {}
     bool Valid() const { return r.valid; }
-    LightSample<T> Sample(Point2<T> uv) const { return SampleSphericalRectangle(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return SphericalRectanglePDF(r, p); }
+    LightSample<T> Sample(Point2<T> uv) const { return SampleRectangle(r, uv); }
+    T Pdf(const Vec3<T>& p) const { return RectanglePDF(r, p); }
 };
 
 template <class T>
 struct LightSampler<Technique::RectangleCosine, T> {
-    CosineRectangle<T> r;
+    RectangleCosineSetup<T> r;
     LightSampler(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light)
-        : r(MakeCosineRectangle(origin, normal, light)) {}
+        : r(MakeRectangleCosineSetup(origin, normal, light)) {}
     LightSampler(const Vec3<T>& origin, const Vec3<T>& normal, const RectLightFrame<T>& frame)
-        : r(MakeCosineRectangle(origin, normal, frame)) {}
+        : r(MakeRectangleCosineSetup(origin, normal, frame)) {}
     bool Valid() const { return r.valid; }
-    LightSample<T> Sample(Point2<T> uv) const { return SampleCosineRectangle(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return CosineRectanglePDF(r, p); }
+    LightSample<T> Sample(Point2<T> uv) const { return SampleRectangleCosine(r, uv); }
+    T Pdf(const Vec3<T>& p) const { return RectangleCosinePDF(r, p); }
 };
 
 // Calls f(std::integral_constant-like tag) with the technique as a compile-time value.

@@ -1,4 +1,4 @@
-// Minimal 3-vector used by the sampling core and the renderer.
+// The small vector types of the sampling core and the renderer: Vec3 and Point2.
 // Templated on the scalar so every technique exists in float (the renderer's
 // path) and double (the reference path used by tests and benchmarks).
 #pragma once
@@ -45,5 +45,11 @@ template <class T> inline bool IsFinite(const Vec3<T>& v) {
 
 using Vec3f = Vec3<float>;
 using Vec3d = Vec3<double>;
+
+// A point of [0,1]^2: the (u, v) a technique maps, or a 2D sample.
+template <class T>
+struct Point2 {
+    T u = 0, v = 0;
+};
 
 }  // namespace sphrect

@@ -14,7 +14,7 @@
 #include "core/patterns.h"
 #include "name_tuple.h"
 #include "core/rect_light.h"
-#include "core/spherical_rectangle.h"
+#include "core/rectangle.h"
 #include "core/technique.h"
 
 namespace py = pybind11;
@@ -264,19 +264,19 @@ py::array InvertImpl(const py::object& origin, const py::object& corner, const p
     T* U = uv.mutable_data();
     {
         py::gil_scoped_release release;
-        auto invert = [&](size_t i, const SphericalRectangle<T>& r) {
+        auto invert = [&](size_t i, const RectangleSetup<T>& r) {
             // A configuration the map does not cover (degenerate light, origin in the light's
             // plane or behind a one-sided light) has no (u, v): NaN marks it.
-            Point2<T> q{std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::quiet_NaN()};
-            if (r.valid) q = InvertSphericalRectangleSample(r, Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
-            U[2 * i] = q.u;
-            U[2 * i + 1] = q.v;
+            Point2<double> q{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+            if (r.valid) q = InvertRectangle(r, Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
+            U[2 * i] = T(q.u);
+            U[2 * i + 1] = T(q.v);
         };
         if (origins.size() == 1) {
-            const SphericalRectangle<T> r = MakeSphericalRectangle(origins[0], light);
+            const RectangleSetup<T> r = MakeRectangleSetup(origins[0], light);
             for (size_t i = 0; i < n; ++i) invert(i, r);
         } else {
-            for (size_t i = 0; i < n; ++i) invert(i, MakeSphericalRectangle(origins[i], light));
+            for (size_t i = 0; i < n; ++i) invert(i, MakeRectangleSetup(origins[i], light));
         }
     }
     return uv;
@@ -288,12 +288,12 @@ py::object SolidAngleImpl(const py::object& origin, const py::object& corner, co
     const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
     const ArrayD o = ToArray(origin, "origin");
     const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
-    if (o.ndim() == 1) return py::float_(SphericalRectangleSolidAngle(origins[0], light));
+    if (o.ndim() == 1) return py::float_(RectangleSolidAngle(origins[0], light));
     py::array_t<T> out = NewArray<T>(origins.size(), 0);
     T* W = out.mutable_data();
     {
         py::gil_scoped_release release;
-        for (size_t i = 0; i < origins.size(); ++i) W[i] = T(SphericalRectangleSolidAngle(origins[i], light));
+        for (size_t i = 0; i < origins.size(); ++i) W[i] = T(RectangleSolidAngle(origins[i], light));
     }
     return std::move(out);
 }

@@ -11,7 +11,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/area_sampling.h"
+#include "core/light_sample.h"
 #include "core/rect_light.h"
 #include "sampling_util.h"
 

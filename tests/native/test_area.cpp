@@ -4,7 +4,7 @@
 
 using namespace sphrect;
 
-TEST(AreaSampling, PointsLieOnTheLight) {
+TEST(Area, PointsLieOnTheLight) {
     RectLight<float> light{{-0.5f, -0.5f, 1.f}, {1.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, true};
     LightSampler<Technique::Area, float> s({0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}, light);
     ASSERT_TRUE(s.Valid());

@@ -7,7 +7,7 @@
 //
 // Robustness: setup and map in double.  Arvo's closed form for the sub-triangle
 // loses u when a triangle's solid angle is tiny (the angle sum ~ pi swamps it), so a
-// triangle whose solid angle is below kTwoTrianglesMinSolidAngle (decided once per
+// triangle whose solid angle is below kTrianglesMinSolidAngle (decided once per
 // setup, as for `rectangle`) is sampled uniformly by area on the planar triangle
 // instead, with that true pdf: pdf(p) = P_k x (2 d^3 / (A h)) on such a triangle k,
 // P_k / Omega_k = 1 / (Omega_0 + Omega_1) on a spherical one.  This happens for the
@@ -18,19 +18,17 @@
 #include <algorithm>
 #include <cmath>
 
-#include "area_sampling.h"
-#include "light_sample.h"
-#include "rect_light.h"
-#include "spherical_rectangle.h"
+#include "local_rect.h"
+#include "solid_angle.h"
 #include "spherical_triangle.h"
 
 namespace sphrect {
 
-constexpr double kTwoTrianglesMinSolidAngle = 1e-7;
+constexpr double kTrianglesMinSolidAngle = 1e-7;
 
 template <class T>
-struct TwoTriangles {
-    AreaRect<T> plane;  // frame around o, and the planar fallback's geometry
+struct TrianglesSetup {
+    LocalRect<T> plane;  // frame around o, and the planar fallback's geometry
     SphericalTriangle tri[2] = {};  // (00, 10, 11) and (00, 11, 01) in light fractions (a, b)
     bool planar[2] = {false, false};  // sampled by area on the planar triangle
     double p1 = 0;      // probability of the first triangle
@@ -41,9 +39,9 @@ struct TwoTriangles {
 };
 
 template <class T>
-TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLightFrame<T>& frame) {
-    TwoTriangles<T> r{MakeAreaRect(origin, frame)};  // the plane built in place
-    const AreaRect<T>& p = r.plane;
+TrianglesSetup<T> MakeTrianglesSetup(const Vec3<T>& origin, const RectLightFrame<T>& frame) {
+    TrianglesSetup<T> r{MakeLocalRect(origin, frame)};  // the plane built in place
+    const LocalRect<T>& p = r.plane;
     if (!p.valid) return r;
     // Corners relative to o from the local coordinates (no cancellation for o near the plane).
     auto corner = [&](int i, int j) { return LocalVector(p, p.x0 + i * p.wx, p.y0 + j * p.wy); };
@@ -51,36 +49,36 @@ TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLightFrame<T>&
     const double l00 = Length(c00), l10 = Length(c10), l11 = Length(c11), l01 = Length(c01);
     r.tri[0] = MakeSphericalTriangle(c00, c10, c11, l00, l10, l11);
     r.tri[1] = MakeSphericalTriangle(c00, c11, c01, l00, l11, l01);
-    r.omega = srect::RectSolidAngleLocal({p.x0, p.x0 + p.wx, p.wx}, {p.y0, p.y0 + p.wy, p.wy}, p.h);
+    r.omega = RectSolidAngleLocal({p.x0, p.x0 + p.wx, p.wx}, {p.y0, p.y0 + p.wy, p.wy}, p.h);
     const double sum = r.tri[0].area + r.tri[1].area;
     r.pdf = T(1 / sum);
     if (!(r.omega > 0) || !(T(r.omega) > 0) || !(sum > 0) || !std::isfinite(r.pdf)) return r;
     r.valid = true;
     r.p1 = r.tri[0].area / sum;
-    for (int k = 0; k < 2; ++k) r.planar[k] = !(r.tri[k].area >= kTwoTrianglesMinSolidAngle);
+    for (int k = 0; k < 2; ++k) r.planar[k] = !(r.tri[k].area >= kTrianglesMinSolidAngle);
     r.area_fallback = r.planar[0] && r.planar[1];
     if (r.area_fallback) r.p1 = 0.5;  // halves of the area: plain uniform area sampling
     return r;
 }
 
 template <class T>
-TwoTriangles<T> MakeTwoTriangles(const Vec3<T>& origin, const RectLight<T>& light) {
-    return MakeTwoTriangles(origin, MakeRectLightFrame(light));
+TrianglesSetup<T> MakeTrianglesSetup(const Vec3<T>& origin, const RectLight<T>& light) {
+    return MakeTrianglesSetup(origin, MakeRectLightFrame(light));
 }
 
 // Which triangle the light fractions (a, b) lie in: 0 below the diagonal b = a.
-inline int TwoTrianglesIndex(double a, double b) { return b > a ? 1 : 0; }
+inline int TriangleIndex(double a, double b) { return b > a ? 1 : 0; }
 
 // Solid-angle pdf at local in-plane coordinates (X, Y) in triangle k.
 template <class T>
-T TwoTrianglesPDFLocal(const TwoTriangles<T>& r, int k, double X, double Y) {
+T TrianglesPDFLocal(const TrianglesSetup<T>& r, int k, double X, double Y) {
     if (!r.planar[k]) return r.pdf;
     const double Pk = k == 0 ? r.p1 : 1 - r.p1;
     return T(Pk * 2 * double(AreaPDFLocal(r.plane, X, Y)));  // uniform on half of the area
 }
 
 template <class T>
-LightSample<T> SampleTwoTriangles(const TwoTriangles<T>& r, Point2<T> uv) {
+LightSample<T> SampleTriangles(const TrianglesSetup<T>& r, Point2<T> uv) {
     if (!r.valid) return {};
     double u = uv.u;
     int k = 0;
@@ -90,7 +88,7 @@ LightSample<T> SampleTwoTriangles(const TwoTriangles<T>& r, Point2<T> uv) {
         k = 1;
         u = std::min((u - r.p1) / (1 - r.p1), 1.0);
     }
-    const AreaRect<T>& p = r.plane;
+    const LocalRect<T>& p = r.plane;
     double X, Y;
     if (r.planar[k]) {
         // Uniform on the planar triangle, barycentrics (1 - su, su (1 - v), su v), su = sqrt(u):
@@ -107,23 +105,22 @@ LightSample<T> SampleTwoTriangles(const TwoTriangles<T>& r, Point2<T> uv) {
     }
     LightSample<T> s = LightSampleFromLocal(p, X, Y, T(0));
     // The pdf of the returned point: the side of the diagonal by the same test as
-    // TwoTrianglesPDF on that point (a point within rounding of the diagonal gets the
+    // TrianglesPDF on that point (a point within rounding of the diagonal gets the
     // density of the side it lands on), the distance from the exact local coordinates.
-    const Vec3d q = Vec3d(s.point) - Vec3d(p.light.corner);
-    const int side = TwoTrianglesIndex(Dot(q, p.exh) / p.wx, Dot(q, p.eyh) / p.wy);
+    const Point2<double> e = EdgeOffsets(p, s.point);
+    const int side = TriangleIndex(e.u / p.wx, e.v / p.wy);
     ClampLocalToLight(p, X, Y);
-    s.pdf = TwoTrianglesPDFLocal(r, side, X, Y);
+    s.pdf = TrianglesPDFLocal(r, side, X, Y);
     return s;
 }
 
 template <class T>
-T TwoTrianglesPDF(const TwoTriangles<T>& r, const Vec3<T>& pt) {
+T TrianglesPDF(const TrianglesSetup<T>& r, const Vec3<T>& pt) {
     if (!r.valid) return 0;
-    const AreaRect<T>& p = r.plane;
-    const Vec3d q = Vec3d(pt) - Vec3d(p.light.corner);
-    const double oX = Dot(q, p.exh), oY = Dot(q, p.eyh);
-    const int k = TwoTrianglesIndex(oX / p.wx, oY / p.wy);
-    return TwoTrianglesPDFLocal(r, k, p.x0 + oX, p.y0 + oY);
+    const LocalRect<T>& p = r.plane;
+    const Point2<double> e = EdgeOffsets(p, pt);
+    const int k = TriangleIndex(e.u / p.wx, e.v / p.wy);
+    return TrianglesPDFLocal(r, k, p.x0 + e.u, p.y0 + e.v);
 }
 
 }  // namespace sphrect

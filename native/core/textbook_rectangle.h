@@ -2,7 +2,8 @@
 // paper's (Urena, Fajardo & King 2013) algorithm evaluated as published, in float,
 // with Omega = g0 + g1 + g2 + g3 - 2 pi from the four corner angles (as in
 // Blender 3.4 Cycles).  Only a baseline for the benchmark and the study's accuracy
-// table; it is not a technique (see spherical_rectangle.h for the robust one).
+// table; it is not a technique (rectangle.h is the robust one;
+// docs/rectangle_map.md maps its variables to these).
 #pragma once
 
 #include <algorithm>
@@ -13,14 +14,14 @@
 
 namespace sphrect {
 
-struct TextbookSphericalRectangle {
+struct TextbookRectangle {
     Vec3f o, x, y, z;
     float z0 = 0, z0sq = 0, x0 = 0, y0 = 0, y0sq = 0, x1 = 0, y1 = 0, y1sq = 0;
     float b0 = 0, b1 = 0, b0sq = 0, k = 0, S = 0;  // S: the solid angle
 };
 
-inline TextbookSphericalRectangle MakeTextbookSphericalRectangle(const Vec3f& o, const RectLight<float>& light) {
-    TextbookSphericalRectangle q;
+inline TextbookRectangle MakeTextbookRectangle(const Vec3f& o, const RectLight<float>& light) {
+    TextbookRectangle q;
     const float exl = Length(light.ex), eyl = Length(light.ey);
     q.o = o;
     q.x = light.ex / exl;
@@ -53,7 +54,7 @@ inline TextbookSphericalRectangle MakeTextbookSphericalRectangle(const Vec3f& o,
     return q;
 }
 
-inline LightSample<float> SampleTextbookSphericalRectangle(const TextbookSphericalRectangle& q, float u, float v) {
+inline LightSample<float> SampleTextbookRectangle(const TextbookRectangle& q, float u, float v) {
     const float au = u * q.S + q.k;
     const float fu = (std::cos(au) * q.b0 - q.b1) / std::sin(au);
     float cu = 1 / std::sqrt(fu * fu + q.b0sq) * (fu > 0 ? 1.f : -1.f);
