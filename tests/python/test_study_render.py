@@ -15,6 +15,7 @@ from sphrect.study import LocalProcessPool, ReferenceSettings, StudyConfig, run_
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PAPER_BLEND = os.path.join(ROOT, "blend_scenes", "01_paper.blend")
+BLENDER_SCRIPT = os.path.join(ROOT, "addon", "sphrect_blender", "headless.py")  # the add-on's headless entry
 
 
 def paper_like_scene(width=24, height=16):
@@ -73,7 +74,7 @@ def test_study_on_the_renderer(tmp_path):
                     reason="needs Blender and blend_scenes/01_paper.blend")
 def test_cycles_render_of_a_blend():
     from sphrect.study.cycles import render_cycles
-    image, timing = render_cycles(PAPER_BLEND, 4, 32, 18, seed=0, threads=1)
+    image, timing = render_cycles(PAPER_BLEND, 4, 32, 18, seed=0, threads=1, blender_script=BLENDER_SCRIPT)
     assert image.shape == (18, 32, 4) and image.dtype == np.float32
     assert np.all(np.isfinite(image)) and image[..., :3].max() > 0
     assert timing["samples_done"] == 4 and timing["timing_source"] == "cycles status"
@@ -88,7 +89,8 @@ def test_study_of_a_blend_with_cycles(tmp_path):
     config = StudyConfig(techniques=("rectangle",), mis=("balance",), patterns=("stratified",), ladder=(1, 4),
                          grid_mis=("balance",), grid_pattern="stratified", cycles=True, equal_time=0.02)
     summary = run_study(PAPER_BLEND, str(out), config, ReferenceSettings(samples=256, chunks=4),
-                        resolution=(32, 18), executor=LocalProcessPool(2), progress=False, sampler_table=False)
+                        resolution=(32, 18), executor=LocalProcessPool(2), progress=False, sampler_table=False,
+                        blender_script=BLENDER_SCRIPT)
     assert summary["failures"] == []
     assert summary["ladder_runs"] == 2 + 2 and summary["equal_time_runs"] == 2
     assert os.path.exists(out / "scene.sphrect.npz")

@@ -6,8 +6,13 @@ import os
 import sys
 from typing import List, Optional
 
-from .jobs import MIS_MODES, PATTERNS, TECHNIQUES, StudyConfig, sample_ladder
+from ..render import MIS_MODES, PATTERNS, TECHNIQUES
+from .jobs import StudyConfig, sample_ladder
 from .reference import ReferenceSettings
+
+# The options' defaults are the settings' own.
+_STUDY = StudyConfig()
+_REFERENCE = ReferenceSettings()
 
 
 def _names(text: str) -> List[str]:
@@ -32,33 +37,38 @@ def parser() -> argparse.ArgumentParser:
                     "the same command again resumes an interrupted study.")
     p.add_argument("scene", help="a .blend (exported with Blender headless) or a .sphrect.npz scene file")
     p.add_argument("--out", required=True, help="output directory (results, images, plots, report.md/html)")
-    p.add_argument("--techniques", type=_names, default=list(TECHNIQUES), help=f"comma list of {','.join(TECHNIQUES)}")
-    p.add_argument("--mis", type=_names, default=list(MIS_MODES), help=f"comma list of {','.join(MIS_MODES)}")
-    p.add_argument("--patterns", type=_names, default=["independent", "stratified", "sobol"],
+    p.add_argument("--techniques", type=_names, default=list(_STUDY.techniques),
+                   help=f"comma list of {','.join(TECHNIQUES)}")
+    p.add_argument("--mis", type=_names, default=list(_STUDY.mis), help=f"comma list of {','.join(MIS_MODES)}")
+    p.add_argument("--patterns", type=_names, default=list(_STUDY.patterns),
                    help=f"comma list of {','.join(PATTERNS)}")
     p.add_argument("--max-samples", type=int, default=256, help="top of the ladder 1, 2, 4, ... (default 256)")
     p.add_argument("--min-samples", type=int, default=1)
-    p.add_argument("--light-samples", type=int, default=1, help="light samples per camera sample")
+    p.add_argument("--light-samples", type=int, default=_STUDY.light_samples, help="light samples per camera sample")
     p.add_argument("--resolution", type=_resolution, default=None,
                    help="WxH render resolution (default: the scene's); small keeps the study quick")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=_STUDY.seed)
     p.add_argument("--workers", type=int, default=None, help="parallel jobs (default: number of cores)")
-    p.add_argument("--threads", type=int, default=1,
+    p.add_argument("--threads", type=int, default=_STUDY.threads,
                    help="render threads per job (default 1: one job per core, comparable single-core timings)")
     p.add_argument("--reference-samples", type=int, default=None,
                    help="reference samples per pixel (default 64 x --max-samples)")
-    p.add_argument("--reference-chunks", type=int, default=8, help="independent renders averaged into the reference")
-    p.add_argument("--reference-technique", default="rectangle")
-    p.add_argument("--reference-mis", default="balance")
-    p.add_argument("--reference-pattern", default="stratified")
+    p.add_argument("--reference-chunks", type=int, default=_REFERENCE.chunks,
+                   help="independent renders averaged into the reference")
+    p.add_argument("--reference-technique", default=_REFERENCE.technique)
+    p.add_argument("--reference-mis", default=_REFERENCE.mis)
+    p.add_argument("--reference-pattern", default=_REFERENCE.pattern)
     p.add_argument("--cycles", choices=["auto", "on", "off"], default="auto",
                    help="Cycles 3.4 as a peer (auto: when the scene is a .blend and Blender is found)")
     p.add_argument("--blender", default=None, help="Blender executable (default: $BLENDER or blender on PATH)")
+    p.add_argument("--blender-script", default=None,
+                   help="the Blender add-on's headless entry script, through which Blender exports the .blend and "
+                        "renders it with Cycles (default: $SPHRECT_BLENDER_SCRIPT; scripts/study.py sets it)")
     p.add_argument("--equal-time", type=float, default=None,
                    help="seconds per equal-time image (default: rectangle's time for a quarter of the ladder's top "
                         "sample count)")
-    p.add_argument("--grid-pattern", default="stratified", help="pattern of the equal-time grid")
-    p.add_argument("--grid-mis", type=_names, default=["none", "balance"], help="MIS modes in the equal-time grid")
+    p.add_argument("--grid-pattern", default=_STUDY.grid_pattern, help="pattern of the equal-time grid")
+    p.add_argument("--grid-mis", type=_names, default=list(_STUDY.grid_mis), help="MIS modes in the equal-time grid")
     p.add_argument("--target-rmse", type=float, default=None,
                    help="target of the time-to-error table (default: Cycles' RMSE at the top of the ladder)")
     p.add_argument("--no-sampler-table", action="store_true", help="skip the sampler accuracy/cost table")
@@ -95,7 +105,8 @@ def main(argv: Optional[List[str]] = None) -> int:
             return 2
     from .study import run_study
     summary = run_study(args.scene, args.out, config, reference, workers=args.workers, resolution=args.resolution,
-                        blender=args.blender, progress=not args.quiet, report=False)
+                        blender=args.blender, blender_script=args.blender_script, progress=not args.quiet,
+                        report=False)
     path = write_report(args.out, sampler_table=not args.no_sampler_table, target_rmse=args.target_rmse)
     print(f"report: {os.path.abspath(path)} (and report.html)")
     if summary["failures"]:

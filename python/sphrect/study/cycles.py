@@ -1,5 +1,14 @@
 """Blender as a subprocess: export a .blend to a sphrect scene file, and render it with Cycles (the study's
-peer). Blender runs headless (`blender -b --factory-startup file.blend --python script -- json`)."""
+peer). Blender runs headless and does both through the Blender add-on's headless entry point, a script
+called with a command name and JSON arguments (see the add-on's headless.py):
+
+    blender -b --factory-startup file.blend --python-exit-code 1 --python SCRIPT -- export|render_cycles JSON
+
+This package does not know where the add-on is: SCRIPT is the `blender_script` argument, else
+$SPHRECT_BLENDER_SCRIPT (the study's --blender-script option; scripts/study.py sets it to the repository's
+copy). The add-on in Blender finds this package through $SPHRECT_PYTHON_PATH, set to the `sphrect` that runs
+here.
+"""
 from __future__ import annotations
 
 import json
@@ -12,9 +21,7 @@ from typing import Dict, Optional, Tuple
 
 import numpy as np
 
-_HERE = os.path.dirname(os.path.abspath(__file__))
-CYCLES_SCRIPT = os.path.join(_HERE, "_blender_cycles.py")
-EXPORT_SCRIPT = os.path.join(_HERE, "_blender_export.py")
+SCRIPT_ENV = "SPHRECT_BLENDER_SCRIPT"
 
 
 def find_blender(explicit: Optional[str] = None) -> Optional[str]:
@@ -27,18 +34,14 @@ def find_blender(explicit: Optional[str] = None) -> Optional[str]:
     return None
 
 
-def repo_addon_dir() -> Optional[str]:
-    """The add-on's folder: $SPHRECT_ADDON_DIR, else addon/ of the repository this package was built from
-    (build/python/sphrect -> repo) or of the current directory's repository, if found."""
-    if os.environ.get("SPHRECT_ADDON_DIR"):
-        return os.environ["SPHRECT_ADDON_DIR"]
-    for start in (_HERE, os.getcwd()):
-        here = os.path.join(start, "_")
-        for _ in range(6):
-            here = os.path.dirname(here)
-            if os.path.isdir(os.path.join(here, "addon", "sphrect_blender")):
-                return os.path.join(here, "addon")
-    return None
+def find_blender_script(explicit: Optional[str] = None) -> str:
+    """The add-on's headless entry script: `explicit`, else $SPHRECT_BLENDER_SCRIPT; RuntimeError if neither
+    names a file."""
+    script = explicit or os.environ.get(SCRIPT_ENV)
+    if not script or not os.path.isfile(script):
+        raise RuntimeError(f"the Blender add-on's headless entry script was not found ({script or 'not set'}): "
+                           f"pass --blender-script or set ${SCRIPT_ENV} to the add-on's headless.py")
+    return os.path.abspath(script)
 
 
 def _sphrect_python_dir() -> str:
@@ -46,18 +49,18 @@ def _sphrect_python_dir() -> str:
     return os.path.dirname(os.path.dirname(os.path.abspath(sphrect.__file__)))
 
 
-def run_blender(blend: str, script: str, args: Dict, blender: Optional[str] = None, timeout: float = 3600,
-                env: Optional[Dict[str, str]] = None) -> subprocess.CompletedProcess:
+def run_blender(blend: str, command: str, args: Dict, blender: Optional[str] = None,
+                blender_script: Optional[str] = None, timeout: float = 3600) -> subprocess.CompletedProcess:
+    """Run the add-on's headless `command` with `args` in Blender on `blend`."""
     exe = find_blender(blender)
     if exe is None:
         raise RuntimeError("Blender was not found (install Debian's blender, or set $BLENDER)")
     if not os.path.isfile(blend):
         raise ValueError(f"{blend}: no such .blend file")
-    command = [exe, "-b", "--factory-startup", blend, "--python-exit-code", "1", "--python", script, "--",
-               json.dumps(args)]
-    full_env = dict(os.environ)
-    full_env.update(env or {})
-    result = subprocess.run(command, capture_output=True, text=True, timeout=timeout, env=full_env)
+    command_line = [exe, "-b", "--factory-startup", blend, "--python-exit-code", "1",
+                    "--python", find_blender_script(blender_script), "--", command, json.dumps(args)]
+    env = dict(os.environ, SPHRECT_PYTHON_PATH=_sphrect_python_dir())
+    result = subprocess.run(command_line, capture_output=True, text=True, timeout=timeout, env=env)
     if result.returncode != 0:
         tail = "\n".join((result.stdout + result.stderr).strip().splitlines()[-25:])
         raise RuntimeError(f"Blender failed on {blend} (exit {result.returncode}):\n{tail}")
@@ -65,19 +68,15 @@ def run_blender(blend: str, script: str, args: Dict, blender: Optional[str] = No
 
 
 def export_blend(blend: str, out_path: str, resolution: Optional[Tuple[int, int]] = None,
-                 blender: Optional[str] = None, addon_dir: Optional[str] = None) -> str:
-    """Export `blend` with the sphrect_blender add-on to `out_path` (.sphrect.npz); returns the exporter's
-    warnings (what the scene holds that sphrect does not support), '' when none."""
-    addon_dir = addon_dir or repo_addon_dir()
-    if addon_dir is None:
-        raise RuntimeError("the sphrect_blender add-on (addon/ of the repository) was not found")
+                 blender: Optional[str] = None, blender_script: Optional[str] = None) -> str:
+    """Export `blend` with the add-on to `out_path` (.sphrect.npz); returns the exporter's warnings (what the
+    scene holds that sphrect does not support), '' when none."""
     with tempfile.TemporaryDirectory() as tmp:
         warnings_path = os.path.join(tmp, "warnings.json")
-        args = {"addon_dir": addon_dir, "out": os.path.abspath(out_path), "warnings": warnings_path}
+        args = {"out": os.path.abspath(out_path), "warnings": warnings_path}
         if resolution:
             args["width"], args["height"] = int(resolution[0]), int(resolution[1])
-        run_blender(blend, EXPORT_SCRIPT, args, blender, timeout=600,
-                    env={"SPHRECT_PYTHON_PATH": _sphrect_python_dir()})
+        run_blender(blend, "export", args, blender, blender_script, timeout=600)
         with open(warnings_path) as f:
             return json.load(f).get("warnings", "")
 
@@ -106,7 +105,7 @@ def parse_cycles_progress(stdout: str, operator_time: float) -> Dict:
 
 def render_cycles(blend: str, samples: int, width: int, height: int, seed: int = 0, threads: int = 1,
                   time_limit: Optional[float] = None, blender: Optional[str] = None,
-                  timeout: float = 7200) -> Tuple[np.ndarray, Dict]:
+                  blender_script: Optional[str] = None, timeout: float = 7200) -> Tuple[np.ndarray, Dict]:
     """Render `blend` with Cycles 3.4 in direct-lighting settings (max_bounces 0, no denoising, no adaptive
     sampling, light_sampling_threshold 0, fixed seed, 1-pixel box filter, Standard view transform) at
     `samples` per pixel (or until `time_limit` seconds). Returns the linear [H, W, 4] float32 image, row 0 at
@@ -118,7 +117,7 @@ def render_cycles(blend: str, samples: int, width: int, height: int, seed: int =
                 "height": int(height), "time_limit": time_limit,
                 "npy": os.path.join(tmp, "image.npy"), "json": os.path.join(tmp, "timing.json"),
                 "exr": os.path.join(tmp, "image.exr")}
-        result = run_blender(blend, CYCLES_SCRIPT, args, blender, timeout=timeout)
+        result = run_blender(blend, "render_cycles", args, blender, blender_script, timeout=timeout)
         image = np.load(args["npy"])
         with open(args["json"]) as f:
             timing = json.load(f)

@@ -14,7 +14,7 @@ import re
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence, Tuple
 
-from ..render import MIS_MODES, PATTERNS, TECHNIQUES  # noqa: F401  (cli.py imports them from here)
+from ..render import MIS_MODES, PATTERNS, TECHNIQUES
 
 SPHRECT = "sphrect"
 CYCLES = "cycles"

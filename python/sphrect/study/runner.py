@@ -34,6 +34,7 @@ class RunContext:
     reference_name: Optional[str] = None  # image name in the store; None while making the reference
     blend_path: Optional[str] = None      # for Cycles
     blender: Optional[str] = None
+    blender_script: Optional[str] = None  # the add-on's headless entry point (cycles.find_blender_script)
     render_hook: Optional[str] = None     # "module:function" replacing render_job (tests)
 
     def with_reference(self, name: str, fingerprint: str) -> "RunContext":
@@ -93,7 +94,8 @@ def render_cycles_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     if not context.blend_path:
         raise ValueError("Cycles runs need the .blend scene")
     image, timing = render_cycles(context.blend_path, job.samples, context.width, context.height, seed=job.seed,
-                                  threads=job.threads, blender=context.blender)
+                                  threads=job.threads, blender=context.blender,
+                                  blender_script=context.blender_script)
     measured = {"build_time": timing.get("build_time"), "call_time": timing.get("operator_time"),
                 "wall_time": timing["wall_time"], "cpu_time": timing.get("cpu_time"), "light_time": None, "shading_time": None, "rays": None,
                 "samples_done": timing.get("samples_done"), "timing_source": timing.get("timing_source"),

@@ -60,7 +60,8 @@ def renderer_build_hash() -> str:
 
 
 def prepare_scene(input_path: str, out_dir: str, resolution: Optional[Tuple[int, int]] = None,
-                  blender: Optional[str] = None) -> Tuple[str, Optional[str], str]:
+                  blender: Optional[str] = None, blender_script: Optional[str] = None
+                  ) -> Tuple[str, Optional[str], str]:
     """(scene file, .blend or None, exporter warnings). A .blend is exported with Blender headless
     (at `resolution` if given); a .sphrect.npz is used as it is."""
     if not os.path.isfile(input_path):
@@ -69,7 +70,8 @@ def prepare_scene(input_path: str, out_dir: str, resolution: Optional[Tuple[int,
         from .cycles import export_blend
         scene_path = os.path.join(out_dir, SCENE_FILE)
         log(f"exporting {input_path} with Blender ...")
-        warnings = export_blend(input_path, scene_path, resolution=resolution, blender=blender)
+        warnings = export_blend(input_path, scene_path, resolution=resolution, blender=blender,
+                                blender_script=blender_script)
         return scene_path, os.path.abspath(input_path), warnings
     if input_path.endswith(".npz"):
         return os.path.abspath(input_path), None, ""
@@ -146,7 +148,7 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
               reference: Optional[ReferenceSettings] = None, workers: Optional[int] = None,
               resolution: Optional[Tuple[int, int]] = None, blender: Optional[str] = None,
               executor: Optional[Executor] = None, render_hook: Optional[str] = None, progress: bool = True,
-              report: bool = True, sampler_table: bool = True) -> Dict:
+              report: bool = True, sampler_table: bool = True, blender_script: Optional[str] = None) -> Dict:
     """Run (or resume) the study of `input_path` (.blend or .sphrect.npz) into `out_dir`; returns a summary
     dict (paths, counts, failures). See the package docstring for the phases."""
     config = config or StudyConfig()
@@ -165,7 +167,7 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
             log("Blender not found: Cycles runs skipped")
             config.cycles = False
 
-    scene_path, blend_path, warnings = prepare_scene(input_path, out_dir, resolution, blender)
+    scene_path, blend_path, warnings = prepare_scene(input_path, out_dir, resolution, blender, blender_script)
     if warnings:
         log(f"exporter warnings: {warnings}")
     from ..scene import load_scene
@@ -179,7 +181,8 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
         "height": height, "study": config.to_dict(), "reference": reference.__dict__, "exporter_warnings": warnings,
         "workers": getattr(executor, "workers", None), "executor": type(executor).__name__})
     context = RunContext(store_root=store.root, scene_path=scene_path, width=width, height=height,
-                         fingerprint=scene_fp, blend_path=blend_path, blender=blender, render_hook=render_hook)
+                         fingerprint=scene_fp, blend_path=blend_path, blender=blender,
+                         blender_script=blender_script, render_hook=render_hook)
     log(f"study of {input_path}: {width}x{height}, {len(config.techniques)} techniques x {len(config.mis)} MIS x "
         f"{len(config.patterns)} patterns x ladder {list(config.ladder)}" + (" + Cycles" if config.cycles else ""))
 
