@@ -3,29 +3,13 @@ import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty,
                        StringProperty)
 
-# Blender enum identifier -> sphrect name, in the order shown in the UI.
-TECHNIQUES = [
-    ("AREA", "area", "Area", "Uniform sampling of the light's area (pdf converted to solid angle)"),
-    ("TRIANGLES", "triangles", "Two Triangles", "Solid-angle sampling of the two spherical triangles (Arvo 1995)"),
-    ("RECTANGLE", "rectangle", "Spherical Rectangle",
-     "Area-preserving solid-angle sampling of the spherical rectangle (Urena et al. 2013)"),
-    ("RECTANGLE_COSINE", "rectangle_cosine", "Rectangle + Cosine",
-     "Spherical rectangle sampling warped to follow the cosine term"),
-]
-TECHNIQUE_NAME = {ident: name for ident, name, _, _ in TECHNIQUES}
-PATTERNS = [("INDEPENDENT", "Independent", "Independent uniform random numbers"),
-            ("STRATIFIED", "Stratified", "Jittered strata"),
-            ("LATIN", "Latin Hypercube", "Latin hypercube samples"),
-            ("HAMMERSLEY", "Hammersley", "Hammersley point set"),
-            ("SOBOL", "Sobol", "Scrambled Sobol sequence")]
-MIS = [("NONE", "None", "Light sampling only"),
-       ("BALANCE", "Balance", "Balance heuristic between light and BSDF sampling"),
-       ("POWER", "Power", "Power heuristic between light and BSDF sampling")]
+from .images import cache_reference_image
+from .names import (MIS_LABELS, MIS_MODES, PATTERN_LABELS, PATTERNS, TECHNIQUE_LABELS, TECHNIQUES, enum_items,
+                    label, sphrect_name)
 
 
 def _read_reference(path):
     """Read the chosen reference image now, on the main thread (renders in the window run in a job thread)."""
-    from .engine import cache_reference_image
     try:
         cache_reference_image(path)
     except (ValueError, RuntimeError) as e:
@@ -33,14 +17,15 @@ def _read_reference(path):
 
 
 class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
-    technique: EnumProperty(name="Technique", items=[(i, l, d) for i, _, l, d in TECHNIQUES],
-                            default="RECTANGLE", description="How points on rectangular lights are chosen")
+    technique: EnumProperty(name="Technique", items=enum_items(TECHNIQUES, TECHNIQUE_LABELS), default="RECTANGLE",
+                            description="How points on rectangular lights are chosen")
     samples: IntProperty(name="Samples", default=16, min=1, soft_max=4096, description="Camera samples per pixel")
     light_samples: IntProperty(name="Light Samples", default=1, min=1, soft_max=64,
                                description="Light samples per shading point and light")
-    pattern: EnumProperty(name="Pattern", items=PATTERNS, default="SOBOL",
+    pattern: EnumProperty(name="Pattern", items=enum_items(PATTERNS, PATTERN_LABELS), default="SOBOL",
                           description="Sample pattern of the light samples")
-    mis: EnumProperty(name="MIS", items=MIS, default="BALANCE", description="Multiple importance sampling heuristic")
+    mis: EnumProperty(name="MIS", items=enum_items(MIS_MODES, MIS_LABELS), default="BALANCE",
+                      description="Multiple importance sampling heuristic")
     seed: IntProperty(name="Seed", default=0, min=0)
     threads: IntProperty(name="Threads", default=0, min=0, description="Render threads (0: all cores)")
     passes: IntProperty(name="Progressive Passes", default=4, min=1, max=256,
@@ -49,10 +34,7 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     compare: BoolProperty(name="Compare Techniques", default=False,
                           description="Render every chosen technique in one go, each as a render pass, "
                                       "and build a side-by-side comparison image")
-    compare_area: BoolProperty(name="Area", default=True)
-    compare_triangles: BoolProperty(name="Two Triangles", default=True)
-    compare_rectangle: BoolProperty(name="Spherical Rectangle", default=True)
-    compare_rectangle_cosine: BoolProperty(name="Rectangle + Cosine", default=True)
+    # compare_<technique>: BoolProperty per technique, added below from the module's list.
     equal_time: BoolProperty(name="Equal Time", default=False,
                              description="Give every technique the same time budget instead of the same samples")
     time_budget: FloatProperty(name="Time Budget", default=2.0, min=0.01, subtype="TIME_ABSOLUTE", unit="TIME",
@@ -66,13 +48,22 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
                                    update=lambda self, context: _read_reference(self.reference_path))
 
     def compare_techniques(self):
-        """sphrect names of the techniques chosen for comparison (all four if none is ticked)."""
-        names = [name for ident, name, _, _ in TECHNIQUES if getattr(self, "compare_" + name)]
-        return names or [name for _, name, _, _ in TECHNIQUES]
+        """sphrect names of the techniques chosen for comparison (all of them if none is ticked)."""
+        names = [name for name in TECHNIQUES if getattr(self, compare_switch(name))]
+        return names or list(TECHNIQUES)
 
     def renderer_options(self):
-        return dict(light_samples=self.light_samples, pattern=self.pattern.lower(), mis=self.mis.lower(),
-                    seed=self.seed, threads=self.threads)
+        return dict(light_samples=self.light_samples, pattern=sphrect_name(self.pattern),
+                    mis=sphrect_name(self.mis), seed=self.seed, threads=self.threads)
+
+
+def compare_switch(technique):
+    """The scene setting that picks `technique` for comparison."""
+    return "compare_" + technique
+
+
+SPHRECT_SceneSettings.__annotations__.update(
+    {compare_switch(t): BoolProperty(name=label(t, TECHNIQUE_LABELS)[0], default=True) for t in TECHNIQUES})
 
 
 class SPHRECT_LightSettings(bpy.types.PropertyGroup):

@@ -1,13 +1,14 @@
 """Render Properties panels for scene.sphrect and the area light's two-sided switch."""
 import bpy
 
-from .properties import TECHNIQUES
+from .names import ENGINE_ID, TECHNIQUES
+from .properties import compare_switch
 
 
 class SphrectPanel:
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
-    COMPAT_ENGINES = {"SPHRECT"}
+    COMPAT_ENGINES = {ENGINE_ID}
 
     @classmethod
     def poll(cls, context):
@@ -49,8 +50,8 @@ class RENDER_PT_sphrect_compare(SphrectPanel, bpy.types.Panel):
         layout.use_property_decorate = False
         layout.active = s.compare
         col = layout.column(heading="Techniques", align=True)
-        for _, name, _, _ in TECHNIQUES:
-            col.prop(s, "compare_" + name)
+        for name in TECHNIQUES:
+            col.prop(s, compare_switch(name))
         col = layout.column()
         col.prop(s, "equal_time")
         sub = col.column()

@@ -22,8 +22,13 @@ def ensure_addon():
         addon_utils.enable("sphrect_blender", default_set=True, handle_error=None)
 
 
+def addon_module(name):
+    """The add-on's module `name` ('engine.schedule', 'images', ...), as the enabled add-on loaded it."""
+    return sys.modules["sphrect_blender." + name]
+
+
 def engine_module():
-    return sys.modules["sphrect_blender.engine"]
+    return addon_module("engine.render_engine")
 
 
 def exporter():

@@ -6,7 +6,7 @@ import struct
 import bpy
 import numpy as np
 
-from conftest import engine_module, open_blend
+from conftest import addon_module, engine_module, open_blend
 
 TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
 
@@ -35,7 +35,8 @@ def test_compare_equal_samples_with_reference(tmp_path):
     assert rec["comparison"] == str(tmp_path / "paper_0001_sphrect_compare.png")  # next to the output
     width, height = png_size(rec["comparison"])
     assert width > 5 * 32 and height > 2 * 24  # four techniques + reference, images over error maps
-    shown = engine_module()._open_in_image_editor(rec["comparison"])  # what the window session does
+    # What the window session does:
+    shown = addon_module("engine.display").open_in_image_editor(rec["comparison"])
     assert tuple(shown.size) == (width, height) and shown.name == "SPHRECT Comparison"
     rmse = {t: rec["stats"][t]["rmse"] for t in TECHNIQUES}
     assert all(np.isfinite(v) and v > 0 for v in rmse.values())

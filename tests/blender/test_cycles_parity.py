@@ -8,7 +8,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import engine_module, lit_test_scene, open_blend, render, set_resolution
+from conftest import addon_module, engine_module, lit_test_scene, open_blend, render, set_resolution
 
 WIDTH, HEIGHT, BLOCK = 48, 36, 4
 
@@ -32,7 +32,7 @@ def render_cycles(scene, path, samples, seed=0):
     settings.file_format, settings.color_mode, settings.color_depth = "OPEN_EXR", "RGBA", "32"
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
-    return engine_module().read_image_rgba(path)  # row 0 = top, like sphrect
+    return addon_module("images").read_image_rgba(path)  # row 0 = top, like sphrect
 
 
 def blocks(image):

@@ -1,7 +1,8 @@
 """The add-on registers its engine, settings, panels and operator under the fixed names."""
 import bpy
 
-from conftest import engine_module
+import sphrect
+from conftest import addon_module, engine_module
 
 
 def _engines():
@@ -19,6 +20,21 @@ def test_engine_and_settings_registered(empty_scene):
     assert items("pattern") == {"INDEPENDENT", "STRATIFIED", "LATIN", "HAMMERSLEY", "SOBOL"}
     assert hasattr(bpy.types.Light, "sphrect")
     assert hasattr(bpy.ops.export_scene, "sphrect")
+
+
+def test_enum_items_follow_the_module_lists(empty_scene):
+    """The enums list the module's names in its order (a .blend stores an item's number); the add-on's UI
+    text covers exactly those names, so the add-on registers the same items without the module."""
+    names = addon_module("names")
+    s = empty_scene.sphrect
+    for prop, module_names, labels in (("technique", sphrect.techniques, names.TECHNIQUE_LABELS),
+                                       ("pattern", sphrect.patterns, names.PATTERN_LABELS),
+                                       ("mis", sphrect.mis_modes, names.MIS_LABELS)):
+        items = s.bl_rna.properties[prop].enum_items
+        assert [(i.identifier, i.value) for i in items] == [(n.upper(), k) for k, n in enumerate(module_names)]
+        assert tuple(labels) == tuple(module_names), prop
+    assert all(hasattr(s, "compare_" + t) for t in sphrect.techniques)
+    assert s.compare_techniques() == list(sphrect.techniques)
 
 
 def test_blender_light_and_material_panels_shown_for_sphrect(empty_scene):

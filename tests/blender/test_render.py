@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import sphrect
-from conftest import SCENES, engine_module, lit_test_scene, open_blend, render
+from conftest import SCENES, addon_module, engine_module, lit_test_scene, open_blend, render
 
 # Effects each scene must switch on (named by the renderer and shown in the stats line).
 EXPECTED_FEATURES = {"03_glossy_floor": {"glossy"}, "04_foggy_room": {"medium"},
@@ -45,7 +45,7 @@ def test_render_result_pixels_and_scene_file_round_trip(empty_scene, tmp_path):
     scene.render.filepath = exr
     bpy.ops.render.render(write_still=True)
     ours = engine_module().last_render["images"]["rectangle_cosine"]
-    blender = engine_module().read_image_rgba(exr)
+    blender = addon_module("images").read_image_rgba(exr)
     assert blender.shape == ours.shape == (24, 32, 4)
     assert np.allclose(blender[..., :3], ours[..., :3], rtol=1e-6, atol=1e-7)
 
@@ -54,7 +54,7 @@ def test_render_result_pixels_and_scene_file_round_trip(empty_scene, tmp_path):
     sphrect_blender.export_scene(bpy.context.evaluated_depsgraph_get(), path)
     loaded = sphrect.load_scene(path)
     r = sphrect.Renderer(loaded, techniques=["rectangle_cosine"], seed=3, pattern="hammersley", mis="power")
-    calls = engine_module().sample_schedule(6, 2, 32 * 24)
+    calls = addon_module("engine.schedule").sample_schedule(6, 2, 32 * 24)
     assert calls == [3, 3]  # the engine's two progressive passes
     for samples in calls:
         r.render(samples)

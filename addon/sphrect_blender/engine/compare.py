@@ -1,10 +1,13 @@
 """The comparison image: techniques side by side with labels (name, samples, time, RMSE) and, when a
 reference exists, error heat maps on a shared scale. Pure numpy (no bpy), so it works from the render
-thread and in tests; `write_png` stores it without Blender."""
+thread and in tests; `write_png` stores it without Blender. The RMSE is the study's
+(`sphrect.study.metrics.rmse`), so the add-on and the study report the same error."""
 import struct
 import zlib
 
 import numpy as np
+
+from ..native import load_sphrect
 
 # A 3x5 bitmap font: five rows of three pixels per glyph ('#' = ink). Letters are upper case only.
 _GLYPHS = {
@@ -65,10 +68,11 @@ def heat(values):
     return stops[i] * (1 - f) + stops[i + 1] * f
 
 
-def rmse(image, reference):
-    """Root mean square error over the RGB channels."""
-    d = np.asarray(image, dtype=np.float64)[..., :3] - np.asarray(reference, dtype=np.float64)[..., :3]
-    return float(np.sqrt(np.mean(d * d)))
+def _study_rmse():
+    """sphrect.study.metrics.rmse, imported when first needed: the add-on registers without the module."""
+    load_sphrect()
+    from sphrect.study.metrics import rmse
+    return rmse
 
 
 def _label_lines(entry):
@@ -92,6 +96,7 @@ def comparison_image(entries, reference=None, reference_label="reference", scale
         scale = 1 if w < 160 else 2
     errors = []
     if reference is not None:
+        rmse = _study_rmse()
         for e in entries:
             e["rmse"] = rmse(e["image"], reference)
             errors.append(np.mean(np.abs(e["image"][..., :3] - reference[..., :3]), axis=-1))

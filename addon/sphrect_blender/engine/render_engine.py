@@ -1,0 +1,280 @@
+"""The SPHRECT render engine: export the evaluated depsgraph, render progressively with the native
+renderer, and (in compare mode) one render pass per technique plus a comparison image."""
+import os
+import time
+import warnings
+
+import bpy
+import numpy as np
+
+from ..images import load_reference_exr
+from ..names import ENGINE_ID, sphrect_name
+from ..native import load_sphrect
+from . import compare, display
+from .schedule import (cancel_requested, clear_cancel_request, request_cancel, run_call, sample_schedule,
+                       split_samples)
+
+# A render that would need more than this much memory for its images is refused (absurd resolutions).
+MAX_IMAGE_BYTES = 4 << 30
+PASS_PREFIX = "SPHRECT "
+REFERENCE_TECHNIQUE = "rectangle"  # of the compare mode's rendered reference
+
+# What the last render did, for scripts and tests: reports, effects, per-technique stats and final images
+# (float32 [H, W, 4], row 0 = top), the comparison image's path, whether it was cancelled.
+last_render = {}
+
+
+def technique_pass_name(technique):
+    return PASS_PREFIX + technique
+
+
+def chosen_techniques(settings):
+    if settings.compare:
+        return settings.compare_techniques()
+    return [sphrect_name(settings.technique)]
+
+
+def display_technique(settings, techniques):
+    """The technique shown in the Combined pass: the engine's technique when it is being rendered."""
+    main = sphrect_name(settings.technique)
+    return main if main in techniques else techniques[0]
+
+
+def _flat_rgba(image):
+    """sphrect image (row 0 = top) -> contiguous float32 [H*W, 4] in Blender's order (bottom row first)."""
+    return np.ascontiguousarray(np.flipud(np.asarray(image, dtype=np.float32))).reshape(-1, 4)
+
+
+class SphrectRenderEngine(bpy.types.RenderEngine):
+    bl_idname = ENGINE_ID
+    bl_label = "SPHRECT"
+    bl_use_preview = False
+    bl_use_postprocess = True
+    bl_use_shading_nodes_custom = False  # materials use Blender's shader nodes
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        """Declare the per-technique passes (Image Editor pass menu, compositor, multilayer EXR)."""
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        settings = scene.sphrect
+        if settings.compare:
+            for t in settings.compare_techniques():
+                self.register_pass(scene, renderlayer, technique_pass_name(t), 4, "RGBA", "COLOR")
+            if settings.reference != "NONE":
+                self.register_pass(scene, renderlayer, technique_pass_name("reference"), 4, "RGBA", "COLOR")
+
+    # ---------------------------------------------------------------- render
+    def render(self, depsgraph):
+        last_render.clear()
+        last_render.update(errors=[], warnings=[], features=[], stats={}, images={}, comparison=None,
+                           cancelled=False)
+        clear_cancel_request()
+        try:
+            self._render(depsgraph)
+        except Exception as e:  # never a traceback in the user's face; the message names the problem
+            import traceback
+            traceback.print_exc()
+            self._error(f"SPHRECT render failed: {type(e).__name__}: {e}")
+
+    def _stats_line(self, text):
+        last_render["stats_line"] = text
+        self.update_stats("", text)
+
+    def _error(self, text):
+        last_render["errors"].append(text)
+        self.report({"ERROR"}, text)
+
+    def _warning(self, text):
+        last_render["warnings"].append(text)
+        self.report({"WARNING"}, text)
+
+    def _render(self, depsgraph):
+        try:
+            sphrect = load_sphrect()
+        except ImportError as e:
+            self._error(str(e))
+            return
+        if not hasattr(sphrect, "Renderer"):
+            self._error(f"SPHRECT: the sphrect module at {os.path.dirname(sphrect.__file__)} has no renderer "
+                        f"(an old or partial build); rebuild it")
+            return
+        from ..io.exporter import scene_from_depsgraph
+
+        bl_scene = depsgraph.scene
+        settings = bl_scene.sphrect
+        techniques = chosen_techniques(settings)
+        with_reference = settings.compare and settings.reference != "NONE"
+        equal_time = settings.compare and settings.equal_time
+        self.update_stats("SPHRECT", "Exporting scene")
+        t0 = time.perf_counter()
+        scene, log = scene_from_depsgraph(depsgraph)
+        export_time = time.perf_counter() - t0
+        width, height = scene.camera.width, scene.camera.height
+        self._pixels = width * height
+        image_count = len(techniques) + 2 + (1 if with_reference else 0)
+        needed = width * height * 16 * image_count
+        if needed > MAX_IMAGE_BYTES:
+            self._error(f"SPHRECT: resolution {width}x{height} needs {needed / 2**30:.1f} GiB of images "
+                        f"(limit {MAX_IMAGE_BYTES / 2**30:.0f} GiB); lower the resolution")
+            return
+        warning = log.warning_text()
+        if warning:
+            self._warning(warning)
+        reference = None
+        if with_reference and settings.reference == "FILE":
+            try:
+                reference = load_reference_exr(settings.reference_path, width, height)
+            except ValueError as e:
+                self._warning(f"SPHRECT: no reference: {e}")
+                with_reference = False
+
+        options = settings.renderer_options()
+        try:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                make = lambda ts: sphrect.Renderer(scene, techniques=list(ts), **options)
+                if equal_time:
+                    renderers = {t: make([t]) for t in techniques}
+                else:
+                    shared = make(techniques)
+                    renderers = {t: shared for t in techniques}
+        except (ValueError, RuntimeError, TypeError) as e:
+            self._error(f"SPHRECT: the scene cannot be rendered: {e}")
+            return
+        skipped = sorted({str(w.message) for w in caught})
+        if skipped:
+            self._warning("SPHRECT skipped: " + "; ".join(skipped))
+        features = list(next(iter(renderers.values())).features)
+        last_render["features"] = features
+        self._effects = ", ".join(features) if features else "direct diffuse lighting"
+        self._header = (f"SPHRECT | {len(scene.lights)} lights, {sum(len(m.triangles) for m in scene.meshes)} "
+                        f"triangles (export {export_time:.2f}s) | effects: {self._effects}")
+
+        layer_name = depsgraph.view_layer.name
+        self._compare = settings.compare
+        if self._compare:
+            for t in techniques:
+                self.add_pass(technique_pass_name(t), 4, "RGBA", layer=layer_name)
+        if with_reference:
+            self.add_pass(technique_pass_name("reference"), 4, "RGBA", layer=layer_name)
+        result = self.begin_result(0, 0, width, height, layer=layer_name)
+        layer = result.layers[0]
+        shown = display_technique(settings, techniques)
+        self._cancelled = False
+        try:
+            if equal_time:
+                self._render_equal_time(renderers, techniques, settings, result, layer, shown)
+            else:
+                self._render_equal_samples(renderers, techniques, settings, result, layer, shown)
+            entries = [dict(name=t, image=renderers[t].image(t), **self._stats(renderers[t], t))
+                       for t in techniques]
+            last_render["images"] = {e["name"]: e["image"] for e in entries}
+            if with_reference and settings.reference == "RENDER" and not self._cancelled:
+                reference = self._render_reference(sphrect, scene, options, settings)
+            if reference is not None:
+                last_render["images"]["reference"] = reference
+                self._write_pass(layer, technique_pass_name("reference"), reference)
+            last_render["stats"] = {e["name"]: {k: v for k, v in e.items() if k != "image"} for e in entries}
+            if settings.compare and not self._cancelled:
+                self._comparison(bl_scene, entries, reference, settings)
+        finally:
+            self.end_result(result)
+        last_render["cancelled"] = self._cancelled
+        if self._cancelled:
+            self._stats_line(f"{self._header} | Cancelled: partial image kept")
+
+    def _stats(self, renderer, technique):
+        s = dict(renderer.stats(technique))
+        return dict(samples=int(s.get("samples", 0)), time=float(s.get("wall_time", 0.0)),
+                    light_time=float(s.get("light_time", 0.0)), raw=s)
+
+    def _stop_requested(self):
+        return self.test_break() or cancel_requested()
+
+    def _progress_callback(self, call_index, call_count):
+        """Called by the renderer on this thread after each tile: progress bar and Esc."""
+        def progress(done, total):
+            self.update_progress((call_index + done / max(total, 1)) / call_count)
+            if self.test_break():
+                request_cancel()
+        return progress
+
+    def _show(self, result, layer, renderers, techniques, shown):
+        """Copy the current (partial) images into the result and send it to the display."""
+        for t in techniques:
+            image = renderers[t].image(t)
+            if self._compare:
+                self._write_pass(layer, technique_pass_name(t), image)
+            if t == shown:
+                self._write_pass(layer, "Combined", image)
+        self.update_result(result)
+
+    @staticmethod
+    def _write_pass(layer, name, image):
+        render_pass = layer.passes.find_by_name(name, "")
+        if render_pass is None:
+            return
+        render_pass.rect.foreach_set(_flat_rgba(image))
+
+    def _render_equal_samples(self, renderers, techniques, settings, result, layer, shown):
+        renderer = renderers[techniques[0]]  # one renderer for all techniques
+        calls = sample_schedule(settings.samples, settings.passes, self._pixels)
+        pass_ends = set(np.cumsum(split_samples(settings.samples, settings.passes)).tolist())
+        done, last_show = 0, time.perf_counter()
+        for i, n in enumerate(calls):
+            self._stats_line(f"{self._header} | {'/'.join(techniques)} | samples {done}/{settings.samples}")
+            finished = run_call(renderer, n, self._progress_callback(i, len(calls)))
+            done += n
+            stop = not finished or self._stop_requested()
+            # Display at the end of each pass, and at most once a second in between (copying every
+            # technique's image costs ~50 ms per megapixel).
+            if stop or done in pass_ends or time.perf_counter() - last_show > 1.0:
+                self._show(result, layer, renderers, techniques, shown)
+                last_show = time.perf_counter()
+            if stop:
+                self._cancelled = True
+                break
+        self._stats_line(f"{self._header} | {'/'.join(techniques)} | samples {done}/{settings.samples}")
+
+    def _render_equal_time(self, renderers, techniques, settings, result, layer, shown):
+        budget = settings.time_budget
+        chunks = max(1, settings.passes)
+        steps = len(techniques) * chunks
+        step = 0
+        for t in techniques:
+            r = renderers[t]
+            for i in range(chunks):
+                self._stats_line(f"{self._header} | equal time {budget:.2f}s | {t} part {i + 1}/{chunks}")
+                # Passes of one sample each while this part's share of the budget lasts.
+                finished = run_call(r, 1, self._progress_callback(step, steps), time_budget=budget / chunks)
+                step += 1
+                self._show(result, layer, {t: r}, [t], shown)
+                if not finished or self._stop_requested():
+                    self._cancelled = True
+                    return
+
+    def _render_reference(self, sphrect, scene, options, settings):
+        self._stats_line(f"{self._header} | reference: {REFERENCE_TECHNIQUE}, {settings.reference_samples} samples")
+        opts = dict(options, seed=options["seed"] + 7919)  # independent of the compared images
+        r = sphrect.Renderer(scene, techniques=[REFERENCE_TECHNIQUE], **opts)
+        calls = sample_schedule(settings.reference_samples, 1, self._pixels)
+        for i, n in enumerate(calls):
+            if not run_call(r, n, self._progress_callback(i, len(calls))) or self._stop_requested():
+                self._cancelled = True
+                return None
+        return r.image(REFERENCE_TECHNIQUE)
+
+    def _comparison(self, bl_scene, entries, reference, settings):
+        label = "REFERENCE" if settings.reference != "RENDER" else f"REFERENCE {settings.reference_samples} SPP"
+        canvas = compare.comparison_image(entries, reference, reference_label=label)
+        path = display.comparison_path(bl_scene)
+        os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+        compare.write_png(path, canvas)
+        last_render["comparison"] = path
+        for e in entries:
+            if "rmse" in e:
+                last_render["stats"][e["name"]]["rmse"] = e["rmse"]
+        summary = ", ".join(f"{e['name']} {e['samples']}spp {e['time']:.2f}s"
+                            + (f" RMSE {e['rmse']:.4g}" if "rmse" in e else "") for e in entries)
+        self._stats_line(f"{self._header} | {summary}")
+        print(f"SPHRECT comparison: {summary}\nSPHRECT comparison image: {path}")
+        display.show_later(path)

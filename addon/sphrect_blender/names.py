@@ -1,0 +1,66 @@
+"""The sphrect names the add-on offers (techniques, sample patterns, MIS modes) as Blender enum items.
+
+One source: the native module's lists (`sphrect.techniques`, `sphrect.patterns`, `sphrect.mis_modes`). An
+item's identifier is the name upper-cased ('rectangle_cosine' -> 'RECTANGLE_COSINE': what scripts, tests and
+the scene builders set) and its number is the name's position in the module's list, which is what a .blend
+file stores: the module's lists may grow at the end only. The add-on's own part is the UI text (the *_LABELS
+tables, keyed by name). Without a loadable module (not built, another Python) the add-on still registers,
+so that a render can say what is missing; the names then come from the labels' keys, which the Blender
+tests keep equal to the module's lists.
+"""
+from .native import load_sphrect
+
+ENGINE_ID = "SPHRECT"  # the render engine's bl_idname (scene.render.engine), for which the panels show
+
+# sphrect name -> (label, description) shown in Blender's UI.
+TECHNIQUE_LABELS = {
+    "area": ("Area", "Uniform sampling of the light's area (pdf converted to solid angle)"),
+    "triangles": ("Two Triangles", "Solid-angle sampling of the two spherical triangles (Arvo 1995)"),
+    "rectangle": ("Spherical Rectangle",
+                  "Area-preserving solid-angle sampling of the spherical rectangle (Urena et al. 2013)"),
+    "rectangle_cosine": ("Rectangle + Cosine", "Spherical rectangle sampling warped to follow the cosine term"),
+}
+PATTERN_LABELS = {
+    "independent": ("Independent", "Independent uniform random numbers"),
+    "stratified": ("Stratified", "Jittered strata"),
+    "latin": ("Latin Hypercube", "Latin hypercube samples"),
+    "hammersley": ("Hammersley", "Hammersley point set"),
+    "sobol": ("Sobol", "Scrambled Sobol sequence"),
+}
+MIS_LABELS = {
+    "none": ("None", "Light sampling only"),
+    "balance": ("Balance", "Balance heuristic between light and BSDF sampling"),
+    "power": ("Power", "Power heuristic between light and BSDF sampling"),
+}
+
+
+def identifier(name):
+    """Blender enum identifier of a sphrect name."""
+    return name.upper()
+
+
+def sphrect_name(enum_identifier):
+    """sphrect name of a Blender enum identifier (the inverse of `identifier`)."""
+    return enum_identifier.lower()
+
+
+def label(name, labels):
+    """(label, description) of a name; a name the add-on has no text for yet reads 'Rectangle Cosine'."""
+    return labels.get(name, (name.replace("_", " ").title(), ""))
+
+
+def enum_items(names, labels):
+    """EnumProperty items (identifier, label, description, number) in the module's order."""
+    return [(identifier(n), *label(n, labels), number) for number, n in enumerate(names)]
+
+
+def _module_names(attribute, labels):
+    try:
+        return tuple(getattr(load_sphrect(), attribute))
+    except (ImportError, AttributeError):
+        return tuple(labels)
+
+
+TECHNIQUES = _module_names("techniques", TECHNIQUE_LABELS)
+PATTERNS = _module_names("patterns", PATTERN_LABELS)
+MIS_MODES = _module_names("mis_modes", MIS_LABELS)
