@@ -1,9 +1,9 @@
 """Scene description shared by the renderer, the Blender exporter and scripts.
 
 Everything is in world space and in radiometric units, so the renderer needs no
-Blender conventions: the exporter converts Blender's light powers once
-(area: L = P * colour / (4 * area); point and spot: I = P * colour / (4 * pi);
-sun: E = strength * colour).
+Blender conventions: Blender's light powers are converted once, by the functions
+below (area_light_radiance, point_light_intensity, sun_irradiance) that the
+exporter and RectLight.from_power call.
 
 Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
 :func:`load_scene`): a NumPy ``.npz`` archive holding
@@ -35,6 +35,26 @@ FORMAT_VERSION = 1
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
+
+
+# Blender's light power -> radiometric units, with Cycles 3.4's conventions (power P in Blender's watts,
+# colour c; the Cycles parity tests in tests/blender check them): an area light of area A has the radiance
+# L = P c / (4 A) on each side it emits; point and spot lights the intensity I = P c / (4 pi); a sun's
+# strength is its irradiance, E = strength * c. Computed in float64 in the order written (P * c first).
+def area_light_radiance(power: float, color, area: float) -> RGB:
+    return _rgb_tuple(power * np.asarray(color, dtype=np.float64) / (4.0 * area))
+
+
+def point_light_intensity(power: float, color) -> RGB:
+    return _rgb_tuple(power * np.asarray(color, dtype=np.float64) / (4.0 * math.pi))
+
+
+def sun_irradiance(strength: float, color) -> RGB:
+    return _rgb_tuple(strength * np.asarray(color, dtype=np.float64))
+
+
+def _rgb_tuple(v) -> RGB:
+    return tuple(float(x) for x in v)
 
 
 @dataclass
@@ -74,14 +94,13 @@ class RectLight:
 
     @staticmethod
     def from_power(center, edge_x, edge_y, power: float, color: RGB = (1, 1, 1), **kw) -> "RectLight":
-        """Cycles' convention for area lights: L = P * colour / (4 * area)."""
+        """A light of Blender's `power` (watts) and `color`: radiance by area_light_radiance."""
         c, ex, ey = (np.asarray(a, dtype=np.float64) for a in (center, edge_x, edge_y))
         area = float(np.linalg.norm(np.cross(ex, ey)))
         if not area > 0:
             raise ValueError("a rectangle light needs two non-zero edges")
-        scale = power / (4.0 * area)
         return RectLight(corner=tuple(c - 0.5 * ex - 0.5 * ey), edge_x=tuple(ex), edge_y=tuple(ey),
-                         radiance=tuple(scale * np.asarray(color, dtype=np.float64)), **kw)
+                         radiance=area_light_radiance(power, color, area), **kw)
 
 
 @dataclass

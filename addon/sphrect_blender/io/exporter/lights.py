@@ -1,9 +1,6 @@
-"""Blender lights -> sphrect lights, with Cycles 3.4's power conventions:
-
-* area (any shape): radiance L = P * colour / (4 * area), area measured after the object's scale;
-* point and spot: intensity I = P * colour / (4 * pi);
-* sun: irradiance E = strength * colour.
-Every light emits along its object's local -Z axis.
+"""Blender lights -> sphrect lights. Power becomes radiance, intensity or irradiance by Cycles 3.4's
+conventions in `sphrect.scene` (area_light_radiance, point_light_intensity, sun_irradiance), an area
+measured after the object's scale. Every light emits along its object's local -Z axis.
 """
 import math
 
@@ -59,7 +56,7 @@ def export_light(sphrect, obj, matrix_world, name, log):
     if light.type in {"POINT", "SPOT"}:
         if light.shadow_soft_size > 0:
             log.unsupported_feature("point/spot light radius (treated as 0: hard shadows)", light.name)
-        intensity = _tuple(power * color / (4.0 * math.pi))
+        intensity = sphrect.scene.point_light_intensity(power, color)
         if light.type == "POINT":
             return sphrect.PointLight(position=_tuple(position), intensity=intensity, name=name)
         direction = _unit(-z)
@@ -75,7 +72,8 @@ def export_light(sphrect, obj, matrix_world, name, log):
         if direction is None:
             log.problem(f"sun '{name}' has zero scale along Z: skipped")
             return None
-        return sphrect.SunLight(direction=_tuple(direction), irradiance=_tuple(power * color), name=name)
+        return sphrect.SunLight(direction=_tuple(direction), irradiance=sphrect.scene.sun_irradiance(power, color),
+                                name=name)
     log.unsupported_feature(f"{light.type.lower()} lights", light.name)
     return None
 
@@ -96,10 +94,10 @@ def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, lo
     two_sided = bool(getattr(getattr(light, "sphrect", None), "two_sided", False))
     visible = bool(getattr(obj, "visible_camera", True))
     if light.shape in {"SQUARE", "RECTANGLE"}:
-        radiance = power * color / (4.0 * rect_area)
+        radiance = sphrect.scene.area_light_radiance(power, color, rect_area)
         return sphrect.RectLight(corner=_tuple(centre - 0.5 * ex - 0.5 * ey), edge_x=_tuple(ex), edge_y=_tuple(ey),
-                                 radiance=_tuple(radiance), two_sided=two_sided, visible=visible, name=name)
+                                 radiance=radiance, two_sided=two_sided, visible=visible, name=name)
     ellipse_area = 0.25 * math.pi * rect_area  # pi * a * b with semi-axes a, b = half the edges
-    radiance = power * color / (4.0 * ellipse_area)
+    radiance = sphrect.scene.area_light_radiance(power, color, ellipse_area)
     return sphrect.EllipseLight(center=_tuple(centre), axis_x=_tuple(0.5 * ex), axis_y=_tuple(0.5 * ey),
-                                radiance=_tuple(radiance), two_sided=two_sided, visible=visible, name=name)
+                                radiance=radiance, two_sided=two_sided, visible=visible, name=name)
