@@ -1,7 +1,7 @@
 """The study machinery (sphrect.study) on a tiny scene and ladder, driven by a fake renderer so it runs in
 seconds without the native renderer: outputs exist and are well-formed, the reference's own error estimate is
 computed (and is right), resuming skips finished runs, and interrupted or crashing runs leave no corrupt output.
-test_study_render.py runs the same machinery on the real renderer."""
+test_report.py tests the report's findings; test_study_render.py runs the same machinery on the real renderer."""
 import csv
 import json
 import math
@@ -36,7 +36,8 @@ def fake_render(context, job):
     """Truth + Gaussian noise of std NOISE[technique] / sqrt(samples): an unbiased 'renderer' with known error.
     Side effects for the tests, by environment variable: STUDY_FAKE_LOG (append each rendered key),
     STUDY_FAKE_INTERRUPT_AFTER (raise KeyboardInterrupt once that many renders are logged),
-    STUDY_FAKE_CRASH (kill the worker process on jobs whose key contains it)."""
+    STUDY_FAKE_CRASH (kill the worker process on jobs whose key contains it), STUDY_FAKE_NAN (NaN pixels in
+    the renders of that technique)."""
     log = os.environ.get("STUDY_FAKE_LOG")
     crash = os.environ.get("STUDY_FAKE_CRASH")
     if crash and crash in job.key:
@@ -52,6 +53,8 @@ def fake_render(context, job):
     sigma = NOISE.get(job.technique, 0.15) / math.sqrt(samples)
     image = truth(context.width, context.height)
     image[..., :3] += rng.normal(0, sigma, image[..., :3].shape).astype(np.float32)
+    if job.technique == os.environ.get("STUDY_FAKE_NAN"):
+        image[::2, ::3, 1] = np.nan
     time = samples * 1e-3 * (1.5 if job.technique == "rectangle_cosine" else 1.0)
     return image, {"build_time": 0.01, "call_time": time, "wall_time": time, "light_time": time / 3,
                    "shading_time": time / 3, "rays": samples * context.width * context.height * 2,
@@ -114,61 +117,6 @@ def test_metrics():
     assert how == "extrapolated" and t == pytest.approx(10, rel=1e-6)
     with pytest.raises(ValueError):
         metrics.rmse(img, ref[:4])
-
-
-def _curve(mse, samples=(1, 2, 4, 8, 16, 32, 64, 128, 256), seconds_per_sample=0.01):
-    return [{"job": {"samples": n}, "rmse": math.sqrt(mse(n)), "time": n * seconds_per_sample} for n in samples]
-
-
-def test_a_plateaued_cycles_error_is_not_reported_as_a_time_ratio():
-    from sphrect.study.report import SYSTEMATIC_SHARE_LIMIT, cycles_comparison, systematic_share
-    assert systematic_share(_curve(lambda n: 1.0 / n)) == pytest.approx(0.0, abs=1e-9)
-    biased = _curve(lambda n: 0.01 + 1.0 / n)  # at 256 spp: 0.01 of 0.0139 is systematic
-    assert systematic_share(biased) == pytest.approx(0.01 / (0.01 + 1 / 256), rel=1e-9)
-    assert systematic_share(biased) > SYSTEMATIC_SHARE_LIMIT
-    study = {"reference": {"estimated_rmse": 1e-6}}
-    ours = {("rectangle", "none", "sobol"): _curve(lambda n: 0.1 / n, seconds_per_sample=0.001)}
-    lines, rows, ratio = cycles_comparison(study, {**ours, ("cycles", "power", "default"): _curve(lambda n: 1.0 / n)})
-    assert ratio == pytest.approx(0.01, rel=0.05) and "meets the goal" in lines[0]
-    # Times come from each curve's cost per sample over its 3 largest runs: one slow Cycles run (1.6x) moves
-    # the ratio by 1/1.2, not by 1/1.6.
-    slow_top = _curve(lambda n: 1.0 / n)
-    slow_top[-1]["time"] *= 1.6
-    lines, rows, ratio = cycles_comparison(study, {**ours, ("cycles", "power", "default"): slow_top})
-    assert ratio == pytest.approx(0.01 / 1.2, rel=0.05)
-    lines, rows, ratio = cycles_comparison(study, {**ours, ("cycles", "power", "default"): biased})
-    assert ratio is None and "not measurable" in lines[0] and "systematic" in lines[0]
-    assert len(rows) == 9  # the table is still there
-
-
-def test_cosine_finding_pools_costs_and_reports_ties():
-    """rectangle_cosine vs rectangle: the cost per sample is the mean over the top runs, and an efficiency ratio
-    inside two standard errors of the timing is a tie, not a win decided by one run's time."""
-    from sphrect.study.report import cosine_finding, curve_cost
-    from sphrect.study.jobs import StudyConfig
-
-    def with_costs(curve, costs):  # the top runs' seconds per sample
-        for r, c in zip(curve[-len(costs):], costs):
-            r["time"] = c * r["job"]["samples"]
-        return curve
-    steady = _curve(lambda n: 1.0 / n, seconds_per_sample=0.01)
-    noisy = with_costs(_curve(lambda n: 1.0 / n, seconds_per_sample=0.01), [0.008, 0.010, 0.012])
-    assert metrics.COST_RUNS == 3
-    assert curve_cost(steady) == pytest.approx((0.01, 0.0), abs=1e-12)
-    cost, rel_se = curve_cost(noisy)
-    assert cost == pytest.approx(0.01) and rel_se == pytest.approx(0.2 / math.sqrt(3))
-    study = {"study": StudyConfig(techniques=("rectangle", "rectangle_cosine"), mis=("none",), patterns=("sobol",))}
-
-    def verdict(cosine_mse, cosine_cost, rectangle_curve):
-        curves = {("rectangle", "none", "sobol"): rectangle_curve,
-                  ("rectangle_cosine", "none", "sobol"): _curve(cosine_mse, seconds_per_sample=cosine_cost)}
-        (line,) = cosine_finding(study, curves)
-        return line[line.rindex("(") + 1:-2]
-    # Efficiency 1 / (MSE x cost): 0.87x the MSE at the same cost is 1.15x as efficient -- a win against steady
-    # timings, a tie against timings that scatter by +-20% (two standard errors of the mean: +-23%).
-    assert verdict(lambda n: 0.87 / n, 0.01, steady) == "better than rectangle"
-    assert verdict(lambda n: 0.87 / n, 0.01, noisy) == "within the timing noise"
-    assert verdict(lambda n: 1.0 / n, 0.012, steady) == "worse than rectangle"
 
 
 def test_reference_error_estimate_is_right():

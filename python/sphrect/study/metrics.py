@@ -141,10 +141,10 @@ def white_point(image: np.ndarray) -> float:
 
 
 def tonemap(image: np.ndarray, white: Optional[float] = None) -> np.ndarray:
-    """Linear radiance -> 8-bit-ready sRGB in [0, 1] for display: scale so that `white` maps to 1, clamp,
-    apply the sRGB transfer curve. `white` defaults to white_point(image)."""
+    """Linear radiance -> 8-bit-ready sRGB in [0, 1] for display: scale so that `white` maps to 1, clamp (NaN
+    to black), apply the sRGB transfer curve. `white` defaults to white_point(image)."""
     rgb = colour(image)
     if white is None:
         white = white_point(image)
-    x = np.clip(rgb / max(white, 1e-30), 0.0, 1.0)
+    x = np.clip(np.nan_to_num(rgb / max(white, 1e-30), nan=0.0), 0.0, 1.0)
     return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)

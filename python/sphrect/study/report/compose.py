@@ -1,0 +1,195 @@
+"""write_report: the study's report as a row of sections, each reading the results, computing its finding
+(findings.py, equal_error.py), drawing its figure (plots.py) and wording it (wording.py) into one Document."""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from typing import List, Optional
+
+from ..store import atomic_write_bytes
+from . import equal_error, findings, plots, wording
+from .curves import REFERENCE_NOISE_FACTOR
+from .document import Document
+from .results import Curves, StudyResults, curves, equal_time_grid, load_study, smallest_rmse, write_runs
+from .wording import COST_NOTE, fmt
+
+PLOTS = "plots"
+# The reference's error is "well under" the smallest error reported below this share of it.
+REFERENCE_SHARE_OK = 0.3
+
+
+@dataclass
+class Report:
+    out_dir: str
+    results: StudyResults
+    curves: Curves
+    smallest: float     # the smallest finite RMSE of the ladder
+    doc: Document
+
+    def plot(self, name: str) -> str:
+        return os.path.join(self.out_dir, PLOTS, name)
+
+
+def headline_pattern(cfg) -> str:
+    """The pattern of the summary's figure: the equal-time grid's if studied, else the first stratifying one."""
+    if cfg.grid_pattern in cfg.patterns:
+        return cfg.grid_pattern
+    return next((p for p in cfg.patterns if p != findings.UNSTRATIFIED), cfg.patterns[0])
+
+
+def scene_section(report: Report) -> None:
+    doc, results, cfg, c = report.doc, report.results, report.results.settings, report.results.config
+    doc.heading("What accuracy costs in time: light-sampling study", 1)
+    doc.para(f"Scene: `{c['input']}`, {c['width']}x{c['height']} pixels. Techniques {', '.join(cfg.techniques)}; "
+             f"MIS {', '.join(cfg.mis)}; patterns {', '.join(cfg.patterns)}; sample ladder "
+             f"{', '.join(map(str, cfg.ladder))} camera samples per pixel, {cfg.light_samples} light sample(s) each. "
+             f"{len(results.ladder)} ladder runs and {len(results.equal_time)} equal-time runs measured. "
+             f"Every run renders with {cfg.threads or 'all'} thread(s), {c.get('workers') or 1} run(s) at a time "
+             f"({c.get('executor')}). "
+             + ("Times are the CPU time of each single-threaded render (excluding the scene/BVH build): unlike "
+                "wall time they do not grow when other processes compete for the cores. "
+                if cfg.threads == 1 else "Times are render wall times (excluding the scene/BVH build). ")
+             + "runs.csv also has wall_time, build_time, light_time and rays of every run.")
+    if results.failures:
+        doc.para(f"**{len(results.failures)} runs failed** and are missing from the plots: " +
+                 "; ".join(f"{f['key']}: {f['error'].splitlines()[0] if f['error'] else ''}"
+                           for f in results.failures[:5]))
+    non_finite = [r["key"] for r in results.ladder + results.equal_time if not r.get("finite", True)]
+    if non_finite:
+        doc.para(f"**{len(non_finite)} runs produced NaN/Inf pixels** (their RMSE is infinite): "
+                 + ", ".join(non_finite[:8]))
+
+
+def reference_section(report: Report) -> None:
+    ref, doc = report.results.reference, report.doc
+    s = ref["settings"]
+    share = findings.ratio_of(ref["estimated_rmse"], report.smallest)
+    doc.heading("Reference")
+    doc.para(f"Mean of {s['chunks']} independent renders ({s['technique']}, MIS {s['mis']}, {s['pattern']}, "
+             f"{s['samples']} samples per pixel in total, {fmt(ref['render_time_total'])} s of rendering). Its own "
+             f"RMSE, estimated from the spread of the independent chunks (variance across chunks / their number), "
+             f"is **{fmt(ref['estimated_rmse'])}** (relMSE {fmt(ref['estimated_relmse'])}). The smallest RMSE the "
+             f"study reports is {fmt(report.smallest)}: the reference's error is {fmt(100 * share, 2)}% of it "
+             + ("(well under it: the measured errors are the runs' own)." if share < REFERENCE_SHARE_OK else
+                "(**not** well under it: the smallest errors are inflated by the reference's noise; rerun with "
+                f"more --reference-samples). Slopes are fitted only on points above {REFERENCE_NOISE_FACTOR}x the "
+                "reference's error."))
+
+
+def convergence_section(report: Report) -> None:
+    doc = report.doc
+    doc.heading("Convergence")
+    doc.para("RMSE against the reference (log-log), one line per technique; the legend gives the fitted slope "
+             "(RMSE ~ N^slope; -0.5 is plain Monte Carlo, steeper is better). Cycles 3.4 (MIS with its own "
+             "pattern) is drawn in every panel for comparison.")
+    for pattern in report.results.settings.patterns:
+        for x in ("samples", "time"):
+            name = f"rmse_vs_{x}_{pattern}.png"
+            plots.plot_convergence(report.results, report.curves, pattern, x, report.plot(name))
+            doc.image(f"{PLOTS}/{name}", f"RMSE vs {'samples per pixel' if x == 'samples' else 'wall time'}, "
+                                         f"pattern {pattern}")
+
+
+def findings_section(report: Report, ordering: List[str], slopes: findings.Slopes,
+                     ordering_rows: List[List[str]], cosine, cycles) -> None:
+    doc, cfg = report.doc, report.results.settings
+    doc.heading("The paper's findings, measured")
+    doc.para("**1. Equal samples: rectangle < triangles < area.**")
+    for line in ordering:
+        doc.para(line)
+    doc.table(["MIS", "pattern", "order holds at", "rectangle < triangles at", "RMSE triangles/rectangle (top N)",
+               "RMSE area/rectangle (top N)"], ordering_rows)
+    doc.para("**2. Stratification: fitted convergence slopes (RMSE vs samples).**")
+    plots.plot_slopes(report.results, slopes, report.plot("slopes.png"))
+    doc.image(f"{PLOTS}/slopes.png", "fitted slopes per technique and pattern")
+    doc.table(["technique", "MIS"] + list(cfg.patterns), wording.slope_rows(slopes, cfg.techniques, cfg.mis,
+                                                                            cfg.patterns))
+    for c in slopes.comparisons:
+        doc.para(wording.slope_line(c))
+    doc.para("**3. Where rectangle_cosine stands** (against rectangle, same MIS and pattern, top of the ladder).")
+    for line in [wording.cosine_line(c) for c in cosine or []] or \
+            ["rectangle_cosine or rectangle was not part of the study."]:
+        doc.para(line)
+    doc.para("**4. Cycles 3.4 at equal error: time our best configuration needs to reach Cycles' RMSE.**")
+    for line in wording.cycles_lines(cycles):
+        doc.para(line)
+    doc.para(COST_NOTE)
+    doc.table(["Cycles spp", "Cycles RMSE", "Cycles time [s]", "our best configuration", "its time [s]",
+               "time ratio (ours/Cycles)"], wording.cycles_rows(cycles))
+
+
+def target_section(report: Report, target_rmse: Optional[float]) -> None:
+    target = equal_error.target_times(report.results.settings, report.curves, report.results.reference_rmse,
+                                      report.smallest, target_rmse)
+    report.doc.heading("Time to reach a target error")
+    report.doc.para(wording.target_line(target))
+    report.doc.table(["configuration", "time [s]", "how", "samples per pixel"], wording.target_rows(target))
+
+
+def equal_time_section(report: Report) -> None:
+    doc = report.doc
+    doc.heading("Equal time")
+    if not report.results.equal_time:
+        doc.para("No equal-time runs were measured.")
+        return
+    grid = equal_time_grid(report.results)
+    plots.plot_equal_time_grid(report.results, grid, report.plot("equal_time_grid.png"))
+    doc.image(f"{PLOTS}/equal_time_grid.png", "equal-time renders and their error heat maps")
+    doc.table(["configuration", "samples per pixel", "time [s]", "RMSE", "relMSE"], wording.equal_time_rows(grid))
+
+
+def sampler_section(report: Report, sampler_table: bool) -> None:
+    doc = report.doc
+    doc.heading("The sampler itself: accuracy and cost")
+    if not sampler_table:
+        doc.para("(skipped: --no-sampler-table)")
+        return
+    try:
+        from ..sampler_table import sampler_tables
+        tables, notes = sampler_tables()
+        for title, header, rows in tables:
+            doc.para(f"**{title}**")
+            doc.table(header, rows)
+        for note in notes:
+            doc.para(note)
+    except Exception as e:  # the table is optional; say why it is missing
+        doc.para(f"(sampler table unavailable: {type(e).__name__}: {e})")
+
+
+def files_section(report: Report) -> None:
+    report.doc.heading("Files")
+    report.doc.para("runs.csv and runs.json: every run (job, times, rays, RMSE, relMSE); reference.json: the "
+                    "reference and its error estimate; images/: the reference, its chunks and the equal-time renders "
+                    "(.npy, linear radiance, row 0 at the top); plots/: the figures above.")
+
+
+def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional[float] = None) -> str:
+    """Write runs.csv, runs.json, the plots and report.md / report.html into out_dir; returns report.md's path."""
+    results = load_study(out_dir)
+    os.makedirs(os.path.join(out_dir, PLOTS), exist_ok=True)
+    write_runs(out_dir, results)
+    report = Report(out_dir, results, curves(results.ladder), smallest_rmse(results.ladder), Document())
+    cfg, ref_rmse = results.settings, results.reference_rmse
+
+    ordering = findings.ordering(cfg, report.curves)
+    ordering_lines = wording.ordering_lines(ordering, findings.triangles_comparisons(cfg, ordering or []))
+    slopes = findings.slopes(cfg, report.curves, ref_rmse)
+    cosine = findings.cosine_comparisons(cfg, report.curves)
+    cycles = equal_error.cycles_comparison(report.curves, ref_rmse)
+
+    scene_section(report)
+    report.doc.heading("Summary")
+    for line in wording.summary_lines(ordering_lines, slopes, cosine, cycles, ref_rmse, report.smallest):
+        report.doc.para(line)
+    pattern = headline_pattern(cfg)
+    report.doc.image(f"{PLOTS}/rmse_vs_time_{pattern}.png", f"RMSE vs time, pattern {pattern} (more below)")
+    reference_section(report)
+    convergence_section(report)
+    findings_section(report, ordering_lines, slopes, wording.ordering_rows(ordering), cosine, cycles)
+    target_section(report, target_rmse)
+    equal_time_section(report)
+    sampler_section(report, sampler_table)
+    files_section(report)
+    atomic_write_bytes(os.path.join(out_dir, "report.md"), report.doc.markdown().encode("utf-8"))
+    atomic_write_bytes(os.path.join(out_dir, "report.html"), report.doc.to_html("sphrect study").encode("utf-8"))
+    return os.path.join(out_dir, "report.md")

@@ -1,0 +1,187 @@
+"""The paper's findings, measured: computed from the curves as numbers (small dataclasses); wording.py turns
+them into sentences and table rows, once, at the end.  equal_error.py has the comparisons at equal error.
+
+The techniques named here are the ones the paper's claims are about; a study without them skips the finding.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Sequence, Tuple
+
+from ..jobs import CYCLES_CURVE, StudyConfig
+from .curves import curve_cost, fitted_slope, fitted_slope_with_error
+from .results import CurveKey, Curves
+
+PAPER_ORDER = ("rectangle", "triangles", "area")  # the paper: RMSE rectangle < triangles < area
+RECTANGLE, TRIANGLES, AREA = PAPER_ORDER
+COSINE = "rectangle_cosine"
+UNSTRATIFIED = "independent"  # the pattern without stratification
+SLOPE_DIFFERENCE = 0.03  # smallest slope difference reported as a difference
+
+
+def ratio_of(a: float, b: float) -> float:
+    """a / b, NaN when b is 0 (a run can be infinitely wrong; a ratio is then no number)."""
+    return a / b if b else float("nan")
+
+
+def finite_span(values: Sequence[float]) -> Tuple[float, float]:
+    """(min, max) of the finite values, (NaN, NaN) without one."""
+    finite = [v for v in values if math.isfinite(v)]
+    return (min(finite), max(finite)) if finite else (float("nan"), float("nan"))
+
+
+@dataclass(frozen=True)
+class OrderingRow:
+    """The paper's ordering at equal samples, for one (MIS, pattern), over the sample counts all three have."""
+    mis: str
+    pattern: str
+    points: int
+    order_holds: int            # counts where RMSE rectangle < triangles < area
+    rectangle_wins: int         # counts where RMSE rectangle < triangles
+    triangles_ratio: float      # RMSE triangles / rectangle at the top count
+    area_ratio: float           # RMSE area / rectangle at the top count
+
+    @property
+    def area_worst(self) -> bool:
+        return self.area_ratio > max(1.0, self.triangles_ratio)
+
+
+@dataclass(frozen=True)
+class TrianglesComparison:
+    """rectangle against triangles over the (MIS) rows of one pattern."""
+    pattern: str
+    wins: int
+    points: int
+    low: float                  # the span of RMSE triangles / rectangle at the top
+    high: float
+
+    @property
+    def verdict(self) -> str:
+        if self.wins >= 0.8 * self.points and self.low > 1:
+            return "reproduces"
+        if self.wins <= 0.5 * self.points or self.high < 1:
+            return "does NOT reproduce"
+        return "partly reproduces"
+
+
+def ordering(cfg: StudyConfig, all_curves: Curves) -> Optional[List[OrderingRow]]:
+    """None when the study lacks one of the paper's three techniques."""
+    if not all(t in cfg.techniques for t in PAPER_ORDER):
+        return None
+    rows = []
+    for mis in cfg.mis:
+        for pattern in cfg.patterns:
+            by_n = {t: {r["job"]["samples"]: r["rmse"] for r in all_curves.get((t, mis, pattern), [])}
+                    for t in PAPER_ORDER}
+            ns = sorted(set.intersection(*(set(d) for d in by_n.values())))
+            if not ns:
+                continue
+            rect, tri, area = (by_n[t] for t in PAPER_ORDER)
+            top = ns[-1]
+            rows.append(OrderingRow(mis, pattern, len(ns), sum(rect[n] < tri[n] < area[n] for n in ns),
+                                    sum(rect[n] < tri[n] for n in ns), ratio_of(tri[top], rect[top]),
+                                    ratio_of(area[top], rect[top])))
+    return rows
+
+
+def triangles_comparisons(cfg: StudyConfig, rows: List[OrderingRow]) -> List[TrianglesComparison]:
+    """rectangle and triangles have the same pdf (uniform in solid angle): with independent samples their
+    estimators have the same variance, so rectangle < triangles can only come from stratification. Judged per
+    pattern, the unstratified one first."""
+    out = []
+    for pattern in [UNSTRATIFIED] + [p for p in cfg.patterns if p != UNSTRATIFIED]:
+        selected = [r for r in rows if r.pattern == pattern]
+        if selected:
+            out.append(TrianglesComparison(pattern, sum(r.rectangle_wins for r in selected),
+                                           sum(r.points for r in selected),
+                                           *finite_span([r.triangles_ratio for r in selected])))
+    return out
+
+
+@dataclass(frozen=True)
+class SlopeComparison:
+    """Convergence slopes (RMSE vs samples) of the paper's techniques for one stratifying pattern and MIS mode."""
+    pattern: str
+    mis: str
+    slopes: Dict[str, float]        # technique -> slope
+    unstratified_rectangle: float   # rectangle's slope with independent samples
+    difference: float               # slope triangles - slope rectangle
+    threshold: float
+
+    @property
+    def verdict(self) -> str:
+        """"faster", "slower" or "same": how the area-preserving map converges against the two-triangle map."""
+        return ("faster" if self.difference > self.threshold else
+                "slower" if self.difference < -self.threshold else "same")
+
+
+@dataclass(frozen=True)
+class Slopes:
+    table: Dict[CurveKey, float]     # every (technique, mis, pattern) of the study -> fitted slope
+    cycles: Optional[float]          # Cycles' slope, None without Cycles
+    comparisons: List[SlopeComparison]
+
+
+def slopes(cfg: StudyConfig, all_curves: Curves, reference_rmse: float) -> Slopes:
+    table = {(t, m, p): fitted_slope(all_curves.get((t, m, p), []), "samples", reference_rmse)
+             for m in cfg.mis for t in cfg.techniques for p in cfg.patterns}
+    cycles = all_curves.get(CYCLES_CURVE)
+    comparisons = []
+    for pattern in [p for p in cfg.patterns if p != UNSTRATIFIED]:
+        for mis in cfg.mis:
+            fits = {t: fitted_slope_with_error(all_curves.get((t, mis, pattern), []), "samples", reference_rmse)
+                    for t in PAPER_ORDER}
+            s = {t: f[0] for t, f in fits.items()}
+            if any(not math.isfinite(v) for v in s.values()):
+                continue
+            # A difference counts when it exceeds SLOPE_DIFFERENCE and twice the combined standard error.
+            se = math.hypot(fits[RECTANGLE][1], fits[TRIANGLES][1])
+            threshold = max(SLOPE_DIFFERENCE, 2 * se if math.isfinite(se) else 0.0)
+            independent = fitted_slope(all_curves.get((RECTANGLE, mis, UNSTRATIFIED), []), "samples", reference_rmse)
+            comparisons.append(SlopeComparison(pattern, mis, s, independent, s[TRIANGLES] - s[RECTANGLE], threshold))
+    return Slopes(table, fitted_slope(cycles, "samples", reference_rmse) if cycles else None, comparisons)
+
+
+@dataclass(frozen=True)
+class CosineComparison:
+    """rectangle_cosine against rectangle for one (MIS, pattern) at the top sample count both measured."""
+    mis: str
+    pattern: str
+    samples: int
+    rmse_ratio: float
+    cost_ratio: float       # per sample (curve_cost)
+    efficiency: float       # (1 / (MSE x cost)) ratio
+    noise: float            # two standard errors of the costs, relative
+
+    @property
+    def verdict(self) -> str:
+        if not (math.isfinite(self.efficiency) and self.efficiency > 0 and math.isfinite(self.noise)):
+            return "not measured"
+        if abs(math.log(self.efficiency)) <= self.noise:
+            return "within the timing noise"
+        return "better than rectangle" if self.efficiency > 1 else "worse than rectangle"
+
+
+def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[CosineComparison]]:
+    """rectangle_cosine against rectangle per (MIS, pattern): RMSE at the top of the ladder, cost per sample
+    (curve_cost) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
+    cost ratio of 1 is a tie: single runs' times move by more than that between studies.  (The top run's MSE
+    has its own noise, which this margin does not count.)  None when the study lacks one of the two."""
+    if COSINE not in cfg.techniques or RECTANGLE not in cfg.techniques:
+        return None
+    out = []
+    for mis in cfg.mis:
+        for pattern in cfg.patterns:
+            curve_a = all_curves.get((COSINE, mis, pattern), [])
+            curve_b = all_curves.get((RECTANGLE, mis, pattern), [])
+            a = {r["job"]["samples"]: r["rmse"] for r in curve_a}
+            b = {r["job"]["samples"]: r["rmse"] for r in curve_b}
+            ns = sorted(set(a) & set(b))
+            if not ns:
+                continue
+            n = ns[-1]
+            (cost_a, se_a), (cost_b, se_b) = curve_cost(curve_a), curve_cost(curve_b)
+            out.append(CosineComparison(mis, pattern, n, ratio_of(a[n], b[n]), cost_a / cost_b,
+                                        ratio_of(b[n] ** 2 * cost_b, a[n] ** 2 * cost_a), 2 * math.hypot(se_a, se_b)))
+    return out

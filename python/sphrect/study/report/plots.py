@@ -1,0 +1,130 @@
+"""The report's figures (matplotlib, written as PNG): RMSE against samples or time, the fitted slopes, and the
+equal-time renders with their error heat maps."""
+from __future__ import annotations
+
+import numpy as np
+
+from ...render import TECHNIQUES
+from .. import metrics
+from ..jobs import CYCLES, CYCLES_CURVE
+from .curves import curve_x, fitted_slope
+from .findings import Slopes
+from .results import REFERENCE_COLUMN, Curves, EqualTimeGrid, StudyResults
+from .wording import CYCLES_NAME, fmt
+
+# A colour per technique, in the order of sphrect.render.TECHNIQUES; Cycles is black.
+PALETTE = ("tab:red", "tab:orange", "tab:blue", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive")
+DPI = 110
+
+
+def technique_colour(technique: str) -> str:
+    if technique == CYCLES:
+        return "black"
+    return PALETTE[TECHNIQUES.index(technique) % len(PALETTE)]
+
+
+def _plt():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(plt, fig, path: str) -> None:
+    fig.tight_layout()
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+
+
+def time_label(threads: int) -> str:
+    return ("CPU time of the render [s] (1 thread)" if threads == 1
+            else f"render wall time [s] ({threads or 'all'} threads)")
+
+
+def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x: str, path: str) -> None:
+    """RMSE against `x` ("samples" or "time"), log-log, a panel per MIS mode, a line per technique and Cycles."""
+    plt = _plt()
+    cfg = results.settings
+    ref_rmse = results.reference_rmse
+    fig, axes = plt.subplots(1, len(cfg.mis), figsize=(5.2 * len(cfg.mis), 4.4), squeeze=False, sharey=True)
+    cycles = all_curves.get(CYCLES_CURVE)
+    for ax, mis in zip(axes[0], cfg.mis):
+        for technique in cfg.techniques:
+            curve = all_curves.get((technique, mis, pattern))
+            if not curve:
+                continue
+            ax.loglog([curve_x(r, x) for r in curve], [r["rmse"] for r in curve], "o-",
+                      color=technique_colour(technique), ms=3,
+                      label=f"{technique} (slope {fmt(fitted_slope(curve, x, ref_rmse), 2)})")
+        if cycles:
+            ax.loglog([curve_x(r, x) for r in cycles], [r["rmse"] for r in cycles], "s--", color=technique_colour(CYCLES),
+                      ms=3, label=f"{CYCLES_NAME} (slope {fmt(fitted_slope(cycles, x, ref_rmse), 2)})")
+        ax.axhline(ref_rmse, color="grey", ls=":", lw=1, label="reference's own RMSE")
+        ax.set_title(f"MIS: {mis}, pattern: {pattern}")
+        ax.set_xlabel("samples per pixel" if x == "samples" else time_label(cfg.threads))
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    axes[0][0].set_ylabel("RMSE")
+    _save(plt, fig, path)
+
+
+def plot_slopes(results: StudyResults, slopes: Slopes, path: str) -> None:
+    """Bar chart: fitted RMSE-vs-samples slope for every technique, per pattern (one panel per MIS mode)."""
+    plt = _plt()
+    cfg = results.settings
+    fig, axes = plt.subplots(1, len(cfg.mis), figsize=(4.8 * len(cfg.mis), 3.6), squeeze=False, sharey=True)
+    width = 0.8 / len(cfg.techniques)
+    for ax, mis in zip(axes[0], cfg.mis):
+        for i, technique in enumerate(cfg.techniques):
+            ax.bar(np.arange(len(cfg.patterns)) + (i - (len(cfg.techniques) - 1) / 2) * width,
+                   [slopes.table[(technique, mis, p)] for p in cfg.patterns], width,
+                   color=technique_colour(technique), label=technique)
+        ax.axhline(-0.5, color="grey", ls=":", lw=1)
+        ax.set_xticks(np.arange(len(cfg.patterns)))
+        ax.set_xticklabels(cfg.patterns)
+        ax.set_title(f"RMSE ~ N^slope, MIS: {mis}")
+        ax.legend(fontsize=7)
+    axes[0][0].set_ylabel("fitted slope (-0.5 = plain Monte Carlo)")
+    _save(plt, fig, path)
+
+
+def plot_equal_time_grid(results: StudyResults, grid: EqualTimeGrid, path: str) -> None:
+    """A pair of rows per MIS mode: the equal-time renders (one white point, the reference's) and below each its
+    error heat map, all maps on one colour scale (the largest 99th percentile of their finite values)."""
+    plt = _plt()
+    reference = grid.reference
+    white = metrics.white_point(reference)
+    errors = {key: metrics.error_map(image, reference) for key, image in grid.images.items()}
+    vmax = max([float(np.percentile(m[np.isfinite(m)], 99)) for m in errors.values() if np.isfinite(m).any()]
+               + [1e-12])
+    rows = len(grid.mis_rows) * 2
+    h, w = reference.shape[:2]
+    fig, axes = plt.subplots(rows, len(grid.columns), figsize=(2.6 * len(grid.columns), 2.6 * rows * h / w + 0.6),
+                             squeeze=False)
+    for row_index, mis in enumerate(grid.mis_rows):
+        for col, name in enumerate(grid.columns):
+            ax_img, ax_err = axes[2 * row_index][col], axes[2 * row_index + 1][col]
+            for ax in (ax_img, ax_err):
+                ax.set_xticks([])
+                ax.set_yticks([])
+            if name == REFERENCE_COLUMN:
+                ax_img.imshow(metrics.tonemap(reference, white))
+                ax_img.set_title(f"reference\n{results.reference['settings']['samples']} spp", fontsize=8)
+                ax_err.axis("off")
+                continue
+            r = grid.cells.get((mis, name))
+            if r is None:
+                ax_img.axis("off")
+                ax_err.axis("off")
+                continue
+            ax_img.imshow(metrics.tonemap(grid.images[r["key"]], white))
+            spp = r.get("samples_done")
+            title = (CYCLES_NAME if name == CYCLES else f"{name}\nmis={mis}") + \
+                f"\n{fmt(spp) if spp else '?'} spp, RMSE {fmt(r['rmse'])}"
+            ax_img.set_title(title, fontsize=8)
+            ax_err.imshow(errors[r["key"]], cmap="inferno", vmin=0, vmax=vmax)
+            ax_err.set_title("|error| (RMS over RGB)", fontsize=7)
+    fig.suptitle(f"Equal time: {fmt(results.state.get('equal_time_budget'))} s per image (sample counts "
+                 f"predicted from the ladder's time per sample) "
+                 f"(pattern {results.settings.grid_pattern}); heat maps share one colour scale", fontsize=9)
+    _save(plt, fig, path)

@@ -1,0 +1,124 @@
+"""The stored results of a study as the report reads them (records grouped into curves, the equal-time images)
+and as it writes them out again (runs.csv, runs.json)."""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+from collections import defaultdict
+from dataclasses import dataclass
+from typing import Dict, List, Optional, Tuple
+
+import numpy as np
+
+from .. import metrics
+from ..jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, StudyConfig
+from ..reference import load_reference_info
+from ..store import ResultStore, atomic_write_bytes, atomic_write_json
+
+CurveKey = Tuple[str, str, str]  # (technique, mis, pattern); Cycles' is jobs.CYCLES_CURVE
+Curves = Dict[CurveKey, List[Dict]]
+
+CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "samples", "light_samples", "seed", "threads",
+               "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time", "build_time", "light_time",
+               "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite")
+
+
+@dataclass
+class StudyResults:
+    config: Dict            # config.json: scene, resolution, executor and the study's settings
+    state: Dict             # state.json: the current runs' fingerprint, the equal-time budget
+    store: ResultStore
+    reference: Dict         # reference.json: the reference image and its own error
+    settings: StudyConfig
+    ladder: List[Dict]      # run records; each has "time", the time it is judged by (metrics.time_of)
+    equal_time: List[Dict]
+    failures: List[Dict]
+
+    @property
+    def reference_rmse(self) -> float:
+        return self.reference["estimated_rmse"]
+
+
+def load_study(out_dir: str) -> StudyResults:
+    with open(os.path.join(out_dir, "config.json")) as f:
+        config = json.load(f)
+    with open(os.path.join(out_dir, "state.json")) as f:
+        state = json.load(f)
+    store = ResultStore(out_dir)
+    records = list(store.runs(state["run_fingerprint"]))
+    settings = StudyConfig.from_dict(config["study"])
+    for r in records:
+        r["time"] = metrics.time_of(r, settings.threads)
+    return StudyResults(config=config, state=state, store=store, reference=load_reference_info(store),
+                        settings=settings, ladder=[r for r in records if r["job"]["kind"] == LADDER],
+                        equal_time=[r for r in records if r["job"]["kind"] == EQUAL_TIME],
+                        failures=list(store.failures()))
+
+
+def curves(records: List[Dict]) -> Curves:
+    """(technique, mis, pattern) -> records sorted by samples (Cycles: CYCLES_CURVE)."""
+    out = defaultdict(list)
+    for r in records:
+        j = r["job"]
+        out[(j["technique"], j["mis"], j["pattern"])].append(r)
+    for k in out:
+        out[k].sort(key=lambda r: r["job"]["samples"])
+    return dict(out)
+
+
+def smallest_rmse(records: List[Dict]) -> float:
+    """The smallest finite RMSE among the runs (NaN without one): what the reference's error is judged against."""
+    rmse = [r["rmse"] for r in records if r.get("rmse") and math.isfinite(r["rmse"])]
+    return min(rmse) if rmse else float("nan")
+
+
+def write_runs(out_dir: str, results: StudyResults) -> None:
+    """runs.csv (one row per run, CSV_COLUMNS) and runs.json (the reference and every record)."""
+    records = results.ladder + results.equal_time
+    buffer = io.StringIO()
+    writer = csv.writer(buffer)
+    writer.writerow(CSV_COLUMNS)
+    for r in sorted(records, key=lambda r: r["key"]):
+        row = {**r["job"], **{k: v for k, v in r.items() if k != "job"}}
+        writer.writerow(["" if row.get(c) is None else row.get(c) for c in CSV_COLUMNS])
+    atomic_write_bytes(os.path.join(out_dir, "runs.csv"), buffer.getvalue().encode("utf-8"))
+    atomic_write_json(os.path.join(out_dir, "runs.json"), {"reference": results.reference, "runs": records})
+
+
+REFERENCE_COLUMN = "reference"
+
+
+@dataclass
+class EqualTimeGrid:
+    """The equal-time renders laid out as the report shows them: a row per MIS mode, a column per technique,
+    then Cycles (one render, whatever the row) and the reference."""
+    reference: np.ndarray
+    mis_rows: List[Optional[str]]           # [None] when no render of ours was measured
+    columns: List[str]                      # techniques, CYCLES, REFERENCE_COLUMN
+    cells: Dict[Tuple[Optional[str], str], Dict]  # (mis, column) -> the record shown there
+    images: Dict[str, np.ndarray]           # record key -> its image, for every equal-time render stored
+
+
+def equal_time_grid(results: StudyResults) -> EqualTimeGrid:
+    store, records, cfg = results.store, results.equal_time, results.settings
+    mis_rows = [m for m in cfg.grid_mis if any(r["job"]["mis"] == m and r["job"]["engine"] == SPHRECT
+                                               for r in records)] or [None]
+    cycles = [r for r in records if r["job"]["engine"] == CYCLES]
+    columns = list(cfg.techniques) + ([CYCLES] if cycles else []) + [REFERENCE_COLUMN]
+    images = {}
+    for r in records:
+        image = store.load_image(r["image"])
+        if image is not None:
+            images[r["key"]] = image
+    cells = {}
+    for mis in mis_rows:
+        for name in columns[:-1]:
+            # The first record of the cell is shown; Cycles' render is the same in every row.
+            match = cycles if name == CYCLES else [r for r in records
+                                                   if r["job"]["technique"] == name and r["job"]["mis"] == mis]
+            if match and match[0]["key"] in images:
+                cells[(mis, name)] = match[0]
+    return EqualTimeGrid(store.load_image(results.reference["image"]), mis_rows, columns, cells, images)

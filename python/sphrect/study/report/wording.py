@@ -1,0 +1,188 @@
+"""The findings in words: every number of the report is formatted here (fmt), once, from the dataclasses of
+findings.py and equal_error.py.  A number that is not finite prints as PLACEHOLDER."""
+from __future__ import annotations
+
+import math
+from typing import List, Optional
+
+import numpy as np
+
+from .. import metrics
+from ..jobs import CYCLES, CYCLES_CURVE, curve_label
+from .curves import BEYOND_LONGEST, EXTRAPOLATION_LIMIT, Reach
+from .equal_error import CyclesComparison, TargetTimes
+from .findings import (AREA, COSINE, RECTANGLE, TRIANGLES, UNSTRATIFIED, CosineComparison,
+                       OrderingRow, SlopeComparison, Slopes, TrianglesComparison)
+from .results import EqualTimeGrid
+
+PLACEHOLDER = "–"
+CYCLES_NAME = curve_label(*CYCLES_CURVE)
+COST_NOTE = (f"Times are samples per pixel x the configuration's cost per sample, the mean of time / samples over "
+             f"its {metrics.COST_RUNS} largest runs: single runs' times scatter by 10-20% on a shared machine.")
+
+
+def fmt(x, digits: int = 3) -> str:
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return PLACEHOLDER
+    if isinstance(x, (int, np.integer)):
+        return str(int(x))
+    return f"{x:.{digits}g}"
+
+
+def reach_how(reach: Reach) -> str:
+    if reach.how == BEYOND_LONGEST:
+        return f"beyond {EXTRAPOLATION_LIMIT}x the longest run ({fmt(reach.longest)} s)"
+    return reach.how
+
+
+# ------------------------------------------------------------------------------------------------
+# The paper's findings
+
+def ordering_lines(rows: Optional[List[OrderingRow]], comparisons: List[TrianglesComparison]) -> List[str]:
+    if rows is None:
+        return [f"The paper's ordering needs the {AREA}, {TRIANGLES} and {RECTANGLE} techniques."]
+    lines = []
+    total = sum(r.points for r in rows)
+    if total:
+        lines.append(f"At equal samples, RMSE({RECTANGLE}) < RMSE({TRIANGLES}) < RMSE({AREA}) holds at "
+                     f"{sum(r.order_holds for r in rows)} of {total} (MIS, pattern, sample count) points.")
+    worst = sum(r.area_worst for r in rows)
+    lines.append(f"- area is the worst of the three at the top of the ladder in {worst} of {len(rows)} "
+                 f"(MIS, pattern) cases: "
+                 + ("**reproduces** the paper." if worst == len(rows) else "**does NOT fully reproduce**."))
+    for c in comparisons:
+        start = (f"- rectangle vs triangles with {c.pattern} samples: rectangle is lower at {c.wins} of {c.points} "
+                 f"points, RMSE ratio triangles/rectangle at the top {fmt(c.low)} ... {fmt(c.high)}")
+        if c.pattern == UNSTRATIFIED:
+            lines.append(start + ". Both sample uniformly in solid angle (the same pdf), so with independent samples "
+                         "they are expected to tie; the paper's advantage is about stratification.")
+        else:
+            lines.append(start + f": the paper's finding **{c.verdict}** here.")
+    return lines
+
+
+def ordering_rows(rows: Optional[List[OrderingRow]]) -> List[List[str]]:
+    return [[r.mis, r.pattern, f"{r.order_holds}/{r.points}", f"{r.rectangle_wins}/{r.points}",
+             fmt(r.triangles_ratio), fmt(r.area_ratio)] for r in rows or []]
+
+
+def slope_rows(slopes: Slopes, techniques, mis_modes, patterns) -> List[List[str]]:
+    rows = [[t, m] + [fmt(slopes.table[(t, m, p)], 3) for p in patterns] for m in mis_modes for t in techniques]
+    if slopes.cycles is not None:
+        rows.append([CYCLES_NAME, CYCLES_CURVE[1]] + [fmt(slopes.cycles, 3) if i == 0 else ""
+                                                      for i in range(len(patterns))])
+    return rows
+
+
+SLOPE_VERDICTS = {
+    "faster": "converges faster than the two-triangle map (reproduces the paper)",
+    "slower": "converges SLOWER than the two-triangle map (does NOT reproduce the paper)",
+}
+
+
+def slope_line(c: SlopeComparison) -> str:
+    verdict = SLOPE_VERDICTS.get(c.verdict) or (
+        "converges at the same rate as the two-triangle map within the fits' precision "
+        f"(difference {fmt(c.difference, 2)}, threshold {fmt(c.threshold, 2)}): the paper's "
+        "stratification advantage is NOT visible in the slope")
+    return (f"- {c.pattern}, MIS {c.mis}: slope rectangle {fmt(c.slopes[RECTANGLE], 3)}, triangles "
+            f"{fmt(c.slopes[TRIANGLES], 3)}, area {fmt(c.slopes[AREA], 3)}; independent-pattern slope of "
+            f"rectangle {fmt(c.unstratified_rectangle, 3)} -> the area-preserving map {verdict}.")
+
+
+def cosine_line(c: CosineComparison) -> str:
+    return (f"- MIS {c.mis}, {c.pattern}, {c.samples} spp: RMSE({COSINE})/RMSE({RECTANGLE}) = {fmt(c.rmse_ratio)}, "
+            f"cost ratio {fmt(c.cost_ratio)} (per sample, top {metrics.COST_RUNS} runs), efficiency "
+            f"(1/(MSE x time)) ratio {fmt(c.efficiency)}, timing noise +-{fmt(100 * c.noise, 2)}% ({c.verdict}).")
+
+
+# ------------------------------------------------------------------------------------------------
+# Equal error
+
+def cycles_lines(c: Optional[CyclesComparison]) -> List[str]:
+    if c is None:
+        return ["Cycles was not part of this study (no Blender, no .blend, or --no-cycles)."]
+    reached = c.reached
+    if not c.measurable:
+        return [f"Cycles 3.4 comparison not measurable here: its error has stopped falling with samples. About "
+                f"{c.systematic_share:.0%} of its MSE at {c.top_samples} spp is a systematic difference from our "
+                f"reference (for example Cycles' multiscatter GGX against our single-scatter GGX on glossy "
+                f"materials), so the time our renderer needs to reach Cycles' error measures that difference, not "
+                f"light sampling (the table shows the ratios anyway: {fmt(reached[-1].ratio)}x at the top)."]
+    if reached:
+        low, high = (f([p.ratio for p in reached]) for f in (min, max))
+        goal = "meets" if c.meets_goal else "does NOT meet"
+        return [f"To reach the RMSE Cycles 3.4 reaches with {reached[-1].samples} spp, our best configuration needs "
+                f"**{fmt(c.top_ratio)}x** Cycles' time (goal: at most 1/3 -> this {goal} the goal). Over the "
+                f"whole ladder the ratio ranges {fmt(low)} ... {fmt(high)}."]
+    return ["No configuration of ours reached Cycles' errors within the measured ladder."]
+
+
+def cycles_rows(c: Optional[CyclesComparison]) -> List[List[str]]:
+    rows = []
+    for p in c.points if c else []:
+        start = [fmt(p.samples), fmt(p.rmse), fmt(p.time)]
+        if p.reach is None:
+            rows.append(start + [PLACEHOLDER] * 3)
+        else:
+            rows.append(start + [curve_label(*p.best), fmt(p.reach.time) + ("" if p.reach.how == "measured" else
+                                                                              f" ({p.reach.how})"), fmt(p.ratio)])
+    return rows
+
+
+def target_line(t: TargetTimes) -> str:
+    why = {"given": "given on the command line",
+           "cycles": f"the RMSE of {CYCLES_NAME} at {t.samples} spp",
+           "middle": f"the RMSE of {curve_label(*t.key)} in the middle of the ladder" if t.key else ""}[t.source]
+    return (f"Target RMSE {fmt(t.rmse)} ({why}). 'measured' = interpolated between measured points "
+            f"(log-log); 'extrapolated' = along the power law fitted to the curve's upper half. {COST_NOTE}")
+
+
+def target_rows(t: TargetTimes) -> List[List[str]]:
+    return [[curve_label(*key), fmt(r.time), reach_how(r), fmt(r.samples)] for key, r in t.reached]
+
+
+def equal_time_rows(grid: EqualTimeGrid) -> List[List[str]]:
+    """configuration, samples per pixel, time, RMSE, relMSE of every render the grid shows (Cycles once)."""
+    rows = []
+    for row_index, mis in enumerate(grid.mis_rows):
+        for name in grid.columns:
+            r = grid.cells.get((mis, name))  # none for the reference's column
+            if r is None or (name == CYCLES and row_index):
+                continue
+            label = CYCLES_NAME if name == CYCLES else f"{name} / mis={mis}"
+            rows.append([label, fmt(r.get("samples_done")), fmt(r.get("time")), fmt(r["rmse"]), fmt(r["relmse"])])
+    return rows
+
+
+# ------------------------------------------------------------------------------------------------
+# Summary
+
+def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[CosineComparison]],
+                  cycles: Optional[CyclesComparison], reference_rmse: float, smallest: float) -> List[str]:
+    """The headline numbers, from the findings the report shows below the summary (`ordering`: its lines)."""
+    lines = []
+    ratio = cycles.top_ratio if cycles else None
+    if ratio is not None:
+        lines.append(f"- Goal (our best configuration needs at most 1/3 of Cycles 3.4's time for Cycles' RMSE at the "
+                     f"top of the ladder, or the highest count whose error our runs reach): measured ratio "
+                     f"**{fmt(ratio)}** -> " + ("**met**." if cycles.meets_goal else "**not met**."))
+    else:
+        lines.append("- " + cycles_lines(cycles)[0])
+    lines += [l for l in ordering if l.startswith("- ")]
+    verdicts = [c.verdict for c in slopes.comparisons]
+    if verdicts:
+        lines.append(f"- Stratification (convergence slopes, stratified/low-discrepancy patterns): the area-preserving "
+                     f"map converges faster than the two-triangle map in {verdicts.count('faster')} of "
+                     f"{len(verdicts)} (pattern, MIS) cases, slower in {verdicts.count('slower')}, indistinguishable "
+                     f"in the rest.")
+    if cosine:
+        verdicts = [c.verdict for c in cosine]
+        lines.append(f"- rectangle_cosine is more efficient (1 / (MSE x time)) than rectangle in "
+                     f"{verdicts.count('better than rectangle')} of {len(cosine)} (MIS, pattern) cases at the top of "
+                     f"the ladder, less in {verdicts.count('worse than rectangle')}, indistinguishable within the "
+                     f"timing noise in the rest.")
+    if math.isfinite(smallest):
+        lines.append(f"- The reference's own RMSE is {fmt(100 * reference_rmse / smallest, 2)}% of the "
+                     f"smallest error measured.")
+    return lines

@@ -1,0 +1,134 @@
+"""The study's report (sphrect.study.report): its findings computed as numbers and worded once, on hand-made
+curves; and a whole report over runs with non-finite errors, which prints placeholders instead of crashing.
+The study machinery and its fake renderer are in test_study.py."""
+import math
+import os
+
+import pytest
+
+from sphrect.study import metrics
+from sphrect.study.jobs import CYCLES_CURVE, StudyConfig
+from sphrect.study.report import equal_error, findings, wording
+from sphrect.study.report.curves import BEYOND_LONGEST, Reach, curve_cost, systematic_share
+from sphrect.study.report.equal_error import SYSTEMATIC_SHARE_LIMIT, cycles_comparison
+from sphrect.study.report.findings import cosine_comparisons
+
+from test_study import scene_file, study  # noqa: F401  (scene_file is a fixture)
+
+PLACEHOLDER = wording.PLACEHOLDER
+
+
+def _curve(mse, samples=(1, 2, 4, 8, 16, 32, 64, 128, 256), seconds_per_sample=0.01):
+    return [{"job": {"samples": n}, "rmse": math.sqrt(mse(n)), "time": n * seconds_per_sample} for n in samples]
+
+
+def test_a_plateaued_cycles_error_is_not_reported_as_a_time_ratio():
+    assert systematic_share(_curve(lambda n: 1.0 / n)) == pytest.approx(0.0, abs=1e-9)
+    biased = _curve(lambda n: 0.01 + 1.0 / n)  # at 256 spp: 0.01 of 0.0139 is systematic
+    assert systematic_share(biased) == pytest.approx(0.01 / (0.01 + 1 / 256), rel=1e-9)
+    assert systematic_share(biased) > SYSTEMATIC_SHARE_LIMIT
+    ours = {("rectangle", "none", "sobol"): _curve(lambda n: 0.1 / n, seconds_per_sample=0.001)}
+
+    def compare(cycles_curve):  # (lines, rows, ratio at the top) as the report shows them
+        comparison = cycles_comparison({**ours, ("cycles", "power", "default"): cycles_curve}, 1e-6)
+        return wording.cycles_lines(comparison), wording.cycles_rows(comparison), comparison.top_ratio
+    lines, rows, ratio = compare(_curve(lambda n: 1.0 / n))
+    assert ratio == pytest.approx(0.01, rel=0.05) and "meets the goal" in lines[0]
+    # Times come from each curve's cost per sample over its 3 largest runs: one slow Cycles run (1.6x) moves
+    # the ratio by 1/1.2, not by 1/1.6.
+    slow_top = _curve(lambda n: 1.0 / n)
+    slow_top[-1]["time"] *= 1.6
+    lines, rows, ratio = compare(slow_top)
+    assert ratio == pytest.approx(0.01 / 1.2, rel=0.05)
+    lines, rows, ratio = compare(biased)
+    assert ratio is None and "not measurable" in lines[0] and "systematic" in lines[0]
+    assert len(rows) == 9  # the table is still there
+
+
+def test_cosine_finding_pools_costs_and_reports_ties():
+    """rectangle_cosine vs rectangle: the cost per sample is the mean over the top runs, and an efficiency ratio
+    inside two standard errors of the timing is a tie, not a win decided by one run's time."""
+    def with_costs(curve, costs):  # the top runs' seconds per sample
+        for r, c in zip(curve[-len(costs):], costs):
+            r["time"] = c * r["job"]["samples"]
+        return curve
+    steady = _curve(lambda n: 1.0 / n, seconds_per_sample=0.01)
+    noisy = with_costs(_curve(lambda n: 1.0 / n, seconds_per_sample=0.01), [0.008, 0.010, 0.012])
+    assert metrics.COST_RUNS == 3
+    assert curve_cost(steady) == pytest.approx((0.01, 0.0), abs=1e-12)
+    cost, rel_se = curve_cost(noisy)
+    assert cost == pytest.approx(0.01) and rel_se == pytest.approx(0.2 / math.sqrt(3))
+    cfg = StudyConfig(techniques=("rectangle", "rectangle_cosine"), mis=("none",), patterns=("sobol",))
+
+    def verdict(cosine_mse, cosine_cost, rectangle_curve):
+        curves = {("rectangle", "none", "sobol"): rectangle_curve,
+                  ("rectangle_cosine", "none", "sobol"): _curve(cosine_mse, seconds_per_sample=cosine_cost)}
+        (comparison,) = cosine_comparisons(cfg, curves)
+        line = wording.cosine_line(comparison)
+        assert line[line.rindex("(") + 1:-2] == comparison.verdict
+        return comparison.verdict
+    # Efficiency 1 / (MSE x cost): 0.87x the MSE at the same cost is 1.15x as efficient -- a win against steady
+    # timings, a tie against timings that scatter by +-20% (two standard errors of the mean: +-23%).
+    assert verdict(lambda n: 0.87 / n, 0.01, steady) == "better than rectangle"
+    assert verdict(lambda n: 0.87 / n, 0.01, noisy) == "within the timing noise"
+    assert verdict(lambda n: 1.0 / n, 0.012, steady) == "worse than rectangle"
+
+
+def test_non_finite_and_missing_numbers_print_a_placeholder():
+    """An infinite RMSE (a run with NaN pixels), a slope that cannot be fitted (too few points) and a study
+    without Cycles: every finding still computes, and what is no number prints as the placeholder."""
+    assert [wording.fmt(x) for x in (float("nan"), math.inf, -math.inf, None)] == [PLACEHOLDER] * 4
+    assert wording.fmt(3) == "3" and wording.fmt(0.123456) == "0.123"
+    cfg = StudyConfig(techniques=("area", "triangles", "rectangle", "rectangle_cosine"), mis=("none",),
+                      patterns=("independent", "sobol"))
+    curves = {}
+    for pattern in cfg.patterns:
+        curves[("rectangle", "none", pattern)] = _curve(lambda n: 0.01 / n)
+        curves[("triangles", "none", pattern)] = _curve(lambda n: 0.02 / n)
+        curves[("area", "none", pattern)] = [dict(r, rmse=math.inf) for r in _curve(lambda n: 0.1 / n)]
+        curves[("rectangle_cosine", "none", pattern)] = _curve(lambda n: 0.01 / n, samples=(4,))  # one point
+    rows = findings.ordering(cfg, curves)
+    assert [r.area_ratio for r in rows] == [math.inf] * 2 and all(r.area_worst for r in rows)
+    table = wording.ordering_rows(rows)
+    assert [r[-1] for r in table] == [PLACEHOLDER] * 2 and table[0][-2] == "1.41"
+    lines = wording.ordering_lines(rows, findings.triangles_comparisons(cfg, rows))
+    assert "in 2 of 2 (MIS, pattern) cases: **reproduces**" in lines[1]
+    # No finite ratio: the span is the placeholder, the verdict follows from the counts alone.
+    comparison = findings.TrianglesComparison("sobol", 1, 2, *findings.finite_span([math.nan, math.inf]))
+    assert "top – ... –" in wording.ordering_lines([], [comparison])[-1] and comparison.verdict == "does NOT reproduce"
+    slopes = findings.slopes(cfg, curves, reference_rmse=1e-9)
+    assert math.isnan(slopes.table[("rectangle_cosine", "none", "sobol")]) and slopes.cycles is None
+    slope_table = wording.slope_rows(slopes, cfg.techniques, cfg.mis, cfg.patterns)
+    assert slope_table[0] == ["area", "none", PLACEHOLDER, PLACEHOLDER]  # infinite errors: no fit
+    assert slope_table[3][2:] == [PLACEHOLDER, PLACEHOLDER] and len(slope_table) == 4  # no Cycles row
+    assert slopes.comparisons == []  # area's slope is no number: no stratification verdict
+    (cosine_independent, _) = cosine_comparisons(cfg, curves)
+    assert cosine_independent.samples == 4 and cosine_independent.verdict == "within the timing noise"
+    cycles = cycles_comparison(curves, 1e-9)
+    assert cycles is None and wording.cycles_rows(cycles) == []
+    summary = wording.summary_lines(lines, slopes, [], cycles, 1e-9, math.nan)
+    assert summary[0] == "- Cycles was not part of this study (no Blender, no .blend, or --no-cycles)."
+    target = equal_error.target_times(cfg, curves, 1e-9, smallest=math.nan)
+    assert target.source == "middle" and target.key == ("rectangle", "none", "sobol")
+    area_rows = [r for r in wording.target_rows(target) if r[0].startswith("area /")]
+    assert area_rows == [[f"area / mis=none / {p}", PLACEHOLDER, "unreachable", PLACEHOLDER] for p in cfg.patterns]
+    assert wording.target_rows(target)[-1][1] == PLACEHOLDER  # the unreachable last
+    beyond = Reach(math.nan, BEYOND_LONGEST, math.nan, 2.5)
+    assert wording.reach_how(beyond) == "beyond 100x the longest run (2.5 s)"
+    assert CYCLES_CURVE not in curves
+
+
+def test_report_of_runs_with_nan_pixels(scene_file, tmp_path, monkeypatch):  # noqa: F811
+    """Every area render has NaN pixels (infinite RMSE): the report is written, says so, and prints the
+    placeholder where a ratio to them would be."""
+    monkeypatch.setenv("STUDY_FAKE_NAN", "area")
+    out = tmp_path / "study"
+    study(scene_file, out)
+    report = (out / "report.md").read_text()
+    assert "runs produced NaN/Inf pixels" in report
+    ordering = [line for line in report.splitlines() if line.startswith(("| none |", "| balance |"))]
+    assert len(ordering) == 4 and all(line.endswith(f"| {PLACEHOLDER} |") for line in ordering)
+    assert f"| area | none | {PLACEHOLDER} | {PLACEHOLDER} |" in report
+    assert "| area / mis=none / sobol | – | unreachable | – |" in report
+    assert os.path.getsize(out / "plots" / "equal_time_grid.png") > 5000
+    assert (out / "report.html").read_text().count("<img") >= 5
