@@ -254,11 +254,8 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
 
 // Traces tile `tile`'s camera rays (in place) as the renderer does: one coherent stream.
 uint64_t TraceCameraTile(const RenderScene& s, const RawRays& in, size_t tile, RTCRayHit* camera) {
-    RTCIntersectContext coherent;
-    rtcInitIntersectContext(&coherent);
-    coherent.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
     const uint32_t c0 = in.tile_first[tile], c1 = in.tile_first[tile + 1];
-    rtcIntersect1M(s.rtc_scene, &coherent, camera + c0, c1 - c0, sizeof(RTCRayHit));
+    IntersectCameraRays(s.rtc_scene, camera + c0, c1 - c0);
     uint64_t hits = 0;
     for (uint32_t i = c0; i < c1; ++i) hits += camera[i].hit.geomID;
     return hits;
@@ -266,10 +263,7 @@ uint64_t TraceCameraTile(const RenderScene& s, const RawRays& in, size_t tile, R
 
 // Traces shadow rays[0..n) (in place) as the renderer does: one incoherent stream.
 uint64_t TraceShadowRays(const RenderScene& s, RTCRay* rays, size_t n) {
-    if (n == 0) return 0;
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    rtcOccluded1M(s.rtc_scene, &ctx, rays, unsigned(n), sizeof(RTCRay));
+    OccludeShadowRays(s.rtc_scene, rays, n, sizeof(RTCRay));
     uint64_t blocked = 0;
     for (size_t i = 0; i < n; ++i) blocked += rays[i].tfar < 0;
     return blocked;

@@ -51,16 +51,11 @@ inline void GenerateCameraSamples(const KernelParams& p, const TileChunk& chunk,
     }
 }
 
-// Traces the camera rays of hits[0..n) into rtc_hits[0..n) as one coherent stream: a chunk's
-// camera rays leave one point (a small lens; or are parallel) and cover one tile, so Embree's
-// packet traversal is ~40% faster on them than ray by ray.
+// Traces the camera rays of hits[0..n) into rtc_hits[0..n), as one stream (IntersectCameraRays).
 inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_t n, RTCRayHit* rtc_hits) {
     for (size_t i = 0; i < n; ++i)
         rtc_hits[i] = MakeRTCRayHit(hits[i].ray.o, hits[i].ray.d, hits[i].ray.tmin, hits[i].ray.tmax);
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    rtcIntersect1M(scene, &ctx, rtc_hits, unsigned(n), sizeof(RTCRayHit));
+    IntersectCameraRays(scene, rtc_hits, n);
 }
 
 // The camera ray's first hit, and what it sees directly (shared by all techniques).

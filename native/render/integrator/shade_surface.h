@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "emitters_along_ray.h"
+#include "emitters.h"
 #include "render/bsdf.h"
 #include "surface_hit.h"
 
@@ -27,19 +27,16 @@ struct SurfaceShadingPoint {
 template <Technique K, bool kGlossy, bool kMedium>
 inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
                                     Point2<float> u, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
-    if (light.index < 0) return;
-    const LightSample<float> ls = light_sampling.Sample(light.index, u);
-    if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return;
-    const Spectrum le = EmittedRadiance(c.scene.area_lights[light.index], -ls.dir);
-    const Vec3f wi = sp.frame.ToLocal(ls.dir);
-    if (IsBlack(le) || !(wi.z > 0) || !(Dot(ls.dir, sp.hit.ng) > 0)) return;
+    const EmitterSample e = SampleChosenEmitter<K>(c, light, u, light_sampling);
+    if (!e.valid) return;
+    const Vec3f wi = sp.frame.ToLocal(e.dir);
+    if (!(wi.z > 0) || !(Dot(e.dir, sp.hit.ng) > 0)) return;
     const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
     if (IsBlack(f)) return;
-    const float pdf_light = light.pmf * ls.pdf;
     const float w =
-        c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, pdf_light, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
-    sink.Add(sp.origin, ls.dir, ls.dist,
-             f * le * SegmentTransmittance<kMedium>(c.scene.medium, ls.dist) * (wi.z * w / pdf_light));
+        c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
+    sink.Add(sp.origin, e.dir, e.dist,
+             f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (wi.z * w / e.pdf));
 }
 
 // BSDF sampling: finds the area lights (MIS partner of the light sample) and the background,

@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "camera_stage.h"
-#include "emitters_along_ray.h"
+#include "emitters.h"
 #include "render/medium.h"
 
 namespace sphrect::render {
@@ -29,15 +29,11 @@ struct ScatteringPoint {
 template <Technique K>
 inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
                                    Point2<float> u, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
-    if (light.index < 0) return;
-    const LightSample<float> ls = light_sampling.Sample(light.index, u);
-    if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return;
-    const Spectrum le = EmittedRadiance(c.scene.area_lights[light.index], -ls.dir);
-    if (IsBlack(le)) return;
-    const float phase = HenyeyGreenstein(Dot(ls.dir, sp.ray_dir), c.scene.medium.g);
-    const float pdf_light = light.pmf * ls.pdf;
-    const float w = MisWeight(c.mis, pdf_light, phase);
-    sink.Add(sp.x, ls.dir, ls.dist, le * Transmittance(c.scene.medium, ls.dist) * (phase * w / pdf_light));
+    const EmitterSample e = SampleChosenEmitter<K>(c, light, u, light_sampling);
+    if (!e.valid) return;
+    const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
+    const float w = MisWeight(c.mis, e.pdf, phase);
+    sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf));
 }
 
 // Phase sampling (the weight phase / pdf is 1): finds the area lights and the background.

@@ -34,15 +34,11 @@ struct ShadowSink {
     }
 };
 
-// Traces the queued shadow rays and adds the unblocked contributions to their camera samples.
-// One incoherent stream call (rtcOccluded1M): renders 6-29% faster than with a call per ray, most
-// with several light samples.  (Flagged coherent, the same stream was 2x slower: the rays
-// start all over the chunk's tile.)
+// Traces the queued shadow rays (one stream, OccludeShadowRays) and adds the unblocked
+// contributions to their camera samples.
 inline void ResolveShadowRays(RTCScene scene, std::vector<DeferredShadowRay>& queue, Spectrum* sample_values) {
     if (queue.empty()) return;
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);  // RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT
-    rtcOccluded1M(scene, &ctx, &queue[0].ray, unsigned(queue.size()), sizeof(DeferredShadowRay));
+    OccludeShadowRays(scene, &queue[0].ray, queue.size(), sizeof(DeferredShadowRay));
     for (const DeferredShadowRay& q : queue)
         if (q.ray.tfar >= 0) sample_values[q.sample] += q.contribution;
 }

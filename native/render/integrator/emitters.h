@@ -1,5 +1,5 @@
-// What a BSDF or phase sample's ray brings: the emitters it reaches, each queued with the
-// occlusion ray up to it.
+// What the two strategies bring from the emitters: a light sample on the chosen area light,
+// and the emitters a BSDF or phase sample's ray reaches, each queued with its occlusion ray.
 #pragma once
 
 #include <cmath>
@@ -9,6 +9,28 @@
 #include "timed_light_sampling.h"
 
 namespace sphrect::render {
+
+// A light sample on the chosen area light, with the radiance it sends back and its solid-angle
+// pdf including the light's choice (pmf * pdf).  Not valid without a light, for an invalid
+// sample, or where the light sends nothing (its back).
+struct EmitterSample {
+    bool valid = false;
+    Vec3f dir;        // unit, towards the light
+    float dist = 0;
+    Spectrum le;
+    float pdf = 0;
+};
+
+template <Technique K>
+inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight light, Point2<float> u,
+                                         TimedLightSamplingAt<K>& light_sampling) {
+    if (light.index < 0) return {};
+    const LightSample<float> ls = light_sampling.Sample(light.index, u);
+    if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return {};
+    const Spectrum le = EmittedRadiance(c.scene.area_lights[light.index], -ls.dir);
+    if (IsBlack(le)) return {};
+    return {true, ls.dir, ls.dist, le, light.pmf * ls.pdf};
+}
 
 // For the ray (o, d): the background where the ray escapes, and with MIS every area light it
 // crosses, weighted against light sampling (Le T w).  A light counts when no surface lies
