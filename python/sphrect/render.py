@@ -26,7 +26,8 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .scene import Camera, EllipseLight, PointLight, RectLight, Scene, SpotLight, SunLight
+from .scene import (CAMERA_TYPES, MATERIAL_KINDS, SENSOR_FITS, Camera, EllipseLight, PointLight, RectLight, Scene,
+                    SpotLight, SunLight)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -44,6 +45,12 @@ def _rgb(value, what: str):
     if len(c) != 3:
         raise ValueError(f"{what} must be three numbers, got {value!r}")
     return c
+
+
+def _one_of(names: Sequence[str], quote: bool = True) -> str:
+    """'a', 'b' or 'c': the allowed values, for error messages."""
+    shown = [repr(n) if quote else n for n in names]
+    return " or ".join([", ".join(shown[:-1]), shown[-1]] if len(shown) > 1 else shown)
 
 
 def _int_argument(name: str, value, lo: int, hi: int = 2 ** 31 - 1) -> int:
@@ -71,10 +78,10 @@ def _set_camera(native, cam: Camera) -> None:
         v = getattr(cam, name)
         if not isinstance(v, numbers.Integral) or not 1 <= int(v) <= _MAX_SIDE:
             raise ValueError(f"camera {name} must be an integer in 1..{_MAX_SIDE}, got {v!r}")
-    if cam.type not in ("perspective", "orthographic"):
-        raise ValueError(f"camera type must be 'perspective' or 'orthographic', got {cam.type!r}")
-    if cam.sensor_fit not in ("AUTO", "HORIZONTAL", "VERTICAL"):
-        raise ValueError(f"camera sensor_fit must be AUTO, HORIZONTAL or VERTICAL, got {cam.sensor_fit!r}")
+    if cam.type not in CAMERA_TYPES:
+        raise ValueError(f"camera type must be {_one_of(CAMERA_TYPES)}, got {cam.type!r}")
+    if cam.sensor_fit not in SENSOR_FITS:
+        raise ValueError(f"camera sensor_fit must be {_one_of(SENSOR_FITS, quote=False)}, got {cam.sensor_fit!r}")
     if cam.type == "perspective" and not cam.lens > 0:
         raise ValueError("camera lens (focal length) must be positive")
     m = np.asarray(cam.to_world, dtype=np.float64)
@@ -104,7 +111,7 @@ def build_native_scene(scene: Scene):
             native.add_glossy_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"),
                                        float(mat.roughness), float(mat.metallic), float(mat.specular))
         else:
-            raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected 'diffuse' or 'glossy')")
+            raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {_one_of(MATERIAL_KINDS)})")
     n_materials = max(1, len(scene.materials))
     for mesh in scene.meshes:
         v = np.asarray(mesh.vertices)

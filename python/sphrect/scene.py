@@ -36,6 +36,11 @@ FORMAT_VERSION = 1
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
 
+# The values the format's name fields take.
+MATERIAL_KINDS = ("diffuse", "glossy")
+CAMERA_TYPES = ("perspective", "orthographic")
+SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
+
 
 # Blender's light power -> radiometric units, with Cycles 3.4's conventions (power P in Blender's watts,
 # colour c; the Cycles parity tests in tests/blender check them): an area light of area A has the radiance
@@ -61,7 +66,7 @@ def _rgb_tuple(v) -> RGB:
 class Material:
     """Diffuse (Lambert) or glossy (the common part of Principled BSDF: GGX)."""
     name: str = "default"
-    kind: str = "diffuse"            # "diffuse" | "glossy"
+    kind: str = "diffuse"            # one of MATERIAL_KINDS
     base_color: RGB = (0.8, 0.8, 0.8)
     roughness: float = 0.5           # Blender's roughness; GGX alpha = roughness**2
     metallic: float = 0.0
@@ -160,11 +165,11 @@ class Camera:
     width: int = 64
     height: int = 64
     to_world: List[List[float]] = field(default_factory=lambda: np.eye(4).tolist())
-    type: str = "perspective"        # "perspective" | "orthographic"
+    type: str = "perspective"        # one of CAMERA_TYPES
     lens: float = 50.0               # mm
     sensor_width: float = 36.0       # mm
     sensor_height: float = 24.0      # mm
-    sensor_fit: str = "AUTO"         # "AUTO" | "HORIZONTAL" | "VERTICAL"
+    sensor_fit: str = "AUTO"         # one of SENSOR_FITS
     shift_x: float = 0.0
     shift_y: float = 0.0
     ortho_scale: float = 7.0

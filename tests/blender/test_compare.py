@@ -6,9 +6,10 @@ import struct
 import bpy
 import numpy as np
 
+import sphrect
 from conftest import addon_module, engine_module, open_blend
 
-TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
+TECHNIQUES = list(sphrect.techniques)
 
 
 def png_size(path):
