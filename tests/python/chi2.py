@@ -1,4 +1,6 @@
-"""Chi-square goodness-of-fit test of a light-sampling technique against its own pdf.
+"""Chi-square goodness-of-fit test of a light-sampling technique against its own pdf: the project's
+one chi-square harness (the C++ tests have none; it checks the core through the bindings, i.e.
+LightSampler<K, T> as the renderer calls it, in both precisions).
 
 In the manner of Mitsuba 3's ``chi2`` warp tests: draw ``sample_count`` independent samples with
 ``sphrect.sample``, histogram the points over a grid of cells on the light, compute each cell's
@@ -19,7 +21,7 @@ suite-wide ``significance`` spread over ``test_count`` tests: 1 - (1 - alpha)^te
 from __future__ import annotations
 
 import dataclasses
-from typing import Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 from scipy import special, stats
@@ -116,14 +118,15 @@ def grid_edges(config: LightConfig, resolution: int, axis: int) -> np.ndarray:
 
 def cell_probabilities(technique: str, config: LightConfig, s_edges: np.ndarray, t_edges: np.ndarray,
                        dtype: str, nodes: int = 6, rtol: float = 1e-5, atol: float = 1e-10,
-                       max_depth: int = 12) -> np.ndarray:
+                       max_depth: int = 12, pdf_factor: Optional[Callable] = None) -> np.ndarray:
     """Integral of the technique's solid-angle pdf over each cell, [len(s_edges)-1, len(t_edges)-1].
 
     With P(s, t) = corner + s ex + t ey, the solid angle element is
     d omega = h |ex x ey| / |P - origin|^3 ds dt, h the origin's distance to the light's plane;
     near a shading point close to the light that factor is sharply peaked, so each cell is
     integrated adaptively: Gauss-Legendre (nodes x nodes) on the cell against the sum over its
-    four quarters, splitting the cells where they disagree by more than rtol (or atol)."""
+    four quarters, splitting the cells where they disagree by more than rtol (or atol).
+    `pdf_factor(points)`, when given, multiplies the pdf (how the tests make a wrong one)."""
     origin, corner, ex, ey = config.light_args()
     n = np.cross(ex, ey)
     area = np.linalg.norm(n)
@@ -141,6 +144,8 @@ def cell_probabilities(technique: str, config: LightConfig, s_edges: np.ndarray,
         d = np.linalg.norm(P - origin, axis=1)
         pdf = sphrect.pdf(technique, config.origin, config.corner, config.edge_x, config.edge_y, P,
                           normal=config.normal, dtype=dtype, two_sided=config.two_sided).astype(np.float64)
+        if pdf_factor is not None:
+            pdf = pdf * pdf_factor(P)
         f = (pdf * h * area / d ** 3).reshape(len(cells), nodes * nodes)
         return (f * wx).sum(axis=1) * ds * dt
 
@@ -180,12 +185,15 @@ def light_coordinates(points: np.ndarray, config: LightConfig):
 
 def chi2_test(technique: str, config: LightConfig, dtype: str = "float32", sample_count: int = 500_000,
               resolution: int = 24, seed: int = 1, significance: float = 1e-3, test_count: int = 1,
-              tolerance: float = 1e-4, against: Optional[str] = None) -> Chi2Result:
-    """Samples of `technique` against the pdf of `against` (default: its own; another technique's
-    pdf is how the tests check that this test can fail)."""
+              tolerance: float = 1e-4, against: Optional[str] = None,
+              pdf_factor: Optional[Callable] = None) -> Chi2Result:
+    """Samples of `technique` against the pdf of `against` (default: its own), times
+    `pdf_factor(points)` when given (another technique's pdf, or a factor, is how the tests check
+    that this test can fail)."""
     s_edges = grid_edges(config, resolution, 0)
     t_edges = grid_edges(config, resolution, 1)
-    probability = cell_probabilities(against or technique, config, s_edges, t_edges, dtype)
+    probability = cell_probabilities(against or technique, config, s_edges, t_edges, dtype,
+                                     pdf_factor=pdf_factor)
 
     uv = sphrect.pattern("independent", sample_count, seed=seed)
     points, pdf = sphrect.sample(technique, config.origin, config.corner, config.edge_x, config.edge_y, uv,

@@ -1,6 +1,7 @@
 """The sampling core through the Python bindings: every technique against its own pdf
-(chi-square), consistency of sample/pdf/invert, hard configurations, and the API's contract
-(shapes, dtypes, ValueError messages)."""
+(chi-square; chi2.py is the project's one chi-square harness, the C++ tests have none),
+consistency of sample/pdf/invert, hard configurations, and the API's contract (shapes, dtypes,
+ValueError messages)."""
 import math
 
 import numpy as np
@@ -41,7 +42,34 @@ HARD = [
     LightConfig("grazing-1e-5", origin=(2.0, 0.5, 1e-5), normal=_unit((-1.0, 0.0, 0.0)), **SQUARE),
     LightConfig("beside-far", origin=(1e3, 0.5, 1.0), normal=_unit((-1.0, 0.0, 0.0)), **SQUARE),
 ]
+# The configurations of the former C++ chi-square suite (tests/native), a centred unit square
+# and lights wide, thin or rotated: ordinary ones, then grazing, nearly in the plane, far,
+# thin, above an edge or a corner, the area fallback (beside at h = 1e-6, far diagonal) and
+# `triangles` with one spherical and one planar triangle.
+CENTRED = dict(corner=(-0.5, -0.5, 0.0), edge_x=(1.0, 0.0, 0.0), edge_y=(0.0, 1.0, 0.0))
+WIDE = dict(corner=(-2.0, -0.25, 0.5), edge_x=(4.0, 0.0, 0.0), edge_y=(0.0, 0.5, 0.0))
+THIN = dict(corner=(-0.5, -5e-4, 0.0), edge_x=(1.0, 0.0, 0.0), edge_y=(0.0, 1e-3, 0.0))
+_S2 = math.sqrt(0.5)
+ROTATED = dict(corner=(0.1, -0.3, 0.2), edge_x=(0.8 * _S2, 0.8 * _S2, 0.0), edge_y=(0.0, 0.0, 1.2))
+CORE = [
+    LightConfig("core-above", origin=(0.2, 0.1, 1.0), normal=(0, 0.3, -1), **CENTRED),
+    LightConfig("core-oblique", origin=(1.5, -0.7, 0.4), normal=(-1, 0.4, -0.2), **CENTRED),
+    LightConfig("core-close", origin=(0.1, -0.2, 0.05), normal=(0.2, 0, -1), **CENTRED),
+    LightConfig("core-wide", origin=(0.5, 0.3, 1.5), normal=(0, 0, -1), **WIDE),
+    LightConfig("core-rotated", origin=(-1.0, 1.0, 0.5), normal=(1, -1, 0.1), **ROTATED),
+    LightConfig("core-below-two-sided", origin=(-0.2, 0.3, -0.6), normal=(0, 0, 1), **CENTRED),
+    LightConfig("core-grazing-beside-h1e-3", origin=(2.0, 0.1, 1e-3), normal=(-1, 0, 0), **CENTRED),
+    LightConfig("core-interior-h1e-2", origin=(0.1, 0.2, 1e-2), normal=(0.3, 0, -1), **CENTRED),
+    LightConfig("core-above-edge-h1e-3", origin=(0.5, 0.1, 1e-3), normal=(-0.5, 0, -1), **CENTRED),
+    LightConfig("core-above-corner-h1e-2", origin=(-0.5, 0.5, 1e-2), normal=(1, -1, -0.5), **CENTRED),
+    LightConfig("core-far-d1e3", origin=(0.3, 0.1, 1e3), normal=(0, 0, -1), **CENTRED),
+    LightConfig("core-thin-aspect1e3", origin=(0.2, 0.3, 0.2), normal=(0, -0.5, -1), **THIN),
+    LightConfig("core-fallback-beside-h1e-6", origin=(2.0, 0.1, 1e-6), normal=(-1, 0, 0), **CENTRED),
+    LightConfig("core-fallback-diagonal-far", origin=(3e3, 3e3, 2.0), normal=(-1, -1, 0), **CENTRED),
+    LightConfig("core-triangles-mixed-h2.5e-7", origin=(0.8, -0.8, 2.5e-7), normal=(-1, 1, 0), **CENTRED),
+]
 CONFIGS = ORDINARY + HARD
+CHI2_CONFIGS = CONFIGS + CORE
 
 
 def _call_args(c):
@@ -49,16 +77,16 @@ def _call_args(c):
 
 
 # ---------------------------------------------------------------------------------------------
-# Every technique against its own pdf.
+# Every technique against its own pdf: the one chi-square harness (chi2.py) of the project.
 #
-# False failures: 4 techniques x 12 configurations x 2 dtypes = 96 chi-square tests at a
+# False failures: 4 techniques x 27 configurations x 2 dtypes = 216 chi-square tests at a
 # Sidak-corrected level each, so that a correct implementation fails one of them with
 # probability 1e-3 overall (the seeds are fixed: a pass or a failure is reproducible).
-CHI2_TESTS = len(TECHNIQUES) * len(CONFIGS) * len(DTYPES)
+CHI2_TESTS = len(TECHNIQUES) * len(CHI2_CONFIGS) * len(DTYPES)
 
 
 @pytest.mark.parametrize("dtype", DTYPES)
-@pytest.mark.parametrize("config", CONFIGS, ids=str)
+@pytest.mark.parametrize("config", CHI2_CONFIGS, ids=str)
 @pytest.mark.parametrize("technique", TECHNIQUES)
 def test_chi2_technique_matches_its_pdf(technique, config, dtype):
     r = chi2_test(technique, config, dtype=dtype, sample_count=1_000_000, significance=1e-3, test_count=CHI2_TESTS)
@@ -74,6 +102,15 @@ def test_chi2_detects_a_wrong_pdf(technique, against):
     """The framework can fail: samples judged against another technique's pdf, a gross mismatch
     (area vs solid angle) and a mild one (the cosine warp of a normal facing the light)."""
     r = chi2_test(technique, ORDINARY[0], sample_count=100_000, against=against)
+    assert not r.passed, str(r)
+
+
+def test_chi2_detects_a_pdf_off_by_three_percent():
+    """The framework can fail on a small error: `rectangle` samples against its own pdf made 3%
+    too large on one half of the light and 3% too small on the other, at the level of the suite."""
+    config = CORE[0]
+    r = chi2_test("rectangle", config, sample_count=1_000_000, significance=1e-3, test_count=CHI2_TESTS,
+                  pdf_factor=lambda points: np.where(points[:, 0] > 0, 1.03, 0.97))
     assert not r.passed, str(r)
 
 
