@@ -95,10 +95,11 @@ def test_non_finite_and_missing_numbers_print_a_placeholder():
     assert "in 2 of 2 (MIS, pattern) cases: **reproduces**" in lines[1]
     # No finite ratio: the span is the placeholder, the verdict follows from the counts alone.
     comparison = findings.TrianglesComparison("sobol", 1, 2, *findings.finite_span([math.nan, math.inf]))
-    assert "top – ... –" in wording.ordering_lines([], [comparison])[-1] and comparison.verdict == "does NOT reproduce"
+    assert "top – ... –" in wording.ordering_lines([], [comparison])[-1]
+    assert comparison.verdict == "does NOT reproduce"
     slopes = findings.slopes(cfg, curves, reference_rmse=1e-9)
     assert math.isnan(slopes.table[("rectangle_cosine", "none", "sobol")]) and slopes.cycles is None
-    slope_table = wording.slope_rows(slopes, cfg.techniques, cfg.mis, cfg.patterns)
+    slope_table = wording.slope_rows(slopes, cfg)
     assert slope_table[0] == ["area", "none", PLACEHOLDER, PLACEHOLDER]  # infinite errors: no fit
     assert slope_table[3][2:] == [PLACEHOLDER, PLACEHOLDER] and len(slope_table) == 4  # no Cycles row
     assert slopes.comparisons == []  # area's slope is no number: no stratification verdict

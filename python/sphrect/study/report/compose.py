@@ -1,11 +1,13 @@
-"""write_report: the study's report as a row of sections, each reading the results, computing its finding
-(findings.py, equal_error.py), drawing its figure (plots.py) and wording it (wording.py) into one Document."""
+"""write_report: the study's report as a row of sections into one Document.  The findings are computed first,
+once (measure: findings.py, equal_error.py); each section then draws its figure (plots.py) and words its
+numbers (wording.py)."""
 from __future__ import annotations
 
 import os
 from dataclasses import dataclass
 from typing import List, Optional
 
+from ..jobs import StudyConfig
 from ..store import atomic_write_bytes
 from . import equal_error, findings, plots, wording
 from .curves import REFERENCE_NOISE_FACTOR
@@ -20,17 +22,32 @@ REFERENCE_SHARE_OK = 0.3
 
 @dataclass
 class Report:
+    """What the sections share: the results, their curves and the findings (computed once, in measure)."""
     out_dir: str
     results: StudyResults
     curves: Curves
-    smallest: float     # the smallest finite RMSE of the ladder
+    smallest: float                                     # the smallest finite RMSE of the ladder
+    ordering: Optional[List[findings.OrderingRow]]
+    ordering_lines: List[str]                           # shown in the summary and in finding 1
+    slopes: findings.Slopes
+    cosine: Optional[List[findings.CosineComparison]]
+    cycles: Optional[equal_error.CyclesComparison]
     doc: Document
 
     def plot(self, name: str) -> str:
         return os.path.join(self.out_dir, PLOTS, name)
 
 
-def headline_pattern(cfg) -> str:
+def measure(out_dir: str, results: StudyResults) -> Report:
+    cfg, ref_rmse, all_curves = results.settings, results.reference_rmse, curves(results.ladder)
+    ordering = findings.ordering(cfg, all_curves)
+    return Report(out_dir, results, all_curves, smallest_rmse(results.ladder), ordering,
+                  wording.ordering_lines(ordering, findings.triangles_comparisons(cfg, ordering or [])),
+                  findings.slopes(cfg, all_curves, ref_rmse), findings.cosine_comparisons(cfg, all_curves),
+                  equal_error.cycles_comparison(all_curves, ref_rmse), Document())
+
+
+def headline_pattern(cfg: StudyConfig) -> str:
     """The pattern of the summary's figure: the equal-time grid's if studied, else the first stratifying one."""
     if cfg.grid_pattern in cfg.patterns:
         return cfg.grid_pattern
@@ -90,32 +107,39 @@ def convergence_section(report: Report) -> None:
                                          f"pattern {pattern}")
 
 
-def findings_section(report: Report, ordering: List[str], slopes: findings.Slopes,
-                     ordering_rows: List[List[str]], cosine, cycles) -> None:
+def summary_section(report: Report) -> None:
+    report.doc.heading("Summary")
+    for line in wording.summary_lines(report.ordering_lines, report.slopes, report.cosine, report.cycles,
+                                      report.results.reference_rmse, report.smallest):
+        report.doc.para(line)
+    pattern = headline_pattern(report.results.settings)
+    report.doc.image(f"{PLOTS}/rmse_vs_time_{pattern}.png", f"RMSE vs time, pattern {pattern} (more below)")
+
+
+def findings_section(report: Report) -> None:
     doc, cfg = report.doc, report.results.settings
     doc.heading("The paper's findings, measured")
     doc.para("**1. Equal samples: rectangle < triangles < area.**")
-    for line in ordering:
+    for line in report.ordering_lines:
         doc.para(line)
     doc.table(["MIS", "pattern", "order holds at", "rectangle < triangles at", "RMSE triangles/rectangle (top N)",
-               "RMSE area/rectangle (top N)"], ordering_rows)
+               "RMSE area/rectangle (top N)"], wording.ordering_rows(report.ordering))
     doc.para("**2. Stratification: fitted convergence slopes (RMSE vs samples).**")
-    plots.plot_slopes(report.results, slopes, report.plot("slopes.png"))
+    plots.plot_slopes(report.results, report.slopes, report.plot("slopes.png"))
     doc.image(f"{PLOTS}/slopes.png", "fitted slopes per technique and pattern")
-    doc.table(["technique", "MIS"] + list(cfg.patterns), wording.slope_rows(slopes, cfg.techniques, cfg.mis,
-                                                                            cfg.patterns))
-    for c in slopes.comparisons:
+    doc.table(["technique", "MIS"] + list(cfg.patterns), wording.slope_rows(report.slopes, cfg))
+    for c in report.slopes.comparisons:
         doc.para(wording.slope_line(c))
     doc.para("**3. Where rectangle_cosine stands** (against rectangle, same MIS and pattern, top of the ladder).")
-    for line in [wording.cosine_line(c) for c in cosine or []] or \
+    for line in [wording.cosine_line(c) for c in report.cosine or []] or \
             ["rectangle_cosine or rectangle was not part of the study."]:
         doc.para(line)
     doc.para("**4. Cycles 3.4 at equal error: time our best configuration needs to reach Cycles' RMSE.**")
-    for line in wording.cycles_lines(cycles):
+    for line in wording.cycles_lines(report.cycles):
         doc.para(line)
     doc.para(COST_NOTE)
     doc.table(["Cycles spp", "Cycles RMSE", "Cycles time [s]", "our best configuration", "its time [s]",
-               "time ratio (ours/Cycles)"], wording.cycles_rows(cycles))
+               "time ratio (ours/Cycles)"], wording.cycles_rows(report.cycles))
 
 
 def target_section(report: Report, target_rmse: Optional[float]) -> None:
@@ -168,24 +192,12 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
     results = load_study(out_dir)
     os.makedirs(os.path.join(out_dir, PLOTS), exist_ok=True)
     write_runs(out_dir, results)
-    report = Report(out_dir, results, curves(results.ladder), smallest_rmse(results.ladder), Document())
-    cfg, ref_rmse = results.settings, results.reference_rmse
-
-    ordering = findings.ordering(cfg, report.curves)
-    ordering_lines = wording.ordering_lines(ordering, findings.triangles_comparisons(cfg, ordering or []))
-    slopes = findings.slopes(cfg, report.curves, ref_rmse)
-    cosine = findings.cosine_comparisons(cfg, report.curves)
-    cycles = equal_error.cycles_comparison(report.curves, ref_rmse)
-
+    report = measure(out_dir, results)
     scene_section(report)
-    report.doc.heading("Summary")
-    for line in wording.summary_lines(ordering_lines, slopes, cosine, cycles, ref_rmse, report.smallest):
-        report.doc.para(line)
-    pattern = headline_pattern(cfg)
-    report.doc.image(f"{PLOTS}/rmse_vs_time_{pattern}.png", f"RMSE vs time, pattern {pattern} (more below)")
+    summary_section(report)
     reference_section(report)
     convergence_section(report)
-    findings_section(report, ordering_lines, slopes, wording.ordering_rows(ordering), cosine, cycles)
+    findings_section(report)
     target_section(report, target_rmse)
     equal_time_section(report)
     sampler_section(report, sampler_table)

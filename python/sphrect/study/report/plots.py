@@ -57,8 +57,8 @@ def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x:
                       color=technique_colour(technique), ms=3,
                       label=f"{technique} (slope {fmt(fitted_slope(curve, x, ref_rmse), 2)})")
         if cycles:
-            ax.loglog([curve_x(r, x) for r in cycles], [r["rmse"] for r in cycles], "s--", color=technique_colour(CYCLES),
-                      ms=3, label=f"{CYCLES_NAME} (slope {fmt(fitted_slope(cycles, x, ref_rmse), 2)})")
+            ax.loglog([curve_x(r, x) for r in cycles], [r["rmse"] for r in cycles], "s--",
+                      color=technique_colour(CYCLES), ms=3, label=f"{CYCLES_NAME} (slope {fmt(fitted_slope(cycles, x, ref_rmse), 2)})")
         ax.axhline(ref_rmse, color="grey", ls=":", lw=1, label="reference's own RMSE")
         ax.set_title(f"MIS: {mis}, pattern: {pattern}")
         ax.set_xlabel("samples per pixel" if x == "samples" else time_label(cfg.threads))

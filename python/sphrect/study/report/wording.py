@@ -66,11 +66,12 @@ def ordering_rows(rows: Optional[List[OrderingRow]]) -> List[List[str]]:
              fmt(r.triangles_ratio), fmt(r.area_ratio)] for r in rows or []]
 
 
-def slope_rows(slopes: Slopes, techniques, mis_modes, patterns) -> List[List[str]]:
-    rows = [[t, m] + [fmt(slopes.table[(t, m, p)], 3) for p in patterns] for m in mis_modes for t in techniques]
+def slope_rows(slopes: Slopes, cfg) -> List[List[str]]:
+    """A row per (MIS, technique) of the study's StudyConfig `cfg`, a column per pattern; Cycles' last."""
+    rows = [[t, m] + [fmt(slopes.table[(t, m, p)], 3) for p in cfg.patterns] for m in cfg.mis for t in cfg.techniques]
     if slopes.cycles is not None:
         rows.append([CYCLES_NAME, CYCLES_CURVE[1]] + [fmt(slopes.cycles, 3) if i == 0 else ""
-                                                      for i in range(len(patterns))])
+                                                      for i in range(len(cfg.patterns))])
     return rows
 
 
