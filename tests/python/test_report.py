@@ -133,3 +133,13 @@ def test_report_of_runs_with_nan_pixels(scene_file, tmp_path, monkeypatch):  # n
     assert "| area / mis=none / sobol | – | unreachable | – |" in report
     assert os.path.getsize(out / "plots" / "equal_time_grid.png") > 5000
     assert (out / "report.html").read_text().count("<img") >= 5
+
+
+def test_the_names_the_findings_are_about_are_the_renderers():
+    """The findings name the paper's techniques and the unstratified pattern; every other name comes from the
+    study's configuration, which takes them from sphrect.render."""
+    from sphrect.render import PATTERNS, TECHNIQUES
+    from sphrect.study.report.plots import technique_colour
+    assert set(findings.PAPER_ORDER) | {findings.COSINE} <= set(TECHNIQUES)
+    assert findings.UNSTRATIFIED in PATTERNS
+    assert len({technique_colour(t) for t in TECHNIQUES + ("cycles",)}) == len(TECHNIQUES) + 1
