@@ -3,8 +3,6 @@
 // `rectangle` falls back to where its own cannot resolve (u, v).
 #pragma once
 
-#include <cmath>
-
 #include "local_rect.h"
 
 namespace sphrect {

@@ -31,7 +31,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <string>
 #include <utility>
 
 #include "enum_names.h"
@@ -54,11 +53,6 @@ inline const char* PatternName(Pattern p) {
         case Pattern::Sobol: return "sobol";
     }
     return "?";
-}
-
-// False when `name` is not a pattern.
-inline bool ParsePattern(const std::string& name, Pattern* out) {
-    return ParseEnumName(name, kAllPatterns, PatternName, out);
 }
 
 namespace pattern_detail {

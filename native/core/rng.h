@@ -30,8 +30,6 @@ inline constexpr float kOneMinusEpsilonF = 0x1.fffffep-1f;
 
 // uint32 -> float in [0,1): the top 24 bits, exactly representable, so never 1.
 inline constexpr float BitsToUnitFloat(uint32_t bits) { return float(bits >> 8) * 0x1p-24f; }
-// uint64 -> double in [0,1): the top 53 bits.
-inline constexpr double BitsToUnitDouble(uint64_t bits) { return double(bits >> 11) * 0x1p-53; }
 
 class PCG32 {
   public:
@@ -68,10 +66,6 @@ class PCG32 {
     }
 
     float NextFloat() { return BitsToUnitFloat(NextU32()); }  // [0,1)
-    double NextDouble() {                                      // [0,1)
-        const uint64_t hi = NextU32();
-        return BitsToUnitDouble((hi << 32) | NextU32());
-    }
 
   private:
     static constexpr uint64_t kMultiplier = 0x5851f42d4c957f2dull;

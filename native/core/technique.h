@@ -10,7 +10,6 @@
 #pragma once
 
 #include <array>
-#include <string>
 #include <type_traits>
 
 #include "area.h"
@@ -34,11 +33,6 @@ inline const char* TechniqueName(Technique t) {
         case Technique::RectangleCosine: return "rectangle_cosine";
     }
     return "?";
-}
-
-// False when `name` is not a technique.
-inline bool ParseTechnique(const std::string& name, Technique* out) {
-    return ParseEnumName(name, kAllTechniques, TechniqueName, out);
 }
 
 template <Technique K, class T>

@@ -36,7 +36,6 @@ template <class T> constexpr T Dot(const Vec3<T>& a, const Vec3<T>& b) { return 
 template <class T> constexpr Vec3<T> Cross(const Vec3<T>& a, const Vec3<T>& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-template <class T> inline T LengthSquared(const Vec3<T>& v) { return Dot(v, v); }
 template <class T> inline T Length(const Vec3<T>& v) { return std::sqrt(Dot(v, v)); }
 template <class T> inline Vec3<T> Normalize(const Vec3<T>& v) { return v / Length(v); }
 template <class T> inline bool IsFinite(const Vec3<T>& v) {
