@@ -30,7 +30,7 @@ struct PrimaryHit {
 // scratch.hits[c * samples + i] is sample i of chunk pixel c, its light and BSDF points at
 // scratch.light_points / bsdf_points [(c * samples + i) * light_samples ...].
 template <bool kDof>
-inline void GenerateCameraSamples(const KernelParams& p, const TileChunk& chunk, bool sample_bsdf,
+static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk& chunk, bool sample_bsdf,
                                   ThreadScratch& scratch) {
     const CameraModel& camera = p.scene->camera;
     const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
@@ -52,7 +52,7 @@ inline void GenerateCameraSamples(const KernelParams& p, const TileChunk& chunk,
 }
 
 // Traces the camera rays of hits[0..n) into rtc_hits[0..n), as one stream (IntersectCameraRays).
-inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_t n, RTCRayHit* rtc_hits) {
+static inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_t n, RTCRayHit* rtc_hits) {
     for (size_t i = 0; i < n; ++i)
         rtc_hits[i] = MakeRTCRayHit(hits[i].ray.o, hits[i].ray.d, hits[i].ray.tmin, hits[i].ray.tmax);
     IntersectCameraRays(scene, rtc_hits, n);
@@ -60,7 +60,7 @@ inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_t n, RT
 
 // The camera ray's first hit, and what it sees directly (shared by all techniques).
 template <bool kMedium>
-inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, PrimaryHit& out) {
+static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, PrimaryHit& out) {
     out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     out.t_end = out.hit ? rh.ray.tfar : kInf;
     if (out.hit) out.surface = MakeSurfaceHit(scene, out.ray, rh);
@@ -76,7 +76,7 @@ inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, Pr
 }
 
 template <bool kMedium>
-inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit* rtc_hits, size_t n, PrimaryHit* hits) {
+static inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit* rtc_hits, size_t n, PrimaryHit* hits) {
     for (size_t s = 0; s < n; ++s) FinishCameraSample<kMedium>(scene, rtc_hits[s], hits[s]);
 }
 

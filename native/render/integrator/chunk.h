@@ -13,10 +13,10 @@ namespace sphrect::render {
 
 constexpr uint64_t kChunkSamples = 1024, kChunkLightSamples = 4096;
 
-inline int TilePixels(const TileRect& tile) { return (tile.x1 - tile.x0) * (tile.y1 - tile.y0); }
+static inline int TilePixels(const TileRect& tile) { return (tile.x1 - tile.x0) * (tile.y1 - tile.y0); }
 
 // Pixels per chunk for `samples` camera samples per pixel with `light_samples` each (at least 1).
-inline int ChunkPixels(const TileRect& tile, uint32_t samples, uint32_t light_samples) {
+static inline int ChunkPixels(const TileRect& tile, uint32_t samples, uint32_t light_samples) {
     return int(std::clamp<uint64_t>(
         std::min(kChunkSamples / samples, kChunkLightSamples / (uint64_t(samples) * light_samples)), 1,
         uint64_t(TilePixels(tile))));

@@ -22,7 +22,7 @@ struct EmitterSample {
 };
 
 template <Technique K>
-inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight light, Point2<float> u,
+static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight light, Point2<float> u,
                                          TimedLightSamplingAt<K>& light_sampling) {
     if (light.index < 0) return {};
     const LightSample<float> ls = light_sampling.Sample(light.index, u);
@@ -38,7 +38,7 @@ inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight ligh
 // not traced at all.  pdf_dir: the direction's pdf under BSDF/phase sampling; `sink` carries
 // its weight f cos / pdf.
 template <Technique K, bool kMedium>
-inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
+static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
                                   TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky);
     if (c.mis == MisMode::None) return;

@@ -12,7 +12,7 @@ namespace sphrect::render {
 // sums[c] = sum of the `samples` values of chunk pixel c (values[c * samples ...]), for c < count.
 // Returns how many values were dropped: a NaN or inf sample would poison the pixel forever, so
 // it is left out and counted (reported in the stats; never expected).
-inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32_t samples, Spectrum* sums) {
+static inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32_t samples, Spectrum* sums) {
     uint64_t dropped = 0;
     for (int c = 0; c < count; ++c) {
         Spectrum sum;
@@ -31,7 +31,7 @@ inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32_t samp
 
 // Adds the chunk's pixel sums (technique k's at pixel_sums[k * stride + c]) to the pass's
 // buffers, and its samples to the pixels' counts.
-inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk, const Spectrum* pixel_sums, int stride) {
+static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk, const Spectrum* pixel_sums, int stride) {
     const size_t techniques = p.options->techniques.size();
     for (int c = 0; c < chunk.count; ++c) {
         const uint64_t pixel = chunk.PixelIndex(c, p.scene->camera.width);

@@ -18,7 +18,7 @@ struct ChosenLight {
     float pmf = 0;
 };
 
-inline ChosenLight ChooseAreaLight(const LightSelector& selector, PCG32& rng) {
+static inline ChosenLight ChooseAreaLight(const LightSelector& selector, PCG32& rng) {
     if (selector.Empty()) return {};
     const int i = selector.Select(rng.NextFloat());
     return {i, selector.pmf[i]};

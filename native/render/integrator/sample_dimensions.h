@@ -15,7 +15,7 @@ namespace sphrect::render {
 enum Dimension : uint64_t { kDimPixel = 1, kDimLens = 2, kDimLight = 3, kDimBsdf = 4, kDimRng = 5 };
 
 // The seed of pixel `pixel`'s patterns under the render's seed.
-inline uint64_t PixelSeed(uint64_t render_seed, uint64_t pixel) {
+static inline uint64_t PixelSeed(uint64_t render_seed, uint64_t pixel) {
     return MixBits(MixBits(render_seed + 0x632be59bd9b4e019ull) ^ (pixel + 1));
 }
 
@@ -32,7 +32,7 @@ struct PixelSamplePoints {
 // Light and BSDF points are numbered over (camera sample, light sample) pairs; every dimension
 // but the pixel jitter draws its points in its own order, so that no two are tied together.
 template <bool kDof>
-inline void FillPixelSamplePoints(const KernelParams& p, uint64_t pixel_seed, bool sample_bsdf,
+static inline void FillPixelSamplePoints(const KernelParams& p, uint64_t pixel_seed, bool sample_bsdf,
                                   const PixelSamplePoints& out) {
     const Pattern pattern = p.options->pattern;
     const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
@@ -48,7 +48,7 @@ inline void FillPixelSamplePoints(const KernelParams& p, uint64_t pixel_seed, bo
 
 // The seed of the random numbers camera sample `sample_index` (global) of the pixel draws
 // outside the pattern: light choice, medium distances.
-inline uint64_t CameraSampleRngSeed(uint64_t pixel_seed, uint32_t sample_index) {
+static inline uint64_t CameraSampleRngSeed(uint64_t pixel_seed, uint32_t sample_index) {
     return MixBits(DimensionSeed(pixel_seed, kDimRng) ^ (uint64_t(sample_index) * 0xbf58476d1ce4e5b9ull));
 }
 

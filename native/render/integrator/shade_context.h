@@ -16,7 +16,7 @@ struct ShadeContext {
 };
 
 template <bool kMedium>
-inline ShadeContext MakeShadeContext(const RenderScene& scene, const RenderOptions& opt) {
+static inline ShadeContext MakeShadeContext(const RenderScene& scene, const RenderOptions& opt) {
     return {scene,
             opt.mis,
             opt.medium_sampling,

@@ -25,7 +25,7 @@ struct SurfaceShadingPoint {
 // Light sampling: f Le T cos w / (pmf pdf) for a point on the chosen light, w its MIS weight
 // against the BSDF sample.
 template <Technique K, bool kGlossy, bool kMedium>
-inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
+static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
                                     Point2<float> u, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, u, light_sampling);
     if (!e.valid) return;
@@ -42,7 +42,7 @@ inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingP
 // BSDF sampling: finds the area lights (MIS partner of the light sample) and the background,
 // with the sample's weight f cos / pdf.
 template <Technique K, bool kGlossy, bool kMedium>
-inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
+static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
                                    TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const BsdfSample bs = SampleBsdf<kGlossy>(sp.material, sp.wo, u);
     if (!(bs.pdf > 0)) return;
@@ -54,7 +54,7 @@ inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceShadingPo
 
 // Point, spot and sun lights: f Li T cos, each once.
 template <bool kGlossy, bool kMedium>
-inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp, const ShadowSink& sink) {
+static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp, const ShadowSink& sink) {
     for (const DeltaLight& d : c.scene.delta_lights) {
         const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p);
         if (IsBlack(di.li) || Dot(di.wi, sp.hit.ng) <= 0) continue;
@@ -69,7 +69,7 @@ inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingP
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
 // pairs averaged, then the delta lights.  light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
-inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3f& wo_world,
+static inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3f& wo_world,
                          const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
                          const ShadowSink& sink, uint64_t& light_ticks) {
     const RenderScene& scene = c.scene;

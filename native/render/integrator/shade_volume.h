@@ -27,7 +27,7 @@ struct ScatteringPoint {
 
 // Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample.
 template <Technique K>
-inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
+static inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
                                    Point2<float> u, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, u, light_sampling);
     if (!e.valid) return;
@@ -38,7 +38,7 @@ inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint&
 
 // Phase sampling (the weight phase / pdf is 1): finds the area lights and the background.
 template <Technique K>
-inline void QueueMediumPhaseSample(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
+static inline void QueueMediumPhaseSample(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
                                    TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const float g = c.scene.medium.g;
     const Vec3f wi = SampleHenyeyGreenstein(sp.ray_dir, g, u);
@@ -47,7 +47,7 @@ inline void QueueMediumPhaseSample(const ShadeContext& c, const ScatteringPoint&
 }
 
 // Point, spot and sun lights: phase Li T, each once.
-inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint& sp, const ShadowSink& sink) {
+static inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint& sp, const ShadowSink& sink) {
     const HomogeneousMedium& med = c.scene.medium;
     for (const DeltaLight& d : c.scene.delta_lights) {
         const DeltaIllumination di = IlluminateFromDelta(d, sp.x);
@@ -58,7 +58,7 @@ inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint&
 
 // Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights.
 template <Technique K>
-inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
+static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
                              Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
                              uint64_t& light_ticks) {
     constexpr Technique MK = kMediumTechnique<K>;
@@ -75,14 +75,14 @@ struct ScatterDistance {
 };
 
 // Distance sampling: t ~ sigma exp(-sigma t), kept inside the segment.
-inline ScatterDistance SampleDistanceByTransmittance(const HomogeneousMedium& med, float t_end, float u) {
+static inline ScatterDistance SampleDistanceByTransmittance(const HomogeneousMedium& med, float t_end, float u) {
     const float t = SampleExponentialDistance(med.sigma_sampling, u);
     if (!(t < t_end)) return {};
     return {t, ExponentialDistancePDF(med.sigma_sampling, t)};
 }
 
 // Equi-angular sampling about the centre of `ea`.
-inline ScatterDistance SampleDistanceEquiAngular(const EquiAngular& ea, float t_end, float u) {
+static inline ScatterDistance SampleDistanceEquiAngular(const EquiAngular& ea, float t_end, float u) {
     const float t = SampleEquiAngular(ea, u);
     const float pdf = EquiAngularPDF(ea, t);
     if (!(t > 0 && t < t_end && pdf > 0 && std::isfinite(pdf))) return {};
@@ -91,7 +91,7 @@ inline ScatterDistance SampleDistanceEquiAngular(const EquiAngular& ea, float t_
 
 // Equi-angular sampling of the segment about a light picked by power (any area, point or spot
 // light; u picks it); invalid when the scene has none.
-inline EquiAngular EquiAngularAboutALight(const RenderScene& scene, const Ray& ray, float t_end, float u) {
+static inline EquiAngular EquiAngularAboutALight(const RenderScene& scene, const Ray& ray, float t_end, float u) {
     if (scene.medium_centre_selector.Empty()) return {};
     return MakeEquiAngular(ray.o, ray.d, t_end, scene.medium_centres[scene.medium_centre_selector.Select(u)]);
 }
@@ -99,7 +99,7 @@ inline EquiAngular EquiAngularAboutALight(const RenderScene& scene, const Ray& r
 // Queues the in-scattered light at distance d.t along the ray, weighted by T(t) w / pdf and
 // averaged over the light samples.
 template <Technique K>
-inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDistance d, float w, ChosenLight light,
+static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDistance d, float w, ChosenLight light,
                                 Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
                                 uint64_t& light_ticks) {
     const Spectrum weight = Transmittance(c.scene.medium, d.t) * (w / d.pdf);
@@ -113,7 +113,7 @@ inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDi
 // equi-angular centre is a random light; for each choice the combination is unbiased, so the
 // mixture is too.
 template <Technique K>
-inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
+static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
                         const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink, uint64_t& light_ticks) {
     const RenderScene& scene = c.scene;
     const Ray& ray = ph.ray;

@@ -36,7 +36,7 @@ struct ShadowSink {
 
 // Traces the queued shadow rays (one stream, OccludeShadowRays) and adds the unblocked
 // contributions to their camera samples.
-inline void ResolveShadowRays(RTCScene scene, std::vector<DeferredShadowRay>& queue, Spectrum* sample_values) {
+static inline void ResolveShadowRays(RTCScene scene, std::vector<DeferredShadowRay>& queue, Spectrum* sample_values) {
     if (queue.empty()) return;
     OccludeShadowRays(scene, &queue[0].ray, queue.size(), sizeof(DeferredShadowRay));
     for (const DeferredShadowRay& q : queue)

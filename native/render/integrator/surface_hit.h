@@ -15,7 +15,7 @@ struct SurfaceHit {
     int material = 0;
 };
 
-inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray, const RTCRayHit& rh) {
+static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray, const RTCRayHit& rh) {
     const MeshData& m = scene.meshes[rh.hit.geomID];
     const uint32_t tri = rh.hit.primID;
     SurfaceHit s;
