@@ -49,22 +49,24 @@ inline double DiffB(double ya, double yb, double d, double dy) {
 // 1 - b(y) for y >= 0, with r = sqrt(y^2 + d^2) and d2 = d^2, eq. (16).
 inline double OneMinusB(double y, double r, double d2) { return d2 / (r * (r + y)); }
 
-// The per-(shading point, light) constants of the map (docs/rectangle_map.md, table of section 7).
+// The per-(shading point, light) constants of the map (docs/rectangle_map.md, table of section 7;
+// the paper's names in brackets).
 template <class T>
 struct RectangleSetup {
     LocalRect<T> plane;     // the light's frame around o; also the area map of the fallback
     bool valid = false;     // false: every sample has pdf 0
     bool area_fallback = false;  // (21)
     double omega = 0;       // solid angle (double)
-    T solid_angle = 0;      // Omega
+    T solid_angle = 0;      // Omega [S]
     T pdf = 0;              // 1 / Omega, (2)
     // The map's frame (13): local x = sx * (swap ? Y : X), y = sy * (swap ? X : Y), where
     // (X, Y) are the coordinates along the light's edges ex, ey.
     bool swap = false;
     double sx = 1, sy = 1;
-    double x0 = 0, x1 = 0, y0 = 0, y1 = 0, h = 0;  // (1)
+    double x0 = 0, x1 = 0, y0 = 0, y1 = 0, h = 0;  // (1) [x0, x1, y0, y1, h = -z0]
     double wx = 0, wy = 0;  // x1 - x0 and y1 - y0 (exact: the edge lengths)
-    double T0 = 0, b0 = 0, b1 = 0, db = 0, pb = 0, s0 = 0, s1 = 0;  // (7), (9); db = b1 - b0, pb = b1 + b0
+    // (7), (9): T0 [k - pi], b0 [-b0], b1 [b1]; db = b1 - b0, pb = b1 + b0; s_i = sin(theta) at x_i.
+    double T0 = 0, b0 = 0, b1 = 0, db = 0, pb = 0, s0 = 0, s1 = 0;
     bool y_beside = false;  // y0 > 0: the y-step interpolates 1 - hy, (16)
     bool polish_x = false;  // refine the x-step by Newton steps (nearly edge-on setups), (20)
     double error_estimate = 0;  // first-order rounding error of the map in (u, v) space, (19)
@@ -111,7 +113,7 @@ RectangleSetup<T> MakeRectangleSetup(const Vec3<T>& origin, const RectLightFrame
     sr.b0 = c0 / rc0;  // (7)
     sr.b1 = c1 / rc1;
     sr.db = DiffB(c0, c1, rc0, rc1, h2, wc);  // (15) at d = h
-    sr.pb = c0 < 0 ? DiffB(-c0, c1, rc0, rc1, h2, c1 + c0) : sr.b1 + sr.b0;
+    sr.pb = c0 < 0 ? DiffB(-c0, c1, rc0, rc1, h2, c1 + c0) : sr.b1 + sr.b0;  // b(y1) - b(-y0) by (15)
     sr.s0 = a0 / ra0;  // (9)
     sr.s1 = a1 / ra1;
     sr.y_beside = c0 > 0;
@@ -159,7 +161,7 @@ template <class T>
 inline void RectangleMapLocal(const RectangleSetup<T>& sr, double u, double v, double* px, double* py,
                               double* dist = nullptr) {
     // x-step: solve F(s) = T0 + u Omega, (9) -> (10).
-    const double Tu = sr.T0 + u * sr.omega;
+    const double Tu = sr.T0 + u * sr.omega;  // T [au - pi]
     const double sT = std::sin(Tu), cT = std::cos(Tu);
     const double omc = cT > 0 ? sT * sT / (1 + cT) : 1 - cT;  // 1 - cos T, (11)
     // |b1 - b0 e^{iT}|^2 as a sum of positive terms, (11).
@@ -170,8 +172,8 @@ inline void RectangleMapLocal(const RectangleSetup<T>& sr, double u, double v, d
         const double opc = cT < 0 ? sT * sT / (1 - cT) : 1 + cT;
         R2 = sr.pb * sr.pb - 2 * sr.b0 * sr.b1 * opc;
     }
-    const double s = ClampNaN(sT / std::sqrt(R2), sr.s0, sr.s1);  // (10)
-    double x = ClampNaN(sr.h * s / std::sqrt((1 - s) * (1 + s)), sr.x0, sr.x1);  // (12)
+    const double s = ClampNaN(sT / std::sqrt(R2), sr.s0, sr.s1);  // (10) [cu]
+    double x = ClampNaN(sr.h * s / std::sqrt((1 - s) * (1 + s)), sr.x0, sr.x1);  // (12) [xu]
     if (sr.polish_x) {
         // Nearly edge-on: x(s) loses precision where |s| -> 1.  Newton on the stable
         // W([x0, x] x [y0, y1]) = u Omega, with W' from (20).
@@ -197,7 +199,7 @@ inline void RectangleMapLocal(const RectangleSetup<T>& sr, double u, double v, d
     // y-step: linear in hy = y / sqrt(y^2 + d^2), d^2 = x^2 + h^2, (14).
     const double d2 = x * x + sr.h * sr.h, d = std::sqrt(d2);
     const double r0 = std::sqrt(sr.y0 * sr.y0 + d2), r1 = std::sqrt(sr.y1 * sr.y1 + d2);
-    double hy, omh;  // hy and 1 - hy
+    double hy, omh;  // hy and 1 - hy [hv, 1 - hv]
     if (sr.y_beside) {  // interpolate 1 - hy = (1 - hy0) - v (hy1 - hy0), (16) and (15)
         omh = OneMinusB(sr.y0, r0, d2) - v * DiffB(sr.y0, sr.y1, r0, r1, d2, sr.wy);
         hy = 1 - omh;
@@ -207,7 +209,7 @@ inline void RectangleMapLocal(const RectangleSetup<T>& sr, double u, double v, d
         omh = 1 - hy;
     }
     const double c = std::sqrt(omh * (1 + hy));  // sqrt(1 - hy^2) = d / r
-    const double y = hy * d / c;  // (14)
+    const double y = hy * d / c;  // (14) [yv]
     *px = x;
     *py = ClampNaN(y, sr.y0, sr.y1);
     if (dist) *dist = *py == y ? d / c : std::sqrt(d2 + *py * *py);  // |(x, y, h)|, (17)
