@@ -216,10 +216,17 @@ def _extreme_configs():
     return out
 
 
+def _suite_configs():
+    """The hard-case suite the C++ tests check and the study measures (native/core/hard_cases.h)."""
+    return [LightConfig(name, origin=o, corner=c, edge_x=ex, edge_y=ey, normal=n, two_sided=two_sided)
+            for name, o, c, ex, ey, n, two_sided in sphrect._native._study_hard_cases()]
+
+
 @pytest.mark.parametrize("technique", TECHNIQUES)
 def test_hard_cases_stay_finite_and_on_the_light(technique):
+    """Through the bindings, on the configurations above and on the shared hard-case suite."""
     uv = _uv_grid(17)
-    for config in _extreme_configs():
+    for config in _extreme_configs() + _suite_configs():
         points, pdf = sphrect.sample(technique, *_call_args(config), uv, normal=config.normal, dtype="float32")
         assert np.all(np.isfinite(points)) and np.all(np.isfinite(pdf)), config.name
         assert np.all(pdf >= 0), config.name
