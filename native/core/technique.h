@@ -7,6 +7,9 @@
 //   s.Valid()                                      // false: every sample has pdf 0
 //   s.Sample({u, v}) -> LightSample<T>
 //   s.Pdf(point_on_light) -> solid-angle pdf of choosing that point (for MIS)
+//
+// Each technique's setup, sample, pdf (and inverse) sit in the header named after it: area.h,
+// triangles.h, rectangle.h, rectangle_cosine.h.
 #pragma once
 
 #include <array>
