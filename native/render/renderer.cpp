@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <condition_variable>
 #include <exception>
 #include <stdexcept>
 #include <string>
@@ -10,6 +9,7 @@
 
 #include "kernel.h"
 #include "ticks.h"
+#include "tile_workers.h"
 
 namespace sphrect::render {
 
@@ -60,12 +60,7 @@ bool Renderer::Render(int samples, double time_budget, const std::function<void(
 
 bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& progress) {
     const RenderScene& scene = *scene_;
-    const int w = width(), h = height(), ts = options_.tile_size;
-    std::vector<TileRect> tiles;
-    for (int y = 0; y < h; y += ts)
-        for (int x = 0; x < w; x += ts) tiles.push_back({x, y, std::min(x + ts, w), std::min(y + ts, h)});
-    const int total = int(tiles.size());
-
+    const std::vector<TileRect> tiles = CutIntoTiles(width(), height(), options_.tile_size);
     std::vector<double*> sums(sums_.size());
     for (size_t k = 0; k < sums_.size(); ++k) sums[k] = sums_[k].data();
     const KernelParams params{&scene, &options_, samples, next_sample_, pass_, sums.data(), counts_.data()};
@@ -73,98 +68,35 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
     const bool all = options_.force_all_features;
     const TileKernel kernel = SelectTileKernel(f.dof || all, f.glossy || all, f.medium || all);
 
-    std::atomic<int> next_tile{0};
-    std::mutex mutex;
-    std::condition_variable cv;
-    int done = 0, finished_workers = 0;
-    TileTally tally;  // summed over workers under `mutex`
-    tally.technique.resize(options_.techniques.size());
-    std::exception_ptr worker_error;
     const uint64_t ticks0 = ReadTicks();
     const auto time0 = std::chrono::steady_clock::now();
-
-    auto worker = [&]() {
-        ThreadScratch scratch;
-        TileTally local;
-        local.technique.resize(options_.techniques.size());
-        try {
-            for (;;) {
-                if (cancel_.load(std::memory_order_relaxed)) break;
-                const int i = next_tile.fetch_add(1);
-                if (i >= total) break;
-                kernel(params, tiles[i], scratch, local);
-                std::lock_guard<std::mutex> l(mutex);
-                ++done;
-                if (progress) cv.notify_all();  // (without a callback, only the end wakes the caller)
-            }
-        } catch (...) {
-            std::lock_guard<std::mutex> l(mutex);
-            if (!worker_error) worker_error = std::current_exception();
-            cancel_.store(true);
-        }
-        std::lock_guard<std::mutex> l(mutex);
-        tally += local;
-        ++finished_workers;
-        cv.notify_all();
-    };
-
-    const int n_threads = std::max(1, std::min(threads_, total));
-    std::vector<std::thread> pool;
-    pool.reserve(n_threads);
-    std::exception_ptr progress_error;
-    try {
-        for (int t = 0; t < n_threads; ++t) pool.emplace_back(worker);
-    } catch (...) {
-        cancel_.store(true);
-        for (auto& th : pool) th.join();
-        throw;
-    }
-    // The calling thread reports progress while the workers render.
-    int reported = -1;
-    for (;;) {
-        int now_done, now_finished;
-        {
-            std::unique_lock<std::mutex> l(mutex);
-            cv.wait(l, [&] { return done != reported || finished_workers == n_threads; });
-            now_done = done;
-            now_finished = finished_workers;
-        }
-        if (progress && now_done != reported && !progress_error) {
-            try {
-                progress(now_done, total);
-            } catch (...) {
-                progress_error = std::current_exception();
-                cancel_.store(true);
-            }
-        }
-        reported = now_done;
-        if (now_finished == n_threads) break;
-    }
-    for (auto& th : pool) th.join();
-
+    const TileRun run = RunTiles(kernel, params, tiles, threads_, cancel_, progress);
+    // The light-sampling ticks in seconds, at the tick rate measured over this pass.
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - time0).count();
     const uint64_t ticks = ReadTicks() - ticks0;
     const double seconds_per_tick = ticks > 0 ? seconds / double(ticks) : 0.0;
+    const bool complete = run.done == int(tiles.size());
     {
         std::lock_guard<std::mutex> s(stats_mutex_);
         for (size_t k = 0; k < stats_.size(); ++k) {
             TechniqueStats& st = stats_[k];
-            const double light = double(tally.technique[k].light_ticks) * seconds_per_tick;
+            const TechniqueTally& tt = run.tally.technique[k];
+            const double light = double(tt.light_ticks) * seconds_per_tick;
             st.light_time += light;
-            st.shading_time += std::max(0.0, tally.technique[k].total_seconds - light);
-            st.camera_time += tally.camera_seconds;
-            st.rays += tally.technique[k].rays;
-            st.dropped_samples += tally.technique[k].dropped;
-            st.camera_rays += tally.camera_rays;
-            if (done == total) st.samples += uint64_t(samples);
+            st.shading_time += std::max(0.0, tt.total_seconds - light);
+            st.camera_time += run.tally.camera_seconds;
+            st.rays += tt.rays;
+            st.dropped_samples += tt.dropped;
+            st.camera_rays += run.tally.camera_rays;
+            if (complete) st.samples += uint64_t(samples);
         }
     }
     // Sample indices advance even for a cancelled pass, so finished tiles never reuse them.
     next_sample_ += uint32_t(samples);
     ++pass_;
-    if (worker_error) std::rethrow_exception(worker_error);
-    if (progress_error) std::rethrow_exception(progress_error);
-    return done == total;
+    if (run.worker_error) std::rethrow_exception(run.worker_error);
+    if (run.progress_error) std::rethrow_exception(run.progress_error);
+    return complete;
 }
 
 void Renderer::Image(int k, float* out) const {

@@ -59,11 +59,11 @@ void RenderScene::RequireNotCommitted() const {
 
 void RenderScene::SetCamera(const CameraModel& c) {
     RequireNotCommitted();
-    constexpr int kMaxSide = kMaxImageSide;
-    if (c.width <= 0 || c.height <= 0 || c.width > kMaxSide || c.height > kMaxSide ||
+    if (c.width <= 0 || c.height <= 0 || c.width > kMaxImageSide || c.height > kMaxImageSide ||
         int64_t(c.width) * c.height > kMaxImagePixels)
         Fail("camera resolution " + std::to_string(c.width) + " x " + std::to_string(c.height) +
-             " is out of range (each side 1.." + std::to_string(kMaxSide) + ", at most 2^27 pixels)");
+             " is out of range (each side 1.." + std::to_string(kMaxImageSide) + ", at most 2^" +
+             std::to_string(kMaxImagePixelsLog2) + " pixels)");
     for (const auto& row : c.to_world)
         for (float x : row)
             if (!std::isfinite(x)) Fail("camera matrix must be finite");

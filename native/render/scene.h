@@ -18,7 +18,8 @@ namespace sphrect::render {
 
 // Limits of a scene's camera: each image side, and the pixel count (the bindings export the side).
 constexpr int kMaxImageSide = 1 << 15;
-constexpr int64_t kMaxImagePixels = int64_t(1) << 27;
+constexpr int kMaxImagePixelsLog2 = 27;
+constexpr int64_t kMaxImagePixels = int64_t(1) << kMaxImagePixelsLog2;
 
 struct MeshData {
     std::string name;
