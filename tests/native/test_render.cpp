@@ -6,6 +6,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <set>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -292,6 +294,43 @@ TEST(Renderer, RejectsBadInput) {
     RenderOptions o;
     o.light_samples = 0;
     EXPECT_THROW(Renderer(scene, o), std::invalid_argument);
+}
+
+TEST(RenderOptions, ValidationNamesTheBadOption) {
+    auto message = [](const RenderOptions& o) {
+        try {
+            ValidateOptions(o);
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    RenderOptions o;
+    EXPECT_EQ(message(o), "");
+    o.techniques = {Technique::Area, Technique::Rectangle, Technique::Area};
+    EXPECT_EQ(message(o), "technique 'area' listed twice");
+    o = {};
+    o.tile_size = 0;
+    EXPECT_EQ(message(o), "tile_size must be positive");
+    EXPECT_THROW(ValidateRenderCall(RenderOptions{}, 0), std::invalid_argument);
+    RenderOptions many;
+    many.light_samples = kMaxLightSamples;
+    EXPECT_NO_THROW(ValidateRenderCall(many, (1 << kMaxPatternPointsPerCallLog2) / kMaxLightSamples));
+    EXPECT_THROW(ValidateRenderCall(many, (1 << kMaxPatternPointsPerCallLog2) / kMaxLightSamples + 1),
+                 std::invalid_argument);
+}
+
+TEST(RenderOptions, EveryEnumValueHasItsOwnName) {
+    auto distinct = [](const auto& values, auto name_of) {
+        std::set<std::string> names;
+        for (auto v : values) {
+            const std::string n = name_of(v);
+            if (n == "?" || !names.insert(n).second) return false;
+        }
+        return true;
+    };
+    EXPECT_TRUE(distinct(kAllMisModes, MisModeName));
+    EXPECT_TRUE(distinct(kAllMediumSamplings, MediumSamplingName));
 }
 
 }  // namespace
