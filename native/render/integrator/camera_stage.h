@@ -19,10 +19,10 @@ namespace sphrect::render {
 
 struct PrimaryHit {
     Ray ray;
-    float t_end = kInf;   // end of the camera ray's segment: surface hit or escape
+    float t_end = kInf;  // end of the camera ray's segment: surface hit or escape
     bool hit = false;
     SurfaceHit surface;
-    Spectrum seen;        // technique-independent part: visible lights before the surface, background
+    Spectrum seen;  // technique-independent part: visible lights before the surface, background
     uint64_t rng_seed = 0;
 };
 
@@ -31,7 +31,7 @@ struct PrimaryHit {
 // scratch.light_points / bsdf_points [(c * samples + i) * light_samples ...].
 template <bool kDof>
 static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk& chunk, bool sample_bsdf,
-                                  ThreadScratch& scratch) {
+                                         ThreadScratch& scratch) {
     const CameraModel& camera = p.scene->camera;
     const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
     for (int c = 0; c < chunk.count; ++c) {
@@ -76,7 +76,8 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
 }
 
 template <bool kMedium>
-static inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit* rtc_hits, size_t n, PrimaryHit* hits) {
+static inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit* rtc_hits, size_t n,
+                                       PrimaryHit* hits) {
     for (size_t s = 0; s < n; ++s) FinishCameraSample<kMedium>(scene, rtc_hits[s], hits[s]);
 }
 

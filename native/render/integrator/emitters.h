@@ -15,7 +15,7 @@ namespace sphrect::render {
 // sample, or where the light sends nothing (its back).
 struct EmitterSample {
     bool valid = false;
-    Vec3f dir;        // unit, towards the light
+    Vec3f dir;  // unit, towards the light
     float dist = 0;
     Spectrum le;
     float pdf = 0;
@@ -23,7 +23,7 @@ struct EmitterSample {
 
 template <Technique K>
 static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight light, Point2<float> u,
-                                         TimedLightSamplingAt<K>& light_sampling) {
+                                                TimedLightSamplingAt<K>& light_sampling) {
     if (light.index < 0) return {};
     const LightSample<float> ls = light_sampling.Sample(light.index, u);
     if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return {};
@@ -39,7 +39,7 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
 // its weight f cos / pdf.
 template <Technique K, bool kMedium>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                  TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                         TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky);
     if (c.mis == MisMode::None) return;
     const auto& lights = c.scene.area_lights;

@@ -31,7 +31,8 @@ static inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32
 
 // Adds the chunk's pixel sums (technique k's at pixel_sums[k * stride + c]) to the pass's
 // buffers, and its samples to the pixels' counts.
-static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk, const Spectrum* pixel_sums, int stride) {
+static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk, const Spectrum* pixel_sums,
+                                   int stride) {
     const size_t techniques = p.options->techniques.size();
     for (int c = 0; c < chunk.count; ++c) {
         const uint64_t pixel = chunk.PixelIndex(c, p.scene->camera.width);

@@ -117,8 +117,8 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             ShadeCameraSamples<kGlossy, kMedium>(opt.techniques[k], ctx, chunk_n, scratch, tt.light_ticks);
             tt.rays += scratch.shadow_rays.size();
             ResolveShadowRays(scene.rtc_scene, scratch.shadow_rays, scratch.sample_values.data());
-            tt.dropped += SumPixelSamples(scratch.sample_values.data(), chunk.count, n,
-                                          &scratch.pixel_sums[k * chunk_pixels]);
+            tt.dropped +=
+                SumPixelSamples(scratch.sample_values.data(), chunk.count, n, &scratch.pixel_sums[k * chunk_pixels]);
             tt.total_seconds += shading.Seconds();
         }
         AddChunkToImage(p, chunk, scratch.pixel_sums.data(), chunk_pixels);

@@ -23,9 +23,9 @@ static inline uint64_t PixelSeed(uint64_t render_seed, uint64_t pixel) {
 // light_samples light and BSDF/phase points each.
 struct PixelSamplePoints {
     Point2<float>* pixel;
-    Point2<float>* lens;   // used when kDof
+    Point2<float>* lens;  // used when kDof
     Point2<float>* light;
-    Point2<float>* bsdf;   // used when BSDF/phase samples are drawn
+    Point2<float>* bsdf;  // used when BSDF/phase samples are drawn
 };
 
 // The points of the pass's camera samples [first_sample, first_sample + samples) of one pixel.
@@ -33,7 +33,7 @@ struct PixelSamplePoints {
 // but the pixel jitter draws its points in its own order, so that no two are tied together.
 template <bool kDof>
 static inline void FillPixelSamplePoints(const KernelParams& p, uint64_t pixel_seed, bool sample_bsdf,
-                                  const PixelSamplePoints& out) {
+                                         const PixelSamplePoints& out) {
     const Pattern pattern = p.options->pattern;
     const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
     SampleDimensionPoints(pattern, n, p.first_sample, p.pass, DimensionSeed(pixel_seed, kDimPixel), false, out.pixel);

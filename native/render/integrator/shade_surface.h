@@ -26,15 +26,15 @@ struct SurfaceShadingPoint {
 // against the BSDF sample.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
-                                    Point2<float> u, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                           Point2<float> u, TimedLightSamplingAt<K>& light_sampling,
+                                           const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, u, light_sampling);
     if (!e.valid) return;
     const Vec3f wi = sp.frame.ToLocal(e.dir);
     if (!(wi.z > 0) || !(Dot(e.dir, sp.hit.ng) > 0)) return;
     const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
     if (IsBlack(f)) return;
-    const float w =
-        c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
+    const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
     sink.Add(sp.origin, e.dir, e.dist,
              f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (wi.z * w / e.pdf));
 }
@@ -43,7 +43,7 @@ static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceS
 // with the sample's weight f cos / pdf.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
-                                   TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                          TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const BsdfSample bs = SampleBsdf<kGlossy>(sp.material, sp.wo, u);
     if (!(bs.pdf > 0)) return;
     const Vec3f wi_world = sp.frame.FromLocal(bs.wi);
@@ -54,7 +54,8 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
 
 // Point, spot and sun lights: f Li T cos, each once.
 template <bool kGlossy, bool kMedium>
-static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp, const ShadowSink& sink) {
+static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp,
+                                           const ShadowSink& sink) {
     for (const DeltaLight& d : c.scene.delta_lights) {
         const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p);
         if (IsBlack(di.li) || Dot(di.wi, sp.hit.ng) <= 0) continue;
@@ -70,11 +71,12 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 // pairs averaged, then the delta lights.  light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3f& wo_world,
-                         const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
-                         const ShadowSink& sink, uint64_t& light_ticks) {
+                                const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
+                                const ShadowSink& sink, uint64_t& light_ticks) {
     const RenderScene& scene = c.scene;
     const Frame frame = Frame::FromZ(h.ns);
-    const SurfaceShadingPoint sp{h, scene.materials[h.material], frame, frame.ToLocal(wo_world), OffsetOrigin(h.p, h.ng)};
+    const SurfaceShadingPoint sp{h, scene.materials[h.material], frame, frame.ToLocal(wo_world),
+                                 OffsetOrigin(h.p, h.ng)};
     if (sp.wo.z <= 0) return;
     const ShadowSink pair_sink = sink.Scaled(1.0f / c.light_samples);
     // Without area lights and BSDF samples (only delta lights) there is nothing to sample.
@@ -83,7 +85,8 @@ static inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, cons
     for (int j = 0; j < n_pairs; ++j) {
         const ChosenLight light = ChooseAreaLight(scene.light_selector, rng);
         QueueSurfaceLightSample<K, kGlossy, kMedium>(c, sp, light, light_points[j], light_sampling, pair_sink);
-        if (c.sample_bsdf) QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);
+        if (c.sample_bsdf)
+            QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);
     }
     QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, sink);
 }

@@ -28,7 +28,8 @@ struct ScatteringPoint {
 // Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample.
 template <Technique K>
 static inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
-                                   Point2<float> u, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                          Point2<float> u, TimedLightSamplingAt<K>& light_sampling,
+                                          const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, u, light_sampling);
     if (!e.valid) return;
     const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
@@ -39,7 +40,7 @@ static inline void QueueMediumLightSample(const ShadeContext& c, const Scatterin
 // Phase sampling (the weight phase / pdf is 1): finds the area lights and the background.
 template <Technique K>
 static inline void QueueMediumPhaseSample(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
-                                   TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                          TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const float g = c.scene.medium.g;
     const Vec3f wi = SampleHenyeyGreenstein(sp.ray_dir, g, u);
     const float pdf_phase = HenyeyGreenstein(Dot(wi, sp.ray_dir), g);
@@ -52,15 +53,16 @@ static inline void QueueMediumDeltaLights(const ShadeContext& c, const Scatterin
     for (const DeltaLight& d : c.scene.delta_lights) {
         const DeltaIllumination di = IlluminateFromDelta(d, sp.x);
         if (IsBlack(di.li)) continue;
-        sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
+        sink.Add(sp.x, di.wi, di.dist,
+                 di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
     }
 }
 
 // Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights.
 template <Technique K>
 static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
-                             Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
-                             uint64_t& light_ticks) {
+                                    Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
+                                    uint64_t& light_ticks) {
     constexpr Technique MK = kMediumTechnique<K>;
     const ShadowSink out = sink.Scaled(c.scene.medium.sigma_s);
     TimedLightSamplingAt<MK> light_sampling(c.scene, sp.x, sp.ray_dir, light_ticks);
@@ -99,9 +101,9 @@ static inline EquiAngular EquiAngularAboutALight(const RenderScene& scene, const
 // Queues the in-scattered light at distance d.t along the ray, weighted by T(t) w / pdf and
 // averaged over the light samples.
 template <Technique K>
-static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDistance d, float w, ChosenLight light,
-                                Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
-                                uint64_t& light_ticks) {
+static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDistance d, float w,
+                                       ChosenLight light, Point2<float> light_point, Point2<float> phase_point,
+                                       const ShadowSink& sink, uint64_t& light_ticks) {
     const Spectrum weight = Transmittance(c.scene.medium, d.t) * (w / d.pdf);
     InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d}, light, light_point, phase_point,
                         sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
@@ -114,7 +116,8 @@ static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, Sc
 // mixture is too.
 template <Technique K>
 static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
-                        const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink, uint64_t& light_ticks) {
+                               const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink,
+                               uint64_t& light_ticks) {
     const RenderScene& scene = c.scene;
     const Ray& ray = ph.ray;
     const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;

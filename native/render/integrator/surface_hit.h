@@ -8,10 +8,10 @@
 namespace sphrect::render {
 
 struct SurfaceHit {
-    Vec3f p;       // hit point
-    Vec3f ng;      // unit geometric normal, on the side the camera ray came from
-    Vec3f ns;      // unit shading normal, flipped with ng
-    float t = 0;   // distance along the camera ray
+    Vec3f p;      // hit point
+    Vec3f ng;     // unit geometric normal, on the side the camera ray came from
+    Vec3f ns;     // unit shading normal, flipped with ng
+    float t = 0;  // distance along the camera ray
     int material = 0;
 };
 
@@ -29,7 +29,9 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
     } else {
         // Interpolated shading normal (and the point from the barycentrics, which is more precise).
         const uint32_t i0 = m.triangles[3 * tri], i1 = m.triangles[3 * tri + 1], i2 = m.triangles[3 * tri + 2];
-        auto vertex = [&](uint32_t i) { return Vec3f(m.vertices[3 * i], m.vertices[3 * i + 1], m.vertices[3 * i + 2]); };
+        auto vertex = [&](uint32_t i) {
+            return Vec3f(m.vertices[3 * i], m.vertices[3 * i + 1], m.vertices[3 * i + 2]);
+        };
         const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
         s.p = vertex(i0) * b0 + vertex(i1) * b1 + vertex(i2) * b2;
         const Vec3f n = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
