@@ -28,6 +28,17 @@ struct AreaLight {
     bool visible = true;    // seen by camera rays
 };
 
+// What both shapes set alike: the plane coordinates along their axes a, b (a rectangle's edges,
+// an ellipse's semi-axes) and the emission.
+inline void SetAxesAndEmission(AreaLight& l, const Vec3f& a, const Vec3f& b, const Spectrum& radiance, bool two_sided,
+                               bool visible) {
+    l.inv_x = a / Dot(a, a);
+    l.inv_y = b / Dot(b, b);
+    l.radiance = radiance;
+    l.two_sided = two_sided;
+    l.visible = visible;
+}
+
 inline AreaLight MakeRectAreaLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
                                    bool two_sided, bool visible) {
     AreaLight l;
@@ -37,11 +48,7 @@ inline AreaLight MakeRectAreaLight(const Vec3f& corner, const Vec3f& ex, const V
     const Vec3f c = Cross(ex, ey);
     l.area = Length(c);
     l.n = c / l.area;
-    l.inv_x = ex / Dot(ex, ex);
-    l.inv_y = ey / Dot(ey, ey);
-    l.radiance = radiance;
-    l.two_sided = two_sided;
-    l.visible = visible;
+    SetAxesAndEmission(l, ex, ey, radiance, two_sided, visible);
     return l;
 }
 
@@ -55,11 +62,7 @@ inline AreaLight MakeEllipseAreaLight(const Vec3f& center, const Vec3f& ax, cons
     const Vec3f c = Cross(ax, ay);
     l.area = kPi * Length(c);
     l.n = Normalize(c);
-    l.inv_x = ax / Dot(ax, ax);
-    l.inv_y = ay / Dot(ay, ay);
-    l.radiance = radiance;
-    l.two_sided = two_sided;
-    l.visible = visible;
+    SetAxesAndEmission(l, ax, ay, radiance, two_sided, visible);
     return l;
 }
 
