@@ -7,7 +7,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "renderer.h"
+#include "options.h"
+#include "scene.h"
 
 namespace sphrect::render {
 
