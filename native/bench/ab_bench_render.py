@@ -20,12 +20,13 @@ import json
 import subprocess
 import sys
 
-TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
 
 
 def best_times(bins, rounds, filt):
-    """{run name: {build tag: min ns per camera sample}} over `rounds` alternating runs."""
+    """{run name: {build tag: min ns per camera sample}} over `rounds` alternating runs, and the technique
+    names by benchmark index (from the benchmarks' labels, which start with the technique's name)."""
     best = collections.defaultdict(dict)
+    techniques = {}
     tags = list(bins)
     for r in range(rounds):
         for tag in (tags if r % 2 == 0 else tags[::-1]):
@@ -36,14 +37,17 @@ def best_times(bins, rounds, filt):
                     sys.exit(f"{b['run_name']}: {b.get('error_message')}")
                 ns = b["s/sample"] * 1e9
                 best[b["run_name"]][tag] = min(ns, best[b["run_name"]].get(tag, float("inf")))
-    return best
+                kind, index = b["run_name"].split("/")[:2]
+                if kind in ("BM_Render", "BM_RawEmbree") and b.get("label"):
+                    techniques[int(index)] = b["label"].split("/")[0]
+    return best, techniques
 
 
-def rows(best):
+def rows(best, techniques):
     """(technique, mis, light samples, raw, render, rays + sampler or None) for every measured case."""
     for ls in (1, 4):
         for mis in (0, 1):
-            for t, name in enumerate(TECHNIQUES):
+            for t, name in sorted(techniques.items()):
                 raw = best.get(f"BM_RawEmbree/{t}/{mis}/{ls}/manual_time")
                 ren = best.get(f"BM_Render/{t}/{mis}/4/{ls}/manual_time")
                 floor = best.get(f"BM_RaysAndSampler/{t}/{ls}/manual_time") if not mis else None
@@ -52,10 +56,10 @@ def rows(best):
 
 
 def report_one(binary, rounds):
-    best = best_times({"build": binary}, rounds, "BM_Render/./././|BM_RawEmbree|BM_RaysAndSampler")
+    best, techniques = best_times({"build": binary}, rounds, "BM_Render/./././|BM_RawEmbree|BM_RaysAndSampler")
     print(f"{'technique':17s} {'MIS':7s} ls | {'raw':>5s} {'rays+sampler':>12s} {'render':>7s} | "
           f"{'floor/raw':>9s} {'render/raw':>10s}   (ns per camera sample; goal render/raw <= 1.3)")
-    for name, mis, ls, raw, ren, floor in rows(best):
+    for name, mis, ls, raw, ren, floor in rows(best, techniques):
         r, n = raw["build"], ren["build"]
         f = floor["build"] if floor else None
         print(f"{name:17s} {mis:7s} {ls}  | {r:5.0f} {f'{f:12.0f}' if f else ' ' * 12} {n:7.0f} | "
@@ -63,10 +67,10 @@ def report_one(binary, rounds):
 
 
 def report_ab(old, new, rounds, filt):
-    best = best_times({"old": old, "new": new}, rounds, filt)
+    best, techniques = best_times({"old": old, "new": new}, rounds, filt)
     print(f"{'technique':17s} {'MIS':7s} ls | {'old: raw':>8s} {'render':>7s} {'ratio':>5s} | "
           f"{'new: raw':>8s} {'render':>7s} {'ratio':>5s} | speed-up   (ns per camera sample)")
-    for name, mis, ls, raw, ren, _ in rows(best):
+    for name, mis, ls, raw, ren, _ in rows(best, techniques):
         if len(raw) < 2 or len(ren) < 2:
             continue
         print(f"{name:17s} {mis:7s} {ls}  | {raw['old']:8.0f} {ren['old']:7.0f} {ren['old'] / raw['old']:5.2f} | "

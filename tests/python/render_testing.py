@@ -6,7 +6,7 @@ from scipy import stats
 import sphrect
 from chi2 import sidak_alpha
 
-ALL_TECHNIQUES = ["area", "triangles", "rectangle", "rectangle_cosine"]
+ALL_TECHNIQUES = list(sphrect.techniques)
 
 
 def plane_mesh(size=50.0, z=0.0):

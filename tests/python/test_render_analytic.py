@@ -57,7 +57,7 @@ def rect_expected(light, cam):
         P, (0, 0, 1), verts, two_sided=light.two_sided))
 
 
-@pytest.mark.parametrize("mis", ["none", "balance", "power"])
+@pytest.mark.parametrize("mis", sphrect.mis_modes)
 @pytest.mark.parametrize("name", list(RECT_SCENES))
 def test_rectangle_light_on_plane(name, mis):
     light = RECT_SCENES[name]
@@ -204,7 +204,7 @@ def test_plane_under_a_constant_sky(mis):
 
 
 @pytest.mark.parametrize("medium", [False, True])
-@pytest.mark.parametrize("mis", ["none", "balance", "power"])
+@pytest.mark.parametrize("mis", sphrect.mis_modes)
 def test_umbra_is_black(mis, medium):
     """Under an opaque board between the plane and the light no light arrives by any strategy: every
     pixel is exactly 0 for every technique -- light samples, BSDF (phase) samples that find the light

@@ -73,7 +73,7 @@ def test_progressive_passes_continue_the_sobol_sequence():
     np.testing.assert_allclose(a.image(), b.image(), rtol=1e-5, atol=1e-6)
 
 
-@pytest.mark.parametrize("pattern", ["independent", "stratified", "latin", "hammersley", "sobol"])
+@pytest.mark.parametrize("pattern", sphrect.patterns)
 def test_every_pattern_renders(pattern):
     r = sphrect.Renderer(simple_scene(8, 8), pattern=pattern, light_samples=3)
     assert r.render(5)

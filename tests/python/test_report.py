@@ -6,6 +6,7 @@ import os
 
 import pytest
 
+import sphrect
 from sphrect.study import metrics
 from sphrect.study.jobs import CYCLES_CURVE, StudyConfig
 from sphrect.study.report import equal_error, findings, wording
@@ -79,7 +80,7 @@ def test_non_finite_and_missing_numbers_print_a_placeholder():
     without Cycles: every finding still computes, and what is no number prints as the placeholder."""
     assert [wording.fmt(x) for x in (float("nan"), math.inf, -math.inf, None)] == [PLACEHOLDER] * 4
     assert wording.fmt(3) == "3" and wording.fmt(0.123456) == "0.123"
-    cfg = StudyConfig(techniques=("area", "triangles", "rectangle", "rectangle_cosine"), mis=("none",),
+    cfg = StudyConfig(techniques=tuple(sphrect.techniques), mis=("none",),
                       patterns=("independent", "sobol"))
     curves = {}
     for pattern in cfg.patterns:

@@ -6,7 +6,7 @@ import numpy as np
 import sphrect
 from sphrect.study import sampler_table
 
-TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine")
+TECHNIQUES = tuple(sphrect.techniques)
 
 
 def test_the_suite_is_the_tests_suite():

@@ -69,7 +69,7 @@ def scene_file(tmp_path):
 
 
 def tiny_config(**kw):
-    args = dict(techniques=("area", "triangles", "rectangle", "rectangle_cosine"), mis=("none", "balance"),
+    args = dict(techniques=tuple(sphrect.techniques), mis=("none", "balance"),
                 patterns=("independent", "sobol"), ladder=(1, 2, 4, 8), equal_time=0.004)
     args.update(kw)
     return StudyConfig(**args)

@@ -6,6 +6,7 @@ import os
 import sys
 from typing import List, Optional
 
+from .._native import MAX_IMAGE_SIDE
 from ..render import MIS_MODES, PATTERNS, TECHNIQUES
 from .jobs import StudyConfig, sample_ladder
 from .reference import ReferenceSettings
@@ -24,8 +25,8 @@ def _resolution(text: str):
         w, h = (int(x) for x in text.lower().split("x"))
     except ValueError:
         raise argparse.ArgumentTypeError(f"resolution must look like 320x240, got {text!r}") from None
-    if not (1 <= w <= 16384 and 1 <= h <= 16384):
-        raise argparse.ArgumentTypeError(f"resolution {w}x{h} out of range")
+    if not (1 <= w <= MAX_IMAGE_SIDE and 1 <= h <= MAX_IMAGE_SIDE):
+        raise argparse.ArgumentTypeError(f"resolution {w}x{h} out of range (each side 1..{MAX_IMAGE_SIDE})")
     return w, h
 
 
