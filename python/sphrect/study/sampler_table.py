@@ -138,23 +138,28 @@ def pdf_errors() -> Dict[str, Dict]:
 # The cost table's stages (timing name prefix -> column title), in the table's order.
 STAGES = {"Setup": "setup", "SetupFromFrame": "setup from the light's frame (renderer)", "Sample": "sample",
           "SampleEdgeOn": "sample, nearly edge-on setup", "Pdf": "pdf"}
-SAMPLE_COLUMN = 2 + list(STAGES).index("Sample")
 
 
-def benchmark_rows(min_time: float = 0.2) -> Tuple[List[str], List[List[str]]]:
-    """(header, rows) of the module's timings: stages named "<Stage>/<technique>/<precision>" (the stages of
-    STAGES) pivot into one row per technique and precision, in ns; other names are listed flat."""
-    table: Dict[Tuple[str, str], Dict[str, float]] = {}
-    flat = []
+def sampler_costs(min_time: float = 0.2) -> Tuple[Dict[Tuple[str, str], Dict[str, float]], List[Tuple[str, float]]]:
+    """The module's timings in ns: {(technique, precision): {stage: ns}} for the names
+    "<Stage>/<technique>/<precision>" of the stages in STAGES, and (name, ns) for any other."""
+    costs: Dict[Tuple[str, str], Dict[str, float]] = {}
+    other = []
     for name, ns in _native()._study_sampler_timings(min_time):
         parts = name.split("/")
         if len(parts) == 3 and parts[0] in STAGES:
-            table.setdefault((parts[1], parts[2]), {})[parts[0]] = ns
+            costs.setdefault((parts[1], parts[2]), {})[parts[0]] = ns
         else:
-            flat.append([name, "", f"{ns:.3g}", "", ""])
+            other.append((name, ns))
+    return costs, other
+
+
+def cost_table(costs, other) -> Tuple[List[str], List[List[str]]]:
+    """(header, rows) of sampler_costs' figures: one row per technique and precision, other timings flat."""
     rows = [[technique, precision] + [f"{stages[k]:.3g}" if k in stages else "–" for k in STAGES]
-            for (technique, precision), stages in table.items()]
-    return ["technique", "precision"] + [f"{title} [ns]" for title in STAGES.values()], rows + flat
+            for (technique, precision), stages in costs.items()]
+    rows += [[name, "", f"{ns:.3g}", "", ""] for name, ns in other]
+    return ["technique", "precision"] + [f"{title} [ns]" for title in STAGES.values()], rows
 
 
 def sampler_tables():
@@ -179,15 +184,14 @@ def sampler_tables():
              "light's float32 edges are orthogonal only to ~1e-7, and the 50-digit reference integrates that "
              "parallelogram: a solid-angle error of ~3e-8 there is the input's, not the map's."]
     try:
-        header, rows = benchmark_rows()
+        costs, other = sampler_costs()
         tables.append(("Cost: the sampler's stages (as bench_sampling times them, ns per call) on this machine",
-                       header, rows))
-        by = {(r[0], r[1]): r for r in rows}
-        textbook, robust = by.get(("textbook_rectangle", "float")), by.get(("rectangle", "float"))
-        k = SAMPLE_COLUMN
-        if textbook and robust and textbook[k] != "–" and robust[k] != "–":
+                       *cost_table(costs, other)))
+        textbook = costs.get(("textbook_rectangle", "float"), {}).get("Sample")
+        robust = costs.get(("rectangle", "float"), {}).get("Sample")
+        if textbook and robust:
             notes.append(f"Robust single-precision `rectangle` sample / textbook sample: "
-                         f"{float(robust[k]) / float(textbook[k]):.2f}x (goal: at most 1.5x).")
+                         f"{robust / textbook:.2f}x (goal: at most 1.5x).")
     except Exception as e:
         notes.append(f"(cost table unavailable: {e})")
     return tables, notes
