@@ -26,9 +26,8 @@ struct SurfaceShadingPoint {
 // against the BSDF sample.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
-                                           Point2<float> u, TimedLightSamplingAt<K>& light_sampling,
-                                           const ShadowSink& sink) {
-    const EmitterSample e = SampleChosenEmitter<K>(c, light, u, light_sampling);
+                                           TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    const EmitterSample e = SampleChosenEmitter<K>(c, light, light.u, light_sampling);
     if (!e.valid) return;
     const Vec3f wi = sp.frame.ToLocal(e.dir);
     if (!(wi.z > 0) || !(Dot(e.dir, sp.hit.ng) > 0)) return;
@@ -68,7 +67,8 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 }
 
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
-// pairs averaged, then the delta lights.  light_ticks counts the time in light sampling.
+// pairs averaged, then the delta lights.  Light sample j's light and its point come from
+// light_points[j] (ChooseAreaLight); rng is only advanced for the medium that may follow.  light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3f& wo_world,
                                 const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
@@ -83,8 +83,9 @@ static inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, cons
     const int n_pairs = (!scene.light_selector.Empty() || c.sample_bsdf) ? c.light_samples : 0;
     TimedLightSamplingAt<K> light_sampling(scene, h.p, h.ns, light_ticks);
     for (int j = 0; j < n_pairs; ++j) {
-        const ChosenLight light = ChooseAreaLight(scene.light_selector, rng);
-        QueueSurfaceLightSample<K, kGlossy, kMedium>(c, sp, light, light_points[j], light_sampling, pair_sink);
+        const ChosenLight light = ChooseAreaLight(scene.light_selector, light_points[j]);
+        if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow
+        QueueSurfaceLightSample<K, kGlossy, kMedium>(c, sp, light, light_sampling, pair_sink);
         if (c.sample_bsdf)
             QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);
     }

@@ -28,9 +28,8 @@ struct ScatteringPoint {
 // Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample.
 template <Technique K>
 static inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
-                                          Point2<float> u, TimedLightSamplingAt<K>& light_sampling,
-                                          const ShadowSink& sink) {
-    const EmitterSample e = SampleChosenEmitter<K>(c, light, u, light_sampling);
+                                          TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    const EmitterSample e = SampleChosenEmitter<K>(c, light, light.u, light_sampling);
     if (!e.valid) return;
     const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
     const float w = MisWeight(c.mis, e.pdf, phase);
@@ -61,12 +60,11 @@ static inline void QueueMediumDeltaLights(const ShadeContext& c, const Scatterin
 // Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights.
 template <Technique K>
 static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
-                                    Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
-                                    uint64_t& light_ticks) {
+                                    Point2<float> phase_point, const ShadowSink& sink, uint64_t& light_ticks) {
     constexpr Technique MK = kMediumTechnique<K>;
     const ShadowSink out = sink.Scaled(c.scene.medium.sigma_s);
     TimedLightSamplingAt<MK> light_sampling(c.scene, sp.x, sp.ray_dir, light_ticks);
-    QueueMediumLightSample<MK>(c, sp, light, light_point, light_sampling, out);
+    QueueMediumLightSample<MK>(c, sp, light, light_sampling, out);
     if (c.sample_bsdf) QueueMediumPhaseSample<MK>(c, sp, phase_point, light_sampling, out);
     QueueMediumDeltaLights(c, sp, out);
 }
@@ -102,10 +100,10 @@ static inline EquiAngular EquiAngularAboutALight(const RenderScene& scene, const
 // averaged over the light samples.
 template <Technique K>
 static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDistance d, float w,
-                                       ChosenLight light, Point2<float> light_point, Point2<float> phase_point,
-                                       const ShadowSink& sink, uint64_t& light_ticks) {
+                                       ChosenLight light, Point2<float> phase_point, const ShadowSink& sink,
+                                       uint64_t& light_ticks) {
     const Spectrum weight = Transmittance(c.scene.medium, d.t) * (w / d.pdf);
-    InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d}, light, light_point, phase_point,
+    InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d}, light, phase_point,
                         sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
 }
 
@@ -122,9 +120,10 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
     const Ray& ray = ph.ray;
     const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
     for (int j = 0; j < c.light_samples; ++j) {
-        // The area light for the light sample at the scattering point, and (independently) the
-        // centre for equi-angular sampling.
-        const ChosenLight light = ChooseAreaLight(scene.light_selector, rng);
+        // The area light for the light sample at the scattering points, from the pattern's light
+        // point as at a surface, and (independently, from rng) the centre for equi-angular sampling.
+        const ChosenLight light = ChooseAreaLight(scene.light_selector, light_points[j]);
+        SkipFormerLightChoiceNumber(scene.light_selector, rng);
         const EquiAngular ea = EquiAngularAboutALight(scene, ray, ph.t_end, rng.NextFloat());
         const bool use_equi = c.medium_sampling != MediumSampling::Distance && ea.valid;
         const bool use_distance = c.medium_sampling != MediumSampling::EquiAngular || !ea.valid;
@@ -133,7 +132,7 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
             const ScatterDistance d = SampleDistanceByTransmittance(scene.medium, ph.t_end, u_distance);
             const float w = use_equi ? MisWeight(strategy_mis, d.pdf, EquiAngularPDF(ea, d.t)) : 1.0f;
             if (d.pdf > 0 && w > 0)
-                QueueInScatteringAt<K>(c, ray, d, w, light, light_points[j], bsdf_points[j], sink, light_ticks);
+                QueueInScatteringAt<K>(c, ray, d, w, light, bsdf_points[j], sink, light_ticks);
         }
         if (use_equi) {
             const ScatterDistance d = SampleDistanceEquiAngular(ea, ph.t_end, u_equi);
@@ -141,7 +140,7 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
                 use_distance ? MisWeight(strategy_mis, d.pdf, ExponentialDistancePDF(scene.medium.sigma_sampling, d.t))
                              : 1.0f;
             if (d.pdf > 0 && w > 0)
-                QueueInScatteringAt<K>(c, ray, d, w, light, light_points[j], bsdf_points[j], sink, light_ticks);
+                QueueInScatteringAt<K>(c, ray, d, w, light, bsdf_points[j], sink, light_ticks);
         }
     }
 }
