@@ -10,6 +10,9 @@
 05_hard_cases    a tiny, distant light; a light seen at grazing angles; a huge light close to a surface
 06_mixed_lights  every light shape and type, instanced geometry (collection instances, linked
                  duplicates) and modifiers (array, subdivision, mirror)
+07_studio        a product studio: four large rectangle softboxes of equal power (10 W each) around
+                 Principled objects on a curved backdrop, inside a closed room box
+08_disk_room     a closed room lit by two ceiling disk lights of different power
 """
 import math
 import os
@@ -97,6 +100,12 @@ def area_light(name, shape="RECTANGLE", size=1.0, size_y=1.0, power=100.0, locat
     obj.location, obj.rotation_euler, obj.scale = location, rotation, scale
     obj.visible_camera = visible
     return obj
+
+
+def aim(obj, target):
+    """Points obj's -Z (where lights emit and cameras look) at target, its Y up."""
+    direction = Vector(target) - obj.location
+    obj.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
 
 
 def other_light(name, kind, power, location=(0, 0, 0), rotation=(0, 0, 0), color=(1, 1, 1), **props):
@@ -257,9 +266,52 @@ def mixed_lights():
     save("06_mixed_lights")
 
 
+def studio():
+    fresh_scene("studio")
+    room(material("Room", (0.6, 0.6, 0.6)), size=(10, 10, 5))
+    # A backdrop (cyclorama): a floor sheet bending up into a back wall, one smooth mesh.
+    backdrop = mesh_object("Backdrop", "plane", material("Backdrop", (0.85, 0.85, 0.85)), size=1.0)
+    mesh = backdrop.data
+    mesh.clear_geometry()
+    rows, radius = 12, 1.0
+    profile = [(y, 0.0) for y in (-3.0, -1.5, 0.0)]  # (y, z) along the floor, then a quarter circle up
+    profile += [(radius * math.sin(a), radius * (1 - math.cos(a)))
+                for a in (math.pi / 2 * (i + 1) / rows for i in range(rows))]
+    profile += [(radius, 3.0)]
+    verts = [(x, y, z) for (y, z) in profile for x in (-3.0, 3.0)]
+    faces = [(2 * i, 2 * i + 1, 2 * i + 3, 2 * i + 2) for i in range(len(profile) - 1)]
+    mesh.from_pydata(verts, [], faces)
+    mesh.materials.append(bpy.data.materials["Backdrop"])
+    smooth(backdrop)
+    target = (0.0, -0.6, 0.5)
+    smooth(mesh_object("Product Sphere", "uv_sphere", material("Plastic", (0.7, 0.1, 0.1), kind="principled",
+                                                               roughness=0.3), location=(-0.5, -0.6, 0.45),
+                       radius=0.45, segments=32, ring_count=16))
+    mesh_object("Product Box", "cube", material("Satin", (0.2, 0.3, 0.6), kind="principled", roughness=0.5),
+                location=(0.55, -0.4, 0.35), size=0.7, rotation=(0, 0, 0.6))
+    # Four softboxes of 10 W each, all aimed at the product: key and fill in front, a rim behind, a top light.
+    for name, loc, (w, h) in [("Key", (-2.0, -2.6, 1.8), (1.2, 1.6)), ("Fill", (2.2, -2.4, 1.4), (1.2, 1.6)),
+                              ("Rim Left", (-2.2, 0.6, 2.2), (0.6, 1.8)), ("Top", (0.3, -0.8, 3.2), (1.6, 1.0))]:
+        aim(area_light(name, "RECTANGLE", size=w, size_y=h, power=10.0, location=loc), target)
+    camera((0.0, -4.6, 1.3), target, lens=40.0)
+    save("07_studio")
+
+
+def disk_room():
+    fresh_scene("disk_room")
+    room(material("Walls", (0.75, 0.72, 0.68)))
+    mesh_object("Table", "cube", material("Wood", (0.55, 0.35, 0.2)), location=(0.4, 0.8, 0.4), scale=(0.8, 0.5, 0.4))
+    smooth(mesh_object("Vase", "uv_sphere", material("Ceramic", (0.2, 0.5, 0.5), kind="principled", roughness=0.35),
+                       location=(-1.2, 0.2, 0.5), radius=0.5, segments=32, ring_count=16))
+    area_light("Disk Left", "DISK", size=0.6, power=150.0, location=(-1.2, 0.6, 2.98))
+    area_light("Disk Right", "DISK", size=0.4, power=60.0, location=(1.4, 1.2, 2.98))
+    camera((0.0, -2.8, 1.5), (0.0, 0.8, 0.8), lens=20.0)
+    save("08_disk_room")
+
+
 SCENES = {"01_paper": paper, "02_room": lambda: room_scene("02_room", fog=False), "03_glossy_floor": glossy_floor,
           "04_foggy_room": lambda: room_scene("04_foggy_room", fog=True), "05_hard_cases": hard_cases,
-          "06_mixed_lights": mixed_lights}
+          "06_mixed_lights": mixed_lights, "07_studio": studio, "08_disk_room": disk_room}
 
 if __name__ == "__main__":
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
