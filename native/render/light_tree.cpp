@@ -1,0 +1,407 @@
+// Building the light tree (light_tree.h): emitters' bounds, validation, and a binned
+// surface-area-orientation-heuristic (SAOH) split per node, top-down; the nodes' bounds and
+// cones are then the exact unions of their children's, bottom-up.
+#include "light_tree.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace sphrect::render {
+
+// ---- Emitters' bounds ----
+
+LightBounds AreaLightBounds(const AreaLight& l) {
+    LightBounds b;
+    // Box of a rectangle: its corners; of an ellipse c + ax cos t + ay sin t: c +- sqrt(ax_i^2 + ay_i^2).
+    Vec3f half;
+    if (l.shape == AreaShape::Rectangle) {
+        const RectLight<float>& r = l.frame.light;
+        const Vec3f corners[4] = {r.corner, r.corner + r.ex, r.corner + r.ey, r.corner + r.ex + r.ey};
+        b.lo = b.hi = corners[0];
+        for (const Vec3f& c : corners) {
+            b.lo = {std::min(b.lo.x, c.x), std::min(b.lo.y, c.y), std::min(b.lo.z, c.z)};
+            b.hi = {std::max(b.hi.x, c.x), std::max(b.hi.y, c.y), std::max(b.hi.z, c.z)};
+        }
+    } else {
+        half = {std::hypot(l.ax.x, l.ay.x), std::hypot(l.ax.y, l.ay.y), std::hypot(l.ax.z, l.ay.z)};
+        b.lo = l.center - half;
+        b.hi = l.center + half;
+    }
+    b.power = Luminance(l.radiance) * l.area;  // intensity along the normal, per side
+    b.axis = l.n;
+    b.cos_theta_o = 1;
+    b.cos_theta_e = 0;  // cosine falloff to pi/2
+    b.two_sided = l.two_sided;
+    return b;
+}
+
+LightBounds TriangleLightBounds(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, float luminance, bool two_sided) {
+    LightBounds b;
+    b.lo = {std::min({p0.x, p1.x, p2.x}), std::min({p0.y, p1.y, p2.y}), std::min({p0.z, p1.z, p2.z})};
+    b.hi = {std::max({p0.x, p1.x, p2.x}), std::max({p0.y, p1.y, p2.y}), std::max({p0.z, p1.z, p2.z})};
+    const Vec3f c = Cross(p1 - p0, p2 - p0);
+    const float twice_area = Length(c);
+    b.power = twice_area > 0 ? luminance * 0.5f * twice_area : 0.0f;  // a degenerate triangle emits nothing
+    b.axis = twice_area > 0 ? c / twice_area : Vec3f(0, 0, 1);
+    b.cos_theta_o = 1;
+    b.cos_theta_e = 0;
+    b.two_sided = two_sided;
+    return b;
+}
+
+bool DeltaLightBounds(const DeltaLight& l, LightBounds* out) {
+    if (l.kind == DeltaKind::Sun) return false;
+    LightBounds b;
+    b.lo = b.hi = l.position;
+    b.power = Luminance(l.power);
+    if (l.kind == DeltaKind::Spot) {
+        b.axis = l.axis;
+        b.cos_theta_o = std::clamp(l.cos_half_angle, -1.0f, 1.0f);  // SpotAttenuation: zero outside
+        b.cos_theta_e = 1;
+    } else {
+        b.cos_theta_o = -1;  // the whole sphere
+        b.cos_theta_e = 0;
+    }
+    *out = b;
+    return true;
+}
+
+TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
+                                 const std::vector<DeltaLight>& delta_lights) {
+    TreeEmitters e;
+    for (size_t i = 0; i < area_lights.size(); ++i) {
+        e.bounds.push_back(AreaLightBounds(area_lights[i]));
+        e.refs.push_back({TreeEmitterKind::Area, int(i)});
+    }
+    for (size_t i = 0; i < delta_lights.size(); ++i) {
+        LightBounds b;
+        if (!DeltaLightBounds(delta_lights[i], &b)) continue;
+        e.bounds.push_back(b);
+        e.refs.push_back({TreeEmitterKind::Delta, int(i)});
+    }
+    return e;
+}
+
+namespace {
+
+constexpr double kPiD = 3.14159265358979323846;
+
+// ---- Direction cones, in double (build only) ----
+
+struct Cone {
+    Vec3d axis{0, 0, 1};
+    double theta_o = 0, theta_e = 0;  // radians
+    bool two_sided = false;
+};
+
+double AngleBetween(const Vec3d& a, const Vec3d& b) {
+    // Numerically stable for nearly (anti)parallel unit vectors.
+    const double dot = Dot(a, b);
+    if (dot < 0) return kPiD - 2 * std::asin(std::min(1.0, Length(a + b) / 2));
+    return 2 * std::asin(std::min(1.0, Length(b - a) / 2));
+}
+
+// Smallest cone containing both (pbrt-v4's DirectionCone Union): theta_o spans both spreads
+// and the angle between the axes; the axis rotated from a's towards b's by theta_o - theta_a.
+Cone Union(const Cone& a, const Cone& b) {
+    Cone c;
+    c.theta_e = std::max(a.theta_e, b.theta_e);
+    c.two_sided = a.two_sided || b.two_sided;
+    const double theta_d = AngleBetween(a.axis, b.axis);
+    if (std::min(theta_d + b.theta_o, kPiD) <= a.theta_o) {
+        c.axis = a.axis;
+        c.theta_o = a.theta_o;
+        return c;
+    }
+    if (std::min(theta_d + a.theta_o, kPiD) <= b.theta_o) {
+        c.axis = b.axis;
+        c.theta_o = b.theta_o;
+        return c;
+    }
+    const double theta_o = (a.theta_o + theta_d + b.theta_o) / 2;
+    const Vec3d k = Cross(a.axis, b.axis);
+    const double k_len = Length(k);
+    if (theta_o >= kPiD || !(k_len > 0)) {
+        c.theta_o = kPiD;
+        return c;
+    }
+    const double theta_r = theta_o - a.theta_o;
+    const Vec3d toward_b = Cross(k / k_len, a.axis);  // unit, perpendicular to a, in the plane of a and b
+    c.axis = Normalize(a.axis * std::cos(theta_r) + toward_b * std::sin(theta_r));
+    c.theta_o = theta_o;
+    return c;
+}
+
+// The solid-angle measure of a cone's emission, M_Omega (Conty Estevez & Kulla, eq. 1):
+// 2 pi (1 - cos theta_o) + pi/2 (2 theta_w sin theta_o - cos(theta_o - 2 theta_w)
+// - 2 theta_o sin theta_o + cos theta_o), theta_w = min(theta_o + theta_e, pi).
+double OrientationMeasure(double theta_o, double theta_e) {
+    const double theta_w = std::min(theta_o + theta_e, kPiD);
+    const double cos_o = std::cos(theta_o), sin_o = std::sin(theta_o);
+    return 2 * kPiD * (1 - cos_o) +
+           kPiD / 2 * (2 * theta_w * sin_o - std::cos(theta_o - 2 * theta_w) - 2 * theta_o * sin_o + cos_o);
+}
+
+// ---- Boxes ----
+
+struct Box {
+    Vec3f lo{FLT_MAX, FLT_MAX, FLT_MAX}, hi{-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    void Grow(const Vec3f& l, const Vec3f& h) {
+        lo = {std::min(lo.x, l.x), std::min(lo.y, l.y), std::min(lo.z, l.z)};
+        hi = {std::max(hi.x, h.x), std::max(hi.y, h.y), std::max(hi.z, h.z)};
+    }
+    void Grow(const Box& b) { Grow(b.lo, b.hi); }
+    bool Valid() const { return lo.x <= hi.x; }
+    Vec3f Extent() const { return hi - lo; }
+};
+
+// The split cost's area term: surface area, plus a small multiple of the squared diagonal so
+// that flat and linear sets of emitters (lights on a line, points) still prefer tight groups.
+double AreaMeasure(const Box& b) {
+    if (!b.Valid()) return 0;
+    const Vec3d e(b.Extent());
+    return 2 * (e.x * e.y + e.y * e.z + e.z * e.x) + 1e-3 * Dot(e, e);
+}
+
+// ---- Build ----
+
+struct BuildItem {
+    Vec3f lo, hi, centroid;
+    float power;  // of the tree's total
+    uint32_t emitter;
+};
+
+// A bucket of the binned split: box, power and what estimates its cone (the sum of its unit
+// axes and the widest theta_o, theta_e; the node's real cone is the children's exact union).
+struct Bucket {
+    Box box;
+    double power = 0;
+    Vec3d axis_sum;
+    int count = 0;
+    double theta_o = 0, theta_e = 0;
+    bool two_sided = false;
+
+    void Add(const Bucket& b) {
+        box.Grow(b.box);
+        power += b.power;
+        axis_sum += b.axis_sum;
+        count += b.count;
+        theta_o = std::max(theta_o, b.theta_o);
+        theta_e = std::max(theta_e, b.theta_e);
+        two_sided = two_sided || b.two_sided;
+    }
+    // power * M_Omega * area, the cone's spread estimated from the axes' mean resultant
+    // length (0 for equal axes, pi for opposite or scattered ones).
+    double Cost() const {
+        if (count == 0) return 0;
+        const double resultant = std::min(1.0, Length(axis_sum) / count);
+        const double spread = std::min(kPiD, 2 * std::acos(resultant) + theta_o);
+        const double m = OrientationMeasure(spread, theta_e) * (two_sided ? 2 : 1);
+        return power * m * AreaMeasure(box);
+    }
+};
+
+constexpr int kBuckets = 12;
+
+struct NodeBounds {
+    Box box;
+    Cone cone;
+    double power = 0;
+};
+
+class Builder {
+  public:
+    Builder(std::vector<BuildItem>& items, const std::vector<Cone>& cones, std::vector<LightTreeNode>& nodes,
+            std::vector<uint64_t>& trails)
+        : items_(items), cones_(cones), nodes_(nodes), trails_(trails) {}
+
+    NodeBounds Build(size_t begin, size_t end, int depth, uint64_t trail) {
+        max_depth_ = std::max(max_depth_, depth);
+        const uint32_t index = uint32_t(nodes_.size());
+        nodes_.emplace_back();
+        NodeBounds nb;
+        if (end - begin == 1) {
+            const BuildItem& it = items_[begin];
+            nb.box.Grow(it.lo, it.hi);
+            nb.cone = cones_[it.emitter];
+            nb.power = it.power;
+            trails_[it.emitter] = trail;
+            Store(index, nb, LightTreeNode::kLeaf, it.emitter);
+            return nb;
+        }
+        const size_t mid = Split(begin, end, depth);
+        const NodeBounds left = Build(begin, mid, depth + 1, trail);
+        const uint32_t right_index = uint32_t(nodes_.size());
+        const NodeBounds right = Build(mid, end, depth + 1, trail | (uint64_t(1) << depth));
+        nb.box = left.box;
+        nb.box.Grow(right.box);
+        nb.cone = Union(left.cone, right.cone);
+        nb.power = left.power + right.power;
+        Store(index, nb, 0, right_index);
+        return nb;
+    }
+
+    int MaxDepth() const { return max_depth_; }
+
+  private:
+    // Where [begin, end) is cut: the binned SAOH's best plane over the three axes, or the
+    // middle by count (coincident centroids, or deeper than kLightTreeBinnedDepth).
+    size_t Split(size_t begin, size_t end, int depth) {
+        Box node_box, centroids;
+        for (size_t i = begin; i < end; ++i) {
+            node_box.Grow(items_[i].lo, items_[i].hi);
+            centroids.Grow(items_[i].centroid, items_[i].centroid);
+        }
+        const Vec3f ce = centroids.Extent();
+        const Vec3f be = node_box.Extent();
+        const int widest = ce.x >= ce.y && ce.x >= ce.z ? 0 : (ce.y >= ce.z ? 1 : 2);
+        const size_t n = end - begin;
+        if (depth < kLightTreeBinnedDepth && ce[widest] > 0) {
+            const int buckets = int(std::min<size_t>(kBuckets, n));
+            Bucket bins[3][kBuckets];
+            for (size_t i = begin; i < end; ++i) {
+                const BuildItem& it = items_[i];
+                const Cone& cone = cones_[it.emitter];
+                for (int dim = 0; dim < 3; ++dim) {
+                    if (!(ce[dim] > 0)) continue;
+                    Bucket& b = bins[dim][BucketOf(it.centroid[dim], centroids.lo[dim], ce[dim], buckets)];
+                    b.box.Grow(it.lo, it.hi);
+                    b.power += it.power;
+                    b.axis_sum += cone.axis;
+                    b.count += 1;
+                    b.theta_o = std::max(b.theta_o, cone.theta_o);
+                    b.theta_e = std::max(b.theta_e, cone.theta_e);
+                    b.two_sided = b.two_sided || cone.two_sided;
+                }
+            }
+            double best_cost = INFINITY;
+            int best_dim = -1, best_cut = 0;
+            const float max_extent = std::max({be.x, be.y, be.z});
+            for (int dim = 0; dim < 3; ++dim) {
+                if (!(ce[dim] > 0)) continue;
+                // Cost of cutting after bucket k: prefix and suffix sweeps.
+                double below[kBuckets];
+                Bucket acc;
+                for (int k = 0; k < buckets - 1; ++k) {
+                    acc.Add(bins[dim][k]);
+                    below[k] = acc.count > 0 ? acc.Cost() : -1;
+                }
+                Bucket above;
+                const double regularize = be[dim] > 0 ? max_extent / be[dim] : 1;  // pbrt's K_r: thin boxes
+                for (int k = buckets - 2; k >= 0; --k) {
+                    above.Add(bins[dim][k + 1]);
+                    if (below[k] < 0 || above.count == 0) continue;
+                    const double cost = (below[k] + above.Cost()) * regularize;
+                    if (cost < best_cost) {
+                        best_cost = cost;
+                        best_dim = dim;
+                        best_cut = k;
+                    }
+                }
+            }
+            if (best_dim >= 0) {
+                const float lo = centroids.lo[best_dim], extent = ce[best_dim];
+                const auto first_above = std::partition(
+                    items_.begin() + begin, items_.begin() + end, [&](const BuildItem& it) {
+                        return BucketOf(it.centroid[best_dim], lo, extent, buckets) <= best_cut;
+                    });
+                const size_t mid = size_t(first_above - items_.begin());
+                if (mid > begin && mid < end) return mid;
+            }
+        }
+        const size_t mid = begin + n / 2;
+        if (ce[widest] > 0)
+            std::nth_element(items_.begin() + begin, items_.begin() + mid, items_.begin() + end,
+                             [&](const BuildItem& a, const BuildItem& b) {
+                                 return a.centroid[widest] < b.centroid[widest];
+                             });
+        return mid;
+    }
+
+    static int BucketOf(float c, float lo, float extent, int buckets) {
+        const int b = int(float(buckets) * ((c - lo) / extent));
+        return std::clamp(b, 0, buckets - 1);
+    }
+
+    // The node as traversal reads it, padded outwards: the sphere by a relative 2^-12 of its
+    // radius and 2^-20 of the box's coordinates, the cone's angles by 1e-6 rad, the cosines
+    // rounded towards the wider cone.
+    void Store(uint32_t index, const NodeBounds& nb, uint32_t flags, uint32_t child_or_emitter) {
+        LightTreeNode& node = nodes_[index];
+        const Vec3f lo = nb.box.lo, hi = nb.box.hi;
+        node.center = (lo + hi) * 0.5f;
+        const float coord = std::max(MaxAbsComponent(lo), MaxAbsComponent(hi));
+        node.radius = 0.5f * Length(hi - lo) * (1 + 0x1p-12f) + coord * 0x1p-20f + FLT_MIN;
+        node.axis = Vec3f(nb.cone.axis);
+        node.cos_theta_o = WiderCos(nb.cone.theta_o);
+        node.cos_theta_e = WiderCos(nb.cone.theta_e);
+        node.power = std::max(float(nb.power), kSmallestImportance);
+        node.child_or_emitter = child_or_emitter;
+        node.flags = flags | (nb.cone.two_sided ? LightTreeNode::kTwoSided : 0);
+    }
+    static float WiderCos(double theta) {
+        if (theta >= kPiD) return -1;
+        return std::max(-1.0f, std::nextafter(float(std::cos(std::min(kPiD, theta + 1e-6))), -2.0f));
+    }
+
+    std::vector<BuildItem>& items_;
+    const std::vector<Cone>& cones_;
+    std::vector<LightTreeNode>& nodes_;
+    std::vector<uint64_t>& trails_;
+    int max_depth_ = 0;
+};
+
+[[noreturn]] void Reject(size_t i, const std::string& what) {
+    throw std::invalid_argument("LightTree: emitter " + std::to_string(i) + ": " + what);
+}
+
+void Validate(const LightBounds& b, size_t i) {
+    if (!IsFinite(b.lo) || !IsFinite(b.hi)) Reject(i, "bounds not finite (NaN or infinite coordinates)");
+    if (!(b.lo.x <= b.hi.x && b.lo.y <= b.hi.y && b.lo.z <= b.hi.z)) Reject(i, "bounds with lo > hi");
+    if (!std::isfinite(b.power)) Reject(i, "power not finite");
+    if (b.power < 0) Reject(i, "negative power");
+    if (!(std::isfinite(b.cos_theta_o) && std::isfinite(b.cos_theta_e))) Reject(i, "cone angles not finite");
+    if (b.cos_theta_o > -1 && (!IsFinite(b.axis) || !(Dot(b.axis, b.axis) > 0)))
+        Reject(i, "cone axis zero or not finite");
+}
+
+}  // namespace
+
+void LightTree::Build(const std::vector<LightBounds>& emitters) {
+    nodes_.clear();
+    depth_ = 0;
+    if (emitters.size() > size_t(kMaxLightTreeEmitters))
+        throw std::invalid_argument("LightTree: " + std::to_string(emitters.size()) + " emitters, more than " +
+                                    std::to_string(kMaxLightTreeEmitters));
+    trails_.assign(emitters.size(), kNotInTree);
+    double total = 0;
+    for (size_t i = 0; i < emitters.size(); ++i) {
+        Validate(emitters[i], i);
+        total += emitters[i].power;
+    }
+    if (!(total > 0)) return;
+
+    std::vector<BuildItem> items;
+    std::vector<Cone> cones(emitters.size());
+    items.reserve(emitters.size());
+    for (size_t i = 0; i < emitters.size(); ++i) {
+        const LightBounds& b = emitters[i];
+        if (!(b.power > 0)) continue;
+        items.push_back({b.lo, b.hi, (b.lo + b.hi) * 0.5f, float(b.power / total), uint32_t(i)});
+        Cone& c = cones[i];
+        const bool sphere = b.cos_theta_o <= -1;
+        c.axis = sphere ? Vec3d(0, 0, 1) : Normalize(Vec3d(b.axis));
+        c.theta_o = sphere ? kPiD : std::acos(std::clamp(double(b.cos_theta_o), -1.0, 1.0));
+        c.theta_e = std::acos(std::clamp(double(b.cos_theta_e), -1.0, 1.0));
+        c.two_sided = b.two_sided;
+    }
+    nodes_.reserve(2 * items.size() - 1);
+    Builder builder(items, cones, nodes_, trails_);
+    builder.Build(0, items.size(), 0, 0);
+    depth_ = builder.MaxDepth();
+}
+
+}  // namespace sphrect::render

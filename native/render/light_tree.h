@@ -1,0 +1,248 @@
+// A light tree: a BVH over emitters of every kind (area lights, emissive triangles, point and
+// spot lights) with power and orientation bounds per node, after Conty Estevez & Kulla,
+// "Importance Sampling of Many Lights with Adaptive Tree Splitting" (HPG 2018), as pbrt-v4's
+// BVHLightSampler and Cycles' light tree do it.
+//
+//   LightBounds    what the tree knows of one emitter: world box, power, orientation cone.
+//   LightTree      Build(bounds) once per scene; then per shading point, allocation-free and in
+//                  float, Sample(p, n, u) -> (emitter, pmf, u rescaled) and Pmf(p, n, emitter),
+//                  the probability that Sample picks that emitter (the MIS pdf of an emitter a
+//                  BSDF ray found).  n = (0,0,0): no normal (a point in a medium).
+//
+// Emitter indices are positions in the vector given to Build; CollectTreeEmitters numbers the
+// scene's area lights first, then its point and spot lights (suns stay outside: no finite bounds).
+// Derivation of the importance and the build's cost: docs/light_tree.md.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "area_light.h"
+#include "core/rng.h"
+#include "delta_light.h"
+#include "sampling_util.h"
+
+namespace sphrect::render {
+
+// One emitter as the tree sees it.  The orientation cone (Conty Estevez & Kulla, sec. 4.1):
+// every direction of emission lies within theta_o of `axis`, and the emission falls to zero
+// within a further theta_e (cosine falloff over it); two_sided: also the mirrored cone around
+// -axis.  A one-sided planar light: (n, cos_theta_o = 1, cos_theta_e = 0); a point light
+// covers the sphere (cos_theta_o = -1); a spot light its cone (cos_theta_o = cos(half angle),
+// cos_theta_e = 1: nothing outside it).
+struct LightBounds {
+    Vec3f lo, hi;                // world bounds (lo <= hi; a point light has lo == hi)
+    float power = 0;             // its largest radiant intensity (luminance): L*A for an area light (per
+                                 // side), I for a point or spot; power * cos / d^2 estimates irradiance
+    Vec3f axis{0, 0, 1};         // unit; ignored when cos_theta_o <= -1
+    float cos_theta_o = 1;
+    float cos_theta_e = 0;
+    bool two_sided = false;
+};
+
+LightBounds AreaLightBounds(const AreaLight& l);
+// Emissive triangle of luminance `luminance` (a planar light: cone around its normal).
+LightBounds TriangleLightBounds(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, float luminance, bool two_sided);
+// Point and spot lights; a sun has no finite bounds and is not a tree emitter (returns false).
+bool DeltaLightBounds(const DeltaLight& l, LightBounds* out);
+
+// Which scene light a tree emitter is.
+enum class TreeEmitterKind : uint8_t { Area, Delta };
+struct TreeEmitterRef {
+    TreeEmitterKind kind = TreeEmitterKind::Area;
+    int index = 0;  // into area_lights or delta_lights
+};
+struct TreeEmitters {
+    std::vector<LightBounds> bounds;
+    std::vector<TreeEmitterRef> refs;  // refs[i] is emitter i of the tree
+};
+TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
+                                 const std::vector<DeltaLight>& delta_lights);
+
+// A node, 48 bytes: the bounding sphere of its box (what the importance needs of the box), the
+// union of its emitters' cones, their power (divided by the tree's total, so at most 1).
+// Inner nodes' left child is the next node, `child_or_emitter` the right one; leaves hold one
+// emitter.
+struct LightTreeNode {
+    Vec3f center;
+    float radius = 0;      // bounding sphere of the box, padded outwards for rounding
+    Vec3f axis;
+    float cos_theta_o = 1, cos_theta_e = 0;  // rounded towards the wider cone
+    float power = 0;
+    uint32_t child_or_emitter = 0;
+    uint32_t flags = 0;    // kLeaf, kTwoSided
+
+    static constexpr uint32_t kLeaf = 1, kTwoSided = 2;
+    bool IsLeaf() const { return flags & kLeaf; }
+};
+static_assert(sizeof(LightTreeNode) == 48, "LightTreeNode layout");
+
+struct LightTreeSample {
+    int emitter = -1;  // -1: the tree is empty or nothing in it can light the point
+    float pmf = 0;
+    float u = 0;       // the number given, rescaled at each level: again uniform in [0,1)
+};
+
+// Limits: the bit trail of an emitter's root-to-leaf path is a uint64, so depth <= 63; the
+// build falls back to splitting by count at kLightTreeBinnedDepth, which bounds the depth by
+// kLightTreeBinnedDepth + log2(kMaxLightTreeEmitters).
+inline constexpr int kLightTreeMaxDepth = 63;
+inline constexpr int kLightTreeBinnedDepth = 32;
+inline constexpr int kMaxLightTreeEmitters = 1 << 30;
+
+// ---- Importance of a node at a receiver (pbrt-v4's LightBounds::Importance, with the
+// distance clamped to the node's bounding sphere as Cycles does inside a node). ----
+
+// cos(max(0, a - b)) from the cosines and sines of a, b in [0, pi].
+[[gnu::always_inline]] inline float CosSubClamped(float sin_a, float cos_a, float sin_b, float cos_b) {
+    return cos_a >= cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
+}
+// sin(max(0, a - b)).
+[[gnu::always_inline]] inline float SinSubClamped(float sin_a, float cos_a, float sin_b, float cos_b) {
+    return cos_a >= cos_b ? 0.0f : sin_a * cos_b - cos_a * sin_b;
+}
+
+inline constexpr float kLightTreeMinDistance2 = 1e-30f;  // with power <= 1: importance <= 1e30, sums finite
+inline constexpr float kSmallestImportance = 1.4e-45f;   // what an underflowed non-zero importance becomes
+
+// importance = power * cos(theta') * cos(theta'_i) / d^2, where, seen from p, theta_b is the
+// half-angle of the node's bounding sphere, theta_w the angle between the axis and the direction
+// from the node to p, theta' = max(0, theta_w - theta_o - theta_b) the smallest angle of
+// emission towards the node's box (0 when theta' > theta_e: nothing emitted towards p), and
+// theta'_i = max(0, theta_i - theta_b) the smallest angle of incidence at a receiver with normal n
+// (0 beyond pi/2: the box is behind the surface).  Inside the sphere every direction is possible
+// and d is clamped to its radius.  Zero only when no emitter of the node can light p.
+[[gnu::always_inline]] inline float NodeImportance(const LightTreeNode& node, const Vec3f& p, const Vec3f& n,
+                                                   bool has_normal) {
+    if (!(node.power > 0)) return 0;
+    const Vec3f to_p = p - node.center;
+    const float d2 = Dot(to_p, to_p);
+    const float r2 = node.radius * node.radius;
+    if (d2 <= r2) return node.power / std::max(r2, kLightTreeMinDistance2);
+    const float d = std::sqrt(d2);
+    const Vec3f wi = to_p / d;  // from the node towards p
+    const float sin_b = node.radius / d, cos_b = SafeSqrt(1 - sin_b * sin_b);
+
+    float cos_w = Dot(node.axis, wi);
+    if (node.flags & LightTreeNode::kTwoSided) cos_w = std::abs(cos_w);
+    const float sin_w = SafeSqrt(1 - cos_w * cos_w);
+    const float sin_o = SafeSqrt(1 - node.cos_theta_o * node.cos_theta_o);
+    const float cos_x = CosSubClamped(sin_w, cos_w, sin_o, node.cos_theta_o);
+    const float sin_x = SinSubClamped(sin_w, cos_w, sin_o, node.cos_theta_o);
+    const float cos_p = CosSubClamped(sin_x, cos_x, sin_b, cos_b);
+    if (cos_p < node.cos_theta_e) return 0;
+
+    float importance = node.power * std::max(cos_p, 0.0f) / std::max(d2, kLightTreeMinDistance2);
+    if (has_normal) {
+        const float cos_i = -Dot(n, wi);  // towards the node
+        const float sin_i = SafeSqrt(1 - cos_i * cos_i);
+        const float cos_pi = CosSubClamped(sin_i, cos_i, sin_b, cos_b);
+        if (!(cos_pi > 0)) return 0;
+        importance *= cos_pi;
+    }
+    // cos_p == 0 exactly is the edge of the emitting side: keep it (conservative) as underflow.
+    return importance > 0 ? importance : kSmallestImportance;
+}
+
+// Probability of the left child given both importances: their ratio, kept within
+// [2^-24, 1 - 2^-24] while both are non-zero (so that a child that can contribute keeps a
+// representable share); by power when both are zero (the parent's looser bounds let p in
+// where neither child's does: the pick cannot contribute, but the pmfs still sum to 1).
+[[gnu::always_inline]] inline float LeftChildProbability(float i_left, float i_right, float power_left,
+                                                         float power_right) {
+    if (!(i_left + i_right > 0)) {
+        i_left = power_left;
+        i_right = power_right;
+        if (!(i_left + i_right > 0)) return 0.5f;
+    }
+    if (i_right == 0) return 1;
+    if (i_left == 0) return 0;
+    constexpr float kMinShare = 0x1p-24f;
+    return std::clamp(i_left / (i_left + i_right), kMinShare, 1 - kMinShare);
+}
+
+class LightTree {
+  public:
+    // Throws std::invalid_argument naming the emitter for NaN/infinite bounds, power or cone,
+    // negative power, lo > hi, a zero axis of a cone narrower than the sphere, or too many.
+    // Emitters with zero power stay outside the tree (Pmf 0, never sampled).
+    void Build(const std::vector<LightBounds>& emitters);
+
+    bool Empty() const { return nodes_.empty(); }
+    int NumEmitters() const { return int(trails_.size()); }
+    int NumNodes() const { return int(nodes_.size()); }
+    int Depth() const { return depth_; }
+    size_t MemoryBytes() const {
+        return nodes_.capacity() * sizeof(LightTreeNode) + trails_.capacity() * sizeof(uint64_t);
+    }
+    const std::vector<LightTreeNode>& Nodes() const { return nodes_; }
+
+    // One emitter for the receiver (p, n) from one uniform u in [0,1): down from the root, the
+    // left child with probability LeftChildProbability, u rescaled to the chosen interval.
+    LightTreeSample Sample(const Vec3f& p, const Vec3f& n, float u) const {
+        LightTreeSample s;
+        if (nodes_.empty()) return s;
+        const bool has_normal = HasNormal(n);
+        if (!(NodeImportance(nodes_[0], p, n, has_normal) > 0)) return s;
+        uint32_t i = 0;
+        float pmf = 1;
+        while (!nodes_[i].IsLeaf()) {
+            const uint32_t left = i + 1, right = nodes_[i].child_or_emitter;
+            const float p_left = ChildProbability(left, right, p, n, has_normal);
+            if (u < p_left) {
+                u = std::min(u / p_left, kOneMinusEpsilonF);
+                pmf *= p_left;
+                i = left;
+            } else {
+                u = std::min((u - p_left) / (1 - p_left), kOneMinusEpsilonF);
+                pmf *= 1 - p_left;
+                i = right;
+            }
+        }
+        s.emitter = int(nodes_[i].child_or_emitter);
+        s.pmf = pmf;
+        s.u = u;
+        return s;
+    }
+
+    // The probability that Sample(p, n, .) returns `emitter`: the same products along the
+    // emitter's root-to-leaf path (its bit trail: bit k = right child at depth k).
+    float Pmf(const Vec3f& p, const Vec3f& n, int emitter) const {
+        if (emitter < 0 || emitter >= int(trails_.size()) || trails_[emitter] == kNotInTree) return 0;
+        const bool has_normal = HasNormal(n);
+        if (!(NodeImportance(nodes_[0], p, n, has_normal) > 0)) return 0;
+        const uint64_t trail = trails_[emitter];
+        uint32_t i = 0;
+        float pmf = 1;
+        for (int depth = 0; !nodes_[i].IsLeaf(); ++depth) {
+            const uint32_t left = i + 1, right = nodes_[i].child_or_emitter;
+            const float p_left = ChildProbability(left, right, p, n, has_normal);
+            if ((trail >> depth) & 1) {
+                pmf *= 1 - p_left;
+                i = right;
+            } else {
+                pmf *= p_left;
+                i = left;
+            }
+        }
+        return pmf;
+    }
+
+  private:
+    static constexpr uint64_t kNotInTree = ~uint64_t(0);
+
+    static bool HasNormal(const Vec3f& n) { return n.x != 0 || n.y != 0 || n.z != 0; }
+    float ChildProbability(uint32_t left, uint32_t right, const Vec3f& p, const Vec3f& n, bool has_normal) const {
+        const LightTreeNode& l = nodes_[left];
+        const LightTreeNode& r = nodes_[right];
+        return LeftChildProbability(NodeImportance(l, p, n, has_normal), NodeImportance(r, p, n, has_normal),
+                                    l.power, r.power);
+    }
+
+    std::vector<LightTreeNode> nodes_;  // depth-first; nodes_[0] the root
+    std::vector<uint64_t> trails_;      // per emitter; kNotInTree for zero power
+    int depth_ = 0;
+};
+
+}  // namespace sphrect::render

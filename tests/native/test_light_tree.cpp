@@ -1,0 +1,378 @@
+// Light tree (render/light_tree.h): pmfs sum to 1, sampling frequencies match Pmf (chi-square),
+// Pmf > 0 for every emitter that can light the point, and degenerate input.
+//
+// Statistics: fixed seeds.  The chi-square tests share a suite-wide false-failure rate of 1e-4,
+// Sidak-corrected over the kChi2Tests configurations (per test alpha = 1 - (1 - 1e-4)^(1/m)), with
+// the threshold from the Wilson-Hilferty approximation of the chi-square quantile.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/rng.h"
+#include "render/light_tree.h"
+
+namespace sphrect::render {
+namespace {
+
+Vec3f RandomUnit(std::mt19937& g) {
+    std::normal_distribution<float> n;
+    for (;;) {
+        const Vec3f v(n(g), n(g), n(g));
+        const float l = Length(v);
+        if (l > 1e-3f) return v / l;
+    }
+}
+
+// A scene of every emitter kind: rectangles and ellipses (random orientation, one- and
+// two-sided), point and spot lights, powers over four decades, in a 20 m box.
+struct Emitters {
+    std::vector<AreaLight> area;
+    std::vector<DeltaLight> delta;
+    TreeEmitters tree;
+};
+
+Emitters MixedScene(int n, uint32_t seed) {
+    std::mt19937 g(seed);
+    std::uniform_real_distribution<float> u(0, 1);
+    Emitters e;
+    for (int i = 0; i < n; ++i) {
+        const Vec3f c(20 * u(g) - 10, 20 * u(g) - 10, 20 * u(g) - 10);
+        const Spectrum radiance = Spectrum(1, 1, 1) * std::pow(10.0f, 4 * u(g) - 2);
+        const int kind = int(4 * u(g));
+        if (kind <= 1) {
+            const Vec3f nrm = RandomUnit(g);
+            const Vec3f a = Normalize(Cross(nrm, RandomUnit(g))) * (0.05f + u(g));
+            const Vec3f b = Normalize(Cross(nrm, a)) * (0.05f + u(g));
+            const bool two_sided = u(g) < 0.3f;
+            e.area.push_back(kind == 0 ? MakeRectAreaLight(c - a * 0.5f - b * 0.5f, a, b, radiance, two_sided, true)
+                                       : MakeEllipseAreaLight(c, a, b, radiance, two_sided, true));
+        } else {
+            DeltaLight d;
+            d.kind = kind == 2 ? DeltaKind::Point : DeltaKind::Spot;
+            d.position = c;
+            d.power = radiance;
+            d.axis = RandomUnit(g);
+            d.cos_half_angle = std::cos(0.1f + 1.4f * u(g));
+            e.delta.push_back(d);
+        }
+    }
+    e.tree = CollectTreeEmitters(e.area, e.delta);
+    return e;
+}
+
+// Can emitter i light the receiver (p, n)?  Area lights: some point of a 16 x 16 grid on the
+// light is above the receiver's horizon and (one-sided) p in front of the light; delta lights:
+// IlluminateFromDelta is non-zero and above the horizon.  n = 0: no horizon.
+bool CanLight(const Emitters& e, int i, const Vec3f& p, const Vec3f& n) {
+    const TreeEmitterRef ref = e.tree.refs[i];
+    const bool has_normal = n.x != 0 || n.y != 0 || n.z != 0;
+    if (ref.kind == TreeEmitterKind::Delta) {
+        const DeltaIllumination di = IlluminateFromDelta(e.delta[ref.index], p);
+        return !IsBlack(di.li) && (!has_normal || Dot(di.wi, n) > 0);
+    }
+    const AreaLight& l = e.area[ref.index];
+    if (!l.two_sided && Dot(l.n, p - l.center) <= 0) return false;
+    for (int a = 0; a < 16; ++a)
+        for (int b = 0; b < 16; ++b) {
+            const float s = (a + 0.5f) / 16, t = (b + 0.5f) / 16;
+            Vec3f q;
+            if (l.shape == AreaShape::Rectangle) {
+                q = l.frame.light.corner + l.frame.light.ex * s + l.frame.light.ey * t;
+            } else {
+                const Point2<float> d = SampleUniformDiskConcentric({s, t});
+                q = l.center + l.ax * d.u + l.ay * d.v;
+            }
+            if (!has_normal || Dot(q - p, n) > 0) return true;
+        }
+    return false;
+}
+
+struct Receiver {
+    Vec3f p, n;
+};
+
+std::vector<Receiver> RandomReceivers(int count, uint32_t seed, bool with_normal) {
+    std::mt19937 g(seed);
+    std::uniform_real_distribution<float> u(0, 1);
+    std::vector<Receiver> r;
+    for (int i = 0; i < count; ++i)
+        r.push_back({Vec3f(24 * u(g) - 12, 24 * u(g) - 12, 24 * u(g) - 12),
+                     with_normal ? RandomUnit(g) : Vec3f(0, 0, 0)});
+    return r;
+}
+
+double PmfSum(const LightTree& tree, const Receiver& r) {
+    double sum = 0;
+    for (int i = 0; i < tree.NumEmitters(); ++i) sum += tree.Pmf(r.p, r.n, i);
+    return sum;
+}
+
+TEST(LightTree, PmfsSumToOneWithAndWithoutNormal) {
+    const Emitters e = MixedScene(300, 1);
+    LightTree tree;
+    tree.Build(e.tree.bounds);
+    ASSERT_EQ(tree.NumEmitters(), 300);
+    EXPECT_LE(tree.Depth(), kLightTreeMaxDepth);
+    for (const bool with_normal : {true, false})
+        for (const Receiver& r : RandomReceivers(200, 2, with_normal)) {
+            const double sum = PmfSum(tree, r);
+            // Nothing can light p only when the root's importance is 0: then every pmf is 0.
+            if (tree.Sample(r.p, r.n, 0.5f).emitter < 0)
+                EXPECT_EQ(sum, 0);
+            else
+                EXPECT_NEAR(sum, 1.0, 1e-4) << "p " << r.p.x << " " << r.p.y << " " << r.p.z;
+        }
+}
+
+TEST(LightTree, SampledPmfIsPmfAndURescaled) {
+    const Emitters e = MixedScene(300, 3);
+    LightTree tree;
+    tree.Build(e.tree.bounds);
+    PCG32 rng(7);
+    for (const Receiver& r : RandomReceivers(50, 4, true))
+        for (int k = 0; k < 100; ++k) {
+            const LightTreeSample s = tree.Sample(r.p, r.n, BitsToUnitFloat(rng.NextU32()));
+            if (s.emitter < 0) continue;
+            EXPECT_GT(s.pmf, 0);
+            EXPECT_EQ(s.pmf, tree.Pmf(r.p, r.n, s.emitter));
+            EXPECT_GE(s.u, 0);
+            EXPECT_LT(s.u, 1);
+        }
+    // The rescaled u of the picks of one emitter, from a fine grid of u, spread over [0,1).
+    const Receiver r = RandomReceivers(1, 5, true)[0];
+    constexpr int kGrid = 1 << 16;
+    std::vector<std::vector<float>> rescaled(tree.NumEmitters());
+    for (int k = 0; k < kGrid; ++k) {
+        const LightTreeSample s = tree.Sample(r.p, r.n, (k + 0.5f) / kGrid);
+        if (s.emitter >= 0) rescaled[s.emitter].push_back(s.u);
+    }
+    int checked = 0;
+    for (const std::vector<float>& us : rescaled) {
+        if (us.size() < 200) continue;
+        ++checked;
+        const auto [lo, hi] = std::minmax_element(us.begin(), us.end());
+        double mean = 0;
+        for (float x : us) mean += x;
+        mean /= us.size();
+        const double cell = 1.0 / us.size();  // the grid's step in the rescaled u
+        EXPECT_LT(*lo, 2 * cell);
+        EXPECT_GT(*hi, 1 - 2 * cell);
+        EXPECT_NEAR(mean, 0.5, 2 * cell);
+    }
+    EXPECT_GT(checked, 0);
+}
+
+// Upper alpha-quantile of chi-square with k degrees of freedom (Wilson-Hilferty).
+double Chi2Threshold(int k, double alpha) {
+    // Normal quantile z with P(Z > z) = alpha, by bisection on erfc.
+    double lo = 0, hi = 40;
+    for (int i = 0; i < 200; ++i) {
+        const double mid = (lo + hi) / 2;
+        (0.5 * std::erfc(mid / std::sqrt(2.0)) > alpha ? lo : hi) = mid;
+    }
+    const double z = lo, h = 2.0 / (9 * k);
+    return k * std::pow(1 - h + z * std::sqrt(h), 3);
+}
+
+constexpr int kChi2Tests = 12;
+
+TEST(LightTree, PickFrequenciesMatchPmf) {
+    const Emitters e = MixedScene(120, 6);
+    LightTree tree;
+    tree.Build(e.tree.bounds);
+    const double alpha = 1 - std::pow(1 - 1e-4, 1.0 / kChi2Tests);
+    std::vector<Receiver> receivers = RandomReceivers(kChi2Tests / 2, 8, true);
+    for (const Receiver& r : RandomReceivers(kChi2Tests / 2, 9, false)) receivers.push_back(r);
+    ASSERT_EQ(int(receivers.size()), kChi2Tests);
+    constexpr int kDraws = 200000;
+    PCG32 rng(11);
+    for (const Receiver& r : receivers) {
+        std::vector<int> counts(tree.NumEmitters() + 1, 0);  // last: no emitter
+        for (int k = 0; k < kDraws; ++k) {
+            const LightTreeSample s = tree.Sample(r.p, r.n, BitsToUnitFloat(rng.NextU32()));
+            ++counts[s.emitter < 0 ? tree.NumEmitters() : s.emitter];
+        }
+        // Pearson's statistic; cells expecting fewer than 5 pooled into one.
+        double chi2 = 0, pooled_expected = 0, pooled_observed = 0;
+        int cells = 0;
+        for (int i = 0; i < tree.NumEmitters(); ++i) {
+            const double expected = kDraws * double(tree.Pmf(r.p, r.n, i));
+            if (expected == 0) {
+                EXPECT_EQ(counts[i], 0) << "emitter " << i << " picked with Pmf 0";
+                continue;
+            }
+            if (expected < 5) {
+                pooled_expected += expected;
+                pooled_observed += counts[i];
+                continue;
+            }
+            chi2 += (counts[i] - expected) * (counts[i] - expected) / expected;
+            ++cells;
+        }
+        if (pooled_expected > 0) {
+            chi2 += (pooled_observed - pooled_expected) * (pooled_observed - pooled_expected) /
+                    std::max(pooled_expected, 5.0);
+            ++cells;
+        }
+        if (cells < 2) continue;
+        EXPECT_LT(chi2, Chi2Threshold(cells - 1, alpha)) << "cells " << cells;
+    }
+}
+
+TEST(LightTree, PmfPositiveForEveryEmitterThatCanLight) {
+    const Emitters e = MixedScene(200, 12);
+    LightTree tree;
+    tree.Build(e.tree.bounds);
+    int lit = 0;
+    for (const bool with_normal : {true, false})
+        for (const Receiver& r : RandomReceivers(100, 13, with_normal))
+            for (int i = 0; i < tree.NumEmitters(); ++i)
+                if (CanLight(e, i, r.p, r.n)) {
+                    ++lit;
+                    EXPECT_GT(tree.Pmf(r.p, r.n, i), 0) << "emitter " << i;
+                }
+    EXPECT_GT(lit, 1000);
+}
+
+TEST(LightTree, ZeroOnlyWhereNothingCanLight) {
+    // A one-sided rectangle facing +z at z = 0: nothing below it, everything above.
+    const AreaLight l = MakeRectAreaLight({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, {1, 1, 1}, false, true);
+    LightTree tree;
+    tree.Build({AreaLightBounds(l)});
+    EXPECT_EQ(tree.Pmf({0, 0, 1}, {0, 0, -1}, 0), 1.0f);
+    EXPECT_EQ(tree.Sample({0, 0, 1}, {0, 0, -1}, 0.3f).pmf, 1.0f);
+    EXPECT_EQ(tree.Pmf({0, 0, -2}, {0, 0, 1}, 0), 0.0f);             // behind the light
+    EXPECT_EQ(tree.Sample({0, 0, -2}, {0, 0, 1}, 0.3f).emitter, -1);
+    // Within the node's bounding sphere (radius sqrt 2) every direction counts as possible:
+    // conservative, so even just behind the light the pmf stays 1.
+    EXPECT_EQ(tree.Pmf({0, 0, -1}, {0, 0, 1}, 0), 1.0f);
+    EXPECT_EQ(tree.Pmf({0, 0, 3}, {0, 0, 1}, 0), 0.0f);              // light below the horizon
+    EXPECT_EQ(tree.Pmf({5, 0, 0.01f}, {0, 0, 0}, 0), 1.0f);          // grazing, in a medium
+    // A spot's cone: lit inside, not outside.
+    DeltaLight spot;
+    spot.kind = DeltaKind::Spot;
+    spot.position = {0, 0, 0};
+    spot.axis = {0, 0, -1};
+    spot.power = {1, 1, 1};
+    spot.cos_half_angle = std::cos(0.5f);
+    LightBounds b;
+    ASSERT_TRUE(DeltaLightBounds(spot, &b));
+    tree.Build({b});
+    EXPECT_EQ(tree.Pmf({0.2f, 0, -1}, {0, 0, 1}, 0), 1.0f);
+    EXPECT_EQ(tree.Pmf({2, 0, -1}, {0, 0, 1}, 0), 0.0f);
+}
+
+TEST(LightTree, SingleEmitterOfEachKind) {
+    const Emitters e = MixedScene(40, 14);
+    for (size_t i = 0; i < e.tree.bounds.size(); ++i) {
+        LightTree tree;
+        tree.Build({e.tree.bounds[i]});
+        ASSERT_EQ(tree.NumNodes(), 1);
+        for (const Receiver& r : RandomReceivers(20, 15, true)) {
+            const LightTreeSample s = tree.Sample(r.p, r.n, 0.7f);
+            if (s.emitter < 0) {
+                EXPECT_EQ(tree.Pmf(r.p, r.n, 0), 0);
+                continue;
+            }
+            EXPECT_EQ(s.emitter, 0);
+            EXPECT_EQ(s.pmf, 1.0f);
+            EXPECT_EQ(s.u, 0.7f);
+        }
+    }
+}
+
+TEST(LightTree, ZeroPowerEmittersStayOut) {
+    Emitters e = MixedScene(50, 16);
+    for (size_t i = 0; i < e.tree.bounds.size(); i += 3) e.tree.bounds[i].power = 0;
+    LightTree tree;
+    tree.Build(e.tree.bounds);
+    for (const Receiver& r : RandomReceivers(30, 17, false)) {
+        for (size_t i = 0; i < e.tree.bounds.size(); i += 3) EXPECT_EQ(tree.Pmf(r.p, r.n, int(i)), 0);
+        EXPECT_NEAR(PmfSum(tree, r), 1.0, 1e-4);
+    }
+    for (LightBounds& b : e.tree.bounds) b.power = 0;
+    tree.Build(e.tree.bounds);
+    EXPECT_TRUE(tree.Empty());
+    EXPECT_EQ(tree.Sample({0, 0, 0}, {0, 0, 1}, 0.5f).emitter, -1);
+    EXPECT_EQ(tree.Pmf({0, 0, 0}, {0, 0, 1}, 0), 0);
+    tree.Build({});
+    EXPECT_TRUE(tree.Empty());
+}
+
+TEST(LightTree, CoincidentEmittersShareEqually) {
+    // 1000 identical rectangles, and 1000 point lights at one point (zero-size bounds).
+    const AreaLight l = MakeRectAreaLight({-1, -1, 2}, {2, 0, 0}, {0, 2, 0}, {1, 1, 1}, true, true);
+    DeltaLight point;
+    point.position = {1, 2, 3};
+    point.power = {2, 2, 2};
+    LightBounds pb;
+    ASSERT_TRUE(DeltaLightBounds(point, &pb));
+    for (const LightBounds& one : {AreaLightBounds(l), pb}) {
+        const std::vector<LightBounds> same(1000, one);
+        LightTree tree;
+        tree.Build(same);
+        EXPECT_LE(tree.Depth(), 10);
+        for (const Receiver& r : RandomReceivers(10, 18, false)) {
+            EXPECT_NEAR(PmfSum(tree, r), 1.0, 1e-4);
+            EXPECT_NEAR(tree.Pmf(r.p, r.n, 123), 1e-3, 1e-6);
+        }
+        // The receiver at the point lights' position itself.
+        EXPECT_NEAR(PmfSum(tree, {one.lo, {0, 0, 1}}), 1.0, 1e-4);
+    }
+}
+
+TEST(LightTree, LightsOnALineStayShallow) {
+    // Zero-area cost terms (point lights on a line) must not degenerate into a chain.
+    std::vector<LightBounds> line;
+    for (int i = 0; i < 4096; ++i) {
+        DeltaLight d;
+        d.position = {float(i) * 0.01f, 0, 0};
+        d.power = {1, 1, 1};
+        LightBounds b;
+        DeltaLightBounds(d, &b);
+        line.push_back(b);
+    }
+    LightTree tree;
+    tree.Build(line);
+    EXPECT_LE(tree.Depth(), 40);
+    EXPECT_NEAR(PmfSum(tree, {{20, 1, 0}, {0, 0, 0}}), 1.0, 1e-4);
+}
+
+TEST(LightTree, RejectsBadInputWithItsIndex) {
+    const Emitters e = MixedScene(10, 19);
+    auto expect_rejected = [&](auto spoil, const std::string& what) {
+        std::vector<LightBounds> b = e.tree.bounds;
+        spoil(b[3]);
+        LightTree tree;
+        try {
+            tree.Build(b);
+            ADD_FAILURE() << what << " accepted";
+        } catch (const std::invalid_argument& ex) {
+            EXPECT_NE(std::string(ex.what()).find("emitter 3"), std::string::npos) << ex.what();
+        }
+    };
+    expect_rejected([](LightBounds& b) { b.lo.x = NAN; }, "NaN bounds");
+    expect_rejected([](LightBounds& b) { b.hi.y = INFINITY; }, "infinite bounds");
+    expect_rejected([](LightBounds& b) { b.power = NAN; }, "NaN power");
+    expect_rejected([](LightBounds& b) { b.power = -1; }, "negative power");
+    expect_rejected([](LightBounds& b) { b.cos_theta_o = NAN; }, "NaN cone");
+    expect_rejected([](LightBounds& b) { b.axis = {0, 0, 0}; b.cos_theta_o = 1; }, "zero axis");
+    expect_rejected([](LightBounds& b) { std::swap(b.lo, b.hi); b.hi.x -= 1; }, "lo > hi");
+}
+
+TEST(LightTree, SunIsNoTreeEmitter) {
+    DeltaLight sun;
+    sun.kind = DeltaKind::Sun;
+    LightBounds b;
+    EXPECT_FALSE(DeltaLightBounds(sun, &b));
+    const TreeEmitters t = CollectTreeEmitters({}, {sun});
+    EXPECT_TRUE(t.bounds.empty());
+}
+
+}  // namespace
+}  // namespace sphrect::render
