@@ -269,7 +269,8 @@ def mixed_lights():
 def studio():
     fresh_scene("studio")
     room(material("Room", (0.6, 0.6, 0.6)), size=(10, 10, 5))
-    # A backdrop (cyclorama): a floor sheet bending up into a back wall, one smooth mesh.
+    # A backdrop (cyclorama): a floor sheet bending up into a back wall, one smooth mesh, 2 cm above the
+    # room's floor (coplanar with it, shadow rays would start under one of the two).
     backdrop = mesh_object("Backdrop", "plane", material("Backdrop", (0.85, 0.85, 0.85)), size=1.0)
     mesh = backdrop.data
     mesh.clear_geometry()
@@ -278,17 +279,18 @@ def studio():
     profile += [(radius * math.sin(a), radius * (1 - math.cos(a)))
                 for a in (math.pi / 2 * (i + 1) / rows for i in range(rows))]
     profile += [(radius, 3.0)]
-    verts = [(x, y, z) for (y, z) in profile for x in (-3.0, 3.0)]
+    lift = 0.02
+    verts = [(x, y, z + lift) for (y, z) in profile for x in (-3.0, 3.0)]
     faces = [(2 * i, 2 * i + 1, 2 * i + 3, 2 * i + 2) for i in range(len(profile) - 1)]
     mesh.from_pydata(verts, [], faces)
     mesh.materials.append(bpy.data.materials["Backdrop"])
     smooth(backdrop)
     target = (0.0, -0.6, 0.5)
     smooth(mesh_object("Product Sphere", "uv_sphere", material("Plastic", (0.7, 0.1, 0.1), kind="principled",
-                                                               roughness=0.3), location=(-0.5, -0.6, 0.45),
+                                                               roughness=0.3), location=(-0.5, -0.6, 0.45 + lift),
                        radius=0.45, segments=32, ring_count=16))
     mesh_object("Product Box", "cube", material("Satin", (0.2, 0.3, 0.6), kind="principled", roughness=0.5),
-                location=(0.55, -0.4, 0.35), size=0.7, rotation=(0, 0, 0.6))
+                location=(0.55, -0.4, 0.35 + lift), size=0.7, rotation=(0, 0, 0.6))
     # Four softboxes of 10 W each, all aimed at the product: key and fill in front, a rim behind, a top light.
     for name, loc, (w, h) in [("Key", (-2.0, -2.6, 1.8), (1.2, 1.6)), ("Fill", (2.2, -2.4, 1.4), (1.2, 1.6)),
                               ("Rim Left", (-2.2, 0.6, 2.2), (0.6, 1.8)), ("Top", (0.3, -0.8, 3.2), (1.6, 1.0))]:
