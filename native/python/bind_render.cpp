@@ -150,11 +150,17 @@ void BindRender(py::module_& m) {
              py::arg("clip_end"))
         .def("set_background", [](RenderScene& s, V3 c) { s.SetBackground(ToVec(c)); })
         .def("set_medium", [](RenderScene& s, V3 ss, V3 sa, float g) { s.SetMedium(ToVec(ss), ToVec(sa), g); })
-        .def("add_diffuse_material", [](RenderScene& s, V3 c) { return s.AddDiffuseMaterial(ToVec(c)); })
-        .def("add_glossy_material",
-             [](RenderScene& s, V3 c, float roughness, float metallic, float specular) {
-                 return s.AddGlossyMaterial(ToVec(c), roughness, metallic, specular);
-             })
+        .def(
+            "add_diffuse_material",
+            [](RenderScene& s, V3 c, V3 emission) { return s.AddDiffuseMaterial(ToVec(c), ToVec(emission)); },
+            py::arg("base_color"), py::arg("emission") = V3{0, 0, 0})
+        .def(
+            "add_glossy_material",
+            [](RenderScene& s, V3 c, float roughness, float metallic, float specular, V3 emission) {
+                return s.AddGlossyMaterial(ToVec(c), roughness, metallic, specular, ToVec(emission));
+            },
+            py::arg("base_color"), py::arg("roughness"), py::arg("metallic"), py::arg("specular"),
+            py::arg("emission") = V3{0, 0, 0})
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none())
         .def("add_rect_light",
@@ -173,6 +179,8 @@ void BindRender(py::module_& m) {
         .def("add_sun_light", [](RenderScene& s, V3 d, V3 e) { s.AddSunLight(ToVec(d), ToVec(e)); })
         .def("commit", &RenderScene::Commit, py::call_guard<py::gil_scoped_release>())
         .def_property_readonly("features", [](const RenderScene& s) { return s.features().Names(); })
+        .def_property_readonly("warnings", [](const RenderScene& s) { return s.warnings; })
+        .def_property_readonly("num_area_lights", [](const RenderScene& s) { return s.area_lights.size(); })
         .def_property_readonly("num_triangles", &RenderScene::NumTriangles);
 
     py::class_<Renderer>(m, "_Renderer", "Native renderer; use sphrect.Renderer")

@@ -1,17 +1,20 @@
-// Area lights: rectangles and ellipses (discs), sampled and intersected analytically.
-// Rectangles are sampled with the chosen technique (core/technique.h, through
-// integrator/light_sampling_at.h); ellipses uniformly by area, converted to solid angle.
+// Area lights: rectangles and ellipses (discs), sampled and intersected analytically, and the
+// triangles of emissive meshes.  Rectangles are sampled with the chosen technique
+// (core/technique.h, through integrator/light_sampling_at.h); ellipses uniformly by area,
+// converted to solid angle; triangles by solid angle with Arvo's spherical triangle map
+// (core/spherical_triangle.h), or by area under the `area` technique.
 #pragma once
 
 #include <cmath>
 
 #include "core/light_sample.h"
 #include "core/rect_light.h"
+#include "core/spherical_triangle.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
 
-enum class AreaShape { Rectangle, Ellipse };
+enum class AreaShape { Rectangle, Ellipse, Triangle };
 
 struct AreaLight {
     AreaShape shape = AreaShape::Rectangle;
@@ -20,12 +23,16 @@ struct AreaLight {
     RectLightFrame<float> frame;
     Vec3f center;           // centre
     Vec3f ax, ay;           // Ellipse: semi-axes
+    Vec3f v0, e1, e2;       // Triangle: vertex v0 and edges v1 - v0, v2 - v0
     Vec3f n;                // unit normal, cross(ex, ey) direction: the emitting side
     Vec3f inv_x, inv_y;     // ex / |ex|^2, ey / |ey|^2 (resp. the ellipse's semi-axes): plane coordinates
     Spectrum radiance;
     float area = 0;
     bool two_sided = false;
     bool visible = true;    // seen by camera rays
+    // Part of an emissive mesh (a triangle, or a rectangle made of two): Embree geometry, so
+    // camera and BSDF rays find it through their hit, not through IntersectAreaLight.
+    bool on_mesh = false;
 };
 
 // What both shapes set alike: the plane coordinates along their axes a, b (a rectangle's edges,
@@ -66,6 +73,23 @@ inline AreaLight MakeEllipseAreaLight(const Vec3f& center, const Vec3f& ax, cons
     return l;
 }
 
+// A triangle of an emissive mesh.  Mesh emission is two-sided, as in Cycles 3.4, whose
+// emissive closure weighs emission by |Ng . wi| > 0 (kernel/closure/emissive.h, emissive_pdf).
+inline AreaLight MakeTriangleAreaLight(const Vec3f& v0, const Vec3f& v1, const Vec3f& v2, const Spectrum& radiance) {
+    AreaLight l;
+    l.shape = AreaShape::Triangle;
+    l.v0 = v0;
+    l.e1 = v1 - v0;
+    l.e2 = v2 - v0;
+    l.center = v0 + (l.e1 + l.e2) * (1.0f / 3);
+    const Vec3f c = Cross(l.e1, l.e2);
+    l.area = 0.5f * Length(c);
+    l.n = Normalize(c);
+    SetAxesAndEmission(l, l.e1, l.e2, radiance, /*two_sided=*/true, /*visible=*/true);
+    l.on_mesh = true;
+    return l;
+}
+
 // Radiance leaving the light at a point towards `toward` (any vector pointing away from the light).
 inline Spectrum EmittedRadiance(const AreaLight& l, const Vec3f& toward) {
     return (l.two_sided || Dot(l.n, toward) > 0) ? l.radiance : Spectrum();
@@ -75,10 +99,19 @@ inline Spectrum EmittedRadiance(const AreaLight& l, const Vec3f& toward) {
 inline float IntersectAreaLight(const AreaLight& l, const Vec3f& o, const Vec3f& d, float tmax) {
     const float denom = Dot(l.n, d);
     if (denom == 0) return kInf;
-    const Vec3f origin = l.shape == AreaShape::Rectangle ? l.frame.light.corner : l.center;
+    const Vec3f origin = l.shape == AreaShape::Rectangle ? l.frame.light.corner
+                         : l.shape == AreaShape::Triangle ? l.v0
+                                                          : l.center;
     const float t = Dot(l.n, origin - o) / denom;
     if (!(t > 0 && t < tmax)) return kInf;
     const Vec3f q = o + d * t - origin;
+    if (l.shape == AreaShape::Triangle) {
+        // Barycentrics (b1, b2) of q = b1 e1 + b2 e2 from the 2x2 Gram system.
+        const float g11 = Dot(l.e1, l.e1), g12 = Dot(l.e1, l.e2), g22 = Dot(l.e2, l.e2);
+        const float r1 = Dot(q, l.e1), r2 = Dot(q, l.e2), det = g11 * g22 - g12 * g12;
+        const float b1 = (g22 * r1 - g12 * r2) / det, b2 = (g11 * r2 - g12 * r1) / det;
+        return (b1 >= 0 && b2 >= 0 && b1 + b2 <= 1) ? t : kInf;
+    }
     const float a = Dot(q, l.inv_x), b = Dot(q, l.inv_y);
     if (l.shape == AreaShape::Rectangle) return (a >= 0 && a <= 1 && b >= 0 && b <= 1) ? t : kInf;
     return a * a + b * b <= 1 ? t : kInf;
@@ -108,6 +141,79 @@ inline LightSample<float> SampleEllipseArea(const AreaLight& l, const Vec3f& ori
     if (!(s.dist > 0)) return s;
     s.dir = w / s.dist;
     s.pdf = EllipseAreaPDF(l, origin, s.point);
+    return s;
+}
+
+// Triangle, uniform by area: barycentrics (1 - su, su (1 - v), su v), su = sqrt(u)
+// (pbrt-v4's SampleUniformTriangle in its simplest form), converted to solid angle.
+inline LightSample<float> SampleTriangleArea(const AreaLight& l, const Vec3f& origin, Point2<float> u) {
+    LightSample<float> s;
+    const float su = std::sqrt(u.u);
+    s.point = l.v0 + l.e1 * (su * (1 - u.v)) + l.e2 * (su * u.v);
+    const Vec3f w = s.point - origin;
+    s.dist = Length(w);
+    if (!(s.dist > 0)) return s;
+    s.dir = w / s.dist;
+    s.pdf = AreaToSolidAnglePDF(l, origin, s.point);
+    return s;
+}
+
+// Below this solid angle Arvo's map loses u (the angle sum ~ pi swamps the area, as in
+// core/triangles.h): such a triangle is sampled by area, with that pdf.
+constexpr double kTriangleLightMinSolidAngle = 1e-7;
+
+// A triangle light seen from one point, for sampling by solid angle: the spherical triangle of
+// its vertices (in double, relative to the point, so nothing cancels for a distant light), or
+// the area fallback.  Invalid (pdf 0) when the point lies in the triangle's plane, where the
+// triangle subtends no solid angle, or when anything is not finite.
+struct TriangleSolidAngleSetup {
+    SphericalTriangle tri;
+    Vec3d a;          // v0 - origin
+    Vec3d n;          // unit normal (double)
+    double h = 0;     // n . (v0 - origin): signed distance of the plane
+    float pdf = 0;    // 1 / Omega on a spherically sampled triangle
+    bool valid = false, by_area = false;
+};
+
+inline TriangleSolidAngleSetup MakeTriangleSolidAngleSetup(const AreaLight& l, const Vec3f& origin) {
+    TriangleSolidAngleSetup r;
+    const Vec3d o(origin), v0(l.v0);
+    r.a = v0 - o;
+    const Vec3d b = r.a + Vec3d(l.e1), c = r.a + Vec3d(l.e2);
+    r.n = Normalize(Cross(Vec3d(l.e1), Vec3d(l.e2)));
+    r.h = Dot(r.n, r.a);
+    if (!(std::abs(r.h) > 0) || !IsFinite(r.n)) return r;
+    r.tri = MakeSphericalTriangle(r.a, b, c);
+    if (!(r.tri.area > 0) || !std::isfinite(r.tri.area)) return r;
+    r.by_area = r.tri.area < kTriangleLightMinSolidAngle;
+    r.pdf = float(1 / r.tri.area);
+    r.valid = r.by_area || (r.pdf > 0 && std::isfinite(r.pdf));
+    return r;
+}
+
+// Solid-angle pdf of the point p on the triangle: 1 / Omega (the map is uniform in solid angle),
+// or the area fallback's d^2 / (A |cos|).
+inline float TriangleSolidAnglePDF(const TriangleSolidAngleSetup& r, const AreaLight& l, const Vec3f& origin,
+                                   const Vec3f& p) {
+    if (!r.valid) return 0;
+    return r.by_area ? AreaToSolidAnglePDF(l, origin, p) : r.pdf;
+}
+
+inline LightSample<float> SampleTriangleSolidAngle(const TriangleSolidAngleSetup& r, const AreaLight& l,
+                                                   const Vec3f& origin, Point2<float> u) {
+    if (!r.valid) return {};
+    if (r.by_area) return SampleTriangleArea(l, origin, u);
+    const Vec3d w = SampleSphericalTriangle(r.tri, u.u, u.v);
+    // The direction's hit on the triangle's plane, o + t w with t = h / (n . w), in double.
+    const double t = r.h / Dot(r.n, w);
+    LightSample<float> s;
+    if (!(t > 0) || !std::isfinite(t)) return s;
+    const Vec3d q = w * t;
+    s.point = origin + Vec3f(q);
+    s.dist = float(t);
+    s.dir = Vec3f(w);
+    s.pdf = r.pdf;
+    if (!(s.dist > 0) || !std::isfinite(s.dist)) s.pdf = 0;
     return s;
 }
 

@@ -19,6 +19,7 @@ struct Material {
     float alpha = 1;       // GGX roughness parameter
     float specular_probability = 0;  // chance of sampling the specular lobe in SampleBsdf
     bool glossy = false;
+    Spectrum emission;     // radiance emitted from both sides (emissive meshes); 0: none
 };
 
 // Blender material parameters -> Material.  Roughness is clamped to 0.03 (alpha ~ 1e-3): a

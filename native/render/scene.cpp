@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 namespace sphrect::render {
@@ -27,6 +28,34 @@ std::string SkippedForArea(const std::string& what, float area) {
     return {};
 }
 
+struct Triangle {
+    Vec3f v[3];
+};
+
+// The rectangle two triangles form when they share an edge (two vertices at the same positions)
+// and their unshared vertices p, q are opposite corners of a rectangle: a right angle at p and
+// q = p + ex + ey, both within float tolerance (a scaled Blender plane, triangulated).  ey is
+// then made exactly orthogonal to ex.  nullopt otherwise.
+std::optional<RectLight<float>> RectangleOfPair(const Triangle& a, const Triangle& b) {
+    constexpr float kTolerance = 1e-5f;  // relative; float rounding of transformed vertices is ~1e-7
+    auto same = [](const Vec3f& u, const Vec3f& v) { return u.x == v.x && u.y == v.y && u.z == v.z; };
+    auto shared = [&](const Vec3f& v, const Triangle& t) { return same(v, t.v[0]) || same(v, t.v[1]) || same(v, t.v[2]); };
+    int pa = -1, pb = -1, na = 0, nb = 0;
+    for (int i = 0; i < 3; ++i) {
+        if (!shared(a.v[i], b)) pa = i, ++na;
+        if (!shared(b.v[i], a)) pb = i, ++nb;
+    }
+    if (na != 1 || nb != 1) return std::nullopt;
+    const Vec3f p = a.v[pa], q = b.v[pb];
+    Vec3f ex = a.v[(pa + 1) % 3] - p, ey = a.v[(pa + 2) % 3] - p;
+    const float lx = Length(ex), ly = Length(ey);
+    if (!(lx > 0 && ly > 0)) return std::nullopt;
+    if (std::abs(Dot(ex, ey)) > kTolerance * lx * ly) return std::nullopt;
+    if (Length(p + ex + ey - q) > kTolerance * (lx + ly)) return std::nullopt;
+    ey = ey - ex * (Dot(ex, ey) / Dot(ex, ex));
+    return RectLight<float>{p, ex, ey, true};
+}
+
 }  // namespace
 
 std::vector<std::string> SceneFeatures::Names() const {
@@ -38,6 +67,7 @@ std::vector<std::string> SceneFeatures::Names() const {
     if (delta_lights) n.push_back("delta_lights");
     if (orthographic) n.push_back("orthographic");
     if (background) n.push_back("background");
+    if (emissive_meshes) n.push_back("emissive_meshes");
     return n;
 }
 
@@ -98,19 +128,24 @@ void RenderScene::SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, fl
     has_medium = medium.sigma_sampling > 0;
 }
 
-int RenderScene::AddDiffuseMaterial(const Spectrum& base) {
+int RenderScene::AddDiffuseMaterial(const Spectrum& base, const Spectrum& emission) {
     RequireNotCommitted();
     CheckColor("material base_color", base);
+    CheckColor("material emission", emission);
     materials.push_back(MakeDiffuseMaterial(base));
+    materials.back().emission = emission;
     return int(materials.size()) - 1;
 }
 
-int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular) {
+int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular,
+                                   const Spectrum& emission) {
     RequireNotCommitted();
     CheckColor("material base_color", base);
+    CheckColor("material emission", emission);
     if (!std::isfinite(roughness) || !std::isfinite(metallic) || !std::isfinite(specular))
         Fail("material roughness, metallic and specular must be finite");
     materials.push_back(MakeGlossyMaterial(base, roughness, metallic, specular));
+    materials.back().emission = emission;
     return int(materials.size()) - 1;
 }
 
@@ -261,6 +296,7 @@ void RenderScene::Commit() {
                      std::to_string(m.material_ids[i]) + " but the scene has " + std::to_string(materials.size()) +
                      " materials");
     rtcCommitScene(rtc_scene);
+    AddMeshLights();
     std::vector<double> powers;
     for (const AreaLight& l : area_lights) {
         powers.push_back(AreaLightPower(l));
@@ -288,7 +324,57 @@ void RenderScene::Commit() {
     for (const auto& l : area_lights) features_.ellipse_lights |= l.shape == AreaShape::Ellipse;
     features_.delta_lights = !delta_lights.empty();
     features_.background = !IsBlack(background);
+    features_.emissive_meshes = has_mesh_lights;
     committed_ = true;
+}
+
+// Every triangle whose material emits becomes an area light (on_mesh), except that two
+// consecutive triangles of one material forming an exact rectangle (RectangleOfPair: how
+// Blender triangulates a quad) become one rectangle light, sampled by the rectangle
+// techniques.  Zero-area triangles are skipped and counted in one warning.
+void RenderScene::AddMeshLights() {
+    size_t skipped = 0;
+    for (MeshData& m : meshes) {
+        auto material_of = [&](size_t i) { return m.material_ids.empty() ? 0 : m.material_ids[i]; };
+        bool emits = false;
+        for (size_t i = 0; i < m.num_triangles && !emits; ++i) emits = !IsBlack(materials[material_of(i)].emission);
+        if (!emits) continue;
+        auto triangle = [&](size_t i) {
+            Triangle t;
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t v = m.triangles[3 * i + k];
+                t.v[k] = Vec3f(m.vertices[3 * v], m.vertices[3 * v + 1], m.vertices[3 * v + 2]);
+            }
+            return t;
+        };
+        m.triangle_light.assign(m.num_triangles, -1);
+        for (size_t i = 0; i < m.num_triangles; ++i) {
+            const Spectrum& le = materials[material_of(i)].emission;
+            if (IsBlack(le)) continue;
+            const Triangle t = triangle(i);
+            const int index = int(area_lights.size());
+            if (i + 1 < m.num_triangles && material_of(i + 1) == material_of(i)) {
+                if (const auto rect = RectangleOfPair(t, triangle(i + 1))) {
+                    area_lights.push_back(MakeRectAreaLight(rect->corner, rect->ex, rect->ey, le, true, true));
+                    area_lights.back().on_mesh = true;
+                    m.triangle_light[i] = m.triangle_light[i + 1] = index;
+                    ++i;
+                    continue;
+                }
+            }
+            const AreaLight l = MakeTriangleAreaLight(t.v[0], t.v[1], t.v[2], le);
+            if (!(l.area > 0) || !std::isfinite(l.area) || !IsFinite(l.n)) {
+                ++skipped;
+                continue;
+            }
+            area_lights.push_back(l);
+            m.triangle_light[i] = index;
+        }
+    }
+    for (const AreaLight& l : area_lights) has_mesh_lights |= l.on_mesh;
+    if (skipped)
+        warnings.push_back(std::to_string(skipped) + " emissive triangle" + (skipped > 1 ? "s" : "") +
+                           " with zero area (degenerate) skipped");
 }
 
 }  // namespace sphrect::render

@@ -28,12 +28,16 @@ struct MeshData {
     size_t num_vertices = 0, num_triangles = 0;
     std::vector<Vec3f> normals;         // per vertex, or empty (flat shading)
     std::vector<int32_t> material_ids;  // per triangle, or empty (material 0)
+    // Emissive meshes: per triangle the index of its area light (a triangle, or the rectangle it
+    // forms with its neighbour), -1 if it emits nothing; empty when no triangle emits.
+    std::vector<int32_t> triangle_light;
 };
 
 // What a scene asks of the integrator; each flag selects a specialised kernel or a feature name.
 struct SceneFeatures {
     bool glossy = false, medium = false, dof = false;
     bool ellipse_lights = false, delta_lights = false, orthographic = false, background = false;
+    bool emissive_meshes = false;
     std::vector<std::string> Names() const;
 };
 
@@ -47,8 +51,11 @@ class RenderScene {
     void SetCamera(const CameraModel& camera);
     void SetBackground(const Spectrum& radiance);
     void SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
-    int AddDiffuseMaterial(const Spectrum& base);
-    int AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular);
+    // emission: radiance of the surfaces using the material (both sides); each emissive triangle
+    // becomes an area light at Commit().
+    int AddDiffuseMaterial(const Spectrum& base, const Spectrum& emission = {});
+    int AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular,
+                          const Spectrum& emission = {});
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids may be null.
     // A mesh without triangles is validated and then ignored.
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,
@@ -76,8 +83,10 @@ class RenderScene {
     HomogeneousMedium medium;
     std::vector<Material> materials;
     std::vector<MeshData> meshes;  // index = Embree geometry id (meshes without triangles are not kept)
-    std::vector<AreaLight> area_lights;
+    std::vector<AreaLight> area_lights;      // the scene's, then the emissive meshes' (on_mesh)
     LightSelector light_selector;            // over area_lights, by power
+    bool has_mesh_lights = false;            // some area light is on_mesh
+    std::vector<std::string> warnings;       // Commit()'s, e.g. skipped degenerate emissive triangles
     // Centres for equi-angular sampling in the medium: area lights' centres and point/spot
     // lights' positions, picked by power (sun excluded: it is infinitely far).
     std::vector<Vec3f> medium_centres;
@@ -86,6 +95,7 @@ class RenderScene {
 
   private:
     void RequireNotCommitted() const;
+    void AddMeshLights();
     RTCDevice device_ = nullptr;
     bool committed_ = false, camera_set_ = false;
     SceneFeatures features_;

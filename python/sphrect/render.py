@@ -105,11 +105,12 @@ def build_native_scene(scene: Scene):
     if med is not None:
         native.set_medium(_rgb(med.sigma_s, "medium sigma_s"), _rgb(med.sigma_a, "medium sigma_a"), float(med.g))
     for mat in scene.materials:
+        emission = _rgb(mat.emission, f"material '{mat.name}' emission")
         if mat.kind == "diffuse":
-            native.add_diffuse_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"))
+            native.add_diffuse_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"), emission)
         elif mat.kind == "glossy":
             native.add_glossy_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"),
-                                       float(mat.roughness), float(mat.metallic), float(mat.specular))
+                                       float(mat.roughness), float(mat.metallic), float(mat.specular), emission)
         else:
             raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {_one_of(MATERIAL_KINDS)})")
     n_materials = max(1, len(scene.materials))
@@ -144,6 +145,7 @@ def build_native_scene(scene: Scene):
         if msg:
             skipped.append(f"light '{getattr(light, 'name', '?')}': {msg}")
     native.commit()
+    skipped.extend(native.warnings)
     return native, skipped
 
 

@@ -31,7 +31,9 @@ import numpy as np
 from .fileio import atomic_write
 
 FORMAT_NAME = "sphrect-scene"
-FORMAT_VERSION = 1
+# 2: Material.emission (emissive meshes).  Version-1 files load unchanged (emission 0); readers of
+# version 1 refuse version-2 files with a clear message instead of failing on the new field.
+FORMAT_VERSION = 2
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -71,6 +73,8 @@ class Material:
     roughness: float = 0.5           # Blender's roughness; GGX alpha = roughness**2
     metallic: float = 0.0
     specular: float = 0.5            # Principled 'Specular': F0 = 0.08 * specular for dielectrics
+    emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
+                                     # every emissive triangle is a light (files without it load as 0)
 
 
 @dataclass

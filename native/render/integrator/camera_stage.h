@@ -1,5 +1,6 @@
 // The camera stage of a chunk: its camera samples' pattern points and rays, traced together,
-// and what each sees directly -- visible lights before the first surface and the background.
+// and what each sees directly -- visible lights before the first surface, the surface's own
+// emission and the background.
 // It is the same for every technique, which then shades the same first hits.
 #pragma once
 
@@ -65,8 +66,14 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     out.t_end = out.hit ? rh.ray.tfar : kInf;
     if (out.hit) out.surface = MakeSurfaceHit(scene, out.ray, rh);
     Spectrum seen;
+    // Emissive meshes are seen at their hit (two-sided, like their lights); their area lights
+    // (on_mesh) are skipped below, so they are not counted twice.
+    if (out.hit && scene.has_mesh_lights) {
+        const Spectrum& le = scene.materials[out.surface.material].emission;
+        if (!IsBlack(le)) seen += le * SegmentTransmittance<kMedium>(scene.medium, out.t_end);
+    }
     for (const AreaLight& l : scene.area_lights) {
-        if (!l.visible) continue;
+        if (!l.visible || l.on_mesh) continue;
         const float t = IntersectAreaLight(l, out.ray.o, out.ray.d, std::min(out.t_end, out.ray.tmax));
         if (std::isinf(t) || t < out.ray.tmin) continue;
         seen += EmittedRadiance(l, -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);

@@ -2,6 +2,7 @@
 // and the emitters a BSDF or phase sample's ray reaches, each queued with its occlusion ray.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "shade_context.h"
@@ -21,15 +22,57 @@ struct EmitterSample {
     float pdf = 0;
 };
 
+// A light sample on an emissive mesh, whose surface is Embree geometry: the shadow ray must end
+// before it.  The point is moved off the light's plane towards the shading point by more than
+// OffsetOrigin moves the ray's origin (each 1e-4 (1 + max |coordinate|)), so that the ray, even
+// grazing, ends on the shading point's side: with n' the normal towards the origin, the end lies
+// n' . (end - point) >= eps - |origin offset| > 0 from the plane.  The pdf stays the sampled
+// point's (the move is ~1e-4 relative).
+static inline void PullOffMeshLight(const AreaLight& l, LightSample<float>& ls) {
+    const Vec3f origin = ls.point - ls.dir * ls.dist;
+    const float eps = 2e-4f * (1 + std::max(MaxAbsComponent(ls.point), MaxAbsComponent(origin)));
+    const Vec3f n_toward_origin = Dot(l.n, origin - ls.point) >= 0 ? l.n : -l.n;
+    const Vec3f w = ls.point + n_toward_origin * eps - origin;
+    const float dist = Length(w);
+    if (!(dist > 0)) return;
+    ls.dir = w / dist;
+    ls.dist = dist;
+}
+
 template <Technique K>
 static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight light, Point2<float> u,
                                                 TimedLightSamplingAt<K>& light_sampling) {
     if (light.index < 0) return {};
-    const LightSample<float> ls = light_sampling.Sample(light.index, u);
+    LightSample<float> ls = light_sampling.Sample(light.index, u);
     if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return {};
-    const Spectrum le = EmittedRadiance(c.scene.area_lights[light.index], -ls.dir);
+    const AreaLight& l = c.scene.area_lights[light.index];
+    if (l.on_mesh) PullOffMeshLight(l, ls);
+    const Spectrum le = EmittedRadiance(l, -ls.dir);
     if (IsBlack(le)) return {};
     return {true, ls.dir, ls.dist, le, light.pmf * ls.pdf};
+}
+
+// The emissive mesh triangle the ray (o, d) hits first, if any, weighted against light
+// sampling like the analytic lights below: one Embree ray instead of a loop over the mesh's
+// lights.  Its occlusion ray is queued as for every emitter (the hit is the first surface, so
+// it goes through; one extra ray per hit, kept for one path through the shadow queue).
+template <Technique K, bool kMedium>
+static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
+                                            TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    RTCRayHit rh = MakeRTCRayHit(o, d, 0, kInf);
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
+    const MeshData& m = c.scene.meshes[rh.hit.geomID];
+    if (m.triangle_light.empty()) return;
+    const int i = m.triangle_light[rh.hit.primID];
+    if (i < 0) return;
+    const float t = rh.ray.tfar;
+    const Spectrum le = EmittedRadiance(c.scene.area_lights[i], -d);
+    if (IsBlack(le)) return;
+    const float pdf_light = light_sampling.PDF(i, o + d * t);
+    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light));
 }
 
 // For the ray (o, d): the background where the ray escapes, and with MIS every area light it
@@ -43,7 +86,9 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
     if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky);
     if (c.mis == MisMode::None) return;
     const auto& lights = c.scene.area_lights;
+    if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, light_sampling, sink);
     for (int i = 0; i < int(lights.size()); ++i) {
+        if (lights[i].on_mesh) continue;  // found by QueueMeshEmitterAlongRay
         const float t = IntersectAreaLight(lights[i], o, d, kInf);
         if (std::isinf(t)) continue;
         const Spectrum le = EmittedRadiance(lights[i], -d);
