@@ -179,7 +179,9 @@ def test_unsupported_nodes_are_listed_once(empty_scene):
     text = log.warning_text()
     assert "linked 'Base Color' input (Image Texture) (Textured)" in text
     assert "'Glass BSDF' shader node" in text and "(Glass)" in text
-    assert "emission on meshes (Lamp)" in text
+    # The Emission shader is read since issue 11 (was: logged as "emission on meshes (Lamp)").
+    assert "Lamp" not in text
+    assert [m.emission for m in scene.materials if m.name == "Lamp"] == [pytest.approx((1.0, 1.0, 1.0))]
     assert text.count("Textured") == 1  # listed once, however many objects use it
     assert "hair particles (Obj0)" in text
     assert len(scene.meshes) == 4  # nothing dropped: unsupported materials fall back to diffuse

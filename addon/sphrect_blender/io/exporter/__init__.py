@@ -84,7 +84,9 @@ def scene_from_depsgraph(depsgraph):
         scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
                                          material_ids=material_ids, name=name))
     scene.materials = materials.list
-    if not scene.lights and not any(c > 0 for c in scene.world.background):
+    emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}
+    lit_by_meshes = any(np.isin(m.material_ids, list(emissive)).any() for m in scene.meshes) if emissive else False
+    if not scene.lights and not lit_by_meshes and not any(c > 0 for c in scene.world.background):
         log.problem("the scene has no lights: the image will be black")
     return scene, log
 

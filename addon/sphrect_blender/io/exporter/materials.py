@@ -1,9 +1,12 @@
 """Blender materials and world -> sphrect.Material / sphrect.World.
 
 Read from the node tree behind the active output: Diffuse BSDF and Principled BSDF (base colour, metallic,
-roughness, specular) for surfaces; Background for the world colour; Volume Scatter, Volume Absorption or
-Principled Volume on the World output for a homogeneous medium. Only unlinked input values are read:
-every linked input and every other node is logged as unsupported."""
+roughness, specular) for surfaces; emission with Cycles 3.4's conventions -- an Emission shader emits
+radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength
+adds to its BSDF, a Mix Shader scales each side's closures by its factor (svm_node_mix_closure), mesh
+emission is two-sided (emissive_pdf: |Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume
+Absorption or Principled Volume on the World output for a homogeneous medium. Only unlinked input values are
+read: every linked input and every other node is logged as unsupported."""
 import numpy as np
 
 
@@ -66,6 +69,52 @@ def export_material(sphrect, mat, log):
     if node is None:
         log.unsupported_feature("materials without a surface shader (black)", name)
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
+    if node.bl_idname == "ShaderNodeEmission":
+        return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0),
+                                emission=_emission(node, "Color", "Strength", 1.0, log, name))
+    if node.bl_idname == "ShaderNodeMixShader":
+        return _mix_of_emission_and_bsdf(sphrect, node, log, name)
+    return _bsdf(sphrect, node, log, name)
+
+
+def _emission(node, color_input, strength_input, weight, log, owner):
+    """weight x colour x strength (Cycles' emission closure weight); a negative strength is logged and
+    read as 0 (Cycles 3.4 does not clamp it: its emission would be negative)."""
+    color = np.asarray(_value(node, color_input, log, owner)[:3], dtype=float)
+    strength = _value(node, strength_input, log, owner)
+    if strength < 0:
+        log.unsupported_feature("negative emission strength (0 used)", owner)
+        strength = 0.0
+    return _rgb(np.clip(color, 0, None) * strength * weight)
+
+
+def _mix_of_emission_and_bsdf(sphrect, node, log, name):
+    """Mix Shader of an Emission shader and a BSDF, with an unlinked factor: the emission weighted by its
+    side's share, the BSDF's reflectance (base colour, and the dielectric specular, which F0 is
+    proportional to) by the other's."""
+    fac_socket = node.inputs[0]
+    a, b = _linked_node(node.inputs[1]), _linked_node(node.inputs[2])
+    kinds = [n.bl_idname if n is not None else None for n in (a, b)]
+    if fac_socket.is_linked or kinds.count("ShaderNodeEmission") != 1:
+        what = "linked Mix Shader factor" if fac_socket.is_linked else "Mix Shader other than emission + BSDF"
+        log.unsupported_feature(f"{what} (grey diffuse used)", name)
+        return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
+    fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
+    emission_side = kinds.index("ShaderNodeEmission")
+    emission_weight = fac if emission_side == 1 else 1 - fac
+    emission = _emission((a, b)[emission_side], "Color", "Strength", emission_weight, log, name)
+    other = (a, b)[1 - emission_side]
+    if other is None:  # emission mixed with nothing (a black surface)
+        return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=emission)
+    bsdf = _bsdf(sphrect, other, log, name)
+    w = 1 - emission_weight
+    return sphrect.Material(name=name, kind=bsdf.kind, base_color=_rgb(np.asarray(bsdf.base_color) * w),
+                            roughness=bsdf.roughness, metallic=bsdf.metallic, specular=bsdf.specular * w,
+                            emission=_rgb(np.asarray(bsdf.emission) * w + np.asarray(emission)))
+
+
+def _bsdf(sphrect, node, log, name):
+    """A Diffuse or Principled BSDF node (the Principled one's own emission included)."""
     if node.bl_idname == "ShaderNodeBsdfDiffuse":
         color = _rgb(_value(node, "Color", log, name))
         if _value(node, "Roughness", log, name) > 0:
@@ -81,19 +130,14 @@ def export_material(sphrect, mat, log):
                              ("Clearcoat", "clearcoat"), ("Sheen", "sheen"),
                              ("Specular Tint", "specular tint"), ("Anisotropic", "anisotropy")):
             _nonzero_input(node, socket, log, name, what)
-        emission = _value(node, "Emission", log, name)
-        strength = _value(node, "Emission Strength", log, name)
-        if emission is not None and strength and np.any(np.asarray(emission[:3]) > 0):
-            log.unsupported_feature("emission on meshes", name)
+        emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name)
         if _value(node, "Alpha", log, name) < 1:
             log.unsupported_feature("alpha", name)
         _check_normal(node, log, name)
         kind = "diffuse" if metallic == 0 and specular == 0 else "glossy"
         return sphrect.Material(name=name, kind=kind, base_color=color, roughness=float(roughness),
-                                metallic=float(metallic), specular=float(specular))
-    what = "emission on meshes" if node.bl_idname == "ShaderNodeEmission" else \
-        f"'{node.bl_label or node.bl_idname}' shader node (grey diffuse used)"
-    log.unsupported_feature(what, name)
+                                metallic=float(metallic), specular=float(specular), emission=emission)
+    log.unsupported_feature(f"'{node.bl_label or node.bl_idname}' shader node (grey diffuse used)", name)
     return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
 
 
