@@ -16,7 +16,6 @@ namespace sphrect::render {
 LightBounds AreaLightBounds(const AreaLight& l) {
     LightBounds b;
     // Box of a rectangle: its corners; of an ellipse c + ax cos t + ay sin t: c +- sqrt(ax_i^2 + ay_i^2).
-    Vec3f half;
     if (l.shape == AreaShape::Rectangle) {
         const RectLight<float>& r = l.frame.light;
         const Vec3f corners[4] = {r.corner, r.corner + r.ex, r.corner + r.ey, r.corner + r.ex + r.ey};
@@ -26,7 +25,7 @@ LightBounds AreaLightBounds(const AreaLight& l) {
             b.hi = {std::max(b.hi.x, c.x), std::max(b.hi.y, c.y), std::max(b.hi.z, c.z)};
         }
     } else {
-        half = {std::hypot(l.ax.x, l.ay.x), std::hypot(l.ax.y, l.ay.y), std::hypot(l.ax.z, l.ay.z)};
+        const Vec3f half = {std::hypot(l.ax.x, l.ay.x), std::hypot(l.ax.y, l.ay.y), std::hypot(l.ax.z, l.ay.z)};
         b.lo = l.center - half;
         b.hi = l.center + half;
     }
@@ -160,29 +159,46 @@ struct Box {
 
 // The split cost's area term: surface area, plus a small multiple of the squared diagonal so
 // that flat and linear sets of emitters (lights on a line, points) still prefer tight groups.
-double AreaMeasure(const Box& b) {
+float AreaMeasure(const Box& b) {
     if (!b.Valid()) return 0;
-    const Vec3d e(b.Extent());
+    const Vec3f e = b.Extent();
     return 2 * (e.x * e.y + e.y * e.z + e.z * e.x) + 1e-3 * Dot(e, e);
 }
 
 // ---- Build ----
 
+// An emitter during the build, with what the split cost needs of its cone (contiguous, so the
+// binning reads no other array).
 struct BuildItem {
     Vec3f lo, hi, centroid;
     float power;  // of the tree's total
+    Vec3f axis;
+    float theta_o, theta_e;
     uint32_t emitter;
+    bool two_sided;
 };
 
 // A bucket of the binned split: box, power and what estimates its cone (the sum of its unit
 // axes and the widest theta_o, theta_e; the node's real cone is the children's exact union).
 struct Bucket {
     Box box;
-    double power = 0;
-    Vec3d axis_sum;
-    int count = 0;
-    double theta_o = 0, theta_e = 0;
-    bool two_sided = false;
+    float power;
+    Vec3f axis_sum;
+    int count;
+    float theta_o, theta_e;
+    bool two_sided;
+
+    static Bucket Empty() { return {Box(), 0, Vec3f(), 0, 0, 0, false}; }
+
+    void Add(const BuildItem& it) {
+        box.Grow(it.lo, it.hi);
+        power += it.power;
+        axis_sum += it.axis;
+        count += 1;
+        theta_o = std::max(theta_o, it.theta_o);
+        theta_e = std::max(theta_e, it.theta_e);
+        two_sided = two_sided || it.two_sided;
+    }
 
     void Add(const Bucket& b) {
         box.Grow(b.box);
@@ -193,15 +209,41 @@ struct Bucket {
         theta_e = std::max(theta_e, b.theta_e);
         two_sided = two_sided || b.two_sided;
     }
-    // power * M_Omega * area, the cone's spread estimated from the axes' mean resultant
-    // length (0 for equal axes, pi for opposite or scattered ones).
-    double Cost() const {
+    // power * M_Omega * area, the cone's spread estimated from the axes' mean resultant length
+    // r: 2 acos(r) (0 for equal axes, pi for opposite or scattered ones), approximated by
+    // pi sqrt(1 - r) (exact at both ends, 11% wide near r = 1), then rounded up to a multiple of
+    // pi/256 so that the cached measure is found again.
+    template <class Measure>
+    double Cost(Measure& orientation_measure) const {
         if (count == 0) return 0;
-        const double resultant = std::min(1.0, Length(axis_sum) / count);
-        const double spread = std::min(kPiD, 2 * std::acos(resultant) + theta_o);
-        const double m = OrientationMeasure(spread, theta_e) * (two_sided ? 2 : 1);
+        const float resultant = std::min(1.0f, Length(axis_sum) / float(count));
+        const float spread = std::min(float(kPiD), float(kPiD) * std::sqrt(1 - resultant) + theta_o);
+        const float step = float(kPiD) / 256;
+        const double m = orientation_measure(std::ceil(spread / step) * step, theta_e) * (two_sided ? 2 : 1);
         return power * m * AreaMeasure(box);
     }
+};
+
+// OrientationMeasure with the last few arguments remembered: lights of a scene share few
+// cones (a ceiling of panels facing down), so most split candidates repeat them.
+class CachedOrientationMeasure {
+  public:
+    double operator()(float theta_o, float theta_e) {
+        for (const Entry& e : entries_)
+            if (e.theta_o == theta_o && e.theta_e == theta_e) return e.measure;
+        Entry& e = entries_[next_++ % kEntries];
+        e = {theta_o, theta_e, OrientationMeasure(theta_o, theta_e)};
+        return e.measure;
+    }
+
+  private:
+    struct Entry {
+        float theta_o = -1, theta_e = -1;
+        double measure = 0;
+    };
+    static constexpr int kEntries = 8;
+    Entry entries_[kEntries];
+    unsigned next_ = 0;
 };
 
 constexpr int kBuckets = 12;
@@ -212,13 +254,34 @@ struct NodeBounds {
     double power = 0;
 };
 
+// The boxes of a set of items: of their bounds (the node's box) and of their centroids (what
+// the binning cuts).
+struct ItemExtent {
+    Box box, centroids;
+    void Grow(const BuildItem& it) {
+        box.Grow(it.lo, it.hi);
+        centroids.Grow(it.centroid, it.centroid);
+    }
+};
+
+ItemExtent ExtentOf(const std::vector<BuildItem>& items, size_t begin, size_t end) {
+    ItemExtent e;
+    for (size_t i = begin; i < end; ++i) e.Grow(items[i]);
+    return e;
+}
+
+// Nodes with more items than this bin a regular subsample of kBinnedSample of them (the cost
+// only compares candidate planes); the partition itself moves every item.
+constexpr size_t kBinnedSample = 16384;
+constexpr size_t kSmallNode = 4;
+constexpr size_t kAllAxesNode = 1024;
+
 class Builder {
   public:
-    Builder(std::vector<BuildItem>& items, const std::vector<Cone>& cones, std::vector<LightTreeNode>& nodes,
-            std::vector<uint64_t>& trails)
-        : items_(items), cones_(cones), nodes_(nodes), trails_(trails) {}
+    Builder(std::vector<BuildItem>& items, std::vector<LightTreeNode>& nodes, std::vector<uint64_t>& trails)
+        : items_(items), nodes_(nodes), trails_(trails) {}
 
-    NodeBounds Build(size_t begin, size_t end, int depth, uint64_t trail) {
+    NodeBounds Build(size_t begin, size_t end, const ItemExtent& extent, int depth, uint64_t trail) {
         max_depth_ = std::max(max_depth_, depth);
         const uint32_t index = uint32_t(nodes_.size());
         nodes_.emplace_back();
@@ -226,16 +289,17 @@ class Builder {
         if (end - begin == 1) {
             const BuildItem& it = items_[begin];
             nb.box.Grow(it.lo, it.hi);
-            nb.cone = cones_[it.emitter];
+            nb.cone = ConeOf(it);
             nb.power = it.power;
             trails_[it.emitter] = trail;
             Store(index, nb, LightTreeNode::kLeaf, it.emitter);
             return nb;
         }
-        const size_t mid = Split(begin, end, depth);
-        const NodeBounds left = Build(begin, mid, depth + 1, trail);
+        ItemExtent left_extent, right_extent;
+        const size_t mid = Split(begin, end, extent, depth, left_extent, right_extent);
+        const NodeBounds left = Build(begin, mid, left_extent, depth + 1, trail);
         const uint32_t right_index = uint32_t(nodes_.size());
-        const NodeBounds right = Build(mid, end, depth + 1, trail | (uint64_t(1) << depth));
+        const NodeBounds right = Build(mid, end, right_extent, depth + 1, trail | (uint64_t(1) << depth));
         nb.box = left.box;
         nb.box.Grow(right.box);
         nb.cone = Union(left.cone, right.cone);
@@ -247,54 +311,51 @@ class Builder {
     int MaxDepth() const { return max_depth_; }
 
   private:
-    // Where [begin, end) is cut: the binned SAOH's best plane over the three axes, or the
-    // middle by count (coincident centroids, or deeper than kLightTreeBinnedDepth).
-    size_t Split(size_t begin, size_t end, int depth) {
-        Box node_box, centroids;
-        for (size_t i = begin; i < end; ++i) {
-            node_box.Grow(items_[i].lo, items_[i].hi);
-            centroids.Grow(items_[i].centroid, items_[i].centroid);
-        }
-        const Vec3f ce = centroids.Extent();
-        const Vec3f be = node_box.Extent();
+    // Where [begin, end) is cut, with the two halves' extents: the binned SAOH's best plane over
+    // the three axes (n / 2 buckets up to kBuckets), or the middle by count along the widest
+    // axis of the centroids (at most kSmallNode items, where the candidates' costs would cost
+    // more than the rest of the build; coincident centroids; no plane separating the binned
+    // sample; deeper than kLightTreeBinnedDepth).
+    size_t Split(size_t begin, size_t end, const ItemExtent& extent, int depth, ItemExtent& left,
+                 ItemExtent& right) {
+        const Vec3f ce = extent.centroids.Extent();
+        const Vec3f be = extent.box.Extent();
         const int widest = ce.x >= ce.y && ce.x >= ce.z ? 0 : (ce.y >= ce.z ? 1 : 2);
         const size_t n = end - begin;
-        if (depth < kLightTreeBinnedDepth && ce[widest] > 0) {
-            const int buckets = int(std::min<size_t>(kBuckets, n));
-            Bucket bins[3][kBuckets];
-            for (size_t i = begin; i < end; ++i) {
+        if (depth < kLightTreeBinnedDepth && ce[widest] > 0 && n > kSmallNode) {
+            const int buckets = int(std::min<size_t>(kBuckets, n / 2));
+            const Vec3f clo = extent.centroids.lo;
+            // Small nodes bin only their widest axis (the binning and the sweeps are most of the
+            // build, and nodes are mostly small); larger ones all three.
+            bool binned[3];
+            for (int dim = 0; dim < 3; ++dim) binned[dim] = ce[dim] > 0 && (n > kAllAxesNode || dim == widest);
+            Bucket (&bins)[3][kBuckets] = bins_;  // only the `buckets` used are cleared
+            for (int dim = 0; dim < 3; ++dim) std::fill_n(bins[dim], buckets, Bucket::Empty());
+            const size_t stride = n > kBinnedSample ? n / kBinnedSample : 1;
+            const Vec3f scale(buckets / ce.x, buckets / ce.y, buckets / ce.z);
+            for (size_t i = begin; i < end; i += stride) {
                 const BuildItem& it = items_[i];
-                const Cone& cone = cones_[it.emitter];
-                for (int dim = 0; dim < 3; ++dim) {
-                    if (!(ce[dim] > 0)) continue;
-                    Bucket& b = bins[dim][BucketOf(it.centroid[dim], centroids.lo[dim], ce[dim], buckets)];
-                    b.box.Grow(it.lo, it.hi);
-                    b.power += it.power;
-                    b.axis_sum += cone.axis;
-                    b.count += 1;
-                    b.theta_o = std::max(b.theta_o, cone.theta_o);
-                    b.theta_e = std::max(b.theta_e, cone.theta_e);
-                    b.two_sided = b.two_sided || cone.two_sided;
-                }
+                for (int dim = 0; dim < 3; ++dim)
+                    if (binned[dim]) bins[dim][BucketOf(it.centroid[dim], clo[dim], scale[dim], buckets)].Add(it);
             }
             double best_cost = INFINITY;
             int best_dim = -1, best_cut = 0;
             const float max_extent = std::max({be.x, be.y, be.z});
             for (int dim = 0; dim < 3; ++dim) {
-                if (!(ce[dim] > 0)) continue;
+                if (!binned[dim]) continue;
                 // Cost of cutting after bucket k: prefix and suffix sweeps.
                 double below[kBuckets];
-                Bucket acc;
+                Bucket acc = Bucket::Empty();
                 for (int k = 0; k < buckets - 1; ++k) {
                     acc.Add(bins[dim][k]);
-                    below[k] = acc.count > 0 ? acc.Cost() : -1;
+                    below[k] = acc.count > 0 ? acc.Cost(measure_) : -1;
                 }
-                Bucket above;
+                Bucket above = Bucket::Empty();
                 const double regularize = be[dim] > 0 ? max_extent / be[dim] : 1;  // pbrt's K_r: thin boxes
                 for (int k = buckets - 2; k >= 0; --k) {
                     above.Add(bins[dim][k + 1]);
                     if (below[k] < 0 || above.count == 0) continue;
-                    const double cost = (below[k] + above.Cost()) * regularize;
+                    const double cost = (below[k] + above.Cost(measure_)) * regularize;
                     if (cost < best_cost) {
                         best_cost = cost;
                         best_dim = dim;
@@ -303,12 +364,10 @@ class Builder {
                 }
             }
             if (best_dim >= 0) {
-                const float lo = centroids.lo[best_dim], extent = ce[best_dim];
-                const auto first_above = std::partition(
-                    items_.begin() + begin, items_.begin() + end, [&](const BuildItem& it) {
-                        return BucketOf(it.centroid[best_dim], lo, extent, buckets) <= best_cut;
-                    });
-                const size_t mid = size_t(first_above - items_.begin());
+                const float lo = clo[best_dim], dim_scale = scale[best_dim];
+                const size_t mid = Partition(begin, end, left, right, [&](const BuildItem& it) {
+                    return BucketOf(it.centroid[best_dim], lo, dim_scale, buckets) <= best_cut;
+                });
                 if (mid > begin && mid < end) return mid;
             }
         }
@@ -318,12 +377,38 @@ class Builder {
                              [&](const BuildItem& a, const BuildItem& b) {
                                  return a.centroid[widest] < b.centroid[widest];
                              });
+        left = ExtentOf(items_, begin, mid);
+        right = ExtentOf(items_, mid, end);
         return mid;
     }
 
-    static int BucketOf(float c, float lo, float extent, int buckets) {
-        const int b = int(float(buckets) * ((c - lo) / extent));
-        return std::clamp(b, 0, buckets - 1);
+    // std::partition that also grows each side's extent: every item is tested once.
+    template <class GoesLeft>
+    size_t Partition(size_t begin, size_t end, ItemExtent& left, ItemExtent& right, const GoesLeft& goes_left) {
+        left = right = ItemExtent();
+        size_t i = begin, j = end;
+        for (;;) {
+            while (i < j && goes_left(items_[i])) left.Grow(items_[i++]);
+            while (i < j && !goes_left(items_[j - 1])) right.Grow(items_[--j]);
+            if (i >= j) return i;
+            std::swap(items_[i], items_[j - 1]);  // items_[i] goes right, items_[j - 1] left: swapped
+            left.Grow(items_[i++]);
+            right.Grow(items_[--j]);
+        }
+    }
+
+    // Bucket of centroid coordinate c: floor((c - lo) * buckets / extent), clamped.
+    static int BucketOf(float c, float lo, float scale, int buckets) {
+        return std::clamp(int((c - lo) * scale), 0, buckets - 1);
+    }
+    // The leaf's cone, from the item's copy (float; the stored cone's padding covers the rounding).
+    static Cone ConeOf(const BuildItem& it) {
+        Cone c;
+        c.axis = Normalize(Vec3d(it.axis));
+        c.theta_o = it.theta_o;
+        c.theta_e = it.theta_e;
+        c.two_sided = it.two_sided;
+        return c;
     }
 
     // The node as traversal reads it, padded outwards: the sphere by a relative 2^-12 of its
@@ -348,9 +433,10 @@ class Builder {
     }
 
     std::vector<BuildItem>& items_;
-    const std::vector<Cone>& cones_;
     std::vector<LightTreeNode>& nodes_;
     std::vector<uint64_t>& trails_;
+    CachedOrientationMeasure measure_;
+    Bucket bins_[3][kBuckets];  // Split's scratch (Split returns before the recursion goes on)
     int max_depth_ = 0;
 };
 
@@ -385,22 +471,22 @@ void LightTree::Build(const std::vector<LightBounds>& emitters) {
     if (!(total > 0)) return;
 
     std::vector<BuildItem> items;
-    std::vector<Cone> cones(emitters.size());
     items.reserve(emitters.size());
     for (size_t i = 0; i < emitters.size(); ++i) {
         const LightBounds& b = emitters[i];
         if (!(b.power > 0)) continue;
-        items.push_back({b.lo, b.hi, (b.lo + b.hi) * 0.5f, float(b.power / total), uint32_t(i)});
-        Cone& c = cones[i];
+        Cone c;
         const bool sphere = b.cos_theta_o <= -1;
         c.axis = sphere ? Vec3d(0, 0, 1) : Normalize(Vec3d(b.axis));
         c.theta_o = sphere ? kPiD : std::acos(std::clamp(double(b.cos_theta_o), -1.0, 1.0));
         c.theta_e = std::acos(std::clamp(double(b.cos_theta_e), -1.0, 1.0));
         c.two_sided = b.two_sided;
+        items.push_back({b.lo, b.hi, (b.lo + b.hi) * 0.5f, float(b.power / total), Vec3f(c.axis), float(c.theta_o),
+                         float(c.theta_e), uint32_t(i), c.two_sided});
     }
     nodes_.reserve(2 * items.size() - 1);
-    Builder builder(items, cones, nodes_, trails_);
-    builder.Build(0, items.size(), 0, 0);
+    Builder builder(items, nodes_, trails_);
+    builder.Build(0, items.size(), ExtentOf(items, 0, items.size()), 0, 0);
     depth_ = builder.MaxDepth();
 }
 

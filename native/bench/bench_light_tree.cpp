@@ -1,0 +1,129 @@
+// Light tree benchmarks (render/light_tree.h), on N random small lights over a plane: one-sided
+// squares of side 0.05-0.2 facing down at heights 1-3 over a square of side sqrt(N) (about one
+// light per square metre at any N), powers over two decades, every tenth a point light and every
+// tenth a spot.  Receivers: points on the plane z = 0, normal +z.
+//
+//  BM_LightTreeBuild/<N>   Build of the tree from its LightBounds.  Counters: bytes_per_emitter
+//                          (nodes + bit trails, LightTree::MemoryBytes() / N), depth.
+//  BM_LightTreeSample/<N>  one Sample(p, n, u) per iteration (receivers and u cycled from tables).
+//  BM_LightTreePmf/<N>     one Pmf(p, n, emitter) per iteration (the emitter a Sample chose).
+//
+// Times are CPU times (the benchmark library's default), 1 thread.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "render/light_tree.h"
+
+namespace sphrect::render {
+namespace {
+
+std::vector<LightBounds> LightsOverPlane(int n, uint32_t seed) {
+    std::mt19937 g(seed);
+    std::uniform_real_distribution<float> u(0, 1);
+    const float side = std::sqrt(float(n));
+    std::vector<LightBounds> lights;
+    lights.reserve(n);
+    for (int i = 0; i < n; ++i) {
+        const Vec3f c(side * (u(g) - 0.5f), side * (u(g) - 0.5f), 1 + 2 * u(g));
+        const float power = std::pow(10.0f, 2 * u(g));
+        if (i % 10 == 3 || i % 10 == 7) {
+            DeltaLight d;
+            d.kind = i % 10 == 3 ? DeltaKind::Point : DeltaKind::Spot;
+            d.position = c;
+            d.power = Spectrum(power, power, power);
+            d.axis = {0, 0, -1};
+            d.cos_half_angle = std::cos(0.6f);
+            LightBounds b;
+            DeltaLightBounds(d, &b);
+            lights.push_back(b);
+        } else {
+            const float s = 0.05f + 0.15f * u(g);
+            const AreaLight l = MakeRectAreaLight(c - Vec3f(s / 2, s / 2, 0), {0, s, 0}, {s, 0, 0},
+                                                  Spectrum(power, power, power), false, true);
+            lights.push_back(AreaLightBounds(l));
+        }
+    }
+    return lights;
+}
+
+const std::vector<LightBounds>& Lights(int n) {
+    static std::map<int, std::vector<LightBounds>> cache;
+    auto it = cache.find(n);
+    if (it == cache.end()) it = cache.emplace(n, LightsOverPlane(n, 1234u + n)).first;
+    return it->second;
+}
+
+const LightTree& Tree(int n) {
+    static std::map<int, LightTree> cache;
+    auto it = cache.find(n);
+    if (it == cache.end()) {
+        it = cache.emplace(n, LightTree()).first;
+        it->second.Build(Lights(n));
+    }
+    return it->second;
+}
+
+struct Query {
+    Vec3f p;
+    float u;
+};
+
+std::vector<Query> Queries(int n) {
+    std::mt19937 g(99);
+    std::uniform_real_distribution<float> u(0, 1);
+    const float side = std::sqrt(float(n));
+    std::vector<Query> q(4096);
+    for (Query& x : q) x = {Vec3f(side * (u(g) - 0.5f), side * (u(g) - 0.5f), 0), std::min(u(g), 0x1.fffffep-1f)};
+    return q;
+}
+
+void BM_LightTreeBuild(benchmark::State& state) {
+    const int n = int(state.range(0));
+    const std::vector<LightBounds>& lights = Lights(n);
+    LightTree tree;
+    for (auto _ : state) {
+        tree.Build(lights);
+        benchmark::DoNotOptimize(tree.Nodes().data());
+    }
+    state.counters["bytes_per_emitter"] = double(tree.MemoryBytes()) / n;
+    state.counters["depth"] = tree.Depth();
+}
+
+void BM_LightTreeSample(benchmark::State& state) {
+    const int n = int(state.range(0));
+    const LightTree& tree = Tree(n);
+    const std::vector<Query> q = Queries(n);
+    const Vec3f up(0, 0, 1);
+    size_t k = 0;
+    for (auto _ : state) {
+        const Query& x = q[k++ & 4095];
+        benchmark::DoNotOptimize(tree.Sample(x.p, up, x.u));
+    }
+}
+
+void BM_LightTreePmf(benchmark::State& state) {
+    const int n = int(state.range(0));
+    const LightTree& tree = Tree(n);
+    const std::vector<Query> q = Queries(n);
+    const Vec3f up(0, 0, 1);
+    std::vector<int> chosen(q.size());
+    for (size_t i = 0; i < q.size(); ++i) chosen[i] = std::max(0, tree.Sample(q[i].p, up, q[i].u).emitter);
+    size_t k = 0;
+    for (auto _ : state) {
+        const size_t i = k++ & 4095;
+        benchmark::DoNotOptimize(tree.Pmf(q[i].p, up, chosen[i]));
+    }
+}
+
+BENCHMARK(BM_LightTreeBuild)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LightTreeSample)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
+BENCHMARK(BM_LightTreePmf)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
+
+}  // namespace
+}  // namespace sphrect::render
+
+BENCHMARK_MAIN();
