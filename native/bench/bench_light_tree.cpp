@@ -7,6 +7,8 @@
 //                          (nodes + bit trails, LightTree::MemoryBytes() / N), depth.
 //  BM_LightTreeSample/<N>  one Sample(p, n, u) per iteration (receivers and u cycled from tables).
 //  BM_LightTreePmf/<N>     one Pmf(p, n, emitter) per iteration (the emitter a Sample chose).
+//  BM_LightTreeSelectionMoment/<N>  not a timing: the relative second moment of the light
+//                          choice, tree against power (see below; 1 is the ideal).
 //
 // Times are CPU times (the benchmark library's default), 1 thread.
 #include <benchmark/benchmark.h>
@@ -119,9 +121,58 @@ void BM_LightTreePmf(benchmark::State& state) {
     }
 }
 
+// Not a timing: how well the tree's pmf follows the emitters' contributions, against choosing by
+// power.  With the unoccluded contribution of emitter e at receiver p estimated at its centre,
+// f_e = power_e * cos_e+ * cos_p+ / d^2 (cos_e: the emitter's side, 1 for points, its cone for
+// spots), the one-sample estimator f_e / pmf_e of sum f has relative second moment
+// sum_e (f_e^2 / pmf_e) / (sum_e f_e)^2 (1: pmf proportional to f).  Mean over 64 receivers.
+double ProxyContribution(const LightBounds& b, const Vec3f& p, const Vec3f& n) {
+    const Vec3f c = (b.lo + b.hi) * 0.5f;
+    const Vec3f d = p - c;
+    const float d2 = Dot(d, d);
+    const Vec3f w = d / std::sqrt(d2);
+    float emit = 1;
+    if (b.cos_theta_o > -1) {
+        const float cos_l = Dot(b.axis, w);
+        emit = b.cos_theta_e >= 1 ? (cos_l > b.cos_theta_o ? 1.0f : 0.0f) : std::max(0.0f, cos_l);
+    }
+    return b.power * emit * std::max(0.0f, -Dot(n, w)) / d2;
+}
+
+void BM_LightTreeSelectionMoment(benchmark::State& state) {
+    const int n = int(state.range(0));
+    const std::vector<LightBounds>& lights = Lights(n);
+    const LightTree& tree = Tree(n);
+    const std::vector<Query> q = Queries(n);
+    const Vec3f up(0, 0, 1);
+    double total_power = 0;
+    for (const LightBounds& b : lights) total_power += b.power;
+    double tree_moment = 0, power_moment = 0;
+    int receivers = 0;
+    for (auto _ : state) {
+        for (int r = 0; r < 64; ++r) {
+            double sum = 0, tree_sq = 0, power_sq = 0;
+            for (int e = 0; e < n; ++e) {
+                const double f = ProxyContribution(lights[e], q[r].p, up);
+                if (f == 0) continue;
+                sum += f;
+                tree_sq += f * f / tree.Pmf(q[r].p, up, e);
+                power_sq += f * f / (lights[e].power / total_power);
+            }
+            if (!(sum > 0)) continue;
+            tree_moment += tree_sq / (sum * sum);
+            power_moment += power_sq / (sum * sum);
+            ++receivers;
+        }
+    }
+    state.counters["moment_tree"] = tree_moment / receivers;
+    state.counters["moment_power"] = power_moment / receivers;
+}
+
 BENCHMARK(BM_LightTreeBuild)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LightTreeSample)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
 BENCHMARK(BM_LightTreePmf)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
+BENCHMARK(BM_LightTreeSelectionMoment)->RangeMultiplier(10)->Range(10, 10000)->Iterations(1);
 
 }  // namespace
 }  // namespace sphrect::render

@@ -120,9 +120,9 @@ inline constexpr float kSmallestImportance = 1.4e-45f;   // what an underflowed 
     const float d2 = Dot(to_p, to_p);
     const float r2 = node.radius * node.radius;
     if (d2 <= r2) return node.power / std::max(r2, kLightTreeMinDistance2);
-    const float d = std::sqrt(d2);
-    const Vec3f wi = to_p / d;  // from the node towards p
-    const float sin_b = node.radius / d, cos_b = SafeSqrt(1 - sin_b * sin_b);
+    const float inv_d = 1 / std::sqrt(d2);
+    const Vec3f wi = to_p * inv_d;  // from the node towards p
+    const float sin_b = node.radius * inv_d, cos_b = SafeSqrt(1 - sin_b * sin_b);
 
     float cos_w = Dot(node.axis, wi);
     if (node.flags & LightTreeNode::kTwoSided) cos_w = std::abs(cos_w);

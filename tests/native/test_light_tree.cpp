@@ -237,6 +237,20 @@ TEST(LightTree, PmfPositiveForEveryEmitterThatCanLight) {
                     EXPECT_GT(tree.Pmf(r.p, r.n, i), 0) << "emitter " << i;
                 }
     EXPECT_GT(lit, 1000);
+    // Near field: receivers within 0.3 m of an emitter's centre (inside node bounding spheres).
+    std::mt19937 g(21);
+    std::uniform_real_distribution<float> u(-0.3f, 0.3f);
+    int near_lit = 0;
+    for (int k = 0; k < 400; ++k) {
+        const LightBounds& b = e.tree.bounds[k % e.tree.bounds.size()];
+        const Receiver r{(b.lo + b.hi) * 0.5f + Vec3f(u(g), u(g), u(g)), k % 2 ? RandomUnit(g) : Vec3f(0, 0, 0)};
+        for (int i = 0; i < tree.NumEmitters(); ++i)
+            if (CanLight(e, i, r.p, r.n)) {
+                ++near_lit;
+                EXPECT_GT(tree.Pmf(r.p, r.n, i), 0) << "emitter " << i << " near " << k;
+            }
+    }
+    EXPECT_GT(near_lit, 1000);
 }
 
 TEST(LightTree, ZeroOnlyWhereNothingCanLight) {
