@@ -281,10 +281,10 @@ class Builder {
     Builder(std::vector<BuildItem>& items, std::vector<LightTreeNode>& nodes, std::vector<uint64_t>& trails)
         : items_(items), nodes_(nodes), trails_(trails) {}
 
-    NodeBounds Build(size_t begin, size_t end, const ItemExtent& extent, int depth, uint64_t trail) {
+    // Builds node `index` (already allocated) over items [begin, end); its two children are
+    // allocated side by side, so that traversal reads both from neighbouring memory.
+    NodeBounds Build(uint32_t index, size_t begin, size_t end, const ItemExtent& extent, int depth, uint64_t trail) {
         max_depth_ = std::max(max_depth_, depth);
-        const uint32_t index = uint32_t(nodes_.size());
-        nodes_.emplace_back();
         NodeBounds nb;
         if (end - begin == 1) {
             const BuildItem& it = items_[begin];
@@ -297,14 +297,15 @@ class Builder {
         }
         ItemExtent left_extent, right_extent;
         const size_t mid = Split(begin, end, extent, depth, left_extent, right_extent);
-        const NodeBounds left = Build(begin, mid, left_extent, depth + 1, trail);
-        const uint32_t right_index = uint32_t(nodes_.size());
-        const NodeBounds right = Build(mid, end, right_extent, depth + 1, trail | (uint64_t(1) << depth));
+        const uint32_t children = uint32_t(nodes_.size());
+        nodes_.resize(nodes_.size() + 2);
+        const NodeBounds left = Build(children, begin, mid, left_extent, depth + 1, trail);
+        const NodeBounds right = Build(children + 1, mid, end, right_extent, depth + 1, trail | (uint64_t(1) << depth));
         nb.box = left.box;
         nb.box.Grow(right.box);
         nb.cone = Union(left.cone, right.cone);
         nb.power = left.power + right.power;
-        Store(index, nb, 0, right_index);
+        Store(index, nb, 0, children);
         return nb;
     }
 
@@ -486,7 +487,8 @@ void LightTree::Build(const std::vector<LightBounds>& emitters) {
     }
     nodes_.reserve(2 * items.size() - 1);
     Builder builder(items, nodes_, trails_);
-    builder.Build(0, items.size(), ExtentOf(items, 0, items.size()), 0, 0);
+    nodes_.resize(1);
+    builder.Build(0, 0, items.size(), ExtentOf(items, 0, items.size()), 0, 0);
     depth_ = builder.MaxDepth();
 }
 

@@ -62,8 +62,8 @@ TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
 
 // A node, 48 bytes: the bounding sphere of its box (what the importance needs of the box), the
 // union of its emitters' cones, their power (divided by the tree's total, so at most 1).
-// Inner nodes' left child is the next node, `child_or_emitter` the right one; leaves hold one
-// emitter.
+// An inner node's children are nodes child_or_emitter (left) and child_or_emitter + 1 (right);
+// a leaf holds one emitter, index child_or_emitter.
 struct LightTreeNode {
     Vec3f center;
     float radius = 0;      // bounding sphere of the box, padded outwards for rounding
@@ -191,7 +191,7 @@ class LightTree {
         uint32_t i = 0;
         float pmf = 1;
         while (!nodes_[i].IsLeaf()) {
-            const uint32_t left = i + 1, right = nodes_[i].child_or_emitter;
+            const uint32_t left = nodes_[i].child_or_emitter, right = left + 1;
             const float p_left = ChildProbability(left, right, p, n, has_normal);
             if (u < p_left) {
                 u = std::min(u / p_left, kOneMinusEpsilonF);
@@ -219,7 +219,7 @@ class LightTree {
         uint32_t i = 0;
         float pmf = 1;
         for (int depth = 0; !nodes_[i].IsLeaf(); ++depth) {
-            const uint32_t left = i + 1, right = nodes_[i].child_or_emitter;
+            const uint32_t left = nodes_[i].child_or_emitter, right = left + 1;
             const float p_left = ChildProbability(left, right, p, n, has_normal);
             if ((trail >> depth) & 1) {
                 pmf *= 1 - p_left;
@@ -243,7 +243,7 @@ class LightTree {
                                     l.power, r.power);
     }
 
-    std::vector<LightTreeNode> nodes_;  // depth-first; nodes_[0] the root
+    std::vector<LightTreeNode> nodes_;  // nodes_[0] the root, then siblings in pairs
     std::vector<uint64_t> trails_;      // per emitter; kNotInTree for zero power
     int depth_ = 0;
 };
