@@ -126,16 +126,16 @@ inline float AreaToSolidAnglePDF(const AreaLight& l, const Vec3f& origin, const 
     return std::isfinite(pdf) && pdf > 0 ? pdf : 0.0f;
 }
 
+// Ellipse (and any planar light sampled by area): 0 behind a one-sided light.
 inline float EllipseAreaPDF(const AreaLight& l, const Vec3f& origin, const Vec3f& p) {
     if (!l.two_sided && Dot(l.n, origin - l.center) <= 0) return 0;  // behind a one-sided light
     return AreaToSolidAnglePDF(l, origin, p);
 }
 
-// Ellipse: concentric disc mapped by the semi-axes (uniform in area).
-inline LightSample<float> SampleEllipseArea(const AreaLight& l, const Vec3f& origin, Point2<float> u) {
+// The light sample at `point`, drawn uniformly by area on the planar light l, seen from origin.
+inline LightSample<float> AreaSampleSeenFrom(const AreaLight& l, const Vec3f& origin, const Vec3f& point) {
     LightSample<float> s;
-    const Point2<float> d = SampleUniformDiskConcentric(u);
-    s.point = l.center + l.ax * d.u + l.ay * d.v;
+    s.point = point;
     const Vec3f w = s.point - origin;
     s.dist = Length(w);
     if (!(s.dist > 0)) return s;
@@ -144,18 +144,17 @@ inline LightSample<float> SampleEllipseArea(const AreaLight& l, const Vec3f& ori
     return s;
 }
 
+// Ellipse: concentric disc mapped by the semi-axes (uniform in area).
+inline LightSample<float> SampleEllipseArea(const AreaLight& l, const Vec3f& origin, Point2<float> u) {
+    const Point2<float> d = SampleUniformDiskConcentric(u);
+    return AreaSampleSeenFrom(l, origin, l.center + l.ax * d.u + l.ay * d.v);
+}
+
 // Triangle, uniform by area: barycentrics (1 - su, su (1 - v), su v), su = sqrt(u)
 // (pbrt-v4's SampleUniformTriangle in its simplest form), converted to solid angle.
 inline LightSample<float> SampleTriangleArea(const AreaLight& l, const Vec3f& origin, Point2<float> u) {
-    LightSample<float> s;
     const float su = std::sqrt(u.u);
-    s.point = l.v0 + l.e1 * (su * (1 - u.v)) + l.e2 * (su * u.v);
-    const Vec3f w = s.point - origin;
-    s.dist = Length(w);
-    if (!(s.dist > 0)) return s;
-    s.dir = w / s.dist;
-    s.pdf = AreaToSolidAnglePDF(l, origin, s.point);
-    return s;
+    return AreaSampleSeenFrom(l, origin, l.v0 + l.e1 * (su * (1 - u.v)) + l.e2 * (su * u.v));
 }
 
 // Below this solid angle Arvo's map loses u (the angle sum ~ pi swamps the area, as in

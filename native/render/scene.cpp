@@ -333,6 +333,7 @@ void RenderScene::Commit() {
 // Blender triangulates a quad) become one rectangle light, sampled by the rectangle
 // techniques.  Zero-area triangles are skipped and counted in one warning.
 void RenderScene::AddMeshLights() {
+    num_analytic_lights = area_lights.size();
     size_t skipped = 0;
     for (MeshData& m : meshes) {
         auto material_of = [&](size_t i) { return m.material_ids.empty() ? 0 : m.material_ids[i]; };
@@ -371,7 +372,7 @@ void RenderScene::AddMeshLights() {
             m.triangle_light[i] = index;
         }
     }
-    for (const AreaLight& l : area_lights) has_mesh_lights |= l.on_mesh;
+    has_mesh_lights = area_lights.size() > num_analytic_lights;
     if (skipped)
         warnings.push_back(std::to_string(skipped) + " emissive triangle" + (skipped > 1 ? "s" : "") +
                            " with zero area (degenerate) skipped");

@@ -83,7 +83,10 @@ class RenderScene {
     HomogeneousMedium medium;
     std::vector<Material> materials;
     std::vector<MeshData> meshes;  // index = Embree geometry id (meshes without triangles are not kept)
-    std::vector<AreaLight> area_lights;      // the scene's, then the emissive meshes' (on_mesh)
+    // The scene's lights [0, num_analytic_lights), intersected analytically by camera and BSDF rays,
+    // then the emissive meshes' (on_mesh), which those rays find through Embree.
+    std::vector<AreaLight> area_lights;
+    size_t num_analytic_lights = 0;
     LightSelector light_selector;            // over area_lights, by power
     bool has_mesh_lights = false;            // some area light is on_mesh
     std::vector<std::string> warnings;       // Commit()'s, e.g. skipped degenerate emissive triangles

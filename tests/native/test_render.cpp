@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <set>
 #include <string>
@@ -156,6 +157,87 @@ TEST(RenderLights, SampledPointsAreFoundByIntersection) {
     EXPECT_FALSE(IsBlack(EmittedRadiance(rect, origin - rect.center)));
     EXPECT_TRUE(IsBlack(EmittedRadiance(rect, rect.center - origin)));
     EXPECT_EQ(IntersectAreaLight(rect, origin, Vec3f(0, 0, 1), kInf), kInf);
+}
+
+// Emissive triangles sampled by solid angle (spherical triangle map, area fallback when tiny): in the
+// ordinary and the hard cases every valid sample lies on the triangle (found by intersection at its
+// distance), its pdf is the one TriangleSolidAnglePDF gives the returned point, and E[1 / pdf] is the
+// triangle's solid angle (each branch unbiased; 64 x 64 stratified points, tolerance 1%).  A point in
+// the triangle's plane sees no solid angle: pdf 0, no sample.
+TEST(RenderLights, TriangleLightSamplesBySolidAngleInHardCases) {
+    struct Case {
+        const char* name;
+        Vec3f v0, v1, v2, origin;
+    };
+    const Case cases[] = {
+        {"ordinary", {-1, 0.5f, 2}, {1, -0.3f, 2.2f}, {0.2f, 1, 1.8f}, {0.1f, 0.2f, 0}},
+        {"tiny", {0, 0, 1}, {1e-4f, 0, 1}, {0, 1e-4f, 1}, {0.3f, 0, 0}},            // ~5e-9 sr: area fallback
+        {"small", {0, 0, 1}, {1e-3f, 0, 1}, {0, 1e-3f, 1}, {0.3f, 0, 0}},           // ~5e-7 sr: Arvo's map
+        {"distant", {-1, -1, 1e4f}, {1, -0.5f, 1e4f}, {0, 1, 1e4f}, {0, 0, 0}},   // ~1e-8 sr: area fallback
+        {"grazing", {0, -1, 1e-3f}, {0, 1, 1e-3f}, {0, 0, 1}, {1e-3f, 0.1f, 0.2f}},  // origin 1e-3 off its plane
+        {"near", {-1, -1, 1e-3f}, {1, -1, 1e-3f}, {0, 1, 1e-3f}, {0, 0, 0}},         // nearly a hemisphere
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const AreaLight l = MakeTriangleAreaLight(c.v0, c.v1, c.v2, {1, 1, 1});
+        const TriangleSolidAngleSetup setup = MakeTriangleSolidAngleSetup(l, c.origin);
+        ASSERT_TRUE(setup.valid);
+        EXPECT_EQ(setup.by_area, std::string(c.name) == "tiny" || std::string(c.name) == "distant");
+        const Vec3d o(c.origin);
+        const Vec3d a = Vec3d(c.v0) - o, b = Vec3d(c.v1) - o, d = Vec3d(c.v2) - o;
+        const double omega = SphericalTriangleSolidAngle(a, b, d, Length(a), Length(b), Length(d));
+        double inv_pdf_sum = 0;
+        const int n = 64;
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                const Point2<float> u{(i + 0.5f) / n, (j + 0.5f) / n};
+                const LightSample<float> s = SampleTriangleSolidAngle(setup, l, c.origin, u);
+                ASSERT_GT(s.pdf, 0);
+                ASSERT_TRUE(std::isfinite(s.pdf));
+                EXPECT_EQ(TriangleSolidAnglePDF(setup, l, c.origin, s.point), s.pdf);
+                EXPECT_NEAR(IntersectAreaLight(l, c.origin, s.dir, kInf), s.dist, 1e-3f * s.dist);
+                inv_pdf_sum += 1.0 / s.pdf;
+            }
+        EXPECT_NEAR(inv_pdf_sum / (n * n), omega, 1e-2 * omega);
+    }
+    const AreaLight flat = MakeTriangleAreaLight({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 1});
+    const TriangleSolidAngleSetup in_plane = MakeTriangleSolidAngleSetup(flat, {2, 3, 0});
+    EXPECT_FALSE(in_plane.valid);
+    EXPECT_EQ(SampleTriangleSolidAngle(in_plane, flat, {2, 3, 0}, {0.5f, 0.5f}).pdf, 0);
+    EXPECT_EQ(TriangleSolidAnglePDF(in_plane, flat, {2, 3, 0}, {0.2f, 0.2f, 0}), 0);
+}
+
+// A scene's emissive quad that is an exact rectangle is one rectangle light; a non-rectangular one two
+// triangles; a zero-area emissive triangle is skipped with one warning; non-emissive scenes get none.
+TEST(RenderLights, EmissiveMeshesBecomeAreaLights) {
+    auto scene_with = [](const std::vector<float>& v, const std::vector<int32_t>& t) {
+        auto s = std::make_unique<RenderScene>();
+        CameraModel camera;
+        camera.width = camera.height = 4;
+        camera.half_width = camera.half_height = 0.4f;
+        s->SetCamera(camera);
+        s->AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+        s->AddDiffuseMaterial({0, 0, 0}, {3, 3, 3});
+        const std::vector<int32_t> ids(t.size() / 3, 1);
+        s->AddMesh("m", v.data(), v.size() / 3, t.data(), t.size() / 3, nullptr, ids.data());
+        s->Commit();
+        return s;
+    };
+    const std::vector<int32_t> quad = {0, 1, 2, 0, 2, 3};
+    auto rect = scene_with({0, 0, 2, 2, 0, 2, 2, 1, 2, 0, 1, 2}, quad);
+    ASSERT_EQ(rect->area_lights.size(), 1u);
+    EXPECT_EQ(rect->area_lights[0].shape, AreaShape::Rectangle);
+    EXPECT_NEAR(rect->area_lights[0].area, 2.0f, 1e-6f);
+    EXPECT_TRUE(rect->area_lights[0].on_mesh && rect->area_lights[0].two_sided);
+    EXPECT_EQ(rect->meshes[0].triangle_light, (std::vector<int32_t>{0, 0}));
+    auto kite = scene_with({0, 0, 2, 2, 0, 2, 2.5f, 1, 2, 0, 1, 2}, quad);
+    ASSERT_EQ(kite->area_lights.size(), 2u);
+    EXPECT_EQ(kite->area_lights[1].shape, AreaShape::Triangle);
+    auto degenerate = scene_with({0, 0, 2, 1, 0, 2, 2, 0, 2, 0, 1, 2}, {0, 1, 2, 0, 1, 3});
+    EXPECT_EQ(degenerate->area_lights.size(), 1u);
+    ASSERT_EQ(degenerate->warnings.size(), 1u);
+    EXPECT_NE(degenerate->warnings[0].find("1 emissive triangle with zero area"), std::string::npos);
+    EXPECT_EQ(degenerate->meshes[0].triangle_light, (std::vector<int32_t>{-1, 0}));
 }
 
 TEST(RenderLights, SpotFalloffFollowsCycles) {

@@ -66,14 +66,15 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     out.t_end = out.hit ? rh.ray.tfar : kInf;
     if (out.hit) out.surface = MakeSurfaceHit(scene, out.ray, rh);
     Spectrum seen;
-    // Emissive meshes are seen at their hit (two-sided, like their lights); their area lights
-    // (on_mesh) are skipped below, so they are not counted twice.
+    // Emissive meshes are seen at their hit (two-sided, like their lights); the loop below covers
+    // only the analytic lights, so they are not counted twice.
     if (out.hit && scene.has_mesh_lights) {
         const Spectrum& le = scene.materials[out.surface.material].emission;
         if (!IsBlack(le)) seen += le * SegmentTransmittance<kMedium>(scene.medium, out.t_end);
     }
-    for (const AreaLight& l : scene.area_lights) {
-        if (!l.visible || l.on_mesh) continue;
+    for (size_t i = 0; i < scene.num_analytic_lights; ++i) {
+        const AreaLight& l = scene.area_lights[i];
+        if (!l.visible) continue;
         const float t = IntersectAreaLight(l, out.ray.o, out.ray.d, std::min(out.t_end, out.ray.tmax));
         if (std::isinf(t) || t < out.ray.tmin) continue;
         seen += EmittedRadiance(l, -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);

@@ -87,8 +87,7 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
     if (c.mis == MisMode::None) return;
     const auto& lights = c.scene.area_lights;
     if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, light_sampling, sink);
-    for (int i = 0; i < int(lights.size()); ++i) {
-        if (lights[i].on_mesh) continue;  // found by QueueMeshEmitterAlongRay
+    for (int i = 0; i < int(c.scene.num_analytic_lights); ++i) {  // the rest: QueueMeshEmitterAlongRay's
         const float t = IntersectAreaLight(lights[i], o, d, kInf);
         if (std::isinf(t)) continue;
         const Spectrum le = EmittedRadiance(lights[i], -d);
