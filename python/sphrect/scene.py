@@ -9,10 +9,10 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
 :func:`load_scene`): a NumPy ``.npz`` archive holding
 
 * ``scene.json`` -- a UTF-8 JSON document: ``{"format": "sphrect-scene",
-  "version": 1, "camera": {...}, "world": {...}, "materials": [...],
+  "version": 2, "camera": {...}, "world": {...}, "materials": [...],
   "lights": [{"type": "rect"|"ellipse"|"point"|"spot"|"sun", ...}, ...],
   "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
-  dataclasses below;
+  dataclasses below (version 1, before Material.emission, loads with emission 0);
 * for mesh *i*: ``mesh{i}.vertices`` (float32 [V,3]), ``mesh{i}.triangles``
   (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
   ``mesh{i}.material_ids`` (int32 [T]).
