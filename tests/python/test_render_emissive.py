@@ -5,6 +5,8 @@ Statistical tests: per-pixel t-tests of independent replicate renders against La
 formula (render_testing.pixel_t_test), Sidak-corrected so that each test fails falsely with probability
 FAMILY_ALPHA = 1e-4 over all its pixels, techniques and MIS modes (fixed seeds: the outcome is
 deterministic, the rate is that of a seed set drawn at random)."""
+import json
+
 import numpy as np
 import pytest
 
@@ -174,3 +176,20 @@ def test_emission_round_trips_through_the_file(tmp_path):
     path = str(tmp_path / "s.sphrect.npz")
     sphrect.save_scene(scene, path)
     assert tuple(sphrect.load_scene(path).materials[1].emission) == (RADIANCE,) * 3
+
+
+def test_version_1_files_load_without_emission(tmp_path):
+    """A version-1 file (materials without 'emission') loads with emission 0."""
+    scene = sphrect.Scene(camera=top_camera(), meshes=[ground()], materials=materials())
+    path = str(tmp_path / "v2.sphrect.npz")
+    sphrect.save_scene(scene, path)
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    meta = json.loads(bytes(arrays["scene.json"]).decode())
+    meta["version"] = 1
+    for m in meta["materials"]:
+        del m["emission"]
+    arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    old = str(tmp_path / "v1.sphrect.npz")
+    np.savez(old, **arrays)
+    assert all(m.emission == (0.0, 0.0, 0.0) for m in sphrect.load_scene(old).materials)
