@@ -379,6 +379,45 @@ TEST(LightTree, RejectsBadInputWithItsIndex) {
     expect_rejected([](LightBounds& b) { std::swap(b.lo, b.hi); b.hi.x -= 1; }, "lo > hi");
 }
 
+// The tree's point: its choice follows the contributions better than power does.  On 1000 small
+// down-facing lights at heights 1-3 over a plane, receivers on the plane: the relative second moment
+// sum f^2/pmf / (sum f)^2 of the one-sample estimate of sum f, f = power cos_light cos_receiver / d^2
+// at the light's centre, averaged over 32 receivers (deterministic: 2.03 for the tree, 42.8 for
+// power when written).
+TEST(LightTree, ChoiceFollowsContributionsBetterThanPower) {
+    std::mt19937 g(22);
+    std::uniform_real_distribution<float> u(0, 1);
+    std::vector<LightBounds> lights;
+    double total_power = 0;
+    for (int i = 0; i < 1000; ++i) {
+        const float s = 0.05f + 0.15f * u(g), power = std::pow(10.0f, 2 * u(g));
+        const Vec3f c(32 * u(g) - 16, 32 * u(g) - 16, 1 + 2 * u(g));
+        lights.push_back(AreaLightBounds(MakeRectAreaLight(c, {0, s, 0}, {s, 0, 0}, Spectrum(1, 1, 1) * power, false,
+                                                           true)));
+        total_power += lights.back().power;
+    }
+    LightTree tree;
+    tree.Build(lights);
+    double tree_moment = 0, power_moment = 0;
+    const Vec3f up(0, 0, 1);
+    for (int r = 0; r < 32; ++r) {
+        const Vec3f p(32 * u(g) - 16, 32 * u(g) - 16, 0);
+        double sum = 0, tree_sq = 0, power_sq = 0;
+        for (int e = 0; e < int(lights.size()); ++e) {
+            const Vec3f d = p - (lights[e].lo + lights[e].hi) * 0.5f;
+            const double cos2 = double(d.z) * d.z / Dot(d, d);  // cos at the light times cos at p
+            const double f = lights[e].power * cos2 / Dot(d, d);
+            sum += f;
+            tree_sq += f * f / tree.Pmf(p, up, e);
+            power_sq += f * f / (lights[e].power / total_power);
+        }
+        tree_moment += tree_sq / (sum * sum) / 32;
+        power_moment += power_sq / (sum * sum) / 32;
+    }
+    EXPECT_LT(tree_moment, 0.25 * power_moment) << "tree " << tree_moment << " power " << power_moment;
+    EXPECT_LT(tree_moment, 6);
+}
+
 TEST(LightTree, SunIsNoTreeEmitter) {
     DeltaLight sun;
     sun.kind = DeltaKind::Sun;
