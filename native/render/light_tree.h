@@ -125,7 +125,8 @@ inline constexpr float kSmallestImportance = 1.4e-45f;   // what an underflowed 
     if (d2 <= r2) return node.power / std::max(std::max(d2, 0.25f * r2), kLightTreeMinDistance2);
     const float inv_d = 1 / std::sqrt(d2);
     const Vec3f wi = to_p * inv_d;  // from the node towards p
-    const float sin_b = node.radius * inv_d, cos_b = SafeSqrt(1 - sin_b * sin_b);
+    // sin and cos of theta_b: r / d and sqrt(d^2 - r^2) / d (both roots at once, not one after the other).
+    const float sin_b = node.radius * inv_d, cos_b = std::sqrt(d2 - r2) * inv_d;
 
     float cos_w = Dot(node.axis, wi);
     if (node.flags & LightTreeNode::kTwoSided) cos_w = std::abs(cos_w);
