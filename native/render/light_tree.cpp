@@ -14,6 +14,8 @@ namespace sphrect::render {
 // ---- Emitters' bounds ----
 
 LightBounds AreaLightBounds(const AreaLight& l) {
+    if (l.shape == AreaShape::Triangle)
+        return TriangleLightBounds(l.v0, l.v0 + l.e1, l.v0 + l.e2, Luminance(l.radiance), l.two_sided);
     LightBounds b;
     // Box of a rectangle: its corners; of an ellipse c + ax cos t + ay sin t: c +- sqrt(ax_i^2 + ay_i^2).
     if (l.shape == AreaShape::Rectangle) {

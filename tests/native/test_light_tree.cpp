@@ -29,7 +29,7 @@ Vec3f RandomUnit(std::mt19937& g) {
 }
 
 // A scene of every emitter kind: rectangles and ellipses (random orientation, one- and
-// two-sided), point and spot lights, powers over four decades, in a 20 m box.
+// two-sided), point and spot lights, mesh triangles, powers over four decades, in a 20 m box.
 struct Emitters {
     std::vector<AreaLight> area;
     std::vector<DeltaLight> delta;
@@ -43,8 +43,11 @@ Emitters MixedScene(int n, uint32_t seed) {
     for (int i = 0; i < n; ++i) {
         const Vec3f c(20 * u(g) - 10, 20 * u(g) - 10, 20 * u(g) - 10);
         const Spectrum radiance = Spectrum(1, 1, 1) * std::pow(10.0f, 4 * u(g) - 2);
-        const int kind = int(4 * u(g));
-        if (kind <= 1) {
+        const int kind = int(5 * u(g));
+        if (kind == 4) {
+            const Vec3f a = RandomUnit(g) * (0.05f + u(g)), b = RandomUnit(g) * (0.05f + u(g));
+            e.area.push_back(MakeTriangleAreaLight(c, c + a, c + b, radiance));
+        } else if (kind <= 1) {
             const Vec3f nrm = RandomUnit(g);
             const Vec3f a = Normalize(Cross(nrm, RandomUnit(g))) * (0.05f + u(g));
             const Vec3f b = Normalize(Cross(nrm, a)) * (0.05f + u(g));
@@ -83,6 +86,8 @@ bool CanLight(const Emitters& e, int i, const Vec3f& p, const Vec3f& n) {
             Vec3f q;
             if (l.shape == AreaShape::Rectangle) {
                 q = l.frame.light.corner + l.frame.light.ex * s + l.frame.light.ey * t;
+            } else if (l.shape == AreaShape::Triangle) {
+                q = l.v0 + l.e1 * (s * (1 - t)) + l.e2 * (s * t);  // covers the triangle
             } else {
                 const Point2<float> d = SampleUniformDiskConcentric({s, t});
                 q = l.center + l.ax * d.u + l.ay * d.v;
@@ -416,6 +421,26 @@ TEST(LightTree, ChoiceFollowsContributionsBetterThanPower) {
     }
     EXPECT_LT(tree_moment, 0.25 * power_moment) << "tree " << tree_moment << " power " << power_moment;
     EXPECT_LT(tree_moment, 6);
+}
+
+TEST(LightTree, TriangleLightBounds) {
+    const AreaLight t = MakeTriangleAreaLight({0, 0, 1}, {2, 0, 1}, {0, 1, 3}, {2, 2, 2});
+    const LightBounds b = AreaLightBounds(t);
+    EXPECT_EQ(b.lo.x, 0);
+    EXPECT_EQ(b.hi.x, 2);
+    EXPECT_EQ(b.hi.y, 1);
+    EXPECT_EQ(b.lo.z, 1);
+    EXPECT_EQ(b.hi.z, 3);
+    EXPECT_NEAR(b.power, 2 * t.area, 1e-5);
+    EXPECT_NEAR(Dot(b.axis, t.n), 1, 1e-6);
+    EXPECT_EQ(b.two_sided, t.two_sided);
+    // Degenerate (collinear) triangle: no power, stays out of the tree.
+    const LightBounds d = TriangleLightBounds({0, 0, 0}, {1, 1, 1}, {2, 2, 2}, 1, true);
+    EXPECT_EQ(d.power, 0);
+    LightTree tree;
+    tree.Build({d, b});
+    EXPECT_EQ(tree.Pmf({0.5f, 0.3f, 0}, {0, 0, 0}, 0), 0);
+    EXPECT_EQ(tree.Pmf({0.5f, 0.3f, 0}, {0, 0, 0}, 1), 1);
 }
 
 TEST(LightTree, SunIsNoTreeEmitter) {
