@@ -193,3 +193,22 @@ def test_version_1_files_load_without_emission(tmp_path):
     old = str(tmp_path / "v1.sphrect.npz")
     np.savez(old, **arrays)
     assert all(m.emission == (0.0, 0.0, 0.0) for m in sphrect.load_scene(old).materials)
+
+
+@pytest.mark.parametrize("mis", sphrect.mis_modes)
+def test_emissive_triangle_with_a_rectangle_light(mis):
+    """Light selection by power over both kinds: an analytic rectangle light (3x the triangle's radiance)
+    and an emissive triangle, against the sum of their polygon formulas.  The rectangle lies below the
+    triangle (which, being geometry, would otherwise shadow it; analytic lights cast no shadow)."""
+    cam = top_camera(height_above=0.5)
+    rect = sphrect.RectLight(corner=(-0.9, -0.9, 0.7), edge_x=(0.5, 0, 0), edge_y=(0, 0.4, 0),
+                             radiance=(3 * RADIANCE,) * 3, two_sided=True, visible=False)
+    rect_verts = [[-0.9, -0.9, 0.7], [-0.4, -0.9, 0.7], [-0.4, -0.5, 0.7], [-0.9, -0.5, 0.7]]
+    scene = sphrect.Scene(camera=cam, meshes=[ground(), emissive_mesh(TRIANGLE, [[0, 1, 2]])], lights=[rect],
+                          materials=materials())
+    expected = expected_plane_image(cam, ALBEDO, lambda P: RADIANCE * polygon_irradiance(P, (0, 0, 1), TRIANGLE)
+                                    + 3 * RADIANCE * polygon_irradiance(P, (0, 0, 1), rect_verts))
+    reps = replicate_images(scene, ALL_TECHNIQUES, REPLICATES, SAMPLES, mis=mis)
+    for t in ALL_TECHNIQUES:
+        ok, p_min, alpha = pixel_t_test(reps[t], expected, FAMILY_ALPHA / len(ALL_TECHNIQUES))
+        assert ok, f"mixed/{mis}/{t}: worst p = {p_min:.3g} < {alpha:.3g}"
