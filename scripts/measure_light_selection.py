@@ -14,8 +14,8 @@ Cycles 3.4, for issue 11's stratified light selection and the defaults.
 Variance: two renders of different seeds a, b at the same samples; Var = mean over pixels and RGB of
 (a - b)^2 / 2 (each pixel's variance, unbiased, no reference needed), divided by the mean of ((a + b) / 2)^2:
 the relative variance, comparable between renderers whose images agree (Cycles and sphrect to ~1 %) and
-between scenes.  Seeds 1 and 2 (sphrect) or 1 and 2 (Cycles); scenes are exported once (cached in
-OUT/scenes) so every build renders the same scene files.  The light-samples table is at equal time: variance
+between scenes.  Seeds 1 and 2 in both renderers.  Lights are hidden from the camera (blend_file), and the
+scenes are exported once (cached in OUT/scenes) so every build renders the same scene files.  The light-samples table is at equal time: variance
 x CPU time per pixel (the technique's shading and light time plus its share of the camera rays)."""
 import argparse
 import glob
@@ -23,6 +23,7 @@ import itertools
 import json
 import math
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -41,17 +42,31 @@ def relative_variance(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.mean((a - b) ** 2) / 2 / np.mean(((a + b) / 2) ** 2))
 
 
-def scene_file(out: str, name: str, resolution) -> str:
+def blend_file(out: str, name: str) -> str:
+    """The scene's .blend with its lights hidden from the camera (cached: OUT/scenes/NAME.blend): the variance
+    measured is the lighting's, not that of the pixels a bright light's edge crosses (the same for every
+    configuration, and in a room with visible ceiling lights most of the image's variance)."""
+    from sphrect.study.cycles import find_blender
+    path = os.path.abspath(os.path.join(out, "scenes", name + ".blend"))
+    if not os.path.exists(path):
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        hide = ("import bpy\nfor o in bpy.data.objects:\n    if o.type == 'LIGHT': o.visible_camera = False\n"
+                f"bpy.ops.wm.save_as_mainfile(filepath={path!r}, compress=True)")
+        subprocess.run([find_blender(), "-b", "--factory-startup", os.path.join(BLEND_DIR, name + ".blend"),
+                        "--python-exit-code", "1", "--python-expr", hide], check=True, capture_output=True)
+    return path
+
+
+def scene_file(out: str, name: str, resolution, blender_script=HEADLESS) -> str:
     """The exported scene (cached): OUT/scenes/NAME_WxH.sphrect.npz."""
     from sphrect.study.cycles import export_blend
     path = os.path.join(out, "scenes", f"{name}_{resolution[0]}x{resolution[1]}.sphrect.npz")
     if not os.path.exists(path):
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        export_blend(os.path.join(BLEND_DIR, name + ".blend"), path, resolution, blender_script=HEADLESS)
+        export_blend(blend_file(out, name), path, resolution, blender_script=blender_script)
     return path
 
 
-def measure_sphrect(scene, samples, mis_modes, patterns, light_samples):
+def measure_sphrect(scene, samples, mis_modes, patterns, light_samples, passes=1):
     """{(mis, pattern, light_samples, technique): {"variance", "time"}} for all techniques at once."""
     out = {}
     techniques = list(sphrect.techniques)
@@ -60,7 +75,8 @@ def measure_sphrect(scene, samples, mis_modes, patterns, light_samples):
         for seed in SEEDS:
             r = sphrect.Renderer(scene, techniques=techniques, mis=mis, pattern=pattern, light_samples=ls, seed=seed,
                                  threads=1)
-            r.render(samples)
+            for _ in range(passes):  # progressive passes, as the add-on renders (its "Progressive Passes")
+                r.render(samples // passes)
             for t in techniques:
                 s = r.stats(t)
                 images[t].append(r.image(t))
@@ -71,12 +87,12 @@ def measure_sphrect(scene, samples, mis_modes, patterns, light_samples):
     return out
 
 
-def measure_cycles(blend, samples, resolution):
+def measure_cycles(blend, samples, resolution, blender_script=HEADLESS):
     from sphrect.study.cycles import render_cycles
     images, times = [], []
     for seed in SEEDS:
         image, timing = render_cycles(blend, samples, resolution[0], resolution[1], seed=seed, threads=1,
-                                      blender_script=HEADLESS)
+                                      blender_script=blender_script)
         images.append(image)
         times.append(timing["cpu_time"])
     return {"variance": relative_variance(*images), "time": float(np.mean(times))}
@@ -104,7 +120,8 @@ def report(out):
     cycles = runs.pop("cycles", {})
     techniques = list(sphrect.techniques)
     for label, data in runs.items():
-        print(f"\n## {label}: relative variance at {data['samples']} spp, {data['resolution']}, seeds {SEEDS}")
+        print(f"\n## {label}: relative variance at {data['samples']} spp in {data.get('passes', 1)} pass(es), "
+              f"{data['resolution']}, seeds {SEEDS}")
         for scene, res in data["scenes"].items():
             keys = sorted({k.rsplit("/", 1)[0] for k in res})
             print(f"\n{scene}\n| MIS/pattern/light samples | " + " | ".join(techniques) + " |")
@@ -143,9 +160,11 @@ def report(out):
                               if f"{mp}/{ls}/{t}" in res and f"{mp}/1/{t}" in res]
                     cells.append(f"{ls}: {geomean(ratios):.3g}" if ratios else f"{ls}: -")
                 print(f"| {mp} | " + " | ".join(cells) + " |")
-    # Before / after and Cycles, per scene and technique, at each label's configurations in common.
+    # Before / after and Cycles, per scene and technique, at the configurations both builds measured.
     for scene in sorted({s for d in runs.values() for s in d["scenes"]}):
-        have = {label: d["scenes"][scene] for label, d in runs.items() if scene in d["scenes"]}
+        # One pass, one light sample: the builds measured alike ("after", "before"), or whatever label there is.
+        labels = [l for l in ("after", "before") if l in runs] or list(runs)
+        have = {l: runs[l]["scenes"][scene] for l in labels if scene in runs[l]["scenes"]}
         common = set.intersection(*(set(r) for r in have.values()))
         cyc = cycles.get(scene)
         if not common or (len(have) < 2 and not cyc):
@@ -175,9 +194,11 @@ def main():
     ap.add_argument("--scenes", nargs="*",
                     default=sorted(os.path.basename(p)[:-6] for p in glob.glob(os.path.join(BLEND_DIR, "*.blend"))))
     ap.add_argument("--resolution", default="96x72")
+    ap.add_argument("--blender-script", default=HEADLESS, help="the add-on's headless.py for export and Cycles")
     ap.add_argument("--samples", type=int, default=64)
     ap.add_argument("--mis", nargs="*", default=list(sphrect.mis_modes))
     ap.add_argument("--patterns", nargs="*", default=list(sphrect.patterns))
+    ap.add_argument("--passes", type=int, default=1, help="render the samples in this many progressive passes")
     ap.add_argument("--light-samples", nargs="*", type=int, default=[1],
                     help="light samples per camera sample (measured with every --mis and --patterns)")
     args = ap.parse_args()
@@ -186,10 +207,10 @@ def main():
     if args.label:
         path = os.path.join(args.out, args.label + ".json")
         data = load(path) if os.path.exists(path) else {"samples": args.samples, "resolution": args.resolution,
-                                                        "scenes": {}}
+                                                        "passes": args.passes, "scenes": {}}
         for name in args.scenes:
-            scene = sphrect.load_scene(scene_file(args.out, name, resolution))
-            res = measure_sphrect(scene, args.samples, args.mis, args.patterns, args.light_samples)
+            scene = sphrect.load_scene(scene_file(args.out, name, resolution, args.blender_script))
+            res = measure_sphrect(scene, args.samples, args.mis, args.patterns, args.light_samples, args.passes)
             data["scenes"].setdefault(name, {}).update(res)
             save(path, data)
             print(f"{args.label}: {name} done", file=sys.stderr)
@@ -197,7 +218,8 @@ def main():
         path = os.path.join(args.out, "cycles.json")
         data = load(path) if os.path.exists(path) else {}
         for name in args.scenes:
-            data[name] = measure_cycles(os.path.join(BLEND_DIR, name + ".blend"), args.samples, resolution)
+            data[name] = measure_cycles(blend_file(args.out, name), args.samples, resolution,
+                                        args.blender_script)
             save(path, data)
             print(f"cycles: {name} {data[name]}", file=sys.stderr)
     if args.report:
