@@ -153,19 +153,21 @@ def test_bad_emissive_input():
 
 
 def test_coinciding_emissive_triangles():
-    """Ten copies of one triangle: without MIS the plane receives ten times the light (each is an emitter);
-    with MIS, a BSDF ray finds only the first of coincident surfaces (as in any ray tracer), so the image
-    is finite and between one and ten times the single light's."""
+    """Ten copies of one triangle: a warning names them; without MIS the plane receives ten times the light
+    (each is an emitter); with MIS, a BSDF ray finds only the first of coincident surfaces (as in any ray
+    tracer), so the image is finite and between one and ten times the single light's."""
     cam = top_camera(height_above=0.5)
     one = expected_plane_image(cam, ALBEDO, lambda P: RADIANCE * polygon_irradiance(P, (0, 0, 1), TRIANGLE))
     verts = np.tile(np.asarray(TRIANGLE, np.float32), (10, 1))
     mesh = emissive_mesh(verts, np.arange(30).reshape(10, 3))
     scene = sphrect.Scene(camera=cam, meshes=[ground(), mesh], materials=materials())
-    r = sphrect.Renderer(scene, techniques=["rectangle"], mis="none", seed=1)
+    with pytest.warns(RuntimeWarning, match="9 emissive triangles coincide with another"):
+        r = sphrect.Renderer(scene, techniques=["rectangle"], mis="none", seed=1)
     assert r.render(64)
     img = r.image("rectangle")[..., 0]
     np.testing.assert_allclose(img.mean(), 10 * one.mean(), rtol=0.02)
-    r = sphrect.Renderer(scene, techniques=["rectangle"], mis="power", seed=1)
+    with pytest.warns(RuntimeWarning, match="coincide"):
+        r = sphrect.Renderer(scene, techniques=["rectangle"], mis="power", seed=1)
     assert r.render(16)
     img = r.image("rectangle")[..., 0]
     assert np.isfinite(img).all() and one.mean() < img.mean() < 10 * one.mean()
