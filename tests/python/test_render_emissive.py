@@ -55,18 +55,21 @@ def test_square_mesh_is_one_rectangle_light():
     assert native.num_area_lights == 2
 
 
+@pytest.mark.parametrize("medium", [False, True])
 @pytest.mark.parametrize("mis", sphrect.mis_modes)
-def test_square_mesh_equals_rectangle_light(mis):
+def test_square_mesh_equals_rectangle_light(mis, medium):
     """The same samples on the recognised rectangle and on the equivalent two-sided RectLight: images
-    equal up to the shadow ray's end pulled off the mesh (~1e-4 relative) and float rounding."""
+    equal up to the shadow ray's end pulled off the mesh (~1e-4 relative) and float rounding; also in a
+    medium (light and phase samples, equi-angular sampling about the same centre)."""
     cam = top_camera(height_above=0.5)
     v = np.asarray(SQUARE, np.float32)
+    world = sphrect.World(medium=sphrect.Medium(sigma_s=(0.3,) * 3, sigma_a=(0.1,) * 3, g=0.2) if medium else None)
     mesh_scene = sphrect.Scene(camera=cam, meshes=[ground(), emissive_mesh(v, [[0, 1, 2], [0, 2, 3]])],
-                               materials=materials())
+                               materials=materials(), world=world)
     # The rectangle as RectangleOfPair reads it: corner at the first triangle's unshared vertex.
     rect = sphrect.RectLight(corner=tuple(v[1]), edge_x=tuple(v[2] - v[1]), edge_y=tuple(v[0] - v[1]),
                              radiance=(RADIANCE,) * 3, two_sided=True)
-    rect_scene = sphrect.Scene(camera=cam, meshes=[ground()], lights=[rect], materials=materials())
+    rect_scene = sphrect.Scene(camera=cam, meshes=[ground()], lights=[rect], materials=materials(), world=world)
     a = sphrect.Renderer(mesh_scene, techniques=ALL_TECHNIQUES, mis=mis, seed=3)
     b = sphrect.Renderer(rect_scene, techniques=ALL_TECHNIQUES, mis=mis, seed=3)
     assert a.render(16) and b.render(16)
