@@ -8,8 +8,13 @@ Example::
     r.stats("rectangle")              # samples, wall_time, light_time, shading_time, rays, ...
 
 Light selection: one area light (rectangle or ellipse) per light sample, picked with
-probability proportional to its power (luminance x area x sides); point, spot and sun lights
-are all evaluated once per camera sample.  Pixels use a box filter.
+probability proportional to its power (luminance x area x sides) by the v of the light sample's
+pattern point, which is then rescaled for the point on the light (so the choice is stratified
+with the pattern); point, spot and sun lights are all evaluated once per camera sample.  Pixels
+use a box filter.
+
+Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=4: best at equal time) on
+the blend_scenes (scripts/measure_light_selection.py; README, "Light selection and defaults").
 
 Progressive rendering: each render() call (or each pass of a time budget) adds samples; the
 'sobol' pattern continues one sequence across calls, the other patterns stratify within a call.
@@ -153,8 +158,8 @@ class Renderer:
     """Progressive direct-lighting renderer of a :class:`sphrect.Scene` with one or more
     light-sampling techniques sharing camera rays and first hits (see the module docstring)."""
 
-    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 1,
-                 pattern: str = "sobol", mis: str = "balance", seed: int = 0, threads: int = 0,
+    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 4,
+                 pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
                  medium_sampling: str = "mis", tile_size: int = 16):
         if isinstance(techniques, str):
             techniques = [techniques]

@@ -11,9 +11,9 @@ EXPECTED_FEATURES = {"03_glossy_floor": {"glossy"}, "04_foggy_room": {"medium"},
                      "06_mixed_lights": {"ellipse_lights", "delta_lights"}}
 
 
-def test_all_six_scenes_exist():
+def test_all_blend_scenes_exist():
     assert SCENES == ["01_paper", "02_room", "03_glossy_floor", "04_foggy_room", "05_hard_cases",
-                      "06_mixed_lights"]
+                      "06_mixed_lights", "07_studio", "08_disk_room"]
 
 
 @pytest.mark.parametrize("name", SCENES)
