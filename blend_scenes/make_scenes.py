@@ -13,6 +13,11 @@
 07_studio        a product studio: four large rectangle softboxes of equal power (10 W each) around
                  Principled objects on a curved backdrop, inside a closed room box
 08_disk_room     a closed room lit by two ceiling disk lights of different power
+09_hall          a hall lit by a 20 x 20 grid of small ceiling panels (400 area lights: rectangles and
+                 some disks) over pillars, crates and Principled spheres
+10_night_street  a night street: 1,000 point and spot lights (street lamps, string lights across the
+                 street, shop-front downlights) and lit windows (mesh quads with an Emission shader),
+                 a dark blue night sky
 """
 import math
 import os
@@ -311,9 +316,123 @@ def disk_room():
     save("08_disk_room")
 
 
+def hall():
+    fresh_scene("hall")
+    room(material("Hall", (0.7, 0.7, 0.68)), size=(24, 24, 6))
+    # Pillars in two rows, crates and three Principled spheres on the floor.
+    concrete, wood = material("Concrete", (0.6, 0.6, 0.6)), material("Wood", (0.55, 0.38, 0.2))
+    for i in range(4):
+        for x in (-4.0, 4.0):
+            mesh_object(f"Pillar {x:+.0f} {i}", "cylinder", concrete, location=(x, -6.0 + 5.0 * i, 3.0), radius=0.3,
+                        depth=6.0, vertices=12)
+    for k, (x, y, s, a) in enumerate([(-1.5, -3.0, 1.0, 0.3), (1.8, 0.5, 1.4, -0.2), (-2.2, 3.5, 0.8, 0.8),
+                                      (0.5, 6.0, 1.2, 0.1)]):
+        mesh_object(f"Crate {k}", "cube", wood, location=(x, y, s / 2), size=s, rotation=(0, 0, a))
+    for k, (x, y, color, rough) in enumerate([(0.2, -4.5, (0.7, 0.1, 0.1), 0.3), (-0.8, 1.0, (0.1, 0.4, 0.7), 0.5),
+                                              (2.5, 4.0, (0.8, 0.7, 0.2), 0.2)]):
+        smooth(mesh_object(f"Sphere {k}", "uv_sphere", material(f"Plastic {k}", color, kind="principled",
+                                                                  roughness=rough), location=(x, y, 0.5),
+                           radius=0.5, segments=24, ring_count=12))
+    # 20 x 20 ceiling panels, 1.1 m apart, 2 cm under the ceiling, facing down: 60 x 30 cm rectangles,
+    # a diagonal pattern of 40 cm disks (57 of them); 6 W each (2.4 kW in all).
+    for i in range(20):
+        for j in range(20):
+            x, y = 1.1 * (j - 9.5), 1.1 * (i - 9.5)
+            if (i + 2 * j) % 7 == 3:
+                area_light(f"Panel {i:02d} {j:02d}", "DISK", size=0.4, power=6.0, location=(x, y, 5.98))
+            else:
+                area_light(f"Panel {i:02d} {j:02d}", "RECTANGLE", size=0.6, size_y=0.3, power=6.0,
+                           location=(x, y, 5.98))
+    camera((0.0, -11.0, 1.7), (0.0, 2.0, 2.0), lens=22.0)
+    save("09_hall")
+
+
+def emission_material(name, color, strength):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    out = nodes.new("ShaderNodeOutputMaterial")
+    emission = nodes.new("ShaderNodeEmission")
+    emission.inputs["Color"].default_value = (*color, 1)
+    emission.inputs["Strength"].default_value = strength
+    links.new(emission.outputs[0], out.inputs["Surface"])
+    mat.diffuse_color = (*color, 1)
+    return mat
+
+
+def night_street():
+    scene = fresh_scene("night_street")
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.002, 0.003, 0.008, 1)
+    mesh_object("Road", "plane", material("Asphalt", (0.12, 0.12, 0.13)), size=120)
+    kerb = material("Pavement", (0.35, 0.34, 0.32))
+    for x in (-4.5, 4.5):
+        mesh_object(f"Pavement {x:+.1f}", "cube", kerb, location=(x, 0.0, 0.075), scale=(1.5, 40.0, 0.075))
+    # Eight buildings a side, their facades at x = +-6 facing the street; windows on floors 1-4, six a
+    # building and floor, lit (emissive quads 1 cm in front of the facade) where a fixed hash says so.
+    walls = material("Facade", (0.45, 0.4, 0.35))
+    warm, cool = emission_material("Window Warm", (1.0, 0.72, 0.4), 2.0), emission_material("Window Cool",
+                                                                                               (0.6, 0.7, 1.0), 1.5)
+    for side in (-1, 1):
+        verts, faces, mat_index = [], [], []
+        for b in range(8):
+            y0 = -40.0 + 10.0 * b
+            height = 10.0 + 2.0 * ((3 * b + (side > 0)) % 4)
+            mesh_object(f"Building {side:+d} {b}", "cube", walls, location=(side * 11.0, y0 + 4.875, height / 2),
+                        scale=(5.0, 4.75, height / 2))
+            for floor in range(1, 5):
+                for w in range(6):
+                    h = (b * 131 + floor * 37 + w * 17 + (side > 0) * 59) % 10
+                    if h >= 6:
+                        continue  # a dark window
+                    x = side * 5.99
+                    ya, yb = y0 + 0.6 + 1.5 * w, y0 + 1.5 + 1.5 * w
+                    za, zb = 2.5 * floor + 0.8, 2.5 * floor + 2.2
+                    k = len(verts)
+                    verts += [(x, ya, za), (x, yb, za), (x, yb, zb), (x, ya, zb)]
+                    faces.append((k, k + 1, k + 2, k + 3) if side > 0 else (k, k + 3, k + 2, k + 1))
+                    mat_index.append(0 if h < 4 else 1)
+        mesh = bpy.data.meshes.new(f"Windows {side:+d}")
+        mesh.from_pydata(verts, [], faces)
+        mesh.materials.append(warm)
+        mesh.materials.append(cool)
+        for poly, m in zip(mesh.polygons, mat_index):
+            poly.material_index = m
+        link(bpy.data.objects.new(f"Windows {side:+d}", mesh))
+    # 40 street lamps: 5.5 m posts along both kerbs, a 150 W spot at the top aimed down.
+    post = material("Lamp Post", (0.2, 0.2, 0.22))
+    for side in (-1, 1):
+        for k in range(20):
+            y = -38.0 + 4.0 * k + (2.0 if side > 0 else 0.0)
+            mesh_object(f"Post {side:+d} {k:02d}", "cylinder", post, location=(side * 3.3, y, 2.7), radius=0.06,
+                        depth=5.4, vertices=8)
+            other_light(f"Street Lamp {side:+d} {k:02d}", "SPOT", 150.0, location=(side * 3.2, y, 5.5),
+                        color=(1.0, 0.8, 0.55), spot_size=math.radians(110), spot_blend=0.3)
+    # 12 strings of 40 bulbs across the street (0.3 W points), sagging from 6.5 m to 5.3 m.
+    for s in range(12):
+        y = -33.0 + 6.0 * s
+        for k in range(40):
+            t = (k + 0.5) / 40
+            x = -5.9 + 11.8 * t
+            z = 6.5 - 4.8 * t * (1 - t)
+            color = [(1.0, 0.6, 0.3), (1.0, 0.9, 0.6), (0.6, 0.8, 1.0), (1.0, 0.4, 0.5)][(s + k) % 4]
+            other_light(f"Bulb {s:02d} {k:02d}", "POINT", 0.3, location=(x, y + 0.2 * math.sin(7 * t), z),
+                        color=color)
+    # Shop fronts: along every ground floor, 30 downlights (0.5 W spots) 40 cm in front of the facade.
+    for side in (-1, 1):
+        for b in range(8):
+            for k in range(30):
+                y = -40.0 + 10.0 * b + 0.3 + 9.15 * k / 29
+                other_light(f"Downlight {side:+d} {b} {k:02d}", "SPOT", 0.5, location=(side * 5.6, y, 3.0),
+                            color=(1.0, 0.85, 0.7), spot_size=math.radians(90), spot_blend=0.5)
+    camera((1.0, -44.0, 1.7), (0.0, -10.0, 3.5), lens=28.0)
+    save("10_night_street")
+
+
 SCENES = {"01_paper": paper, "02_room": lambda: room_scene("02_room", fog=False), "03_glossy_floor": glossy_floor,
           "04_foggy_room": lambda: room_scene("04_foggy_room", fog=True), "05_hard_cases": hard_cases,
-          "06_mixed_lights": mixed_lights, "07_studio": studio, "08_disk_room": disk_room}
+          "06_mixed_lights": mixed_lights, "07_studio": studio, "08_disk_room": disk_room,
+          "09_hall": hall, "10_night_street": night_street}
 
 if __name__ == "__main__":
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
