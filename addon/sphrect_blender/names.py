@@ -1,6 +1,6 @@
-"""The sphrect names the add-on offers (techniques, sample patterns, MIS modes) as Blender enum items.
+"""The sphrect names the add-on offers (techniques, sample patterns, MIS modes, light selections) as Blender enum items.
 
-One source: the native module's lists (`sphrect.techniques`, `sphrect.patterns`, `sphrect.mis_modes`). An
+One source: the native module's lists (`sphrect.techniques`, `sphrect.patterns`, `sphrect.mis_modes`, `sphrect.light_selections`). An
 item's identifier is the name upper-cased ('rectangle_cosine' -> 'RECTANGLE_COSINE': what scripts, tests and
 the scene builders set) and its number is the name's position in the module's list, which is what a .blend
 file stores: the module's lists may grow at the end only. The add-on's own part is the UI text (the *_LABELS
@@ -31,6 +31,11 @@ MIS_LABELS = {
     "none": ("None", "Light sampling only"),
     "balance": ("Balance", "Balance heuristic between light and BSDF sampling"),
     "power": ("Power", "Power heuristic between light and BSDF sampling"),
+}
+
+LIGHT_SELECTION_LABELS = {
+    "power": ("Power", "Area lights by power; point and spot lights each on every sample"),
+    "tree": ("Light Tree", "Every area, point and spot light through a light tree (power, distance, orientation)"),
 }
 
 
@@ -64,3 +69,4 @@ def _module_names(attribute, labels):
 TECHNIQUES = _module_names("techniques", TECHNIQUE_LABELS)
 PATTERNS = _module_names("patterns", PATTERN_LABELS)
 MIS_MODES = _module_names("mis_modes", MIS_LABELS)
+LIGHT_SELECTIONS = _module_names("light_selections", LIGHT_SELECTION_LABELS)

@@ -4,8 +4,8 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, P
                        StringProperty)
 
 from .images import cache_reference_image
-from .names import (MIS_LABELS, MIS_MODES, PATTERN_LABELS, PATTERNS, TECHNIQUE_LABELS, TECHNIQUES, enum_items,
-                    label, sphrect_name)
+from .names import (LIGHT_SELECTION_LABELS, LIGHT_SELECTIONS, MIS_LABELS, MIS_MODES, PATTERN_LABELS, PATTERNS,
+                    TECHNIQUE_LABELS, TECHNIQUES, enum_items, label, sphrect_name)
 
 
 def _read_reference(path):
@@ -26,6 +26,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
                           description="Sample pattern of the light samples")
     mis: EnumProperty(name="MIS", items=enum_items(MIS_MODES, MIS_LABELS), default="POWER",
                       description="Multiple importance sampling heuristic")
+    light_selection: EnumProperty(name="Light Selection", items=enum_items(LIGHT_SELECTIONS, LIGHT_SELECTION_LABELS),
+                                  default="TREE", description="How each light sample chooses its light")
     seed: IntProperty(name="Seed", default=0, min=0)
     threads: IntProperty(name="Threads", default=0, min=0, description="Render threads (0: all cores)")
     passes: IntProperty(name="Progressive Passes", default=4, min=1, max=256,
@@ -54,7 +56,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
 
     def renderer_options(self):
         return dict(light_samples=self.light_samples, pattern=sphrect_name(self.pattern),
-                    mis=sphrect_name(self.mis), seed=self.seed, threads=self.threads)
+                    mis=sphrect_name(self.mis), light_selection=sphrect_name(self.light_selection), seed=self.seed,
+                    threads=self.threads)
 
 
 def compare_switch(technique):

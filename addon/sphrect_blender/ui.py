@@ -30,6 +30,7 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         col.prop(s, "light_samples")
         col.prop(s, "pattern")
         col.prop(s, "mis")
+        col.prop(s, "light_selection")
         col.prop(s, "seed")
         col.separator()
         col.prop(s, "passes")

@@ -7,6 +7,7 @@
 
 #include "core/patterns.h"
 #include "core/technique.h"
+#include "light_selection.h"
 #include "medium.h"  // MediumSampling
 #include "mis.h"
 
@@ -25,6 +26,7 @@ struct RenderOptions {
     Pattern pattern = Pattern::Sobol;    // drives pixel, lens, light and BSDF sample positions
     MisMode mis = MisMode::Balance;      // light sampling vs BSDF (or phase) sampling
     MediumSampling medium_sampling = MediumSampling::Mis;
+    LightSelection light_selection = LightSelection::Power;  // (sphrect.Renderer defaults to tree)
     uint64_t seed = 0;
     int threads = 0;                     // 0: all hardware threads
     int tile_size = 16;

@@ -327,6 +327,9 @@ void RenderScene::Commit() {
         medium_centres.push_back(d.position);
     }
     medium_centre_selector.Build(powers);
+    TreeEmitters emitters = CollectTreeEmitters(area_lights, delta_lights);
+    light_tree.Build(emitters.bounds);
+    light_tree_refs = std::move(emitters.refs);
     features_ = {};
     // A glossy material only matters when some triangle uses it.
     std::vector<bool> used(materials.size(), false);

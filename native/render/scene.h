@@ -11,6 +11,7 @@
 
 #include "bsdf.h"
 #include "camera.h"
+#include "light_tree.h"
 #include "lights.h"
 #include "medium.h"
 
@@ -95,6 +96,11 @@ class RenderScene {
     std::vector<Vec3f> medium_centres;
     LightSelector medium_centre_selector;
     std::vector<DeltaLight> delta_lights;
+    // Every area light and point/spot light in one light tree (light_selection "tree"): tree
+    // emitter i < area_lights.size() is area light i, then the point and spot lights
+    // (light_tree_refs maps each to its light); suns stay outside.
+    LightTree light_tree;
+    std::vector<TreeEmitterRef> light_tree_refs;
 
   private:
     void RequireNotCommitted() const;

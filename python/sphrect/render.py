@@ -7,11 +7,14 @@ Example::
     img = r.image("rectangle")        # float32 [H, W, 4] RGBA, row 0 at the top
     r.stats("rectangle")              # samples, wall_time, light_time, shading_time, rays, ...
 
-Light selection: one area light (rectangle or ellipse) per light sample, picked with
-probability proportional to its power (luminance x area x sides) by the v of the light sample's
-pattern point, which is then rescaled for the point on the light (so the choice is stratified
-with the pattern); point, spot and sun lights are all evaluated once per camera sample.  Pixels
-use a box filter.
+Light selection (light_selection, one of LIGHT_SELECTIONS): one emitter per light sample, chosen by
+the v of the light sample's pattern point, which is then rescaled for the point on the light (so the
+choice is stratified with the pattern).  "tree" (default): a light tree over the area lights
+(rectangles, ellipses, emissive triangles) and the point and spot lights picks one in proportion to
+an estimate of its contribution at the shading point (power, distance, orientation); "power": an
+area light with probability proportional to its power (luminance x area x sides), and point and
+spot lights evaluated once per camera sample each.  Suns are evaluated once per camera sample with
+either.  Pixels use a box filter.
 
 Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=4: best at equal time) on
 the blend_scenes (scripts/measure_light_selection.py; README, "Light selection and defaults").
@@ -38,6 +41,7 @@ TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
 MIS_MODES = tuple(_native.mis_modes)
 MEDIUM_SAMPLING = tuple(_native.medium_samplings)
+LIGHT_SELECTIONS = tuple(_native.light_selections)
 
 _MAX_SIDE = _native.MAX_IMAGE_SIDE
 
@@ -160,7 +164,7 @@ class Renderer:
 
     def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 4,
                  pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
-                 medium_sampling: str = "mis", tile_size: int = 16):
+                 medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree"):
         if isinstance(techniques, str):
             techniques = [techniques]
         techniques = list(techniques)
@@ -174,7 +178,7 @@ class Renderer:
             warnings.warn(msg, RuntimeWarning, stacklevel=2)
         self._scene = native
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
-                                    seed, threads, tile_size)
+                                    str(light_selection), seed, threads, tile_size)
         self._techniques = techniques
 
     @property

@@ -113,8 +113,9 @@ def test_variance_of_the_light_choice():
     scene = plane_scene(TINY_LIGHTS, camera)
     I = light_images(TINY_LIGHTS, camera, order=4)
     v_ind = variance_independent(I)
+    # light_selection="power": the predicted variances are those of the power pmfs PMF.
     reps = {p: replicate_images(scene, ["rectangle"], REPLICATES, N, mis="none", pattern=p,
-                                 light_samples=1)["rectangle"]
+                                 light_samples=1, light_selection="power")["rectangle"]
             for p in PATTERNS}
     results = {p: pooled_ratio(r, v_ind) for p, r in reps.items()}
     # Independent: nothing changes, the multinomial variance (ratio 1; 16 x 63 degrees of freedom: the

@@ -8,27 +8,53 @@
 
 #include "core/rng.h"
 #include "core/technique.h"
+#include "render/light_selection.h"
 #include "render/scene.h"
 
 namespace sphrect::render {
 
-// The area light a light sample goes to, picked by power (LightSelector) with the v of the light
-// sample's pattern point, and the point rescaled for the point on that light (v within the
-// light's interval of the CDF, u unchanged): the choice is stratified with the pattern, each
-// light getting its share of a pixel's samples.  v, not u: the triangles technique already
-// rescales u to pick its triangle, so each coordinate loses bits to one rescale only.  Index -1
-// (pmf 0) when the scene has none.
+// The emitter a light sample goes to and the point on it.  "power": an area light picked by
+// power (LightSelector) with the v of the light sample's pattern point, and the point rescaled
+// for the point on that light (v within the light's interval of the CDF, u unchanged): the
+// choice is stratified with the pattern, each light getting its share of a pixel's samples.
+// v, not u: the triangles technique already rescales u to pick its triangle, so each
+// coordinate loses bits to one rescale only.  "tree": the light tree picks an area, point or
+// spot light with the same v (LightTree::Sample at the receiver, v rescaled at each level and
+// handed on).  index: the area light, -1 if none; delta: the point/spot light the tree chose,
+// -1 if none; pmf 0 when nothing was chosen.
 struct ChosenLight {
     int index = -1;
+    int delta = -1;
     float pmf = 0;
     Point2<float> u;  // the point on the chosen light
 };
 
-static inline ChosenLight ChooseAreaLight(const LightSelector& selector, Point2<float> light_point) {
+static inline ChosenLight ChooseLightByPower(const LightSelector& selector, Point2<float> light_point) {
     if (selector.Empty()) return {};
     float v = 0;
     const int i = selector.SelectRemapped(light_point.v, &v);
-    return {i, selector.pmf[i], {light_point.u, v}};
+    return {i, -1, selector.pmf[i], {light_point.u, v}};
+}
+
+// Receiver (p, n) of the tree; n = 0 in a medium (no horizon).
+static inline ChosenLight ChooseLightFromTree(const RenderScene& scene, const Vec3f& p, const Vec3f& n,
+                                              Point2<float> light_point) {
+    const LightTreeSample s = scene.light_tree.Sample(p, n, light_point.v);
+    if (s.emitter < 0 || !(s.pmf > 0)) return {};
+    const TreeEmitterRef& ref = scene.light_tree_refs[s.emitter];
+    if (ref.kind == TreeEmitterKind::Delta) return {-1, ref.index, s.pmf, {light_point.u, s.u}};
+    return {ref.index, -1, s.pmf, {light_point.u, s.u}};
+}
+
+// Whether light samples have an emitter to go to (otherwise only BSDF samples may be drawn).
+static inline bool HasChoosableLights(const RenderScene& scene, LightSelection selection) {
+    return selection == LightSelection::Tree ? !scene.light_tree.Empty() : !scene.light_selector.Empty();
+}
+
+// Delta lights evaluated once per camera sample (each casts its shadow ray): all of them with
+// "power", only suns with "tree" (point and spot lights are tree emitters).
+static inline bool EvaluatedOncePerSample(const DeltaLight& d, LightSelection selection) {
+    return selection == LightSelection::Power || d.kind == DeltaKind::Sun;
 }
 
 // The light choice used to take one number of the camera sample's rng; drawing it still keeps
@@ -44,8 +70,17 @@ static inline void SkipFormerLightChoiceNumber(const LightSelector& selector, PC
 template <Technique K>
 class LightSamplingAt {
   public:
-    LightSamplingAt(const RenderScene& scene, const Vec3f& origin, const Vec3f& normal)
-        : scene_(scene), origin_(origin), normal_(normal) {}
+    // normal: the techniques' (the cosine technique's horizon); tree_normal: the light tree's
+    // receiver normal, (0,0,0) in a medium.
+    LightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin, const Vec3f& normal,
+                    const Vec3f& tree_normal)
+        : scene_(scene), selection_(selection), origin_(origin), normal_(normal), tree_normal_(tree_normal) {}
+
+    // The emitter of the light sample with pattern point light_point, at this receiver.
+    ChosenLight Choose(Point2<float> light_point) const {
+        if (selection_ == LightSelection::Tree) return ChooseLightFromTree(scene_, origin_, tree_normal_, light_point);
+        return ChooseLightByPower(scene_.light_selector, light_point);
+    }
 
     LightSample<float> Sample(int index, Point2<float> u) {
         const AreaLight& l = scene_.area_lights[index];
@@ -61,10 +96,12 @@ class LightSamplingAt {
         return cached_->Valid() ? cached_->Sample(u) : LightSample<float>{};
     }
 
-    // Solid-angle pdf with which Sample, after choosing the light by power, produces point p
-    // on area light `index`: pmf(index) * pdf(p).
+    // Solid-angle pdf with which Sample, after Choose picked area light `index`, produces
+    // point p on it: pmf(index) * pdf(p) (the tree's pmf at this receiver: area light i is tree
+    // emitter i).
     float PDF(int index, const Vec3f& p) {
-        const float pmf = scene_.light_selector.pmf[index];
+        const float pmf = selection_ == LightSelection::Tree ? scene_.light_tree.Pmf(origin_, tree_normal_, index)
+                                                             : scene_.light_selector.pmf[index];
         if (!(pmf > 0)) return 0;
         return pmf * PointPDF(index, p);
     }
@@ -94,7 +131,8 @@ class LightSamplingAt {
     }
 
     const RenderScene& scene_;
-    Vec3f origin_, normal_;
+    LightSelection selection_;
+    Vec3f origin_, normal_, tree_normal_;
     std::optional<LightSampler<K, float>> cached_;  // set up for rectangle light `cached_index_`
     int cached_index_ = -1;
     TriangleSolidAngleSetup triangle_;  // set up for triangle light `triangle_index_`

@@ -10,6 +10,7 @@ struct ShadeContext {
     const RenderScene& scene;
     MisMode mis;
     MediumSampling medium_sampling;
+    LightSelection light_selection;
     int light_samples;
     bool sample_bsdf;  // BSDF/phase samples are drawn: MIS on, or a background to find
     Spectrum sky;      // what a BSDF/phase ray that escapes brings: background x transmittance to infinity
@@ -20,6 +21,7 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
     return {scene,
             opt.mis,
             opt.medium_sampling,
+            opt.light_selection,
             opt.light_samples,
             opt.mis != MisMode::None || !IsBlack(scene.background),
             scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf)};

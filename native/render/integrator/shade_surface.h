@@ -51,24 +51,31 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
                                       sink.Scaled(bs.f * (bs.wi.z / bs.pdf)));
 }
 
-// Point, spot and sun lights: f Li T cos, each once.
+// One point, spot or sun light: f Li T cos.
+template <bool kGlossy, bool kMedium>
+static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceShadingPoint& sp, const DeltaLight& d,
+                                          const ShadowSink& sink) {
+    const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p);
+    if (IsBlack(di.li) || Dot(di.wi, sp.hit.ng) <= 0) return;
+    const Vec3f wi = sp.frame.ToLocal(di.wi);
+    if (wi.z <= 0) return;
+    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+    if (IsBlack(f)) return;
+    sink.Add(sp.origin, di.wi, di.dist, f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * wi.z);
+}
+
+// The delta lights evaluated once per camera sample (EvaluatedOncePerSample: all with "power",
+// suns with "tree").
 template <bool kGlossy, bool kMedium>
 static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp,
                                            const ShadowSink& sink) {
-    for (const DeltaLight& d : c.scene.delta_lights) {
-        const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p);
-        if (IsBlack(di.li) || Dot(di.wi, sp.hit.ng) <= 0) continue;
-        const Vec3f wi = sp.frame.ToLocal(di.wi);
-        if (wi.z <= 0) continue;
-        const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
-        if (IsBlack(f)) continue;
-        sink.Add(sp.origin, di.wi, di.dist, f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * wi.z);
-    }
+    for (const DeltaLight& d : c.scene.delta_lights)
+        if (EvaluatedOncePerSample(d, c.light_selection)) QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, sink);
 }
 
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
-// pairs averaged, then the delta lights.  Light sample j's light and its point come from
-// light_points[j] (ChooseAreaLight); rng is only advanced for the medium that may follow.  light_ticks counts the time in light sampling.
+// pairs averaged, then the delta lights evaluated once.  Light sample j's emitter and its point
+// come from light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that may follow.  light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, const Vec3f& wo_world,
                                 const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
@@ -79,12 +86,15 @@ static inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, cons
                                  OffsetOrigin(h.p, h.ng)};
     if (sp.wo.z <= 0) return;
     const ShadowSink pair_sink = sink.Scaled(1.0f / c.light_samples);
-    // Without area lights and BSDF samples (only delta lights) there is nothing to sample.
-    const int n_pairs = (!scene.light_selector.Empty() || c.sample_bsdf) ? c.light_samples : 0;
-    TimedLightSamplingAt<K> light_sampling(scene, h.p, h.ns, light_ticks);
+    // Without lights to choose and BSDF samples (only delta lights evaluated once) there is nothing to sample.
+    const int n_pairs = (HasChoosableLights(scene, c.light_selection) || c.sample_bsdf) ? c.light_samples : 0;
+    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, h.ns, h.ns, light_ticks);
     for (int j = 0; j < n_pairs; ++j) {
-        const ChosenLight light = ChooseAreaLight(scene.light_selector, light_points[j]);
+        const ChosenLight light = light_sampling.Choose(light_points[j]);
         if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow
+        if (light.delta >= 0)  // a point or spot light the tree chose: f Li T cos / pmf (no MIS: no ray finds it)
+            QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, scene.delta_lights[light.delta],
+                                                     pair_sink.Scaled(1.0f / light.pmf));
         QueueSurfaceLightSample<K, kGlossy, kMedium>(c, sp, light, light_sampling, pair_sink);
         if (c.sample_bsdf)
             QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);

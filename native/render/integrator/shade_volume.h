@@ -46,24 +46,34 @@ static inline void QueueMediumPhaseSample(const ShadeContext& c, const Scatterin
     QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, light_sampling, sink);
 }
 
-// Point, spot and sun lights: phase Li T, each once.
-static inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint& sp, const ShadowSink& sink) {
+// One point, spot or sun light: phase Li T.
+static inline void QueueMediumDeltaLight(const ShadeContext& c, const ScatteringPoint& sp, const DeltaLight& d,
+                                         const ShadowSink& sink) {
     const HomogeneousMedium& med = c.scene.medium;
-    for (const DeltaLight& d : c.scene.delta_lights) {
-        const DeltaIllumination di = IlluminateFromDelta(d, sp.x);
-        if (IsBlack(di.li)) continue;
-        sink.Add(sp.x, di.wi, di.dist,
-                 di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
-    }
+    const DeltaIllumination di = IlluminateFromDelta(d, sp.x);
+    if (IsBlack(di.li)) return;
+    sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
+}
+
+// The delta lights evaluated once (EvaluatedOncePerSample).
+static inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint& sp, const ShadowSink& sink) {
+    for (const DeltaLight& d : c.scene.delta_lights)
+        if (EvaluatedOncePerSample(d, c.light_selection)) QueueMediumDeltaLight(c, sp, d, sink);
 }
 
 // Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights.
+// The light sample's emitter is chosen here from light_point (by power: the same for every
+// scattering point of the camera sample; by the tree: at sp.x, with no normal).
 template <Technique K>
-static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
+static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> light_point,
                                     Point2<float> phase_point, const ShadowSink& sink, uint64_t& light_ticks) {
     constexpr Technique MK = kMediumTechnique<K>;
     const ShadowSink out = sink.Scaled(c.scene.medium.sigma_s);
-    TimedLightSamplingAt<MK> light_sampling(c.scene, sp.x, sp.ray_dir, light_ticks);
+    TimedLightSamplingAt<MK> light_sampling(c.scene, c.light_selection, sp.x, sp.ray_dir, Vec3f(0, 0, 0),
+                                            light_ticks);
+    const ChosenLight light = light_sampling.Choose(light_point);
+    if (light.delta >= 0)  // a point or spot light the tree chose: phase Li T / pmf
+        QueueMediumDeltaLight(c, sp, c.scene.delta_lights[light.delta], out.Scaled(1.0f / light.pmf));
     QueueMediumLightSample<MK>(c, sp, light, light_sampling, out);
     if (c.sample_bsdf) QueueMediumPhaseSample<MK>(c, sp, phase_point, light_sampling, out);
     QueueMediumDeltaLights(c, sp, out);
@@ -100,10 +110,10 @@ static inline EquiAngular EquiAngularAboutALight(const RenderScene& scene, const
 // averaged over the light samples.
 template <Technique K>
 static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDistance d, float w,
-                                       ChosenLight light, Point2<float> phase_point, const ShadowSink& sink,
+                                       Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
                                        uint64_t& light_ticks) {
     const Spectrum weight = Transmittance(c.scene.medium, d.t) * (w / d.pdf);
-    InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d}, light, phase_point,
+    InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d}, light_point, phase_point,
                         sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
 }
 
@@ -120,9 +130,8 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
     const Ray& ray = ph.ray;
     const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
     for (int j = 0; j < c.light_samples; ++j) {
-        // The area light for the light sample at the scattering points, from the pattern's light
-        // point as at a surface, and (independently, from rng) the centre for equi-angular sampling.
-        const ChosenLight light = ChooseAreaLight(scene.light_selector, light_points[j]);
+        // The light sample's emitter comes from the pattern's light point (InScatteredLight, at
+        // each scattering point), the centre for equi-angular sampling independently from rng.
         SkipFormerLightChoiceNumber(scene.light_selector, rng);
         const EquiAngular ea = EquiAngularAboutALight(scene, ray, ph.t_end, rng.NextFloat());
         const bool use_equi = c.medium_sampling != MediumSampling::Distance && ea.valid;
@@ -132,7 +141,7 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
             const ScatterDistance d = SampleDistanceByTransmittance(scene.medium, ph.t_end, u_distance);
             const float w = use_equi ? MisWeight(strategy_mis, d.pdf, EquiAngularPDF(ea, d.t)) : 1.0f;
             if (d.pdf > 0 && w > 0)
-                QueueInScatteringAt<K>(c, ray, d, w, light, bsdf_points[j], sink, light_ticks);
+                QueueInScatteringAt<K>(c, ray, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
         }
         if (use_equi) {
             const ScatterDistance d = SampleDistanceEquiAngular(ea, ph.t_end, u_equi);
@@ -140,7 +149,7 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
                 use_distance ? MisWeight(strategy_mis, d.pdf, ExponentialDistancePDF(scene.medium.sigma_sampling, d.t))
                              : 1.0f;
             if (d.pdf > 0 && w > 0)
-                QueueInScatteringAt<K>(c, ray, d, w, light, bsdf_points[j], sink, light_ticks);
+                QueueInScatteringAt<K>(c, ray, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
         }
     }
 }

@@ -1,5 +1,5 @@
 // LightSamplingAt with its time counted: the stats' light_time (thread-seconds in light
-// sampling: sampler setup, Sample, PDF) is the sum of these calls' ticks, so the shading code
+// sampling: the light choice, sampler setup, Sample, PDF) is the sum of these calls' ticks, so the shading code
 // that calls them carries no timing of its own.
 #pragma once
 
@@ -13,8 +13,16 @@ namespace sphrect::render {
 template <Technique K>
 class TimedLightSamplingAt {
   public:
-    TimedLightSamplingAt(const RenderScene& scene, const Vec3f& origin, const Vec3f& normal, uint64_t& ticks)
-        : sampling_(scene, origin, normal), ticks_(ticks) {}
+    TimedLightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin,
+                         const Vec3f& normal, const Vec3f& tree_normal, uint64_t& ticks)
+        : sampling_(scene, selection, origin, normal, tree_normal), ticks_(ticks) {}
+
+    ChosenLight Choose(Point2<float> light_point) {
+        const uint64_t t0 = ReadTicks();
+        const ChosenLight light = sampling_.Choose(light_point);
+        ticks_ += ReadTicks() - t0;
+        return light;
+    }
 
     LightSample<float> Sample(int index, Point2<float> u) {
         const uint64_t t0 = ReadTicks();
