@@ -5,11 +5,12 @@ emitter a BSDF ray finds is the tree's pmf at the shading point.
 - unbiased: a Lambertian plane under three rectangles of different power, an emissive triangle, two
   point lights and a spot light (and a sun), every technique x MIS mode, against Lambert's polygon
   formula and I cos / d^2 (render_testing.pixel_t_test);
+- the same in a medium (test_render_medium's scene and quadrature);
 - MIS: on a glossy plane, MIS balance / power and no MIS have the same expectation (two-sample t-test);
 - variance: on 100 small rectangles at unequal distances the tree beats power selection at equal samples.
 
 False-failure rate: every image is one family with family-wise rate FAMILY_ALPHA = 1e-4 (Sidak over its
-pixels); 3 x 4 + 2 x 1 = 14 families, so a correct renderer fails this file with probability < 0.14 %
+pixels); 3 x 4 + 2 + 2 = 16 families, so a correct renderer fails this file with probability < 0.16 %
 (seeds are fixed: the outcome is deterministic, the rate is that of a seed set drawn at random).  The
 variance test compares a ratio measured as 0.03 (tree / power) against 0.5.
 
@@ -129,6 +130,16 @@ def test_tree_mis_agrees_with_light_sampling_alone(mis):
         mixed.append(r.image("rectangle")[:, :, 0].astype(np.float64))
     ok, p_min, alpha = welch_test(none, mixed, FAMILY_ALPHA)
     assert ok, f"tree/{mis} vs none: worst p = {p_min:.3g} < {alpha:.3g}"
+
+
+@pytest.mark.parametrize("mis", ["none", "power"])
+def test_tree_in_a_medium_matches_quadrature(mis):
+    """test_render_medium's rectangle + point light in fog, both chosen by the tree at the scattering point
+    (no normal), against its quadrature."""
+    from test_render_medium import expected_image, medium_scene
+    reps = replicate_images(medium_scene(), ["rectangle"], 16, 1024, mis=mis, light_selection="tree")
+    ok, p_min, alpha = pixel_t_test(reps["rectangle"], expected_image(), FAMILY_ALPHA, rel_tol=1e-3)
+    assert ok, f"medium/tree/{mis}: worst p = {p_min:.3g} < {alpha:.3g}"
 
 
 def many_small_lights_scene(n_side=10):
