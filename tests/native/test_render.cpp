@@ -15,6 +15,7 @@
 #include "core/rng.h"
 #include "render/bsdf.h"
 #include "render/camera.h"
+#include "render/integrator/light_sampling_at.h"
 #include "render/lights.h"
 #include "render/medium.h"
 #include "render/renderer.h"
@@ -413,6 +414,53 @@ TEST(RenderOptions, EveryEnumValueHasItsOwnName) {
     };
     EXPECT_TRUE(distinct(kAllMisModes, MisModeName));
     EXPECT_TRUE(distinct(kAllMediumSamplings, MediumSamplingName));
+    EXPECT_TRUE(distinct(kAllLightSelections, LightSelectionName));
+}
+
+// Commit builds the light tree over the area lights (tree emitter i = area light i) and the point and
+// spot lights; the sun stays outside.  At a receiver, the tree's choice (LightSamplingAt::Choose) and the
+// pmf the MIS weights read (PDF / point pdf) agree, and the pmfs of all emitters sum to 1.
+TEST(RenderLights, LightTreeOverTheScenesEmitters) {
+    RenderScene s;
+    CameraModel camera;
+    camera.width = camera.height = 4;
+    s.SetCamera(camera);
+    s.AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+    EXPECT_EQ(s.AddRectLight({-1, -1, 2}, {0, 2, 0}, {2, 0, 0}, {1, 1, 1}, false, false), "");
+    EXPECT_EQ(s.AddRectLight({3, 0, 1}, {0, 0.2f, 0}, {0.2f, 0, 0}, {9, 9, 9}, true, false), "");
+    EXPECT_EQ(s.AddEllipseLight({0, 3, 1}, {0.3f, 0, 0}, {0, 0.3f, 0}, {2, 2, 2}, true, false), "");
+    s.AddPointLight({0, 0, 1}, {1, 1, 1});
+    s.AddSunLight({0, 0, -1}, {1, 1, 1});
+    s.AddSpotLight({1, 1, 3}, {0, 0, -1}, {5, 5, 5}, 1.0f, 0.2f);
+    s.Commit();
+    ASSERT_EQ(s.light_tree.NumEmitters(), 5);
+    ASSERT_EQ(s.light_tree_refs.size(), 5u);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(s.light_tree_refs[i].kind, TreeEmitterKind::Area);
+    EXPECT_EQ(s.light_tree_refs[3].kind, TreeEmitterKind::Delta);
+    EXPECT_EQ(s.light_tree_refs[3].index, 0);  // the point light
+    EXPECT_EQ(s.light_tree_refs[4].index, 2);  // the spot (delta light 1 is the sun)
+
+    const Vec3f p{0.2f, -0.1f, 0}, n{0, 0, 1};
+    LightSamplingAt<Technique::Rectangle> at(s, LightSelection::Tree, p, n, n);
+    std::vector<int> count(5, 0);
+    constexpr int kN = 20000;
+    double pmf_sum = 0;
+    for (int i = 0; i < 5; ++i) pmf_sum += s.light_tree.Pmf(p, n, i);
+    EXPECT_NEAR(pmf_sum, 1.0, 1e-5);
+    for (int k = 0; k < kN; ++k) {
+        const ChosenLight c = at.Choose({0.5f, (k + 0.5f) / kN});
+        ASSERT_TRUE(c.pmf > 0);
+        ASSERT_NE(c.index >= 0, c.delta >= 0);  // one of the two
+        const int emitter = c.index >= 0 ? c.index : (c.delta == 0 ? 3 : 4);
+        EXPECT_EQ(c.pmf, s.light_tree.Pmf(p, n, emitter));
+        ++count[emitter];
+        if (c.index >= 0) {  // PDF of the sampled point = tree pmf x its point pdf
+            const LightSample<float> ls = at.Sample(c.index, c.u);
+            if (ls.pdf > 0) EXPECT_NEAR(at.PDF(c.index, ls.point) / (c.pmf * ls.pdf), 1.0f, 1e-3f);
+        }
+    }
+    // A stratified v: each emitter's count is its pmf x kN up to the traversal's rounding.
+    for (int i = 0; i < 5; ++i) EXPECT_NEAR(count[i], s.light_tree.Pmf(p, n, i) * kN, 2.0) << i;
 }
 
 }  // namespace
