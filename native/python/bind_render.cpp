@@ -201,6 +201,7 @@ void BindRender(py::module_& m) {
     m.attr("MAX_LIGHT_SAMPLES") = render::kMaxLightSamples;
     m.attr("MAX_SAMPLES_PER_CALL") = render::kMaxSamplesPerCall;
     m.attr("MAX_IMAGE_SIDE") = render::kMaxImageSide;
+    m.attr("MAX_LIGHT_TREE_EMITTERS") = render::kMaxLightTreeEmitters;
     m.attr("mis_modes") = NameTuple(render::kAllMisModes, render::MisModeName);
     m.attr("medium_samplings") = NameTuple(render::kAllMediumSamplings, render::MediumSamplingName);
     m.attr("light_selections") = NameTuple(render::kAllLightSelections, render::LightSelectionName);
