@@ -399,14 +399,17 @@ def night_street():
         for poly, m in zip(mesh.polygons, mat_index):
             poly.material_index = m
         link(bpy.data.objects.new(f"Windows {side:+d}", mesh))
-    # 40 street lamps: 5.5 m posts along both kerbs, a 150 W spot at the top aimed down.
+    # 40 street lamps along both kerbs: a 5.6 m post, an arm reaching 60 cm over the road and, 5 cm under
+    # the arm's end, a 150 W spot aimed down (clear of the post, whose surface it would graze).
     post = material("Lamp Post", (0.2, 0.2, 0.22))
     for side in (-1, 1):
         for k in range(20):
             y = -38.0 + 4.0 * k + (2.0 if side > 0 else 0.0)
-            mesh_object(f"Post {side:+d} {k:02d}", "cylinder", post, location=(side * 3.3, y, 2.7), radius=0.06,
-                        depth=5.4, vertices=8)
-            other_light(f"Street Lamp {side:+d} {k:02d}", "SPOT", 150.0, location=(side * 3.2, y, 5.5),
+            mesh_object(f"Post {side:+d} {k:02d}", "cylinder", post, location=(side * 3.5, y, 2.8), radius=0.06,
+                        depth=5.6, vertices=8)
+            mesh_object(f"Arm {side:+d} {k:02d}", "cube", post, location=(side * 3.2, y, 5.59), size=1.0,
+                        scale=(0.7, 0.08, 0.06))
+            other_light(f"Street Lamp {side:+d} {k:02d}", "SPOT", 150.0, location=(side * 2.9, y, 5.5),
                         color=(1.0, 0.8, 0.55), spot_size=math.radians(110), spot_blend=0.3)
     # 12 strings of 40 bulbs across the street (0.3 W points), sagging from 6.5 m to 5.3 m.
     for s in range(12):
