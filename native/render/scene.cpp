@@ -327,6 +327,9 @@ void RenderScene::Commit() {
         medium_centres.push_back(d.position);
     }
     medium_centre_selector.Build(powers);
+    sun_lights.clear();
+    for (size_t i = 0; i < delta_lights.size(); ++i)
+        if (delta_lights[i].kind == DeltaKind::Sun) sun_lights.push_back(uint32_t(i));
     TreeEmitters emitters = CollectTreeEmitters(area_lights, delta_lights);
     light_tree.Build(emitters.bounds);
     light_tree_refs = std::move(emitters.refs);

@@ -96,6 +96,9 @@ class RenderScene {
     std::vector<Vec3f> medium_centres;
     LightSelector medium_centre_selector;
     std::vector<DeltaLight> delta_lights;
+    // The suns among delta_lights (indices): what "tree" still evaluates once per sample, in a list of
+    // their own so that the tree's point and spot lights cost nothing in that loop.
+    std::vector<uint32_t> sun_lights;
     // Every area light and point/spot light in one light tree (light_selection "tree"): tree
     // emitter i < area_lights.size() is area light i, then the point and spot lights
     // (light_tree_refs maps each to its light); suns stay outside.

@@ -53,8 +53,13 @@ static inline bool HasChoosableLights(const RenderScene& scene, LightSelection s
 
 // Delta lights evaluated once per camera sample (each casts its shadow ray): all of them with
 // "power", only suns with "tree" (point and spot lights are tree emitters).
-static inline bool EvaluatedOncePerSample(const DeltaLight& d, LightSelection selection) {
-    return selection == LightSelection::Power || d.kind == DeltaKind::Sun;
+template <class F>
+static inline void ForEachDeltaLightEvaluatedOnce(const RenderScene& scene, LightSelection selection, F&& f) {
+    if (selection == LightSelection::Power) {
+        for (const DeltaLight& d : scene.delta_lights) f(d);
+    } else {
+        for (uint32_t i : scene.sun_lights) f(scene.delta_lights[i]);
+    }
 }
 
 // The light choice used to take one number of the camera sample's rng; drawing it still keeps

@@ -64,13 +64,14 @@ static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceSh
     sink.Add(sp.origin, di.wi, di.dist, f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * wi.z);
 }
 
-// The delta lights evaluated once per camera sample (EvaluatedOncePerSample: all with "power",
+// The delta lights evaluated once per camera sample (ForEachDeltaLightEvaluatedOnce: all with "power",
 // suns with "tree").
 template <bool kGlossy, bool kMedium>
 static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp,
                                            const ShadowSink& sink) {
-    for (const DeltaLight& d : c.scene.delta_lights)
-        if (EvaluatedOncePerSample(d, c.light_selection)) QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, sink);
+    ForEachDeltaLightEvaluatedOnce(c.scene, c.light_selection, [&](const DeltaLight& d) {
+        QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, sink);
+    });
 }
 
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)

@@ -55,10 +55,10 @@ static inline void QueueMediumDeltaLight(const ShadeContext& c, const Scattering
     sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
 }
 
-// The delta lights evaluated once (EvaluatedOncePerSample).
+// The delta lights evaluated once (ForEachDeltaLightEvaluatedOnce).
 static inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint& sp, const ShadowSink& sink) {
-    for (const DeltaLight& d : c.scene.delta_lights)
-        if (EvaluatedOncePerSample(d, c.light_selection)) QueueMediumDeltaLight(c, sp, d, sink);
+    ForEachDeltaLightEvaluatedOnce(c.scene, c.light_selection,
+                                   [&](const DeltaLight& d) { QueueMediumDeltaLight(c, sp, d, sink); });
 }
 
 // Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights.
