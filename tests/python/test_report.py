@@ -8,7 +8,7 @@ import pytest
 
 import sphrect
 from sphrect.study import metrics
-from sphrect.study.jobs import CYCLES_CURVE, StudyConfig
+from sphrect.study.jobs import CYCLES_CURVE, DEFAULT_LIGHT_SELECTION, CurveKey, StudyConfig
 from sphrect.study.report import equal_error, findings, wording
 from sphrect.study.report.curves import BEYOND_LONGEST, Reach, curve_cost, systematic_share
 from sphrect.study.report.equal_error import SYSTEMATIC_SHARE_LIMIT, cycles_comparison
@@ -17,6 +17,10 @@ from sphrect.study.report.findings import cosine_comparisons
 from test_study import scene_file, study  # noqa: F401  (scene_file is a fixture)
 
 PLACEHOLDER = wording.PLACEHOLDER
+
+
+def key(technique, mis, pattern, light_selection=DEFAULT_LIGHT_SELECTION):
+    return CurveKey(technique, mis, pattern, light_selection)
 
 
 def _curve(mse, samples=(1, 2, 4, 8, 16, 32, 64, 128, 256), seconds_per_sample=0.01):
@@ -28,10 +32,10 @@ def test_a_plateaued_cycles_error_is_not_reported_as_a_time_ratio():
     biased = _curve(lambda n: 0.01 + 1.0 / n)  # at 256 spp: 0.01 of 0.0139 is systematic
     assert systematic_share(biased) == pytest.approx(0.01 / (0.01 + 1 / 256), rel=1e-9)
     assert systematic_share(biased) > SYSTEMATIC_SHARE_LIMIT
-    ours = {("rectangle", "none", "sobol"): _curve(lambda n: 0.1 / n, seconds_per_sample=0.001)}
+    ours = {key("rectangle", "none", "sobol"): _curve(lambda n: 0.1 / n, seconds_per_sample=0.001)}
 
     def compare(cycles_curve):  # (lines, rows, ratio at the top) as the report shows them
-        comparison = cycles_comparison({**ours, ("cycles", "power", "default"): cycles_curve}, 1e-6)
+        comparison = cycles_comparison({**ours, CYCLES_CURVE: cycles_curve}, 1e-6)
         return wording.cycles_lines(comparison), wording.cycles_rows(comparison), comparison.top_ratio
     lines, rows, ratio = compare(_curve(lambda n: 1.0 / n))
     assert ratio == pytest.approx(0.01, rel=0.05) and "meets the goal" in lines[0]
@@ -62,8 +66,8 @@ def test_cosine_finding_pools_costs_and_reports_ties():
     cfg = StudyConfig(techniques=("rectangle", "rectangle_cosine"), mis=("none",), patterns=("sobol",))
 
     def verdict(cosine_mse, cosine_cost, rectangle_curve):
-        curves = {("rectangle", "none", "sobol"): rectangle_curve,
-                  ("rectangle_cosine", "none", "sobol"): _curve(cosine_mse, seconds_per_sample=cosine_cost)}
+        curves = {key("rectangle", "none", "sobol"): rectangle_curve,
+                  key("rectangle_cosine", "none", "sobol"): _curve(cosine_mse, seconds_per_sample=cosine_cost)}
         (comparison,) = cosine_comparisons(cfg, curves)
         line = wording.cosine_line(comparison)
         assert line[line.rindex("(") + 1:-2] == comparison.verdict
@@ -84,10 +88,10 @@ def test_non_finite_and_missing_numbers_print_a_placeholder():
                       patterns=("independent", "sobol"))
     curves = {}
     for pattern in cfg.patterns:
-        curves[("rectangle", "none", pattern)] = _curve(lambda n: 0.01 / n)
-        curves[("triangles", "none", pattern)] = _curve(lambda n: 0.02 / n)
-        curves[("area", "none", pattern)] = [dict(r, rmse=math.inf) for r in _curve(lambda n: 0.1 / n)]
-        curves[("rectangle_cosine", "none", pattern)] = _curve(lambda n: 0.01 / n, samples=(4,))  # one point
+        curves[key("rectangle", "none", pattern)] = _curve(lambda n: 0.01 / n)
+        curves[key("triangles", "none", pattern)] = _curve(lambda n: 0.02 / n)
+        curves[key("area", "none", pattern)] = [dict(r, rmse=math.inf) for r in _curve(lambda n: 0.1 / n)]
+        curves[key("rectangle_cosine", "none", pattern)] = _curve(lambda n: 0.01 / n, samples=(4,))  # one point
     rows = findings.ordering(cfg, curves)
     assert [r.area_ratio for r in rows] == [math.inf] * 2 and all(r.area_worst for r in rows)
     table = wording.ordering_rows(rows)
@@ -99,7 +103,7 @@ def test_non_finite_and_missing_numbers_print_a_placeholder():
     assert "top – ... –" in wording.ordering_lines([], [comparison])[-1]
     assert comparison.verdict == "does NOT reproduce"
     slopes = findings.slopes(cfg, curves, reference_rmse=1e-9)
-    assert math.isnan(slopes.table[("rectangle_cosine", "none", "sobol")]) and slopes.cycles is None
+    assert math.isnan(slopes.table[key("rectangle_cosine", "none", "sobol")]) and slopes.cycles is None
     slope_table = wording.slope_rows(slopes, cfg)
     assert slope_table[0] == ["area", "none", PLACEHOLDER, PLACEHOLDER]  # infinite errors: no fit
     assert slope_table[3][2:] == [PLACEHOLDER, PLACEHOLDER] and len(slope_table) == 4  # no Cycles row
@@ -111,7 +115,7 @@ def test_non_finite_and_missing_numbers_print_a_placeholder():
     summary = wording.summary_lines(lines, slopes, [], cycles, 1e-9, math.nan)
     assert summary[0] == "- Cycles was not part of this study (no Blender, no .blend, or --no-cycles)."
     target = equal_error.target_times(cfg, curves, 1e-9, smallest=math.nan)
-    assert target.source == "middle" and target.key == ("rectangle", "none", "sobol")
+    assert target.source == "middle" and target.key == key("rectangle", "none", "sobol")
     area_rows = [r for r in wording.target_rows(target) if r[0].startswith("area /")]
     assert area_rows == [[f"area / mis=none / {p}", PLACEHOLDER, "unreachable", PLACEHOLDER] for p in cfg.patterns]
     assert wording.target_rows(target)[-1][1] == PLACEHOLDER  # the unreachable last

@@ -13,13 +13,16 @@ import pytest
 import sphrect
 from sphrect.study import LocalProcessPool, ReferenceSettings, SerialExecutor, StudyConfig, run_study
 from sphrect.study import metrics, store as store_module
-from sphrect.study.jobs import Job, build_plan, equal_time_jobs, sample_ladder, stratifiable_count
+from sphrect.study.jobs import CYCLES, Job, build_plan, cost_key, equal_time_jobs, sample_ladder, stratifiable_count
 from sphrect.study.reference import estimate_error
 from sphrect.study.store import ResultStore
 
 HOOK = "test_study:fake_render"
 W, H = 16, 12
 NOISE = {"area": 0.4, "triangles": 0.2, "rectangle": 0.1, "rectangle_cosine": 0.08}
+# Light selection 'power' (of the fake renderer): 1.5x the noise at 1/1.2 of the cost per sample, so to reach the
+# same error the tree takes 1.2 / 1.5^2 = 0.533x power's time.
+POWER_NOISE, POWER_COST = 1.5, 1 / 1.2
 
 
 def truth(width=W, height=H):
@@ -33,7 +36,8 @@ def truth(width=W, height=H):
 
 
 def fake_render(context, job):
-    """Truth + Gaussian noise of std NOISE[technique] / sqrt(samples): an unbiased 'renderer' with known error.
+    """Truth + Gaussian noise of std NOISE[technique] / sqrt(samples) (x POWER_NOISE with light selection power):
+    an unbiased 'renderer' with known error.
     Side effects for the tests, by environment variable: STUDY_FAKE_LOG (append each rendered key),
     STUDY_FAKE_INTERRUPT_AFTER (raise KeyboardInterrupt once that many renders are logged),
     STUDY_FAKE_CRASH (kill the worker process on jobs whose key contains it), STUDY_FAKE_NAN (NaN pixels in
@@ -50,12 +54,13 @@ def fake_render(context, job):
             f.write(job.key + "\n")
     samples = job.samples
     rng = np.random.default_rng(abs(hash((job.key, job.seed))) % (1 << 32))
-    sigma = NOISE.get(job.technique, 0.15) / math.sqrt(samples)
+    power = job.light_selection == "power"
+    sigma = NOISE.get(job.technique, 0.15) / math.sqrt(samples) * (POWER_NOISE if power else 1.0)
     image = truth(context.width, context.height)
     image[..., :3] += rng.normal(0, sigma, image[..., :3].shape).astype(np.float32)
     if job.technique == os.environ.get("STUDY_FAKE_NAN"):
         image[::2, ::3, 1] = np.nan
-    time = samples * 1e-3 * (1.5 if job.technique == "rectangle_cosine" else 1.0)
+    time = samples * 1e-3 * (1.5 if job.technique == "rectangle_cosine" else 1.0) * (POWER_COST if power else 1.0)
     return image, {"build_time": 0.01, "call_time": time, "wall_time": time, "light_time": time / 3,
                    "shading_time": time / 3, "rays": samples * context.width * context.height * 2,
                    "samples_done": samples}
@@ -89,8 +94,7 @@ def test_plan_and_keys():
     assert [j.samples for j in plan] == sorted(j.samples for j in plan)  # cheapest first
     assert Job.from_dict(plan[5].to_dict()) == plan[5]
     assert sample_ladder(20) == [1, 2, 4, 8, 16]
-    costs = {("sphrect", t, m): 0.01 for t in config.techniques for m in config.mis}
-    costs[("cycles", "cycles", "power")] = 0.02
+    costs = {cost_key(j.to_dict()): 0.02 if j.engine == CYCLES else 0.01 for j in plan}
     et = equal_time_jobs(config, 0.5, costs)
     assert len(et) == 4 * 2 + 1
     # budget / time per sample: Cycles 25; ours 50, laid out as a 7 x 7 grid when the grid's pattern is stratified

@@ -7,7 +7,7 @@ import sys
 from typing import List, Optional
 
 from .._native import MAX_IMAGE_SIDE
-from ..render import MIS_MODES, PATTERNS, TECHNIQUES
+from ..render import LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES
 from .jobs import StudyConfig, sample_ladder
 from .reference import ReferenceSettings
 
@@ -43,6 +43,9 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--mis", type=_names, default=list(_STUDY.mis), help=f"comma list of {','.join(MIS_MODES)}")
     p.add_argument("--patterns", type=_names, default=list(_STUDY.patterns),
                    help=f"comma list of {','.join(PATTERNS)}")
+    p.add_argument("--light-selections", type=_names, default=list(_STUDY.light_selections),
+                   help=f"comma list of {','.join(LIGHT_SELECTIONS)}: how each light sample chooses its light "
+                        f"(default {','.join(_STUDY.light_selections)}, the renderer's; give several to compare them)")
     p.add_argument("--max-samples", type=int, default=256, help="top of the ladder 1, 2, 4, ... (default 256)")
     p.add_argument("--min-samples", type=int, default=1)
     p.add_argument("--light-samples", type=int, default=_STUDY.light_samples, help="light samples per camera sample")
@@ -87,6 +90,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 0
     try:
         config = StudyConfig(techniques=tuple(args.techniques), mis=tuple(args.mis), patterns=tuple(args.patterns),
+                             light_selections=tuple(args.light_selections),
                              ladder=tuple(sample_ladder(args.max_samples, args.min_samples)),
                              light_samples=args.light_samples, seed=args.seed, threads=args.threads,
                              cycles=args.cycles != "off" and args.scene.endswith(".blend"),

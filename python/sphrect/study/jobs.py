@@ -9,24 +9,55 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import inspect
 import json
 import re
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
-from ..render import MIS_MODES, PATTERNS, TECHNIQUES
+from ..render import LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES, Renderer
 
 SPHRECT = "sphrect"
 CYCLES = "cycles"
-# Cycles' curve in the (technique, mis, pattern) terms of ours: it has its own sampling.
-CYCLES_CURVE = ("cycles", "power", "default")
+# The Renderer's own default, which runs recorded before light selection was a study axis were made with.
+DEFAULT_LIGHT_SELECTION = inspect.signature(Renderer).parameters["light_selection"].default
 
 
-def curve_label(technique: str, mis: str, pattern: str) -> str:
-    """The name of the curve (technique, mis, pattern), or Cycles'."""
-    if (technique, mis, pattern) == CYCLES_CURVE:
+class CurveKey(NamedTuple):
+    """What one curve of the study is made of: every setting of a run but its sample count."""
+    technique: str
+    mis: str
+    pattern: str
+    light_selection: str
+
+
+# Cycles' curve in the terms of ours: it has its own sampling (and its own light selection).
+CYCLES_CURVE = CurveKey("cycles", "power", "default", "default")
+
+
+def curve_key(job: Mapping) -> CurveKey:
+    """The curve of a job (a Job's or a stored record's dict; records made before the light selection was
+    recorded were rendered with the default)."""
+    if job.get("engine") == CYCLES:
+        return CYCLES_CURVE
+    return CurveKey(job["technique"], job["mis"], job["pattern"],
+                    job.get("light_selection", DEFAULT_LIGHT_SELECTION))
+
+
+def selection_part(light_selection: str, show_selection: bool, separator: str = " / ") -> str:
+    """The light selection as a part of a configuration's name; nothing unless `show_selection` (in a study of
+    more than one)."""
+    return f"{separator}selection={light_selection}" if show_selection else ""
+
+
+def curve_label(key: CurveKey, show_selection: bool = False) -> str:
+    """The name of a curve, or Cycles'; the light selection is named when `show_selection`."""
+    if tuple(key) == CYCLES_CURVE:
         return "Cycles 3.4"
-    return f"{technique} / mis={mis} / {pattern}"
+    technique, mis, pattern, light_selection = key
+    return f"{technique} / mis={mis} / {pattern}" + selection_part(light_selection, show_selection)
+
+
 LADDER = "ladder"
 EQUAL_TIME = "equal_time"
 
@@ -43,20 +74,28 @@ class Job:
     threads: int = 1            # render threads inside the job (0 = all)
     kind: str = LADDER          # "ladder" | "equal_time"
     time_budget: Optional[float] = None  # seconds, for equal-time jobs
+    light_selection: str = DEFAULT_LIGHT_SELECTION  # one of LIGHT_SELECTIONS (ours; Cycles' jobs keep the default)
 
     @property
     def key(self) -> str:
-        """A stable, file-name-safe identifier (the result file's name)."""
-        parts = [self.kind, self.engine, self.technique, self.mis, self.pattern,
+        """A stable, file-name-safe identifier (the result file's name). The light selection is part of it only
+        when it is not the default, so that runs stored before it was an axis keep their keys."""
+        selection = [] if self.light_selection == DEFAULT_LIGHT_SELECTION else [f"sel_{self.light_selection}"]
+        parts = [self.kind, self.engine, self.technique, self.mis, self.pattern, *selection,
                  f"n{self.samples:06d}", f"l{self.light_samples}", f"s{self.seed}"]
         if self.time_budget is not None:
             parts.append(f"t{self.time_budget:.6g}")
         return re.sub(r"[^A-Za-z0-9_.-]", "_", "-".join(parts))
 
     @property
+    def curve(self) -> CurveKey:
+        return curve_key(self.to_dict())
+
+    @property
     def label(self) -> str:
-        """The curve this job belongs to (everything but the sample count)."""
-        return curve_label(self.technique, self.mis, self.pattern)
+        """The curve this job belongs to (everything but the sample count); the light selection is named when
+        it is not the default (a job does not know how many its study has)."""
+        return curve_label(self.curve, show_selection=self.light_selection != DEFAULT_LIGHT_SELECTION)
 
     def to_dict(self) -> Dict:
         return dataclasses.asdict(self)
@@ -95,6 +134,7 @@ class StudyConfig:
     techniques: Tuple[str, ...] = TECHNIQUES
     mis: Tuple[str, ...] = MIS_MODES
     patterns: Tuple[str, ...] = ("independent", "stratified", "sobol")
+    light_selections: Tuple[str, ...] = (DEFAULT_LIGHT_SELECTION,)
     ladder: Tuple[int, ...] = tuple(sample_ladder(256))
     light_samples: int = 1
     seed: int = 0
@@ -108,6 +148,7 @@ class StudyConfig:
         self.techniques = _check_names("technique", self.techniques, TECHNIQUES)
         self.mis = _check_names("MIS mode", self.mis, MIS_MODES)
         self.patterns = _check_names("sample pattern", self.patterns, PATTERNS)
+        self.light_selections = _check_names("light selection", self.light_selections, LIGHT_SELECTIONS)
         self.grid_mis = _check_names("MIS mode", self.grid_mis, MIS_MODES)
         _check_names("sample pattern", (self.grid_pattern,), PATTERNS)
         self.ladder = tuple(sorted(set(int(n) for n in self.ladder)))
@@ -117,6 +158,11 @@ class StudyConfig:
             raise ValueError("light_samples must be >= 1")
         if self.threads < 0:
             raise ValueError("threads must be >= 0 (0 = all)")
+
+    @property
+    def shows_selection(self) -> bool:
+        """Whether the report names the light selection in its labels: when the study compares several."""
+        return len(self.light_selections) > 1
 
     def to_dict(self) -> Dict:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()}
@@ -134,13 +180,13 @@ def fingerprint(**identity) -> str:
 
 
 def build_plan(config: StudyConfig) -> List[Job]:
-    """The ladder jobs: every technique x MIS x pattern x sample count, then Cycles at every count.
-    Ordered cheapest first so that an interrupted study has measured as many curves as possible."""
-    jobs = [Job(SPHRECT, t, m, p, n, config.light_samples, config.seed, config.threads)
-            for n in config.ladder for t in config.techniques for m in config.mis for p in config.patterns]
+    """The ladder jobs: every technique x MIS x pattern x light selection x sample count, then Cycles at every
+    count. Ordered cheapest first so that an interrupted study has measured as many curves as possible."""
+    jobs = [Job(SPHRECT, t, m, p, n, config.light_samples, config.seed, config.threads, light_selection=s)
+            for n in config.ladder for t in config.techniques for m in config.mis for p in config.patterns
+            for s in config.light_selections]
     if config.cycles:
-        jobs += [Job(CYCLES, *CYCLES_CURVE, n, 1, config.seed, config.threads)
-                 for n in config.ladder]
+        jobs += [Job(CYCLES, *CYCLES_CURVE[:3], n, 1, config.seed, config.threads) for n in config.ladder]
     jobs.sort(key=lambda j: (j.samples, j.engine != SPHRECT))
     return jobs
 
@@ -155,18 +201,26 @@ def stratifiable_count(n: int) -> int:
     return k * (k + 1) if k * (k + 1) <= n else k * k
 
 
-def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict[Tuple[str, str, str], float]
-                    ) -> List[Job]:
-    """One render per technique (x grid MIS mode), and Cycles, each given the sample count that the ladder
-    predicts to cost `budget` seconds: samples = budget / (seconds per sample of that configuration), keyed
-    by (engine, technique, mis). Fixed sample counts (rather than a wall-clock budget) keep the comparison
+CostKey = Tuple[str, str, str, str]  # (engine, technique, mis, light selection)
+
+
+def cost_key(job: Mapping) -> CostKey:
+    """What a configuration's cost per sample is measured for (its patterns pooled): see equal_time_jobs."""
+    key = curve_key(job)
+    return job["engine"], key.technique, key.mis, key.light_selection
+
+
+def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict[CostKey, float]) -> List[Job]:
+    """One render per technique (x grid MIS mode x light selection), and Cycles, each given the sample count
+    that the ladder predicts to cost `budget` seconds: samples = budget / (seconds per sample of that
+    configuration), keyed by cost_key. Fixed sample counts (rather than a wall-clock budget) keep the comparison
     independent of other load on the machine and let stratified patterns know their count."""
     if not budget > 0:
         raise ValueError(f"the equal-time budget must be positive, got {budget}")
     budget = float(f"{budget:.4g}")  # a stable key
 
-    def samples(engine, technique, mis):
-        cost = seconds_per_sample.get((engine, technique, mis))
+    def samples(engine, technique, mis, light_selection):
+        cost = seconds_per_sample.get((engine, technique, mis, light_selection))
         if not (cost and cost > 0):
             return None
         n = max(1, int(round(budget / cost)))
@@ -174,12 +228,13 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
 
     jobs = []
     for m in config.grid_mis:
-        for t in config.techniques:
-            n = samples(SPHRECT, t, m)
-            if n:
-                jobs.append(Job(SPHRECT, t, m, config.grid_pattern, n, config.light_samples, config.seed,
-                                config.threads, EQUAL_TIME, budget))
-    n = samples(CYCLES, "cycles", "power")
+        for s in config.light_selections:
+            for t in config.techniques:
+                n = samples(SPHRECT, t, m, s)
+                if n:
+                    jobs.append(Job(SPHRECT, t, m, config.grid_pattern, n, config.light_samples, config.seed,
+                                    config.threads, EQUAL_TIME, budget, light_selection=s))
+    n = samples(CYCLES, CYCLES_CURVE.technique, CYCLES_CURVE.mis, CYCLES_CURVE.light_selection)
     if config.cycles and n:
-        jobs.append(Job(CYCLES, *CYCLES_CURVE, n, 1, config.seed, config.threads, EQUAL_TIME, budget))
+        jobs.append(Job(CYCLES, *CYCLES_CURVE[:3], n, 1, config.seed, config.threads, EQUAL_TIME, budget))
     return jobs

@@ -66,7 +66,8 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     scene = load_study_scene(context.scene_path, context.width, context.height)
     t0 = time.perf_counter()
     renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
-                                pattern=job.pattern, mis=job.mis, seed=job.seed, threads=job.threads)
+                                pattern=job.pattern, mis=job.mis, light_selection=job.light_selection,
+                                seed=job.seed, threads=job.threads)
     t1 = time.perf_counter()
     c1 = time.process_time()
     renderer.render(job.samples)

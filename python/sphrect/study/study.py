@@ -20,7 +20,7 @@ import numpy as np
 
 from . import metrics
 from .executors import Executor, LocalProcessPool
-from .jobs import SPHRECT, Job, StudyConfig, build_plan, equal_time_jobs, fingerprint
+from .jobs import SPHRECT, CostKey, Job, StudyConfig, build_plan, cost_key, equal_time_jobs, fingerprint
 from .metrics import time_of
 from .progress import ProgressBar
 from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
@@ -105,26 +105,26 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
     return records, failures
 
 
-def seconds_per_sample(records: List[Dict], threads: int) -> Dict[Tuple[str, str, str], float]:
-    """(engine, technique, mis) -> seconds per sample per pixel: each configuration's metrics.cost_per_sample
-    over its ladder, median over patterns."""
-    ladders: Dict[Tuple[str, str, str, str], List[Dict]] = {}
+def seconds_per_sample(records: List[Dict], threads: int) -> Dict[CostKey, float]:
+    """jobs.cost_key (engine, technique, mis, light selection) -> seconds per sample per pixel: each
+    configuration's metrics.cost_per_sample over its ladder, median over patterns."""
+    ladders: Dict[Tuple[CostKey, str], List[Dict]] = {}
     for r in records:
-        j = r["job"]
-        ladders.setdefault((j["engine"], j["technique"], j["mis"], j["pattern"]), []).append(r)
-    costs: Dict[Tuple[str, str, str], List[float]] = {}
-    for (engine, technique, mis, _), runs in ladders.items():
+        ladders.setdefault((cost_key(r["job"]), r["job"]["pattern"]), []).append(r)
+    costs: Dict[CostKey, List[float]] = {}
+    for (key, _), runs in ladders.items():
         runs.sort(key=lambda r: r["job"]["samples"])
         cost, _ = metrics.cost_per_sample([time_of(r, threads) for r in runs], [r["job"]["samples"] for r in runs])
-        costs.setdefault((engine, technique, mis), []).append(cost)
+        costs.setdefault(key, []).append(cost)
     return {k: float(np.median(v)) for k, v in costs.items()}
 
 
 def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
     """Default equal-time budget: the time our `rectangle` technique (or the first technique) takes, with the
-    last grid MIS mode, for a quarter of the ladder's top sample count."""
+    last grid MIS mode and the first light selection, for a quarter of the ladder's top sample count."""
     technique = "rectangle" if "rectangle" in config.techniques else config.techniques[0]
-    cost = seconds_per_sample(records, config.threads).get((SPHRECT, technique, config.grid_mis[-1]))
+    cost = seconds_per_sample(records, config.threads).get((SPHRECT, technique, config.grid_mis[-1],
+                                                            config.light_selections[0]))
     if not cost:
         raise RuntimeError("no ladder run measured: cannot choose the equal-time budget")
     return cost * max(config.ladder[-1] // 4, 1)
@@ -184,7 +184,8 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
                          fingerprint=scene_fp, blend_path=blend_path, blender=blender,
                          blender_script=blender_script, render_hook=render_hook)
     log(f"study of {input_path}: {width}x{height}, {len(config.techniques)} techniques x {len(config.mis)} MIS x "
-        f"{len(config.patterns)} patterns x ladder {list(config.ladder)}" + (" + Cycles" if config.cycles else ""))
+        f"{len(config.patterns)} patterns x {len(config.light_selections)} light selections x ladder "
+        f"{list(config.ladder)}" + (" + Cycles" if config.cycles else ""))
 
     # 1. The reference (independent chunks, combined; see reference.py).
     chunk_jobs = reference_jobs(reference, threads=config.threads)

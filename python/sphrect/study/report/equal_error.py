@@ -1,15 +1,16 @@
 """Comparisons at equal error, as numbers (wording.py words them): the time every configuration takes to reach one
-target RMSE, and the time our fastest configuration takes to reach each of Cycles' errors."""
+target RMSE, the time our fastest configuration takes to reach each of Cycles' errors, and the light tree's time
+against power selection's for the same error."""
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 from typing import List, Optional, Tuple
 
-from ..jobs import CYCLES_CURVE, StudyConfig
+from ..jobs import CYCLES_CURVE, CurveKey, StudyConfig
 from .curves import Reach, curve_cost, systematic_share, time_to_target
-from .findings import RECTANGLE, ratio_of
-from .results import CurveKey, Curves
+from .findings import LIGHT_TREE, POWER_SELECTION, RECTANGLE, ratio_of
+from .results import Curves
 
 # Above this share of Cycles' top MSE being a systematic difference from our reference, an equal-error time
 # ratio measures that difference, not sampling, and is not reported as one.
@@ -88,7 +89,7 @@ class TargetTimes:
 def target_times(cfg: StudyConfig, all_curves: Curves, reference_rmse: float, smallest: float,
                  given: Optional[float] = None) -> TargetTimes:
     """The time every configuration takes to reach one RMSE: `given`, else Cycles' at the top of its ladder,
-    else rectangle's (last MIS mode and pattern) in the middle of its ladder."""
+    else rectangle's (last MIS mode, pattern and light selection) in the middle of its ladder."""
     key, samples = None, None
     if given is not None:
         target, source = given, "given"
@@ -96,9 +97,60 @@ def target_times(cfg: StudyConfig, all_curves: Curves, reference_rmse: float, sm
         cycles = all_curves[CYCLES_CURVE]
         target, source, key, samples = cycles[-1]["rmse"], "cycles", CYCLES_CURVE, cycles[-1]["job"]["samples"]
     else:
-        key, source = (RECTANGLE, cfg.mis[-1], cfg.patterns[-1]), "middle"
+        key, source = CurveKey(RECTANGLE, cfg.mis[-1], cfg.patterns[-1], cfg.light_selections[-1]), "middle"
         mid = all_curves.get(key, [])
         target = mid[len(mid) // 2]["rmse"] if mid else smallest
     reached = {k: time_to_target(curve, target, reference_rmse) for k, curve in all_curves.items()}
     order = sorted(reached, key=lambda k: reached[k].time if math.isfinite(reached[k].time) else math.inf)
     return TargetTimes(target, source, key, samples, [(k, reached[k]) for k in order])
+
+
+@dataclass(frozen=True)
+class SelectionComparison:
+    """The light tree against power selection for one (technique, MIS, pattern): the time each takes to reach
+    the same RMSE, the larger of the two curves' errors at the top of the ladder (so both reach it within their
+    measured runs)."""
+    technique: str
+    mis: str
+    pattern: str
+    rmse: float
+    power: Reach
+    tree: Reach
+    noise: float            # two standard errors of the two costs per sample, relative
+
+    @property
+    def ratio(self) -> float:
+        """The tree's time / power's."""
+        return ratio_of(self.tree.time, self.power.time)
+
+    @property
+    def verdict(self) -> str:
+        if not (math.isfinite(self.ratio) and self.ratio > 0 and math.isfinite(self.noise)):
+            return "not measured"
+        if abs(math.log(self.ratio)) <= self.noise:
+            return "within the timing noise"
+        return "faster" if self.ratio < 1 else "slower"
+
+
+def selection_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: float
+                          ) -> Optional[List[SelectionComparison]]:
+    """tree against power for every (technique, MIS, pattern) both were measured with; None when the study
+    does not have both light selections."""
+    if not {LIGHT_TREE, POWER_SELECTION} <= set(cfg.light_selections):
+        return None
+    out = []
+    for mis in cfg.mis:
+        for pattern in cfg.patterns:
+            for technique in cfg.techniques:
+                power, tree = (all_curves.get(CurveKey(technique, mis, pattern, s), [])
+                               for s in (POWER_SELECTION, LIGHT_TREE))
+                tops = [c[-1]["rmse"] for c in (power, tree) if c and math.isfinite(c[-1]["rmse"])]
+                if not (power and tree and tops):
+                    continue
+                target = max(tops)
+                (_, se_power), (_, se_tree) = curve_cost(power), curve_cost(tree)
+                out.append(SelectionComparison(technique, mis, pattern, target,
+                                               time_to_target(power, target, reference_rmse),
+                                               time_to_target(tree, target, reference_rmse),
+                                               2 * math.hypot(se_power, se_tree)))
+    return out

@@ -6,7 +6,7 @@ import numpy as np
 
 from ...render import TECHNIQUES
 from .. import metrics
-from ..jobs import CYCLES, CYCLES_CURVE
+from ..jobs import CYCLES, CYCLES_CURVE, CurveKey
 from .curves import curve_x, fitted_slope
 from .findings import Slopes
 from .results import REFERENCE_COLUMN, Curves, EqualTimeGrid, StudyResults
@@ -14,6 +14,9 @@ from .wording import CYCLES_NAME, fmt
 
 # A colour per technique, in the order of sphrect.render.TECHNIQUES; Cycles is black.
 PALETTE = ("tab:red", "tab:orange", "tab:blue", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive")
+# A line style and a bar hatch per light selection of the study, in its order: the technique keeps its colour.
+SELECTION_LINES = ("o-", "^--", "v-.", "d:")
+SELECTION_HATCHES = (None, "//", "..", "xx")
 DPI = 110
 
 
@@ -42,7 +45,8 @@ def time_label(threads: int) -> str:
 
 
 def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x: str, path: str) -> None:
-    """RMSE against `x` ("samples" or "time"), log-log, a panel per MIS mode, a line per technique and Cycles."""
+    """RMSE against `x` ("samples" or "time"), log-log, a panel per MIS mode, a line per technique (and light
+    selection: its line style) and Cycles."""
     plt = _plt()
     cfg = results.settings
     ref_rmse = results.reference_rmse
@@ -50,12 +54,14 @@ def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x:
     cycles = all_curves.get(CYCLES_CURVE)
     for ax, mis in zip(axes[0], cfg.mis):
         for technique in cfg.techniques:
-            curve = all_curves.get((technique, mis, pattern))
-            if not curve:
-                continue
-            ax.loglog([curve_x(r, x) for r in curve], [r["rmse"] for r in curve], "o-",
-                      color=technique_colour(technique), ms=3,
-                      label=f"{technique} (slope {fmt(fitted_slope(curve, x, ref_rmse), 2)})")
+            for i, selection in enumerate(cfg.light_selections):
+                curve = all_curves.get(CurveKey(technique, mis, pattern, selection))
+                if not curve:
+                    continue
+                name = f"{technique}, {selection}" if cfg.shows_selection else technique
+                ax.loglog([curve_x(r, x) for r in curve], [r["rmse"] for r in curve],
+                          SELECTION_LINES[i % len(SELECTION_LINES)], color=technique_colour(technique), ms=3,
+                          label=f"{name} (slope {fmt(fitted_slope(curve, x, ref_rmse), 2)})")
         if cycles:
             ax.loglog([curve_x(r, x) for r in cycles], [r["rmse"] for r in cycles], "s--",
                       color=technique_colour(CYCLES), ms=3, label=f"{CYCLES_NAME} (slope {fmt(fitted_slope(cycles, x, ref_rmse), 2)})")
@@ -69,16 +75,19 @@ def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x:
 
 
 def plot_slopes(results: StudyResults, slopes: Slopes, path: str) -> None:
-    """Bar chart: fitted RMSE-vs-samples slope for every technique, per pattern (one panel per MIS mode)."""
+    """Bar chart: fitted RMSE-vs-samples slope for every technique (and light selection: its hatch), per pattern
+    (one panel per MIS mode)."""
     plt = _plt()
     cfg = results.settings
     fig, axes = plt.subplots(1, len(cfg.mis), figsize=(4.8 * len(cfg.mis), 3.6), squeeze=False, sharey=True)
-    width = 0.8 / len(cfg.techniques)
+    bars = [(t, j, s) for t in cfg.techniques for j, s in enumerate(cfg.light_selections)]
+    width = 0.8 / len(bars)
     for ax, mis in zip(axes[0], cfg.mis):
-        for i, technique in enumerate(cfg.techniques):
-            ax.bar(np.arange(len(cfg.patterns)) + (i - (len(cfg.techniques) - 1) / 2) * width,
-                   [slopes.table[(technique, mis, p)] for p in cfg.patterns], width,
-                   color=technique_colour(technique), label=technique)
+        for i, (technique, j, selection) in enumerate(bars):
+            ax.bar(np.arange(len(cfg.patterns)) + (i - (len(bars) - 1) / 2) * width,
+                   [slopes.table[CurveKey(technique, mis, p, selection)] for p in cfg.patterns], width,
+                   color=technique_colour(technique), hatch=SELECTION_HATCHES[j % len(SELECTION_HATCHES)],
+                   label=f"{technique}, {selection}" if cfg.shows_selection else technique)
         ax.axhline(-0.5, color="grey", ls=":", lw=1)
         ax.set_xticks(np.arange(len(cfg.patterns)))
         ax.set_xticklabels(cfg.patterns)
@@ -89,19 +98,20 @@ def plot_slopes(results: StudyResults, slopes: Slopes, path: str) -> None:
 
 
 def plot_equal_time_grid(results: StudyResults, grid: EqualTimeGrid, path: str) -> None:
-    """A pair of rows per MIS mode: the equal-time renders (one white point, the reference's) and below each its
-    error heat map, all maps on one colour scale (the largest 99th percentile of their finite values)."""
+    """A pair of rows per MIS mode and light selection: the equal-time renders (one white point, the reference's)
+    and below each its error heat map, all maps on one colour scale (the largest 99th percentile of their finite
+    values)."""
     plt = _plt()
     reference = grid.reference
     white = metrics.white_point(reference)
     errors = {key: metrics.error_map(image, reference) for key, image in grid.images.items()}
     vmax = max([float(np.percentile(m[np.isfinite(m)], 99)) for m in errors.values() if np.isfinite(m).any()]
                + [1e-12])
-    rows = len(grid.mis_rows) * 2
+    rows = len(grid.rows) * 2
     h, w = reference.shape[:2]
     fig, axes = plt.subplots(rows, len(grid.columns), figsize=(2.6 * len(grid.columns), 2.6 * rows * h / w + 0.6),
                              squeeze=False)
-    for row_index, mis in enumerate(grid.mis_rows):
+    for row_index, row in enumerate(grid.rows):
         for col, name in enumerate(grid.columns):
             ax_img, ax_err = axes[2 * row_index][col], axes[2 * row_index + 1][col]
             for ax in (ax_img, ax_err):
@@ -112,14 +122,15 @@ def plot_equal_time_grid(results: StudyResults, grid: EqualTimeGrid, path: str) 
                 ax_img.set_title(f"reference\n{results.reference['settings']['samples']} spp", fontsize=8)
                 ax_err.axis("off")
                 continue
-            r = grid.cells.get((mis, name))
+            r = grid.cells.get((row, name))
             if r is None:
                 ax_img.axis("off")
                 ax_err.axis("off")
                 continue
             ax_img.imshow(metrics.tonemap(grid.images[r["key"]], white))
             spp = r.get("samples_done")
-            title = (CYCLES_NAME if name == CYCLES else f"{name}\nmis={mis}") + \
+            setting = f"mis={row.mis}" + (f", {row.light_selection}" if results.settings.shows_selection else "")
+            title = (CYCLES_NAME if name == CYCLES else f"{name}\n{setting}") + \
                 f"\n{fmt(spp) if spp else '?'} spp, RMSE {fmt(r['rmse'])}"
             ax_img.set_title(title, fontsize=8)
             ax_err.imshow(errors[r["key"]], cmap="inferno", vmin=0, vmax=vmax)

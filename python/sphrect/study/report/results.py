@@ -9,21 +9,20 @@ import math
 import os
 from collections import defaultdict
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
 from .. import metrics
-from ..jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, StudyConfig
+from ..jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, CurveKey, StudyConfig, curve_key
 from ..reference import load_reference_info
 from ..store import ResultStore, atomic_write_bytes, atomic_write_json
 
-CurveKey = Tuple[str, str, str]  # (technique, mis, pattern); Cycles' is jobs.CYCLES_CURVE
-Curves = Dict[CurveKey, List[Dict]]
+Curves = Dict[CurveKey, List[Dict]]  # jobs.CurveKey (technique, mis, pattern, light selection); Cycles' CYCLES_CURVE
 
-CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "samples", "light_samples", "seed", "threads",
-               "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time", "build_time", "light_time",
-               "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite")
+CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "light_selection", "samples", "light_samples",
+               "seed", "threads", "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time",
+               "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite")
 
 
 @dataclass
@@ -59,11 +58,10 @@ def load_study(out_dir: str) -> StudyResults:
 
 
 def curves(records: List[Dict]) -> Curves:
-    """(technique, mis, pattern) -> records sorted by samples (Cycles: CYCLES_CURVE)."""
+    """jobs.CurveKey -> records sorted by samples (Cycles: CYCLES_CURVE)."""
     out = defaultdict(list)
     for r in records:
-        j = r["job"]
-        out[(j["technique"], j["mis"], j["pattern"])].append(r)
+        out[curve_key(r["job"])].append(r)
     for k in out:
         out[k].sort(key=lambda r: r["job"]["samples"])
     return dict(out)
@@ -82,7 +80,8 @@ def write_runs(out_dir: str, results: StudyResults) -> None:
     writer = csv.writer(buffer)
     writer.writerow(CSV_COLUMNS)
     for r in sorted(records, key=lambda r: r["key"]):
-        row = {**r["job"], **{k: v for k, v in r.items() if k != "job"}}
+        row = {**r["job"], **{k: v for k, v in r.items() if k != "job"},
+               "light_selection": curve_key(r["job"]).light_selection}  # also of runs stored before it was kept
         writer.writerow(["" if row.get(c) is None else row.get(c) for c in CSV_COLUMNS])
     atomic_write_bytes(os.path.join(out_dir, "runs.csv"), buffer.getvalue().encode("utf-8"))
     atomic_write_json(os.path.join(out_dir, "runs.json"), {"reference": results.reference, "runs": records})
@@ -91,21 +90,33 @@ def write_runs(out_dir: str, results: StudyResults) -> None:
 REFERENCE_COLUMN = "reference"
 
 
+class GridRow(NamedTuple):
+    """A row of the equal-time grid."""
+    mis: Optional[str]
+    light_selection: Optional[str]
+
+
+def grid_row(record: Dict) -> GridRow:
+    key = curve_key(record["job"])
+    return GridRow(key.mis, key.light_selection)
+
+
 @dataclass
 class EqualTimeGrid:
-    """The equal-time renders laid out as the report shows them: a row per MIS mode, a column per technique,
-    then Cycles (one render, whatever the row) and the reference."""
+    """The equal-time renders laid out as the report shows them: a row per MIS mode and light selection, a
+    column per technique, then Cycles (one render, whatever the row) and the reference."""
     reference: np.ndarray
-    mis_rows: List[Optional[str]]           # [None] when no render of ours was measured
+    rows: List[GridRow]                     # [GridRow(None, None)] when no render of ours was measured
     columns: List[str]                      # techniques, CYCLES, REFERENCE_COLUMN
-    cells: Dict[Tuple[Optional[str], str], Dict]  # (mis, column) -> the record shown there
+    cells: Dict[Tuple[GridRow, str], Dict]  # (row, column) -> the record shown there
     images: Dict[str, np.ndarray]           # record key -> its image, for every equal-time render stored
 
 
 def equal_time_grid(results: StudyResults) -> EqualTimeGrid:
     store, records, cfg = results.store, results.equal_time, results.settings
-    mis_rows = [m for m in cfg.grid_mis if any(r["job"]["mis"] == m and r["job"]["engine"] == SPHRECT
-                                               for r in records)] or [None]
+    ours = [r for r in records if r["job"]["engine"] == SPHRECT]
+    rows = [GridRow(m, s) for m in cfg.grid_mis for s in cfg.light_selections
+            if any(grid_row(r) == (m, s) for r in ours)] or [GridRow(None, None)]
     cycles = [r for r in records if r["job"]["engine"] == CYCLES]
     columns = list(cfg.techniques) + ([CYCLES] if cycles else []) + [REFERENCE_COLUMN]
     images = {}
@@ -114,11 +125,11 @@ def equal_time_grid(results: StudyResults) -> EqualTimeGrid:
         if image is not None:
             images[r["key"]] = image
     cells = {}
-    for mis in mis_rows:
+    for row in rows:
         for name in columns[:-1]:
             # The first record of the cell is shown; Cycles' render is the same in every row.
-            match = cycles if name == CYCLES else [r for r in records
-                                                   if r["job"]["technique"] == name and r["job"]["mis"] == mis]
+            match = cycles if name == CYCLES else [r for r in ours
+                                                   if r["job"]["technique"] == name and grid_row(r) == row]
             if match and match[0]["key"] in images:
-                cells[(mis, name)] = match[0]
-    return EqualTimeGrid(store.load_image(results.reference["image"]), mis_rows, columns, cells, images)
+                cells[(row, name)] = match[0]
+    return EqualTimeGrid(store.load_image(results.reference["image"]), rows, columns, cells, images)

@@ -1,5 +1,6 @@
 """The findings in words: every number of the report is formatted here (fmt), once, from the dataclasses of
-findings.py and equal_error.py.  A number that is not finite prints as PLACEHOLDER."""
+findings.py and equal_error.py.  A number that is not finite prints as PLACEHOLDER.  A configuration names its
+light selection only in a study of more than one (`show_selection`, StudyConfig.shows_selection)."""
 from __future__ import annotations
 
 import math
@@ -8,15 +9,15 @@ from typing import List, Optional
 import numpy as np
 
 from .. import metrics
-from ..jobs import CYCLES, CYCLES_CURVE, curve_label
+from ..jobs import CYCLES, CYCLES_CURVE, CurveKey, curve_label, selection_part
 from .curves import BEYOND_LONGEST, EXTRAPOLATION_LIMIT, Reach
-from .equal_error import CyclesComparison, TargetTimes
-from .findings import (AREA, COSINE, RECTANGLE, TRIANGLES, UNSTRATIFIED, CosineComparison,
-                       OrderingRow, SlopeComparison, Slopes, TrianglesComparison)
+from .equal_error import CyclesComparison, SelectionComparison, TargetTimes
+from .findings import (AREA, COSINE, LIGHT_TREE, POWER_SELECTION, RECTANGLE, TRIANGLES, UNSTRATIFIED,
+                       CosineComparison, OrderingRow, SlopeComparison, Slopes, TrianglesComparison, finite_span)
 from .results import EqualTimeGrid
 
 PLACEHOLDER = "–"
-CYCLES_NAME = curve_label(*CYCLES_CURVE)
+CYCLES_NAME = curve_label(CYCLES_CURVE)
 COST_NOTE = (f"Times are samples per pixel x the configuration's cost per sample, the mean of time / samples over "
              f"its {metrics.COST_RUNS} largest runs: single runs' times scatter by 10-20% on a shared machine.")
 
@@ -38,17 +39,19 @@ def reach_how(reach: Reach) -> str:
 # ------------------------------------------------------------------------------------------------
 # The paper's findings
 
-def ordering_lines(rows: Optional[List[OrderingRow]], comparisons: List[TrianglesComparison]) -> List[str]:
+def ordering_lines(rows: Optional[List[OrderingRow]], comparisons: List[TrianglesComparison],
+                   show_selection: bool = False) -> List[str]:
     if rows is None:
         return [f"The paper's ordering needs the {AREA}, {TRIANGLES} and {RECTANGLE} techniques."]
+    setting = "MIS, pattern, light selection" if show_selection else "MIS, pattern"
     lines = []
     total = sum(r.points for r in rows)
     if total:
         lines.append(f"At equal samples, RMSE({RECTANGLE}) < RMSE({TRIANGLES}) < RMSE({AREA}) holds at "
-                     f"{sum(r.order_holds for r in rows)} of {total} (MIS, pattern, sample count) points.")
+                     f"{sum(r.order_holds for r in rows)} of {total} ({setting}, sample count) points.")
     worst = sum(r.area_worst for r in rows)
     lines.append(f"- area is the worst of the three at the top of the ladder in {worst} of {len(rows)} "
-                 f"(MIS, pattern) cases: "
+                 f"({setting}) cases: "
                  + ("**reproduces** the paper." if worst == len(rows) else "**does NOT fully reproduce**."))
     for c in comparisons:
         start = (f"- rectangle vs triangles with {c.pattern} samples: rectangle is lower at {c.wins} of {c.points} "
@@ -61,17 +64,21 @@ def ordering_lines(rows: Optional[List[OrderingRow]], comparisons: List[Triangle
     return lines
 
 
-def ordering_rows(rows: Optional[List[OrderingRow]]) -> List[List[str]]:
-    return [[r.mis, r.pattern, f"{r.order_holds}/{r.points}", f"{r.rectangle_wins}/{r.points}",
-             fmt(r.triangles_ratio), fmt(r.area_ratio)] for r in rows or []]
+def ordering_rows(rows: Optional[List[OrderingRow]], show_selection: bool = False) -> List[List[str]]:
+    return [[r.mis, r.pattern] + ([r.light_selection] if show_selection else [])
+            + [f"{r.order_holds}/{r.points}", f"{r.rectangle_wins}/{r.points}", fmt(r.triangles_ratio),
+               fmt(r.area_ratio)] for r in rows or []]
 
 
 def slope_rows(slopes: Slopes, cfg) -> List[List[str]]:
-    """A row per (MIS, technique) of the study's StudyConfig `cfg`, a column per pattern; Cycles' last."""
-    rows = [[t, m] + [fmt(slopes.table[(t, m, p)], 3) for p in cfg.patterns] for m in cfg.mis for t in cfg.techniques]
+    """A row per (MIS, light selection, technique) of the study's StudyConfig `cfg`, a column per pattern (after a
+    light selection column in a study of several); Cycles' last."""
+    show = cfg.shows_selection
+    rows = [[t, m] + ([s] if show else []) + [fmt(slopes.table[CurveKey(t, m, p, s)], 3) for p in cfg.patterns]
+            for m in cfg.mis for s in cfg.light_selections for t in cfg.techniques]
     if slopes.cycles is not None:
-        rows.append([CYCLES_NAME, CYCLES_CURVE[1]] + [fmt(slopes.cycles, 3) if i == 0 else ""
-                                                      for i in range(len(cfg.patterns))])
+        rows.append([CYCLES_NAME, CYCLES_CURVE.mis] + ([""] if show else [])
+                    + [fmt(slopes.cycles, 3) if i == 0 else "" for i in range(len(cfg.patterns))])
     return rows
 
 
@@ -81,18 +88,20 @@ SLOPE_VERDICTS = {
 }
 
 
-def slope_line(c: SlopeComparison) -> str:
+def slope_line(c: SlopeComparison, show_selection: bool = False) -> str:
     verdict = SLOPE_VERDICTS.get(c.verdict) or (
         "converges at the same rate as the two-triangle map within the fits' precision "
         f"(difference {fmt(c.difference, 2)}, threshold {fmt(c.threshold, 2)}): the paper's "
         "stratification advantage is NOT visible in the slope")
-    return (f"- {c.pattern}, MIS {c.mis}: slope rectangle {fmt(c.slopes[RECTANGLE], 3)}, triangles "
+    return (f"- {c.pattern}, MIS {c.mis}{selection_part(c.light_selection, show_selection, ', ')}: slope rectangle "
+            f"{fmt(c.slopes[RECTANGLE], 3)}, triangles "
             f"{fmt(c.slopes[TRIANGLES], 3)}, area {fmt(c.slopes[AREA], 3)}; independent-pattern slope of "
             f"rectangle {fmt(c.unstratified_rectangle, 3)} -> the area-preserving map {verdict}.")
 
 
-def cosine_line(c: CosineComparison) -> str:
-    return (f"- MIS {c.mis}, {c.pattern}, {c.samples} spp: RMSE({COSINE})/RMSE({RECTANGLE}) = {fmt(c.rmse_ratio)}, "
+def cosine_line(c: CosineComparison, show_selection: bool = False) -> str:
+    return (f"- MIS {c.mis}, {c.pattern}{selection_part(c.light_selection, show_selection, ', ')}, {c.samples} spp: "
+            f"RMSE({COSINE})/RMSE({RECTANGLE}) = {fmt(c.rmse_ratio)}, "
             f"cost ratio {fmt(c.cost_ratio)} (per sample, top {metrics.COST_RUNS} runs), efficiency "
             f"(1/(MSE x time)) ratio {fmt(c.efficiency)}, timing noise +-{fmt(100 * c.noise, 2)}% ({c.verdict}).")
 
@@ -119,49 +128,75 @@ def cycles_lines(c: Optional[CyclesComparison]) -> List[str]:
     return ["No configuration of ours reached Cycles' errors within the measured ladder."]
 
 
-def cycles_rows(c: Optional[CyclesComparison]) -> List[List[str]]:
+def cycles_rows(c: Optional[CyclesComparison], show_selection: bool = False) -> List[List[str]]:
     rows = []
     for p in c.points if c else []:
         start = [fmt(p.samples), fmt(p.rmse), fmt(p.time)]
         if p.reach is None:
             rows.append(start + [PLACEHOLDER] * 3)
         else:
-            rows.append(start + [curve_label(*p.best), fmt(p.reach.time) + ("" if p.reach.how == "measured" else
-                                                                              f" ({p.reach.how})"), fmt(p.ratio)])
+            how = "" if p.reach.how == "measured" else f" ({p.reach.how})"
+            rows.append(start + [curve_label(p.best, show_selection), fmt(p.reach.time) + how, fmt(p.ratio)])
     return rows
 
 
-def target_line(t: TargetTimes) -> str:
+def target_line(t: TargetTimes, show_selection: bool = False) -> str:
     why = {"given": "given on the command line",
            "cycles": f"the RMSE of {CYCLES_NAME} at {t.samples} spp",
-           "middle": f"the RMSE of {curve_label(*t.key)} in the middle of the ladder" if t.key else ""}[t.source]
+           "middle": f"the RMSE of {curve_label(t.key, show_selection)} in the middle of the ladder" if t.key else ""
+           }[t.source]
     return (f"Target RMSE {fmt(t.rmse)} ({why}). 'measured' = interpolated between measured points "
             f"(log-log); 'extrapolated' = along the power law fitted to the curve's upper half. {COST_NOTE}")
 
 
-def target_rows(t: TargetTimes) -> List[List[str]]:
-    return [[curve_label(*key), fmt(r.time), reach_how(r), fmt(r.samples)] for key, r in t.reached]
+def target_rows(t: TargetTimes, show_selection: bool = False) -> List[List[str]]:
+    return [[curve_label(key, show_selection), fmt(r.time), reach_how(r), fmt(r.samples)] for key, r in t.reached]
 
 
-def equal_time_rows(grid: EqualTimeGrid) -> List[List[str]]:
+def equal_time_rows(grid: EqualTimeGrid, show_selection: bool = False) -> List[List[str]]:
     """configuration, samples per pixel, time, RMSE, relMSE of every render the grid shows (Cycles once)."""
     rows = []
-    for row_index, mis in enumerate(grid.mis_rows):
+    for row_index, row in enumerate(grid.rows):
         for name in grid.columns:
-            r = grid.cells.get((mis, name))  # none for the reference's column
+            r = grid.cells.get((row, name))  # none for the reference's column
             if r is None or (name == CYCLES and row_index):
                 continue
-            label = CYCLES_NAME if name == CYCLES else f"{name} / mis={mis}"
+            label = CYCLES_NAME if name == CYCLES else \
+                f"{name} / mis={row.mis}" + selection_part(row.light_selection, show_selection, " / ")
             rows.append([label, fmt(r.get("samples_done")), fmt(r.get("time")), fmt(r["rmse"]), fmt(r["relmse"])])
     return rows
+
+
+def selection_lines(comparisons: Optional[List[SelectionComparison]]) -> List[str]:
+    """The light tree against power selection at equal error: the sentence of the findings and of the summary."""
+    if comparisons is None:
+        return [f"The study has not both the {POWER_SELECTION} and the {LIGHT_TREE} light selection "
+                f"(--light-selections {POWER_SELECTION},{LIGHT_TREE} compares them)."]
+    ratios = [c.ratio for c in comparisons if math.isfinite(c.ratio)]
+    if not ratios:
+        return [f"- Light selection: no (technique, MIS, pattern) configuration reached a common error with both "
+                f"{LIGHT_TREE} and {POWER_SELECTION}."]
+    verdicts = [c.verdict for c in comparisons]
+    low, high = finite_span(ratios)
+    return [f"- Light selection: to reach the same RMSE, {LIGHT_TREE} takes **{fmt(float(np.median(ratios)))}x** the "
+            f"time of {POWER_SELECTION} (median over {len(comparisons)} (technique, MIS, pattern) configurations, "
+            f"range {fmt(low)} ... {fmt(high)}): faster in {verdicts.count('faster')}, slower in {verdicts.count('slower')}, "
+            f"indistinguishable within the timing noise in the rest."]
+
+
+def selection_rows(comparisons: Optional[List[SelectionComparison]]) -> List[List[str]]:
+    return [[c.technique, c.mis, c.pattern, fmt(c.rmse), fmt(c.power.time), fmt(c.tree.time), fmt(c.ratio),
+             f"{c.verdict} (+-{fmt(100 * c.noise, 2)}%)"] for c in comparisons or []]
 
 
 # ------------------------------------------------------------------------------------------------
 # Summary
 
 def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[CosineComparison]],
-                  cycles: Optional[CyclesComparison], reference_rmse: float, smallest: float) -> List[str]:
+                  cycles: Optional[CyclesComparison], reference_rmse: float, smallest: float,
+                  selection: Optional[List[SelectionComparison]] = None, show_selection: bool = False) -> List[str]:
     """The headline numbers, from the findings the report shows below the summary (`ordering`: its lines)."""
+    selection_case = ", light selection" if show_selection else ""
     lines = []
     ratio = cycles.top_ratio if cycles else None
     if ratio is not None:
@@ -175,14 +210,16 @@ def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[Cos
     if verdicts:
         lines.append(f"- Stratification (convergence slopes, stratified/low-discrepancy patterns): the area-preserving "
                      f"map converges faster than the two-triangle map in {verdicts.count('faster')} of "
-                     f"{len(verdicts)} (pattern, MIS) cases, slower in {verdicts.count('slower')}, indistinguishable "
-                     f"in the rest.")
+                     f"{len(verdicts)} (pattern, MIS{selection_case}) cases, slower in {verdicts.count('slower')}, "
+                     f"indistinguishable in the rest.")
     if cosine:
         verdicts = [c.verdict for c in cosine]
         lines.append(f"- rectangle_cosine is more efficient (1 / (MSE x time)) than rectangle in "
-                     f"{verdicts.count('better than rectangle')} of {len(cosine)} (MIS, pattern) cases at the top of "
-                     f"the ladder, less in {verdicts.count('worse than rectangle')}, indistinguishable within the "
-                     f"timing noise in the rest.")
+                     f"{verdicts.count('better than rectangle')} of {len(cosine)} (MIS, pattern{selection_case}) cases "
+                     f"at the top of the ladder, less in {verdicts.count('worse than rectangle')}, indistinguishable "
+                     f"within the timing noise in the rest.")
+    if selection is not None:
+        lines += selection_lines(selection)
     if math.isfinite(smallest):
         lines.append(f"- The reference's own RMSE is {fmt(100 * reference_rmse / smallest, 2)}% of the "
                      f"smallest error measured.")
