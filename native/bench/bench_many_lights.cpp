@@ -11,9 +11,10 @@
 //                                  Rectangle technique, power-heuristic MIS, Sobol', 1 light
 //                                  sample, 1 thread.
 //                                  Counters: ns/sample (process CPU time per camera sample),
-//                                  commit_ms (building the RenderScene and Commit(): Embree BVH,
-//                                  power table and light tree, whichever selection renders),
-//                                  renderer_ms (making the Renderer, once), lights.
+//                                  commit_ms (building the RenderScene and Commit(): Embree BVHs of
+//                                  the geometry and of the area lights, the power table),
+//                                  renderer_ms (making the Renderer, once: with "tree", building the
+//                                  light tree on first use), lights.
 //
 // One iteration renders 64 x 48 pixels at 4 samples (12,288 camera samples); with 10,000 lights or
 // more, 32 x 24 pixels at 1 sample (768 camera samples, the same view), so that a run of the

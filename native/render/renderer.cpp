@@ -17,6 +17,7 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
     : scene_(std::move(scene)), options_(std::move(options)) {
     if (!scene_ || !scene_->committed()) throw std::invalid_argument("the renderer needs a committed scene");
     ValidateOptions(options_);
+    if (options_.light_selection == LightSelection::Tree) scene_->BuildLightTree();
     threads_ = options_.threads > 0 ? options_.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     const size_t pixels = size_t(width()) * height();
     sums_.assign(options_.techniques.size(), std::vector<double>(3 * pixels, 0.0));

@@ -97,6 +97,7 @@ RenderScene::RenderScene() {
 }
 
 RenderScene::~RenderScene() {
+    analytic_light_finder.Release();
     if (rtc_scene) rtcReleaseScene(rtc_scene);
     if (device_) rtcReleaseDevice(device_);
 }
@@ -315,6 +316,7 @@ void RenderScene::Commit() {
                      " materials");
     rtcCommitScene(rtc_scene);
     AddMeshLights();
+    analytic_light_finder.Build(device_, area_lights, num_analytic_lights);
     std::vector<double> powers;
     for (const AreaLight& l : area_lights) {
         powers.push_back(AreaLightPower(l));
@@ -330,9 +332,6 @@ void RenderScene::Commit() {
     sun_lights.clear();
     for (size_t i = 0; i < delta_lights.size(); ++i)
         if (delta_lights[i].kind == DeltaKind::Sun) sun_lights.push_back(uint32_t(i));
-    TreeEmitters emitters = CollectTreeEmitters(area_lights, delta_lights);
-    light_tree.Build(emitters.bounds);
-    light_tree_refs = std::move(emitters.refs);
     features_ = {};
     // A glossy material only matters when some triangle uses it.
     std::vector<bool> used(materials.size(), false);
@@ -350,6 +349,15 @@ void RenderScene::Commit() {
     features_.background = !IsBlack(background);
     features_.emissive_meshes = has_mesh_lights;
     committed_ = true;
+}
+
+void RenderScene::BuildLightTree() const {
+    if (!committed_) Fail("the light tree needs a committed scene");
+    std::call_once(light_tree_once_, [this] {
+        TreeEmitters emitters = CollectTreeEmitters(area_lights, delta_lights);
+        light_tree_.Build(emitters.bounds);
+        light_tree_refs_ = std::move(emitters.refs);
+    });
 }
 
 // Every triangle whose material emits becomes an area light (on_mesh), except that two

@@ -6,9 +6,11 @@
 #include <embree3/rtcore.h>
 
 #include <cstdint>
+#include <mutex>
 #include <string>
 #include <vector>
 
+#include "area_light_finder.h"
 #include "bsdf.h"
 #include "camera.h"
 #include "light_tree.h"
@@ -88,6 +90,7 @@ class RenderScene {
     // then the emissive meshes' (on_mesh), which those rays find through Embree.
     std::vector<AreaLight> area_lights;
     size_t num_analytic_lights = 0;
+    AreaLightFinder analytic_light_finder;  // of lights [0, num_analytic_lights): which a ray crosses
     LightSelector light_selector;            // over area_lights, by power
     bool has_mesh_lights = false;            // some area light is on_mesh
     std::vector<std::string> warnings;       // Commit()'s, e.g. skipped degenerate emissive triangles
@@ -101,11 +104,17 @@ class RenderScene {
     std::vector<uint32_t> sun_lights;
     // Every area light and point/spot light in one light tree (light_selection "tree"): tree
     // emitter i < area_lights.size() is area light i, then the point and spot lights
-    // (light_tree_refs maps each to its light); suns stay outside.
-    LightTree light_tree;
-    std::vector<TreeEmitterRef> light_tree_refs;
+    // (light_tree_refs() maps each to its light); suns stay outside.  Built by the first
+    // Renderer that selects by tree (BuildLightTree, thread-safe), so that "power" renders of a
+    // million emitters do not pay its ~1.4 s and ~100 MB; empty until then.
+    void BuildLightTree() const;
+    const LightTree& light_tree() const { return light_tree_; }
+    const std::vector<TreeEmitterRef>& light_tree_refs() const { return light_tree_refs_; }
 
   private:
+    mutable std::once_flag light_tree_once_;
+    mutable LightTree light_tree_;
+    mutable std::vector<TreeEmitterRef> light_tree_refs_;
     void RequireNotCommitted() const;
     void AddMeshLights();
     RTCDevice device_ = nullptr;

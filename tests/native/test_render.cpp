@@ -433,26 +433,28 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
     s.AddSunLight({0, 0, -1}, {1, 1, 1});
     s.AddSpotLight({1, 1, 3}, {0, 0, -1}, {5, 5, 5}, 1.0f, 0.2f);
     s.Commit();
-    ASSERT_EQ(s.light_tree.NumEmitters(), 5);
-    ASSERT_EQ(s.light_tree_refs.size(), 5u);
-    for (int i = 0; i < 3; ++i) EXPECT_EQ(s.light_tree_refs[i].kind, TreeEmitterKind::Area);
-    EXPECT_EQ(s.light_tree_refs[3].kind, TreeEmitterKind::Delta);
-    EXPECT_EQ(s.light_tree_refs[3].index, 0);  // the point light
-    EXPECT_EQ(s.light_tree_refs[4].index, 2);  // the spot (delta light 1 is the sun)
+    EXPECT_EQ(s.light_tree().NumEmitters(), 0);  // built for the first Renderer that selects by tree
+    s.BuildLightTree();
+    ASSERT_EQ(s.light_tree().NumEmitters(), 5);
+    ASSERT_EQ(s.light_tree_refs().size(), 5u);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(s.light_tree_refs()[i].kind, TreeEmitterKind::Area);
+    EXPECT_EQ(s.light_tree_refs()[3].kind, TreeEmitterKind::Delta);
+    EXPECT_EQ(s.light_tree_refs()[3].index, 0);  // the point light
+    EXPECT_EQ(s.light_tree_refs()[4].index, 2);  // the spot (delta light 1 is the sun)
 
     const Vec3f p{0.2f, -0.1f, 0}, n{0, 0, 1};
     LightSamplingAt<Technique::Rectangle> at(s, LightSelection::Tree, p, n, n);
     std::vector<int> count(5, 0);
     constexpr int kN = 20000;
     double pmf_sum = 0;
-    for (int i = 0; i < 5; ++i) pmf_sum += s.light_tree.Pmf(p, n, i);
+    for (int i = 0; i < 5; ++i) pmf_sum += s.light_tree().Pmf(p, n, i);
     EXPECT_NEAR(pmf_sum, 1.0, 1e-5);
     for (int k = 0; k < kN; ++k) {
         const ChosenLight c = at.Choose({0.5f, (k + 0.5f) / kN});
         ASSERT_TRUE(c.pmf > 0);
         ASSERT_NE(c.index >= 0, c.delta >= 0);  // one of the two
         const int emitter = c.index >= 0 ? c.index : (c.delta == 0 ? 3 : 4);
-        EXPECT_EQ(c.pmf, s.light_tree.Pmf(p, n, emitter));
+        EXPECT_EQ(c.pmf, s.light_tree().Pmf(p, n, emitter));
         ++count[emitter];
         if (c.index >= 0) {  // PDF of the sampled point = tree pmf x its point pdf
             const LightSample<float> ls = at.Sample(c.index, c.u);
@@ -460,7 +462,7 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
         }
     }
     // A stratified v: each emitter's count is its pmf x kN up to the traversal's rounding.
-    for (int i = 0; i < 5; ++i) EXPECT_NEAR(count[i], s.light_tree.Pmf(p, n, i) * kN, 2.0) << i;
+    for (int i = 0; i < 5; ++i) EXPECT_NEAR(count[i], s.light_tree().Pmf(p, n, i) * kN, 2.0) << i;
 }
 
 }  // namespace

@@ -72,13 +72,11 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
         const Spectrum& le = scene.materials[out.surface.material].emission;
         if (!IsBlack(le)) seen += le * SegmentTransmittance<kMedium>(scene.medium, out.t_end);
     }
-    for (size_t i = 0; i < scene.num_analytic_lights; ++i) {
-        const AreaLight& l = scene.area_lights[i];
-        if (!l.visible) continue;
-        const float t = IntersectAreaLight(l, out.ray.o, out.ray.d, std::min(out.t_end, out.ray.tmax));
-        if (std::isinf(t) || t < out.ray.tmin) continue;
-        seen += EmittedRadiance(l, -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);
-    }
+    scene.analytic_light_finder.ForEachCrossing(
+        out.ray.o, out.ray.d, out.ray.tmin, std::min(out.t_end, out.ray.tmax), LightsSought::VisibleToCamera,
+        [&](int i, float t) {
+            seen += EmittedRadiance(scene.area_lights[i], -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);
+        });
     if (!out.hit) seen += scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
     out.seen = seen;
 }

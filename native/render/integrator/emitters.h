@@ -85,16 +85,14 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
                                          TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky);
     if (c.mis == MisMode::None) return;
-    const auto& lights = c.scene.area_lights;
     if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, light_sampling, sink);
-    for (int i = 0; i < int(c.scene.num_analytic_lights); ++i) {  // the rest: QueueMeshEmitterAlongRay's
-        const float t = IntersectAreaLight(lights[i], o, d, kInf);
-        if (std::isinf(t)) continue;
-        const Spectrum le = EmittedRadiance(lights[i], -d);
-        if (IsBlack(le)) continue;
+    // The analytic lights (the rest are QueueMeshEmitterAlongRay's).
+    c.scene.analytic_light_finder.ForEachCrossing(o, d, 0, kInf, LightsSought::All, [&](int i, float t) {
+        const Spectrum le = EmittedRadiance(c.scene.area_lights[i], -d);
+        if (IsBlack(le)) return;
         const float pdf_light = light_sampling.PDF(i, o + d * t);
         sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light));
-    }
+    });
 }
 
 }  // namespace sphrect::render

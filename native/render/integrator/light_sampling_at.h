@@ -39,16 +39,16 @@ static inline ChosenLight ChooseLightByPower(const LightSelector& selector, Poin
 // Receiver (p, n) of the tree; n = 0 in a medium (no horizon).
 static inline ChosenLight ChooseLightFromTree(const RenderScene& scene, const Vec3f& p, const Vec3f& n,
                                               Point2<float> light_point) {
-    const LightTreeSample s = scene.light_tree.Sample(p, n, light_point.v);
+    const LightTreeSample s = scene.light_tree().Sample(p, n, light_point.v);
     if (s.emitter < 0 || !(s.pmf > 0)) return {};
-    const TreeEmitterRef& ref = scene.light_tree_refs[s.emitter];
+    const TreeEmitterRef& ref = scene.light_tree_refs()[s.emitter];
     if (ref.kind == TreeEmitterKind::Delta) return {-1, ref.index, s.pmf, {light_point.u, s.u}};
     return {ref.index, -1, s.pmf, {light_point.u, s.u}};
 }
 
 // Whether light samples have an emitter to go to (otherwise only BSDF samples may be drawn).
 static inline bool HasChoosableLights(const RenderScene& scene, LightSelection selection) {
-    return selection == LightSelection::Tree ? !scene.light_tree.Empty() : !scene.light_selector.Empty();
+    return selection == LightSelection::Tree ? !scene.light_tree().Empty() : !scene.light_selector.Empty();
 }
 
 // Delta lights evaluated once per camera sample (each casts its shadow ray): all of them with
@@ -105,7 +105,7 @@ class LightSamplingAt {
     // point p on it: pmf(index) * pdf(p) (the tree's pmf at this receiver: area light i is tree
     // emitter i).
     float PDF(int index, const Vec3f& p) {
-        const float pmf = selection_ == LightSelection::Tree ? scene_.light_tree.Pmf(origin_, tree_normal_, index)
+        const float pmf = selection_ == LightSelection::Tree ? scene_.light_tree().Pmf(origin_, tree_normal_, index)
                                                              : scene_.light_selector.pmf[index];
         if (!(pmf > 0)) return 0;
         return pmf * PointPDF(index, p);
