@@ -13,8 +13,9 @@
 //                                  Counters: ns/sample (process CPU time per camera sample),
 //                                  commit_ms (building the RenderScene and Commit(): Embree BVHs of
 //                                  the geometry and of the area lights, the power table),
-//                                  renderer_ms (making the Renderer, once: with "tree", building the
-//                                  light tree on first use), lights.
+//                                  renderer_ms (making the Renderer; the light tree is built by a
+//                                  scene's first "tree" Renderer, which Google Benchmark's sizing run
+//                                  makes, so its build time is bench_light_tree's), lights.
 //
 // One iteration renders 64 x 48 pixels at 4 samples (12,288 camera samples); with 10,000 lights or
 // more, 32 x 24 pixels at 1 sample (768 camera samples, the same view), so that a run of the
