@@ -36,7 +36,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     compare: BoolProperty(name="Compare Techniques", default=False,
                           description="Render every chosen technique in one go, each as a render pass, "
                                       "and build a side-by-side comparison image")
-    # compare_<technique>: BoolProperty per technique, added below from the module's list.
+    # compare_<technique>: BoolProperty per technique, and compare_light_selection_<name> per light selection,
+    # added below from the module's lists.
     equal_time: BoolProperty(name="Equal Time", default=False,
                              description="Give every technique the same time budget instead of the same samples")
     time_budget: FloatProperty(name="Time Budget", default=2.0, min=0.01, subtype="TIME_ABSOLUTE", unit="TIME",
@@ -54,6 +55,12 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
         names = [name for name in TECHNIQUES if getattr(self, compare_switch(name))]
         return names or list(TECHNIQUES)
 
+    def compare_light_selections(self):
+        """sphrect names of the light selections chosen for comparison: the ticked ones, else (as before the
+        switches existed) the scene's light_selection."""
+        names = [name for name in LIGHT_SELECTIONS if getattr(self, compare_light_selection_switch(name))]
+        return names or [sphrect_name(self.light_selection)]
+
     def renderer_options(self):
         return dict(light_samples=self.light_samples, pattern=sphrect_name(self.pattern),
                     mis=sphrect_name(self.mis), light_selection=sphrect_name(self.light_selection), seed=self.seed,
@@ -65,8 +72,18 @@ def compare_switch(technique):
     return "compare_" + technique
 
 
+def compare_light_selection_switch(light_selection):
+    """The scene setting that picks `light_selection` for comparison."""
+    return "compare_light_selection_" + light_selection
+
+
 SPHRECT_SceneSettings.__annotations__.update(
     {compare_switch(t): BoolProperty(name=label(t, TECHNIQUE_LABELS)[0], default=True) for t in TECHNIQUES})
+SPHRECT_SceneSettings.__annotations__.update(
+    {compare_light_selection_switch(n): BoolProperty(
+        name=label(n, LIGHT_SELECTION_LABELS)[0], default=False,
+        description="Render the compared techniques with this light selection too, each as its own pass (none "
+                    "ticked: the Sampling panel's Light Selection)") for n in LIGHT_SELECTIONS})
 
 
 class SPHRECT_LightSettings(bpy.types.PropertyGroup):

@@ -1,8 +1,8 @@
 """Render Properties panels for scene.sphrect and the area light's two-sided switch."""
 import bpy
 
-from .names import ENGINE_ID, TECHNIQUES
-from .properties import compare_switch
+from .names import ENGINE_ID, LIGHT_SELECTIONS, TECHNIQUES
+from .properties import compare_light_selection_switch, compare_switch
 
 
 class SphrectPanel:
@@ -53,6 +53,9 @@ class RENDER_PT_sphrect_compare(SphrectPanel, bpy.types.Panel):
         col = layout.column(heading="Techniques", align=True)
         for name in TECHNIQUES:
             col.prop(s, compare_switch(name))
+        col = layout.column(heading="Light Selections", align=True)  # none ticked: the Sampling panel's
+        for name in LIGHT_SELECTIONS:
+            col.prop(s, compare_light_selection_switch(name))
         col = layout.column()
         col.prop(s, "equal_time")
         sub = col.column()

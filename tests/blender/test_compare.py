@@ -1,5 +1,5 @@
-"""Compare mode: every technique as a named pass (also in multilayer EXR), the comparison image with a
-reference, equal-time budgets."""
+"""Compare mode: every technique (x light selection, when several are ticked) as a named pass (also in multilayer
+EXR), the comparison image with a reference, equal-time budgets."""
 import os
 import struct
 
@@ -45,6 +45,66 @@ def test_compare_equal_samples_with_reference(tmp_path):
     # rectangle sampling. Fixed seeds, so this is deterministic; it held with a wide margin when written.
     assert rmse["rectangle"] < rmse["area"]
     assert all(rec["stats"][t]["samples"] == 4 for t in TECHNIQUES)
+
+
+def test_compare_light_selections_side_by_side(tmp_path):
+    """Both light selections ticked: a pass, an image and a comparison panel per technique x selection, named by
+    both; power and tree render the same camera samples differently on a scene of several lights. None ticked:
+    the scene's own light selection, under the technique's own pass name."""
+    scene = open_blend("07_studio", 32, 24)
+    s = scene.sphrect
+    s.compare, s.samples, s.passes, s.reference, s.reference_samples = True, 4, 2, "RENDER", 32
+    s.compare_triangles = s.compare_rectangle_cosine = False
+    s.light_selection = "POWER"
+    assert s.compare_light_selections() == ["power"]  # nothing ticked: the Sampling panel's selection
+    s.compare_light_selection_power = s.compare_light_selection_tree = True
+    assert s.compare_light_selections() == list(sphrect.light_selections)
+    entries = [f"{t} {sel}" for t in ("area", "rectangle") for sel in sphrect.light_selections]
+    scene.use_nodes = True  # the Render Layers node lists the passes the engine declares
+    outputs = {o.name for o in scene.node_tree.nodes["Render Layers"].outputs if o.enabled}
+    assert {engine_module().technique_pass_name(e) for e in entries} <= outputs, outputs
+    scene.render.filepath = str(tmp_path / "studio_")
+    scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    bpy.ops.render.render(write_still=True)
+    rec = engine_module().last_render
+    assert rec["errors"] == []
+    assert set(rec["images"]) == set(entries) | {"reference"}
+    (exr,) = tmp_path.glob("studio_*.exr")
+    header = exr.read_bytes()[:20000]
+    for name in entries + ["reference"]:
+        assert f"{engine_module().technique_pass_name(name)}.R".encode() in header, name
+    for t in ("area", "rectangle"):
+        power, tree = (rec["images"][f"{t} {sel}"] for sel in ("power", "tree"))
+        assert np.isfinite(power).all() and np.isfinite(tree).all()
+        assert not np.array_equal(power, tree), t
+        assert rec["stats"][f"{t} tree"]["light_selection"] == "tree" and rec["stats"][f"{t} tree"]["samples"] == 4
+        assert all(np.isfinite(rec["stats"][f"{t} {sel}"]["rmse"]) for sel in ("power", "tree"))
+    width, height = png_size(rec["comparison"])
+    assert width == 4 + 5 * (32 + 4)  # four entries and the reference (scale 1, 4 pixels of padding)
+    # Unticked again: the scene's selection alone, with the pass names of a single selection.
+    s.compare_light_selection_power = s.compare_light_selection_tree = False
+    s.light_selection = "TREE"
+    bpy.ops.render.render(write_still=False)
+    rec = engine_module().last_render
+    assert set(rec["images"]) == {"area", "rectangle", "reference"}
+    assert rec["stats"]["area"]["light_selection"] == "tree"
+    assert png_size(rec["comparison"])[0] == 4 + 3 * (32 + 4)
+
+
+def test_compare_light_selections_at_equal_time(tmp_path):
+    scene = open_blend("07_studio", 32, 24)
+    s = scene.sphrect
+    s.compare, s.equal_time, s.time_budget, s.passes, s.reference = True, True, 0.1, 1, "NONE"
+    s.compare_area = s.compare_triangles = s.compare_rectangle_cosine = False
+    s.compare_light_selection_power = s.compare_light_selection_tree = True
+    scene.render.filepath = str(tmp_path / "studio_")
+    bpy.ops.render.render(write_still=False)
+    rec = engine_module().last_render
+    assert rec["errors"] == []
+    assert set(rec["images"]) == {"rectangle power", "rectangle tree"}
+    for name in rec["images"]:
+        assert rec["stats"][name]["time"] >= 0.9 * 0.1  # each entry had (at least) the whole budget
+    assert os.path.isfile(rec["comparison"])
 
 
 def test_compare_equal_time(tmp_path):
@@ -115,3 +175,10 @@ def test_comparison_image_layout_rmse_and_shared_heat_scale():
     assert canvas[y:y + 20, pad:pad + 30].max() > 0.5
     # Labels are drawn (ink under the first image).
     assert canvas[pad + 20:pad + 40, pad:pad + 30].max() == 1.0
+    # An entry's label replaces its name, and a light selection adds a line under it.
+    for e in entries:
+        e.update(label=e["name"], name=e["name"] + " tree", light_selection="tree")
+    assert compare._label_lines(entries[0])[0] == "LIGHTS BY tree"
+    taller = compare.comparison_image(entries, reference)
+    assert taller.shape[1] == canvas.shape[1] and taller.shape[0] == canvas.shape[0] + 2 * (compare.GLYPH_H + 2)
+    assert np.array_equal(taller[:pad + 20 + 7], canvas[:pad + 20 + 7])  # the same image and name line

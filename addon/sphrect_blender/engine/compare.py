@@ -1,6 +1,6 @@
-"""The comparison image: techniques side by side with labels (name, samples, time, RMSE) and, when a
-reference exists, error heat maps on a shared scale. Pure numpy (no bpy), so it works from the render
-thread and in tests; `write_png` stores it without Blender. The RMSE is the study's
+"""The comparison image: techniques side by side with labels (name, light selection when several are compared,
+samples, time, RMSE) and, when a reference exists, error heat maps on a shared scale. Pure numpy (no bpy), so
+it works from the render thread and in tests; `write_png` stores it without Blender. The RMSE is the study's
 (`sphrect.study.metrics.rmse`), so the add-on and the study report the same error."""
 import struct
 import zlib
@@ -76,7 +76,8 @@ def _study_rmse():
 
 
 def _label_lines(entry):
-    lines = [f"{entry.get('samples', '?')} SPP {entry.get('time', 0.0):.2f}S"]
+    lines = [f"LIGHTS BY {entry['light_selection']}"] if entry.get("light_selection") else []
+    lines.append(f"{entry.get('samples', '?')} SPP {entry.get('time', 0.0):.2f}S")
     if entry.get("light_time"):
         lines.append(f"LIGHT {entry['light_time']:.2f}S")
     if "rmse" in entry:
@@ -87,7 +88,8 @@ def _label_lines(entry):
 def comparison_image(entries, reference=None, reference_label="reference", scale=None):
     """The comparison image, [H, W, 3] float in [0, 1] (row 0 = top).
 
-    entries: list of dict(name, image [h, w, >=3] linear, samples, time, light_time) in display order.
+    entries: list of dict(name, image [h, w, >=3] linear, samples, time, light_time) in display order; an entry's
+    panel shows its `label` instead of its name if it has one, and a line naming its `light_selection` if given.
     reference: [h, w, >=3] linear or None. With a reference, each entry also gets its RMSE (stored back
     in the entry as 'rmse') and a heat map of |image - reference| (mean over RGB) on one scale shared
     by all entries (the 99th percentile of all errors), so the maps compare directly."""
@@ -104,7 +106,7 @@ def comparison_image(entries, reference=None, reference_label="reference", scale
     pad = 4 * scale
     line = (GLYPH_H + 2) * scale
     label_h = (1 + max(len(_label_lines(e)) for e in entries)) * line + pad
-    columns = [(e["name"], e["image"]) for e in entries]
+    columns = [(e.get("label", e["name"]), e["image"]) for e in entries]
     if reference is not None:
         columns.append((reference_label, reference))
     rows = 2 if reference is not None else 1

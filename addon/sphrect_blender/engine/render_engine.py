@@ -1,8 +1,10 @@
 """The SPHRECT render engine: export the evaluated depsgraph, render progressively with the native
-renderer, and (in compare mode) one render pass per technique plus a comparison image."""
+renderer, and (in compare mode) one render pass per technique (x light selection, when several are ticked)
+plus a comparison image."""
 import os
 import time
 import warnings
+from typing import NamedTuple
 
 import bpy
 import numpy as np
@@ -19,13 +21,21 @@ MAX_IMAGE_BYTES = 4 << 30
 PASS_PREFIX = "SPHRECT "
 REFERENCE_TECHNIQUE = "rectangle"  # of the compare mode's rendered reference
 
-# What the last render did, for scripts and tests: reports, effects, per-technique stats and final images
-# (float32 [H, W, 4], row 0 = top), the comparison image's path, whether it was cancelled.
+# What the last render did, for scripts and tests: reports, effects, per-entry stats and final images
+# (float32 [H, W, 4], row 0 = top) keyed by entry name, the comparison image's path, whether it was cancelled.
 last_render = {}
 
 
-def technique_pass_name(technique):
-    return PASS_PREFIX + technique
+def technique_pass_name(name):
+    """The render pass of an entry (Entry.name: a technique, or 'technique light_selection') or the reference."""
+    return PASS_PREFIX + name
+
+
+class Entry(NamedTuple):
+    """One image the render makes: a technique with a light selection."""
+    name: str              # its pass, its key in last_render: the technique, + the selection when several
+    technique: str
+    light_selection: str
 
 
 def chosen_techniques(settings):
@@ -34,10 +44,25 @@ def chosen_techniques(settings):
     return [sphrect_name(settings.technique)]
 
 
-def display_technique(settings, techniques):
-    """The technique shown in the Combined pass: the engine's technique when it is being rendered."""
-    main = sphrect_name(settings.technique)
-    return main if main in techniques else techniques[0]
+def chosen_light_selections(settings):
+    if settings.compare:
+        return settings.compare_light_selections()
+    return [sphrect_name(settings.light_selection)]
+
+
+def chosen_entries(settings):
+    """Every technique x light selection to render, technique by technique (its selections side by side)."""
+    selections = chosen_light_selections(settings)
+    several = len(selections) > 1
+    return [Entry(f"{t} {s}" if several else t, t, s) for t in chosen_techniques(settings) for s in selections]
+
+
+def display_entry(settings, entries):
+    """The entry shown in the Combined pass: the engine's technique (with the scene's light selection) when it is
+    being rendered."""
+    technique, selection = sphrect_name(settings.technique), sphrect_name(settings.light_selection)
+    return (next((e for e in entries if e.technique == technique and e.light_selection == selection), None)
+            or next((e for e in entries if e.technique == technique), entries[0]))
 
 
 def _flat_rgba(image):
@@ -53,12 +78,12 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
     bl_use_shading_nodes_custom = False  # materials use Blender's shader nodes
 
     def update_render_passes(self, scene=None, renderlayer=None):
-        """Declare the per-technique passes (Image Editor pass menu, compositor, multilayer EXR)."""
+        """Declare the per-entry passes (Image Editor pass menu, compositor, multilayer EXR)."""
         self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
         settings = scene.sphrect
         if settings.compare:
-            for t in settings.compare_techniques():
-                self.register_pass(scene, renderlayer, technique_pass_name(t), 4, "RGBA", "COLOR")
+            for e in chosen_entries(settings):
+                self.register_pass(scene, renderlayer, technique_pass_name(e.name), 4, "RGBA", "COLOR")
             if settings.reference != "NONE":
                 self.register_pass(scene, renderlayer, technique_pass_name("reference"), 4, "RGBA", "COLOR")
 
@@ -101,7 +126,9 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
 
         bl_scene = depsgraph.scene
         settings = bl_scene.sphrect
-        techniques = chosen_techniques(settings)
+        entries = chosen_entries(settings)
+        techniques = list(dict.fromkeys(e.technique for e in entries))
+        selections = list(dict.fromkeys(e.light_selection for e in entries))
         with_reference = settings.compare and settings.reference != "NONE"
         equal_time = settings.compare and settings.equal_time
         self.update_stats("SPHRECT", "Exporting scene")
@@ -110,7 +137,7 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         export_time = time.perf_counter() - t0
         width, height = scene.camera.width, scene.camera.height
         self._pixels = width * height
-        image_count = len(techniques) + 2 + (1 if with_reference else 0)
+        image_count = len(entries) + 2 + (1 if with_reference else 0)
         needed = width * height * 16 * image_count
         if needed > MAX_IMAGE_BYTES:
             self._error(f"SPHRECT: resolution {width}x{height} needs {needed / 2**30:.1f} GiB of images "
@@ -131,12 +158,14 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         try:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                make = lambda ts: sphrect.Renderer(scene, techniques=list(ts), **options)
+                # A renderer takes one light selection: one per selection, or one per entry for equal time.
+                make = lambda ts, selection: sphrect.Renderer(scene, techniques=list(ts),
+                                                              **dict(options, light_selection=selection))
                 if equal_time:
-                    renderers = {t: make([t]) for t in techniques}
+                    renderers = {e.name: make([e.technique], e.light_selection) for e in entries}
                 else:
-                    shared = make(techniques)
-                    renderers = {t: shared for t in techniques}
+                    shared = {s: make(techniques, s) for s in selections}
+                    renderers = {e.name: shared[e.light_selection] for e in entries}
         except (ValueError, RuntimeError, TypeError) as e:
             self._error(f"SPHRECT: the scene cannot be rendered: {e}")
             return
@@ -152,30 +181,37 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         layer_name = depsgraph.view_layer.name
         self._compare = settings.compare
         if self._compare:
-            for t in techniques:
-                self.add_pass(technique_pass_name(t), 4, "RGBA", layer=layer_name)
+            for e in entries:
+                self.add_pass(technique_pass_name(e.name), 4, "RGBA", layer=layer_name)
         if with_reference:
             self.add_pass(technique_pass_name("reference"), 4, "RGBA", layer=layer_name)
         result = self.begin_result(0, 0, width, height, layer=layer_name)
         layer = result.layers[0]
-        shown = display_technique(settings, techniques)
+        shown = display_entry(settings, entries)
         self._cancelled = False
         try:
             if equal_time:
-                self._render_equal_time(renderers, techniques, settings, result, layer, shown)
+                self._render_equal_time(renderers, entries, settings, result, layer, shown)
             else:
-                self._render_equal_samples(renderers, techniques, settings, result, layer, shown)
-            entries = [dict(name=t, image=renderers[t].image(t), **self._stats(renderers[t], t))
-                       for t in techniques]
-            last_render["images"] = {e["name"]: e["image"] for e in entries}
+                self._render_equal_samples(renderers, entries, settings, result, layer, shown)
+            # With several light selections a panel of the comparison image is labelled by its technique and
+            # its selection (compare._label_lines).
+            several = len(selections) > 1
+            images = [dict(name=e.name, image=renderers[e.name].image(e.technique),
+                           **(dict(label=e.technique, light_selection=e.light_selection) if several else {}),
+                           **self._stats(renderers[e.name], e.technique)) for e in entries]
+            last_render["images"] = {i["name"]: i["image"] for i in images}
             if with_reference and settings.reference == "RENDER" and not self._cancelled:
                 reference = self._render_reference(sphrect, scene, options, settings)
             if reference is not None:
                 last_render["images"]["reference"] = reference
                 self._write_pass(layer, technique_pass_name("reference"), reference)
-            last_render["stats"] = {e["name"]: {k: v for k, v in e.items() if k != "image"} for e in entries}
+            last_render["stats"] = {i["name"]: {k: v for k, v in i.items() if k not in ("image", "label")}
+                                    for i in images}
+            for e in entries:
+                last_render["stats"][e.name]["light_selection"] = e.light_selection
             if settings.compare and not self._cancelled:
-                self._comparison(bl_scene, entries, reference, settings)
+                self._comparison(bl_scene, images, reference, settings)
         finally:
             self.end_result(result)
         last_render["cancelled"] = self._cancelled
@@ -198,13 +234,13 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
                 request_cancel()
         return progress
 
-    def _show(self, result, layer, renderers, techniques, shown):
-        """Copy the current (partial) images into the result and send it to the display."""
-        for t in techniques:
-            image = renderers[t].image(t)
+    def _show(self, result, layer, renderers, entries, shown):
+        """Copy the current (partial) images of `entries` into the result and send it to the display."""
+        for e in entries:
+            image = renderers[e.name].image(e.technique)
             if self._compare:
-                self._write_pass(layer, technique_pass_name(t), image)
-            if t == shown:
+                self._write_pass(layer, technique_pass_name(e.name), image)
+            if e == shown:
                 self._write_pass(layer, "Combined", image)
         self.update_result(result)
 
@@ -215,39 +251,42 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
             return
         render_pass.rect.foreach_set(_flat_rgba(image))
 
-    def _render_equal_samples(self, renderers, techniques, settings, result, layer, shown):
-        renderer = renderers[techniques[0]]  # one renderer for all techniques
+    def _render_equal_samples(self, renderers, entries, settings, result, layer, shown):
+        # One renderer for all techniques of a light selection; each call renders the same samples with each.
+        shared = list({id(r): r for r in renderers.values()}.values())
+        names = "/".join(e.name for e in entries)
         calls = sample_schedule(settings.samples, settings.passes, self._pixels)
         pass_ends = set(np.cumsum(split_samples(settings.samples, settings.passes)).tolist())
         done, last_show = 0, time.perf_counter()
         for i, n in enumerate(calls):
-            self._stats_line(f"{self._header} | {'/'.join(techniques)} | samples {done}/{settings.samples}")
-            finished = run_call(renderer, n, self._progress_callback(i, len(calls)))
+            self._stats_line(f"{self._header} | {names} | samples {done}/{settings.samples}")
+            finished = all(run_call(r, n, self._progress_callback(i * len(shared) + j, len(calls) * len(shared)))
+                           for j, r in enumerate(shared))
             done += n
             stop = not finished or self._stop_requested()
             # Display at the end of each pass, and at most once a second in between (copying every
             # technique's image costs ~50 ms per megapixel).
             if stop or done in pass_ends or time.perf_counter() - last_show > 1.0:
-                self._show(result, layer, renderers, techniques, shown)
+                self._show(result, layer, renderers, entries, shown)
                 last_show = time.perf_counter()
             if stop:
                 self._cancelled = True
                 break
-        self._stats_line(f"{self._header} | {'/'.join(techniques)} | samples {done}/{settings.samples}")
+        self._stats_line(f"{self._header} | {names} | samples {done}/{settings.samples}")
 
-    def _render_equal_time(self, renderers, techniques, settings, result, layer, shown):
+    def _render_equal_time(self, renderers, entries, settings, result, layer, shown):
         budget = settings.time_budget
         chunks = max(1, settings.passes)
-        steps = len(techniques) * chunks
+        steps = len(entries) * chunks
         step = 0
-        for t in techniques:
-            r = renderers[t]
+        for e in entries:
+            r = renderers[e.name]
             for i in range(chunks):
-                self._stats_line(f"{self._header} | equal time {budget:.2f}s | {t} part {i + 1}/{chunks}")
+                self._stats_line(f"{self._header} | equal time {budget:.2f}s | {e.name} part {i + 1}/{chunks}")
                 # Passes of one sample each while this part's share of the budget lasts.
                 finished = run_call(r, 1, self._progress_callback(step, steps), time_budget=budget / chunks)
                 step += 1
-                self._show(result, layer, {t: r}, [t], shown)
+                self._show(result, layer, renderers, [e], shown)
                 if not finished or self._stop_requested():
                     self._cancelled = True
                     return
