@@ -79,6 +79,41 @@ def test_cosine_finding_pools_costs_and_reports_ties():
     assert verdict(lambda n: 1.0 / n, 0.012, steady) == "worse than rectangle"
 
 
+def test_tree_against_power_at_equal_error():
+    """The light tree against power selection per (technique, MIS, pattern): the time each needs for the larger of
+    their top errors. Tree at half power's MSE and the same cost per sample needs half the samples, so half the
+    time; with a third of power's cost per sample it is slower; the labels and rows name the selections."""
+    cfg = StudyConfig(techniques=("rectangle",), mis=("none",), patterns=("sobol",), light_selections=("power", "tree"))
+    assert cfg.shows_selection and not StudyConfig().shows_selection
+
+    def compare(tree_mse, tree_cost):
+        curves = {key("rectangle", "none", "sobol", "power"): _curve(lambda n: 1.0 / n),
+                  key("rectangle", "none", "sobol", "tree"): _curve(tree_mse, seconds_per_sample=tree_cost)}
+        return equal_error.selection_comparisons(cfg, curves, 1e-9)
+    (c,) = compare(lambda n: 0.5 / n, 0.01)
+    assert c.rmse == pytest.approx(1 / 16) and c.power.how == "measured" and c.tree.how == "measured"
+    assert c.power.time == pytest.approx(2.56) and c.ratio == pytest.approx(0.5, rel=1e-6) and c.verdict == "faster"
+    line = wording.selection_lines([c])[0]
+    assert line.startswith("- Light selection: to reach the same RMSE, tree takes **0.5x** the time of power")
+    assert "faster in 1, slower in 0" in line
+    assert wording.selection_rows([c]) == [["rectangle", "none", "sobol", "0.0625", "2.56", "1.28", "0.5",
+                                            "faster (+-0%)"]]
+    assert compare(lambda n: 0.5 / n, 0.03)[0].verdict == "slower"  # 1.5x power's time
+    summary = wording.summary_lines([], findings.slopes(cfg, {}, 1e-9), None, None, 1e-9, math.nan, [c], True)
+    assert summary[-1] == line
+    # A study without both: no comparison, no summary line, and the findings say how to get one.
+    assert equal_error.selection_comparisons(StudyConfig(), {}, 1e-9) is None
+    assert "--light-selections power,tree" in wording.selection_lines(None)[0]
+    assert not any(l.startswith("- Light selection") for l in wording.summary_lines([], findings.slopes(
+        StudyConfig(), {}, 1e-9), None, None, 1e-9, math.nan))
+    target = equal_error.target_times(cfg, {key("rectangle", "none", "sobol", s): _curve(lambda n: 1.0 / n)
+                                            for s in ("power", "tree")}, 1e-9, math.nan)
+    assert target.key == key("rectangle", "none", "sobol", "tree")
+    assert [r[0] for r in wording.target_rows(target, cfg.shows_selection)] == \
+        ["rectangle / mis=none / sobol / selection=power", "rectangle / mis=none / sobol / selection=tree"]
+    assert [r[0] for r in wording.target_rows(target)] == ["rectangle / mis=none / sobol"] * 2
+
+
 def test_non_finite_and_missing_numbers_print_a_placeholder():
     """An infinite RMSE (a run with NaN pixels), a slope that cannot be fitted (too few points) and a study
     without Cycles: every finding still computes, and what is no number prints as the placeholder."""
@@ -143,8 +178,9 @@ def test_report_of_runs_with_nan_pixels(scene_file, tmp_path, monkeypatch):  # n
 def test_the_names_the_findings_are_about_are_the_renderers():
     """The findings name the paper's techniques and the unstratified pattern; every other name comes from the
     study's configuration, which takes them from sphrect.render."""
-    from sphrect.render import PATTERNS, TECHNIQUES
+    from sphrect.render import LIGHT_SELECTIONS, PATTERNS, TECHNIQUES
     from sphrect.study.report.plots import technique_colour
     assert set(findings.PAPER_ORDER) | {findings.COSINE} <= set(TECHNIQUES)
     assert findings.UNSTRATIFIED in PATTERNS
+    assert {findings.LIGHT_TREE, findings.POWER_SELECTION} <= set(LIGHT_SELECTIONS)
     assert len({technique_colour(t) for t in TECHNIQUES + ("cycles",)}) == len(TECHNIQUES) + 1

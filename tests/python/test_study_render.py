@@ -70,6 +70,37 @@ def test_study_on_the_renderer(tmp_path):
         assert (out / "plots" / png).read_bytes()[:4] == b"\x89PNG"
 
 
+def test_study_of_both_light_selections_from_the_command_line(tmp_path):
+    """The command line with the add-on's defaults (4 light samples, MIS power, sobol) and both light selections,
+    on the rectangle plus two point lights: both are rendered (the renderer gets the job's selection: with the
+    tree a point light is one of the tree's emitters, with power it is evaluated on every sample, so the images
+    differ), every run is finite and converges, and the report compares them."""
+    from sphrect.study import cli
+    scene = paper_like_scene()
+    scene.lights += [sphrect.PointLight(position=(1.5, 1.0, 1.2), intensity=(2.0, 2.0, 2.0)),
+                     sphrect.PointLight(position=(-1.5, 0.5, 0.8), intensity=(0.5, 0.5, 0.5))]
+    scene_path = str(tmp_path / "lights.sphrect.npz")
+    sphrect.save_scene(scene, scene_path)
+    out = tmp_path / "study"
+    assert cli.main([scene_path, "--out", str(out), "--techniques", "rectangle", "--mis", "power", "--patterns",
+                     "sobol", "--light-samples", "4", "--light-selections", "power,tree", "--max-samples", "8",
+                     "--reference-samples", "1024", "--reference-chunks", "4", "--grid-mis", "power",
+                     "--grid-pattern", "sobol", "--workers", "2", "--no-sampler-table", "--quiet"]) == 0
+    with open(out / "runs.csv") as f:
+        rows = list(csv.DictReader(f))
+    ladder = {(r["light_selection"], int(r["samples"])): r for r in rows if r["kind"] == "ladder"}
+    assert set(ladder) == {(s, n) for s in ("power", "tree") for n in (1, 2, 4, 8)}
+    for r in rows:
+        assert r["finite"] == "True" and int(r["light_samples"]) == 4 and 0 < float(r["rmse"]) < math.inf
+    for s in ("power", "tree"):
+        assert float(ladder[(s, 8)]["rmse"]) < float(ladder[(s, 1)]["rmse"]), s
+    assert ladder[("power", 1)]["rmse"] != ladder[("tree", 1)]["rmse"]
+    images = [np.load(out / "images" / f"{r['key']}.npy") for r in rows if r["kind"] == "equal_time"]
+    assert len(images) == 2 and not np.array_equal(images[0], images[1])
+    report = (out / "report.md").read_text()
+    assert "rectangle / mis=power / sobol / selection=tree" in report and "tree takes **" in report
+
+
 @pytest.mark.skipif(shutil.which("blender") is None or not os.path.exists(PAPER_BLEND),
                     reason="needs Blender and blend_scenes/01_paper.blend")
 def test_cycles_render_of_a_blend():
