@@ -132,6 +132,9 @@ def test_light_selections_are_an_axis_of_the_plan():
     assert len(et) == 4 * 2 * 2 + 1 and len({j.key for j in et}) == len(et)
     assert {(j.mis, j.light_selection) for j in et if j.engine == "sphrect"} == \
         {(m, s) for m in both.grid_mis for s in ("power", "tree")}
+    # The add-on's MIS default alone: the grid takes the MIS modes the ladder measures, not the default grid's.
+    assert StudyConfig(mis=("power",)).grid_mis == ("power",)
+    assert StudyConfig(mis=("none", "power")).grid_mis == ("none",)
     with pytest.raises(ValueError, match="unknown light selection 'uniform'; choose from power, tree"):
         StudyConfig(light_selections=("uniform",))
     with pytest.raises(ValueError, match="no light selection chosen"):

@@ -72,7 +72,8 @@ def parser() -> argparse.ArgumentParser:
                    help="seconds per equal-time image (default: rectangle's time for a quarter of the ladder's top "
                         "sample count)")
     p.add_argument("--grid-pattern", default=_STUDY.grid_pattern, help="pattern of the equal-time grid")
-    p.add_argument("--grid-mis", type=_names, default=list(_STUDY.grid_mis), help="MIS modes in the equal-time grid")
+    p.add_argument("--grid-mis", type=_names, default=list(_STUDY.grid_mis),
+                   help="MIS modes in the equal-time grid (those among --mis; none of them: the last of --mis)")
     p.add_argument("--target-rmse", type=float, default=None,
                    help="target of the time-to-error table (default: Cycles' RMSE at the top of the ladder)")
     p.add_argument("--no-sampler-table", action="store_true", help="skip the sampler accuracy/cost table")

@@ -150,6 +150,9 @@ class StudyConfig:
         self.patterns = _check_names("sample pattern", self.patterns, PATTERNS)
         self.light_selections = _check_names("light selection", self.light_selections, LIGHT_SELECTIONS)
         self.grid_mis = _check_names("MIS mode", self.grid_mis, MIS_MODES)
+        # The grid's sample counts come from the ladder's costs: only MIS modes the ladder measures (a study of
+        # --mis power alone, the add-on's default, would otherwise have no grid and no equal-time budget).
+        self.grid_mis = tuple(m for m in self.grid_mis if m in self.mis) or (self.mis[-1],)
         _check_names("sample pattern", (self.grid_pattern,), PATTERNS)
         self.ladder = tuple(sorted(set(int(n) for n in self.ladder)))
         if not self.ladder or self.ladder[0] < 1:
