@@ -5,6 +5,7 @@ import struct
 
 import bpy
 import numpy as np
+import pytest
 
 import sphrect
 from conftest import addon_module, engine_module, open_blend
@@ -88,39 +89,29 @@ def test_compare_light_selections_side_by_side(tmp_path):
     rec = engine_module().last_render
     assert set(rec["images"]) == {"area", "rectangle", "reference"}
     assert rec["stats"]["area"]["light_selection"] == "tree"
-    assert png_size(rec["comparison"])[0] == 4 + 3 * (32 + 4)
+    # Two panels fewer, and one label line ('LIGHTS BY ...', 7 pixels at scale 1) less over images and error maps.
+    assert png_size(rec["comparison"]) == (4 + 3 * (32 + 4), height - 2 * 7)
 
 
-def test_compare_light_selections_at_equal_time(tmp_path):
-    scene = open_blend("07_studio", 32, 24)
-    s = scene.sphrect
-    s.compare, s.equal_time, s.time_budget, s.passes, s.reference = True, True, 0.1, 1, "NONE"
-    s.compare_area = s.compare_triangles = s.compare_rectangle_cosine = False
-    s.compare_light_selection_power = s.compare_light_selection_tree = True
-    scene.render.filepath = str(tmp_path / "studio_")
-    bpy.ops.render.render(write_still=False)
-    rec = engine_module().last_render
-    assert rec["errors"] == []
-    assert set(rec["images"]) == {"rectangle power", "rectangle tree"}
-    for name in rec["images"]:
-        assert rec["stats"][name]["time"] >= 0.9 * 0.1  # each entry had (at least) the whole budget
-    assert os.path.isfile(rec["comparison"])
-
-
-def test_compare_equal_time(tmp_path):
+@pytest.mark.parametrize("selections", [(), ("power", "tree")])
+def test_compare_equal_time(tmp_path, selections):
+    """Each technique (x light selection, when both are ticked) gets the whole time budget."""
     scene = open_blend("02_room", 32, 24)
     s = scene.sphrect
     s.compare, s.equal_time, s.time_budget, s.passes, s.reference = True, True, 0.2, 2, "NONE"
     s.compare_triangles = s.compare_rectangle_cosine = False
+    for name in selections:
+        setattr(s, f"compare_light_selection_{name}", True)
     scene.render.filepath = str(tmp_path / "room_")
     bpy.ops.render.render(write_still=False)
     rec = engine_module().last_render
     assert rec["errors"] == []
-    assert set(rec["images"]) == {"area", "rectangle"}
-    for t in ("area", "rectangle"):
-        assert rec["stats"][t]["samples"] >= 1
-        assert rec["stats"][t]["time"] >= 0.9 * 0.2  # each technique had (at least) the whole budget
-        assert "rmse" not in rec["stats"][t]
+    entries = [f"{t} {sel}" if selections else t for t in ("area", "rectangle") for sel in selections or ("",)]
+    assert set(rec["images"]) == set(entries)
+    for name in entries:
+        assert rec["stats"][name]["samples"] >= 1
+        assert rec["stats"][name]["time"] >= 0.9 * 0.2  # each entry had (at least) the whole budget
+        assert "rmse" not in rec["stats"][name]
     assert os.path.isfile(rec["comparison"])
 
 

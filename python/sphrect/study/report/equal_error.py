@@ -9,7 +9,7 @@ from typing import List, Optional, Tuple
 
 from ..jobs import CYCLES_CURVE, CurveKey, StudyConfig
 from .curves import Reach, curve_cost, systematic_share, time_to_target
-from .findings import LIGHT_TREE, POWER_SELECTION, RECTANGLE, ratio_of
+from .findings import LIGHT_TREE, POWER_SELECTION, RECTANGLE, noise_verdict, ratio_of
 from .results import Curves
 
 # Above this share of Cycles' top MSE being a systematic difference from our reference, an equal-error time
@@ -125,11 +125,7 @@ class SelectionComparison:
 
     @property
     def verdict(self) -> str:
-        if not (math.isfinite(self.ratio) and self.ratio > 0 and math.isfinite(self.noise)):
-            return "not measured"
-        if abs(math.log(self.ratio)) <= self.noise:
-            return "within the timing noise"
-        return "faster" if self.ratio < 1 else "slower"
+        return noise_verdict(self.ratio, self.noise, "slower", "faster")
 
 
 def selection_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: float

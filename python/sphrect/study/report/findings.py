@@ -26,6 +26,16 @@ def ratio_of(a: float, b: float) -> float:
     return a / b if b else float("nan")
 
 
+def noise_verdict(ratio: float, noise: float, above: str, below: str) -> str:
+    """`above` or `below` as a ratio of two configurations' figures is above or below 1 by more than `noise` (a
+    relative margin); a tie ("within the timing noise") inside it, "not measured" without numbers."""
+    if not (math.isfinite(ratio) and ratio > 0 and math.isfinite(noise)):
+        return "not measured"
+    if abs(math.log(ratio)) <= noise:
+        return "within the timing noise"
+    return above if ratio > 1 else below
+
+
 def finite_span(values: Sequence[float]) -> Tuple[float, float]:
     """(min, max) of the finite values, (NaN, NaN) without one."""
     finite = [v for v in values if math.isfinite(v)]
@@ -170,11 +180,7 @@ class CosineComparison:
 
     @property
     def verdict(self) -> str:
-        if not (math.isfinite(self.efficiency) and self.efficiency > 0 and math.isfinite(self.noise)):
-            return "not measured"
-        if abs(math.log(self.efficiency)) <= self.noise:
-            return "within the timing noise"
-        return "better than rectangle" if self.efficiency > 1 else "worse than rectangle"
+        return noise_verdict(self.efficiency, self.noise, "better than rectangle", "worse than rectangle")
 
 
 def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[CosineComparison]]:
