@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/ellipse_technique.h"
 #include "core/patterns.h"
 #include "name_tuple.h"
 #include "core/rect_light.h"
@@ -298,6 +299,158 @@ py::object SolidAngleImpl(const py::object& origin, const py::object& corner, co
     return std::move(out);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Ellipse (disk) lights: the same conventions, through ellipse_technique.h's EllipseSampler.
+
+EllipseTechnique ToEllipseTechnique(const std::string& name) {
+    EllipseTechnique t;
+    ParseEnumNameOrThrow("ellipse technique", "ellipse techniques", name, kAllEllipseTechniques,
+                         EllipseTechniqueName, &t);
+    return t;
+}
+
+template <class T>
+EllipseLight<T> ReadEllipse(const py::handle& center, const py::handle& au, const py::handle& av, bool two_sided) {
+    EllipseLight<T> light{ReadVec3s<T>(center, "center", false)[0], ReadVec3s<T>(au, "axis_u", false)[0],
+                          ReadVec3s<T>(av, "axis_v", false)[0], two_sided};
+    const std::string problem = ValidateEllipseLight(light);
+    if (!problem.empty()) throw py::value_error(problem);
+    return light;
+}
+
+// Neither ellipse technique uses the shading normal; it is accepted (and checked) for symmetry
+// with sample() and the renderer's sampler interface.
+template <class T>
+std::vector<Vec3<T>> ReadOptionalNormals(const py::object& normal) {
+    if (normal.is_none()) return {Vec3<T>(0, 0, 0)};
+    std::vector<Vec3<T>> n = ReadVec3s<T>(normal, "normal", true);
+    for (auto& v : n) {
+        const T len = Length(v);
+        if (!(len > 0)) throw py::value_error("normal must be a non-zero vector");
+        v = v / len;
+    }
+    return n;
+}
+
+template <class T>
+struct EllipseCall {
+    EllipseLight<T> light;
+    std::vector<Vec3<T>> origins, normals;
+    const Vec3<T>& Origin(size_t i) const { return origins[origins.size() == 1 ? 0 : i]; }
+    const Vec3<T>& Normal(size_t i) const { return normals[normals.size() == 1 ? 0 : i]; }
+    bool PerRow() const { return origins.size() > 1 || normals.size() > 1; }
+};
+
+template <class T>
+EllipseCall<T> ReadEllipseCall(const py::object& origin, const py::object& center, const py::object& au,
+                               const py::object& av, const py::object& normal, bool two_sided) {
+    return {ReadEllipse<T>(center, au, av, two_sided), ReadVec3s<T>(origin, "origin", true),
+            ReadOptionalNormals<T>(normal)};
+}
+
+template <class T, class F>
+void ForEachEllipseRow(EllipseTechnique technique, const EllipseCall<T>& s, size_t n, F&& per) {
+    DispatchEllipseTechnique(technique, [&](auto tag) {
+        constexpr EllipseTechnique K = decltype(tag)::value;
+        py::gil_scoped_release release;
+        if (!s.PerRow()) {
+            const EllipseLightFrame<T> frame = MakeEllipseLightFrame(s.light);
+            const EllipseSampler<K, T> sampler(s.Origin(0), s.Normal(0), frame);
+            for (size_t i = 0; i < n; ++i) per(i, sampler);
+        } else {
+            const EllipseLightFrame<T> frame = MakeEllipseLightFrame(s.light);
+            for (size_t i = 0; i < n; ++i) per(i, EllipseSampler<K, T>(s.Origin(i), s.Normal(i), frame));
+        }
+    });
+}
+
+template <class T>
+py::tuple SampleEllipseImpl(EllipseTechnique technique, const py::object& origin, const py::object& center,
+                            const py::object& au, const py::object& av, const py::object& uv_obj,
+                            const py::object& normal, bool two_sided) {
+    const EllipseCall<T> s = ReadEllipseCall<T>(origin, center, au, av, normal, two_sided);
+    const auto uv = ReadRows<T, 2>(uv_obj, "uv", false);
+    for (const auto& q : uv)
+        if (!(q[0] >= 0 && q[0] <= 1 && q[1] >= 0 && q[1] <= 1))
+            throw py::value_error("uv must lie in [0, 1]^2, got (" + Num(q[0]) + ", " + Num(q[1]) + ")");
+    const size_t n = uv.size();
+    CheckRows(n, "uv", s.origins.size(), "origin");
+    CheckRows(n, "uv", s.normals.size(), "normal");
+    py::array_t<T> points = NewArray<T>(n, 3), pdf = NewArray<T>(n, 0);
+    T* P = points.mutable_data();
+    T* Q = pdf.mutable_data();
+    ForEachEllipseRow(technique, s, n, [&](size_t i, const auto& sampler) {
+        const LightSample<T> ls = sampler.Sample(Point2<T>{uv[i][0], uv[i][1]});
+        P[3 * i] = ls.point.x, P[3 * i + 1] = ls.point.y, P[3 * i + 2] = ls.point.z;
+        Q[i] = ls.pdf;
+    });
+    return py::make_tuple(points, pdf);
+}
+
+template <class T>
+py::array EllipsePdfImpl(EllipseTechnique technique, const py::object& origin, const py::object& center,
+                         const py::object& au, const py::object& av, const py::object& points_obj,
+                         const py::object& normal, bool two_sided) {
+    const EllipseCall<T> s = ReadEllipseCall<T>(origin, center, au, av, normal, two_sided);
+    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
+    const size_t n = pts.size();
+    CheckRows(n, "points", s.origins.size(), "origin");
+    CheckRows(n, "points", s.normals.size(), "normal");
+    py::array_t<T> pdf = NewArray<T>(n, 0);
+    T* Q = pdf.mutable_data();
+    ForEachEllipseRow(technique, s, n, [&](size_t i, const auto& sampler) {
+        Q[i] = sampler.Pdf(Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
+    });
+    return pdf;
+}
+
+template <class T>
+py::array InvertEllipseImpl(const py::object& origin, const py::object& center, const py::object& au,
+                            const py::object& av, const py::object& points_obj, bool two_sided) {
+    const EllipseLight<T> light = ReadEllipse<T>(center, au, av, two_sided);
+    const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
+    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
+    const size_t n = pts.size();
+    CheckRows(n, "points", origins.size(), "origin");
+    py::array_t<T> uv = NewArray<T>(n, 2);
+    T* U = uv.mutable_data();
+    {
+        py::gil_scoped_release release;
+        const EllipseLightFrame<T> frame = MakeEllipseLightFrame(light);
+        auto invert = [&](size_t i, const SphericalEllipseSetup<T>& r) {
+            // No (u, v) where the map does not cover the configuration (origin in the light's
+            // plane or behind a one-sided light): NaN.
+            Point2<double> q{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+            if (r.valid) q = InvertSphericalEllipse(r, Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
+            U[2 * i] = T(q.u);
+            U[2 * i + 1] = T(q.v);
+        };
+        if (origins.size() == 1) {
+            const SphericalEllipseSetup<T> r = MakeSphericalEllipseSetup(origins[0], frame);
+            for (size_t i = 0; i < n; ++i) invert(i, r);
+        } else {
+            for (size_t i = 0; i < n; ++i) invert(i, MakeSphericalEllipseSetup(origins[i], frame));
+        }
+    }
+    return uv;
+}
+
+template <class T>
+py::object EllipseSolidAngleImpl(const py::object& origin, const py::object& center, const py::object& au,
+                                 const py::object& av, bool two_sided) {
+    const EllipseLight<T> light = ReadEllipse<T>(center, au, av, two_sided);
+    const ArrayD o = ToArray(origin, "origin");
+    const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
+    if (o.ndim() == 1) return py::float_(EllipseSolidAngle(origins[0], light));
+    py::array_t<T> out = NewArray<T>(origins.size(), 0);
+    T* W = out.mutable_data();
+    {
+        py::gil_scoped_release release;
+        for (size_t i = 0; i < origins.size(); ++i) W[i] = T(EllipseSolidAngle(origins[i], light));
+    }
+    return std::move(out);
+}
+
 py::array PatternImpl(const std::string& name, const py::object& n_obj, const py::object& seed_obj) {
     Pattern p;
     ParseEnumNameOrThrow("pattern", "patterns", name, kAllPatterns, PatternName, &p);
@@ -388,6 +541,68 @@ renderer's single-precision code, 'float64' the double-precision one.)doc");
 Where the map switches to area sampling for an extreme configuration (as sample() does), the
 inverse of that.  Rows whose configuration the map does not cover (degenerate light, origin in
 the light's plane or behind a one-sided light) are NaN.)doc");
+
+    m.attr("ellipse_techniques") = NameTuple(kAllEllipseTechniques, EllipseTechniqueName);
+    m.def(
+        "ellipse_solid_angle",
+        [](const py::object& origin, const py::object& center, const py::object& au, const py::object& av,
+           const py::object& dtype, bool two_sided) -> py::object {
+            if (ToPrecision(dtype) == Precision::Float64)
+                return EllipseSolidAngleImpl<double>(origin, center, au, av, two_sided);
+            return EllipseSolidAngleImpl<float>(origin, center, au, av, two_sided);
+        },
+        arg("origin"), arg("center"), arg("axis_u"), arg("axis_v"), arg("dtype") = "float32", arg("two_sided") = true,
+        R"doc(Solid angle subtended by the ellipse (center, semi-axes axis_u, axis_v) seen from origin.
+
+origin: shape (3,) -> float (computed in double from the dtype's inputs); shape (N, 3) -> array
+[N] of dtype.  0 for an origin in the light's plane or behind a one-sided (two_sided=False)
+light.  The axes must be non-zero and orthogonal (ValueError otherwise).)doc");
+    m.def(
+        "sample_ellipse",
+        [](const std::string& technique, const py::object& origin, const py::object& center, const py::object& au,
+           const py::object& av, const py::object& uv, const py::object& normal, const py::object& dtype,
+           bool two_sided) -> py::tuple {
+            const EllipseTechnique t = ToEllipseTechnique(technique);
+            if (ToPrecision(dtype) == Precision::Float64)
+                return SampleEllipseImpl<double>(t, origin, center, au, av, uv, normal, two_sided);
+            return SampleEllipseImpl<float>(t, origin, center, au, av, uv, normal, two_sided);
+        },
+        arg("technique"), arg("origin"), arg("center"), arg("axis_u"), arg("axis_v"), arg("uv"),
+        arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
+        R"doc(Warp points uv [N, 2] of [0,1]^2 onto the ellipse with an ellipse technique.
+
+Returns (points [N, 3], pdf [N]); pdf is with respect to solid angle at origin, 0 for an invalid
+sample.  technique is one of sphrect.ellipse_techniques ('area', 'spherical_ellipse'); origin
+(and normal, unused by both) may be (3,) or (N, 3).  dtype 'float32' runs the renderer's
+single-precision code, 'float64' the double-precision one.)doc");
+    m.def(
+        "ellipse_pdf",
+        [](const std::string& technique, const py::object& origin, const py::object& center, const py::object& au,
+           const py::object& av, const py::object& points, const py::object& normal, const py::object& dtype,
+           bool two_sided) -> py::array {
+            const EllipseTechnique t = ToEllipseTechnique(technique);
+            if (ToPrecision(dtype) == Precision::Float64)
+                return EllipsePdfImpl<double>(t, origin, center, au, av, points, normal, two_sided);
+            return EllipsePdfImpl<float>(t, origin, center, au, av, points, normal, two_sided);
+        },
+        arg("technique"), arg("origin"), arg("center"), arg("axis_u"), arg("axis_v"), arg("points"),
+        arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
+        "Solid-angle pdf [N] with which the ellipse technique picks each of points [N, 3] (on the light) from origin.");
+    m.def(
+        "invert_ellipse",
+        [](const py::object& origin, const py::object& center, const py::object& au, const py::object& av,
+           const py::object& points, const py::object& dtype, bool two_sided) -> py::array {
+            if (ToPrecision(dtype) == Precision::Float64)
+                return InvertEllipseImpl<double>(origin, center, au, av, points, two_sided);
+            return InvertEllipseImpl<float>(origin, center, au, av, points, two_sided);
+        },
+        arg("origin"), arg("center"), arg("axis_u"), arg("axis_v"), arg("points"), arg("dtype") = "float32",
+        arg("two_sided") = true,
+        R"doc(Inverse of the 'spherical_ellipse' map: points [N, 3] on the light -> uv [N, 2].
+
+Where the map switches to area sampling for an extreme configuration (as sample_ellipse() does),
+the inverse of that.  Rows whose configuration the map does not cover (origin in the light's
+plane or behind a one-sided light) are NaN.)doc");
 
     m.def("pattern", &PatternImpl, arg("name"), arg("n"), arg("seed") = 0,
           R"doc(n points of a 2D sample pattern in [0,1)^2, float32 [n, 2].
