@@ -40,6 +40,23 @@ inline Point2<double> InvertConcentricDisk(double p, double q) {
     return {ClampNaN(0.5 * (x + 1), 0, 1), ClampNaN(0.5 * (y + 1), 0, 1)};
 }
 
+// Solid-angle pdf of the point p on the light; 0 for an invalid setup or where not representable.
+template <class T>
+T EllipseAreaPDF(const LocalEllipse<T>& r, const Vec3<T>& p) {
+    if (!r.valid) return 0;
+    const Point2<double> e = EllipseOffsets(r, p);
+    return EllipseAreaPDFLocal(r, r.cx + e.u, r.cy + e.v);
+}
+
+// The sample at center + p axis_u + q axis_v with the area pdf of the point returned (rounded to
+// T): EllipseAreaPDF of that point, bit for bit.
+template <class T>
+LightSample<T> EllipseAreaSampleAt(const LocalEllipse<T>& r, double p, double q) {
+    LightSample<T> s = EllipseSampleAt(r, p, q, T(0));
+    s.pdf = EllipseAreaPDF(r, s.point);
+    return s;
+}
+
 template <class T>
 LightSample<T> SampleEllipseAreaAt(const LocalEllipse<T>& r, double u, double v) {
     if (!r.valid) return {};
@@ -50,14 +67,6 @@ LightSample<T> SampleEllipseAreaAt(const LocalEllipse<T>& r, double u, double v)
 template <class T>
 LightSample<T> SampleEllipseArea(const LocalEllipse<T>& r, Point2<T> uv) {
     return SampleEllipseAreaAt(r, double(uv.u), double(uv.v));
-}
-
-// Solid-angle pdf of the point p on the light; 0 for an invalid setup or where not representable.
-template <class T>
-T EllipseAreaPDF(const LocalEllipse<T>& r, const Vec3<T>& p) {
-    if (!r.valid) return 0;
-    const Point2<double> e = EllipseOffsets(r, p);
-    return EllipseAreaPDFLocal(r, r.cx + e.u, r.cy + e.v);
 }
 
 // Inverse of the area map: point on the light -> (u, v).

@@ -140,13 +140,6 @@ LightSample<T> EllipseSampleAt(const LocalEllipse<T>& r, double p, double q, T p
     return s;
 }
 
-// The same with the area-sampling pdf of that point.
-template <class T>
-LightSample<T> EllipseAreaSampleAt(const LocalEllipse<T>& r, double p, double q) {
-    ClampToUnitDisk(p, q);
-    return EllipseSampleAt(r, p, q, EllipseAreaPDFLocal(r, r.cx + p * r.a, r.cy + q * r.b));
-}
-
 // Offsets of a point on the light from the centre along the unit axes (uh, vh): the difference of
 // two nearby points, never of two large coordinates.
 template <class T>

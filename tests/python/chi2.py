@@ -116,21 +116,11 @@ def grid_edges(config: LightConfig, resolution: int, axis: int) -> np.ndarray:
     return edges
 
 
-def cell_probabilities(technique: str, config: LightConfig, s_edges: np.ndarray, t_edges: np.ndarray,
-                       dtype: str, nodes: int = 6, rtol: float = 1e-5, atol: float = 1e-10,
-                       max_depth: int = 12, pdf_factor: Optional[Callable] = None) -> np.ndarray:
-    """Integral of the technique's solid-angle pdf over each cell, [len(s_edges)-1, len(t_edges)-1].
-
-    With P(s, t) = corner + s ex + t ey, the solid angle element is
-    d omega = h |ex x ey| / |P - origin|^3 ds dt, h the origin's distance to the light's plane;
-    near a shading point close to the light that factor is sharply peaked, so each cell is
-    integrated adaptively: Gauss-Legendre (nodes x nodes) on the cell against the sum over its
-    four quarters, splitting the cells where they disagree by more than rtol (or atol).
-    `pdf_factor(points)`, when given, multiplies the pdf (how the tests make a wrong one)."""
-    origin, corner, ex, ey = config.light_args()
-    n = np.cross(ex, ey)
-    area = np.linalg.norm(n)
-    h = abs(np.dot(n / area, origin - corner))
+def adaptive_cell_integrals(integrand: Callable, s_edges: np.ndarray, t_edges: np.ndarray, nodes: int = 6,
+                            rtol: float = 1e-5, atol: float = 1e-10, max_depth: int = 12) -> np.ndarray:
+    """Integral of integrand(s, t) (arrays in, array out) over each cell of the grid,
+    [len(s_edges)-1, len(t_edges)-1]: Gauss-Legendre (nodes x nodes) on the cell against the sum over
+    its four quarters, splitting the cells where they disagree by more than rtol (or atol)."""
     x, w = special.roots_legendre(nodes)
     x, w = 0.5 * (x + 1.0), 0.5 * w                      # on [0, 1]
     wx = (w[:, None] * w[None, :]).reshape(-1)
@@ -140,13 +130,7 @@ def cell_probabilities(technique: str, config: LightConfig, s_edges: np.ndarray,
         s = cells[:, 0, None, None] + ds[:, None, None] * x[None, :, None]
         t = cells[:, 2, None, None] + dt[:, None, None] * x[None, None, :]
         s, t = np.broadcast_arrays(s, t)
-        P = corner + s.reshape(-1, 1) * ex + t.reshape(-1, 1) * ey
-        d = np.linalg.norm(P - origin, axis=1)
-        pdf = sphrect.pdf(technique, config.origin, config.corner, config.edge_x, config.edge_y, P,
-                          normal=config.normal, dtype=dtype, two_sided=config.two_sided).astype(np.float64)
-        if pdf_factor is not None:
-            pdf = pdf * pdf_factor(P)
-        f = (pdf * h * area / d ** 3).reshape(len(cells), nodes * nodes)
+        f = integrand(s.reshape(-1), t.reshape(-1)).reshape(len(cells), nodes * nodes)
         return (f * wx).sum(axis=1) * ds * dt
 
     def quarters(cells):
@@ -176,6 +160,33 @@ def cell_probabilities(technique: str, config: LightConfig, s_edges: np.ndarray,
     return result.reshape(len(s_edges) - 1, len(t_edges) - 1)
 
 
+def cell_probabilities(technique: str, config: LightConfig, s_edges: np.ndarray, t_edges: np.ndarray,
+                       dtype: str, nodes: int = 6, rtol: float = 1e-5, atol: float = 1e-10,
+                       max_depth: int = 12, pdf_factor: Optional[Callable] = None) -> np.ndarray:
+    """Integral of the technique's solid-angle pdf over each cell, [len(s_edges)-1, len(t_edges)-1].
+
+    With P(s, t) = corner + s ex + t ey, the solid angle element is
+    d omega = h |ex x ey| / |P - origin|^3 ds dt, h the origin's distance to the light's plane;
+    near a shading point close to the light that factor is sharply peaked, so each cell is
+    integrated adaptively (adaptive_cell_integrals).
+    `pdf_factor(points)`, when given, multiplies the pdf (how the tests make a wrong one)."""
+    origin, corner, ex, ey = config.light_args()
+    n = np.cross(ex, ey)
+    area = np.linalg.norm(n)
+    h = abs(np.dot(n / area, origin - corner))
+
+    def integrand(s, t):
+        P = corner + s[:, None] * ex + t[:, None] * ey
+        d = np.linalg.norm(P - origin, axis=1)
+        pdf = sphrect.pdf(technique, config.origin, config.corner, config.edge_x, config.edge_y, P,
+                          normal=config.normal, dtype=dtype, two_sided=config.two_sided).astype(np.float64)
+        if pdf_factor is not None:
+            pdf = pdf * pdf_factor(P)
+        return pdf * h * area / d ** 3
+
+    return adaptive_cell_integrals(integrand, s_edges, t_edges, nodes, rtol, atol, max_depth)
+
+
 def light_coordinates(points: np.ndarray, config: LightConfig):
     """(s, t) of points on the light: P = corner + s ex + t ey."""
     _, corner, ex, ey = config.light_args()
@@ -183,30 +194,12 @@ def light_coordinates(points: np.ndarray, config: LightConfig):
     return rel @ ex / np.dot(ex, ex), rel @ ey / np.dot(ey, ey)
 
 
-def chi2_test(technique: str, config: LightConfig, dtype: str = "float32", sample_count: int = 500_000,
-              resolution: int = 24, seed: int = 1, significance: float = 1e-3, test_count: int = 1,
-              tolerance: float = 1e-4, against: Optional[str] = None,
-              pdf_factor: Optional[Callable] = None) -> Chi2Result:
-    """Samples of `technique` against the pdf of `against` (default: its own), times
-    `pdf_factor(points)` when given (another technique's pdf, or a factor, is how the tests check
-    that this test can fail)."""
-    s_edges = grid_edges(config, resolution, 0)
-    t_edges = grid_edges(config, resolution, 1)
-    probability = cell_probabilities(against or technique, config, s_edges, t_edges, dtype,
-                                     pdf_factor=pdf_factor)
-
-    uv = sphrect.pattern("independent", sample_count, seed=seed)
-    points, pdf = sphrect.sample(technique, config.origin, config.corner, config.edge_x, config.edge_y, uv,
-                                 normal=config.normal, dtype=dtype, two_sided=config.two_sided)
-    valid = pdf > 0
-    s, t = light_coordinates(points[valid], config)
-    off = (s < -tolerance) | (s > 1 + tolerance) | (t < -tolerance) | (t > 1 + tolerance) | \
-        ~np.isfinite(s) | ~np.isfinite(t)
-    s, t = np.clip(s[~off], 0.0, 1.0), np.clip(t[~off], 0.0, 1.0)
-    observed, _, _ = np.histogram2d(s, t, bins=[s_edges, t_edges])
-
+def pearson(observed: np.ndarray, probability: np.ndarray, invalid: int, sample_count: int):
+    """Pearson's statistic of observed cell counts against the cells' probabilities (plus one cell of
+    the invalid samples, expecting the probability the cells miss), pooling cells expecting fewer
+    than MIN_EXPECTED: (statistic, dof, p_value, pooled_cells, worst cells)."""
     total = float(probability.sum())
-    obs = np.concatenate([observed.reshape(-1), [np.count_nonzero(~valid)]])
+    obs = np.concatenate([observed.reshape(-1), [invalid]])
     exp = np.concatenate([probability.reshape(-1), [max(0.0, 1.0 - total)]]) * sample_count
     worst = ""
 
@@ -235,6 +228,122 @@ def chi2_test(technique: str, config: LightConfig, dtype: str = "float32", sampl
         p_value = float(stats.chi2.sf(statistic, dof))
         top = np.argsort(terms)[::-1][:3]
         worst = ", ".join(f"observed {obs[i]:.0f} expected {exp[i]:.1f}" for i in top)
+    return statistic, dof, p_value, pooled, worst
+
+
+def chi2_test(technique: str, config: LightConfig, dtype: str = "float32", sample_count: int = 500_000,
+              resolution: int = 24, seed: int = 1, significance: float = 1e-3, test_count: int = 1,
+              tolerance: float = 1e-4, against: Optional[str] = None,
+              pdf_factor: Optional[Callable] = None) -> Chi2Result:
+    """Samples of `technique` against the pdf of `against` (default: its own), times
+    `pdf_factor(points)` when given (another technique's pdf, or a factor, is how the tests check
+    that this test can fail)."""
+    s_edges = grid_edges(config, resolution, 0)
+    t_edges = grid_edges(config, resolution, 1)
+    probability = cell_probabilities(against or technique, config, s_edges, t_edges, dtype,
+                                     pdf_factor=pdf_factor)
+
+    uv = sphrect.pattern("independent", sample_count, seed=seed)
+    points, pdf = sphrect.sample(technique, config.origin, config.corner, config.edge_x, config.edge_y, uv,
+                                 normal=config.normal, dtype=dtype, two_sided=config.two_sided)
+    valid = pdf > 0
+    s, t = light_coordinates(points[valid], config)
+    off = (s < -tolerance) | (s > 1 + tolerance) | (t < -tolerance) | (t > 1 + tolerance) | \
+        ~np.isfinite(s) | ~np.isfinite(t)
+    s, t = np.clip(s[~off], 0.0, 1.0), np.clip(t[~off], 0.0, 1.0)
+    observed, _, _ = np.histogram2d(s, t, bins=[s_edges, t_edges])
+
+    statistic, dof, p_value, pooled, worst = pearson(observed, probability, int(np.count_nonzero(~valid)),
+                                                     sample_count)
     return Chi2Result(technique, config.name, dtype, statistic, dof, p_value, sidak_alpha(significance, test_count),
                       int(probability.size), pooled, int(np.count_nonzero(~valid)), int(np.count_nonzero(off)),
-                      total, worst)
+                      float(probability.sum()), worst)
+
+
+# ---------------------------------------------------------------------------------------------
+# Ellipse (disk) lights: the same test through sphrect.sample_ellipse / ellipse_pdf.  The light's
+# coordinates are (s, t) = (polar angle / 2 pi, squared radius) in the unit disk of the semi-axes,
+# P(s, t) = center + sqrt(t) (cos 2 pi s axis_u + sin 2 pi s axis_v), for which dA = pi a b ds dt.
+
+@dataclasses.dataclass
+class EllipseConfig:
+    """A shading point and an elliptical light, as sphrect's ellipse functions take them."""
+    name: str
+    origin: Sequence[float]
+    center: Sequence[float]
+    axis_u: Sequence[float]
+    axis_v: Sequence[float]
+    normal: Optional[Sequence[float]] = None
+    two_sided: bool = True
+
+    def light_args(self):
+        return (np.asarray(self.origin, float), np.asarray(self.center, float), np.asarray(self.axis_u, float),
+                np.asarray(self.axis_v, float))
+
+    def point(self, s, t):
+        _, c, au, av = self.light_args()
+        r, phi = np.sqrt(t), 2 * np.pi * s
+        return c + (r * np.cos(phi))[:, None] * au + (r * np.sin(phi))[:, None] * av
+
+    def coordinates(self, points):
+        """(s, t) of points on the light."""
+        _, c, au, av = self.light_args()
+        rel = np.asarray(points, np.float64) - c
+        p, q = rel @ au / au.dot(au), rel @ av / av.dot(av)
+        return np.mod(np.arctan2(q, p) / (2 * np.pi), 1.0), p * p + q * q
+
+    def __str__(self):
+        return self.name
+
+
+def ellipse_chi2_test(technique: str, config: EllipseConfig, dtype: str = "float32", sample_count: int = 500_000,
+                      resolution: int = 24, seed: int = 1, significance: float = 1e-3, test_count: int = 1,
+                      tolerance: float = 1e-4, against: Optional[str] = None,
+                      pdf_factor: Optional[Callable] = None) -> Chi2Result:
+    """chi2_test for an ellipse.  The grid lines are half uniform, half at quantiles of an independent
+    set of the technique's own samples (another seed), so that cells stay small where it concentrates
+    them; the expected counts integrate the pdf of `against` (default: the technique's own)."""
+    origin, c, au, av = config.light_args()
+    n = np.cross(au, av)
+    ab = np.linalg.norm(n)
+    h = abs(np.dot(n / ab, origin - c))
+
+    def sample(uv_seed):
+        uv = sphrect.pattern("independent", sample_count, seed=uv_seed)
+        return sphrect.sample_ellipse(technique, config.origin, config.center, config.axis_u, config.axis_v, uv,
+                                      normal=config.normal, dtype=dtype, two_sided=config.two_sided)
+
+    grid_points, grid_pdf = sample(seed + 7919)
+    gs, gt = config.coordinates(grid_points[grid_pdf > 0])
+    half = resolution // 2
+    edges = []
+    for q in (gs, gt):
+        uniform = np.linspace(0.0, 1.0, resolution - half + 1)
+        lines = np.quantile(q, np.linspace(0, 1, half + 1)[1:-1]) if len(q) else np.zeros(0)
+        lines = [x for x in lines if np.min(np.abs(uniform - x)) > 0.05 / resolution]   # no sliver cells
+        e = np.unique(np.concatenate([uniform, lines]))
+        e = e[np.concatenate([[True], np.diff(e) > 1e-9])]
+        e[0], e[-1] = 0.0, 1.0
+        edges.append(e)
+
+    def integrand(s, t):
+        P = config.point(s, t)
+        d = np.linalg.norm(P - origin, axis=1)
+        pdf = sphrect.ellipse_pdf(against or technique, config.origin, config.center, config.axis_u, config.axis_v,
+                                  P, normal=config.normal, dtype=dtype, two_sided=config.two_sided).astype(np.float64)
+        if pdf_factor is not None:
+            pdf = pdf * pdf_factor(P)
+        return pdf * h * np.pi * ab / d ** 3
+
+    probability = adaptive_cell_integrals(integrand, edges[0], edges[1])
+    points, pdf = sample(seed)
+    valid = pdf > 0
+    s, t = config.coordinates(points[valid])
+    off = (t > 1 + tolerance) | ~np.isfinite(s) | ~np.isfinite(t)
+    s, t = np.clip(s[~off], 0.0, 1.0), np.clip(t[~off], 0.0, 1.0)
+    observed, _, _ = np.histogram2d(s, t, bins=edges)
+    statistic, dof, p_value, pooled, worst = pearson(observed, probability, int(np.count_nonzero(~valid)),
+                                                     sample_count)
+    return Chi2Result(technique, config.name, dtype, statistic, dof, p_value, sidak_alpha(significance, test_count),
+                      int(probability.size), pooled, int(np.count_nonzero(~valid)), int(np.count_nonzero(off)),
+                      float(probability.sum()), worst)
