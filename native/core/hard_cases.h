@@ -83,7 +83,14 @@ inline std::vector<HardCase> HardCaseSuite() {
             add("beside_h" + hs, 0.5 + 2 * size / lx, 0.5, hgt);
             add("beside_diag_h" + hs, 1 + size / lx, 1 + size / ly, hgt);
             add("near_edge_h" + hs, 1 + 1e-4, 0.5, hgt);
+            // Beside a corner, outside both edges' extents and off the diagonal's line (issue 12:
+            // Arvo's closed form lost u on these thin triangles).
+            add("beside_corner_h" + hs, 1 + 0.5 * size / lx, 1 + 0.2 * size / ly, hgt);
+            add("beside_far_corner_h" + hs, -0.3 * size / lx, -0.5 * size / ly, hgt);
         }
+        // Far in a direction of no symmetry of the light (issue 12: thin far triangles).
+        const Vec3d oblique = Normalize(xh + yh * 0.3 + n * 0.2);
+        for (double d : kHardCaseDistances) push("oblique_d" + HardCaseNumber(d), ld.center + oblique * (d * size));
     }
     // A long light (1e5 x 1) seen from 1 above its centre: 1e-5 of its size, but 1 of its width.
     const RectLight<float> long_light{{-5e4f, -0.5f, 0}, {1e5f, 0, 0}, {0, 1, 0}, true};

@@ -20,6 +20,14 @@ inline double SphericalTriangleSolidAngle(const Vec3d& a, const Vec3d& b, const 
     return 2 * std::atan2(num, den);
 }
 
+// The same with |a.(b x c)| given: callers that have the triangle's edges compute it as
+// |a.((b - a) x (c - a))|, which does not cancel for a distant triangle.
+inline double SphericalTriangleSolidAngle(double abs_triple, const Vec3d& a, const Vec3d& b, const Vec3d& c,
+                                          double la, double lb, double lc) {
+    const double den = la * lb * lc + Dot(a, b) * lc + Dot(a, c) * lb + Dot(b, c) * la;
+    return 2 * std::atan2(abs_triple, den);
+}
+
 // An interval [a0, a1] with its width w = a1 - a0 carried exactly: both the endpoints
 // and the width matter, and neither can be recomputed from the others (a light 1e6
 // sizes away loses its width in a1 - a0; a foot of o 1e-9 from a1 loses a1 in a0 + w).
@@ -85,6 +93,60 @@ inline void AddRectSolidAngleLocal(const Interval& X, const Interval& Y, double 
     const int nx = pieces(X, xs), ny = pieces(Y, ys);
     for (int i = 0; i < nx; ++i)
         for (int j = 0; j < ny; ++j) AddQuadrantRectSolidAngle(xs[i], ys[j], h, sum);
+}
+
+// Solid angle of the triangle with in-plane corners (x[i], y[i]) in the plane z = h > 0 seen
+// from the origin, for a triangle seen nearly edge-on, where Van Oosterom & Strackee on the
+// whole triangle cancels (its denominator ~ 0 with the triple product ~ h): clipped at x = 0
+// and y = 0 (Sutherland-Hodgman) into pieces in one quadrant each, mirrored into the first and
+// fanned into triangles, whose dot products are all >= h^2 > 0, eq. (3)-(4) as in
+// AddQuadrantRectSolidAngle.  A clip point is computed from the same two corners for both
+// sides of its line, so the pieces tile the triangle.
+inline double PlanarTriangleSolidAngleLocal(const double x[3], const double y[3], double h) {
+    struct P2 {
+        double x, y;
+    };
+    // Keeps the part of `in` with s * (axis coordinate) >= 0.
+    auto clip = [](const P2* in, int n, int axis, double s, P2* out) {
+        int m = 0;
+        auto c = [&](const P2& p) { return s * (axis == 0 ? p.x : p.y); };
+        for (int i = 0; i < n; ++i) {
+            const P2 &p = in[i], &q = in[(i + 1) % n];
+            const double cp = c(p), cq = c(q);
+            if (cp >= 0) out[m++] = p;
+            if ((cp < 0) != (cq < 0) && cp != 0 && cq != 0) {
+                // The crossing from the corner with the smaller coordinate, so both sides agree.
+                const P2 &lo = (axis == 0 ? p.x < q.x : p.y < q.y) ? p : q, &hi = &lo == &p ? q : p;
+                const double t = axis == 0 ? -lo.x / (hi.x - lo.x) : -lo.y / (hi.y - lo.y);
+                out[m++] = axis == 0 ? P2{0, lo.y + t * (hi.y - lo.y)} : P2{lo.x + t * (hi.x - lo.x), 0};
+            }
+        }
+        return m;
+    };
+    const P2 tri[3] = {{x[0], y[0]}, {x[1], y[1]}, {x[2], y[2]}};
+    const double h2 = h * h;
+    HalfAngleSum sum;
+    for (double sx : {1.0, -1.0}) {
+        P2 half[4], piece[5];
+        const int nh = clip(tri, 3, 0, sx, half);
+        for (double sy : {1.0, -1.0}) {
+            const int n = clip(half, nh, 1, sy, piece);
+            if (n < 3) continue;
+            for (int i = 0; i < n; ++i) piece[i] = {std::abs(piece[i].x), std::abs(piece[i].y)};
+            auto len = [&](const P2& p) { return std::sqrt(p.x * p.x + p.y * p.y + h2); };
+            auto dot = [&](const P2& p, const P2& q) { return p.x * q.x + p.y * q.y + h2; };
+            const P2& a = piece[0];
+            const double la = len(a);
+            for (int i = 1; i + 1 < n; ++i) {
+                const P2 &b = piece[i], &c = piece[i + 1];
+                const double lb = len(b), lc = len(c);
+                const double num = h * std::abs((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x));
+                const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+                sum.Add(num / den);
+            }
+        }
+    }
+    return sum.SolidAngle();
 }
 
 inline double RectSolidAngleLocal(const Interval& X, const Interval& Y, double h) {

@@ -5,14 +5,14 @@
 // sample: u < P1 -> triangle 1 with u / P1, else triangle 2 with (u - P1) / (1 - P1).
 // The density is 1 / Omega on the whole rectangle.
 //
-// Robustness: setup and map in double.  Arvo's closed form for the sub-triangle
-// loses u when a triangle's solid angle is tiny (the angle sum ~ pi swamps it), so a
-// triangle whose solid angle is below kTrianglesMinSolidAngle (decided once per
-// setup, as for `rectangle`) is sampled uniformly by area on the planar triangle
-// instead, with that true pdf: pdf(p) = P_k x (2 d^3 / (A h)) on such a triangle k,
-// P_k / Omega_k = 1 / (Omega_0 + Omega_1) on a spherical one.  This happens for the
-// triangle away from the foot of a shading point very close to the light, and for
-// both triangles of a distant light (where area sampling is nearly exact anyway).
+// Robustness, to the standard of `rectangle` (docs/triangles_baseline.md): setup and map in
+// double, on the triangles in the light's local frame around o (corners (X, Y, h), X, Y the
+// in-plane offsets from o, h its exact height; exact edges), so nothing cancels for a grazing
+// or distant o; Arvo's map in the stable form of spherical_triangle.h, whose point comes back
+// as barycentrics, i.e. as light fractions, without intersecting a ray with the plane; each
+// triangle's solid angle by Van Oosterom & Strackee, or by quadrant pieces where that one
+// cancels (o near the plane by the diagonal or over the light).  No setup needs a fallback to
+// area sampling: the pdf is 1 / (Omega_0 + Omega_1) for every point.
 #pragma once
 
 #include <algorithm>
@@ -24,18 +24,18 @@
 
 namespace sphrect {
 
-constexpr double kTrianglesMinSolidAngle = 1e-7;
+// Above this first-order error estimate (relative), a triangle's solid angle is recomputed by
+// quadrant pieces (PlanarTriangleSolidAngleLocal).
+constexpr double kTrianglesStableAreaAbove = 1e-12;
 
 template <class T>
 struct TrianglesSetup {
-    LocalRect<T> plane;  // frame around o, and the planar fallback's geometry
-    SphericalTriangle tri[2] = {};  // (00, 10, 11) and (00, 11, 01) in light fractions (a, b)
-    bool planar[2] = {false, false};  // sampled by area on the planar triangle
+    LocalRect<T> plane;  // frame around o
+    SphericalTriangle tri[2] = {};  // (00, 10, 11) and (00, 11, 01) in light fractions (a, b), local frame
     double p1 = 0;      // probability of the first triangle
     double omega = 0;   // solid angle of the rectangle (stable)
-    T pdf = 0;          // 1 / (Omega_0 + Omega_1): the density on a spherically sampled triangle
+    T pdf = 0;          // 1 / (Omega_0 + Omega_1)
     bool valid = false;
-    bool area_fallback = false;  // both triangles planar
 };
 
 template <class T>
@@ -43,38 +43,34 @@ TrianglesSetup<T> MakeTrianglesSetup(const Vec3<T>& origin, const RectLightFrame
     TrianglesSetup<T> r{MakeLocalRect(origin, frame)};  // the plane built in place
     const LocalRect<T>& p = r.plane;
     if (!p.valid) return r;
-    // Corners relative to o from the local coordinates (no cancellation for o near the plane).
-    auto corner = [&](int i, int j) { return LocalVector(p, p.x0 + i * p.wx, p.y0 + j * p.wy); };
-    const Vec3d c00 = corner(0, 0), c10 = corner(1, 0), c11 = corner(1, 1), c01 = corner(0, 1);
+    // The triangles in the local frame (exh, eyh, az) around o: corners (X, Y, h), exact edges.
+    const double x1 = p.x0 + p.wx, y1 = p.y0 + p.wy, h = p.h;
+    const Vec3d c00(p.x0, p.y0, h), c10(x1, p.y0, h), c11(x1, y1, h), c01(p.x0, y1, h);
+    const Vec3d ex(p.wx, 0, 0), ey(0, p.wy, 0), exy(p.wx, p.wy, 0);
     const double l00 = Length(c00), l10 = Length(c10), l11 = Length(c11), l01 = Length(c01);
-    r.tri[0] = MakeSphericalTriangle(c00, c10, c11, l00, l10, l11);
-    r.tri[1] = MakeSphericalTriangle(c00, c11, c01, l00, l11, l01);
-    r.omega = RectSolidAngleLocal({p.x0, p.x0 + p.wx, p.wx}, {p.y0, p.y0 + p.wy, p.wy}, p.h);
+    r.tri[0] = MakeSphericalTriangleFromEdges(c00, ex, exy, l00, l10, l11);
+    r.tri[1] = MakeSphericalTriangleFromEdges(c00, exy, ey, l00, l11, l01);
+    // Seen nearly edge-on with W ~ pi, Van Oosterom & Strackee's denominator cancels (relative
+    // error up to eps / h): the stable solid angle by quadrant pieces instead.
+    for (int k = 0; k < 2; ++k) {
+        SphericalTriangle& t = r.tri[k];
+        if (!(t.area_error > kTrianglesStableAreaAbove * t.area)) continue;
+        const double xs[3] = {p.x0, x1, k == 0 ? x1 : p.x0}, ys[3] = {p.y0, k == 0 ? p.y0 : y1, y1};
+        t.area = PlanarTriangleSolidAngleLocal(xs, ys, h);
+        t.area_error = 0;  // a few ulps of each piece
+    }
+    r.omega = RectSolidAngleLocal({p.x0, x1, p.wx}, {p.y0, y1, p.wy}, h);
     const double sum = r.tri[0].area + r.tri[1].area;
     r.pdf = T(1 / sum);
-    if (!(r.omega > 0) || !(T(r.omega) > 0) || !(sum > 0) || !std::isfinite(r.pdf)) return r;
+    if (!(r.omega > 0) || !(T(r.omega) > 0) || !(sum > 0) || !std::isfinite(r.pdf) || !(r.pdf > 0)) return r;
     r.valid = true;
     r.p1 = r.tri[0].area / sum;
-    for (int k = 0; k < 2; ++k) r.planar[k] = !(r.tri[k].area >= kTrianglesMinSolidAngle);
-    r.area_fallback = r.planar[0] && r.planar[1];
-    if (r.area_fallback) r.p1 = 0.5;  // halves of the area: plain uniform area sampling
     return r;
 }
 
 template <class T>
 TrianglesSetup<T> MakeTrianglesSetup(const Vec3<T>& origin, const RectLight<T>& light) {
     return MakeTrianglesSetup(origin, MakeRectLightFrame(light));
-}
-
-// Which triangle the light fractions (a, b) lie in: 0 below the diagonal b = a.
-inline int TriangleIndex(double a, double b) { return b > a ? 1 : 0; }
-
-// Solid-angle pdf at local in-plane coordinates (X, Y) in triangle k.
-template <class T>
-T TrianglesPDFLocal(const TrianglesSetup<T>& r, int k, double X, double Y) {
-    if (!r.planar[k]) return r.pdf;
-    const double Pk = k == 0 ? r.p1 : 1 - r.p1;
-    return T(Pk * 2 * double(AreaPDFLocal(r.plane, X, Y)));  // uniform on half of the area
 }
 
 template <class T>
@@ -88,39 +84,17 @@ LightSample<T> SampleTriangles(const TrianglesSetup<T>& r, Point2<T> uv) {
         k = 1;
         u = std::min((u - r.p1) / (1 - r.p1), 1.0);
     }
+    // Barycentrics (beta, gamma): the point 00 + beta (B - 00) + gamma (C - 00), with
+    // (B, C) = (10, 11) in triangle 0 and (11, 01) in triangle 1, as light fractions (a, b).
+    const Point2<double> w = SampleSphericalTriangleBarycentrics(r.tri[k], u, double(uv.v));
+    const double a = ClampNaN(k == 0 ? w.u + w.v : w.u, 0, 1), b = ClampNaN(k == 0 ? w.v : w.u + w.v, 0, 1);
     const LocalRect<T>& p = r.plane;
-    double X, Y;
-    if (r.planar[k]) {
-        // Uniform on the planar triangle, barycentrics (1 - su, su (1 - v), su v), su = sqrt(u):
-        // triangle 0 = (00, 10, 11) -> (a, b) = (su, su v); triangle 1 = (00, 11, 01) -> (su (1 - v), su).
-        const double su = std::sqrt(u), v = uv.v;
-        X = p.x0 + (k == 0 ? su : su * (1 - v)) * p.wx;
-        Y = p.y0 + (k == 0 ? su * v : su) * p.wy;
-    } else {
-        const Vec3d w = SampleSphericalTriangle(r.tri[k], u, double(uv.v));
-        // Intersect the ray o + t w with the light's plane (local coordinates).
-        const double t = p.h / Dot(w, p.az);
-        X = t * Dot(w, p.exh);
-        Y = t * Dot(w, p.eyh);
-    }
-    LightSample<T> s = LightSampleFromLocal(p, X, Y, T(0));
-    // The pdf of the returned point: the side of the diagonal by the same test as
-    // TrianglesPDF on that point (a point within rounding of the diagonal gets the
-    // density of the side it lands on), the distance from the exact local coordinates.
-    const Point2<double> e = EdgeOffsets(p, s.point);
-    const int side = TriangleIndex(e.u / p.wx, e.v / p.wy);
-    ClampLocalToLight(p, X, Y);
-    s.pdf = TrianglesPDFLocal(r, side, X, Y);
-    return s;
+    return LightSampleAt(p, a, b, p.x0 + a * p.wx, p.y0 + b * p.wy, r.pdf);
 }
 
 template <class T>
-T TrianglesPDF(const TrianglesSetup<T>& r, const Vec3<T>& pt) {
-    if (!r.valid) return 0;
-    const LocalRect<T>& p = r.plane;
-    const Point2<double> e = EdgeOffsets(p, pt);
-    const int k = TriangleIndex(e.u / p.wx, e.v / p.wy);
-    return TrianglesPDFLocal(r, k, p.x0 + e.u, p.y0 + e.v);
+T TrianglesPDF(const TrianglesSetup<T>& r, const Vec3<T>& /*point on the light*/) {
+    return r.valid ? r.pdf : T(0);
 }
 
 }  // namespace sphrect

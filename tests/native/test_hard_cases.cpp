@@ -4,7 +4,9 @@
 //  - sample points on the light within 1e-5 of its size;
 //  - Omega within 1e-5 relative error of a __float128 reference;
 // (the suite is core/hard_cases.h, which the study's accuracy table measures too);
-//  - the pdf returned with a sample equals Pdf(point).
+//  - the pdf returned with a sample equals Pdf(point);
+//  - `triangles` returns 1 / Omega everywhere, `rectangle` wherever it does not fall back to
+//    area sampling (thin lights 1e4 sizes away and more: counted and printed).
 // And the degenerate inputs: pdf 0, invalid, no NaN.
 #include <gtest/gtest.h>
 
@@ -33,7 +35,14 @@ bool Finite(const LightSample<T>& s) {
 struct SuiteStats {
     double max_omega_err = 0;
     int cases = 0, valid = 0, samples = 0, pdf_checked = 0;
+    double max_uniform_err = 0;  // |pdf Omega - 1| of the solid-angle-uniform techniques
+    int fallback_setups = 0;     // setups that sample (part of) the light by area instead
 };
+
+// Relative tolerance of pdf = 1 / Omega for `triangles` (everywhere) and `rectangle` (where it
+// does not fall back to area sampling): Omega's own rounding (the suite's worst is 6e-8 in
+// float) and the float rounding of the pdf.
+constexpr double kUniformPdfTolerance = 2e-7;
 
 template <Technique K, class T>
 void RunHardCase(const HardCase& hc, SuiteStats* st) {
@@ -53,6 +62,11 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
         st->max_omega_err = std::max(st->max_omega_err, err);
         EXPECT_LE(err, 1e-5) << "Omega " << omega << " reference " << ref;
     }
+    // Does the setup sample some part of the light by area (so that its pdf is not 1 / Omega there)?
+    bool fallback = false;
+    if constexpr (K == Technique::Rectangle) fallback = s.r.area_fallback;
+    constexpr bool uniform = K == Technique::Rectangle || K == Technique::Triangles;
+    st->fallback_setups += fallback;
     std::vector<Point2<T>> uvs;
     for (float u : HardCaseUV())
         for (float v : HardCaseUV()) uvs.push_back({T(u), T(v)});
@@ -74,13 +88,18 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
         EXPECT_LE(DistanceToLight(ls.point, L), 1e-5 * hc.size) << "u " << uv.u << " v " << uv.v;
         const T pdf = s.Pdf(ls.point);
         ASSERT_TRUE(std::isfinite(pdf));
+        if (uniform && !fallback) {
+            const double err = std::abs(double(ls.pdf) * ref - 1);
+            st->max_uniform_err = std::max(st->max_uniform_err, err);
+            EXPECT_LE(err, kUniformPdfTolerance) << "pdf " << ls.pdf << " 1/Omega " << 1 / ref << " u " << uv.u << " v " << uv.v;
+        }
         // rectangle_cosine: the pdf is a bilinear factor in [0, 4] times the rectangle's pdf;
         // where the factor is ~0 (corners at the horizon) compare against that scale.
         double scale = 0;
         if constexpr (K == Technique::RectangleCosine) scale = 4 * double(RectanglePDF(s.r.rect, ls.point));
         bool constant_pdf = false;
         if constexpr (K == Technique::Rectangle) constant_pdf = !s.r.area_fallback;
-        if constexpr (K == Technique::Triangles) constant_pdf = !s.r.planar[0] && !s.r.planar[1];
+        if constexpr (K == Technique::Triangles) constant_pdf = true;
         if (constant_pdf) {
             EXPECT_EQ(pdf, ls.pdf);
             ++st->pdf_checked;
@@ -107,9 +126,9 @@ void RunSuite() {
         RunHardCase<K, T>(hc, &st);
         if (::testing::Test::HasFatalFailure()) return;
     }
-    std::printf("%-16s %-6s cases %d valid %d samples %d pdf-checked %d max Omega rel. err %.3g\n", TechniqueName(K),
-                sizeof(T) == 4 ? "float" : "double", st.cases, st.valid, st.samples, st.pdf_checked,
-                st.max_omega_err);
+    std::printf("%-16s %-6s cases %d valid %d samples %d pdf-checked %d max Omega rel. err %.3g fallback setups %d"
+                " max |pdf Omega - 1| %.3g\n", TechniqueName(K), sizeof(T) == 4 ? "float" : "double", st.cases, st.valid,
+                st.samples, st.pdf_checked, st.max_omega_err, st.fallback_setups, st.max_uniform_err);
 }
 
 }  // namespace
