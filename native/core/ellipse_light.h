@@ -125,17 +125,19 @@ inline void ClampToUnitDisk(double& p, double& q) {
 }
 
 // The sample at the point center + p axis_u + q axis_v ((p, q) in the unit disk, clamped onto
-// it) given its pdf: the point from the centre and the axes, direction and distance from the local
-// vector (cx + p a, cy + q b, h).
+// it) given its pdf: the point from the centre and the axes, distance from the local vector
+// (cx + p a, cy + q b, h), and the direction from it too unless `dir` (a unit vector in the local
+// frame, more precise than the centre's offsets when the point is much nearer o than the centre
+// is) is given.
 template <class T>
-LightSample<T> EllipseSampleAt(const LocalEllipse<T>& r, double p, double q, T pdf) {
+LightSample<T> EllipseSampleAt(const LocalEllipse<T>& r, double p, double q, T pdf, const Vec3d* dir = nullptr) {
     ClampToUnitDisk(p, q);
     LightSample<T> s;
     s.point = Vec3<T>(r.center + Vec3d(r.light.axis_u) * p + Vec3d(r.light.axis_v) * q);
-    const Vec3d d = r.uh * (r.cx + p * r.a) + r.vh * (r.cy + q * r.b) + r.az * r.h;
-    const double dist = Length(d);
+    const double x = r.cx + p * r.a, y = r.cy + q * r.b;
+    const double dist = std::sqrt(x * x + y * y + r.h * r.h);
     s.dist = T(dist);
-    s.dir = Vec3<T>(d / dist);
+    s.dir = Vec3<T>(dir ? r.uh * dir->x + r.vh * dir->y + r.az * dir->z : (r.uh * x + r.vh * y + r.az * r.h) / dist);
     s.pdf = pdf;
     return s;
 }

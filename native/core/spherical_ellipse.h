@@ -20,8 +20,8 @@
 // setup and map in double from the (float) inputs, rounded to T once.  The cone over the ellipse
 // is reduced to its principal frame through the secular equation of its dual quadric (3)-(6), all
 // in sums of positive terms; the solid angle and the cumulative solid angle of the map's first
-// step are one Carlson integral R_J each (10) (Boost.Math, no cancellation anywhere in [0, 1]);
-// the first step is solved by safeguarded Newton on Omega_left^(2/3) (11), the second is closed
+// step are one Carlson integral R_J each (10) (ellipse_carlson.h; no cancellation anywhere in [0, 1]);
+// the first step is solved by safeguarded Halley steps on Omega_left^(2/3) (11), the second is closed
 // form (12).  The few setups whose spherical ellipse is too thin for double directions to resolve
 // (u, v) (15) switch to area sampling (16), which Sample, PDF and Invert all follow, so the pdf
 // returned is always the pdf of the point returned.
@@ -31,9 +31,8 @@
 #include <cmath>
 #include <limits>
 
-#include <boost/math/special_functions/ellint_rj.hpp>
-
 #include "ellipse_area.h"
+#include "ellipse_carlson.h"
 #include "ellipse_light.h"
 
 namespace sphrect {
@@ -41,14 +40,9 @@ namespace sphrect {
 // Largest accepted estimate of the map's rounding error in (u, v) space, (15) -> (16).
 constexpr double kEllipseMaxError = 1e-7;
 
-// Carlson's R_J in double (Boost's default promotes double to long double: slower, not needed,
-// every argument here is non-negative and at most one is zero).
-inline double CarlsonRJ(double x, double y, double z, double p) {
-    using Policy = boost::math::policies::policy<boost::math::policies::promote_double<false>,
-                                                 boost::math::policies::domain_error<boost::math::policies::ignore_error>,
-                                                 boost::math::policies::overflow_error<boost::math::policies::ignore_error>>;
-    return boost::math::ellint_rj(x, y, z, p, Policy());
-}
+// The u-step's Halley iteration stops when the error it predicts for t (which moves u by at most
+// about as much) is below this, (11).
+constexpr double kEllipseLastError = 1e-13;
 
 // The per-(shading point, light) constants of the map (docs/ellipse_map.md, table of section 8).
 template <class T>
@@ -64,6 +58,8 @@ struct SphericalEllipseSetup {
     Vec3d w = Vec3d(), ea = Vec3d(), eb = Vec3d();
     double A = 0, B = 0;  // tangents of the semi-arcs [tan alpha >= tan beta], (6)
     double beta = 0;      // the minor semi-arc, atan B
+    double gamma = 0;     // pi/2 - beta = atan(1 / B), (8b)
+    double sin_beta = 0, cos_beta = 0;
     double K = 0, Q = 0, R = 0;  // Omega_left's constants, (10)
     double error_estimate = 0;   // first-order rounding error of the map in (u, v) space, (15)
 };
@@ -126,6 +122,9 @@ SphericalEllipseSetup<T> MakeSphericalEllipseSetup(const Vec3<T>& origin, const 
     // (10): Omega = 2 Omega_left(0).
     const double A = se.A, B = se.B, pB = 1 + B * B;
     se.beta = std::atan(B);
+    se.gamma = std::atan(1 / B);
+    se.sin_beta = B / std::sqrt(pB);
+    se.cos_beta = 1 / std::sqrt(pB);
     se.Q = (1 + A * A) / pB;
     se.R = 1 / pB;
     se.K = 2 * A * B / (3 * pB * std::sqrt(pB));
@@ -149,57 +148,90 @@ SphericalEllipseSetup<T> MakeSphericalEllipseSetup(const Vec3<T>& origin, const 
     return MakeSphericalEllipseSetup(origin, MakeEllipseLightFrame(light));
 }
 
-// 1 - sigma^2 without cancellation near |sigma| = 1.
-inline double OneMinusSquare(double s) {
-    const double t = std::min(std::abs(s), 1.0);
-    return (1 - t) * (1 + t);
+// The plane through the major axis at theta = -beta t, t in [0, 1] (the side u < 1/2): the
+// quantities (8b) in angles whose complements are sums of positive terms, so that they keep their
+// relative precision at both ends of t and for spherical ellipses near a hemisphere (beta ~ pi/2,
+// where tan(theta) / B would lose eps B^2).
+struct EllipseSlice {
+    double sin_t, cos_t;  // sin|theta|, cos theta
+    double s2, w;         // sigma^2 = (tan theta / B)^2 and 1 - sigma^2
+    double one_plus;      // 1 + B^2 sigma^2 = 1 / cos^2 theta
+};
+
+template <class T>
+EllipseSlice SphericalEllipseSliceAt(const SphericalEllipseSetup<T>& se, double t) {
+    t = ClampNaN(t, 0, 1);
+    const double rest = se.beta * (1 - t);                  // beta - |theta|
+    const double st = std::sin(se.beta * t);
+    const double ct = std::sin(se.gamma + rest);             // cos|theta| = sin(pi/2 - |theta|)
+    // sin(beta + |theta|) from the smaller of the supplementary angles: pi - beta - |theta| = 2 gamma + rest.
+    const double plus = se.beta * (1 + t), sup = 2 * se.gamma + rest;
+    const double sp = std::sin(std::min(plus, sup));
+    const double d = ct * se.sin_beta;
+    const double sig = st * se.cos_beta / d;
+    return {st, ct, sig * sig, std::sin(rest) * sp / (d * d), 1 / (ct * ct)};
 }
 
-// The solid angle of the part of the spherical ellipse with tan(theta) <= B sigma, sigma in
-// [-1, 0] (from the minor axis's end), (10).
+// The solid angle of the part of the spherical ellipse on the far side of the slice, (10).
 template <class T>
-double SphericalEllipseLeft(const SphericalEllipseSetup<T>& se, double sigma) {
-    const double s2 = sigma * sigma, w = OneMinusSquare(sigma);
-    return se.K * w * std::sqrt(w) * CarlsonRJ(s2, 1, s2 + w * se.Q, s2 + w * se.R);
+double SphericalEllipseLeft(const SphericalEllipseSetup<T>& se, const EllipseSlice& sl) {
+    const double w = sl.w;
+    return se.K * w * std::sqrt(w) * CarlsonRJ(sl.s2, 1, sl.s2 + w * se.Q, sl.s2 + w * se.R);
 }
 
-// The chord's half-length x1 and 1 - x1^2 in the plane at sigma, (8).
+// The chord's half-length x1 in the slice and the denominator of (8).
 template <class T>
-void SphericalEllipseChord(const SphericalEllipseSetup<T>& se, double sigma, double* x1, double* one_minus_x1sq) {
-    const double s2 = sigma * sigma, w = OneMinusSquare(sigma);
-    const double den = (1 + se.A * se.A) * w + (1 + se.B * se.B) * s2;
-    *x1 = std::min(se.A * std::sqrt(w / den), 1.0);
-    *one_minus_x1sq = (1 + se.B * se.B * s2) / den;
+double SphericalEllipseChord(const SphericalEllipseSetup<T>& se, const EllipseSlice& sl, double* den) {
+    *den = (1 + se.A * se.A) * sl.w + (1 + se.B * se.B) * sl.s2;
+    return std::min(se.A * std::sqrt(sl.w / *den), 1.0);
 }
 
-// The u-step (11): tau = theta / beta in [-1, 0] with Omega_left = ut Omega, ut in [0, 1/2].
-// Safeguarded Newton on Omega_left^(2/3), which is nearly linear in tau from the end (where
-// Omega_left ~ (1 + tau)^(3/2)) to the middle.
+// The u-step (11): t = |theta| / beta in [0, 1] with Omega_left = ut Omega, ut in [0, 1/2].
+// Safeguarded Halley iteration on G = Omega_left^(2/3), which is nearly linear in t from the end
+// (where Omega_left ~ (1 - t)^(3/2)) to the middle; G', G'' from (9) and (8).
 template <class T>
-double SphericalEllipseSolveTau(const SphericalEllipseSetup<T>& se, double ut) {
-    if (!(ut > 0)) return -1;
+double SphericalEllipseSolveT(const SphericalEllipseSetup<T>& se, double ut) {
+    if (!(ut > 0)) return 1;
     if (ut >= 0.5) return 0;
     const double target = std::cbrt(ut * se.omega), target23 = target * target;
-    double lo = -1, hi = 0;
-    double tau = std::cbrt(2 * ut);
-    tau = tau * tau - 1;
+    const double A2 = se.A * se.A, B2 = se.B * se.B;
+    double lo = 0, hi = 1;  // G(lo) >= target, G(hi) <= target
+    double prev = 0;        // the last Halley step's size (0: none, or a bisection)
+    double t = std::cbrt(2 * ut);
+    t = 1 - t * t;
     for (int it = 0; it < 60; ++it) {
-        const double sigma = std::max(std::tan(se.beta * tau) / se.B, -1.0);
-        const double left = SphericalEllipseLeft(se, sigma);
+        const EllipseSlice sl = SphericalEllipseSliceAt(se, t);
+        const double left = SphericalEllipseLeft(se, sl);
         const double cl = std::cbrt(left);
         const double g = cl * cl - target23;
         if (g == 0) break;
-        (g < 0 ? lo : hi) = tau;
-        double x1, omx;
-        SphericalEllipseChord(se, sigma, &x1, &omx);
-        const double dg = (2.0 / 3.0) / cl * 2 * se.beta * x1;  // d/dtau Omega_left^(2/3), (9)
-        double tn = tau - g / dg;
-        if (!(tn > lo && tn < hi)) tn = 0.5 * (lo + hi);
-        const bool done = std::abs(tn - tau) <= 1e-15;
-        tau = tn;
+        (g > 0 ? lo : hi) = t;
+        double den;
+        const double x1 = SphericalEllipseChord(se, sl, &den);
+        const double d1 = -2 * se.beta * x1;         // d Omega_left / dt, (9)
+        const double dg = (2.0 / 3.0) / cl * d1;     // G'
+        double step = g / dg;                        // Newton
+        if (x1 > 0) {                                // Halley, with Omega_left'' from d x1 / d sigma
+            const double sigma = std::sqrt(sl.s2);   // (|sigma|: d x1 / d|sigma| < 0, d|sigma| / dt > 0)
+            const double dsigma = se.beta * sl.one_plus / se.B;
+            const double d2 = -2 * se.beta * (-sigma * A2 * (1 + B2) / (x1 * den * den)) * dsigma;
+            const double d2g = (2.0 / 3.0) / cl * (d2 - d1 * d1 / (3 * left));
+            const double q = 2 * dg * dg - g * d2g;
+            if (q > 0) step = 2 * g * dg / q;
+        }
+        double tn = t - step;
+        const bool inside = tn > lo && tn < hi;
+        if (!inside) tn = 0.5 * (lo + hi);
+        // Converging cubically, e_next ~ K step^3 with K estimated from the last two Halley steps:
+        // when that is below kEllipseLastError the step is taken without evaluating G again.
+        const double size = std::abs(tn - t);
+        const double predicted = prev > 0 ? size / (prev * prev * prev) * size * size * size : size;
+        const bool done = inside && (predicted <= kEllipseLastError || size <= 1e-15);
+        prev = inside ? size : 0;
+        t = tn;
         if (done || hi - lo <= 1e-15) break;
     }
-    return tau;
+    return t;
 }
 
 // The map M(u, v) as a unit direction in local coordinates (valid, non-fallback setups).
@@ -207,17 +239,36 @@ template <class T>
 Vec3d SphericalEllipseDirection(const SphericalEllipseSetup<T>& se, double u, double v) {
     u = ClampNaN(u, 0, 1);
     v = ClampNaN(v, 0, 1);
-    // (11), mirrored about the major axis for u > 1/2.
+    // (11), mirrored about the major axis for u > 1/2 (theta = +beta t).
     const bool upper = u > 0.5;
-    const double tau = upper ? -SphericalEllipseSolveTau(se, 1 - u) : SphericalEllipseSolveTau(se, u);
-    const double theta = se.beta * tau;
-    const double sigma = ClampNaN(std::tan(theta) / se.B, -1, 1);
-    double x1, omx1;
-    SphericalEllipseChord(se, sigma, &x1, &omx1);
+    const EllipseSlice sl = SphericalEllipseSliceAt(se, SphericalEllipseSolveT(se, upper ? 1 - u : u));
+    double den;
+    const double x1 = SphericalEllipseChord(se, sl, &den);
+    const double omx1 = sl.one_plus / den;  // 1 - x1^2, (8)
     // (12): linear in the major-axis coordinate, 1 - x^2 as a sum of non-negative terms.
     const double x = x1 * (2 * v - 1);
     const double r = std::sqrt(omx1 + x1 * x1 * 4 * v * (1 - v));
-    return se.ea * x + se.eb * (r * std::sin(theta)) + se.w * (r * std::cos(theta));
+    return se.ea * x + se.eb * (r * (upper ? sl.sin_t : -sl.sin_t)) + se.w * (r * sl.cos_t);
+}
+
+// (13b): a point (p, q) just outside the unit disk (rounding: at grazing incidence the ray meets
+// the plane eps d^2 / h away from the exact point) brought back onto the rim along the line from
+// the foot of o, (fx, fy), rather than towards the centre: along that line the move changes the
+// direction from o by about (h / d) of its length only, so that (u, v) is kept.
+inline void ClampAlongRay(double fx, double fy, double& p, double& q) {
+    const double dx = p - fx, dy = q - fy;
+    const double d2 = dx * dx + dy * dy, fd = fx * dx + fy * dy, c = fx * fx + fy * fy - 1;
+    const double disc = fd * fd - d2 * c;
+    if (d2 > 0 && disc >= 0) {
+        const double root = std::sqrt(disc);
+        // The crossing nearer (p, q): the larger root of |f + s d|^2 = 1, cancellation-free form.
+        const double s = fd <= 0 ? (root - fd) / d2 : -c / (fd + root);
+        if (s >= 0 && s <= 1) {
+            p = fx + s * dx;
+            q = fy + s * dy;
+        }
+    }
+    // (what is left outside, by rounding or a missed rim, EllipseSampleAt scales onto the disk)
 }
 
 template <class T>
@@ -239,7 +290,11 @@ LightSample<T> SampleSphericalEllipseAt(const SphericalEllipseSetup<T>& se, doub
         p /= n;
         q /= n;
     }
-    return EllipseSampleAt(pl, p, q, se.pdf);
+    if (p * p + q * q > 1) {
+        ClampAlongRay(-pl.cx / pl.a, -pl.cy / pl.b, p, q);
+        return EllipseSampleAt(pl, p, q, se.pdf);
+    }
+    return EllipseSampleAt(pl, p, q, se.pdf, &d);  // the map's direction itself
 }
 
 template <class T>
@@ -266,12 +321,12 @@ Point2<double> InvertSphericalEllipse(const SphericalEllipseSetup<T>& se, const 
     ClampToUnitDisk(p, q);
     const Vec3d d = Normalize(Vec3d(pl.cx + p * pl.a, pl.cy + q * pl.b, pl.h));
     const double X = Dot(d, se.ea), Y = Dot(d, se.eb), Z = Dot(d, se.w);
-    const double theta = ClampNaN(std::atan2(Y, Z), -se.beta, se.beta);
-    const double sigma = ClampNaN(std::tan(theta) / se.B, -1, 1);
-    const double left = SphericalEllipseLeft(se, -std::abs(sigma));
-    const double u = sigma <= 0 ? left / se.omega : 1 - left / se.omega;
-    double x1, omx1;
-    SphericalEllipseChord(se, sigma, &x1, &omx1);
+    const double theta = std::atan2(Y, Z);
+    const EllipseSlice sl = SphericalEllipseSliceAt(se, std::abs(theta) / se.beta);
+    const double left = SphericalEllipseLeft(se, sl);
+    const double u = theta <= 0 ? left / se.omega : 1 - left / se.omega;
+    double den;
+    const double x1 = SphericalEllipseChord(se, sl, &den);
     const double v = x1 > 0 ? 0.5 * (X / x1 + 1) : 0.5;
     return {ClampNaN(u, 0, 1), ClampNaN(v, 0, 1)};
 }
