@@ -2,24 +2,91 @@
 // textbook single-precision spherical-rectangle formula (the paper's code as in
 // Blender 3.4 Cycles) as the baseline.  The stages and their inputs are
 // core/sampler_timing.h, which the study's cost table runs through the module too.
+// Ellipse (disk) lights: the same stages for ellipse_technique.h's techniques on the ellipse
+// inscribed in sampler_timing's 1 x 1.5 light, seen from the same shading points, named
+// "Ellipse<stage>/<technique>/<precision>" (next to the rectangle map's "<stage>/rectangle/...").
 //
 //   build/native/bench/bench_sampling [--benchmark_filter=Sample]
 #include <benchmark/benchmark.h>
 
 #include <string>
 
+#include "core/ellipse_technique.h"
 #include "core/sampler_timing.h"
 
-int main(int argc, char** argv) {
-    sphrect::sampler_timing::ForEachStage([](const std::string& name, auto stage) {
-        benchmark::RegisterBenchmark(name.c_str(), [stage](benchmark::State& state) {
-            size_t i = 0;
-            for (auto _ : state) {
-                auto result = stage(i++);
-                benchmark::DoNotOptimize(result);
-            }
+namespace {
+
+using namespace sphrect;
+using namespace sphrect::sampler_timing;
+
+template <class T>
+EllipseLight<T> Ellipse() {
+    const RectLight<T> r = Light<T>();
+    return {r.corner + r.ex * T(0.5) + r.ey * T(0.5), r.ex * T(0.5), r.ey * T(0.5), true};
+}
+
+template <EllipseTechnique K, class T>
+auto EllipseSetupStage() {
+    return [L = Ellipse<T>()](size_t i) { return EllipseSampler<K, T>(Origins<T>()[i & 63], Vec3<T>(0, 0, 1), L); };
+}
+
+template <EllipseTechnique K, class T>
+auto EllipseSetupFromFrameStage() {
+    return [F = MakeEllipseLightFrame(Ellipse<T>())](size_t i) {
+        return EllipseSampler<K, T>(Origins<T>()[i & 63], Vec3<T>(0, 0, 1), F);
+    };
+}
+
+// Sampling from `origin` (default: the rectangle stages' shading point).
+template <EllipseTechnique K, class T>
+auto EllipseSampleStage(Vec3<T> origin = Vec3<T>(T(0.2), T(-0.1), T(0.5))) {
+    const EllipseSampler<K, T> s(origin, Vec3<T>(0, 0, 1), Ellipse<T>());
+    return [s](size_t i) { return s.Sample(UVs<T>()[i & 1023]); };
+}
+
+template <EllipseTechnique K, class T>
+auto EllipsePdfStage() {
+    const EllipseLight<T> L = Ellipse<T>();
+    const EllipseSampler<K, T> s(Vec3<T>(T(0.2), T(-0.1), T(0.5)), Vec3<T>(0, 0, 1), L);
+    std::vector<Vec3<T>> pts;
+    for (const Point2<T>& uv : UVs<T>()) pts.push_back(L.center + L.axis_u * (uv.u - T(0.5)) + L.axis_v * (uv.v - T(0.5)));
+    return [s, pts](size_t i) { return s.Pdf(pts[i & 1023]); };
+}
+
+template <class F>
+void ForEachEllipseStage(F&& f) {
+    for (EllipseTechnique t : kAllEllipseTechniques)
+        DispatchEllipseTechnique(t, [&](auto tag) {
+            constexpr EllipseTechnique K = decltype(tag)::value;
+            const std::string name = EllipseTechniqueName(K);
+            f("EllipseSetup/" + name + "/float", EllipseSetupStage<K, float>());
+            f("EllipseSetup/" + name + "/double", EllipseSetupStage<K, double>());
+            f("EllipseSetupFromFrame/" + name + "/float", EllipseSetupFromFrameStage<K, float>());
+            f("EllipseSample/" + name + "/float", EllipseSampleStage<K, float>());
+            f("EllipseSample/" + name + "/double", EllipseSampleStage<K, double>());
+            // Nearly a hemisphere (1e-3 above the interior) and nearly edge-on (1e-4 beside).
+            f("EllipseSampleClose/" + name + "/float", EllipseSampleStage<K, float>(Vec3f(0.1f, 0.2f, 2.001f)));
+            f("EllipseSampleEdgeOn/" + name + "/float", EllipseSampleStage<K, float>(Vec3f(1.5f, 0.1f, 2.0001f)));
+            f("EllipsePdf/" + name + "/float", EllipsePdfStage<K, float>());
         });
+}
+
+template <class Stage>
+void Register(const std::string& name, Stage stage) {
+    benchmark::RegisterBenchmark(name.c_str(), [stage](benchmark::State& state) {
+        size_t i = 0;
+        for (auto _ : state) {
+            auto result = stage(i++);
+            benchmark::DoNotOptimize(result);
+        }
     });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    sphrect::sampler_timing::ForEachStage([](const std::string& name, auto stage) { Register(name, stage); });
+    ForEachEllipseStage([](const std::string& name, auto stage) { Register(name, stage); });
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();

@@ -161,15 +161,24 @@ struct EllipseSlice {
 template <class T>
 EllipseSlice SphericalEllipseSliceAt(const SphericalEllipseSetup<T>& se, double t) {
     t = ClampNaN(t, 0, 1);
-    const double rest = se.beta * (1 - t);                  // beta - |theta|
-    const double st = std::sin(se.beta * t);
-    const double ct = std::sin(se.gamma + rest);             // cos|theta| = sin(pi/2 - |theta|)
+    const double rest = se.beta * (1 - t);  // beta - |theta|
+    double st, ct, w;
+    if (se.beta <= 1) {
+        // |theta| <= 1: cos|theta| >= 0.54 keeps its precision, and 1 - sigma^2 = (1 - sigma)(1 + sigma)
+        // loses only relative digits near the ends, where Omega_left ~ w^(3/2) is negligible.
+        st = std::sin(se.beta * t);
+        ct = std::cos(se.beta * t);
+        const double sig = st * se.cos_beta / (ct * se.sin_beta);
+        return {st, ct, sig * sig, (1 - sig) * (1 + sig), 1 / (ct * ct)};
+    }
+    st = std::sin(se.beta * t);
+    ct = std::sin(se.gamma + rest);  // cos|theta| = sin(pi/2 - |theta|)
     // sin(beta + |theta|) from the smaller of the supplementary angles: pi - beta - |theta| = 2 gamma + rest.
     const double plus = se.beta * (1 + t), sup = 2 * se.gamma + rest;
-    const double sp = std::sin(std::min(plus, sup));
     const double d = ct * se.sin_beta;
     const double sig = st * se.cos_beta / d;
-    return {st, ct, sig * sig, std::sin(rest) * sp / (d * d), 1 / (ct * ct)};
+    w = std::sin(rest) * std::sin(std::min(plus, sup)) / (d * d);  // sin(beta - |theta|) sin(beta + |theta|)
+    return {st, ct, sig * sig, w, 1 / (ct * ct)};
 }
 
 // The solid angle of the part of the spherical ellipse on the far side of the slice, (10).
