@@ -20,12 +20,12 @@ inline double SphericalTriangleSolidAngle(const Vec3d& a, const Vec3d& b, const 
     return 2 * std::atan2(num, den);
 }
 
-// The same with |a.(b x c)| given: callers that have the triangle's edges compute it as
-// |a.((b - a) x (c - a))|, which does not cancel for a distant triangle.
-inline double SphericalTriangleSolidAngle(double abs_triple, const Vec3d& a, const Vec3d& b, const Vec3d& c,
-                                          double la, double lb, double lc) {
-    const double den = la * lb * lc + Dot(a, b) * lc + Dot(a, c) * lb + Dot(b, c) * la;
-    return 2 * std::atan2(abs_triple, den);
+// The denominator of eq. (3), for callers that take the triple product from the triangle's
+// edges, |a.((b - a) x (c - a))|, which does not cancel for a distant triangle:
+// W = 2 atan2(|triple|, denominator).
+inline double SphericalTriangleDenominator(const Vec3d& a, const Vec3d& b, const Vec3d& c, double la, double lb,
+                                           double lc) {
+    return la * lb * lc + Dot(a, b) * lc + Dot(a, c) * lb + Dot(b, c) * la;
 }
 
 // An interval [a0, a1] with its width w = a1 - a0 carried exactly: both the endpoints

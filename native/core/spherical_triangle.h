@@ -60,15 +60,12 @@ inline SphericalTriangle MakeSphericalTriangleFromEdges(const Vec3d& a, const Ve
     t.lb = lb;
     // The triple product from the edges: a . (b x c) of the vertices cancels for a distant triangle.
     const double triple = std::abs(Dot(a, Cross(eb, ec)));
-    t.area = SphericalTriangleSolidAngle(triple, a, b, c, la, lb, lc);
+    const double den = SphericalTriangleDenominator(a, b, c, la, lb, lc);
+    t.area = 2 * std::atan2(triple, den);
     // Van Oosterom & Strackee's W = 2 atan2(N, D): D (four terms of size <= |a||b||c|) is the
     // part that can cancel, when the triangle is seen nearly edge-on (N small) and W ~ pi.
-    {
-        constexpr double eps = 1.1102230246251565e-16;
-        const double lll = la * lb * lc;
-        const double den = lll + Dot(a, b) * lc + Dot(a, c) * lb + Dot(b, c) * la;
-        t.area_error = 2 * triple * (8 * eps * lll) / (triple * triple + den * den) + 8 * eps * t.area;
-    }
+    constexpr double eps = 1.1102230246251565e-16;
+    t.area_error = 2 * triple * (8 * eps * la * lb * lc) / (triple * triple + den * den) + 8 * eps * t.area;
     // Angle at A between the planes (a, b) and (a, c): (a x eb) x (a x ec) = a (a . (eb x ec)).
     const Vec3d nab = Cross(a, eb), nac = Cross(a, ec);
     const double y = la * triple, x = Dot(nab, nac), r = std::sqrt(x * x + y * y);

@@ -45,7 +45,7 @@ HARD = [
 # The configurations of the former C++ chi-square suite (tests/native), a centred unit square
 # and lights wide, thin or rotated: ordinary ones, then grazing, nearly in the plane, far,
 # thin, above an edge or a corner, the area fallback (beside at h = 1e-6, far diagonal) and
-# `triangles` with one spherical and one planar triangle.
+# grazing beside a corner, outside both edges' extents (issue 12).
 CENTRED = dict(corner=(-0.5, -0.5, 0.0), edge_x=(1.0, 0.0, 0.0), edge_y=(0.0, 1.0, 0.0))
 WIDE = dict(corner=(-2.0, -0.25, 0.5), edge_x=(4.0, 0.0, 0.0), edge_y=(0.0, 0.5, 0.0))
 THIN = dict(corner=(-0.5, -5e-4, 0.0), edge_x=(1.0, 0.0, 0.0), edge_y=(0.0, 1e-3, 0.0))
@@ -66,7 +66,7 @@ CORE = [
     LightConfig("core-thin-aspect1e3", origin=(0.2, 0.3, 0.2), normal=(0, -0.5, -1), **THIN),
     LightConfig("core-fallback-beside-h1e-6", origin=(2.0, 0.1, 1e-6), normal=(-1, 0, 0), **CENTRED),
     LightConfig("core-fallback-diagonal-far", origin=(3e3, 3e3, 2.0), normal=(-1, -1, 0), **CENTRED),
-    LightConfig("core-triangles-mixed-h2.5e-7", origin=(0.8, -0.8, 2.5e-7), normal=(-1, 1, 0), **CENTRED),
+    LightConfig("core-beside-corner-h2.5e-7", origin=(0.8, -0.8, 2.5e-7), normal=(-1, 1, 0), **CENTRED),
 ]
 CONFIGS = ORDINARY + HARD
 CHI2_CONFIGS = CONFIGS + CORE
@@ -122,6 +122,56 @@ def test_solid_angle_uniform_techniques_agree(technique, against, config):
     8 tests, Sidak-corrected to a 1e-3 false-failure rate together."""
     r = chi2_test(technique, config, sample_count=1_000_000, against=against, significance=1e-3, test_count=8)
     assert r.passed, str(r)
+
+
+# ---------------------------------------------------------------------------------------------
+# `triangles` uniform in solid angle where Arvo's closed form lost u (issue 12): thin triangles
+# seen from 1e-9..3e-7 of the size above the light's plane beside a corner, outside both edges'
+# extents (the old code failed chi-square outright at 3e-7 and sampled by area, pdf 1.6-4.4x off
+# 1/Omega, at 1e-7), and from 3000 sizes away (pdf 5e-4 off 1/Omega).
+
+def _oblique(d):
+    v = np.array([1.0, 0.3, 0.2]) / np.linalg.norm([1.0, 0.3, 0.2])
+    return tuple(np.array([0.5, 0.5, 0.0]) + d * v)
+
+
+UNIFORM_TRIANGLES = [
+    LightConfig("beside-corner-h1e-7", origin=(1.5, 1.2, 1e-7), normal=(0, 0, -1.0), **SQUARE),
+    LightConfig("beside-corner-h3e-7", origin=(1.5, 1.2, 3e-7), normal=(0, 0, -1.0), **SQUARE),
+    LightConfig("beside-far-corner-h1e-7", origin=(-0.5, -0.3, 1e-7), normal=(0, 0, -1.0), **SQUARE),
+    LightConfig("beside-corner-h1e-9", origin=(1.1, 3.0, 1e-9), normal=(0, 0, -1.0), **SQUARE),
+    LightConfig("oblique-d3000", origin=_oblique(3000.0), normal=(0, 0, -1.0), **SQUARE),
+    LightConfig("diagonal-d3000", origin=(1732.6, 1732.6, 1732.1), normal=(0, 0, -1.0), **SQUARE),
+]
+# Sidak-corrected so that the 24 chi-square tests below fail with probability 1e-3 together.
+UNIFORM_CHI2_TESTS = 2 * len(UNIFORM_TRIANGLES) * len(DTYPES)
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize("config", UNIFORM_TRIANGLES, ids=str)
+@pytest.mark.parametrize("against", [None, "rectangle"])
+def test_chi2_triangles_uniform_beside_a_corner_and_far(config, dtype, against):
+    """Against its own pdf and against `rectangle`'s (1/Omega there: it does not fall back)."""
+    r = chi2_test("triangles", config, dtype=dtype, sample_count=1_000_000, against=against, significance=1e-3,
+                  test_count=UNIFORM_CHI2_TESTS)
+    assert r.off_light_samples == 0 and r.invalid_samples == 0, str(r)
+    assert r.passed, str(r)
+
+
+# |pdf Omega - 1| allowed: the float32 rounding of the pdf (6e-8) with margin; float64 a few ulps.
+UNIFORM_PDF_TOLERANCE = {"float32": 2e-7, "float64": 1e-12}
+
+
+@pytest.mark.parametrize("dtype", DTYPES)
+@pytest.mark.parametrize("config", UNIFORM_TRIANGLES, ids=str)
+def test_triangles_pdf_is_one_over_omega_beside_a_corner_and_far(config, dtype):
+    args = _call_args(config)
+    seen = tuple(np.asarray(a, dtype) for a in args)  # the inputs as the dtype's path sees them
+    omega = sphrect.solid_angle(*seen, dtype="float64")
+    points, pdf = sphrect.sample("triangles", *args, _uv_grid(33), dtype=dtype)
+    err = np.abs(pdf.astype(np.float64) * omega - 1)
+    assert err.max() <= UNIFORM_PDF_TOLERANCE[dtype], f"max |pdf Omega - 1| = {err.max():.3g}"
+    np.testing.assert_array_equal(sphrect.pdf("triangles", *args, points, dtype=dtype), pdf)
 
 
 # ---------------------------------------------------------------------------------------------
