@@ -168,7 +168,7 @@ EllipseSlice SphericalEllipseSliceAt(const SphericalEllipseSetup<T>& se, double 
         // loses only relative digits near the ends, where Omega_left ~ w^(3/2) is negligible.
         st = std::sin(se.beta * t);
         ct = std::cos(se.beta * t);
-        const double sig = st * se.cos_beta / (ct * se.sin_beta);
+        const double sig = std::min(st * se.cos_beta / (ct * se.sin_beta), 1.0);  // (rounding at t = 1)
         return {st, ct, sig * sig, (1 - sig) * (1 + sig), 1 / (ct * ct)};
     }
     st = std::sin(se.beta * t);
@@ -177,7 +177,7 @@ EllipseSlice SphericalEllipseSliceAt(const SphericalEllipseSetup<T>& se, double 
     const double plus = se.beta * (1 + t), sup = 2 * se.gamma + rest;
     const double d = ct * se.sin_beta;
     const double sig = st * se.cos_beta / d;
-    w = std::sin(rest) * std::sin(std::min(plus, sup)) / (d * d);  // sin(beta - |theta|) sin(beta + |theta|)
+    w = std::max(std::sin(rest) * std::sin(std::min(plus, sup)) / (d * d), 0.0);  // sin(beta -+ |theta|)
     return {st, ct, sig * sig, w, 1 / (ct * ct)};
 }
 
