@@ -127,7 +127,7 @@ inline Point2<double> SampleSphericalTriangleBarycentrics(const SphericalTriangl
     const double sin_phi = 2 * std::sqrt(sh2 * ch2), cos_phi = ch2 - sh2;
     // (The denominator is |f||b| sin(psi_b - phi) > 0 for phi <= phi1; rounding at v ~ 1 -> P = C'.)
     const double den = g * cos_phi - hb * sin_phi;
-    const double s = den > 0 ? ClampNaN(t.lb * t.lb * sin_phi / den, 0, 1) : 1.0;
+    const double s = den > 0 ? ClampNaN(t.lb * t.lb * sin_phi / den, 0, 1) : sin_phi > 0 ? 1.0 : 0.0;
     return {1 - s, s * tc};
 }
 
