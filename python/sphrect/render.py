@@ -16,8 +16,9 @@ area light with probability proportional to its power (luminance x area x sides)
 spot lights evaluated once per camera sample each.  Suns are evaluated once per camera sample with
 either.  Pixels use a box filter.
 
-Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=4: best at equal time) on
-the blend_scenes (scripts/measure_light_selection.py; README, "Light selection and defaults").
+Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=1: best at equal time with
+the lights in view) on the blend_scenes (scripts/measure_light_selection.py, scripts/measure_light_samples.py;
+README, "Light selection and defaults").
 
 Progressive rendering: each render() call (or each pass of a time budget) adds samples; the
 'sobol' pattern continues one sequence across calls, the other patterns stratify within a call.
@@ -162,7 +163,7 @@ class Renderer:
     """Progressive direct-lighting renderer of a :class:`sphrect.Scene` with one or more
     light-sampling techniques sharing camera rays and first hits (see the module docstring)."""
 
-    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 4,
+    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 1,
                  pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
                  medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree"):
         if isinstance(techniques, str):
