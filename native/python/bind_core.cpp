@@ -170,15 +170,19 @@ std::vector<Vec3<T>> ReadNormals(Technique technique, const py::object& normal) 
     return n;
 }
 
-// Everything a per-row technique call needs, read and validated with the GIL held.
-template <class T>
-struct Setup {
-    RectLight<T> light;
+// Everything a per-row technique call needs, read and validated with the GIL held: the light
+// (RectLight<T> or EllipseLight<T>) and the origins and normals, one (shared) or one per row.
+template <class T, class Light>
+struct Call {
+    Light light;
     std::vector<Vec3<T>> origins, normals;
     const Vec3<T>& Origin(size_t i) const { return origins[origins.size() == 1 ? 0 : i]; }
     const Vec3<T>& Normal(size_t i) const { return normals[normals.size() == 1 ? 0 : i]; }
     bool PerRow() const { return origins.size() > 1 || normals.size() > 1; }
 };
+
+template <class T>
+using Setup = Call<T, RectLight<T>>;
 
 template <class T>
 Setup<T> ReadSetup(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
@@ -188,34 +192,41 @@ Setup<T> ReadSetup(Technique technique, const py::object& origin, const py::obje
     return s;
 }
 
-// Runs per(i, sampler) for i in [0, n) with the right LightSampler, set up once when the
-// origin and normal are shared, per row otherwise.  GIL released.
+// Runs per(i, sampler) for i in [0, n) with a Sampler(origin, normal, light_or_frame), set up
+// once when the origin and normal are shared, per row otherwise.  GIL released.
+template <class Sampler, class C, class LightOrFrame, class F>
+void RunRows(const C& s, const LightOrFrame& light, size_t n, F&& per) {
+    py::gil_scoped_release release;
+    if (!s.PerRow()) {
+        const Sampler sampler(s.Origin(0), s.Normal(0), light);
+        for (size_t i = 0; i < n; ++i) per(i, sampler);
+    } else {
+        for (size_t i = 0; i < n; ++i) per(i, Sampler(s.Origin(i), s.Normal(i), light));
+    }
+}
+
+// The rectangle techniques: the right LightSampler.
 template <class T, class F>
 void ForEachRow(Technique technique, const Setup<T>& s, size_t n, F&& per) {
-    DispatchTechnique(technique, [&](auto tag) {
-        constexpr Technique K = decltype(tag)::value;
-        py::gil_scoped_release release;
-        if (!s.PerRow()) {
-            const LightSampler<K, T> sampler(s.Origin(0), s.Normal(0), s.light);
-            for (size_t i = 0; i < n; ++i) per(i, sampler);
-        } else {
-            for (size_t i = 0; i < n; ++i) per(i, LightSampler<K, T>(s.Origin(i), s.Normal(i), s.light));
-        }
-    });
+    DispatchTechnique(technique, [&](auto tag) { RunRows<LightSampler<decltype(tag)::value, T>>(s, s.light, n, per); });
 }
 
 // ---------------------------------------------------------------------------------------------
-// The bound functions, templated on the precision.
+// The bound functions, templated on the precision; each takes the call `s` and how to run a
+// sampler over its rows, for_each(n, per), so rectangles and ellipses share them.
 
 template <class T>
-py::tuple SampleImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
-                     const py::object& ey, const py::object& uv_obj, const py::object& normal, bool two_sided,
-                     bool with_directions) {
-    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
+std::vector<std::array<T, 2>> ReadUV(const py::object& uv_obj) {
     const auto uv = ReadRows<T, 2>(uv_obj, "uv", false);
     for (const auto& q : uv)
         if (!(q[0] >= 0 && q[0] <= 1 && q[1] >= 0 && q[1] <= 1))
             throw py::value_error("uv must lie in [0, 1]^2, got (" + Num(q[0]) + ", " + Num(q[1]) + ")");
+    return uv;
+}
+
+template <class T, class C, class ForEach>
+py::tuple SampleRows(const C& s, const py::object& uv_obj, bool with_directions, ForEach&& for_each) {
+    const auto uv = ReadUV<T>(uv_obj);
     const size_t n = uv.size();
     CheckRows(n, "uv", s.origins.size(), "origin");
     CheckRows(n, "uv", s.normals.size(), "normal");
@@ -226,7 +237,7 @@ py::tuple SampleImpl(Technique technique, const py::object& origin, const py::ob
     T* D = dirs.mutable_data();
     T* L = dist.mutable_data();
     T* Q = pdf.mutable_data();
-    ForEachRow(technique, s, n, [&](size_t i, const auto& sampler) {
+    for_each(n, [&](size_t i, const auto& sampler) {
         const LightSample<T> ls = sampler.Sample(Point2<T>{uv[i][0], uv[i][1]});
         P[3 * i] = ls.point.x, P[3 * i + 1] = ls.point.y, P[3 * i + 2] = ls.point.z;
         D[3 * i] = ls.dir.x, D[3 * i + 1] = ls.dir.y, D[3 * i + 2] = ls.dir.z;
@@ -237,26 +248,23 @@ py::tuple SampleImpl(Technique technique, const py::object& origin, const py::ob
     return py::make_tuple(points, pdf);
 }
 
-template <class T>
-py::array PdfImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
-                  const py::object& ey, const py::object& points_obj, const py::object& normal, bool two_sided) {
-    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
+template <class T, class C, class ForEach>
+py::array PdfRows(const C& s, const py::object& points_obj, ForEach&& for_each) {
     const auto pts = ReadRows<T, 3>(points_obj, "points", false);
     const size_t n = pts.size();
     CheckRows(n, "points", s.origins.size(), "origin");
     CheckRows(n, "points", s.normals.size(), "normal");
     py::array_t<T> pdf = NewArray<T>(n, 0);
     T* Q = pdf.mutable_data();
-    ForEachRow(technique, s, n, [&](size_t i, const auto& sampler) {
-        Q[i] = sampler.Pdf(Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
-    });
+    for_each(n, [&](size_t i, const auto& sampler) { Q[i] = sampler.Pdf(Vec3<T>(pts[i][0], pts[i][1], pts[i][2])); });
     return pdf;
 }
 
-template <class T>
-py::array InvertImpl(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
-                     const py::object& points_obj, bool two_sided) {
-    const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
+// uv [N, 2] of the points through a map's inverse: make_setup(origin) -> setup with .valid,
+// invert(setup, point) -> Point2<double>.
+template <class T, class MakeSetup, class Invert>
+py::array InvertRows(const py::object& origin, const py::object& points_obj, MakeSetup&& make_setup,
+                     Invert&& invert_point) {
     const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
     const auto pts = ReadRows<T, 3>(points_obj, "points", false);
     const size_t n = pts.size();
@@ -265,38 +273,70 @@ py::array InvertImpl(const py::object& origin, const py::object& corner, const p
     T* U = uv.mutable_data();
     {
         py::gil_scoped_release release;
-        auto invert = [&](size_t i, const RectangleSetup<T>& r) {
+        auto invert = [&](size_t i, const auto& r) {
             // A configuration the map does not cover (degenerate light, origin in the light's
             // plane or behind a one-sided light) has no (u, v): NaN marks it.
             Point2<double> q{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
-            if (r.valid) q = InvertRectangle(r, Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
+            if (r.valid) q = invert_point(r, Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
             U[2 * i] = T(q.u);
             U[2 * i + 1] = T(q.v);
         };
         if (origins.size() == 1) {
-            const RectangleSetup<T> r = MakeRectangleSetup(origins[0], light);
+            const auto r = make_setup(origins[0]);
             for (size_t i = 0; i < n; ++i) invert(i, r);
         } else {
-            for (size_t i = 0; i < n; ++i) invert(i, MakeRectangleSetup(origins[i], light));
+            for (size_t i = 0; i < n; ++i) invert(i, make_setup(origins[i]));
         }
     }
     return uv;
+}
+
+// solid_angle(origin) (double) for origin (3,) -> float, or (N, 3) -> array [N] of T.
+template <class T, class SolidAngle>
+py::object SolidAngleRows(const py::object& origin, SolidAngle&& solid_angle) {
+    const ArrayD o = ToArray(origin, "origin");
+    const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
+    if (o.ndim() == 1) return py::float_(solid_angle(origins[0]));
+    py::array_t<T> out = NewArray<T>(origins.size(), 0);
+    T* W = out.mutable_data();
+    {
+        py::gil_scoped_release release;
+        for (size_t i = 0; i < origins.size(); ++i) W[i] = T(solid_angle(origins[i]));
+    }
+    return std::move(out);
+}
+
+// Rectangles.
+
+template <class T>
+py::tuple SampleImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
+                     const py::object& ey, const py::object& uv_obj, const py::object& normal, bool two_sided,
+                     bool with_directions) {
+    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
+    return SampleRows<T>(s, uv_obj, with_directions, [&](size_t n, auto&& per) { ForEachRow(technique, s, n, per); });
+}
+
+template <class T>
+py::array PdfImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
+                  const py::object& ey, const py::object& points_obj, const py::object& normal, bool two_sided) {
+    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
+    return PdfRows<T>(s, points_obj, [&](size_t n, auto&& per) { ForEachRow(technique, s, n, per); });
+}
+
+template <class T>
+py::array InvertImpl(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                     const py::object& points_obj, bool two_sided) {
+    const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
+    return InvertRows<T>(
+        origin, points_obj, [&](const Vec3<T>& o) { return MakeRectangleSetup(o, light); },
+        [](const RectangleSetup<T>& r, const Vec3<T>& p) { return InvertRectangle(r, p); });
 }
 
 template <class T>
 py::object SolidAngleImpl(const py::object& origin, const py::object& corner, const py::object& ex,
                           const py::object& ey, bool two_sided) {
     const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
-    const ArrayD o = ToArray(origin, "origin");
-    const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
-    if (o.ndim() == 1) return py::float_(RectangleSolidAngle(origins[0], light));
-    py::array_t<T> out = NewArray<T>(origins.size(), 0);
-    T* W = out.mutable_data();
-    {
-        py::gil_scoped_release release;
-        for (size_t i = 0; i < origins.size(); ++i) W[i] = T(RectangleSolidAngle(origins[i], light));
-    }
-    return std::move(out);
+    return SolidAngleRows<T>(origin, [&](const Vec3<T>& o) { return RectangleSolidAngle(o, light); });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -318,50 +358,23 @@ EllipseLight<T> ReadEllipse(const py::handle& center, const py::handle& au, cons
     return light;
 }
 
+template <class T>
+using EllipseCall = Call<T, EllipseLight<T>>;
+
 // Neither ellipse technique uses the shading normal; it is accepted (and checked) for symmetry
 // with sample() and the renderer's sampler interface.
-template <class T>
-std::vector<Vec3<T>> ReadOptionalNormals(const py::object& normal) {
-    if (normal.is_none()) return {Vec3<T>(0, 0, 0)};
-    std::vector<Vec3<T>> n = ReadVec3s<T>(normal, "normal", true);
-    for (auto& v : n) {
-        const T len = Length(v);
-        if (!(len > 0)) throw py::value_error("normal must be a non-zero vector");
-        v = v / len;
-    }
-    return n;
-}
-
-template <class T>
-struct EllipseCall {
-    EllipseLight<T> light;
-    std::vector<Vec3<T>> origins, normals;
-    const Vec3<T>& Origin(size_t i) const { return origins[origins.size() == 1 ? 0 : i]; }
-    const Vec3<T>& Normal(size_t i) const { return normals[normals.size() == 1 ? 0 : i]; }
-    bool PerRow() const { return origins.size() > 1 || normals.size() > 1; }
-};
-
 template <class T>
 EllipseCall<T> ReadEllipseCall(const py::object& origin, const py::object& center, const py::object& au,
                                const py::object& av, const py::object& normal, bool two_sided) {
     return {ReadEllipse<T>(center, au, av, two_sided), ReadVec3s<T>(origin, "origin", true),
-            ReadOptionalNormals<T>(normal)};
+            ReadNormals<T>(Technique::Area, normal)};
 }
 
 template <class T, class F>
 void ForEachEllipseRow(EllipseTechnique technique, const EllipseCall<T>& s, size_t n, F&& per) {
-    DispatchEllipseTechnique(technique, [&](auto tag) {
-        constexpr EllipseTechnique K = decltype(tag)::value;
-        py::gil_scoped_release release;
-        if (!s.PerRow()) {
-            const EllipseLightFrame<T> frame = MakeEllipseLightFrame(s.light);
-            const EllipseSampler<K, T> sampler(s.Origin(0), s.Normal(0), frame);
-            for (size_t i = 0; i < n; ++i) per(i, sampler);
-        } else {
-            const EllipseLightFrame<T> frame = MakeEllipseLightFrame(s.light);
-            for (size_t i = 0; i < n; ++i) per(i, EllipseSampler<K, T>(s.Origin(i), s.Normal(i), frame));
-        }
-    });
+    const EllipseLightFrame<T> frame = MakeEllipseLightFrame(s.light);
+    DispatchEllipseTechnique(technique,
+                             [&](auto tag) { RunRows<EllipseSampler<decltype(tag)::value, T>>(s, frame, n, per); });
 }
 
 template <class T>
@@ -369,22 +382,7 @@ py::tuple SampleEllipseImpl(EllipseTechnique technique, const py::object& origin
                             const py::object& au, const py::object& av, const py::object& uv_obj,
                             const py::object& normal, bool two_sided) {
     const EllipseCall<T> s = ReadEllipseCall<T>(origin, center, au, av, normal, two_sided);
-    const auto uv = ReadRows<T, 2>(uv_obj, "uv", false);
-    for (const auto& q : uv)
-        if (!(q[0] >= 0 && q[0] <= 1 && q[1] >= 0 && q[1] <= 1))
-            throw py::value_error("uv must lie in [0, 1]^2, got (" + Num(q[0]) + ", " + Num(q[1]) + ")");
-    const size_t n = uv.size();
-    CheckRows(n, "uv", s.origins.size(), "origin");
-    CheckRows(n, "uv", s.normals.size(), "normal");
-    py::array_t<T> points = NewArray<T>(n, 3), pdf = NewArray<T>(n, 0);
-    T* P = points.mutable_data();
-    T* Q = pdf.mutable_data();
-    ForEachEllipseRow(technique, s, n, [&](size_t i, const auto& sampler) {
-        const LightSample<T> ls = sampler.Sample(Point2<T>{uv[i][0], uv[i][1]});
-        P[3 * i] = ls.point.x, P[3 * i + 1] = ls.point.y, P[3 * i + 2] = ls.point.z;
-        Q[i] = ls.pdf;
-    });
-    return py::make_tuple(points, pdf);
+    return SampleRows<T>(s, uv_obj, false, [&](size_t n, auto&& per) { ForEachEllipseRow(technique, s, n, per); });
 }
 
 template <class T>
@@ -392,63 +390,23 @@ py::array EllipsePdfImpl(EllipseTechnique technique, const py::object& origin, c
                          const py::object& au, const py::object& av, const py::object& points_obj,
                          const py::object& normal, bool two_sided) {
     const EllipseCall<T> s = ReadEllipseCall<T>(origin, center, au, av, normal, two_sided);
-    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
-    const size_t n = pts.size();
-    CheckRows(n, "points", s.origins.size(), "origin");
-    CheckRows(n, "points", s.normals.size(), "normal");
-    py::array_t<T> pdf = NewArray<T>(n, 0);
-    T* Q = pdf.mutable_data();
-    ForEachEllipseRow(technique, s, n, [&](size_t i, const auto& sampler) {
-        Q[i] = sampler.Pdf(Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
-    });
-    return pdf;
+    return PdfRows<T>(s, points_obj, [&](size_t n, auto&& per) { ForEachEllipseRow(technique, s, n, per); });
 }
 
 template <class T>
 py::array InvertEllipseImpl(const py::object& origin, const py::object& center, const py::object& au,
                             const py::object& av, const py::object& points_obj, bool two_sided) {
-    const EllipseLight<T> light = ReadEllipse<T>(center, au, av, two_sided);
-    const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
-    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
-    const size_t n = pts.size();
-    CheckRows(n, "points", origins.size(), "origin");
-    py::array_t<T> uv = NewArray<T>(n, 2);
-    T* U = uv.mutable_data();
-    {
-        py::gil_scoped_release release;
-        const EllipseLightFrame<T> frame = MakeEllipseLightFrame(light);
-        auto invert = [&](size_t i, const SphericalEllipseSetup<T>& r) {
-            // No (u, v) where the map does not cover the configuration (origin in the light's
-            // plane or behind a one-sided light): NaN.
-            Point2<double> q{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
-            if (r.valid) q = InvertSphericalEllipse(r, Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
-            U[2 * i] = T(q.u);
-            U[2 * i + 1] = T(q.v);
-        };
-        if (origins.size() == 1) {
-            const SphericalEllipseSetup<T> r = MakeSphericalEllipseSetup(origins[0], frame);
-            for (size_t i = 0; i < n; ++i) invert(i, r);
-        } else {
-            for (size_t i = 0; i < n; ++i) invert(i, MakeSphericalEllipseSetup(origins[i], frame));
-        }
-    }
-    return uv;
+    const EllipseLightFrame<T> frame = MakeEllipseLightFrame(ReadEllipse<T>(center, au, av, two_sided));
+    return InvertRows<T>(
+        origin, points_obj, [&](const Vec3<T>& o) { return MakeSphericalEllipseSetup(o, frame); },
+        [](const SphericalEllipseSetup<T>& r, const Vec3<T>& p) { return InvertSphericalEllipse(r, p); });
 }
 
 template <class T>
 py::object EllipseSolidAngleImpl(const py::object& origin, const py::object& center, const py::object& au,
                                  const py::object& av, bool two_sided) {
     const EllipseLight<T> light = ReadEllipse<T>(center, au, av, two_sided);
-    const ArrayD o = ToArray(origin, "origin");
-    const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
-    if (o.ndim() == 1) return py::float_(EllipseSolidAngle(origins[0], light));
-    py::array_t<T> out = NewArray<T>(origins.size(), 0);
-    T* W = out.mutable_data();
-    {
-        py::gil_scoped_release release;
-        for (size_t i = 0; i < origins.size(); ++i) W[i] = T(EllipseSolidAngle(origins[i], light));
-    }
-    return std::move(out);
+    return SolidAngleRows<T>(origin, [&](const Vec3<T>& o) { return EllipseSolidAngle(o, light); });
 }
 
 py::array PatternImpl(const std::string& name, const py::object& n_obj, const py::object& seed_obj) {

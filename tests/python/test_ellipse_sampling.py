@@ -134,7 +134,7 @@ def test_invert_round_trip(dtype):
 # Irradiance from a disk parallel to the receiver: E = pi L F with the classical form factor of a
 # differential area to a coaxial-parallel disk of radius R at height H, offset rho from its axis,
 #   F = (1 - (H^2 + rho^2 - R^2) / sqrt((H^2 + rho^2 + R^2)^2 - 4 rho^2 R^2)) / 2.
-# Bound 4 standard errors: false-failure rate 6e-5 per check (normal approximation), 8 checks.
+# Bound 4 standard errors: false-failure rate 6e-5 per check (normal approximation), 6 checks.
 
 @pytest.mark.parametrize("technique", TECHNIQUES)
 @pytest.mark.parametrize("rho", [0.0, 0.7, 2.5])
