@@ -25,8 +25,8 @@
 // is reduced to its principal frame through the secular equation of its dual quadric (3)-(6), all
 // in sums of positive terms; the solid angle and the cumulative solid angle of the map's first
 // step are one Carlson integral R_J each (10) (ellipse_carlson.h; no cancellation anywhere in [0, 1]);
-// the first step is solved by safeguarded Halley steps on Omega_left^(2/3) (11), the second is closed
-// form (12).  The few setups whose spherical ellipse is too thin for double directions to resolve
+// the first step is solved by safeguarded Halley steps on Omega_left (on Omega_left^(2/3) near the
+// ends) (11), the second is closed form (12).  The few setups whose spherical ellipse is too thin for double directions to resolve
 // (u, v) (15) switch to area sampling (16), which Sample, PDF and Invert all follow, so the pdf
 // returned is always the pdf of the point returned.
 #pragma once
@@ -47,6 +47,8 @@ constexpr double kEllipseMaxError = 1e-7;
 // The u-step's Halley iteration stops when the error it predicts for t (which moves u by at most
 // about as much) is below this, (11).
 constexpr double kEllipseLastError = 1e-13;
+// Below this share of Omega from the end, the u-step iterates on Omega_left^(2/3), (11).
+constexpr double kEllipseTipShare = 0.05;
 
 // The per-(shading point, light) constants of the map (docs/ellipse_map.md, table of section 8).
 template <class T>
@@ -200,43 +202,46 @@ double SphericalEllipseChord(const SphericalEllipseSetup<T>& se, const EllipseSl
 }
 
 // The u-step (11): t = |theta| / beta in [0, 1] with Omega_left = ut Omega, ut in [0, 1/2].
-// Safeguarded Halley iteration on G = Omega_left^(2/3), which is nearly linear in t from the end
-// (where Omega_left ~ (1 - t)^(3/2)) to the middle; G', G'' from (9) and (8).
+// Safeguarded Halley iteration with Omega_left' and Omega_left'' from (9) and (8); near the end
+// (ut < kEllipseTipShare), where Omega_left ~ (1 - t)^(3/2), on G = Omega_left^(2/3) instead, which
+// is nearly linear there.
 template <class T>
 double SphericalEllipseSolveT(const SphericalEllipseSetup<T>& se, double ut) {
     if (!(ut > 0)) return 1;
     if (ut >= 0.5) return 0;
-    const double target = std::cbrt(ut * se.omega), target23 = target * target;
+    const bool tip = ut < kEllipseTipShare;
+    const double target = ut * se.omega, target_cbrt = tip ? std::cbrt(target) : 0;
     const double A2 = se.A * se.A, B2 = se.B * se.B;
-    double lo = 0, hi = 1;  // G(lo) >= target, G(hi) <= target
+    double lo = 0, hi = 1;  // Omega_left(lo) >= target >= Omega_left(hi)
     double prev = 0;        // the last Halley step's size (0: none, or a bisection)
     double t = std::cbrt(2 * ut);
     t = 1 - t * t;
     for (int it = 0; it < 60; ++it) {
         const EllipseSlice sl = SphericalEllipseSliceAt(se, t);
         const double left = SphericalEllipseLeft(se, sl);
-        const double cl = std::cbrt(left);
-        const double g = cl * cl - target23;
+        const double cl = tip ? std::cbrt(left) : 0;
+        const double g = tip ? cl * cl - target_cbrt * target_cbrt : left - target;
         if (g == 0) break;
         (g > 0 ? lo : hi) = t;
         double den;
         const double x1 = SphericalEllipseChord(se, sl, &den);
-        const double d1 = -2 * se.beta * x1;         // d Omega_left / dt, (9)
-        const double dg = (2.0 / 3.0) / cl * d1;     // G'
-        double step = g / dg;                        // Newton
-        if (x1 > 0) {                                // Halley, with Omega_left'' from d x1 / d sigma
-            const double sigma = std::sqrt(sl.s2);   // (|sigma|: d x1 / d|sigma| < 0, d|sigma| / dt > 0)
+        const double d1 = -2 * se.beta * x1;  // d Omega_left / dt, (9)
+        double d2 = 0;                        // d^2 Omega_left / dt^2, from d x1 / d sigma (8)
+        if (x1 > 0) {
+            const double sigma = std::sqrt(sl.s2);  // (|sigma|: d x1 / d|sigma| < 0, d|sigma| / dt > 0)
             const double dsigma = se.beta * sl.one_plus / se.B;
-            const double d2 = -2 * se.beta * (-sigma * A2 * (1 + B2) / (x1 * den * den)) * dsigma;
-            const double d2g = (2.0 / 3.0) / cl * (d2 - d1 * d1 / (3 * left));
-            const double q = 2 * dg * dg - g * d2g;
-            if (q > 0) step = 2 * g * dg / q;
+            d2 = -2 * se.beta * (-sigma * A2 * (1 + B2) / (x1 * den * den)) * dsigma;
         }
+        const double dg = tip ? (2.0 / 3.0) / cl * d1 : d1;
+        const double d2g = tip ? (2.0 / 3.0) / cl * (d2 - d1 * d1 / (3 * left)) : d2;
+        double step = g / dg;  // Newton, or Halley where its denominator allows
+        const double q = 2 * dg * dg - g * d2g;
+        if (x1 > 0 && q > 0) step = 2 * g * dg / q;
         double tn = t - step;
         const bool inside = tn > lo && tn < hi;
         if (!inside) tn = 0.5 * (lo + hi);
         // Converging cubically, e_next ~ K step^3 with K estimated from the last two Halley steps:
-        // when that is below kEllipseLastError the step is taken without evaluating G again.
+        // when that is below kEllipseLastError the step is taken without evaluating again.
         const double size = std::abs(tn - t);
         const double predicted = prev > 0 ? size / (prev * prev * prev) * size * size * size : size;
         const bool done = inside && (predicted <= kEllipseLastError || size <= 1e-15);
