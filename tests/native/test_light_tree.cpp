@@ -1,4 +1,5 @@
 // Light tree (render/light_tree.h): pmfs sum to 1, sampling frequencies match Pmf (chi-square),
+// LightTreeAt's memoised Sample and Pmf equal the tree's bit for bit,
 // Pmf > 0 for every emitter that can light the point, and degenerate input.
 //
 // Statistics: fixed seeds.  The chi-square tests share a suite-wide false-failure rate of 1e-4,
@@ -185,6 +186,34 @@ double Chi2Threshold(int k, double alpha) {
 }
 
 constexpr int kChi2Tests = 12;
+
+// LightTreeAt memoises each node's child probability per receiver: its Sample and Pmf must be
+// LightTree's, bit for bit, whatever the order of the calls, on trees that fit its memo (4
+// emitters) and that overflow it (300: nodes share slots), with and without a normal.
+TEST(LightTree, AtReceiverMatchesTreeExactly) {
+    for (const int n : {1, 4, 300}) {
+        const Emitters e = MixedScene(n, 11);
+        LightTree tree;
+        tree.Build(e.tree.bounds);
+        PCG32 rng(13);
+        int sampled = 0;
+        for (const bool with_normal : {true, false})
+            for (const Receiver& r : RandomReceivers(100, 17, with_normal)) {
+                LightTreeAt at(tree, r.p, r.n);
+                for (int k = 0; k < 16; ++k) {
+                    const float u = BitsToUnitFloat(rng.NextU32());
+                    const LightTreeSample a = at.Sample(u), b = tree.Sample(r.p, r.n, u);
+                    EXPECT_EQ(a.emitter, b.emitter);
+                    EXPECT_EQ(a.pmf, b.pmf);
+                    EXPECT_EQ(a.u, b.u);
+                    sampled += a.emitter >= 0;
+                    const int emitter = int(rng.NextU32() % uint32_t(n + 1)) - (k == 0);  // -1 and n too
+                    EXPECT_EQ(at.Pmf(emitter), tree.Pmf(r.p, r.n, emitter)) << "emitter " << emitter;
+                }
+            }
+        EXPECT_GT(sampled, 0) << n << " emitters";
+    }
+}
 
 TEST(LightTree, PickFrequenciesMatchPmf) {
     const Emitters e = MixedScene(120, 6);
