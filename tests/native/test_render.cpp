@@ -465,5 +465,53 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
     for (int i = 0; i < 5; ++i) EXPECT_NEAR(count[i], s.light_tree().Pmf(p, n, i) * kN, 2.0) << i;
 }
 
+// LightSamplingAt keeps the samplers of the last kKeptSamplers (4) rectangle lights it set up, for
+// their samples and pdfs: whatever the order of the calls over more lights than it keeps (some
+// replaced, set up again), every Sample and PDF equals a fresh sampler's, bit for bit.
+template <Technique K>
+void ExpectKeptSamplersMatchFreshOnes() {
+    RenderScene s;
+    CameraModel camera;
+    camera.width = camera.height = 4;
+    s.SetCamera(camera);
+    s.AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+    constexpr int kLights = 6;
+    for (int i = 0; i < kLights; ++i)
+        EXPECT_EQ(s.AddRectLight({-3.0f + i, -0.5f, 1.0f + 0.3f * i}, {0.4f + 0.1f * i, 0, 0}, {0, 0.7f, 0.1f * i},
+                                 {1, 1, 1}, i % 2 == 1, false), "");
+    s.Commit();
+    const Vec3f p{0.2f, -0.1f, 0}, n = Normalize(Vec3f{0.1f, 0, 1});
+    LightSamplingAt<K> at(s, LightSelection::Power, p, n, n);
+    PCG32 rng(5);
+    int valid = 0;
+    for (int k = 0; k < 200; ++k) {
+        const int i = int(rng.NextU32() % kLights);
+        const LightSampler<K, float> fresh(p, n, s.area_lights[i].frame);
+        const Point2<float> u{rng.NextFloat(), rng.NextFloat()};
+        const LightSample<float> a = at.Sample(i, u);
+        const LightSample<float> b = fresh.Valid() ? fresh.Sample(u) : LightSample<float>{};
+        EXPECT_EQ(a.pdf, b.pdf) << "light " << i;
+        EXPECT_EQ(a.point.x, b.point.x);
+        EXPECT_EQ(a.point.y, b.point.y);
+        EXPECT_EQ(a.point.z, b.point.z);
+        if (!(b.pdf > 0)) continue;
+        ++valid;
+        // The pdf of a point of another light (a BSDF ray's), then of this one.
+        const int j = int(rng.NextU32() % kLights);
+        const LightSampler<K, float> fresh_j(p, n, s.area_lights[j].frame);
+        const RectLight<float>& r = s.area_lights[j].frame.light;
+        const Vec3f q = r.corner + r.ex * rng.NextFloat() + r.ey * rng.NextFloat();
+        EXPECT_EQ(at.PDF(j, q), fresh_j.Valid() ? s.light_selector.pmf[j] * fresh_j.Pdf(q) : 0.0f) << "light " << j;
+        EXPECT_EQ(at.PDF(i, b.point), s.light_selector.pmf[i] * fresh.Pdf(b.point));
+    }
+    EXPECT_GT(valid, 60);  // the even lights are one-sided, facing away: invalid samplers, pdf 0
+}
+
+TEST(RenderLights, KeptSamplersMatchFreshOnes) {
+    ExpectKeptSamplersMatchFreshOnes<Technique::Rectangle>();
+    ExpectKeptSamplersMatchFreshOnes<Technique::RectangleCosine>();
+    ExpectKeptSamplersMatchFreshOnes<Technique::Triangles>();
+}
+
 }  // namespace
 }  // namespace sphrect::render
