@@ -18,6 +18,9 @@
 10_night_street  a night street: 1,000 point and spot lights (street lamps, string lights across the
                  street, shop-front downlights) and lit windows (mesh quads with an Emission shader),
                  a dark blue night sky
+11_paper_disk    the paper's scene with its light replaced by a two-sided disk of the same area and
+                 power, its lowest point 5 cm above the ground
+12_disk_ceiling  the room of 02_room lit by a ceiling disk of the rectangle's area and power
 """
 import math
 import os
@@ -158,8 +161,12 @@ def save(scene_name):
 
 
 # ------------------------------------------------------------------ the scenes
-def paper():
-    fresh_scene("paper")
+def disk_diameter(area):
+    """Blender's DISK size (its diameter) for a disk of `area`."""
+    return 2.0 * math.sqrt(area / math.pi)
+
+
+def paper_objects():
     white = material("Ground", (0.8, 0.8, 0.8))
     mesh_object("Ground", "plane", white, size=12)
     smooth(mesh_object("Sphere", "uv_sphere", material("Red", (0.7, 0.15, 0.1)), location=(-1.2, 0.8, 0.6),
@@ -168,6 +175,11 @@ def paper():
                 rotation=(0, 0, 0.5))
     smooth(mesh_object("Cylinder", "cylinder", material("Blue", (0.15, 0.25, 0.7)), location=(0.1, 2.0, 0.7),
                        radius=0.35, depth=1.4, vertices=32))
+
+
+def paper():
+    fresh_scene("paper")
+    paper_objects()
     # Perpendicular to the ground (rotated 90 degrees about X: its plane holds X and Z), bottom edge
     # 5 cm above the ground, emitting on both faces and hidden from the camera.
     area_light("Light", "RECTANGLE", size=3.0, size_y=0.6, power=50.0, location=(0, -0.2, 0.35),
@@ -176,14 +188,29 @@ def paper():
     save("01_paper")
 
 
-def room_scene(name, fog):
+def paper_disk():
+    fresh_scene("paper_disk")
+    paper_objects()
+    # The 3 m x 0.6 m light's area (1.8 m^2) and power, in the same vertical plane, its lowest point
+    # 5 cm above the ground as the rectangle's bottom edge.
+    d = disk_diameter(3.0 * 0.6)
+    area_light("Light", "DISK", size=d, power=50.0, location=(0, -0.2, 0.05 + d / 2),
+               rotation=(math.pi / 2, 0, 0), two_sided=True, visible=False)
+    camera((0.0, -7.0, 3.2), (0.0, 0.8, 0.4))
+    save("11_paper_disk")
+
+
+def room_scene(name, fog, disk=False):
     scene = fresh_scene(name)
     room(material("Walls", (0.75, 0.75, 0.7)))
     mesh_object("Box", "cube", material("Orange", (0.8, 0.45, 0.15)), location=(1.0, 1.0, 0.6), size=1.2,
                 rotation=(0, 0, 0.4))
     smooth(mesh_object("Sphere", "uv_sphere", material("Grey", (0.6, 0.6, 0.6)), location=(-1.1, 0.3, 0.7),
                        radius=0.7, segments=32, ring_count=16))
-    area_light("Ceiling Light", "RECTANGLE", size=1.6, size_y=0.8, power=300.0, location=(0, 0.5, 2.98))
+    if disk:  # the rectangle's area (1.28 m^2) and power
+        area_light("Ceiling Light", "DISK", size=disk_diameter(1.6 * 0.8), power=300.0, location=(0, 0.5, 2.98))
+    else:
+        area_light("Ceiling Light", "RECTANGLE", size=1.6, size_y=0.8, power=300.0, location=(0, 0.5, 2.98))
     camera((0.0, -2.8, 1.5), (0.0, 0.8, 0.9), lens=20.0)
     if fog:
         nodes, links = scene.world.node_tree.nodes, scene.world.node_tree.links
@@ -435,7 +462,8 @@ def night_street():
 SCENES = {"01_paper": paper, "02_room": lambda: room_scene("02_room", fog=False), "03_glossy_floor": glossy_floor,
           "04_foggy_room": lambda: room_scene("04_foggy_room", fog=True), "05_hard_cases": hard_cases,
           "06_mixed_lights": mixed_lights, "07_studio": studio, "08_disk_room": disk_room,
-          "09_hall": hall, "10_night_street": night_street}
+          "09_hall": hall, "10_night_street": night_street, "11_paper_disk": paper_disk,
+          "12_disk_ceiling": lambda: room_scene("12_disk_ceiling", fog=False, disk=True)}
 
 if __name__ == "__main__":
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []

@@ -9,12 +9,14 @@ from conftest import SCENES, addon_module, engine_module, lit_test_scene, open_b
 # Effects each scene must switch on (named by the renderer and shown in the stats line).
 EXPECTED_FEATURES = {"03_glossy_floor": {"glossy"}, "04_foggy_room": {"medium"},
                      "06_mixed_lights": {"ellipse_lights", "delta_lights"}, "09_hall": {"glossy", "ellipse_lights"},
-                     "10_night_street": {"delta_lights", "emissive_meshes", "background"}}
+                     "10_night_street": {"delta_lights", "emissive_meshes", "background"},
+                     "11_paper_disk": {"ellipse_lights"}, "12_disk_ceiling": {"ellipse_lights"}}
 
 
 def test_all_blend_scenes_exist():
     assert SCENES == ["01_paper", "02_room", "03_glossy_floor", "04_foggy_room", "05_hard_cases",
-                      "06_mixed_lights", "07_studio", "08_disk_room", "09_hall", "10_night_street"]
+                      "06_mixed_lights", "07_studio", "08_disk_room", "09_hall", "10_night_street", "11_paper_disk",
+                      "12_disk_ceiling"]
 
 
 @pytest.mark.parametrize("name", SCENES)
