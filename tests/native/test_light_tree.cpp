@@ -197,20 +197,21 @@ TEST(LightTree, AtReceiverMatchesTreeExactly) {
         tree.Build(e.tree.bounds);
         PCG32 rng(13);
         int sampled = 0;
-        for (const bool with_normal : {true, false})
-            for (const Receiver& r : RandomReceivers(100, 17, with_normal)) {
-                LightTreeAt at(tree, r.p, r.n);
-                for (int k = 0; k < 16; ++k) {
-                    const float u = BitsToUnitFloat(rng.NextU32());
-                    const LightTreeSample a = at.Sample(u), b = tree.Sample(r.p, r.n, u);
-                    EXPECT_EQ(a.emitter, b.emitter);
-                    EXPECT_EQ(a.pmf, b.pmf);
-                    EXPECT_EQ(a.u, b.u);
-                    sampled += a.emitter >= 0;
-                    const int emitter = int(rng.NextU32() % uint32_t(n + 1)) - (k == 0);  // -1 and n too
-                    EXPECT_EQ(at.Pmf(emitter), tree.Pmf(r.p, r.n, emitter)) << "emitter " << emitter;
+        for (const bool memoize : {true, false})
+            for (const bool with_normal : {true, false})
+                for (const Receiver& r : RandomReceivers(100, 17, with_normal)) {
+                    LightTreeAt at(tree, r.p, r.n, memoize);
+                    for (int k = 0; k < 16; ++k) {
+                        const float u = BitsToUnitFloat(rng.NextU32());
+                        const LightTreeSample a = at.Sample(u), b = tree.Sample(r.p, r.n, u);
+                        EXPECT_EQ(a.emitter, b.emitter);
+                        EXPECT_EQ(a.pmf, b.pmf);
+                        EXPECT_EQ(a.u, b.u);
+                        sampled += a.emitter >= 0;
+                        const int emitter = int(rng.NextU32() % uint32_t(n + 1)) - (k == 0);  // -1 and n too
+                        EXPECT_EQ(at.Pmf(emitter), tree.Pmf(r.p, r.n, emitter)) << "emitter " << emitter;
+                    }
                 }
-            }
         EXPECT_GT(sampled, 0) << n << " emitters";
     }
 }

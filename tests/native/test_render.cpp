@@ -443,7 +443,7 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
     EXPECT_EQ(s.light_tree_refs()[4].index, 2);  // the spot (delta light 1 is the sun)
 
     const Vec3f p{0.2f, -0.1f, 0}, n{0, 0, 1};
-    LightSamplingAt<Technique::Rectangle> at(s, LightSelection::Tree, p, n, n);
+    LightSamplingAt<Technique::Rectangle> at(s, LightSelection::Tree, p, n, n, 4);
     std::vector<int> count(5, 0);
     constexpr int kN = 20000;
     double pmf_sum = 0;
@@ -481,7 +481,7 @@ void ExpectKeptSamplersMatchFreshOnes() {
                                  {1, 1, 1}, i % 2 == 1, false), "");
     s.Commit();
     const Vec3f p{0.2f, -0.1f, 0}, n = Normalize(Vec3f{0.1f, 0, 1});
-    LightSamplingAt<K> at(s, LightSelection::Power, p, n, n);
+    LightSamplingAt<K> at(s, LightSelection::Power, p, n, n, 4);
     PCG32 rng(5);
     int valid = 0;
     for (int k = 0; k < 200; ++k) {

@@ -78,11 +78,12 @@ template <Technique K>
 class LightSamplingAt {
   public:
     // normal: the techniques' (the cosine technique's horizon); tree_normal: the light tree's
-    // receiver normal, (0,0,0) in a medium.
+    // receiver normal, (0,0,0) in a medium; light_samples: how many light samples the point will
+    // draw (several: the tree keeps its nodes' probabilities for them, LightTreeAt).
     LightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin, const Vec3f& normal,
-                    const Vec3f& tree_normal)
+                    const Vec3f& tree_normal, int light_samples)
         : scene_(scene), selection_(selection), origin_(origin), normal_(normal),
-          tree_(scene.light_tree(), origin, tree_normal) {}
+          tree_(scene.light_tree(), origin, tree_normal, light_samples > 1) {}
 
     // The emitter of the light sample with pattern point light_point, at this receiver.
     ChosenLight Choose(Point2<float> light_point) {
