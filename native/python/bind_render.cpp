@@ -87,7 +87,8 @@ void SetCamera(RenderScene& s, int width, int height, const py::object& to_world
 std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const std::vector<std::string>& techniques,
                                        int light_samples, const std::string& pattern, const std::string& mis,
                                        const std::string& medium_sampling, const std::string& light_selection,
-                                       uint64_t seed, int threads, int tile_size) {
+                                       const std::string& ellipse_technique, uint64_t seed, int threads,
+                                       int tile_size) {
     if (!scene->committed()) throw py::value_error("the scene must be committed before rendering");
     render::RenderOptions o;
     o.techniques.clear();
@@ -102,6 +103,8 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
                          render::MediumSamplingName, &o.medium_sampling);
     ParseEnumNameOrThrow("light_selection", "light_selection values", light_selection, render::kAllLightSelections,
                          render::LightSelectionName, &o.light_selection);
+    ParseEnumNameOrThrow("ellipse_technique", "ellipse techniques", ellipse_technique, kAllEllipseTechniques,
+                         EllipseTechniqueName, &o.ellipse_technique);
     o.light_samples = light_samples;
     o.seed = seed;
     o.threads = threads;
@@ -188,7 +191,8 @@ void BindRender(py::module_& m) {
 
     py::class_<Renderer>(m, "_Renderer", "Native renderer; use sphrect.Renderer")
         .def(py::init(&MakeRenderer), py::arg("scene"), py::arg("techniques"), py::arg("light_samples"),
-             py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("light_selection"), py::arg("seed"),
+             py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("light_selection"),
+             py::arg("ellipse_technique"), py::arg("seed"),
              py::arg("threads"),
              py::arg("tile_size"))
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))

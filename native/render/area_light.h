@@ -1,15 +1,20 @@
 // Area lights: rectangles and ellipses (discs), sampled and intersected analytically, and the
 // triangles of emissive meshes.  Rectangles are sampled with the chosen technique
-// (core/technique.h, through integrator/light_sampling_at.h); ellipses uniformly by area,
-// converted to solid angle; triangles by solid angle with Arvo's spherical triangle map
-// (core/spherical_triangle.h), or by area under the `area` technique.
+// (core/technique.h, through integrator/light_sampling_at.h); ellipses with the chosen ellipse
+// technique (core/ellipse_technique.h, through integrator/ellipse_sampling_at.h): uniformly by
+// area (here), converted to solid angle, or by the spherical ellipse map; triangles by solid
+// angle with Arvo's spherical triangle map (core/spherical_triangle.h), or by area under the
+// `area` technique.
 #pragma once
 
 #include <cmath>
 
+#include "core/ellipse_light.h"
 #include "core/light_sample.h"
 #include "core/rect_light.h"
+#include "core/solid_angle.h"
 #include "core/spherical_triangle.h"
+#include "core/triangles.h"  // kTrianglesStableAreaAbove
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -21,6 +26,8 @@ struct AreaLight {
     // Rectangle: the light (frame.light: corner, edges ex, ey) with what the samplers' setups
     // need of it, computed once per light.  Ellipses leave it invalid.
     RectLightFrame<float> frame;
+    // Ellipse: what the spherical ellipse's setups need of it (invalid for the other shapes).
+    EllipseLightFrame<float> ellipse_frame;
     Vec3f center;           // centre
     Vec3f ax, ay;           // Ellipse: semi-axes
     Vec3f v0, e1, e2;       // Triangle: vertex v0 and edges v1 - v0, v2 - v0
@@ -69,6 +76,7 @@ inline AreaLight MakeEllipseAreaLight(const Vec3f& center, const Vec3f& ax, cons
     const Vec3f c = Cross(ax, ay);
     l.area = kPi * Length(c);
     l.n = Normalize(c);
+    l.ellipse_frame = MakeEllipseLightFrame(EllipseLight<float>{center, ax, ay, two_sided});
     SetAxesAndEmission(l, ax, ay, radiance, two_sided, visible);
     return l;
 }
@@ -157,51 +165,52 @@ inline LightSample<float> SampleTriangleArea(const AreaLight& l, const Vec3f& or
     return AreaSampleSeenFrom(l, origin, l.v0 + l.e1 * (su * (1 - u.v)) + l.e2 * (su * u.v));
 }
 
-// Below this solid angle Arvo's map loses u (the angle sum ~ pi swamps the area, as in
-// core/triangles.h): such a triangle is sampled by area, with that pdf.
-constexpr double kTriangleLightMinSolidAngle = 1e-7;
-
 // A triangle light seen from one point, for sampling by solid angle: the spherical triangle of
-// its vertices (in double, relative to the point, so nothing cancels for a distant light), or
-// the area fallback.  Invalid (pdf 0) when the point lies in the triangle's plane, where the
+// its vertices (in double, relative to the point, so nothing cancels for a distant light).
+// Arvo's map (core/spherical_triangle.h) resolves small, thin and distant triangles; what can be
+// lost is its solid angle, seen nearly edge-on (Van Oosterom & Strackee's denominator cancels:
+// area_error), which is then recomputed from the triangle in its plane's frame, as
+// core/triangles.h does.  Invalid (pdf 0) when the point lies in the triangle's plane, where the
 // triangle subtends no solid angle, or when anything is not finite.
 struct TriangleSolidAngleSetup {
     SphericalTriangle tri;
     Vec3d a;          // v0 - origin
     Vec3d n;          // unit normal (double)
     double h = 0;     // n . (v0 - origin): signed distance of the plane
-    float pdf = 0;    // 1 / Omega on a spherically sampled triangle
-    bool valid = false, by_area = false;
+    float pdf = 0;    // 1 / Omega
+    bool valid = false;
 };
 
 inline TriangleSolidAngleSetup MakeTriangleSolidAngleSetup(const AreaLight& l, const Vec3f& origin) {
     TriangleSolidAngleSetup r;
-    const Vec3d o(origin), v0(l.v0);
+    const Vec3d o(origin), v0(l.v0), e1(l.e1), e2(l.e2);
     r.a = v0 - o;
-    const Vec3d b = r.a + Vec3d(l.e1), c = r.a + Vec3d(l.e2);
-    r.n = Normalize(Cross(Vec3d(l.e1), Vec3d(l.e2)));
+    const Vec3d b = r.a + e1, c = r.a + e2;
+    r.n = Normalize(Cross(e1, e2));
     r.h = Dot(r.n, r.a);
     if (!(std::abs(r.h) > 0) || !IsFinite(r.n)) return r;
     r.tri = MakeSphericalTriangle(r.a, b, c);
+    if (r.tri.area_error > kTrianglesStableAreaAbove * r.tri.area) {
+        const Vec3d ux = Normalize(e1), uy = Cross(r.n, ux);
+        const double xs[3] = {Dot(r.a, ux), Dot(b, ux), Dot(c, ux)}, ys[3] = {Dot(r.a, uy), Dot(b, uy), Dot(c, uy)};
+        r.tri.area = PlanarTriangleSolidAngleLocal(xs, ys, std::abs(r.h));
+        r.tri.area_error = 0;
+    }
     if (!(r.tri.area > 0) || !std::isfinite(r.tri.area)) return r;
-    r.by_area = r.tri.area < kTriangleLightMinSolidAngle;
     r.pdf = float(1 / r.tri.area);
-    r.valid = r.by_area || (r.pdf > 0 && std::isfinite(r.pdf));
+    r.valid = r.pdf > 0 && std::isfinite(r.pdf);
     return r;
 }
 
-// Solid-angle pdf of the point p on the triangle: 1 / Omega (the map is uniform in solid angle),
-// or the area fallback's d^2 / (A |cos|).
-inline float TriangleSolidAnglePDF(const TriangleSolidAngleSetup& r, const AreaLight& l, const Vec3f& origin,
-                                   const Vec3f& p) {
-    if (!r.valid) return 0;
-    return r.by_area ? AreaToSolidAnglePDF(l, origin, p) : r.pdf;
+// Solid-angle pdf of the point p on the triangle: 1 / Omega (the map is uniform in solid angle).
+inline float TriangleSolidAnglePDF(const TriangleSolidAngleSetup& r, const AreaLight& /*l*/,
+                                   const Vec3f& /*origin*/, const Vec3f& /*p*/) {
+    return r.valid ? r.pdf : 0.0f;
 }
 
-inline LightSample<float> SampleTriangleSolidAngle(const TriangleSolidAngleSetup& r, const AreaLight& l,
+inline LightSample<float> SampleTriangleSolidAngle(const TriangleSolidAngleSetup& r, const AreaLight& /*l*/,
                                                    const Vec3f& origin, Point2<float> u) {
     if (!r.valid) return {};
-    if (r.by_area) return SampleTriangleArea(l, origin, u);
     const Vec3d w = SampleSphericalTriangle(r.tri, u.u, u.v);
     // The direction's hit on the triangle's plane, o + t w with t = h / (n . w), in double.
     const double t = r.h / Dot(r.n, w);

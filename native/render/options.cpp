@@ -1,5 +1,6 @@
 #include "options.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -12,6 +13,9 @@ void ValidateOptions(const RenderOptions& o) {
             if (o.techniques[j] == o.techniques[i])
                 throw std::invalid_argument("technique '" + std::string(TechniqueName(o.techniques[i])) +
                                             "' listed twice");
+    if (std::find(kAllEllipseTechniques.begin(), kAllEllipseTechniques.end(), o.ellipse_technique) ==
+        kAllEllipseTechniques.end())
+        throw std::invalid_argument("ellipse_technique must be one of the EllipseTechnique values");
     if (o.light_samples < 1 || o.light_samples > kMaxLightSamples)
         throw std::invalid_argument("light_samples must be in 1.." + std::to_string(kMaxLightSamples));
     if (o.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");

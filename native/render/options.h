@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/ellipse_technique.h"
 #include "core/patterns.h"
 #include "core/technique.h"
 #include "light_selection.h"
@@ -22,6 +23,8 @@ constexpr uint64_t kSampleIndexLimit = uint64_t(1) << 31;
 
 struct RenderOptions {
     std::vector<Technique> techniques = {Technique::Rectangle};
+    // How disk and ellipse lights are sampled (every technique's pass alike).
+    EllipseTechnique ellipse_technique = EllipseTechnique::SphericalEllipse;
     int light_samples = 1;               // light samples (and BSDF samples) per camera sample
     Pattern pattern = Pattern::Sobol;    // drives pixel, lens, light and BSDF sample positions
     MisMode mis = MisMode::Balance;      // light sampling vs BSDF (or phase) sampling

@@ -16,6 +16,10 @@ area light with probability proportional to its power (luminance x area x sides)
 spot lights evaluated once per camera sample each.  Suns are evaluated once per camera sample with
 either.  Pixels use a box filter.
 
+Disk and ellipse lights (ellipse_technique, one of ELLIPSE_TECHNIQUES, for every technique's pass):
+"spherical_ellipse" (default) samples the solid angle they subtend with the area-preserving map of
+the spherical ellipse (Guillen et al., EGSR 2017; sphrect.sample_ellipse); "area" uniformly by area.
+
 Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=1: best at equal time with
 the lights in view) on the blend_scenes (scripts/measure_light_selection.py, scripts/measure_light_samples.py;
 README, "Light selection and defaults").
@@ -43,6 +47,7 @@ PATTERNS = tuple(_native.patterns)
 MIS_MODES = tuple(_native.mis_modes)
 MEDIUM_SAMPLING = tuple(_native.medium_samplings)
 LIGHT_SELECTIONS = tuple(_native.light_selections)
+ELLIPSE_TECHNIQUES = tuple(_native.ellipse_techniques)
 
 _MAX_SIDE = _native.MAX_IMAGE_SIDE
 
@@ -165,7 +170,8 @@ class Renderer:
 
     def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 1,
                  pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
-                 medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree"):
+                 medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree",
+                 ellipse_technique: str = "spherical_ellipse"):
         if isinstance(techniques, str):
             techniques = [techniques]
         techniques = list(techniques)
@@ -179,7 +185,7 @@ class Renderer:
             warnings.warn(msg, RuntimeWarning, stacklevel=2)
         self._scene = native
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
-                                    str(light_selection), seed, threads, tile_size)
+                                    str(light_selection), str(ellipse_technique), seed, threads, tile_size)
         self._techniques = techniques
 
     @property

@@ -14,6 +14,7 @@ struct ShadeContext {
     int light_samples;
     bool sample_bsdf;  // BSDF/phase samples are drawn: MIS on, or a background to find
     Spectrum sky;      // what a BSDF/phase ray that escapes brings: background x transmittance to infinity
+    EllipseTechnique ellipse_technique;  // how disk and ellipse lights are sampled
 };
 
 template <bool kMedium>
@@ -24,7 +25,8 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
             opt.light_selection,
             opt.light_samples,
             opt.mis != MisMode::None || !IsBlack(scene.background),
-            scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf)};
+            scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf),
+            opt.ellipse_technique};
 }
 
 }  // namespace sphrect::render
