@@ -1,6 +1,8 @@
-"""The sphrect names the add-on offers (techniques, sample patterns, MIS modes, light selections) as Blender enum items.
+"""The sphrect names the add-on offers (techniques, sample patterns, MIS modes, light selections, ellipse techniques)
+as Blender enum items.
 
-One source: the native module's lists (`sphrect.techniques`, `sphrect.patterns`, `sphrect.mis_modes`, `sphrect.light_selections`). An
+One source: the native module's lists (`sphrect.techniques`, `sphrect.patterns`, `sphrect.mis_modes`,
+`sphrect.light_selections`, `sphrect.ellipse_techniques`). An
 item's identifier is the name upper-cased ('rectangle_cosine' -> 'RECTANGLE_COSINE': what scripts, tests and
 the scene builders set) and its number is the name's position in the module's list, which is what a .blend
 file stores: the module's lists may grow at the end only. The add-on's own part is the UI text (the *_LABELS
@@ -38,6 +40,12 @@ LIGHT_SELECTION_LABELS = {
     "tree": ("Light Tree", "Every area, point and spot light through a light tree (power, distance, orientation)"),
 }
 
+ELLIPSE_TECHNIQUE_LABELS = {
+    "area": ("Area", "Uniform sampling of the disk's or ellipse's area (pdf converted to solid angle)"),
+    "spherical_ellipse": ("Spherical Ellipse",
+                          "Area-preserving solid-angle sampling of the spherical ellipse (Guillen et al. 2017)"),
+}
+
 
 def identifier(name):
     """Blender enum identifier of a sphrect name."""
@@ -70,3 +78,4 @@ TECHNIQUES = _module_names("techniques", TECHNIQUE_LABELS)
 PATTERNS = _module_names("patterns", PATTERN_LABELS)
 MIS_MODES = _module_names("mis_modes", MIS_LABELS)
 LIGHT_SELECTIONS = _module_names("light_selections", LIGHT_SELECTION_LABELS)
+ELLIPSE_TECHNIQUES = _module_names("ellipse_techniques", ELLIPSE_TECHNIQUE_LABELS)

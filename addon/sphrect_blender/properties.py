@@ -4,8 +4,9 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, P
                        StringProperty)
 
 from .images import cache_reference_image
-from .names import (LIGHT_SELECTION_LABELS, LIGHT_SELECTIONS, MIS_LABELS, MIS_MODES, PATTERN_LABELS, PATTERNS,
-                    TECHNIQUE_LABELS, TECHNIQUES, enum_items, label, sphrect_name)
+from .names import (ELLIPSE_TECHNIQUE_LABELS, ELLIPSE_TECHNIQUES, LIGHT_SELECTION_LABELS, LIGHT_SELECTIONS,
+                    MIS_LABELS, MIS_MODES, PATTERN_LABELS, PATTERNS, TECHNIQUE_LABELS, TECHNIQUES, enum_items, label,
+                    sphrect_name)
 
 
 def _read_reference(path):
@@ -28,6 +29,9 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
                       description="Multiple importance sampling heuristic")
     light_selection: EnumProperty(name="Light Selection", items=enum_items(LIGHT_SELECTIONS, LIGHT_SELECTION_LABELS),
                                   default="TREE", description="How each light sample chooses its light")
+    ellipse_technique: EnumProperty(name="Disk Lights", items=enum_items(ELLIPSE_TECHNIQUES, ELLIPSE_TECHNIQUE_LABELS),
+                                    default="SPHERICAL_ELLIPSE",
+                                    description="How points on disk and ellipse lights are chosen")
     seed: IntProperty(name="Seed", default=0, min=0)
     threads: IntProperty(name="Threads", default=0, min=0, description="Render threads (0: all cores)")
     passes: IntProperty(name="Progressive Passes", default=4, min=1, max=256,
@@ -36,8 +40,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     compare: BoolProperty(name="Compare Techniques", default=False,
                           description="Render every chosen technique in one go, each as a render pass, "
                                       "and build a side-by-side comparison image")
-    # compare_<technique>: BoolProperty per technique, and compare_light_selection_<name> per light selection,
-    # added below from the module's lists.
+    # compare_<technique>: BoolProperty per technique, compare_light_selection_<name> per light selection and
+    # compare_ellipse_technique_<name> per ellipse technique, added below from the module's lists.
     equal_time: BoolProperty(name="Equal Time", default=False,
                              description="Give every technique the same time budget instead of the same samples")
     time_budget: FloatProperty(name="Time Budget", default=2.0, min=0.01, subtype="TIME_ABSOLUTE", unit="TIME",
@@ -61,10 +65,16 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
         names = [name for name in LIGHT_SELECTIONS if getattr(self, compare_light_selection_switch(name))]
         return names or [sphrect_name(self.light_selection)]
 
+    def compare_ellipse_techniques(self):
+        """sphrect names of the ellipse techniques chosen for comparison: the ticked ones, else the scene's
+        ellipse_technique."""
+        names = [name for name in ELLIPSE_TECHNIQUES if getattr(self, compare_ellipse_technique_switch(name))]
+        return names or [sphrect_name(self.ellipse_technique)]
+
     def renderer_options(self):
         return dict(light_samples=self.light_samples, pattern=sphrect_name(self.pattern),
-                    mis=sphrect_name(self.mis), light_selection=sphrect_name(self.light_selection), seed=self.seed,
-                    threads=self.threads)
+                    mis=sphrect_name(self.mis), light_selection=sphrect_name(self.light_selection),
+                    ellipse_technique=sphrect_name(self.ellipse_technique), seed=self.seed, threads=self.threads)
 
 
 def compare_switch(technique):
@@ -77,6 +87,11 @@ def compare_light_selection_switch(light_selection):
     return "compare_light_selection_" + light_selection
 
 
+def compare_ellipse_technique_switch(ellipse_technique):
+    """The scene setting that picks `ellipse_technique` for comparison."""
+    return "compare_ellipse_technique_" + ellipse_technique
+
+
 SPHRECT_SceneSettings.__annotations__.update(
     {compare_switch(t): BoolProperty(name=label(t, TECHNIQUE_LABELS)[0], default=True) for t in TECHNIQUES})
 SPHRECT_SceneSettings.__annotations__.update(
@@ -84,6 +99,11 @@ SPHRECT_SceneSettings.__annotations__.update(
         name=label(n, LIGHT_SELECTION_LABELS)[0], default=False,
         description="Render the compared techniques with this light selection too, each as its own pass (none "
                     "ticked: the Sampling panel's Light Selection)") for n in LIGHT_SELECTIONS})
+SPHRECT_SceneSettings.__annotations__.update(
+    {compare_ellipse_technique_switch(n): BoolProperty(
+        name=label(n, ELLIPSE_TECHNIQUE_LABELS)[0], default=False,
+        description="Render the compared techniques with disk and ellipse lights sampled this way too, each as its "
+                    "own pass (none ticked: the Sampling panel's Disk Lights)") for n in ELLIPSE_TECHNIQUES})
 
 
 class SPHRECT_LightSettings(bpy.types.PropertyGroup):

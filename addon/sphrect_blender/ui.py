@@ -1,8 +1,8 @@
 """Render Properties panels for scene.sphrect and the area light's two-sided switch."""
 import bpy
 
-from .names import ENGINE_ID, LIGHT_SELECTIONS, TECHNIQUES
-from .properties import compare_light_selection_switch, compare_switch
+from .names import ELLIPSE_TECHNIQUES, ENGINE_ID, LIGHT_SELECTIONS, TECHNIQUES
+from .properties import compare_ellipse_technique_switch, compare_light_selection_switch, compare_switch
 
 
 class SphrectPanel:
@@ -31,6 +31,7 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         col.prop(s, "pattern")
         col.prop(s, "mis")
         col.prop(s, "light_selection")
+        col.prop(s, "ellipse_technique")
         col.prop(s, "seed")
         col.separator()
         col.prop(s, "passes")
@@ -56,6 +57,9 @@ class RENDER_PT_sphrect_compare(SphrectPanel, bpy.types.Panel):
         col = layout.column(heading="Light Selections", align=True)  # none ticked: the Sampling panel's
         for name in LIGHT_SELECTIONS:
             col.prop(s, compare_light_selection_switch(name))
+        col = layout.column(heading="Disk Lights", align=True)  # none ticked: the Sampling panel's
+        for name in ELLIPSE_TECHNIQUES:
+            col.prop(s, compare_ellipse_technique_switch(name))
         col = layout.column()
         col.prop(s, "equal_time")
         sub = col.column()

@@ -77,6 +77,8 @@ def _study_rmse():
 
 def _label_lines(entry):
     lines = [f"LIGHTS BY {entry['light_selection']}"] if entry.get("light_selection") else []
+    if entry.get("ellipse_technique"):
+        lines.append(f"DISKS BY {entry['ellipse_technique']}")
     lines.append(f"{entry.get('samples', '?')} SPP {entry.get('time', 0.0):.2f}S")
     if entry.get("light_time"):
         lines.append(f"LIGHT {entry['light_time']:.2f}S")
@@ -89,7 +91,8 @@ def comparison_image(entries, reference=None, reference_label="reference", scale
     """The comparison image, [H, W, 3] float in [0, 1] (row 0 = top).
 
     entries: list of dict(name, image [h, w, >=3] linear, samples, time, light_time) in display order; an entry's
-    panel shows its `label` instead of its name if it has one, and a line naming its `light_selection` if given.
+    panel shows its `label` instead of its name if it has one, and a line naming its `light_selection` and one its
+    `ellipse_technique` if given.
     reference: [h, w, >=3] linear or None. With a reference, each entry also gets its RMSE (stored back
     in the entry as 'rmse') and a heat map of |image - reference| (mean over RGB) on one scale shared
     by all entries (the 99th percentile of all errors), so the maps compare directly."""

@@ -1,6 +1,6 @@
 """The SPHRECT render engine: export the evaluated depsgraph, render progressively with the native
-renderer, and (in compare mode) one render pass per technique (x light selection, when several are ticked)
-plus a comparison image."""
+renderer, and (in compare mode) one render pass per technique (x light selection x ellipse technique, when
+several are ticked) plus a comparison image."""
 import os
 import time
 import warnings
@@ -27,15 +27,22 @@ last_render = {}
 
 
 def technique_pass_name(name):
-    """The render pass of an entry (Entry.name: a technique, or 'technique light_selection') or the reference."""
+    """The render pass of an entry (Entry.name: a technique, then the light selection and the ellipse technique
+    when several are compared: 'rectangle tree spherical_ellipse') or the reference."""
     return PASS_PREFIX + name
 
 
 class Entry(NamedTuple):
-    """One image the render makes: a technique with a light selection."""
-    name: str              # its pass, its key in last_render: the technique, + the selection when several
-    technique: str
+    """One image the render makes: a technique with a light selection and an ellipse technique."""
+    name: str              # its pass, its key in last_render: the technique, + the selection, + the ellipse
+    technique: str         # technique, each only when several are compared
     light_selection: str
+    ellipse_technique: str
+
+    @property
+    def renderer_key(self):
+        """What one Renderer fixes (several techniques share it)."""
+        return self.light_selection, self.ellipse_technique
 
 
 def chosen_techniques(settings):
@@ -50,18 +57,29 @@ def chosen_light_selections(settings):
     return [sphrect_name(settings.light_selection)]
 
 
+def chosen_ellipse_techniques(settings):
+    if settings.compare:
+        return settings.compare_ellipse_techniques()
+    return [sphrect_name(settings.ellipse_technique)]
+
+
 def chosen_entries(settings):
-    """Every technique x light selection to render, technique by technique (its selections side by side)."""
-    selections = chosen_light_selections(settings)
-    several = len(selections) > 1
-    return [Entry(f"{t} {s}" if several else t, t, s) for t in chosen_techniques(settings) for s in selections]
+    """Every technique x light selection x ellipse technique to render, technique by technique (its selections
+    and ellipse techniques side by side)."""
+    selections, ellipses = chosen_light_selections(settings), chosen_ellipse_techniques(settings)
+
+    def name(technique, selection, ellipse):
+        return " ".join([technique] + [selection] * (len(selections) > 1) + [ellipse] * (len(ellipses) > 1))
+
+    return [Entry(name(t, s, k), t, s, k) for t in chosen_techniques(settings) for s in selections for k in ellipses]
 
 
 def display_entry(settings, entries):
-    """The entry shown in the Combined pass: the engine's technique (with the scene's light selection) when it is
-    being rendered."""
-    technique, selection = sphrect_name(settings.technique), sphrect_name(settings.light_selection)
-    return (next((e for e in entries if e.technique == technique and e.light_selection == selection), None)
+    """The entry shown in the Combined pass: the engine's technique (with the scene's light selection and ellipse
+    technique) when it is being rendered."""
+    technique = sphrect_name(settings.technique)
+    key = sphrect_name(settings.light_selection), sphrect_name(settings.ellipse_technique)
+    return (next((e for e in entries if e.technique == technique and e.renderer_key == key), None)
             or next((e for e in entries if e.technique == technique), entries[0]))
 
 
@@ -129,6 +147,8 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         entries = chosen_entries(settings)
         techniques = list(dict.fromkeys(e.technique for e in entries))
         selections = list(dict.fromkeys(e.light_selection for e in entries))
+        ellipses = list(dict.fromkeys(e.ellipse_technique for e in entries))
+        keys = list(dict.fromkeys(e.renderer_key for e in entries))
         with_reference = settings.compare and settings.reference != "NONE"
         equal_time = settings.compare and settings.equal_time
         self.update_stats("SPHRECT", "Exporting scene")
@@ -158,14 +178,15 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         try:
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always")
-                # A renderer takes one light selection: one per selection, or one per entry for equal time.
-                make = lambda ts, selection: sphrect.Renderer(scene, techniques=list(ts),
-                                                              **dict(options, light_selection=selection))
+                # A renderer takes one light selection and one ellipse technique: one per such pair, or one per
+                # entry for equal time.
+                make = lambda ts, key: sphrect.Renderer(scene, techniques=list(ts), **dict(
+                    options, light_selection=key[0], ellipse_technique=key[1]))
                 if equal_time:
-                    renderers = {e.name: make([e.technique], e.light_selection) for e in entries}
+                    renderers = {e.name: make([e.technique], e.renderer_key) for e in entries}
                 else:
-                    shared = {s: make(techniques, s) for s in selections}
-                    renderers = {e.name: shared[e.light_selection] for e in entries}
+                    shared = {k: make(techniques, k) for k in keys}
+                    renderers = {e.name: shared[e.renderer_key] for e in entries}
         except (ValueError, RuntimeError, TypeError) as e:
             self._error(f"SPHRECT: the scene cannot be rendered: {e}")
             return
@@ -194,11 +215,13 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
                 self._render_equal_time(renderers, entries, settings, result, layer, shown)
             else:
                 self._render_equal_samples(renderers, entries, settings, result, layer, shown)
-            # With several light selections a panel of the comparison image is labelled by its technique and
-            # its selection (compare._label_lines).
-            several = len(selections) > 1
+            # With several light selections (ellipse techniques) a panel of the comparison image is labelled by
+            # its technique and its selection (ellipse technique) (compare._label_lines).
+            several = len(selections) > 1 or len(ellipses) > 1
             images = [dict(name=e.name, image=renderers[e.name].image(e.technique),
-                           **(dict(label=e.technique, light_selection=e.light_selection) if several else {}),
+                           **(dict(label=e.technique) if several else {}),
+                           **(dict(light_selection=e.light_selection) if len(selections) > 1 else {}),
+                           **(dict(ellipse_technique=e.ellipse_technique) if len(ellipses) > 1 else {}),
                            **self._stats(renderers[e.name], e.technique)) for e in entries]
             last_render["images"] = {i["name"]: i["image"] for i in images}
             if with_reference and settings.reference == "RENDER" and not self._cancelled:
@@ -209,7 +232,8 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
             last_render["stats"] = {i["name"]: {k: v for k, v in i.items() if k not in ("image", "label")}
                                     for i in images}
             for e in entries:
-                last_render["stats"][e.name]["light_selection"] = e.light_selection
+                last_render["stats"][e.name].update(light_selection=e.light_selection,
+                                                    ellipse_technique=e.ellipse_technique)
             if settings.compare and not self._cancelled:
                 self._comparison(bl_scene, images, reference, settings)
         finally:
