@@ -116,6 +116,13 @@ def image_fingerprints(scene_items):
                 r.render(2)  # progressive continuation
                 for t in techniques:
                     out[f"image/{name}/{mis}/{pattern}/{light_samples}/{t}"] = digest(r.image(t))
+        # The light tree (one light sample, and several, where its per-point memo works).
+        for light_samples in (1, 3):
+            r = sphrect.Renderer(scene, techniques=techniques, mis="power", pattern="sobol",
+                                 light_samples=light_samples, seed=5, threads=2, light_selection="tree")
+            r.render(4)
+            for t in techniques:
+                out[f"image/{name}/tree/{light_samples}/{t}"] = digest(r.image(t))
         if "fog" in name:
             for ms in ("distance", "equiangular"):
                 # The settings pinned (the Renderer's defaults when these entries were made), so that a change
