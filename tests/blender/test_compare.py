@@ -1,5 +1,5 @@
-"""Compare mode: every technique (x light selection, when several are ticked) as a named pass (also in multilayer
-EXR), the comparison image with a reference, equal-time budgets."""
+"""Compare mode: every technique (x light selection x ellipse technique, when several are ticked) as a named pass
+(also in multilayer EXR), the comparison image with a reference, equal-time budgets."""
 import os
 import struct
 
@@ -48,48 +48,63 @@ def test_compare_equal_samples_with_reference(tmp_path):
     assert all(rec["stats"][t]["samples"] == 4 for t in TECHNIQUES)
 
 
-def test_compare_light_selections_side_by_side(tmp_path):
-    """Both light selections ticked: a pass, an image and a comparison panel per technique x selection, named by
-    both; power and tree render the same camera samples differently on a scene of several lights. None ticked:
-    the scene's own light selection, under the technique's own pass name."""
-    scene = open_blend("07_studio", 32, 24)
+# setting -> (scene, its values as sphrect names, the compare_<setting>s() method): what compare mode can put
+# side by side besides the techniques.
+SIDE_BY_SIDE = {
+    "light_selection": ("07_studio", sphrect.light_selections, "compare_light_selections"),
+    "ellipse_technique": ("11_paper_disk", sphrect.ellipse_techniques, "compare_ellipse_techniques"),
+}
+
+
+@pytest.mark.parametrize("setting", sorted(SIDE_BY_SIDE))
+def test_compare_settings_side_by_side(tmp_path, setting):
+    """Both values of a setting ticked (light selection on a scene of several lights, ellipse technique on a disk
+    scene): a pass, an image and a comparison panel per technique x value, named by both; the two values render
+    the same camera samples differently. None ticked: the scene's own value, under the technique's own pass
+    name."""
+    blend, values, chosen = SIDE_BY_SIDE[setting]
+    scene = open_blend(blend, 32, 24)
     s = scene.sphrect
     s.compare, s.samples, s.passes, s.reference, s.reference_samples = True, 4, 2, "RENDER", 32
     s.compare_triangles = s.compare_rectangle_cosine = False
-    s.light_selection = "POWER"
-    assert s.compare_light_selections() == ["power"]  # nothing ticked: the Sampling panel's selection
-    s.compare_light_selection_power = s.compare_light_selection_tree = True
-    assert s.compare_light_selections() == list(sphrect.light_selections)
-    entries = [f"{t} {sel}" for t in ("area", "rectangle") for sel in sphrect.light_selections]
+    switch = lambda value: f"compare_{setting}_{value}"
+    setattr(s, setting, values[0].upper())
+    assert getattr(s, chosen)() == [values[0]]  # nothing ticked: the Sampling panel's value
+    for value in values:
+        setattr(s, switch(value), True)
+    assert getattr(s, chosen)() == list(values)
+    entries = [f"{t} {value}" for t in ("area", "rectangle") for value in values]
     scene.use_nodes = True  # the Render Layers node lists the passes the engine declares
     outputs = {o.name for o in scene.node_tree.nodes["Render Layers"].outputs if o.enabled}
     assert {engine_module().technique_pass_name(e) for e in entries} <= outputs, outputs
-    scene.render.filepath = str(tmp_path / "studio_")
+    scene.render.filepath = str(tmp_path / "compare_")
     scene.render.image_settings.file_format = "OPEN_EXR_MULTILAYER"
     bpy.ops.render.render(write_still=True)
     rec = engine_module().last_render
     assert rec["errors"] == []
     assert set(rec["images"]) == set(entries) | {"reference"}
-    (exr,) = tmp_path.glob("studio_*.exr")
+    (exr,) = tmp_path.glob("compare_*.exr")
     header = exr.read_bytes()[:20000]
     for name in entries + ["reference"]:
         assert f"{engine_module().technique_pass_name(name)}.R".encode() in header, name
     for t in ("area", "rectangle"):
-        power, tree = (rec["images"][f"{t} {sel}"] for sel in ("power", "tree"))
-        assert np.isfinite(power).all() and np.isfinite(tree).all()
-        assert not np.array_equal(power, tree), t
-        assert rec["stats"][f"{t} tree"]["light_selection"] == "tree" and rec["stats"][f"{t} tree"]["samples"] == 4
-        assert all(np.isfinite(rec["stats"][f"{t} {sel}"]["rmse"]) for sel in ("power", "tree"))
+        first, second = (rec["images"][f"{t} {value}"] for value in values)
+        assert np.isfinite(first).all() and np.isfinite(second).all()
+        assert not np.array_equal(first, second), t
+        stats = rec["stats"][f"{t} {values[1]}"]
+        assert stats[setting] == values[1] and stats["samples"] == 4
+        assert all(np.isfinite(rec["stats"][f"{t} {value}"]["rmse"]) for value in values)
     width, height = png_size(rec["comparison"])
     assert width == 4 + 5 * (32 + 4)  # four entries and the reference (scale 1, 4 pixels of padding)
-    # Unticked again: the scene's selection alone, with the pass names of a single selection.
-    s.compare_light_selection_power = s.compare_light_selection_tree = False
-    s.light_selection = "TREE"
+    # Unticked again: the scene's value alone, with the pass names of a single value.
+    for value in values:
+        setattr(s, switch(value), False)
+    setattr(s, setting, values[1].upper())
     bpy.ops.render.render(write_still=False)
     rec = engine_module().last_render
     assert set(rec["images"]) == {"area", "rectangle", "reference"}
-    assert rec["stats"]["area"]["light_selection"] == "tree"
-    # Two panels fewer, and one label line ('LIGHTS BY ...', 7 pixels at scale 1) less over images and error maps.
+    assert rec["stats"]["area"][setting] == values[1]
+    # Two panels fewer, and one label line (7 pixels at scale 1) less over images and error maps.
     assert png_size(rec["comparison"]) == (4 + 3 * (32 + 4), height - 2 * 7)
 
 
@@ -173,3 +188,8 @@ def test_comparison_image_layout_rmse_and_shared_heat_scale():
     taller = compare.comparison_image(entries, reference)
     assert taller.shape[1] == canvas.shape[1] and taller.shape[0] == canvas.shape[0] + 2 * (compare.GLYPH_H + 2)
     assert np.array_equal(taller[:pad + 20 + 7], canvas[:pad + 20 + 7])  # the same image and name line
+    # An ellipse technique adds one more.
+    for e in entries:
+        e.update(ellipse_technique="spherical_ellipse")
+    assert compare._label_lines(entries[0])[:2] == ["LIGHTS BY tree", "DISKS BY spherical_ellipse"]
+    assert compare.comparison_image(entries, reference).shape[0] == taller.shape[0] + 2 * (compare.GLYPH_H + 2)

@@ -519,5 +519,80 @@ TEST(RenderLights, KeptSamplersMatchFreshOnes) {
     ExpectKeptSamplersMatchFreshOnes<Technique::Triangles>();
 }
 
+// Ellipse lights under each ellipse technique: LightSamplingAt's Sample and PDF (its kept spherical
+// ellipse setups, over more lights than it keeps) equal a fresh EllipseSampler's bit for bit, area
+// fallback included (a light whose plane passes 1e-8 of its distance above the point), and the pdf
+// of a returned point is that of the sample.
+template <EllipseTechnique E>
+void ExpectEllipseSamplingMatchesFreshSamplers() {
+    RenderScene s;
+    CameraModel camera;
+    camera.width = camera.height = 4;
+    s.SetCamera(camera);
+    s.AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+    constexpr int kLights = 5;
+    for (int i = 0; i < kLights - 1; ++i)  // the odd ones one-sided facing away (pdf 0)
+        EXPECT_EQ(s.AddEllipseLight({-2.0f + i, 0.3f * i, 1.0f + 0.5f * i}, {0.3f + 0.1f * i, 0, 0},
+                                    {0, 0.2f, 0.1f * i}, {1, 1, 1}, i % 2 == 0, false), "");
+    EXPECT_EQ(s.AddEllipseLight({2.0f, 0.1f, 2e-8f}, {0.5f, 0, 0}, {0, 0.4f, 0}, {1, 1, 1}, true, false), "");
+    s.Commit();
+    const Vec3f p{0.2f, -0.1f, 0}, n{0, 0, 1};
+    LightSamplingAt<Technique::Rectangle> at(s, LightSelection::Power, p, n, n, 4, E);
+    auto fresh = [&](int i) { return EllipseSampler<E, float>(p, n, s.area_lights[i].ellipse_frame); };
+    if constexpr (E == EllipseTechnique::SphericalEllipse) {
+        EXPECT_TRUE(fresh(kLights - 1).Valid() && fresh(kLights - 1).r.area_fallback);
+        EXPECT_TRUE(fresh(0).Valid() && !fresh(0).r.area_fallback);
+    }
+    PCG32 rng(7);
+    int valid = 0;
+    for (int k = 0; k < 300; ++k) {
+        const int i = int(rng.NextU32() % kLights);
+        const float pmf = s.light_selector.pmf[i];
+        const Point2<float> u{rng.NextFloat(), rng.NextFloat()};
+        const LightSample<float> a = at.Sample(i, u);
+        if constexpr (E == EllipseTechnique::SphericalEllipse) {
+            const auto f = fresh(i);
+            const LightSample<float> b = f.Valid() ? f.Sample(u) : LightSample<float>{};
+            EXPECT_EQ(a.pdf, b.pdf) << "light " << i;
+            EXPECT_EQ(a.point.x, b.point.x);
+            EXPECT_EQ(a.point.y, b.point.y);
+            EXPECT_EQ(a.point.z, b.point.z);
+            if (b.pdf > 0) {
+                EXPECT_EQ(at.PDF(i, b.point), pmf * f.Pdf(b.point)) << "light " << i;
+            }
+        } else {  // the renderer's area sampling (the former one, bit-identical images)
+            const LightSample<float> b = SampleEllipseArea(s.area_lights[i], p, u);
+            EXPECT_EQ(a.pdf, b.pdf);
+            EXPECT_EQ(a.point.x, b.point.x);
+        }
+        if (!(a.pdf > 0)) continue;
+        ++valid;
+        // The pdf of the returned point is the sample's (exactly on the map, to rounding on the area fallback).
+        EXPECT_NEAR(at.PDF(i, a.point) / (pmf * a.pdf), 1.0f, 1e-4f) << "light " << i;
+        // A BSDF ray's point on another light, then this one's again.
+        const int j = int(rng.NextU32() % kLights);
+        const AreaLight& l = s.area_lights[j];
+        const float r = std::sqrt(rng.NextFloat()), phi = 6.2831853f * rng.NextFloat();
+        const Vec3f q = l.center + l.ax * (r * std::cos(phi)) + l.ay * (r * std::sin(phi));
+        const auto fj = fresh(j);
+        const float expected = E == EllipseTechnique::Area ? EllipseAreaPDF(l, p, q) : fj.Valid() ? fj.Pdf(q) : 0.0f;
+        EXPECT_EQ(at.PDF(j, q), s.light_selector.pmf[j] * expected) << "light " << j;
+    }
+    EXPECT_GT(valid, 100);
+}
+
+TEST(RenderLights, EllipseSamplingMatchesFreshSamplers) {
+    ExpectEllipseSamplingMatchesFreshSamplers<EllipseTechnique::Area>();
+    ExpectEllipseSamplingMatchesFreshSamplers<EllipseTechnique::SphericalEllipse>();
+}
+
+TEST(RenderOptions, EllipseTechniqueIsValidated) {
+    RenderOptions o;
+    EXPECT_EQ(o.ellipse_technique, EllipseTechnique::SphericalEllipse);
+    EXPECT_NO_THROW(ValidateOptions(o));
+    o.ellipse_technique = EllipseTechnique(7);
+    EXPECT_THROW(ValidateOptions(o), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace sphrect::render

@@ -1,19 +1,22 @@
 """Analytic scenes: a Lambertian plane lit by one rectangle (parallel, perpendicular, distant,
-grazing), by a disc, and by delta lights.  Every pixel's radiance is albedo / pi times the
-closed-form irradiance averaged over the pixel (Gauss-Legendre).  Each technique and MIS mode
-must pass a per-pixel t-test over independent replicates.
+grazing), by a disc (under it, distant, near) with each ellipse technique, and by delta lights.  Every
+pixel's radiance is albedo / pi times the closed-form irradiance averaged over the pixel (Gauss-Legendre).
+Each technique and MIS mode must pass a per-pixel t-test over independent replicates.
 
 False-failure rate: each image is one family of pixel tests with family-wise rate 1e-4 (Sidak
-correction); there are 4 x 4 x 3 + 2 + 1 + 2 + 4 x 2 + 4 = 65 images tested (rectangles, disc, delta
-lights, the power check's correct images, several light samples, two lights), so a correct renderer fails
-this file with probability < 0.7 % (seeds are fixed, so the outcome is deterministic).  The last test shows the
-test has power: a 3 % error in the expected image is rejected."""
+correction); there are 4 x 4 x 3 + 3 x 2 x 2 + 1 + 1 + 2 + 4 x 2 + 4 = 76 image tests (rectangles, discs x
+ellipse techniques x MIS, the ellipse techniques against each other in fog, delta lights, the power check's
+correct images, several light samples, two lights), so a correct renderer fails this file with probability
+< 0.8 % (seeds are fixed, so the outcome is deterministic).  The last test shows the test has power: a 3 %
+error in the expected image is rejected."""
 import math
 
 import numpy as np
 import pytest
+from scipy import stats
 
 import sphrect
+from chi2 import sidak_alpha
 from render_testing import (ALL_TECHNIQUES, expected_plane_image, pixel_t_test, plane_mesh, polygon_irradiance,
                             replicate_images, top_camera)
 
@@ -71,21 +74,67 @@ def test_rectangle_light_on_plane(name, mis):
         assert ok, f"{name}/{mis}/{t}: worst p = {p_min:.3g} < {alpha:.3g} (max rel. error {rel:.3g})"
 
 
-def test_disc_light_on_plane():
-    """A one-sided disc (ellipse light with equal axes), area-sampled; reference: a 512-gon."""
-    light = sphrect.EllipseLight(center=(0.3, 0.0, 0.8), axis_x=(0, 0.6, 0), axis_y=(0.6, 0, 0), radiance=(2, 2, 2),
-                                 visible=False)
+def disc_irradiance(P, center, radius, radiance):
+    """Irradiance on the z = 0 plane (normal +z) from a horizontal disc facing down at height h = center z:
+    (pi L / 2) (1 - A / sqrt(A^2 + 4 R^2 h^2)), A = h^2 + rho^2 - R^2 (rho: the offset from the axis), written
+    as pi L 2 R^2 h^2 / (s (s + A)) where A > 0 so that it does not cancel for a distant disc."""
+    h, R = center[2], radius
+    rho2 = (P[..., 0] - center[0]) ** 2 + (P[..., 1] - center[1]) ** 2
+    A = h * h + rho2 - R * R
+    s = np.sqrt(A * A + 4 * R * R * h * h)
+    far = 2 * R * R * h * h / (s * (s + np.abs(A)))
+    return np.pi * radiance * np.where(A > 0, far, 0.5 * (1 - A / s))
+
+
+# name -> (centre, radius, radiance, MIS modes): one-sided discs facing the plane.  "under": the rim in view;
+# "distant": a disc 10^4 sizes away; "near": 10^-4 of its radius above the plane, the view under its interior
+# (a rim 10^-4 wide in a pixel is beyond the reference's quadrature), where light sampling alone by area has
+# a heavy tail (pdf d^2 / (A cos) against an integrand peaked at d ~ h), so it is tested with MIS.
+DISC_SCENES = {
+    "under": ((0.3, 0.0, 0.8), 0.6, 2.0, ("none", "balance")),
+    "distant": ((0.2, -0.1, 1e4), 0.5, 1e8, ("none", "balance")),
+    "near": ((0.3, 0.2, 3e-4), 3.0, 1.0, ("balance", "power")),
+}
+
+
+@pytest.mark.parametrize("ellipse_technique", sphrect.ellipse_techniques)
+@pytest.mark.parametrize("name", list(DISC_SCENES))
+def test_disc_light_on_plane(name, ellipse_technique):
+    """A one-sided disc (ellipse light with equal axes) sampled with each ellipse technique; reference: the
+    closed form."""
+    center, radius, radiance, mis_modes = DISC_SCENES[name]
+    light = sphrect.EllipseLight(center=center, axis_x=(0, radius, 0), axis_y=(radius, 0, 0),
+                                 radiance=(radiance,) * 3, visible=False)
     scene = sphrect.Scene(camera=top_camera(), meshes=[plane_mesh()], lights=[light],
                           materials=[sphrect.Material(base_color=(ALBEDO,) * 3)])
-    phi = np.linspace(0, 2 * np.pi, 512, endpoint=False)
-    # The 512-gon's area is 0.99997 of the disc's; scaled so both have the same area.
-    r = 0.6 * math.sqrt(2 * np.pi / (512 * math.sin(2 * np.pi / 512)))
-    verts = np.stack([0.3 + r * np.sin(phi), r * np.cos(phi), np.full_like(phi, 0.8)], axis=-1)
-    expected = expected_plane_image(scene.camera, ALBEDO, lambda P: 2 * polygon_irradiance(P, (0, 0, 1), verts))
-    for mis in ["none", "balance"]:
-        reps = replicate_images(scene, ["rectangle"], REPLICATES, SAMPLES, mis=mis)
+    expected = expected_plane_image(scene.camera, ALBEDO, lambda P: disc_irradiance(P, center, radius, radiance))
+    assert expected.max() > 0.01  # the scene is actually lit
+    for mis in mis_modes:
+        reps = replicate_images(scene, ["rectangle"], REPLICATES, SAMPLES, mis=mis,
+                                ellipse_technique=ellipse_technique)
         ok, p_min, alpha = pixel_t_test(reps["rectangle"], expected, FAMILY_ALPHA)
-        assert ok, f"disc/{mis}: worst p = {p_min:.3g} < {alpha:.3g}"
+        rel = np.abs(reps["rectangle"].mean(0) - expected).max() / expected.max()
+        assert ok, f"disc {name}/{ellipse_technique}/{mis}: worst p = {p_min:.3g} < {alpha:.3g} (max rel. {rel:.3g})"
+
+
+def test_ellipse_techniques_agree_in_a_medium():
+    """In fog (single scattering: light samples and phase rays whose MIS pdf is the ellipse technique's) and on
+    the plane below, a tilted one-sided disc renders the same expected image with either ellipse technique:
+    per-pixel Welch t-test of the two techniques' replicates (family-wise rate FAMILY_ALPHA, Sidak)."""
+    light = sphrect.EllipseLight(center=(0.2, 0.1, 1.0), axis_x=(0, 0.5, 0), axis_y=(0.4, 0, -0.3),
+                                 radiance=(3, 3, 3), visible=False)
+    scene = sphrect.Scene(camera=top_camera(), meshes=[plane_mesh()], lights=[light],
+                          materials=[sphrect.Material(base_color=(ALBEDO,) * 3)],
+                          world=sphrect.World(medium=sphrect.Medium(sigma_s=(0.4,) * 3, g=0.3)))
+    reps = {k: replicate_images(scene, ["rectangle"], 32, 128, mis="balance", ellipse_technique=k)["rectangle"]
+            for k in sphrect.ellipse_techniques}
+    a, b = reps.values()
+    assert a.mean() > 0.01  # the scene is actually lit
+    alpha = sidak_alpha(FAMILY_ALPHA, a[0].size)
+    p = stats.ttest_ind(a, b, axis=0, equal_var=False).pvalue
+    assert p.min() >= alpha, f"worst p = {p.min():.3g} < {alpha:.3g}"
+    # The comparison has power: one technique 3 % too bright is rejected.
+    assert stats.ttest_ind(1.03 * a, b, axis=0, equal_var=False).pvalue.min() < alpha
 
 
 def test_delta_lights_on_plane():

@@ -176,6 +176,30 @@ def test_features():
     assert sphrect.Renderer(o).features == ["orthographic"]
 
 
+@pytest.mark.parametrize("medium", [False, True])
+def test_ellipse_technique_changes_only_ellipse_lights(medium):
+    """A scene with a rectangle light only renders bit-identically with either ellipse technique; with a disc
+    (in surface shading, and in the medium) each technique renders its own finite image."""
+    s = simple_scene(16, 12)
+    if medium:
+        s.world = sphrect.World(medium=sphrect.Medium(sigma_s=(0.1,) * 3))
+
+    def images(scene):
+        out = {}
+        for ellipse_technique in sphrect.ellipse_techniques:
+            r = sphrect.Renderer(scene, ellipse_technique=ellipse_technique, mis="balance")
+            assert r.render(4) and r.stats()["dropped_samples"] == 0
+            out[ellipse_technique] = r.image()
+        return out
+
+    rect = images(s)
+    assert np.array_equal(rect["area"], rect["spherical_ellipse"])
+    s.lights = [sphrect.EllipseLight(center=(0, 0, 1.5), axis_x=(0, 0.3, 0), axis_y=(0.5, 0, 0), radiance=(4, 4, 4))]
+    disc = images(s)
+    assert all(np.all(np.isfinite(i)) and i[..., :3].mean() > 0.01 for i in disc.values())
+    assert not np.array_equal(disc["area"], disc["spherical_ellipse"])
+
+
 # --- bad input ----------------------------------------------------------------------------------
 
 def with_mesh(vertices, triangles, **kw):
@@ -220,6 +244,9 @@ def test_absurd_resolution(width, height):
     (dict(pattern="halton"), "unknown pattern"),
     (dict(mis="heuristic"), "unknown mis"),
     (dict(medium_sampling="x"), "unknown medium_sampling"),
+    (dict(ellipse_technique="disk"), "unknown ellipse_technique 'disk'; valid ellipse techniques: 'area', "
+                                     "'spherical_ellipse'"),
+    (dict(ellipse_technique="rectangle"), "unknown ellipse_technique"),  # a rectangle technique is not one
     (dict(light_samples=0), "light_samples"),
     (dict(light_samples=sphrect.MAX_LIGHT_SAMPLES + 1), "light_samples"),
     (dict(light_samples=2 ** 31), "light_samples"),  # beyond a C int: a ValueError, not pybind's TypeError

@@ -1,5 +1,5 @@
 // Light sampling at one shading or scattering point: which area light a light sample goes to,
-// and the point on it (technique K on rectangles, uniform by area on ellipses, by solid angle
+// and the point on it (technique K on rectangles, the ellipse technique on ellipses, by solid angle
 // -- or by area under `area` -- on emissive triangles), with the
 // solid-angle pdfs the MIS weights of the paired BSDF/phase rays need.
 #pragma once
@@ -10,7 +10,9 @@
 
 #include "core/rng.h"
 #include "core/technique.h"
+#include "ellipse_sampling_at.h"
 #include "render/light_selection.h"
+#include "render/options.h"
 #include "render/scene.h"
 
 namespace sphrect::render {
@@ -79,11 +81,13 @@ class LightSamplingAt {
   public:
     // normal: the techniques' (the cosine technique's horizon); tree_normal: the light tree's
     // receiver normal, (0,0,0) in a medium; light_samples: how many light samples the point will
-    // draw (several: the tree keeps its nodes' probabilities for them, LightTreeAt).
+    // draw (several: the tree keeps its nodes' probabilities for them, LightTreeAt); ellipse_technique:
+    // how ellipse lights are sampled.
     LightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin, const Vec3f& normal,
-                    const Vec3f& tree_normal, int light_samples)
+                    const Vec3f& tree_normal, int light_samples,
+                    EllipseTechnique ellipse_technique = RenderOptions{}.ellipse_technique)
         : scene_(scene), selection_(selection), origin_(origin), normal_(normal),
-          tree_(scene.light_tree(), origin, tree_normal, light_samples > 1) {}
+          tree_(scene.light_tree(), origin, tree_normal, light_samples > 1), ellipse_(ellipse_technique) {}
 
     // The emitter of the light sample with pattern point light_point, at this receiver.
     ChosenLight Choose(Point2<float> light_point) {
@@ -93,7 +97,7 @@ class LightSamplingAt {
 
     LightSample<float> Sample(int index, Point2<float> u) {
         const AreaLight& l = scene_.area_lights[index];
-        if (l.shape == AreaShape::Ellipse) return SampleEllipseArea(l, origin_, u);
+        if (l.shape == AreaShape::Ellipse) return ellipse_.Sample(l, index, origin_, u);
         if (l.shape == AreaShape::Triangle) {
             if (K == Technique::Area) return SampleTriangleArea(l, origin_, u);
             return SampleTriangleSolidAngle(TriangleSetup(index), l, origin_, u);
@@ -114,7 +118,7 @@ class LightSamplingAt {
   private:
     float PointPDF(int index, const Vec3f& p) {
         const AreaLight& l = scene_.area_lights[index];
-        if (l.shape == AreaShape::Ellipse) return EllipseAreaPDF(l, origin_, p);
+        if (l.shape == AreaShape::Ellipse) return ellipse_.PDF(l, index, origin_, p);
         if (l.shape == AreaShape::Triangle) {
             if (K == Technique::Area) return AreaToSolidAnglePDF(l, origin_, p);
             if (index == triangle_index_) return TriangleSolidAnglePDF(triangle_, l, origin_, p);
@@ -148,6 +152,7 @@ class LightSamplingAt {
     LightSelection selection_;
     Vec3f origin_, normal_;
     LightTreeAt tree_;  // at (origin, tree_normal)
+    EllipseSamplingAt ellipse_;
     static constexpr int kKeptSamplers = 4;
     // A sampler's storage, left uninitialised until it is set up (std::optional's slots were
     // zeroed with every LightSamplingAt: ~190 instructions per shading point).

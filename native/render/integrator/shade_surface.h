@@ -89,7 +89,8 @@ static inline void ShadeSurface(const ShadeContext& c, const SurfaceHit& h, cons
     const ShadowSink pair_sink = sink.Scaled(1.0f / c.light_samples);
     // Without lights to choose and BSDF samples (only delta lights evaluated once) there is nothing to sample.
     const int n_pairs = (HasChoosableLights(scene, c.light_selection) || c.sample_bsdf) ? c.light_samples : 0;
-    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, h.ns, h.ns, n_pairs, light_ticks);
+    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, h.ns, h.ns, n_pairs, c.ellipse_technique,
+                                           light_ticks);
     for (int j = 0; j < n_pairs; ++j) {
         const ChosenLight light = light_sampling.Choose(light_points[j]);
         if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow
