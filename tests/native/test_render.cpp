@@ -426,12 +426,17 @@ TEST(RenderOptions, EveryEnumValueHasItsOwnName) {
 // Commit builds the light tree over the area lights (tree emitter i = area light i) and the point and
 // spot lights; the sun stays outside.  At a receiver, the tree's choice (LightSamplingAt::Choose) and the
 // pmf the MIS weights read (PDF / point pdf) agree, and the pmfs of all emitters sum to 1.
-TEST(RenderLights, LightTreeOverTheScenesEmitters) {
-    RenderScene s;
+// The part of a light test's scene that does not matter to it: a 4 x 4 camera, one grey material.
+void SetTinyCameraAndGreyMaterial(RenderScene& s) {
     CameraModel camera;
     camera.width = camera.height = 4;
     s.SetCamera(camera);
     s.AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+}
+
+TEST(RenderLights, LightTreeOverTheScenesEmitters) {
+    RenderScene s;
+    SetTinyCameraAndGreyMaterial(s);
     EXPECT_EQ(s.AddRectLight({-1, -1, 2}, {0, 2, 0}, {2, 0, 0}, {1, 1, 1}, false, false), "");
     EXPECT_EQ(s.AddRectLight({3, 0, 1}, {0, 0.2f, 0}, {0.2f, 0, 0}, {9, 9, 9}, true, false), "");
     EXPECT_EQ(s.AddEllipseLight({0, 3, 1}, {0.3f, 0, 0}, {0, 0.3f, 0}, {2, 2, 2}, true, false), "");
@@ -477,10 +482,7 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
 template <Technique K>
 void ExpectKeptSamplersMatchFreshOnes() {
     RenderScene s;
-    CameraModel camera;
-    camera.width = camera.height = 4;
-    s.SetCamera(camera);
-    s.AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+    SetTinyCameraAndGreyMaterial(s);
     constexpr int kLights = 6;
     for (int i = 0; i < kLights; ++i)
         EXPECT_EQ(s.AddRectLight({-3.0f + i, -0.5f, 1.0f + 0.3f * i}, {0.4f + 0.1f * i, 0, 0}, {0, 0.7f, 0.1f * i},
@@ -526,10 +528,7 @@ TEST(RenderLights, KeptSamplersMatchFreshOnes) {
 template <EllipseTechnique E>
 void ExpectEllipseSamplingMatchesFreshSamplers() {
     RenderScene s;
-    CameraModel camera;
-    camera.width = camera.height = 4;
-    s.SetCamera(camera);
-    s.AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+    SetTinyCameraAndGreyMaterial(s);
     constexpr int kLights = 5;
     for (int i = 0; i < kLights - 1; ++i)  // the odd ones one-sided facing away (pdf 0)
         EXPECT_EQ(s.AddEllipseLight({-2.0f + i, 0.3f * i, 1.0f + 0.5f * i}, {0.3f + 0.1f * i, 0, 0},
