@@ -13,8 +13,8 @@ import pytest
 import sphrect
 from sphrect.study import LocalProcessPool, ReferenceSettings, SerialExecutor, StudyConfig, run_study
 from sphrect.study import metrics, store as store_module
-from sphrect.study.jobs import (CYCLES, CYCLES_CURVE, DEFAULT_LIGHT_SELECTION, Job, build_plan, cost_key, curve_key,
-                                equal_time_jobs, sample_ladder, stratifiable_count)
+from sphrect.study.jobs import (CYCLES, CYCLES_CURVE, DEFAULT_LIGHT_SELECTION, CurveKey, Job, build_plan, cost_key,
+                                curve_key, equal_time_jobs, sample_ladder, stratifiable_count)
 from sphrect.study.report import results as report_results
 from sphrect.study.reference import estimate_error
 from sphrect.study.store import ResultStore
@@ -25,6 +25,9 @@ NOISE = {"area": 0.4, "triangles": 0.2, "rectangle": 0.1, "rectangle_cosine": 0.
 # Light selection 'power' (of the fake renderer): 1.5x the noise at 1/1.2 of the cost per sample, so to reach the
 # same error the tree takes 1.2 / 1.5^2 = 0.533x power's time.
 POWER_NOISE, POWER_COST = 1.5, 1 / 1.2
+# Ellipse technique 'area' (of the fake renderer): 2x the noise at half the cost per sample, so at equal samples
+# spherical_ellipse has half the RMSE, twice the cost and (2^2 x 0.5) = 2x the efficiency.
+AREA_DISK_NOISE, AREA_DISK_COST = 2.0, 0.5
 
 
 def truth(width=W, height=H):
@@ -38,8 +41,8 @@ def truth(width=W, height=H):
 
 
 def fake_render(context, job):
-    """Truth + Gaussian noise of std NOISE[technique] / sqrt(samples) (x POWER_NOISE with light selection power):
-    an unbiased 'renderer' with known error.
+    """Truth + Gaussian noise of std NOISE[technique] / sqrt(samples) (x POWER_NOISE with light selection power,
+    x AREA_DISK_NOISE with ellipse technique area): an unbiased 'renderer' with known error.
     Side effects for the tests, by environment variable: STUDY_FAKE_LOG (append each rendered key),
     STUDY_FAKE_INTERRUPT_AFTER (raise KeyboardInterrupt once that many renders are logged),
     STUDY_FAKE_CRASH (kill the worker process on jobs whose key contains it), STUDY_FAKE_NAN (NaN pixels in
@@ -56,13 +59,15 @@ def fake_render(context, job):
             f.write(job.key + "\n")
     samples = job.samples
     rng = np.random.default_rng(abs(hash((job.key, job.seed))) % (1 << 32))
-    power = job.light_selection == "power"
-    sigma = NOISE.get(job.technique, 0.15) / math.sqrt(samples) * (POWER_NOISE if power else 1.0)
+    power, area_disks = job.light_selection == "power", job.ellipse_technique == "area"
+    sigma = NOISE.get(job.technique, 0.15) / math.sqrt(samples) * (POWER_NOISE if power else 1.0) \
+        * (AREA_DISK_NOISE if area_disks else 1.0)
     image = truth(context.width, context.height)
     image[..., :3] += rng.normal(0, sigma, image[..., :3].shape).astype(np.float32)
     if job.technique == os.environ.get("STUDY_FAKE_NAN"):
         image[::2, ::3, 1] = np.nan
-    time = samples * 1e-3 * (1.5 if job.technique == "rectangle_cosine" else 1.0) * (POWER_COST if power else 1.0)
+    time = samples * 1e-3 * (1.5 if job.technique == "rectangle_cosine" else 1.0) * (POWER_COST if power else 1.0) \
+        * (AREA_DISK_COST if area_disks else 1.0)
     return image, {"build_time": 0.01, "call_time": time, "wall_time": time, "light_time": time / 3,
                    "shading_time": time / 3, "rays": samples * context.width * context.height * 2,
                    "samples_done": samples}
@@ -165,7 +170,7 @@ def test_study_of_two_light_selections(scene_file, tmp_path):
     assert sum(r["light_selection"] == "power" for r in rows) == len(rows) // 2
     curves = report_results.curves(report_results.load_study(str(out)).ladder)
     assert len(curves) == 4 * 2 * 2 * 2 and all(len(c) == 4 for c in curves.values())
-    power, tree = (curves[("rectangle", "none", "sobol", s)] for s in ("power", "tree"))
+    power, tree = (curves[CurveKey("rectangle", "none", "sobol", s)] for s in ("power", "tree"))
     assert power[-1]["rmse"] > 1.3 * tree[-1]["rmse"]  # 1.5x the noise
     report = (out / "report.md").read_text()
     assert "light selection power, tree;" in report

@@ -7,8 +7,8 @@ import sys
 from typing import List, Optional
 
 from .._native import MAX_IMAGE_SIDE
-from ..render import LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES
-from .jobs import StudyConfig, sample_ladder
+from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES
+from .jobs import SettingError, StudyConfig, sample_ladder
 from .reference import ReferenceSettings
 
 # The options' defaults are the settings' own.
@@ -46,6 +46,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--light-selections", type=_names, default=list(_STUDY.light_selections),
                    help=f"comma list of {','.join(LIGHT_SELECTIONS)}: how each light sample chooses its light "
                         f"(default {','.join(_STUDY.light_selections)}, the renderer's; give several to compare them)")
+    p.add_argument("--ellipse-techniques", type=_names, default=list(_STUDY.ellipse_techniques),
+                   help=f"comma list of {','.join(ELLIPSE_TECHNIQUES)}: how disk and ellipse lights are sampled "
+                        f"(default {','.join(_STUDY.ellipse_techniques)}, the renderer's; give several to compare "
+                        f"them)")
     p.add_argument("--max-samples", type=int, default=256, help="top of the ladder 1, 2, 4, ... (default 256)")
     p.add_argument("--min-samples", type=int, default=1)
     p.add_argument("--light-samples", type=int, default=_STUDY.light_samples, help="light samples per camera sample")
@@ -92,6 +96,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     try:
         config = StudyConfig(techniques=tuple(args.techniques), mis=tuple(args.mis), patterns=tuple(args.patterns),
                              light_selections=tuple(args.light_selections),
+                             ellipse_techniques=tuple(args.ellipse_techniques),
                              ladder=tuple(sample_ladder(args.max_samples, args.min_samples)),
                              light_samples=args.light_samples, seed=args.seed, threads=args.threads,
                              cycles=args.cycles != "off" and args.scene.endswith(".blend"),
@@ -101,6 +106,9 @@ def main(argv: Optional[List[str]] = None) -> int:
                                       chunks=args.reference_chunks, technique=args.reference_technique,
                                       mis=args.reference_mis, pattern=args.reference_pattern,
                                       light_samples=args.light_samples)
+    except SettingError as e:  # named by its option (StudyConfig's fields are the options' names)
+        print(f"error: --{e.setting.replace('_', '-')}: {e}", file=sys.stderr)
+        return 2
     except ValueError as e:
         print(f"error: {e}", file=sys.stderr)
         return 2

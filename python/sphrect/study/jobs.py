@@ -15,12 +15,14 @@ import re
 from dataclasses import dataclass
 from typing import Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
-from ..render import LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES, Renderer
+from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES, Renderer
 
 SPHRECT = "sphrect"
 CYCLES = "cycles"
 # The Renderer's own default, which runs recorded before light selection was a study axis were made with.
 DEFAULT_LIGHT_SELECTION = inspect.signature(Renderer).parameters["light_selection"].default
+# Likewise for the ellipse technique (how disk and ellipse lights are sampled): runs recorded before it was an axis.
+DEFAULT_ELLIPSE_TECHNIQUE = inspect.signature(Renderer).parameters["ellipse_technique"].default
 
 
 class CurveKey(NamedTuple):
@@ -29,19 +31,21 @@ class CurveKey(NamedTuple):
     mis: str
     pattern: str
     light_selection: str
+    ellipse_technique: str = DEFAULT_ELLIPSE_TECHNIQUE
 
 
-# Cycles' curve in the terms of ours: it has its own sampling (and its own light selection).
-CYCLES_CURVE = CurveKey("cycles", "power", "default", "default")
+# Cycles' curve in the terms of ours: it has its own sampling (its own light selection, its own disk sampling).
+CYCLES_CURVE = CurveKey("cycles", "power", "default", "default", "default")
 
 
 def curve_key(job: Mapping) -> CurveKey:
-    """The curve of a job (a Job's or a stored record's dict; records made before the light selection was
-    recorded were rendered with the default)."""
+    """The curve of a job (a Job's or a stored record's dict; records made before the light selection or the
+    ellipse technique was recorded were rendered with the default)."""
     if job.get("engine") == CYCLES:
         return CYCLES_CURVE
     return CurveKey(job["technique"], job["mis"], job["pattern"],
-                    job.get("light_selection", DEFAULT_LIGHT_SELECTION))
+                    job.get("light_selection", DEFAULT_LIGHT_SELECTION),
+                    job.get("ellipse_technique", DEFAULT_ELLIPSE_TECHNIQUE))
 
 
 def selection_part(light_selection: str, show_selection: bool, separator: str = " / ") -> str:
@@ -50,12 +54,20 @@ def selection_part(light_selection: str, show_selection: bool, separator: str = 
     return f"{separator}selection={light_selection}" if show_selection else ""
 
 
-def curve_label(key: CurveKey, show_selection: bool = False) -> str:
-    """The name of a curve, or Cycles'; the light selection is named when `show_selection`."""
+def ellipse_part(ellipse_technique: str, show_ellipse: bool, separator: str = " / ") -> str:
+    """The ellipse technique as a part of a configuration's name; nothing unless `show_ellipse` (in a study of
+    more than one)."""
+    return f"{separator}ellipse={ellipse_technique}" if show_ellipse else ""
+
+
+def curve_label(key: CurveKey, show_selection: bool = False, show_ellipse: bool = False) -> str:
+    """The name of a curve, or Cycles'; the light selection is named when `show_selection`, the ellipse technique
+    when `show_ellipse`."""
     if tuple(key) == CYCLES_CURVE:
         return "Cycles 3.4"
-    technique, mis, pattern, light_selection = key
-    return f"{technique} / mis={mis} / {pattern}" + selection_part(light_selection, show_selection)
+    technique, mis, pattern, light_selection, ellipse_technique = key
+    return (f"{technique} / mis={mis} / {pattern}" + selection_part(light_selection, show_selection)
+            + ellipse_part(ellipse_technique, show_ellipse))
 
 
 LADDER = "ladder"
@@ -75,13 +87,16 @@ class Job:
     kind: str = LADDER          # "ladder" | "equal_time"
     time_budget: Optional[float] = None  # seconds, for equal-time jobs
     light_selection: str = DEFAULT_LIGHT_SELECTION  # one of LIGHT_SELECTIONS (ours; Cycles' jobs keep the default)
+    ellipse_technique: str = DEFAULT_ELLIPSE_TECHNIQUE  # one of ELLIPSE_TECHNIQUES (ours; Cycles' keep the default)
 
     @property
     def key(self) -> str:
-        """A stable, file-name-safe identifier (the result file's name). The light selection is part of it only
-        when it is not the default, so that runs stored before it was an axis keep their keys."""
+        """A stable, file-name-safe identifier (the result file's name). The light selection and the ellipse
+        technique are part of it only when they are not the default, so that runs stored before they were axes
+        keep their keys."""
         selection = [] if self.light_selection == DEFAULT_LIGHT_SELECTION else [f"sel_{self.light_selection}"]
-        parts = [self.kind, self.engine, self.technique, self.mis, self.pattern, *selection,
+        ellipse = [] if self.ellipse_technique == DEFAULT_ELLIPSE_TECHNIQUE else [f"ell_{self.ellipse_technique}"]
+        parts = [self.kind, self.engine, self.technique, self.mis, self.pattern, *selection, *ellipse,
                  f"n{self.samples:06d}", f"l{self.light_samples}", f"s{self.seed}"]
         if self.time_budget is not None:
             parts.append(f"t{self.time_budget:.6g}")
@@ -93,9 +108,10 @@ class Job:
 
     @property
     def label(self) -> str:
-        """The curve this job belongs to (everything but the sample count); the light selection is named when
-        it is not the default (a job does not know how many its study has)."""
-        return curve_label(self.curve, show_selection=self.light_selection != DEFAULT_LIGHT_SELECTION)
+        """The curve this job belongs to (everything but the sample count); the light selection and the ellipse
+        technique are named when they are not the default (a job does not know how many its study has)."""
+        return curve_label(self.curve, show_selection=self.light_selection != DEFAULT_LIGHT_SELECTION,
+                           show_ellipse=self.ellipse_technique != DEFAULT_ELLIPSE_TECHNIQUE)
 
     def to_dict(self) -> Dict:
         return dataclasses.asdict(self)
@@ -118,13 +134,21 @@ def sample_ladder(max_samples: int, min_samples: int = 1) -> List[int]:
     return ladder
 
 
-def _check_names(kind: str, names: Sequence[str], allowed: Sequence[str]) -> Tuple[str, ...]:
+class SettingError(ValueError):
+    """An invalid StudyConfig setting; `setting` is the field's name (the command line names its option)."""
+
+    def __init__(self, setting: str, message: str):
+        super().__init__(message)
+        self.setting = setting
+
+
+def _check_names(setting: str, kind: str, names: Sequence[str], allowed: Sequence[str]) -> Tuple[str, ...]:
     names = tuple(names)
     if not names:
-        raise ValueError(f"no {kind} chosen")
+        raise SettingError(setting, f"no {kind} chosen")
     for n in names:
         if n not in allowed:
-            raise ValueError(f"unknown {kind} {n!r}; choose from {', '.join(allowed)}")
+            raise SettingError(setting, f"unknown {kind} {n!r}; choose from {', '.join(allowed)}")
     return names
 
 
@@ -135,6 +159,7 @@ class StudyConfig:
     mis: Tuple[str, ...] = MIS_MODES
     patterns: Tuple[str, ...] = ("independent", "stratified", "sobol")
     light_selections: Tuple[str, ...] = (DEFAULT_LIGHT_SELECTION,)
+    ellipse_techniques: Tuple[str, ...] = (DEFAULT_ELLIPSE_TECHNIQUE,)
     ladder: Tuple[int, ...] = tuple(sample_ladder(256))
     light_samples: int = 1
     seed: int = 0
@@ -145,15 +170,18 @@ class StudyConfig:
     equal_time: Optional[float] = None  # seconds; None = measured from the ladder (see equal_time_budget)
 
     def __post_init__(self):
-        self.techniques = _check_names("technique", self.techniques, TECHNIQUES)
-        self.mis = _check_names("MIS mode", self.mis, MIS_MODES)
-        self.patterns = _check_names("sample pattern", self.patterns, PATTERNS)
-        self.light_selections = _check_names("light selection", self.light_selections, LIGHT_SELECTIONS)
-        self.grid_mis = _check_names("MIS mode", self.grid_mis, MIS_MODES)
+        self.techniques = _check_names("techniques", "technique", self.techniques, TECHNIQUES)
+        self.mis = _check_names("mis", "MIS mode", self.mis, MIS_MODES)
+        self.patterns = _check_names("patterns", "sample pattern", self.patterns, PATTERNS)
+        self.light_selections = _check_names("light_selections", "light selection", self.light_selections,
+                                             LIGHT_SELECTIONS)
+        self.ellipse_techniques = _check_names("ellipse_techniques", "ellipse technique", self.ellipse_techniques,
+                                               ELLIPSE_TECHNIQUES)
+        self.grid_mis = _check_names("grid_mis", "MIS mode", self.grid_mis, MIS_MODES)
         # The grid's sample counts come from the ladder's costs: only MIS modes the ladder measures (a study of
         # --mis power alone, the add-on's default, would otherwise have no grid and no equal-time budget).
         self.grid_mis = tuple(m for m in self.grid_mis if m in self.mis) or (self.mis[-1],)
-        _check_names("sample pattern", (self.grid_pattern,), PATTERNS)
+        _check_names("grid_pattern", "sample pattern", (self.grid_pattern,), PATTERNS)
         self.ladder = tuple(sorted(set(int(n) for n in self.ladder)))
         if not self.ladder or self.ladder[0] < 1:
             raise ValueError("the sample ladder needs counts >= 1")
@@ -166,6 +194,11 @@ class StudyConfig:
     def shows_selection(self) -> bool:
         """Whether the report names the light selection in its labels: when the study compares several."""
         return len(self.light_selections) > 1
+
+    @property
+    def shows_ellipse(self) -> bool:
+        """Whether the report names the ellipse technique in its labels: when the study compares several."""
+        return len(self.ellipse_techniques) > 1
 
     def to_dict(self) -> Dict:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()}
@@ -183,11 +216,13 @@ def fingerprint(**identity) -> str:
 
 
 def build_plan(config: StudyConfig) -> List[Job]:
-    """The ladder jobs: every technique x MIS x pattern x light selection x sample count, then Cycles at every
-    count. Ordered cheapest first so that an interrupted study has measured as many curves as possible."""
-    jobs = [Job(SPHRECT, t, m, p, n, config.light_samples, config.seed, config.threads, light_selection=s)
+    """The ladder jobs: every technique x MIS x pattern x light selection x ellipse technique x sample count, then
+    Cycles at every count. Ordered cheapest first so that an interrupted study has measured as many curves as
+    possible."""
+    jobs = [Job(SPHRECT, t, m, p, n, config.light_samples, config.seed, config.threads, light_selection=s,
+                ellipse_technique=e)
             for n in config.ladder for t in config.techniques for m in config.mis for p in config.patterns
-            for s in config.light_selections]
+            for s in config.light_selections for e in config.ellipse_techniques]
     if config.cycles:
         jobs += [Job(CYCLES, *CYCLES_CURVE[:3], n, 1, config.seed, config.threads) for n in config.ladder]
     jobs.sort(key=lambda j: (j.samples, j.engine != SPHRECT))
@@ -204,17 +239,17 @@ def stratifiable_count(n: int) -> int:
     return k * (k + 1) if k * (k + 1) <= n else k * k
 
 
-CostKey = Tuple[str, str, str, str]  # (engine, technique, mis, light selection)
+CostKey = Tuple[str, str, str, str, str]  # (engine, technique, mis, light selection, ellipse technique)
 
 
 def cost_key(job: Mapping) -> CostKey:
     """What a configuration's cost per sample is measured for (its patterns pooled): see equal_time_jobs."""
     key = curve_key(job)
-    return job["engine"], key.technique, key.mis, key.light_selection
+    return job["engine"], key.technique, key.mis, key.light_selection, key.ellipse_technique
 
 
 def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict[CostKey, float]) -> List[Job]:
-    """One render per technique (x grid MIS mode x light selection), and Cycles, each given the sample count
+    """One render per technique (x grid MIS mode x light selection x ellipse technique), and Cycles, each given the sample count
     that the ladder predicts to cost `budget` seconds: samples = budget / (seconds per sample of that
     configuration), keyed by cost_key. Fixed sample counts (rather than a wall-clock budget) keep the comparison
     independent of other load on the machine and let stratified patterns know their count."""
@@ -222,8 +257,8 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
         raise ValueError(f"the equal-time budget must be positive, got {budget}")
     budget = float(f"{budget:.4g}")  # a stable key
 
-    def samples(engine, technique, mis, light_selection):
-        cost = seconds_per_sample.get((engine, technique, mis, light_selection))
+    def samples(engine, technique, mis, light_selection, ellipse_technique):
+        cost = seconds_per_sample.get((engine, technique, mis, light_selection, ellipse_technique))
         if not (cost and cost > 0):
             return None
         n = max(1, int(round(budget / cost)))
@@ -232,12 +267,14 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
     jobs = []
     for m in config.grid_mis:
         for s in config.light_selections:
-            for t in config.techniques:
-                n = samples(SPHRECT, t, m, s)
-                if n:
-                    jobs.append(Job(SPHRECT, t, m, config.grid_pattern, n, config.light_samples, config.seed,
-                                    config.threads, EQUAL_TIME, budget, light_selection=s))
-    n = samples(CYCLES, CYCLES_CURVE.technique, CYCLES_CURVE.mis, CYCLES_CURVE.light_selection)
+            for e in config.ellipse_techniques:
+                for t in config.techniques:
+                    n = samples(SPHRECT, t, m, s, e)
+                    if n:
+                        jobs.append(Job(SPHRECT, t, m, config.grid_pattern, n, config.light_samples, config.seed,
+                                        config.threads, EQUAL_TIME, budget, light_selection=s, ellipse_technique=e))
+    n = samples(CYCLES, CYCLES_CURVE.technique, CYCLES_CURVE.mis, CYCLES_CURVE.light_selection,
+                CYCLES_CURVE.ellipse_technique)
     if config.cycles and n:
         jobs.append(Job(CYCLES, *CYCLES_CURVE[:3], n, 1, config.seed, config.threads, EQUAL_TIME, budget))
     return jobs

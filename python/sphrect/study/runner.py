@@ -67,7 +67,7 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     t0 = time.perf_counter()
     renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
                                 pattern=job.pattern, mis=job.mis, light_selection=job.light_selection,
-                                seed=job.seed, threads=job.threads)
+                                ellipse_technique=job.ellipse_technique, seed=job.seed, threads=job.threads)
     t1 = time.perf_counter()
     c1 = time.process_time()
     renderer.render(job.samples)

@@ -106,8 +106,8 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
 
 
 def seconds_per_sample(records: List[Dict], threads: int) -> Dict[CostKey, float]:
-    """jobs.cost_key (engine, technique, mis, light selection) -> seconds per sample per pixel: each
-    configuration's metrics.cost_per_sample over its ladder, median over patterns."""
+    """jobs.cost_key (engine, technique, mis, light selection, ellipse technique) -> seconds per sample per pixel:
+    each configuration's metrics.cost_per_sample over its ladder, median over patterns."""
     ladders: Dict[Tuple[CostKey, str], List[Dict]] = {}
     for r in records:
         ladders.setdefault((cost_key(r["job"]), r["job"]["pattern"]), []).append(r)
@@ -121,10 +121,12 @@ def seconds_per_sample(records: List[Dict], threads: int) -> Dict[CostKey, float
 
 def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
     """Default equal-time budget: the time our `rectangle` technique (or the first technique) takes, with the
-    last grid MIS mode and the first light selection, for a quarter of the ladder's top sample count."""
+    last grid MIS mode, the first light selection and the first ellipse technique, for a quarter of the ladder's
+    top sample count."""
     technique = "rectangle" if "rectangle" in config.techniques else config.techniques[0]
     cost = seconds_per_sample(records, config.threads).get((SPHRECT, technique, config.grid_mis[-1],
-                                                            config.light_selections[0]))
+                                                            config.light_selections[0],
+                                                            config.ellipse_techniques[0]))
     if not cost:
         raise RuntimeError("no ladder run measured: cannot choose the equal-time budget")
     return cost * max(config.ladder[-1] // 4, 1)
@@ -184,7 +186,8 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
                          fingerprint=scene_fp, blend_path=blend_path, blender=blender,
                          blender_script=blender_script, render_hook=render_hook)
     log(f"study of {input_path}: {width}x{height}, {len(config.techniques)} techniques x {len(config.mis)} MIS x "
-        f"{len(config.patterns)} patterns x {len(config.light_selections)} light selections x ladder "
+        f"{len(config.patterns)} patterns x {len(config.light_selections)} light selections x "
+        f"{len(config.ellipse_techniques)} ellipse techniques x ladder "
         f"{list(config.ladder)}" + (" + Cycles" if config.cycles else ""))
 
     # 1. The reference (independent chunks, combined; see reference.py).

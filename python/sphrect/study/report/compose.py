@@ -7,7 +7,7 @@ import os
 from dataclasses import dataclass
 from typing import List, Optional
 
-from ..jobs import DEFAULT_LIGHT_SELECTION, StudyConfig
+from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, StudyConfig
 from ..store import atomic_write_bytes
 from . import equal_error, findings, plots, wording
 from .curves import REFERENCE_NOISE_FACTOR
@@ -33,11 +33,16 @@ class Report:
     cosine: Optional[List[findings.CosineComparison]]
     cycles: Optional[equal_error.CyclesComparison]
     selection: Optional[List[equal_error.SelectionComparison]]  # None unless the study has tree and power
+    ellipse: Optional[List[equal_error.EllipseComparison]]  # None unless it has spherical_ellipse and area
     doc: Document
 
     @property
     def show_selection(self) -> bool:
         return self.results.settings.shows_selection
+
+    @property
+    def show_ellipse(self) -> bool:
+        return self.results.settings.shows_ellipse
 
     def plot(self, name: str) -> str:
         return os.path.join(self.out_dir, PLOTS, name)
@@ -48,10 +53,11 @@ def measure(out_dir: str, results: StudyResults) -> Report:
     ordering = findings.ordering(cfg, all_curves)
     return Report(out_dir, results, all_curves, smallest_rmse(results.ladder), ordering,
                   wording.ordering_lines(ordering, findings.triangles_comparisons(cfg, ordering or []),
-                                         cfg.shows_selection),
+                                         cfg.shows_selection, cfg.shows_ellipse),
                   findings.slopes(cfg, all_curves, ref_rmse), findings.cosine_comparisons(cfg, all_curves),
                   equal_error.cycles_comparison(all_curves, ref_rmse),
-                  equal_error.selection_comparisons(cfg, all_curves, ref_rmse), Document())
+                  equal_error.selection_comparisons(cfg, all_curves, ref_rmse),
+                  equal_error.ellipse_comparisons(cfg, all_curves, ref_rmse), Document())
 
 
 def headline_pattern(cfg: StudyConfig) -> str:
@@ -67,6 +73,9 @@ def scene_section(report: Report) -> None:
     # The light selection is named unless the study has only the renderer's default (as before it was an axis).
     selections = "" if cfg.light_selections == (DEFAULT_LIGHT_SELECTION,) else \
         f"light selection {', '.join(cfg.light_selections)}; "
+    # Likewise the ellipse technique (disk and ellipse lights).
+    selections += "" if cfg.ellipse_techniques == (DEFAULT_ELLIPSE_TECHNIQUE,) else \
+        f"disk and ellipse lights sampled by {', '.join(cfg.ellipse_techniques)}; "
     doc.para(f"Scene: `{c['input']}`, {c['width']}x{c['height']} pixels. Techniques {', '.join(cfg.techniques)}; "
              f"MIS {', '.join(cfg.mis)}; patterns {', '.join(cfg.patterns)}; {selections}sample ladder "
              f"{', '.join(map(str, cfg.ladder))} camera samples per pixel, {cfg.light_samples} light sample(s) each. "
@@ -121,30 +130,30 @@ def summary_section(report: Report) -> None:
     report.doc.heading("Summary")
     for line in wording.summary_lines(report.ordering_lines, report.slopes, report.cosine, report.cycles,
                                       report.results.reference_rmse, report.smallest, report.selection,
-                                      report.show_selection):
+                                      report.show_selection, report.ellipse, report.show_ellipse):
         report.doc.para(line)
     pattern = headline_pattern(report.results.settings)
     report.doc.image(f"{PLOTS}/rmse_vs_time_{pattern}.png", f"RMSE vs time, pattern {pattern} (more below)")
 
 
 def findings_section(report: Report) -> None:
-    doc, cfg, show = report.doc, report.results.settings, report.show_selection
-    selection_column = ["light selection"] if show else []
+    doc, cfg, show, show_ellipse = report.doc, report.results.settings, report.show_selection, report.show_ellipse
+    selection_column = (["light selection"] if show else []) + (["ellipse technique"] if show_ellipse else [])
     doc.heading("The paper's findings, measured")
     doc.para("**1. Equal samples: rectangle < triangles < area.**")
     for line in report.ordering_lines:
         doc.para(line)
     doc.table(["MIS", "pattern"] + selection_column
               + ["order holds at", "rectangle < triangles at", "RMSE triangles/rectangle (top N)",
-                 "RMSE area/rectangle (top N)"], wording.ordering_rows(report.ordering, show))
+                 "RMSE area/rectangle (top N)"], wording.ordering_rows(report.ordering, show, show_ellipse))
     doc.para("**2. Stratification: fitted convergence slopes (RMSE vs samples).**")
     plots.plot_slopes(report.results, report.slopes, report.plot("slopes.png"))
     doc.image(f"{PLOTS}/slopes.png", "fitted slopes per technique and pattern")
     doc.table(["technique", "MIS"] + selection_column + list(cfg.patterns), wording.slope_rows(report.slopes, cfg))
     for c in report.slopes.comparisons:
-        doc.para(wording.slope_line(c, show))
+        doc.para(wording.slope_line(c, show, show_ellipse))
     doc.para("**3. Where rectangle_cosine stands** (against rectangle, same MIS and pattern, top of the ladder).")
-    for line in [wording.cosine_line(c, show) for c in report.cosine or []] or \
+    for line in [wording.cosine_line(c, show, show_ellipse) for c in report.cosine or []] or \
             ["rectangle_cosine or rectangle was not part of the study."]:
         doc.para(line)
     doc.para("**4. Cycles 3.4 at equal error: time our best configuration needs to reach Cycles' RMSE.**")
@@ -152,24 +161,35 @@ def findings_section(report: Report) -> None:
         doc.para(line)
     doc.para(COST_NOTE)
     doc.table(["Cycles spp", "Cycles RMSE", "Cycles time [s]", "our best configuration", "its time [s]",
-               "time ratio (ours/Cycles)"], wording.cycles_rows(report.cycles, show))
+               "time ratio (ours/Cycles)"], wording.cycles_rows(report.cycles, show, show_ellipse))
     if report.selection is not None:
         doc.para(f"**5. Light selection: {findings.LIGHT_TREE} against {findings.POWER_SELECTION} at equal error** "
                  f"(time each takes to reach the larger of their two RMSEs at the top of the ladder).")
         for line in wording.selection_lines(report.selection):
             doc.para(line)
-        doc.table(["technique", "MIS", "pattern", "RMSE", f"{findings.POWER_SELECTION} time [s]",
-                   f"{findings.LIGHT_TREE} time [s]", f"time ratio ({findings.LIGHT_TREE}/{findings.POWER_SELECTION})",
-                   "verdict (timing noise)"], wording.selection_rows(report.selection))
+        doc.table(["technique", "MIS", "pattern"] + (["ellipse technique"] if show_ellipse else [])
+                  + ["RMSE", f"{findings.POWER_SELECTION} time [s]", f"{findings.LIGHT_TREE} time [s]",
+                     f"time ratio ({findings.LIGHT_TREE}/{findings.POWER_SELECTION})", "verdict (timing noise)"],
+                  wording.selection_rows(report.selection, show_ellipse))
+    if report.ellipse is not None:
+        doc.para(f"**6. Disk and ellipse lights: {findings.ELLIPSE_MAP} against {findings.ELLIPSE_AREA}** (the "
+                 f"ellipse technique; each configuration at the top sample count both measured: RMSE at equal "
+                 f"samples, fitted slope over the ladder, cost per sample, and the time each takes to reach "
+                 f"Cycles' RMSE at the top of its ladder).")
+        for line in wording.ellipse_lines(report.ellipse, show):
+            doc.para(line)
+        doc.para(COST_NOTE + " Efficiency is 1 / (MSE x cost per sample) at that count, its verdict a tie within "
+                 "two standard errors of the two costs.")
+        doc.table(wording.ellipse_columns(show), wording.ellipse_rows(report.ellipse, show))
 
 
 def target_section(report: Report, target_rmse: Optional[float]) -> None:
     target = equal_error.target_times(report.results.settings, report.curves, report.results.reference_rmse,
                                       report.smallest, target_rmse)
     report.doc.heading("Time to reach a target error")
-    report.doc.para(wording.target_line(target, report.show_selection))
+    report.doc.para(wording.target_line(target, report.show_selection, report.show_ellipse))
     report.doc.table(["configuration", "time [s]", "how", "samples per pixel"],
-                     wording.target_rows(target, report.show_selection))
+                     wording.target_rows(target, report.show_selection, report.show_ellipse))
 
 
 def equal_time_section(report: Report) -> None:
@@ -182,7 +202,7 @@ def equal_time_section(report: Report) -> None:
     plots.plot_equal_time_grid(report.results, grid, report.plot("equal_time_grid.png"))
     doc.image(f"{PLOTS}/equal_time_grid.png", "equal-time renders and their error heat maps")
     doc.table(["configuration", "samples per pixel", "time [s]", "RMSE", "relMSE"],
-              wording.equal_time_rows(grid, report.show_selection))
+              wording.equal_time_rows(grid, report.show_selection, report.show_ellipse))
 
 
 def sampler_section(report: Report, sampler_table: bool) -> None:

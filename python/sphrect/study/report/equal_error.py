@@ -1,15 +1,16 @@
 """Comparisons at equal error, as numbers (wording.py words them): the time every configuration takes to reach one
-target RMSE, the time our fastest configuration takes to reach each of Cycles' errors, and the light tree's time
-against power selection's for the same error."""
+target RMSE, the time our fastest configuration takes to reach each of Cycles' errors, the light tree's time
+against power selection's for the same error, and the ellipse techniques side by side (disk and ellipse lights)."""
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import List, Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
-from ..jobs import CYCLES_CURVE, CurveKey, StudyConfig
-from .curves import Reach, curve_cost, systematic_share, time_to_target
-from .findings import LIGHT_TREE, POWER_SELECTION, RECTANGLE, noise_verdict, ratio_of
+from ..jobs import CYCLES_CURVE, DEFAULT_ELLIPSE_TECHNIQUE, CurveKey, StudyConfig
+from .curves import Reach, curve_cost, fitted_slope, systematic_share, time_to_target
+from .findings import (ELLIPSE_AREA, ELLIPSE_MAP, LIGHT_TREE, POWER_SELECTION, RECTANGLE, noise_verdict,
+                       ratio_of)
 from .results import Curves
 
 # Above this share of Cycles' top MSE being a systematic difference from our reference, an equal-error time
@@ -89,7 +90,7 @@ class TargetTimes:
 def target_times(cfg: StudyConfig, all_curves: Curves, reference_rmse: float, smallest: float,
                  given: Optional[float] = None) -> TargetTimes:
     """The time every configuration takes to reach one RMSE: `given`, else Cycles' at the top of its ladder,
-    else rectangle's (last MIS mode, pattern and light selection) in the middle of its ladder."""
+    else rectangle's (last MIS mode, pattern, light selection and ellipse technique) in the middle of its ladder."""
     key, samples = None, None
     if given is not None:
         target, source = given, "given"
@@ -97,7 +98,8 @@ def target_times(cfg: StudyConfig, all_curves: Curves, reference_rmse: float, sm
         cycles = all_curves[CYCLES_CURVE]
         target, source, key, samples = cycles[-1]["rmse"], "cycles", CYCLES_CURVE, cycles[-1]["job"]["samples"]
     else:
-        key, source = CurveKey(RECTANGLE, cfg.mis[-1], cfg.patterns[-1], cfg.light_selections[-1]), "middle"
+        key, source = CurveKey(RECTANGLE, cfg.mis[-1], cfg.patterns[-1], cfg.light_selections[-1],
+                               cfg.ellipse_techniques[-1]), "middle"
         mid = all_curves.get(key, [])
         target = mid[len(mid) // 2]["rmse"] if mid else smallest
     reached = {k: time_to_target(curve, target, reference_rmse) for k, curve in all_curves.items()}
@@ -117,6 +119,7 @@ class SelectionComparison:
     power: Reach
     tree: Reach
     noise: float            # two standard errors of the two costs per sample, relative
+    ellipse_technique: str = DEFAULT_ELLIPSE_TECHNIQUE
 
     @property
     def ratio(self) -> float:
@@ -130,23 +133,111 @@ class SelectionComparison:
 
 def selection_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: float
                           ) -> Optional[List[SelectionComparison]]:
-    """tree against power for every (technique, MIS, pattern) both were measured with; None when the study
-    does not have both light selections."""
+    """tree against power for every (technique, MIS, pattern, ellipse technique) both were measured with; None when
+    the study does not have both light selections."""
     if not {LIGHT_TREE, POWER_SELECTION} <= set(cfg.light_selections):
         return None
     out = []
     for mis in cfg.mis:
         for pattern in cfg.patterns:
-            for technique in cfg.techniques:
-                power, tree = (all_curves.get(CurveKey(technique, mis, pattern, s), [])
-                               for s in (POWER_SELECTION, LIGHT_TREE))
-                tops = [c[-1]["rmse"] for c in (power, tree) if c and math.isfinite(c[-1]["rmse"])]
-                if not (power and tree and tops):
-                    continue
-                target = max(tops)
-                (_, se_power), (_, se_tree) = curve_cost(power), curve_cost(tree)
-                out.append(SelectionComparison(technique, mis, pattern, target,
-                                               time_to_target(power, target, reference_rmse),
-                                               time_to_target(tree, target, reference_rmse),
-                                               2 * math.hypot(se_power, se_tree)))
+            for ellipse in cfg.ellipse_techniques:
+                for technique in cfg.techniques:
+                    power, tree = (all_curves.get(CurveKey(technique, mis, pattern, s, ellipse), [])
+                                   for s in (POWER_SELECTION, LIGHT_TREE))
+                    tops = [c[-1]["rmse"] for c in (power, tree) if c and math.isfinite(c[-1]["rmse"])]
+                    if not (power and tree and tops):
+                        continue
+                    target = max(tops)
+                    (_, se_power), (_, se_tree) = curve_cost(power), curve_cost(tree)
+                    out.append(SelectionComparison(technique, mis, pattern, target,
+                                                   time_to_target(power, target, reference_rmse),
+                                                   time_to_target(tree, target, reference_rmse),
+                                                   2 * math.hypot(se_power, se_tree), ellipse))
+    return out
+
+
+@dataclass(frozen=True)
+class EllipseCurve:
+    """One ellipse technique's curve, as the disk finding measures it."""
+    rmse: float             # at the comparison's sample count
+    slope: float            # RMSE vs samples (curves.fitted_slope)
+    cost: float             # seconds per sample (curve_cost)
+    cost_error: float       # its relative standard error
+    cycles: Optional[Reach]  # reaching Cycles' RMSE at the top of its ladder; None without Cycles
+
+
+@dataclass(frozen=True)
+class EllipseComparison:
+    """The ellipse techniques (how disk and ellipse lights are sampled) for one (technique, MIS, pattern, light
+    selection): each one's RMSE at the top sample count all measured, slope, cost per sample and time to reach
+    Cycles' error; the solid-angle map against area sampling in the ratios."""
+    technique: str
+    mis: str
+    pattern: str
+    light_selection: str
+    samples: int
+    curves: Dict[str, EllipseCurve]     # ellipse technique -> its measures
+    cycles_time: Optional[float]        # Cycles' time for its top RMSE (its samples x its cost per sample)
+
+    def _pair(self) -> Tuple[EllipseCurve, EllipseCurve]:
+        return self.curves[ELLIPSE_MAP], self.curves[ELLIPSE_AREA]
+
+    @property
+    def rmse_ratio(self) -> float:
+        """RMSE spherical_ellipse / area at equal samples."""
+        ours, area = self._pair()
+        return ratio_of(ours.rmse, area.rmse)
+
+    @property
+    def cost_ratio(self) -> float:
+        ours, area = self._pair()
+        return ratio_of(ours.cost, area.cost)
+
+    @property
+    def efficiency(self) -> float:
+        """(1 / (MSE x cost per sample)) of spherical_ellipse / area's: above 1, the map reaches an error sooner."""
+        ours, area = self._pair()
+        return ratio_of(area.rmse ** 2 * area.cost, ours.rmse ** 2 * ours.cost)
+
+    @property
+    def noise(self) -> float:
+        """Two standard errors of the two costs per sample, relative."""
+        ours, area = self._pair()
+        return 2 * math.hypot(ours.cost_error, area.cost_error)
+
+    @property
+    def verdict(self) -> str:
+        return noise_verdict(self.efficiency, self.noise, "better than area", "worse than area")
+
+
+def ellipse_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: float
+                        ) -> Optional[List[EllipseComparison]]:
+    """The ellipse techniques side by side for every (technique, MIS, pattern, light selection) all were measured
+    with; None when the study does not have both spherical_ellipse and area."""
+    if not {ELLIPSE_MAP, ELLIPSE_AREA} <= set(cfg.ellipse_techniques):
+        return None
+    cycles = all_curves.get(CYCLES_CURVE)
+    target = cycles[-1]["rmse"] if cycles and math.isfinite(cycles[-1]["rmse"]) else None
+    cycles_time = cycles[-1]["job"]["samples"] * curve_cost(cycles)[0] if target is not None else None
+    out = []
+    for mis in cfg.mis:
+        for pattern in cfg.patterns:
+            for selection in cfg.light_selections:
+                for technique in cfg.techniques:
+                    runs = {e: all_curves.get(CurveKey(technique, mis, pattern, selection, e), [])
+                            for e in cfg.ellipse_techniques}
+                    if not all(runs.values()):
+                        continue
+                    common = set.intersection(*({r["job"]["samples"] for r in c} for c in runs.values()))
+                    if not common:
+                        continue
+                    n = max(common)
+                    measures = {}
+                    for e, curve in runs.items():
+                        cost, cost_error = curve_cost(curve)
+                        measures[e] = EllipseCurve(
+                            next(r["rmse"] for r in curve if r["job"]["samples"] == n),
+                            fitted_slope(curve, "samples", reference_rmse), cost, cost_error,
+                            time_to_target(curve, target, reference_rmse) if target is not None else None)
+                    out.append(EllipseComparison(technique, mis, pattern, selection, n, measures, cycles_time))
     return out

@@ -18,6 +18,8 @@ RECTANGLE, TRIANGLES, AREA = PAPER_ORDER
 COSINE = "rectangle_cosine"
 UNSTRATIFIED = "independent"  # the pattern without stratification
 LIGHT_TREE, POWER_SELECTION = "tree", "power"  # the light selections equal_error.selection_comparisons compares
+# The ellipse techniques equal_error.ellipse_comparisons compares: the solid-angle map against area sampling.
+ELLIPSE_MAP, ELLIPSE_AREA = "spherical_ellipse", "area"
 SLOPE_DIFFERENCE = 0.03  # smallest slope difference reported as a difference
 
 
@@ -44,11 +46,12 @@ def finite_span(values: Sequence[float]) -> Tuple[float, float]:
 
 @dataclass(frozen=True)
 class OrderingRow:
-    """The paper's ordering at equal samples, for one (MIS, pattern, light selection), over the sample counts all
-    three have."""
+    """The paper's ordering at equal samples, for one (MIS, pattern, light selection, ellipse technique), over the
+    sample counts all three have."""
     mis: str
     pattern: str
     light_selection: str
+    ellipse_technique: str
     points: int
     order_holds: int            # counts where RMSE rectangle < triangles < area
     rectangle_wins: int         # counts where RMSE rectangle < triangles
@@ -62,7 +65,7 @@ class OrderingRow:
 
 @dataclass(frozen=True)
 class TrianglesComparison:
-    """rectangle against triangles over the (MIS, light selection) rows of one pattern."""
+    """rectangle against triangles over the (MIS, light selection, ellipse technique) rows of one pattern."""
     pattern: str
     wins: int
     points: int
@@ -78,9 +81,11 @@ class TrianglesComparison:
         return "partly reproduces"
 
 
-def settings(cfg: StudyConfig) -> List[Tuple[str, str, str]]:
-    """Every (MIS, pattern, light selection) of the study: what a comparison of techniques holds fixed."""
-    return [(m, p, s) for m in cfg.mis for p in cfg.patterns for s in cfg.light_selections]
+def settings(cfg: StudyConfig) -> List[Tuple[str, str, str, str]]:
+    """Every (MIS, pattern, light selection, ellipse technique) of the study: what a comparison of techniques holds
+    fixed."""
+    return [(m, p, s, e) for m in cfg.mis for p in cfg.patterns for s in cfg.light_selections
+            for e in cfg.ellipse_techniques]
 
 
 def ordering(cfg: StudyConfig, all_curves: Curves) -> Optional[List[OrderingRow]]:
@@ -88,15 +93,15 @@ def ordering(cfg: StudyConfig, all_curves: Curves) -> Optional[List[OrderingRow]
     if not all(t in cfg.techniques for t in PAPER_ORDER):
         return None
     rows = []
-    for mis, pattern, selection in settings(cfg):
-        by_n = {t: {r["job"]["samples"]: r["rmse"] for r in all_curves.get(CurveKey(t, mis, pattern, selection), [])}
-                for t in PAPER_ORDER}
+    for mis, pattern, selection, ellipse in settings(cfg):
+        by_n = {t: {r["job"]["samples"]: r["rmse"]
+                    for r in all_curves.get(CurveKey(t, mis, pattern, selection, ellipse), [])} for t in PAPER_ORDER}
         ns = sorted(set.intersection(*(set(d) for d in by_n.values())))
         if not ns:
             continue
         rect, tri, area = (by_n[t] for t in PAPER_ORDER)
         top = ns[-1]
-        rows.append(OrderingRow(mis, pattern, selection, len(ns), sum(rect[n] < tri[n] < area[n] for n in ns),
+        rows.append(OrderingRow(mis, pattern, selection, ellipse, len(ns), sum(rect[n] < tri[n] < area[n] for n in ns),
                                 sum(rect[n] < tri[n] for n in ns), ratio_of(tri[top], rect[top]),
                                 ratio_of(area[top], rect[top])))
     return rows
@@ -118,11 +123,12 @@ def triangles_comparisons(cfg: StudyConfig, rows: List[OrderingRow]) -> List[Tri
 
 @dataclass(frozen=True)
 class SlopeComparison:
-    """Convergence slopes (RMSE vs samples) of the paper's techniques for one stratifying pattern, MIS mode and
-    light selection."""
+    """Convergence slopes (RMSE vs samples) of the paper's techniques for one stratifying pattern, MIS mode, light
+    selection and ellipse technique."""
     pattern: str
     mis: str
     light_selection: str
+    ellipse_technique: str
     slopes: Dict[str, float]        # technique -> slope
     unstratified_rectangle: float   # rectangle's slope with independent samples
     difference: float               # slope triangles - slope rectangle
@@ -143,35 +149,39 @@ class Slopes:
 
 
 def slopes(cfg: StudyConfig, all_curves: Curves, reference_rmse: float) -> Slopes:
-    table = {CurveKey(t, m, p, s): fitted_slope(all_curves.get(CurveKey(t, m, p, s), []), "samples", reference_rmse)
-             for m, p, s in settings(cfg) for t in cfg.techniques}
+    table = {CurveKey(t, m, p, s, e): fitted_slope(all_curves.get(CurveKey(t, m, p, s, e), []), "samples",
+                                                   reference_rmse)
+             for m, p, s, e in settings(cfg) for t in cfg.techniques}
     cycles = all_curves.get(CYCLES_CURVE)
     comparisons = []
     for pattern in [p for p in cfg.patterns if p != UNSTRATIFIED]:
         for mis in cfg.mis:
             for selection in cfg.light_selections:
-                fits = {t: fitted_slope_with_error(all_curves.get(CurveKey(t, mis, pattern, selection), []),
-                                                   "samples", reference_rmse) for t in PAPER_ORDER}
-                s = {t: f[0] for t, f in fits.items()}
-                if any(not math.isfinite(v) for v in s.values()):
-                    continue
-                # A difference counts when it exceeds SLOPE_DIFFERENCE and twice the combined standard error.
-                se = math.hypot(fits[RECTANGLE][1], fits[TRIANGLES][1])
-                threshold = max(SLOPE_DIFFERENCE, 2 * se if math.isfinite(se) else 0.0)
-                independent = fitted_slope(all_curves.get(CurveKey(RECTANGLE, mis, UNSTRATIFIED, selection), []),
-                                           "samples", reference_rmse)
-                comparisons.append(SlopeComparison(pattern, mis, selection, s, independent,
-                                                   s[TRIANGLES] - s[RECTANGLE], threshold))
+                for ellipse in cfg.ellipse_techniques:
+                    fits = {t: fitted_slope_with_error(all_curves.get(CurveKey(t, mis, pattern, selection, ellipse),
+                                                                      []), "samples", reference_rmse)
+                            for t in PAPER_ORDER}
+                    s = {t: f[0] for t, f in fits.items()}
+                    if any(not math.isfinite(v) for v in s.values()):
+                        continue
+                    # A difference counts when it exceeds SLOPE_DIFFERENCE and twice the combined standard error.
+                    se = math.hypot(fits[RECTANGLE][1], fits[TRIANGLES][1])
+                    threshold = max(SLOPE_DIFFERENCE, 2 * se if math.isfinite(se) else 0.0)
+                    independent = fitted_slope(all_curves.get(CurveKey(RECTANGLE, mis, UNSTRATIFIED, selection,
+                                                                       ellipse), []), "samples", reference_rmse)
+                    comparisons.append(SlopeComparison(pattern, mis, selection, ellipse, s, independent,
+                                                       s[TRIANGLES] - s[RECTANGLE], threshold))
     return Slopes(table, fitted_slope(cycles, "samples", reference_rmse) if cycles else None, comparisons)
 
 
 @dataclass(frozen=True)
 class CosineComparison:
-    """rectangle_cosine against rectangle for one (MIS, pattern, light selection) at the top sample count both
-    measured."""
+    """rectangle_cosine against rectangle for one (MIS, pattern, light selection, ellipse technique) at the top
+    sample count both measured."""
     mis: str
     pattern: str
     light_selection: str
+    ellipse_technique: str
     samples: int
     rmse_ratio: float
     cost_ratio: float       # per sample (curve_cost)
@@ -184,16 +194,16 @@ class CosineComparison:
 
 
 def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[CosineComparison]]:
-    """rectangle_cosine against rectangle per (MIS, pattern, light selection): RMSE at the top of the ladder, cost
+    """rectangle_cosine against rectangle per (MIS, pattern, light selection, ellipse technique): RMSE at the top of the ladder, cost
     per sample (curve_cost) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
     cost ratio of 1 is a tie: single runs' times move by more than that between studies.  (The top run's MSE
     has its own noise, which this margin does not count.)  None when the study lacks one of the two."""
     if COSINE not in cfg.techniques or RECTANGLE not in cfg.techniques:
         return None
     out = []
-    for mis, pattern, selection in settings(cfg):
-        curve_a = all_curves.get(CurveKey(COSINE, mis, pattern, selection), [])
-        curve_b = all_curves.get(CurveKey(RECTANGLE, mis, pattern, selection), [])
+    for mis, pattern, selection, ellipse in settings(cfg):
+        curve_a = all_curves.get(CurveKey(COSINE, mis, pattern, selection, ellipse), [])
+        curve_b = all_curves.get(CurveKey(RECTANGLE, mis, pattern, selection, ellipse), [])
         a = {r["job"]["samples"]: r["rmse"] for r in curve_a}
         b = {r["job"]["samples"]: r["rmse"] for r in curve_b}
         ns = sorted(set(a) & set(b))
@@ -201,6 +211,6 @@ def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[Co
             continue
         n = ns[-1]
         (cost_a, se_a), (cost_b, se_b) = curve_cost(curve_a), curve_cost(curve_b)
-        out.append(CosineComparison(mis, pattern, selection, n, ratio_of(a[n], b[n]), cost_a / cost_b,
+        out.append(CosineComparison(mis, pattern, selection, ellipse, n, ratio_of(a[n], b[n]), cost_a / cost_b,
                                     ratio_of(b[n] ** 2 * cost_b, a[n] ** 2 * cost_a), 2 * math.hypot(se_a, se_b)))
     return out

@@ -2,6 +2,8 @@
 equal-time renders with their error heat maps."""
 from __future__ import annotations
 
+from typing import List, Tuple
+
 import numpy as np
 
 from ...render import TECHNIQUES
@@ -14,9 +16,10 @@ from .wording import CYCLES_NAME, fmt
 
 # A colour per technique, in the order of sphrect.render.TECHNIQUES; Cycles is black.
 PALETTE = ("tab:red", "tab:orange", "tab:blue", "tab:green", "tab:purple", "tab:brown", "tab:pink", "tab:olive")
-# A line style and a bar hatch per light selection of the study, in its order: the technique keeps its colour.
-SELECTION_LINES = ("o-", "^--", "v-.", "d:")
-SELECTION_HATCHES = (None, "//", "..", "xx")
+# A line style and a bar hatch per variant (light selection x ellipse technique) of the study, in its order: the
+# technique keeps its colour.
+VARIANT_LINES = ("o-", "^--", "v-.", "d:")
+VARIANT_HATCHES = (None, "//", "..", "xx")
 DPI = 110
 
 
@@ -39,6 +42,21 @@ def _save(plt, fig, path: str) -> None:
     plt.close(fig)
 
 
+def variants(cfg) -> List[Tuple[int, str, str, str]]:
+    """(index, light selection, ellipse technique, its name in a legend) of every variant of a technique's curve:
+    the style of its line or bar; the name is empty in a study of one."""
+    out = []
+    for s in cfg.light_selections:
+        for e in cfg.ellipse_techniques:
+            name = ", ".join(([s] if cfg.shows_selection else []) + ([e] if cfg.shows_ellipse else []))
+            out.append((len(out), s, e, name))
+    return out
+
+
+def legend_name(technique: str, variant_name: str) -> str:
+    return f"{technique}, {variant_name}" if variant_name else technique
+
+
 def time_label(threads: int) -> str:
     return ("CPU time of the render [s] (1 thread)" if threads == 1
             else f"render wall time [s] ({threads or 'all'} threads)")
@@ -46,7 +64,7 @@ def time_label(threads: int) -> str:
 
 def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x: str, path: str) -> None:
     """RMSE against `x` ("samples" or "time"), log-log, a panel per MIS mode, a line per technique (and light
-    selection: its line style) and Cycles."""
+    selection x ellipse technique: its line style) and Cycles."""
     plt = _plt()
     cfg = results.settings
     ref_rmse = results.reference_rmse
@@ -54,14 +72,14 @@ def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x:
     cycles = all_curves.get(CYCLES_CURVE)
     for ax, mis in zip(axes[0], cfg.mis):
         for technique in cfg.techniques:
-            for i, selection in enumerate(cfg.light_selections):
-                curve = all_curves.get(CurveKey(technique, mis, pattern, selection))
+            for i, selection, ellipse, variant in variants(cfg):
+                curve = all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse))
                 if not curve:
                     continue
-                name = f"{technique}, {selection}" if cfg.shows_selection else technique
                 ax.loglog([curve_x(r, x) for r in curve], [r["rmse"] for r in curve],
-                          SELECTION_LINES[i % len(SELECTION_LINES)], color=technique_colour(technique), ms=3,
-                          label=f"{name} (slope {fmt(fitted_slope(curve, x, ref_rmse), 2)})")
+                          VARIANT_LINES[i % len(VARIANT_LINES)], color=technique_colour(technique), ms=3,
+                          label=f"{legend_name(technique, variant)} (slope "
+                                f"{fmt(fitted_slope(curve, x, ref_rmse), 2)})")
         if cycles:
             ax.loglog([curve_x(r, x) for r in cycles], [r["rmse"] for r in cycles], "s--",
                       color=technique_colour(CYCLES), ms=3, label=f"{CYCLES_NAME} (slope {fmt(fitted_slope(cycles, x, ref_rmse), 2)})")
@@ -75,19 +93,19 @@ def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x:
 
 
 def plot_slopes(results: StudyResults, slopes: Slopes, path: str) -> None:
-    """Bar chart: fitted RMSE-vs-samples slope for every technique (and light selection: its hatch), per pattern
-    (one panel per MIS mode)."""
+    """Bar chart: fitted RMSE-vs-samples slope for every technique (and light selection x ellipse technique: its
+    hatch), per pattern (one panel per MIS mode)."""
     plt = _plt()
     cfg = results.settings
     fig, axes = plt.subplots(1, len(cfg.mis), figsize=(4.8 * len(cfg.mis), 3.6), squeeze=False, sharey=True)
-    bars = [(t, j, s) for t in cfg.techniques for j, s in enumerate(cfg.light_selections)]
+    bars = [(t, *v) for t in cfg.techniques for v in variants(cfg)]
     width = 0.8 / len(bars)
     for ax, mis in zip(axes[0], cfg.mis):
-        for i, (technique, j, selection) in enumerate(bars):
+        for i, (technique, j, selection, ellipse, variant) in enumerate(bars):
             ax.bar(np.arange(len(cfg.patterns)) + (i - (len(bars) - 1) / 2) * width,
-                   [slopes.table[CurveKey(technique, mis, p, selection)] for p in cfg.patterns], width,
-                   color=technique_colour(technique), hatch=SELECTION_HATCHES[j % len(SELECTION_HATCHES)],
-                   label=f"{technique}, {selection}" if cfg.shows_selection else technique)
+                   [slopes.table[CurveKey(technique, mis, p, selection, ellipse)] for p in cfg.patterns], width,
+                   color=technique_colour(technique), hatch=VARIANT_HATCHES[j % len(VARIANT_HATCHES)],
+                   label=legend_name(technique, variant))
         ax.axhline(-0.5, color="grey", ls=":", lw=1)
         ax.set_xticks(np.arange(len(cfg.patterns)))
         ax.set_xticklabels(cfg.patterns)
@@ -98,7 +116,7 @@ def plot_slopes(results: StudyResults, slopes: Slopes, path: str) -> None:
 
 
 def plot_equal_time_grid(results: StudyResults, grid: EqualTimeGrid, path: str) -> None:
-    """A pair of rows per MIS mode and light selection: the equal-time renders (one white point, the reference's)
+    """A pair of rows per MIS mode, light selection and ellipse technique: the equal-time renders (one white point, the reference's)
     and below each its error heat map, all maps on one colour scale (the largest 99th percentile of their finite
     values)."""
     plt = _plt()
@@ -129,7 +147,9 @@ def plot_equal_time_grid(results: StudyResults, grid: EqualTimeGrid, path: str) 
                 continue
             ax_img.imshow(metrics.tonemap(grid.images[r["key"]], white))
             spp = r.get("samples_done")
-            setting = f"mis={row.mis}" + (f", {row.light_selection}" if results.settings.shows_selection else "")
+            cfg = results.settings
+            setting = f"mis={row.mis}" + (f", {row.light_selection}" if cfg.shows_selection else "") \
+                + (f", {row.ellipse_technique}" if cfg.shows_ellipse else "")
             title = (CYCLES_NAME if name == CYCLES else f"{name}\n{setting}") + \
                 f"\n{fmt(spp) if spp else '?'} spp, RMSE {fmt(r['rmse'])}"
             ax_img.set_title(title, fontsize=8)

@@ -1,6 +1,7 @@
 """The findings in words: every number of the report is formatted here (fmt), once, from the dataclasses of
 findings.py and equal_error.py.  A number that is not finite prints as PLACEHOLDER.  A configuration names its
-light selection only in a study of more than one (`show_selection`, StudyConfig.shows_selection)."""
+light selection only in a study of more than one (`show_selection`, StudyConfig.shows_selection), its ellipse
+technique likewise (`show_ellipse`, StudyConfig.shows_ellipse)."""
 from __future__ import annotations
 
 import math
@@ -9,11 +10,12 @@ from typing import List, Optional
 import numpy as np
 
 from .. import metrics
-from ..jobs import CYCLES, CYCLES_CURVE, CurveKey, curve_label, selection_part
+from ..jobs import CYCLES, CYCLES_CURVE, CurveKey, curve_label, ellipse_part, selection_part
 from .curves import BEYOND_LONGEST, EXTRAPOLATION_LIMIT, Reach
-from .equal_error import CyclesComparison, SelectionComparison, TargetTimes
-from .findings import (AREA, COSINE, LIGHT_TREE, POWER_SELECTION, RECTANGLE, TRIANGLES, UNSTRATIFIED,
-                       CosineComparison, OrderingRow, SlopeComparison, Slopes, TrianglesComparison, finite_span)
+from .equal_error import CyclesComparison, EllipseComparison, SelectionComparison, TargetTimes
+from .findings import (AREA, COSINE, ELLIPSE_AREA, ELLIPSE_MAP, LIGHT_TREE, POWER_SELECTION, RECTANGLE, TRIANGLES,
+                       UNSTRATIFIED, CosineComparison, OrderingRow, SlopeComparison, Slopes, TrianglesComparison,
+                       finite_span)
 from .results import EqualTimeGrid
 
 PLACEHOLDER = "–"
@@ -39,11 +41,17 @@ def reach_how(reach: Reach) -> str:
 # ------------------------------------------------------------------------------------------------
 # The paper's findings
 
+def setting_names(show_selection: bool = False, show_ellipse: bool = False, first: str = "MIS, pattern") -> str:
+    """What a comparison holds fixed, in words: `first`, then the light selection and the ellipse technique when
+    the study has several."""
+    return first + (", light selection" if show_selection else "") + (", ellipse technique" if show_ellipse else "")
+
+
 def ordering_lines(rows: Optional[List[OrderingRow]], comparisons: List[TrianglesComparison],
-                   show_selection: bool = False) -> List[str]:
+                   show_selection: bool = False, show_ellipse: bool = False) -> List[str]:
     if rows is None:
         return [f"The paper's ordering needs the {AREA}, {TRIANGLES} and {RECTANGLE} techniques."]
-    setting = "MIS, pattern, light selection" if show_selection else "MIS, pattern"
+    setting = setting_names(show_selection, show_ellipse)
     lines = []
     total = sum(r.points for r in rows)
     if total:
@@ -64,20 +72,23 @@ def ordering_lines(rows: Optional[List[OrderingRow]], comparisons: List[Triangle
     return lines
 
 
-def ordering_rows(rows: Optional[List[OrderingRow]], show_selection: bool = False) -> List[List[str]]:
+def ordering_rows(rows: Optional[List[OrderingRow]], show_selection: bool = False,
+                  show_ellipse: bool = False) -> List[List[str]]:
     return [[r.mis, r.pattern] + ([r.light_selection] if show_selection else [])
+            + ([r.ellipse_technique] if show_ellipse else [])
             + [f"{r.order_holds}/{r.points}", f"{r.rectangle_wins}/{r.points}", fmt(r.triangles_ratio),
                fmt(r.area_ratio)] for r in rows or []]
 
 
 def slope_rows(slopes: Slopes, cfg) -> List[List[str]]:
-    """A row per (MIS, light selection, technique) of the study's StudyConfig `cfg`, a column per pattern (after a
-    light selection column in a study of several); Cycles' last."""
-    show = cfg.shows_selection
-    rows = [[t, m] + ([s] if show else []) + [fmt(slopes.table[CurveKey(t, m, p, s)], 3) for p in cfg.patterns]
-            for m in cfg.mis for s in cfg.light_selections for t in cfg.techniques]
+    """A row per (MIS, light selection, ellipse technique, technique) of the study's StudyConfig `cfg`, a column per
+    pattern (after a light selection and an ellipse technique column in a study of several); Cycles' last."""
+    show, show_ellipse = cfg.shows_selection, cfg.shows_ellipse
+    rows = [[t, m] + ([s] if show else []) + ([e] if show_ellipse else [])
+            + [fmt(slopes.table[CurveKey(t, m, p, s, e)], 3) for p in cfg.patterns]
+            for m in cfg.mis for s in cfg.light_selections for e in cfg.ellipse_techniques for t in cfg.techniques]
     if slopes.cycles is not None:
-        rows.append([CYCLES_NAME, CYCLES_CURVE.mis] + ([""] if show else [])
+        rows.append([CYCLES_NAME, CYCLES_CURVE.mis] + ([""] if show else []) + ([""] if show_ellipse else [])
                     + [fmt(slopes.cycles, 3) if i == 0 else "" for i in range(len(cfg.patterns))])
     return rows
 
@@ -88,19 +99,21 @@ SLOPE_VERDICTS = {
 }
 
 
-def slope_line(c: SlopeComparison, show_selection: bool = False) -> str:
+def slope_line(c: SlopeComparison, show_selection: bool = False, show_ellipse: bool = False) -> str:
     verdict = SLOPE_VERDICTS.get(c.verdict) or (
         "converges at the same rate as the two-triangle map within the fits' precision "
         f"(difference {fmt(c.difference, 2)}, threshold {fmt(c.threshold, 2)}): the paper's "
         "stratification advantage is NOT visible in the slope")
-    return (f"- {c.pattern}, MIS {c.mis}{selection_part(c.light_selection, show_selection, ', ')}: slope rectangle "
+    return (f"- {c.pattern}, MIS {c.mis}{selection_part(c.light_selection, show_selection, ', ')}"
+            f"{ellipse_part(c.ellipse_technique, show_ellipse, ', ')}: slope rectangle "
             f"{fmt(c.slopes[RECTANGLE], 3)}, triangles "
             f"{fmt(c.slopes[TRIANGLES], 3)}, area {fmt(c.slopes[AREA], 3)}; independent-pattern slope of "
             f"rectangle {fmt(c.unstratified_rectangle, 3)} -> the area-preserving map {verdict}.")
 
 
-def cosine_line(c: CosineComparison, show_selection: bool = False) -> str:
-    return (f"- MIS {c.mis}, {c.pattern}{selection_part(c.light_selection, show_selection, ', ')}, {c.samples} spp: "
+def cosine_line(c: CosineComparison, show_selection: bool = False, show_ellipse: bool = False) -> str:
+    return (f"- MIS {c.mis}, {c.pattern}{selection_part(c.light_selection, show_selection, ', ')}"
+            f"{ellipse_part(c.ellipse_technique, show_ellipse, ', ')}, {c.samples} spp: "
             f"RMSE({COSINE})/RMSE({RECTANGLE}) = {fmt(c.rmse_ratio)}, "
             f"cost ratio {fmt(c.cost_ratio)} (per sample, top {metrics.COST_RUNS} runs), efficiency "
             f"(1/(MSE x time)) ratio {fmt(c.efficiency)}, timing noise +-{fmt(100 * c.noise, 2)}% ({c.verdict}).")
@@ -128,7 +141,8 @@ def cycles_lines(c: Optional[CyclesComparison]) -> List[str]:
     return ["No configuration of ours reached Cycles' errors within the measured ladder."]
 
 
-def cycles_rows(c: Optional[CyclesComparison], show_selection: bool = False) -> List[List[str]]:
+def cycles_rows(c: Optional[CyclesComparison], show_selection: bool = False,
+                show_ellipse: bool = False) -> List[List[str]]:
     rows = []
     for p in c.points if c else []:
         start = [fmt(p.samples), fmt(p.rmse), fmt(p.time)]
@@ -136,24 +150,28 @@ def cycles_rows(c: Optional[CyclesComparison], show_selection: bool = False) -> 
             rows.append(start + [PLACEHOLDER] * 3)
         else:
             how = "" if p.reach.how == "measured" else f" ({p.reach.how})"
-            rows.append(start + [curve_label(p.best, show_selection), fmt(p.reach.time) + how, fmt(p.ratio)])
+            rows.append(start + [curve_label(p.best, show_selection, show_ellipse), fmt(p.reach.time) + how,
+                                 fmt(p.ratio)])
     return rows
 
 
-def target_line(t: TargetTimes, show_selection: bool = False) -> str:
+def target_line(t: TargetTimes, show_selection: bool = False, show_ellipse: bool = False) -> str:
     why = {"given": "given on the command line",
            "cycles": f"the RMSE of {CYCLES_NAME} at {t.samples} spp",
-           "middle": f"the RMSE of {curve_label(t.key, show_selection)} in the middle of the ladder" if t.key else ""
+           "middle": f"the RMSE of {curve_label(t.key, show_selection, show_ellipse)} in the middle of the ladder"
+                     if t.key else ""
            }[t.source]
     return (f"Target RMSE {fmt(t.rmse)} ({why}). 'measured' = interpolated between measured points "
             f"(log-log); 'extrapolated' = along the power law fitted to the curve's upper half. {COST_NOTE}")
 
 
-def target_rows(t: TargetTimes, show_selection: bool = False) -> List[List[str]]:
-    return [[curve_label(key, show_selection), fmt(r.time), reach_how(r), fmt(r.samples)] for key, r in t.reached]
+def target_rows(t: TargetTimes, show_selection: bool = False, show_ellipse: bool = False) -> List[List[str]]:
+    return [[curve_label(key, show_selection, show_ellipse), fmt(r.time), reach_how(r), fmt(r.samples)]
+            for key, r in t.reached]
 
 
-def equal_time_rows(grid: EqualTimeGrid, show_selection: bool = False) -> List[List[str]]:
+def equal_time_rows(grid: EqualTimeGrid, show_selection: bool = False, show_ellipse: bool = False
+                    ) -> List[List[str]]:
     """configuration, samples per pixel, time, RMSE, relMSE of every render the grid shows (Cycles once)."""
     rows = []
     for row_index, row in enumerate(grid.rows):
@@ -162,7 +180,8 @@ def equal_time_rows(grid: EqualTimeGrid, show_selection: bool = False) -> List[L
             if r is None or (name == CYCLES and row_index):
                 continue
             label = CYCLES_NAME if name == CYCLES else \
-                f"{name} / mis={row.mis}" + selection_part(row.light_selection, show_selection, " / ")
+                f"{name} / mis={row.mis}" + selection_part(row.light_selection, show_selection, " / ") \
+                + ellipse_part(row.ellipse_technique, show_ellipse, " / ")
             rows.append([label, fmt(r.get("samples_done")), fmt(r.get("time")), fmt(r["rmse"]), fmt(r["relmse"])])
     return rows
 
@@ -184,9 +203,53 @@ def selection_lines(comparisons: Optional[List[SelectionComparison]]) -> List[st
             f"indistinguishable within the timing noise in the rest."]
 
 
-def selection_rows(comparisons: Optional[List[SelectionComparison]]) -> List[List[str]]:
-    return [[c.technique, c.mis, c.pattern, fmt(c.rmse), fmt(c.power.time), fmt(c.tree.time), fmt(c.ratio),
+def selection_rows(comparisons: Optional[List[SelectionComparison]], show_ellipse: bool = False
+                   ) -> List[List[str]]:
+    return [[c.technique, c.mis, c.pattern] + ([c.ellipse_technique] if show_ellipse else []) + [fmt(c.rmse), fmt(c.power.time), fmt(c.tree.time), fmt(c.ratio),
              f"{c.verdict} (+-{fmt(100 * c.noise, 2)}%)"] for c in comparisons or []]
+
+
+def ellipse_lines(comparisons: Optional[List[EllipseComparison]], show_selection: bool = False) -> List[str]:
+    """The ellipse techniques side by side: the sentence of the findings and of the summary."""
+    if comparisons is None:
+        return [f"The study has not both the {ELLIPSE_AREA} and the {ELLIPSE_MAP} ellipse technique "
+                f"(--ellipse-techniques {ELLIPSE_AREA},{ELLIPSE_MAP} compares them)."]
+    if not comparisons:
+        return [f"- Disk and ellipse lights: no configuration was measured with both {ELLIPSE_AREA} and "
+                f"{ELLIPSE_MAP}."]
+    configurations = f"{len(comparisons)} ({setting_names(show_selection, first='technique, MIS, pattern')})"
+    rmse_low, rmse_high = finite_span([c.rmse_ratio for c in comparisons])
+    rmse = [c.rmse_ratio for c in comparisons if math.isfinite(c.rmse_ratio)]
+    cost = [c.cost_ratio for c in comparisons if math.isfinite(c.cost_ratio)]
+    verdicts = [c.verdict for c in comparisons]
+    return [f"- Disk and ellipse lights: at equal samples RMSE({ELLIPSE_MAP}) / RMSE({ELLIPSE_AREA}) = "
+            f"**{fmt(float(np.median(rmse)) if rmse else math.nan)}** (median over {configurations} "
+            f"configurations, range {fmt(rmse_low)} ... {fmt(rmse_high)}) at "
+            f"{fmt(float(np.median(cost)) if cost else math.nan)}x the cost per sample; efficiency "
+            f"(1 / (MSE x time)): {ELLIPSE_MAP} better in {verdicts.count('better than area')}, worse in "
+            f"{verdicts.count('worse than area')}, indistinguishable within the timing noise in the rest."]
+
+
+def ellipse_columns(show_selection: bool = False) -> List[str]:
+    """The header of ellipse_rows: a column per ellipse technique for each measure."""
+    both = (ELLIPSE_AREA, ELLIPSE_MAP)
+    return (["technique", "MIS", "pattern"] + (["light selection"] if show_selection else []) + ["spp"]
+            + [f"RMSE {e}" for e in both] + [f"RMSE ratio {ELLIPSE_MAP}/{ELLIPSE_AREA}"]
+            + [f"slope {e}" for e in both] + [f"cost per sample [us] {e}" for e in both]
+            + [f"time to Cycles' RMSE [s] {e}" for e in both] + ["Cycles' time [s]", "efficiency verdict"])
+
+
+def ellipse_rows(comparisons: Optional[List[EllipseComparison]], show_selection: bool = False) -> List[List[str]]:
+    rows = []
+    for c in comparisons or []:
+        both = [c.curves[e] for e in (ELLIPSE_AREA, ELLIPSE_MAP)]
+        reach = [fmt(m.cycles.time) + ("" if m.cycles.how == "measured" else f" ({reach_how(m.cycles)})")
+                 if m.cycles else PLACEHOLDER for m in both]
+        rows.append([c.technique, c.mis, c.pattern] + ([c.light_selection] if show_selection else [])
+                    + [fmt(c.samples)] + [fmt(m.rmse) for m in both] + [fmt(c.rmse_ratio)]
+                    + [fmt(m.slope, 3) for m in both] + [fmt(1e6 * m.cost) for m in both] + reach
+                    + [fmt(c.cycles_time), f"{c.verdict} (ratio {fmt(c.efficiency)}, +-{fmt(100 * c.noise, 2)}%)"])
+    return rows
 
 
 # ------------------------------------------------------------------------------------------------
@@ -194,9 +257,10 @@ def selection_rows(comparisons: Optional[List[SelectionComparison]]) -> List[Lis
 
 def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[CosineComparison]],
                   cycles: Optional[CyclesComparison], reference_rmse: float, smallest: float,
-                  selection: Optional[List[SelectionComparison]] = None, show_selection: bool = False) -> List[str]:
+                  selection: Optional[List[SelectionComparison]] = None, show_selection: bool = False,
+                  ellipse: Optional[List[EllipseComparison]] = None, show_ellipse: bool = False) -> List[str]:
     """The headline numbers, from the findings the report shows below the summary (`ordering`: its lines)."""
-    selection_case = ", light selection" if show_selection else ""
+    selection_case = setting_names(show_selection, show_ellipse, first="")
     lines = []
     ratio = cycles.top_ratio if cycles else None
     if ratio is not None:
@@ -220,6 +284,8 @@ def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[Cos
                      f"within the timing noise in the rest.")
     if selection is not None:
         lines += selection_lines(selection)
+    if ellipse is not None:
+        lines += ellipse_lines(ellipse, show_selection)
     if math.isfinite(smallest):
         lines.append(f"- The reference's own RMSE is {fmt(100 * reference_rmse / smallest, 2)}% of the "
                      f"smallest error measured.")
