@@ -235,7 +235,7 @@ def ellipse_columns(show_selection: bool = False) -> List[str]:
     both = (ELLIPSE_AREA, ELLIPSE_MAP)
     return (["technique", "MIS", "pattern"] + (["light selection"] if show_selection else []) + ["spp"]
             + [f"RMSE {e}" for e in both] + [f"RMSE ratio {ELLIPSE_MAP}/{ELLIPSE_AREA}"]
-            + [f"slope {e}" for e in both] + [f"cost per sample [us] {e}" for e in both]
+            + [f"slope {e}" for e in both] + [f"cost per sample [ms per spp] {e}" for e in both]
             + [f"time to Cycles' RMSE [s] {e}" for e in both] + ["Cycles' time [s]", "efficiency verdict"])
 
 
@@ -247,7 +247,7 @@ def ellipse_rows(comparisons: Optional[List[EllipseComparison]], show_selection:
                  if m.cycles else PLACEHOLDER for m in both]
         rows.append([c.technique, c.mis, c.pattern] + ([c.light_selection] if show_selection else [])
                     + [fmt(c.samples)] + [fmt(m.rmse) for m in both] + [fmt(c.rmse_ratio)]
-                    + [fmt(m.slope, 3) for m in both] + [fmt(1e6 * m.cost) for m in both] + reach
+                    + [fmt(m.slope, 3) for m in both] + [fmt(1e3 * m.cost) for m in both] + reach
                     + [fmt(c.cycles_time), f"{c.verdict} (ratio {fmt(c.efficiency)}, +-{fmt(100 * c.noise, 2)}%)"])
     return rows
 
