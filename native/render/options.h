@@ -33,6 +33,9 @@ struct RenderOptions {
     uint64_t seed = 0;
     int threads = 0;                     // 0: all hardware threads
     int tile_size = 16;
+    // The control variate of lights seen by the camera (integrator/light_coverage.h): the exact
+    // share of each pixel that a light's image covers, instead of its camera samples' estimate.
+    bool analytic_light_coverage = true;
     // Benchmarks only: run the kernel with every feature compiled in (medium, glossy, depth of
     // field) whatever the scene needs, to measure what the specialised kernels save.
     bool force_all_features = false;

@@ -317,6 +317,7 @@ void RenderScene::Commit() {
     rtcCommitScene(rtc_scene);
     AddMeshLights();
     analytic_light_finder.Build(device_, area_lights, num_analytic_lights);
+    screen_lights = BuildScreenLights(camera, area_lights, num_analytic_lights);
     std::vector<double> powers;
     for (const AreaLight& l : area_lights) {
         powers.push_back(AreaLightPower(l));

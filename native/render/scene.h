@@ -13,6 +13,7 @@
 #include "area_light_finder.h"
 #include "bsdf.h"
 #include "camera.h"
+#include "screen_lights.h"
 #include "light_tree.h"
 #include "lights.h"
 #include "medium.h"
@@ -91,6 +92,7 @@ class RenderScene {
     std::vector<AreaLight> area_lights;
     size_t num_analytic_lights = 0;
     AreaLightFinder analytic_light_finder;  // of lights [0, num_analytic_lights): which a ray crosses
+    std::vector<ScreenLight> screen_lights;  // of those, the camera's view of the ones it sees whole
     LightSelector light_selector;            // over area_lights, by power
     bool has_mesh_lights = false;            // some area light is on_mesh
     std::vector<std::string> warnings;       // Commit()'s, e.g. skipped degenerate emissive triangles

@@ -20,6 +20,12 @@ Disk and ellipse lights (ellipse_technique, one of ELLIPSE_TECHNIQUES, for every
 "spherical_ellipse" (default) samples the solid angle they subtend with the area-preserving map of
 the spherical ellipse (Guillen et al., EGSR 2017; sphrect.sample_ellipse); "area" uniformly by area.
 
+Lights seen by the camera (analytic_light_coverage, default True): in pixels that a rectangle's or an
+ellipse's image partly covers, the share it covers is computed exactly (a control variate: the image
+stays unbiased, and the noise of its edges is left only where something occludes the light).  It
+applies to a pinhole or orthographic camera outside a medium; False estimates it from the camera samples
+as before.
+
 Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=1: best at equal time with
 the lights in view) on the blend_scenes (scripts/measure_light_selection.py, scripts/measure_light_samples.py;
 README, "Light selection and defaults").
@@ -171,7 +177,7 @@ class Renderer:
     def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 1,
                  pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
                  medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree",
-                 ellipse_technique: str = "spherical_ellipse"):
+                 ellipse_technique: str = "spherical_ellipse", analytic_light_coverage: bool = True):
         if isinstance(techniques, str):
             techniques = [techniques]
         techniques = list(techniques)
@@ -185,7 +191,8 @@ class Renderer:
             warnings.warn(msg, RuntimeWarning, stacklevel=2)
         self._scene = native
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
-                                    str(light_selection), str(ellipse_technique), seed, threads, tile_size)
+                                    str(light_selection), str(ellipse_technique), seed, threads, tile_size,
+                                    bool(analytic_light_coverage))
         self._techniques = techniques
 
     @property

@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "chunk.h"
+#include "light_coverage.h"
 #include "render/camera.h"
 #include "render/embree_rays.h"
 #include "render/kernel.h"
@@ -23,7 +24,9 @@ struct PrimaryHit {
     float t_end = kInf;  // end of the camera ray's segment: surface hit or escape
     bool hit = false;
     SurfaceHit surface;
-    Spectrum seen;  // technique-independent part: visible lights before the surface, background
+    // Technique-independent part: visible lights before the surface, background; starts from the
+    // camera stage's control-variate offset (light_coverage.h).
+    Spectrum seen;
     uint64_t rng_seed = 0;
 };
 
@@ -35,6 +38,8 @@ static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk&
                                          ThreadScratch& scratch) {
     const CameraModel& camera = p.scene->camera;
     const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
+    const bool coverage = !kDof && UsesLightCoverage(*p.scene, *p.options);
+    if (coverage) ScreenLightsOverTile(*p.scene, chunk.tile, scratch.tile_screen_lights);
     for (int c = 0; c < chunk.count; ++c) {
         const int x = chunk.X(c), y = chunk.Y(c);
         const uint64_t pixel_seed = PixelSeed(p.options->seed, chunk.PixelIndex(c, camera.width));
@@ -43,11 +48,15 @@ static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk&
                                     {scratch.pixel_points.data(), scratch.lens_points.data(),
                                      &scratch.light_points[first_point], &scratch.bsdf_points[first_point]});
         PrimaryHit* hits = &scratch.hits[size_t(c) * n];
+        auto& partial = scratch.partial_coverages;
+        partial.clear();
+        if (coverage) PartialCoverages(*p.scene, scratch.tile_screen_lights, x, y, partial);
         for (uint32_t i = 0; i < n; ++i) {
             const Point2<float> jitter = scratch.pixel_points[i];
-            hits[i].ray = GenerateCameraRay<kDof>(camera, x + jitter.u, y + jitter.v,
-                                                  kDof ? scratch.lens_points[i] : Point2<float>{});
+            const float fx = x + jitter.u, fy = y + jitter.v;
+            hits[i].ray = GenerateCameraRay<kDof>(camera, fx, fy, kDof ? scratch.lens_points[i] : Point2<float>{});
             hits[i].rng_seed = CameraSampleRngSeed(pixel_seed, p.first_sample + i);
+            hits[i].seen = partial.empty() ? Spectrum() : CoverageOffset(partial, fx, fy);
         }
     }
 }
@@ -65,7 +74,7 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     out.t_end = out.hit ? rh.ray.tfar : kInf;
     if (out.hit) out.surface = MakeSurfaceHit(scene, out.ray, rh);
-    Spectrum seen;
+    Spectrum seen = out.seen;  // the coverage offset GenerateCameraSamples set
     // Emissive meshes are seen at their hit (two-sided, like their lights); the loop below covers
     // only the analytic lights, so they are not counted twice.
     if (out.hit && scene.has_mesh_lights) {

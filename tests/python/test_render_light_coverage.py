@@ -1,0 +1,98 @@
+"""The control variate of lights seen by the camera (Renderer(analytic_light_coverage=True), the
+default): unbiased against the sampled estimate, much less noisy at the lights' edges, and off
+(the same image bit for bit) where it does not apply."""
+import numpy as np
+import pytest
+from scipy import stats
+
+import sphrect
+from chi2 import sidak_alpha
+
+
+def quad(v, name):
+    return sphrect.Mesh(vertices=np.asarray(v, np.float32), triangles=np.array([[0, 1, 2], [0, 2, 3]], np.int32),
+                        name=name)
+
+
+def seen_lights_scene(camera_type="perspective", occluder=True, **camera):
+    """Lights facing a camera that looks down -Z at them, a wall behind lit by a light beside the
+    view; a rectangle (tilted), a disk, a light half off the film, one seen from its back, and a
+    small plane in front of part of the rectangle."""
+    cam = sphrect.Camera(width=24, height=16, type=camera_type, lens=30, ortho_scale=7,
+                         to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], **camera)
+    meshes = [quad([[-20, -20, -6], [20, -20, -6], [20, 20, -6], [-20, 20, -6]], "wall")]
+    if occluder:
+        meshes.append(quad([[-1.6, -2, -3], [-1.1, -2, -3], [-1.1, 0.0, -3], [-1.6, 0.0, -3]], "occluder"))
+    lights = [
+        sphrect.RectLight(corner=(-2.4, -1.2, -4), edge_x=(1.3, 0.3, 0.0), edge_y=(-0.3, 1.3, 0.4), radiance=(5, 5, 5)),
+        sphrect.EllipseLight(center=(1.3, 0.4, -4), axis_x=(0.8, 0.2, 0.0), axis_y=(-0.1, 0.4, 0.2), radiance=(3, 2, 1)),
+        sphrect.RectLight(corner=(-6.0, 1.2, -4.5), edge_x=(3.0, 0, 0), edge_y=(0, 0.8, 0), radiance=(2, 2, 2)),
+        sphrect.RectLight(corner=(0.0, -2.0, -4.2), edge_x=(0, 0.8, 0), edge_y=(1.0, 0, 0), radiance=(4, 4, 4)),  # back
+        sphrect.RectLight(corner=(4.0, -3.0, -2.0), edge_x=(0, 2, 0), edge_y=(0, 0, -2), radiance=(6, 6, 6)),  # lights the wall
+    ]
+    return sphrect.Scene(camera=cam, meshes=meshes, lights=lights)
+
+
+def replicates(scene, coverage, reps, samples, seed0=0, **kw):
+    out = []
+    for k in range(reps):
+        r = sphrect.Renderer(scene, seed=seed0 + k, threads=2, analytic_light_coverage=coverage, **kw)
+        assert r.render(samples)
+        assert r.stats()["dropped_samples"] == 0
+        out.append(r.image()[..., :3].astype(np.float64))
+    return np.array(out)
+
+
+@pytest.mark.parametrize("camera_type", ["perspective", "orthographic"])
+def test_unbiased_against_the_sampled_estimate(camera_type):
+    """Welch's t-test of 32 replicates with the control variate against 32 without (independent
+    seeds), on each image row's sum and on the whole image's, per channel; family-wise
+    false-failure rate 1e-3 (Sidak).  (Not per pixel: where a light's image misses a sliver of a
+    pixel, its offset is a rare event -- almost every sample lands inside -- whose replicate means
+    are far from normal, so a per-pixel t-test would fail for want of samples, not for a bias.  That
+    a pixel's coverage is the probability of landing inside is test_screen_lights.cpp's.)"""
+    scene = seen_lights_scene(camera_type)
+    with_cv = replicates(scene, True, 32, 8)
+    without = replicates(scene, False, 32, 8, seed0=100)
+    rows_cv, rows = with_cv.sum(axis=2), without.sum(axis=2)          # [reps, H, 3]
+    totals_cv, totals = with_cv.sum(axis=(1, 2)), without.sum(axis=(1, 2))  # [reps, 3]
+    p_rows = stats.ttest_ind(rows_cv, rows, equal_var=False).pvalue
+    p_totals = stats.ttest_ind(totals_cv, totals, equal_var=False).pvalue
+    p = np.concatenate([p_rows.ravel(), p_totals.ravel()])
+    assert np.nanmin(p) >= sidak_alpha(1e-3, p.size)
+    # The control variate's image is also the sampled one's within a few of its standard errors.
+    assert abs(totals_cv.mean() - totals.mean()) < 4 * totals.std(ddof=1) / np.sqrt(len(totals))
+
+
+def test_edges_of_unoccluded_lights_lose_their_noise():
+    """At equal samples the error of the pixels seeing the lights' edges falls by far more than 20x
+    (deterministic: fixed seeds)."""
+    scene = seen_lights_scene(occluder=False)
+    ref = replicates(scene, False, 1, 4096, seed0=999)[0]
+    with_cv, without = replicates(scene, True, 4, 16), replicates(scene, False, 4, 16)
+    err_cv = ((with_cv - ref) ** 2).mean(axis=(0, 3))
+    err = ((without - ref) ** 2).mean(axis=(0, 3))
+    edges = err > 1e-3  # the sampled estimate's noisy pixels: the lights' edges
+    assert edges.sum() > 20
+    assert err_cv[edges].sum() < err[edges].sum() / 20
+
+
+@pytest.mark.parametrize("change", ["medium", "depth_of_field", "light_hidden"])
+def test_off_where_it_does_not_apply(change):
+    scene = seen_lights_scene()
+    if change == "medium":
+        scene.world = sphrect.World(medium=sphrect.Medium(sigma_s=(0.05, 0.05, 0.05)))
+    elif change == "depth_of_field":
+        scene.camera.aperture_radius, scene.camera.focus_distance = 0.05, 4.0
+    else:
+        for light in scene.lights:
+            light.visible = False
+    images = [replicates(scene, cv, 1, 4)[0] for cv in (True, False)]
+    assert np.array_equal(images[0], images[1])
+
+
+def test_option_changes_only_pixels_that_see_a_light_edge():
+    scene = seen_lights_scene()
+    a, b = (replicates(scene, cv, 1, 4)[0] for cv in (True, False))
+    changed = np.any(a != b, axis=-1)
+    assert 0 < changed.sum() < changed.size / 2
