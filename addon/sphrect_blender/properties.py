@@ -32,6 +32,11 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     ellipse_technique: EnumProperty(name="Disk Lights", items=enum_items(ELLIPSE_TECHNIQUES, ELLIPSE_TECHNIQUE_LABELS),
                                     default="SPHERICAL_ELLIPSE",
                                     description="How points on disk and ellipse lights are chosen")
+    analytic_light_coverage: BoolProperty(
+        name="Exact Light Edges", default=True,
+        description="For rectangle and disk lights seen by the camera, compute exactly how much of each pixel they "
+                    "cover instead of estimating it from the samples (unbiased; removes the noise of their edges "
+                    "where nothing hides them; not in a volume or with depth of field)")
     seed: IntProperty(name="Seed", default=0, min=0)
     threads: IntProperty(name="Threads", default=0, min=0, description="Render threads (0: all cores)")
     passes: IntProperty(name="Progressive Passes", default=4, min=1, max=256,
@@ -74,7 +79,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     def renderer_options(self):
         return dict(light_samples=self.light_samples, pattern=sphrect_name(self.pattern),
                     mis=sphrect_name(self.mis), light_selection=sphrect_name(self.light_selection),
-                    ellipse_technique=sphrect_name(self.ellipse_technique), seed=self.seed, threads=self.threads)
+                    ellipse_technique=sphrect_name(self.ellipse_technique),
+                    analytic_light_coverage=self.analytic_light_coverage, seed=self.seed, threads=self.threads)
 
 
 def compare_switch(technique):

@@ -32,6 +32,7 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         col.prop(s, "mis")
         col.prop(s, "light_selection")
         col.prop(s, "ellipse_technique")
+        col.prop(s, "analytic_light_coverage")
         col.prop(s, "seed")
         col.separator()
         col.prop(s, "passes")
