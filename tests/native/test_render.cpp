@@ -523,24 +523,32 @@ TEST(RenderLights, KeptSamplersMatchFreshOnes) {
 
 // Ellipse lights under each ellipse technique: LightSamplingAt's Sample and PDF (its kept spherical
 // ellipse setups, over more lights than it keeps) equal a fresh EllipseSampler's bit for bit, area
-// fallback included (a light whose plane passes 1e-8 of its distance above the point), and the pdf
+// fallback included (a light whose plane passes 3e-9 of its distance above the point), or the
+// renderer's area sampling where spherical_ellipse chooses it (core/ellipse_map_choice.h), and the pdf
 // of a returned point is that of the sample.
 template <EllipseTechnique E>
 void ExpectEllipseSamplingMatchesFreshSamplers() {
     RenderScene s;
     SetTinyCameraAndGreyMaterial(s);
-    constexpr int kLights = 5;
-    for (int i = 0; i < kLights - 1; ++i)  // the odd ones one-sided facing away (pdf 0)
+    constexpr int kLights = 7;
+    for (int i = 0; i < kLights - 3; ++i)  // the odd ones one-sided facing away (pdf 0)
         EXPECT_EQ(s.AddEllipseLight({-2.0f + i, 0.3f * i, 1.0f + 0.5f * i}, {0.3f + 0.1f * i, 0, 0},
                                     {0, 0.2f, 0.1f * i}, {1, 1, 1}, i % 2 == 0, false), "");
-    EXPECT_EQ(s.AddEllipseLight({2.0f, 0.1f, 2e-8f}, {0.5f, 0, 0}, {0, 0.4f, 0}, {1, 1, 1}, true, false), "");
+    // Two close to the point, where spherical_ellipse takes the map (the four above it samples by area).
+    EXPECT_EQ(s.AddEllipseLight({0.3f, 0, 0.15f}, {0.3f, 0, 0}, {0, 0.3f, 0}, {1, 1, 1}, true, false), "");
+    EXPECT_EQ(s.AddEllipseLight({-0.1f, -0.3f, 0.2f}, {0, 0.25f, 0}, {0.2f, 0, 0}, {1, 1, 1}, false, false), "");
+    EXPECT_EQ(s.AddEllipseLight({0.8f, 0.1f, 2e-9f}, {0.5f, 0, 0}, {0, 0.4f, 0}, {1, 1, 1}, true, false), "");
     s.Commit();
     const Vec3f p{0.2f, -0.1f, 0}, n{0, 0, 1};
     LightSamplingAt<Technique::Rectangle> at(s, LightSelection::Power, p, n, n, 4, E);
     auto fresh = [&](int i) { return EllipseSampler<E, float>(p, n, s.area_lights[i].ellipse_frame); };
+    auto by_area = [&](int i) {
+        return E == EllipseTechnique::Area || EllipseAreaSamplingSuffices(p, s.area_lights[i].ellipse_frame);
+    };
     if constexpr (E == EllipseTechnique::SphericalEllipse) {
-        EXPECT_TRUE(fresh(kLights - 1).Valid() && fresh(kLights - 1).r.area_fallback);
-        EXPECT_TRUE(fresh(0).Valid() && !fresh(0).r.area_fallback);
+        EXPECT_TRUE(fresh(kLights - 1).Valid() && fresh(kLights - 1).r.area_fallback && !by_area(kLights - 1));
+        for (int i : {4, 5}) EXPECT_TRUE(fresh(i).Valid() && !fresh(i).r.area_fallback && !by_area(i));
+        for (int i : {0, 2}) EXPECT_TRUE(by_area(i) && fresh(i).Valid());
     }
     PCG32 rng(7);
     int valid = 0;
@@ -549,7 +557,7 @@ void ExpectEllipseSamplingMatchesFreshSamplers() {
         const float pmf = s.light_selector.pmf[i];
         const Point2<float> u{rng.NextFloat(), rng.NextFloat()};
         const LightSample<float> a = at.Sample(i, u);
-        if constexpr (E == EllipseTechnique::SphericalEllipse) {
+        if (!by_area(i)) {
             const auto f = fresh(i);
             const LightSample<float> b = f.Valid() ? f.Sample(u) : LightSample<float>{};
             EXPECT_EQ(a.pdf, b.pdf) << "light " << i;
@@ -574,7 +582,7 @@ void ExpectEllipseSamplingMatchesFreshSamplers() {
         const float r = std::sqrt(rng.NextFloat()), phi = 6.2831853f * rng.NextFloat();
         const Vec3f q = l.center + l.ax * (r * std::cos(phi)) + l.ay * (r * std::sin(phi));
         const auto fj = fresh(j);
-        const float expected = E == EllipseTechnique::Area ? EllipseAreaPDF(l, p, q) : fj.Valid() ? fj.Pdf(q) : 0.0f;
+        const float expected = by_area(j) ? EllipseAreaPDF(l, p, q) : fj.Valid() ? fj.Pdf(q) : 0.0f;
         EXPECT_EQ(at.PDF(j, q), s.light_selector.pmf[j] * expected) << "light " << j;
     }
     EXPECT_GT(valid, 100);

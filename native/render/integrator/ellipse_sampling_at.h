@@ -1,7 +1,11 @@
 // Ellipse (disk) lights at one shading or scattering point, sampled with the ellipse technique the
 // user chose (RenderOptions::ellipse_technique): `area`, uniformly by area (area_light.h, no setup),
 // or `spherical_ellipse`, the area-preserving map of core/spherical_ellipse.h, following its area
-// fallback (Sample and PDF both go through the setup, so the pdf is that of the point returned).
+// fallback (Sample and PDF both go through the setup, so the pdf is that of the point returned) --
+// except where area sampling is already within kEllipseAreaMaxSpread of uniform in solid angle from
+// this point (core/ellipse_map_choice.h: small or distant lights), which `spherical_ellipse` samples
+// by area too, with no setup: there the map cannot pay for its cost.  The choice depends on (point,
+// light) only, so Sample and PDF (also a BSDF/phase ray's MIS pdf) make the same one.
 //
 // The technique is a run-time branch on the ellipse path only, not a kernel template parameter (which
 // would double the kernels compiled): a scene without ellipse lights never reaches this code (it pays
@@ -22,6 +26,7 @@
 #include <new>
 #include <type_traits>
 
+#include "core/ellipse_map_choice.h"
 #include "core/ellipse_technique.h"
 #include "render/area_light.h"
 
@@ -33,17 +38,22 @@ class EllipseSamplingAt {
 
     // A light sample on ellipse light l (area light `index`) seen from origin.
     LightSample<float> Sample(const AreaLight& l, int index, const Vec3f& origin, Point2<float> u) {
-        if (technique_ == EllipseTechnique::Area) return SampleEllipseArea(l, origin, u);
+        if (ByArea(l, origin)) return SampleEllipseArea(l, origin, u);
         return SampleSphericalEllipse(Setup(l, index, origin), u);
     }
 
     // Solid-angle pdf with which Sample produces point p on l.
     float PDF(const AreaLight& l, int index, const Vec3f& origin, const Vec3f& p) {
-        if (technique_ == EllipseTechnique::Area) return EllipseAreaPDF(l, origin, p);
+        if (ByArea(l, origin)) return EllipseAreaPDF(l, origin, p);
         return SphericalEllipsePDF(Setup(l, index, origin), p);
     }
 
   private:
+    // Area sampling: the technique, or the spherical ellipse's choice where area sampling is nearly
+    // uniform in solid angle (core/ellipse_map_choice.h).
+    bool ByArea(const AreaLight& l, const Vec3f& origin) const {
+        return technique_ == EllipseTechnique::Area || EllipseAreaSamplingSuffices(origin, l.ellipse_frame);
+    }
     // Light `index`'s setup at origin (the same for every call of one EllipseSamplingAt).
     const SphericalEllipseSetup<float>& Setup(const AreaLight& l, int index, const Vec3f& origin) {
         const int kept = std::min(set_up_, kKeptEllipseSetups);
