@@ -192,3 +192,28 @@ def test_study_of_both_ellipse_techniques_from_the_command_line(tmp_path):
     assert "rectangle / mis=power / sobol / ellipse=spherical_ellipse" in report
     assert "rectangle / mis=power / sobol / ellipse=area" in report
     assert "- Disk and ellipse lights: at equal samples RMSE(spherical_ellipse) / RMSE(area) = **" in report
+
+
+def test_an_error_beaten_at_the_fewest_samples_is_reached_at_most_in_their_time():
+    """On the disk room (analytic light coverage) our 1-spp error is below Cycles' 64-spp error: the time to reach
+    it is at most our 1-spp time (no render takes a fraction of a sample), not a backward extrapolation, and the
+    Cycles comparison reports it as such instead of 'not reached'."""
+    from sphrect.study.report import equal_error, findings, wording
+    from sphrect.study.report.curves import BELOW_FEWEST, time_to_target
+
+    def curve(rmse_at_1, seconds_per_sample, samples=(1, 2, 4, 8)):
+        return [{"job": {"samples": n}, "rmse": rmse_at_1 / math.sqrt(n), "time": n * seconds_per_sample}
+                for n in samples]
+    ours = curve(0.05, 0.002)
+    reach = time_to_target(ours, 0.1, 1e-6)
+    assert reach.how == BELOW_FEWEST and reach.samples == 1 and reach.time == pytest.approx(0.002)
+    assert time_to_target(ours, 0.02, 1e-6).how == "measured"  # inside the ladder: as before
+    comparison = equal_error.cycles_comparison({CurveKey("rectangle", "none", "sobol", "tree"): ours,
+                                                CYCLES_CURVE: curve(0.8, 0.01)}, 1e-6)
+    assert comparison.top_ratio == pytest.approx(0.002 / 0.08) and comparison.meets_goal
+    line = wording.cycles_lines(comparison)[0]
+    assert "our best configuration needs at most **0.025x** Cycles' time" in line
+    assert wording.cycles_rows(comparison)[-1][-2:] == ["0.002 (at most: already below at 1 spp)", "0.025"]
+    summary = wording.summary_lines([], findings.slopes(StudyConfig(), {}, 1e-6), None, comparison,
+                                    1e-6, math.nan)
+    assert "measured ratio at most **0.025** -> **met**." in summary[0]

@@ -53,13 +53,16 @@ class Reach(NamedTuple):
 
 BELOW_REFERENCE = "below reference accuracy"
 BEYOND_LONGEST = "beyond the longest run"
+BELOW_FEWEST = "below"  # metrics.cost_to_reach's word: the curve's cheapest run is already below the target
 
 
 def time_to_target(curve: List[Dict], target: float, reference_rmse: float = 0.0) -> Reach:
     """Reach of RMSE `target`: the samples per pixel it takes (metrics.cost_to_reach on the samples) times the
     curve's cost per sample (curve_cost: averaged over its largest runs, so that one run's time does not decide
     a comparison).  Extrapolation uses only the points above REFERENCE_NOISE_FACTOR x the reference's own error
-    (below, the reference's noise bends the curve), and is refused for targets under that level."""
+    (below, the reference's noise bends the curve), and is refused for targets under that level.  A target that
+    the curve's fewest samples already beat is reached, at most, in their time (BELOW_FEWEST): a render takes
+    whole samples, so extrapolating below them would promise a time no render can take."""
     cost, _ = curve_cost(curve)
 
     def reach(points):
@@ -68,6 +71,9 @@ def time_to_target(curve: List[Dict], target: float, reference_rmse: float = 0.0
     measured = reach(curve)
     if measured.how != "extrapolated":
         return measured
+    fewest = min(curve, key=lambda r: r["job"]["samples"])
+    if fewest["rmse"] <= target:
+        return Reach(fewest["job"]["samples"] * cost, BELOW_FEWEST, fewest["job"]["samples"])
     noise_floor = REFERENCE_NOISE_FACTOR * reference_rmse
     if target < noise_floor:
         return Reach(float("nan"), BELOW_REFERENCE, float("nan"))
