@@ -13,12 +13,10 @@
 // and p Omega lies in [1/s, s] with s = (d_max / d_min)^3.  The ellipse lies in the disk of radius
 // r = max(a, b) about its centre, at in-plane distance rho from the foot of o, so
 //   d_min^2 >= h^2 + max(rho - r, 0)^2,   d_max^2 <= h^2 + (rho + r)^2,
-// and s <= S = (d_max^2 / d_min^2)^(3/2): a square root, a division and a few products, no elliptic
-// integral.  The choice is a pure function of (point, light), so Sample and PDF (also the MIS pdf of a
-// BSDF or phase ray that hits the light) always agree on it.
+// and s <= S = (d_max^2 / d_min^2)^(3/2): two dot products and a dozen products, no square root,
+// division or elliptic integral (below).  The choice is a pure function of (point, light), so Sample
+// and PDF (also the MIS pdf of a BSDF or phase ray that hits the light) always agree on it.
 #pragma once
-
-#include <cmath>
 
 #include "ellipse_light.h"
 
@@ -30,25 +28,36 @@ namespace sphrect {
 // and 12 in fog, swept over S).
 constexpr double kEllipseAreaMaxSpread = 8.0;
 
-// The bound S^(2/3) = d_max^2 / d_min^2 for the ellipse of largest semi-axis r whose centre is at
-// in-plane offset (cx, cy) and height h from o (infinite when o is in the plane over the ellipse).
-inline double EllipseAreaDistanceSpread2(double cx, double cy, double h, double r) {
-    const double rho = std::sqrt(cx * cx + cy * cy), h2 = h * h;
-    const double near = rho > r ? rho - r : 0.0, far = rho + r;
-    return (h2 + far * far) / (h2 + near * near);
+// The threshold on the squared distances, d_max^2 / d_min^2 <= S^(2/3) (4 for S = 8).
+constexpr double EllipseAreaMaxDistanceRatio2(double spread) {
+    const double a = spread * spread;
+    double x = a > 1 ? a : 1;  // Newton on x^3 = a from above: decreases monotonically to the root
+    for (int i = 0; i < 100; ++i) x -= (x * x * x - a) / (3 * x * x);
+    return x;
 }
 
-// True: area sampling of the ellipse `frame` seen from `origin` is within max_spread of uniform in
-// solid angle, and the renderer samples it by area.  False for a degenerate light or a point in its
-// plane (the map's setup then answers, with pdf 0).
+// True: area sampling of the ellipse `frame` seen from `origin` is within kEllipseAreaMaxSpread of
+// uniform in solid angle, and the renderer samples it by area.  False for a degenerate light or a
+// point in its plane over the ellipse (the map's setup then answers, with pdf 0), and for NaN.
+// With D^2 = |C - o|^2 = h^2 + rho^2 and q = D^2 + r^2, d_max^2 = q + 2 r rho and d_min^2 = q - 2 r rho
+// (rho >= r) or h^2 (rho < r), so d_max^2 <= k d_min^2 is, squared, free of square roots and divisions:
+//   rho >= r:  (2 r rho)^2 <= (q (k - 1) / (k + 1))^2,    rho < r:  0 <= k h^2 - q,  (2 r rho)^2 <= (k h^2 - q)^2.
+// (rho^2 = D^2 - h^2 loses eps D^2 absolutely where rho << h, where the bound hardly depends on rho.)
 template <class T>
-bool EllipseAreaSamplingSuffices(const Vec3<T>& origin, const EllipseLightFrame<T>& frame,
-                                 double max_spread = kEllipseAreaMaxSpread) {
+bool EllipseAreaSamplingSuffices(const Vec3<T>& origin, const EllipseLightFrame<T>& frame) {
+    constexpr double k = EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread);
     if (!frame.valid) return false;
     const Vec3d d = frame.center - Vec3d(origin);
-    const double s2 = EllipseAreaDistanceSpread2(Dot(d, frame.uh), Dot(d, frame.vh), Dot(d, frame.n),
-                                                 frame.a > frame.b ? frame.a : frame.b);
-    return s2 * s2 * s2 <= max_spread * max_spread;  // S^2 = (d_max^2 / d_min^2)^3; false for NaN
+    const double r = frame.a > frame.b ? frame.a : frame.b, r2 = r * r;
+    const double d2 = Dot(d, d), h = Dot(d, frame.n), h2 = h * h;
+    const double rho2 = d2 > h2 ? d2 - h2 : 0.0;
+    const double q = d2 + r2, two_r_rho2 = 4 * r2 * rho2;
+    if (rho2 >= r2) {
+        const double m = q * ((k - 1) / (k + 1));
+        return two_r_rho2 <= m * m;
+    }
+    const double m = k * h2 - q;
+    return m >= 0 && two_r_rho2 <= m * m;  // (false for NaN)
 }
 
 }  // namespace sphrect

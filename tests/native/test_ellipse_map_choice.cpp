@@ -16,6 +16,15 @@
 namespace sphrect::render {
 namespace {
 
+// The bound S^(2/3) >= d_max^2 / d_min^2 of core/ellipse_map_choice.h in its direct form: the ellipse of
+// largest semi-axis r whose centre is at in-plane offset rho and height h from o.
+double DistanceSpread2(const Vec3d& o, const EllipseLightFrame<float>& f) {
+    const Vec3d d = f.center - o;
+    const double rho = std::hypot(Dot(d, f.uh), Dot(d, f.vh)), h2 = Dot(d, f.n) * Dot(d, f.n), r = std::max(f.a, f.b);
+    const double near = std::max(rho - r, 0.0), far = rho + r;
+    return (h2 + far * far) / (h2 + near * near);
+}
+
 // The spread d_max^3 / d_min^3 of area sampling's solid-angle density over the ellipse, measured on a
 // dense polar grid of its points (the extremes of the distance lie on the rim or at the foot of o).
 double MeasuredSpread(const Vec3d& o, const EllipseLightFrame<float>& f) {
@@ -39,20 +48,42 @@ TEST(EllipseMapChoice, SpreadBoundHoldsAndIsExactOnTheAxisOfADisk) {
     for (const auto* f : {&disk, &ellipse})
         for (int k = 0; k < 40; ++k) {
             const Vec3d o(4 * rng.NextFloat() - 2, 4 * rng.NextFloat() - 2, 2 * rng.NextFloat() - 0.5);
-            const Vec3d d = f->center - o;
-            const double s2 = EllipseAreaDistanceSpread2(Dot(d, f->uh), Dot(d, f->vh), Dot(d, f->n), std::max(f->a, f->b));
-            EXPECT_GE(std::pow(s2, 1.5) * (1 + 1e-12), MeasuredSpread(o, *f)) << o.x << " " << o.y << " " << o.z;
+            EXPECT_GE(std::pow(DistanceSpread2(o, *f), 1.5) * (1 + 1e-12), MeasuredSpread(o, *f))
+                << o.x << " " << o.y << " " << o.z;
         }
     // Under the centre of a disk of radius r at height h: S = ((h^2 + r^2) / h^2)^(3/2) exactly.
     for (double h : {0.05, 0.3, 1.0, 4.0})
-        EXPECT_NEAR(std::pow(EllipseAreaDistanceSpread2(0, 0, h, 0.5), 1.5), MeasuredSpread(Vec3d(0, 0, 1 - h), disk),
+        EXPECT_NEAR(std::pow(DistanceSpread2(Vec3d(0, 0, 1 - h), disk), 1.5), MeasuredSpread(Vec3d(0, 0, 1 - h), disk),
                     1e-9 * std::pow(1 + 0.25 / (h * h), 1.5));
+}
+
+// The square-root-free test of the core is the direct bound against the threshold, S^(2/3) <= 4.
+TEST(EllipseMapChoice, ChoiceIsTheBoundAgainstTheThreshold) {
+    static_assert(EllipseAreaMaxDistanceRatio2(8.0) - 4.0 < 1e-15 && 4.0 - EllipseAreaMaxDistanceRatio2(8.0) < 1e-15);
+    EXPECT_NEAR(EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread), std::cbrt(kEllipseAreaMaxSpread * kEllipseAreaMaxSpread), 1e-15);
+    const double k = EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread);
+    const EllipseLightFrame<float> ellipse =
+        MakeEllipseLightFrame(EllipseLight<float>{{0.2f, -0.1f, 1.3f}, {0.6f, 0, 0.3f}, {0, 0.2f, 0}, false});
+    PCG32 rng(5);
+    int by_area = 0, near_boundary = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const float s = std::pow(10.0f, 3 * rng.NextFloat() - 1);  // 0.1 .. 100 sizes away
+        const Vec3f o(s * (2 * rng.NextFloat() - 1), s * (2 * rng.NextFloat() - 1), 1.3f + s * (2 * rng.NextFloat() - 1));
+        const double b = DistanceSpread2(Vec3d(o), ellipse);
+        if (std::abs(b / k - 1) < 1e-9) { ++near_boundary; continue; }
+        const bool area = EllipseAreaSamplingSuffices(o, ellipse);
+        EXPECT_EQ(area, b <= k) << o.x << " " << o.y << " " << o.z << " bound " << b;
+        by_area += area;
+    }
+    EXPECT_GT(by_area, 10000);
+    EXPECT_LT(by_area, 90000);
+    EXPECT_LT(near_boundary, 10);
 }
 
 // Under the centre of a disk of radius 1 the switch is at h* = 1 / sqrt(S^(2/3) - 1).
 TEST(EllipseMapChoice, SwitchesWhereTheBoundCrossesTheThreshold) {
     const EllipseLightFrame<float> disk = MakeEllipseLightFrame(EllipseLight<float>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
-    const double h_switch = 1 / std::sqrt(std::cbrt(kEllipseAreaMaxSpread * kEllipseAreaMaxSpread) - 1);
+    const double h_switch = 1 / std::sqrt(EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread) - 1);
     EXPECT_TRUE(EllipseAreaSamplingSuffices(Vec3f(0, 0, float(-1.01 * h_switch)), disk));
     EXPECT_FALSE(EllipseAreaSamplingSuffices(Vec3f(0, 0, float(-0.99 * h_switch)), disk));
     EXPECT_TRUE(EllipseAreaSamplingSuffices(Vec3f(0, 0, float(1.01 * h_switch)), disk));  // the other side
@@ -79,7 +110,7 @@ TEST(EllipseMapChoice, SampleAndPdfFollowTheChoiceOnBothSides) {
     // (one-sided, facing down: cross(axis_u, axis_v) = -z)
     const AreaLight disk = MakeEllipseAreaLight({0, 0, 2}, {0, r, 0}, {r, 0, 0}, {1, 1, 1}, false, false);
     const AreaLight tilted = MakeEllipseAreaLight({1, 0.5f, 1.5f}, {0.4f, 0, 0.2f}, {0, 0.25f, 0}, {1, 1, 1}, true, false);
-    const double h_switch = r / std::sqrt(std::cbrt(kEllipseAreaMaxSpread * kEllipseAreaMaxSpread) - 1);
+    const double h_switch = r / std::sqrt(EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread) - 1);
     int by_area = 0, by_map = 0;
     PCG32 rng(11);
     for (double f : {0.5, 0.9, 0.98, 1.02, 1.1, 2.0, 40.0}) {
