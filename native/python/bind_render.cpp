@@ -168,6 +168,25 @@ void BindRender(py::module_& m) {
             },
             py::arg("base_color"), py::arg("roughness"), py::arg("metallic"), py::arg("specular"),
             py::arg("emission") = V3{0, 0, 0})
+        .def(
+            "add_principled_material",
+            [](RenderScene& s, V3 c, float metallic, float specular, float specular_tint, float roughness, float sheen,
+               float sheen_tint, float clearcoat, float clearcoat_roughness, V3 emission) {
+                render::PrincipledInputs in;
+                in.base_color = ToVec(c);
+                in.metallic = metallic;
+                in.specular = specular;
+                in.specular_tint = specular_tint;
+                in.roughness = roughness;
+                in.sheen = sheen;
+                in.sheen_tint = sheen_tint;
+                in.clearcoat = clearcoat;
+                in.clearcoat_roughness = clearcoat_roughness;
+                return s.AddPrincipledMaterial(in, ToVec(emission));
+            },
+            py::arg("base_color"), py::arg("metallic"), py::arg("specular"), py::arg("specular_tint"),
+            py::arg("roughness"), py::arg("sheen"), py::arg("sheen_tint"), py::arg("clearcoat"),
+            py::arg("clearcoat_roughness"), py::arg("emission") = V3{0, 0, 0})
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none())
         .def("add_rect_light",

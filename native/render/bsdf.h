@@ -1,25 +1,56 @@
-// Surface scattering: Lambert, and the common part of Blender's Principled BSDF
-// (Lambert diffuse weighted by 1 - metallic, plus a GGX / Trowbridge-Reitz specular lobe
-// with alpha = roughness^2, F0 = mix(0.08 * specular, base colour, metallic), Schlick Fresnel,
-// height-correlated Smith masking-shadowing).  All functions work in the shading frame where
-// the normal is +z and wo is on the +z side (the caller flips the normal to the viewer's side).
+// Surface scattering: Lambert; the "glossy" model (Lambert diffuse weighted by 1 - metallic, plus
+// a GGX / Trowbridge-Reitz specular lobe with alpha = roughness^2, F0 = mix(0.08 * specular, base
+// colour, metallic), Schlick Fresnel, height-correlated Smith masking-shadowing: scene files'
+// kind 'glossy'); and Blender's Principled BSDF as Cycles 3.4 evaluates it (MakePrincipledMaterial,
+// lobes in principled_lobes.h).  All functions work in the shading frame where the normal is +z and
+// wo is on the +z side (the caller flips the normal to the viewer's side).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/rng.h"
+#include "principled_lobes.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
 
 struct Material {
-    Spectrum diffuse;      // reflectance of the Lambert lobe (albedo): f = diffuse / pi
-    Spectrum f0;           // specular reflectance at normal incidence (0: no specular lobe)
+    Spectrum diffuse;      // reflectance of the Lambert lobe (albedo): f = diffuse / pi; Principled:
+                           // the Burley lobe's weight x base colour
+    Spectrum f0;           // specular reflectance at normal incidence (0: no specular lobe);
+                           // Principled: Cycles' cspec0 (tinted dielectric F0 mixed with metal)
     float alpha = 1;       // GGX roughness parameter
     float specular_probability = 0;  // chance of sampling the specular lobe in SampleBsdf
-    bool glossy = false;
+    bool glossy = false;   // anything beyond Lambert: needs the kGlossy kernel
     Spectrum emission;     // radiance emitted from both sides (emissive meshes); 0: none
+
+    // Principled BSDF (Cycles 3.4).  Sheen and clearcoat cost only a flag test when absent.
+    bool principled = false;
+    bool has_specular = false;
+    bool has_sheen = false;
+    bool has_clearcoat = false;
+    float burley_roughness = 0;      // the retro-reflection's roughness (Blender's, unsquared)
+    float specular_ior = 1;          // the Fresnel blend's IOR, from Specular
+    float specular_f0 = 0;           // its normal-incidence reflectance (0.08 specular)
+    Spectrum sheen;                  // sheen weight x sheen colour (f = sheen (1 - wi.h)^5)
+    float clearcoat = 0;             // 0.25 x Clearcoat, Cycles' weight of the clearcoat lobe
+    float clearcoat_alpha = 1;       // GTR1 alpha = clearcoat roughness^2
+    float clearcoat_probability = 0; // chance of sampling the clearcoat lobe (the rest: cosine)
+};
+
+// The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface,
+// transmission and anisotropy are not: the exporter warns about them.
+struct PrincipledInputs {
+    Spectrum base_color{0.8f, 0.8f, 0.8f};
+    float metallic = 0;
+    float specular = 0.5f;
+    float specular_tint = 0;
+    float roughness = 0.5f;
+    float sheen = 0;
+    float sheen_tint = 0.5f;
+    float clearcoat = 0;
+    float clearcoat_roughness = 0.03f;
 };
 
 // Blender material parameters -> Material.  Roughness is clamped to 0.03 (alpha ~ 1e-3): a
@@ -42,6 +73,74 @@ inline Material MakeGlossyMaterial(const Spectrum& base, float roughness, float 
     // Pick lobes roughly by their albedo so neither is starved.
     const float wd = Luminance(m.diffuse), ws = std::max(Luminance(m.f0), 0.04f);
     m.specular_probability = wd > 0 ? std::clamp(ws / (wd + ws), 0.1f, 0.9f) : 1.0f;
+    return m;
+}
+
+// Cycles 3.4's closures of the Principled node (svm_node_closure_bsdf, CLOSURE_BSDF_PRINCIPLED_ID,
+// its default GGX distribution = single-scatter GGX; no transmission): a Burley diffuse of weight
+// (1 - metallic) base colour, sheen of weight (1 - metallic) sheen (mix(1, tint, sheen_tint), tint =
+// base colour / its luminance), a GGX specular with Cycles' Fresnel blend of cspec0 = mix(0.08 specular
+// mix(1, tint', specular_tint), base colour, metallic) (tint' normalised by 0.3 r + 0.6 g + 0.1 b) towards
+// white by the dielectric Fresnel of IOR 2 / (1 - sqrt(0.08 specular)) - 1, and a clearcoat: GTR1 of
+// alpha = clearcoat_roughness^2 with G at alpha 0.25, Fresnel of IOR 1.5, weight 0.25 clearcoat.
+// Roughnesses are clamped to 0.03 as in MakeGlossyMaterial.
+inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
+    constexpr float kCutoff = 1e-5f;  // Cycles' CLOSURE_WEIGHT_CUTOFF: lobes below it are not made
+    Material m;
+    m.glossy = m.principled = true;
+    const Spectrum base = in.base_color;
+    const float metallic = std::clamp(in.metallic, 0.0f, 1.0f);
+    const float specular = std::clamp(in.specular, 0.0f, 1.0f);
+    const float roughness = std::clamp(in.roughness, 0.0f, 1.0f);
+    const float diffuse_weight = 1 - metallic;
+    if (diffuse_weight > kCutoff && std::abs(base.x + base.y + base.z) / 3 > kCutoff) {
+        m.diffuse = base * diffuse_weight;
+        m.burley_roughness = roughness;
+    }
+    const float sheen = std::max(in.sheen, 0.0f);
+    if (diffuse_weight > kCutoff && sheen > kCutoff) {
+        const float lum = Luminance(base);  // Cycles: linear_rgb_to_gray, Rec.709 in Blender's default config
+        const Spectrum tint = lum > 0 ? base / lum : Spectrum(1, 1, 1);
+        const float st = in.sheen_tint;
+        m.sheen = (Spectrum(1 - st, 1 - st, 1 - st) + tint * st) * (sheen * diffuse_weight);
+        m.has_sheen = !IsBlack(m.sheen);
+    }
+    if (specular > kCutoff || metallic > kCutoff) {
+        m.has_specular = true;
+        const float r = std::max(roughness, 0.03f);
+        m.alpha = r * r;
+        m.specular_ior = 2 / (1 - std::sqrt(0.08f * specular)) - 1;
+        m.specular_f0 = DielectricFresnel(1, m.specular_ior);
+        const float lum = 0.3f * base.x + 0.6f * base.y + 0.1f * base.z;  // Cycles' approximation here
+        const Spectrum tint = lum > 0 ? base / lum : Spectrum(1, 1, 1);
+        const float t = in.specular_tint;
+        const Spectrum tinted = (Spectrum(1 - t, 1 - t, 1 - t) + tint * t) * (0.08f * specular);
+        const Spectrum c = tinted * (1 - metallic) + base * metallic;
+        m.f0 = {std::clamp(c.x, 0.0f, 1.0f), std::clamp(c.y, 0.0f, 1.0f), std::clamp(c.z, 0.0f, 1.0f)};
+    }
+    if (in.clearcoat > kCutoff) {
+        m.has_clearcoat = true;
+        m.clearcoat = 0.25f * in.clearcoat;
+        const float r = std::clamp(in.clearcoat_roughness, 0.03f, 1.0f);
+        m.clearcoat_alpha = r * r;
+    }
+    // Lobe choice roughly by albedo (the sheen's is at most ~0.1 of its weight, the clearcoat's
+    // Fresnel starts at 0.04), each present lobe at least 10% of the samples.
+    float w_cos = Luminance(m.diffuse) + 0.1f * Luminance(m.sheen);
+    float w_spec = m.has_specular ? std::max(Luminance(m.f0), 0.04f) : 0.0f;
+    float w_coat = m.has_clearcoat ? std::max(0.1f * m.clearcoat, 1e-3f) : 0.0f;
+    const int lobes = (w_cos > 0) + (w_spec > 0) + (w_coat > 0);
+    if (lobes == 0) {
+        w_cos = 1;  // black: sample the cosine, evaluate 0
+    } else {
+        const float total = w_cos + w_spec + w_coat, floor = 0.1f * total;
+        if (w_cos > 0) w_cos = std::max(w_cos, floor);
+        if (w_spec > 0) w_spec = std::max(w_spec, floor);
+        if (w_coat > 0) w_coat = std::max(w_coat, floor);
+    }
+    const float sum = w_cos + w_spec + w_coat;
+    m.specular_probability = w_spec / sum;
+    m.clearcoat_probability = w_coat / sum;
     return m;
 }
 
@@ -96,11 +195,81 @@ inline float GgxReflectionPDF(const Vec3f& wo, const Vec3f& wi, float alpha) {
     return GgxG1(wo, alpha) * GgxD(h, alpha) / (4 * wo.z);
 }
 
+// --- Principled (Cycles 3.4) --------------------------------------------------------------------
+
+// Cycles' interpolate_fresnel_color: cspec0 blended towards white by the dielectric Fresnel's rise
+// above its normal-incidence value.
+inline Spectrum PrincipledSpecularFresnel(const Material& m, float cos_ih) {
+    const float rise = (DielectricFresnel(cos_ih, m.specular_ior) - m.specular_f0) / (1 - m.specular_f0);
+    return m.f0 * (1 - rise) + Spectrum(rise, rise, rise);
+}
+
+constexpr float kClearcoatShadowingAlpha = 0.25f;  // Cycles' fixed alpha of the clearcoat's G
+constexpr float kClearcoatIor = 1.5f;
+
+inline float ClearcoatD(const Vec3f& h, float alpha) { return Gtr1D(h.z * h.z, h.x * h.x + h.y * h.y, alpha); }
+
+// pdf of wi = reflect(wo, h) with h drawn with density D_GTR1 cos(theta_h).
+inline float ClearcoatReflectionPDF(const Vec3f& wo, const Vec3f& wi, float alpha) {
+    if (wi.z <= 0) return 0;
+    const Vec3f h = Normalize(wo + wi);
+    return ClearcoatD(h, alpha) * h.z / (4 * Dot(wo, h));
+}
+
+// wo.z, wi.z > 0.
+inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+    Spectrum f = m.diffuse * BurleyDiffuse(wo, wi, m.burley_roughness);
+    const Vec3f h = Normalize(wo + wi);
+    const float cos_ih = Dot(wi, h), inv_4cos = 1 / (4 * wo.z * wi.z);
+    if (m.has_sheen) f += m.sheen * SchlickWeight(cos_ih);
+    if (m.has_specular) {
+        const float g = SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
+        f += PrincipledSpecularFresnel(m, cos_ih) * (GgxD(h, m.alpha) * g * inv_4cos);
+    }
+    if (m.has_clearcoat) {
+        const float g = SmithG1Ggx(wo.z, kClearcoatShadowingAlpha) * SmithG1Ggx(wi.z, kClearcoatShadowingAlpha);
+        const float fresnel = DielectricFresnel(cos_ih, kClearcoatIor);
+        const float v = m.clearcoat * fresnel * ClearcoatD(h, m.clearcoat_alpha) * g * inv_4cos;
+        f += Spectrum(v, v, v);
+    }
+    return f;
+}
+
+// wo.z, wi.z > 0.
+inline float PrincipledPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+    const float ps = m.specular_probability, pc = m.clearcoat_probability;
+    float pdf = (1 - ps - pc) * CosineHemispherePDF(wi.z);
+    if (ps > 0) pdf += ps * GgxReflectionPDF(wo, wi, m.alpha);
+    if (pc > 0) pdf += pc * ClearcoatReflectionPDF(wo, wi, m.clearcoat_alpha);
+    return pdf;
+}
+
+// One uniform number picks the lobe (cosine for diffuse and sheen, GGX visible normals, GTR1
+// normals) and is rescaled to [0,1) for the lobe's own warp.
+inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point2<float> u) {
+    const float ps = m.specular_probability, pc = m.clearcoat_probability;
+    if (u.u < ps) {
+        u.u = std::min(u.u / ps, kOneMinusEpsilonF);
+        const Vec3f h = SampleGgxVisibleNormal(wo, m.alpha, u);
+        return h * (2 * Dot(wo, h)) - wo;
+    }
+    if (u.u < ps + pc) {
+        u.u = std::min((u.u - ps) / pc, kOneMinusEpsilonF);
+        const Vec3f h = SampleGtr1Normal(m.clearcoat_alpha, u);
+        return h * (2 * Dot(wo, h)) - wo;
+    }
+    u.u = std::min((u.u - ps - pc) / (1 - ps - pc), kOneMinusEpsilonF);
+    return SampleCosineHemisphere(u);
+}
+
 // --- The BSDF, specialised on whether a glossy lobe can exist ----------------------------------
 
 template <bool kGlossy>
 inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi) {
     if (wi.z <= 0 || wo.z <= 0) return {};
+    if constexpr (kGlossy) {
+        if (m.principled) return EvalPrincipled(m, wo, wi);
+    }
     Spectrum f = m.diffuse * kInvPi;
     if constexpr (kGlossy) {
         if (m.glossy) {
@@ -116,6 +285,7 @@ template <bool kGlossy>
 inline float BsdfPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) {
     if (wi.z <= 0 || wo.z <= 0) return 0;
     if constexpr (kGlossy) {
+        if (m.principled) return PrincipledPDF(m, wo, wi);
         if (m.glossy) {
             const float ps = m.specular_probability;
             return ps * GgxReflectionPDF(wo, wi, m.alpha) + (1 - ps) * CosineHemispherePDF(wi.z);
@@ -138,7 +308,9 @@ inline BsdfSample SampleBsdf(const Material& m, const Vec3f& wo, Point2<float> u
         if (m.glossy) {
             // One uniform number picks the lobe and is rescaled to [0,1) for the lobe's own warp.
             const float ps = m.specular_probability;
-            if (u.u < ps) {
+            if (m.principled) {
+                s.wi = SamplePrincipledDirection(m, wo, u);
+            } else if (u.u < ps) {
                 u.u = std::min(u.u / ps, kOneMinusEpsilonF);
                 const Vec3f h = SampleGgxVisibleNormal(wo, m.alpha, u);
                 s.wi = h * (2 * Dot(wo, h)) - wo;

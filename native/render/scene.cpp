@@ -168,6 +168,18 @@ int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float 
     return int(materials.size()) - 1;
 }
 
+int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectrum& emission) {
+    RequireNotCommitted();
+    CheckColor("material base_color", in.base_color);
+    CheckColor("material emission", emission);
+    for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
+                    in.clearcoat_roughness})
+        if (!std::isfinite(v)) Fail("material Principled inputs must be finite");
+    materials.push_back(MakePrincipledMaterial(in));
+    materials.back().emission = emission;
+    return int(materials.size()) - 1;
+}
+
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
                           size_t nt, const float* normals, const int32_t* material_ids) {
     RequireNotCommitted();

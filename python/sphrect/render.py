@@ -132,6 +132,11 @@ def build_native_scene(scene: Scene):
         elif mat.kind == "glossy":
             native.add_glossy_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"),
                                        float(mat.roughness), float(mat.metallic), float(mat.specular), emission)
+        elif mat.kind == "principled":
+            native.add_principled_material(
+                _rgb(mat.base_color, f"material '{mat.name}' base_color"), float(mat.metallic), float(mat.specular),
+                float(mat.specular_tint), float(mat.roughness), float(mat.sheen), float(mat.sheen_tint),
+                float(mat.clearcoat), float(mat.clearcoat_roughness), emission)
         else:
             raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {_one_of(MATERIAL_KINDS)})")
     n_materials = max(1, len(scene.materials))

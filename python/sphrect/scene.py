@@ -9,10 +9,11 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
 :func:`load_scene`): a NumPy ``.npz`` archive holding
 
 * ``scene.json`` -- a UTF-8 JSON document: ``{"format": "sphrect-scene",
-  "version": 2, "camera": {...}, "world": {...}, "materials": [...],
+  "version": 3, "camera": {...}, "world": {...}, "materials": [...],
   "lights": [{"type": "rect"|"ellipse"|"point"|"spot"|"sun", ...}, ...],
   "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
-  dataclasses below (version 1, before Material.emission, loads with emission 0);
+  dataclasses below (version 1, before Material.emission, loads with emission 0;
+  version 2, before the 'principled' kind, with its fields at their defaults);
 * for mesh *i*: ``mesh{i}.vertices`` (float32 [V,3]), ``mesh{i}.triangles``
   (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
   ``mesh{i}.material_ids`` (int32 [T]).
@@ -33,13 +34,15 @@ from .fileio import atomic_write
 FORMAT_NAME = "sphrect-scene"
 # 2: Material.emission (emissive meshes).  Version-1 files load unchanged (emission 0); readers of
 # version 1 refuse version-2 files with a clear message instead of failing on the new field.
-FORMAT_VERSION = 2
+# 3: Material kind 'principled' and its fields specular_tint, sheen, sheen_tint, clearcoat,
+# clearcoat_roughness.  Older files load unchanged: their kinds 'diffuse' / 'glossy' render as before.
+FORMAT_VERSION = 3
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
 
 # The values the format's name fields take.
-MATERIAL_KINDS = ("diffuse", "glossy")
+MATERIAL_KINDS = ("diffuse", "glossy", "principled")
 CAMERA_TYPES = ("perspective", "orthographic")
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 
@@ -66,13 +69,21 @@ def _rgb_tuple(v) -> RGB:
 
 @dataclass
 class Material:
-    """Diffuse (Lambert) or glossy (the common part of Principled BSDF: GGX)."""
+    """kind 'diffuse': Lambert; 'glossy': Lambert + GGX with Schlick Fresnel (the common part of Principled
+    BSDF, the model before 'principled'); 'principled': Blender's Principled BSDF as Cycles 3.4 evaluates it
+    (Burley diffuse with retro-reflection, GGX specular with Cycles' Fresnel blend and tint, sheen, clearcoat;
+    the fields below are the node's inputs of the same names)."""
     name: str = "default"
     kind: str = "diffuse"            # one of MATERIAL_KINDS
     base_color: RGB = (0.8, 0.8, 0.8)
     roughness: float = 0.5           # Blender's roughness; GGX alpha = roughness**2
     metallic: float = 0.0
     specular: float = 0.5            # Principled 'Specular': F0 = 0.08 * specular for dielectrics
+    specular_tint: float = 0.0       # 'principled' only, like the four below (Blender's defaults)
+    sheen: float = 0.0
+    sheen_tint: float = 0.5
+    clearcoat: float = 0.0
+    clearcoat_roughness: float = 0.03
     emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
                                      # every emissive triangle is a light (files without it load as 0)
 
