@@ -145,7 +145,7 @@ def test_materials_and_slots(empty_scene):
     mats = {m.name: m for m in scene.materials}
     assert mats["Matte"].kind == "diffuse" and mats["Matte"].base_color == pytest.approx((0.2, 0.4, 0.6))
     metal = mats["Metal"]
-    assert metal.kind == "glossy"
+    assert metal.kind == "principled"
     assert (metal.metallic, metal.roughness, metal.specular) == pytest.approx((0.7, 0.25, 0.4))
     assert metal.base_color == pytest.approx((0.9, 0.8, 0.1))
     (mesh,) = scene.meshes

@@ -1,12 +1,15 @@
 """Blender materials and world -> sphrect.Material / sphrect.World.
 
 Read from the node tree behind the active output: Diffuse BSDF and Principled BSDF (base colour, metallic,
-roughness, specular) for surfaces; emission with Cycles 3.4's conventions -- an Emission shader emits
+specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roughness: the renderer's
+'principled' kind, Cycles 3.4's model) for surfaces; emission with Cycles 3.4's conventions -- an Emission shader emits
 radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength
 adds to its BSDF, a Mix Shader scales each side's closures by its factor (svm_node_mix_closure), mesh
 emission is two-sided (emissive_pdf: |Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume
 Absorption or Principled Volume on the World output for a homogeneous medium. Only unlinked input values are
 read: every linked input and every other node is logged as unsupported."""
+import dataclasses
+
 import numpy as np
 
 
@@ -108,9 +111,11 @@ def _mix_of_emission_and_bsdf(sphrect, node, log, name):
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=emission)
     bsdf = _bsdf(sphrect, other, log, name)
     w = 1 - emission_weight
-    return sphrect.Material(name=name, kind=bsdf.kind, base_color=_rgb(np.asarray(bsdf.base_color) * w),
-                            roughness=bsdf.roughness, metallic=bsdf.metallic, specular=bsdf.specular * w,
-                            emission=_rgb(np.asarray(bsdf.emission) * w + np.asarray(emission)))
+    # The lobes' weights scale with w; the specular's Fresnel rise towards white at grazing angles does not
+    # (the scene format has no overall BSDF weight), a small approximation at grazing angles.
+    return dataclasses.replace(bsdf, base_color=_rgb(np.asarray(bsdf.base_color) * w), specular=bsdf.specular * w,
+                               sheen=bsdf.sheen * w, clearcoat=bsdf.clearcoat * w,
+                               emission=_rgb(np.asarray(bsdf.emission) * w + np.asarray(emission)))
 
 
 def _bsdf(sphrect, node, log, name):
@@ -122,23 +127,37 @@ def _bsdf(sphrect, node, log, name):
         _check_normal(node, log, name)
         return sphrect.Material(name=name, kind="diffuse", base_color=color)
     if node.bl_idname == "ShaderNodeBsdfPrincipled":
-        color = _rgb(_value(node, "Base Color", log, name))
-        metallic = _value(node, "Metallic", log, name)
-        roughness = _value(node, "Roughness", log, name)
-        specular = _value(node, "Specular", log, name)
-        for socket, what in (("Subsurface", "subsurface scattering"), ("Transmission", "transmission"),
-                             ("Clearcoat", "clearcoat"), ("Sheen", "sheen"),
-                             ("Specular Tint", "specular tint"), ("Anisotropic", "anisotropy")):
-            _nonzero_input(node, socket, log, name, what)
-        emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name)
-        if _value(node, "Alpha", log, name) < 1:
-            log.unsupported_feature("alpha", name)
-        _check_normal(node, log, name)
-        kind = "diffuse" if metallic == 0 and specular == 0 else "glossy"
-        return sphrect.Material(name=name, kind=kind, base_color=color, roughness=float(roughness),
-                                metallic=float(metallic), specular=float(specular), emission=emission)
+        return _principled(sphrect, node, log, name)
     log.unsupported_feature(f"'{node.bl_label or node.bl_idname}' shader node (grey diffuse used)", name)
     return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
+
+
+# Principled BSDF inputs read into sphrect.Material (kind 'principled'), by the Material field they fill.
+_PRINCIPLED_INPUTS = {"metallic": "Metallic", "specular": "Specular", "specular_tint": "Specular Tint",
+                      "roughness": "Roughness", "sheen": "Sheen", "sheen_tint": "Sheen Tint",
+                      "clearcoat": "Clearcoat", "clearcoat_roughness": "Clearcoat Roughness"}
+# Above Cycles' closure cutoff these change the image and are not modelled.
+_PRINCIPLED_UNSUPPORTED = (("Subsurface", "subsurface scattering (Burley diffuse used)"),
+                           ("Transmission", "transmission"), ("Anisotropic", "anisotropy"))
+
+
+def _principled(sphrect, node, log, name):
+    """Cycles 3.4's Principled BSDF (svm_node_closure_bsdf) at its default GGX distribution."""
+    color = _rgb(_value(node, "Base Color", log, name))
+    values = {field: float(_value(node, socket, log, name)) for field, socket in _PRINCIPLED_INPUTS.items()}
+    for socket, what in _PRINCIPLED_UNSUPPORTED:
+        _nonzero_input(node, socket, log, name, what)
+    # Cycles uses multiscatter GGX for 'MULTI_GGX' above roughness 0.075 (single-scatter below).
+    if getattr(node, "distribution", "GGX") == "MULTI_GGX" and values["roughness"] > 0.075:
+        log.unsupported_feature("Principled BSDF distribution 'Multiscatter GGX' (GGX used)", name)
+    clearcoat_normal = node.inputs.get("Clearcoat Normal")
+    if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
+        log.unsupported_feature("linked 'Clearcoat Normal' input", name)
+    emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name)
+    if _value(node, "Alpha", log, name) < 1:
+        log.unsupported_feature("alpha", name)
+    _check_normal(node, log, name)
+    return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission, **values)
 
 
 def _check_normal(node, log, owner):
