@@ -15,6 +15,9 @@
 // samples): studio (rectangles only) 5146 -> 5130 / 14015 -> 13991 (code layout; images bit-identical);
 // disk room under `area` 3148 -> 3163 / 7957 -> 8058; under `spherical_ellipse` 6385 / 17618.  (The
 // spherical path out of line: disk room `area` +0.3% / +0.6% instead, the studio +0.1% / +0.2%.)
+// With the choice (callgrind, 96x72, 16 spp, rectangle, tree, 1 light sample; area / spherical_ellipse):
+// disk room 3116 / 3182, 12_disk_ceiling 2664 / 2731 (the choice's test on every call, and a few
+// points by the map), 11_paper_disk 1761 / 2253.
 //
 // A spherical ellipse's setup is made once per (point, light) -- by the first sample of that light or
 // the first pdf a BSDF/phase ray needs of it -- and kept for the following samples and pdfs, like
