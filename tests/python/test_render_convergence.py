@@ -90,7 +90,8 @@ def test_medium_distance_and_equiangular_sampling_agree():
 
 
 def test_thin_medium_converges_to_the_medium_free_image():
-    free = sphrect.Renderer(medium_scene(None, None), seed=5)
+    # (The exact coverage of lights seen by the camera is off in a medium: off here too, for the same samples.)
+    free = sphrect.Renderer(medium_scene(None, None), seed=5, analytic_light_coverage=False)
     thin = sphrect.Renderer(medium_scene((1e-6,) * 3, (1e-6,) * 3), seed=5)
     assert "medium" in thin.features and "medium" not in free.features
     free.render(16)
