@@ -2,7 +2,7 @@
 // independent forms of Cycles' formulas, reciprocity, energy (white-furnace style) per lobe, and
 // its sampling against its pdf (Pearson chi-square per lobe and for all lobes together).
 // Statistical checks use fixed seeds; each chi-square bound is the 1 - 1e-6 quantile, each mean a
-// 6-sigma bound: false-failure rate < 1e-5 for the file.
+// 6-sigma bound: false-failure rate < 2e-5 for the file (16 chi-square tests).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -78,8 +78,7 @@ TEST(PrincipledBsdf, BurleyDiffuseIsThe2012FormWithFd90) {
 }
 
 TEST(PrincipledBsdf, MaterialHasCyclesWeights) {
-    // Roughness 1, specular 0: the diffuse alone, at normal view and light exactly (1 + 2 r FL FV...)
-    // = 1 / pi (FL = FV = 0) times the base colour.
+    // Roughness 1, specular 0: the diffuse alone; at normal view and light FL = FV = 0, so f = base / pi.
     const Material d = MakePrincipledMaterial(With(0, 0, 1));
     EXPECT_FALSE(d.has_specular || d.has_sheen || d.has_clearcoat);
     const Vec3f n{0, 0, 1};
@@ -150,7 +149,8 @@ TEST(PrincipledBsdf, WhiteFurnacePerLobe) {
         const double coat = Albedo(MakePrincipledMaterial(With(0, 0, 0.5f, 0, 1, 0.3f, 0, {0, 0, 0})), wo);
         EXPECT_LE(coat, 0.25) << co;
         EXPECT_GT(coat, 0.005) << co;
-        // Sheen of weight 1 (white): integral (1 - wi.h)^5 cos <= pi max(1 - wi.h)^5 ... well below 1.
+        // Sheen of weight 1 (black base: the tint is white): (1 - wi.h)^5 is large only where wi and wo are
+        // nearly opposite, both grazing; albedo < 0.5.
         const double sheen = Albedo(MakePrincipledMaterial(With(0, 0, 0.5f, 1, 0, 0.3f, 0, {0, 0, 0})), wo);
         EXPECT_LE(sheen, 0.5) << co;
         EXPECT_GT(sheen, 0.0) << co;
