@@ -249,8 +249,8 @@ def cost_key(job: Mapping) -> CostKey:
 
 
 def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict[CostKey, float]) -> List[Job]:
-    """One render per technique (x grid MIS mode x light selection x ellipse technique), and Cycles, each given the sample count
-    that the ladder predicts to cost `budget` seconds: samples = budget / (seconds per sample of that
+    """One render per technique (x grid MIS mode x light selection x ellipse technique), and Cycles, each given the
+    sample count that the ladder predicts to cost `budget` seconds: samples = budget / (seconds per sample of that
     configuration), keyed by cost_key. Fixed sample counts (rather than a wall-clock budget) keep the comparison
     independent of other load on the machine and let stratified patterns know their count."""
     if not budget > 0:

@@ -194,8 +194,8 @@ class CosineComparison:
 
 
 def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[CosineComparison]]:
-    """rectangle_cosine against rectangle per (MIS, pattern, light selection, ellipse technique): RMSE at the top of the ladder, cost
-    per sample (curve_cost) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
+    """rectangle_cosine against rectangle per (MIS, pattern, light selection, ellipse technique): RMSE at the top of
+    the ladder, cost per sample (curve_cost) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
     cost ratio of 1 is a tie: single runs' times move by more than that between studies.  (The top run's MSE
     has its own noise, which this margin does not count.)  None when the study lacks one of the two."""
     if COSINE not in cfg.techniques or RECTANGLE not in cfg.techniques:
