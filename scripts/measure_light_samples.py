@@ -1,55 +1,81 @@
 #!/usr/bin/env python3
-"""Light samples per camera sample at equal camera-sample budget: MSE against a study's reference, CPU time and
-MSE x time for 1, 2 and 4 light samples (64 / light_samples camera samples, so each run shades ~64 light samples
-per pixel), both light selections, two seeds, rectangle technique at the Renderer's other defaults.
+"""Light samples per camera sample at equal light-sample budget: MSE against a reference, CPU time and MSE x time for
+1, 2 and 4 light samples (budget / light_samples camera samples, so each run shades ~budget light samples per pixel),
+rectangle technique and tree selection (--selections to add power) at the Renderer's other defaults.  Then, over all
+the scenes given, the geometric mean and the worst of each count's MSE x time relative to the best count of its scene.
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_samples.py out/many_lights/08_disk_room
-    PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_samples.py scene.sphrect.npz --reference-spp 4096
+    PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_samples.py scenes/*.sphrect.npz --reference-spp 4096
 
 A directory is a finished study's output (its scene.sphrect.npz and images/reference.npy); a scene file gets a
 reference rendered here (rectangle, mis power, sobol, 1 light sample, --reference-spp camera samples, all threads;
-its own MSE, from two halves, is printed so that it can be compared with the MSEs measured)."""
+its own MSE, from two halves, is printed so that it can be compared with the MSEs measured).  MSE is the mean over
+two seeds; time is the least CPU time of --repeats renders (one thread), which a shared machine's load disturbs
+least."""
 import argparse
+import math
 import os
+import time
 
 import numpy as np
 
 import sphrect
 
+LIGHT_SAMPLE_COUNTS = (1, 2, 4)
+
+
+def load(source, reference_spp):
+    if os.path.isdir(source):
+        ref = np.load(os.path.join(source, "images", "reference.npy"))[..., :3]
+        scene = sphrect.load_scene(os.path.join(source, "scene.sphrect.npz"))
+        scene.camera.width, scene.camera.height = ref.shape[1], ref.shape[0]
+        return scene, ref
+    scene = sphrect.load_scene(source)
+    halves = []
+    for seed in (1001, 1002):
+        r = sphrect.Renderer(scene, techniques=["rectangle"], light_samples=1, seed=seed)
+        r.render(max(1, reference_spp // 2))
+        halves.append(r.image("rectangle")[..., :3])
+    print(f"reference: {reference_spp} spp, its own MSE ~{float(((halves[0] - halves[1]) ** 2).mean()) / 4:.3g}")
+    return scene, 0.5 * (halves[0] + halves[1])
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("source", help="a study's output directory or a .sphrect.npz scene")
+    ap.add_argument("sources", nargs="+", help="study output directories or .sphrect.npz scenes")
     ap.add_argument("--reference-spp", type=int, default=4096)
     ap.add_argument("--budget", type=int, default=64, help="camera samples x light samples per pixel")
+    ap.add_argument("--repeats", type=int, default=5, help="renders timed per count (the least time is kept)")
+    ap.add_argument("--selections", default="tree", help=f"comma list of {','.join(sphrect.light_selections)}")
     a = ap.parse_args()
-    if os.path.isdir(a.source):
-        ref = np.load(os.path.join(a.source, "images", "reference.npy"))[..., :3]
-        scene = sphrect.load_scene(os.path.join(a.source, "scene.sphrect.npz"))
-        scene.camera.width, scene.camera.height = ref.shape[1], ref.shape[0]
-    else:
-        scene = sphrect.load_scene(a.source)
-        halves = []
-        for seed in (1001, 1002):
-            r = sphrect.Renderer(scene, techniques=["rectangle"], light_samples=1, seed=seed)
-            r.render(max(1, a.reference_spp // 2))
-            halves.append(r.image("rectangle")[..., :3])
-        ref = 0.5 * (halves[0] + halves[1])
-        print(f"reference: {a.reference_spp} spp, its own MSE ~{float(((halves[0] - halves[1]) ** 2).mean()) / 4:.3g}")
-    print(f"{'light samples':>13} {'selection':9} {'spp':>4} {'MSE':>10} {'time s':>7} {'MSE x time':>11}")
-    for light_samples in (1, 2, 4):
-        for selection in sphrect.light_selections:
-            spp = max(1, a.budget // light_samples)
-            mses, times = [], []
-            for seed in (11, 12):
-                r = sphrect.Renderer(scene, techniques=["rectangle"], light_samples=light_samples,
-                                     light_selection=selection, seed=seed, threads=1)
-                r.render(spp)
-                st = r.stats("rectangle")
-                mses.append(float(((r.image("rectangle")[..., :3] - ref) ** 2).mean()))
-                times.append(st["shading_time"] + st["camera_time"])
-            m, t = np.mean(mses), np.mean(times)
-            print(f"{light_samples:>13} {selection:9} {spp:>4} {m:>10.3g} {t:>7.3f} {m * t:>11.3g}")
+    relative = {(s, n): [] for s in a.selections.split(",") for n in LIGHT_SAMPLE_COUNTS}
+    for source in a.sources:
+        print(f"== {source}")
+        scene, ref = load(source, a.reference_spp)
+        print(f"{'light samples':>13} {'selection':9} {'spp':>4} {'MSE':>10} {'time s':>7} {'MSE x time':>11}")
+        for selection in a.selections.split(","):
+            products = {}
+            for light_samples in LIGHT_SAMPLE_COUNTS:
+                spp = max(1, a.budget // light_samples)
+                mses, times = [], []
+                for seed in range(max(2, a.repeats)):
+                    r = sphrect.Renderer(scene, techniques=["rectangle"], light_samples=light_samples,
+                                         light_selection=selection, seed=11 + seed, threads=1)
+                    start = time.process_time()
+                    r.render(spp)
+                    times.append(time.process_time() - start)
+                    if seed < 2:
+                        mses.append(float(((r.image("rectangle")[..., :3] - ref) ** 2).mean()))
+                m, t = float(np.mean(mses)), min(times)
+                products[light_samples] = m * t
+                print(f"{light_samples:>13} {selection:9} {spp:>4} {m:>10.3g} {t:>7.3f} {m * t:>11.3g}", flush=True)
+            best = min(products.values())
+            for n, p in products.items():
+                relative[selection, n].append(p / best)
+    print("MSE x time relative to each scene's best count: geometric mean (worst)")
+    for (selection, n), values in relative.items():
+        geo = math.exp(sum(math.log(v) for v in values) / len(values))
+        print(f"  {selection:6s} {n} light samples: {geo:.2f} ({max(values):.2f})")
 
 
 if __name__ == "__main__":

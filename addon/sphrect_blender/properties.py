@@ -21,8 +21,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     technique: EnumProperty(name="Technique", items=enum_items(TECHNIQUES, TECHNIQUE_LABELS), default="RECTANGLE",
                             description="How points on rectangular lights are chosen")
     samples: IntProperty(name="Samples", default=16, min=1, soft_max=4096, description="Camera samples per pixel")
-    light_samples: IntProperty(name="Light Samples", default=1, min=1, soft_max=64,
-                               description="Light samples per shading point and light")
+    light_samples: IntProperty(name="Light Samples", default=2, min=1, soft_max=64,
+                               description="Light samples per camera sample, each choosing one light and paired with a BSDF sample")
     pattern: EnumProperty(name="Pattern", items=enum_items(PATTERNS, PATTERN_LABELS), default="SOBOL",
                           description="Sample pattern of the light samples")
     mis: EnumProperty(name="MIS", items=enum_items(MIS_MODES, MIS_LABELS), default="POWER",

@@ -25,7 +25,7 @@ struct RenderOptions {
     std::vector<Technique> techniques = {Technique::Rectangle};
     // How disk and ellipse lights are sampled (every technique's pass alike).
     EllipseTechnique ellipse_technique = EllipseTechnique::SphericalEllipse;
-    int light_samples = 1;               // light samples (and BSDF samples) per camera sample
+    int light_samples = 2;               // light samples (and BSDF samples) per camera sample
     Pattern pattern = Pattern::Sobol;    // drives pixel, lens, light and BSDF sample positions
     MisMode mis = MisMode::Balance;      // light sampling vs BSDF (or phase) sampling
     MediumSampling medium_sampling = MediumSampling::Mis;

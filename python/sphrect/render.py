@@ -26,8 +26,8 @@ stays unbiased, and the noise of its edges is left only where something occludes
 applies to a pinhole or orthographic camera outside a medium; False estimates it from the camera samples
 as before.
 
-Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=1: best at equal time with
-the lights in view) on the blend_scenes (scripts/measure_light_selection.py, scripts/measure_light_samples.py;
+Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=2: best at equal time over
+the blend_scenes, the lights in view and their edges' coverage exact) on the blend_scenes (scripts/measure_light_selection.py, scripts/measure_light_samples.py;
 README, "Light selection and defaults").
 
 Progressive rendering: each render() call (or each pass of a time budget) adds samples; the
@@ -179,7 +179,7 @@ class Renderer:
     """Progressive direct-lighting renderer of a :class:`sphrect.Scene` with one or more
     light-sampling techniques sharing camera rays and first hits (see the module docstring)."""
 
-    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 1,
+    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 2,
                  pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
                  medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree",
                  ellipse_technique: str = "spherical_ellipse", analytic_light_coverage: bool = True):
