@@ -16,11 +16,19 @@ ENGINE_ID = "SPHRECT"  # the render engine's bl_idname (scene.render.engine), fo
 
 # sphrect name -> (label, description) shown in Blender's UI.
 TECHNIQUE_LABELS = {
-    "area": ("Area", "Uniform sampling of the light's area (pdf converted to solid angle)"),
-    "triangles": ("Two Triangles", "Solid-angle sampling of the two spherical triangles (Arvo 1995)"),
-    "rectangle": ("Spherical Rectangle",
-                  "Area-preserving solid-angle sampling of the spherical rectangle (Urena et al. 2013)"),
-    "rectangle_cosine": ("Rectangle + Cosine", "Spherical rectangle sampling warped to follow the cosine term"),
+    "area": ("Area (uniform)",
+             "Rectangle lights: points spread evenly over the light's surface. Simple and cheap, but noisy for lights "
+             "close to or large from the shaded point. Disk lights follow the Disk Lights setting"),
+    "triangles": ("Solid angle (two triangles)",
+                  "Rectangle lights: points spread evenly over the light as seen from the shaded point, by splitting "
+                  "it into two spherical triangles (Arvo 1995). A baseline for the spherical rectangle"),
+    "rectangle": ("Solid angle (spherical rectangle)",
+                  "Rectangle lights: points spread evenly over the light as seen from the shaded point, with the "
+                  "area-preserving map of Urena et al. 2013, which keeps the sample pattern's stratification. "
+                  "Emissive mesh rectangles too"),
+    "rectangle_cosine": ("Solid angle + cosine",
+                         "Rectangle lights: the spherical rectangle warped to follow the cosine at the shaded point, "
+                         "so more points land where the light shines more directly"),
 }
 PATTERN_LABELS = {
     "independent": ("Independent", "Independent uniform random numbers"),
@@ -41,9 +49,11 @@ LIGHT_SELECTION_LABELS = {
 }
 
 ELLIPSE_TECHNIQUE_LABELS = {
-    "area": ("Area", "Uniform sampling of the disk's or ellipse's area (pdf converted to solid angle)"),
-    "spherical_ellipse": ("Spherical Ellipse",
-                          "Area-preserving solid-angle sampling of the spherical ellipse (Guillen et al. 2017)"),
+    "area": ("Area (uniform)", "Disk and ellipse lights: points spread evenly over the light's surface"),
+    "spherical_ellipse": ("Solid angle (spherical ellipse)",
+                          "Disk and ellipse lights: points spread evenly over the light as seen from the shaded point "
+                          "(Guillen et al. 2017) where that pays, i.e. close to the light; by area where the light is "
+                          "small or distant enough that both give the same"),
 }
 
 
