@@ -67,7 +67,7 @@ def scene_from_depsgraph(depsgraph):
             log.unsupported_feature("per-object ray visibility (object rendered as visible)", obj.name)
         key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
         if key not in cache:  # instances share the triangulation and the material ids
-            local = triangulate(obj)
+            local = triangulate(obj, log)
             if local is not None:
                 slots = materials.slot_ids(obj)
                 cache[key] = (local, slots[np.clip(local.material_index, 0, len(slots) - 1)])

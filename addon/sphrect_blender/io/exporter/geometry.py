@@ -2,6 +2,8 @@
 (no Python loop over vertices or triangles: a million triangles export in about a second)."""
 import numpy as np
 
+from .materials import is_volume_only
+
 # Object types whose evaluated form converts to a mesh with Object.to_mesh().
 MESH_LIKE = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
 
@@ -14,8 +16,16 @@ class LocalMesh:
         self.vertices, self.triangles, self.normals, self.material_index = vertices, triangles, normals, material_index
 
 
-def triangulate(obj):
+def _volume_only_slots(obj):
+    """Indices of the object's material slots whose material is volume-only (a transparent surface)."""
+    return np.array([i for i, slot in enumerate(obj.material_slots) if is_volume_only(slot.material)],
+                    dtype=np.int32)
+
+
+def triangulate(obj, log=None):
     """LocalMesh of an evaluated object (modifiers applied), or None if it has no triangles.
+    Triangles of volume-only materials are left out: Cycles shows their surface as transparent (the volume
+    itself is not simulated, which `log` is told, naming the object).
     Smooth-shaded meshes get per-corner split normals (vertices unwelded so flat and smooth faces and
     sharp edges all keep Blender's normals); fully flat meshes get none (the renderer uses face normals)."""
     mesh = obj.to_mesh()
@@ -36,14 +46,33 @@ def triangulate(obj):
         triangles = triangles.reshape(-1, 3)
         material_index = np.empty(n, dtype=np.int32)
         tris.foreach_get("material_index", material_index)
+        volume_only = _volume_only_slots(obj)
+        if len(volume_only):
+            slot_count = max(len(obj.material_slots), 1)
+            kept = ~np.isin(np.clip(material_index, 0, slot_count - 1), volume_only)
+            if log is not None:
+                log.unsupported_feature("volume-only materials (surface transparent, volume not simulated)",
+                                        obj.name)
+            if not kept.any():
+                return None
+            tris_kept = np.flatnonzero(kept)
+        else:
+            tris_kept = None
         smooth = np.empty(n, dtype=bool)
         tris.foreach_get("use_smooth", smooth)
-        normals = None
+        split = None
         if smooth.any():
             if hasattr(mesh, "calc_normals_split"):
                 mesh.calc_normals_split()
             split = np.empty(n * 9, dtype=np.float32)
             tris.foreach_get("split_normals", split)
+            split = split.reshape(n, 3, 3)
+        if tris_kept is not None:
+            triangles, material_index = triangles[tris_kept], material_index[tris_kept]
+            split = split[tris_kept] if split is not None else None
+            n = len(tris_kept)
+        normals = None
+        if split is not None:
             vertices = vertices[triangles.ravel()]
             triangles = np.arange(3 * n, dtype=np.int32).reshape(-1, 3)
             normals = split.reshape(-1, 3)

@@ -57,6 +57,15 @@ def _nonzero_input(node, name, log, owner, what):
         log.unsupported_feature(what, owner)
 
 
+def is_volume_only(mat):
+    """A node material whose active output has a Volume link and no Surface link: Cycles makes its surface
+    transparent (it neither shades nor occludes), so the exporter leaves those triangles out."""
+    if mat is None or not mat.use_nodes or mat.node_tree is None:
+        return False
+    out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
+    return out is not None and out.inputs["Volume"].is_linked and _linked_node(out.inputs["Surface"]) is None
+
+
 def export_material(sphrect, mat, log):
     if mat is None:
         return sphrect.Material(name="default")
@@ -64,6 +73,8 @@ def export_material(sphrect, mat, log):
     if not mat.use_nodes or mat.node_tree is None:
         return sphrect.Material(name=name, kind="diffuse", base_color=_rgb(mat.diffuse_color))
     out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
+    if is_volume_only(mat):  # its triangles are left out (geometry.triangulate), which warns per object
+        return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
     if out is not None and out.inputs["Volume"].is_linked:
         log.unsupported_feature("material volumes", name)
     if out is not None and out.inputs["Displacement"].is_linked:
