@@ -187,6 +187,12 @@ void BindRender(py::module_& m) {
             py::arg("base_color"), py::arg("metallic"), py::arg("specular"), py::arg("specular_tint"),
             py::arg("roughness"), py::arg("sheen"), py::arg("sheen_tint"), py::arg("clearcoat"),
             py::arg("clearcoat_roughness"), py::arg("emission") = V3{0, 0, 0})
+        .def(
+            "add_glass_material",
+            [](RenderScene& s, V3 c, float roughness, float ior, V3 emission) {
+                return s.AddGlassMaterial(ToVec(c), roughness, ior, ToVec(emission));
+            },
+            py::arg("base_color"), py::arg("roughness"), py::arg("ior"), py::arg("emission") = V3{0, 0, 0})
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none())
         .def("add_rect_light",

@@ -37,6 +37,12 @@ struct Material {
     float clearcoat = 0;             // 0.25 x Clearcoat, Cycles' weight of the clearcoat lobe
     float clearcoat_alpha = 1;       // GTR1 alpha = clearcoat roughness^2
     float clearcoat_probability = 0; // chance of sampling the clearcoat lobe (the rest: cosine)
+
+    // Dielectric reflection of Cycles 3.4's Glass BSDF at zero bounces (MakeGlassMaterial): GGX of
+    // alpha (sampled as the specular lobe, specular_probability) weighted by the macro Fresnel at wo.
+    bool has_dielectric = false;
+    Spectrum dielectric;             // the closure's colour
+    float dielectric_ior = 1.45f;
 };
 
 // The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface,
@@ -144,6 +150,27 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
     return m;
 }
 
+// Cycles 3.4's Glass BSDF (svm_node_closure_bsdf, CLOSURE_BSDF_MICROFACET_GGX_GLASS_ID, the node's default
+// GGX) as a direct-light-only render sees it: the reflection closure colour x F(wo.n, ior)
+// (fresnel_dielectric_cos of the view), GGX of alpha = roughness^2 with separable Smith G and no
+// micro-Fresnel; the refraction closure (colour x (1 - F)) needs a second bounce or a light behind an
+// open surface, neither modelled here (black).  Cycles' GGX returns 0 for alpha_x alpha_y <= 1e-7 (a
+// sharp glass is a delta lobe): black at zero bounces as well.  ior is the front side's (a back face
+// seen from inside would use 1 / ior in Cycles).
+inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float ior) {
+    Material m;
+    m.glossy = m.principled = true;
+    const float r = std::clamp(roughness, 0.0f, 1.0f);
+    m.alpha = r * r;
+    m.dielectric_ior = std::max(ior, 1e-5f);  // Cycles' fmaxf(ior, 1e-5)
+    if (m.alpha * m.alpha > 1e-7f && !IsBlack(color)) {
+        m.has_dielectric = true;
+        m.dielectric = color;
+        m.specular_probability = 1;
+    }
+    return m;
+}
+
 // --- GGX / Trowbridge-Reitz (Walter et al. 2007; Heitz 2014, 2018) ---------------------------
 
 inline float GgxD(const Vec3f& h, float alpha) {
@@ -225,6 +252,10 @@ inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& 
     if (m.has_specular) {
         const float g = SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
         f += PrincipledSpecularFresnel(m, cos_ih) * (GgxD(h, m.alpha) * g * inv_4cos);
+    }
+    if (m.has_dielectric) {
+        const float g = SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
+        f += m.dielectric * (DielectricFresnel(wo.z, m.dielectric_ior) * GgxD(h, m.alpha) * g * inv_4cos);
     }
     if (m.has_clearcoat) {
         const float g = SmithG1Ggx(wo.z, kClearcoatShadowingAlpha) * SmithG1Ggx(wi.z, kClearcoatShadowingAlpha);

@@ -180,6 +180,16 @@ int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectru
     return int(materials.size()) - 1;
 }
 
+int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float ior, const Spectrum& emission) {
+    RequireNotCommitted();
+    CheckColor("material base_color", color);
+    CheckColor("material emission", emission);
+    if (!std::isfinite(roughness) || !std::isfinite(ior)) Fail("material roughness and ior must be finite");
+    materials.push_back(MakeGlassMaterial(color, roughness, ior));
+    materials.back().emission = emission;
+    return int(materials.size()) - 1;
+}
+
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
                           size_t nt, const float* normals, const int32_t* material_ids) {
     RequireNotCommitted();

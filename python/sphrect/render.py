@@ -137,6 +137,9 @@ def build_native_scene(scene: Scene):
                 _rgb(mat.base_color, f"material '{mat.name}' base_color"), float(mat.metallic), float(mat.specular),
                 float(mat.specular_tint), float(mat.roughness), float(mat.sheen), float(mat.sheen_tint),
                 float(mat.clearcoat), float(mat.clearcoat_roughness), emission)
+        elif mat.kind == "glass":
+            native.add_glass_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"),
+                                      float(mat.roughness), float(mat.ior), emission)
         else:
             raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {_one_of(MATERIAL_KINDS)})")
     n_materials = max(1, len(scene.materials))

@@ -9,11 +9,12 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
 :func:`load_scene`): a NumPy ``.npz`` archive holding
 
 * ``scene.json`` -- a UTF-8 JSON document: ``{"format": "sphrect-scene",
-  "version": 3, "camera": {...}, "world": {...}, "materials": [...],
+  "version": 4, "camera": {...}, "world": {...}, "materials": [...],
   "lights": [{"type": "rect"|"ellipse"|"point"|"spot"|"sun", ...}, ...],
   "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
   dataclasses below (version 1, before Material.emission, loads with emission 0;
-  version 2, before the 'principled' kind, with its fields at their defaults);
+  version 2, before the 'principled' kind, with its fields at their defaults; version 3, before the
+  'glass' kind and Material.ior);
 * for mesh *i*: ``mesh{i}.vertices`` (float32 [V,3]), ``mesh{i}.triangles``
   (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
   ``mesh{i}.material_ids`` (int32 [T]).
@@ -36,13 +37,14 @@ FORMAT_NAME = "sphrect-scene"
 # version 1 refuse version-2 files with a clear message instead of failing on the new field.
 # 3: Material kind 'principled' and its fields specular_tint, sheen, sheen_tint, clearcoat,
 # clearcoat_roughness.  Older files load unchanged: their kinds 'diffuse' / 'glossy' render as before.
-FORMAT_VERSION = 3
+# 4: Material kind 'glass' (Cycles' Glass BSDF at zero bounces) and its field ior.  Older files load unchanged.
+FORMAT_VERSION = 4
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
 
 # The values the format's name fields take.
-MATERIAL_KINDS = ("diffuse", "glossy", "principled")
+MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass")
 CAMERA_TYPES = ("perspective", "orthographic")
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 
@@ -72,7 +74,9 @@ class Material:
     """kind 'diffuse': Lambert; 'glossy': Lambert + GGX with Schlick Fresnel (the common part of Principled
     BSDF, the model before 'principled'); 'principled': Blender's Principled BSDF as Cycles 3.4 evaluates it
     (Burley diffuse with retro-reflection, GGX specular with Cycles' Fresnel blend and tint, sheen, clearcoat;
-    the fields below are the node's inputs of the same names)."""
+    the fields below are the node's inputs of the same names); 'glass': Blender's Glass BSDF (base_color =
+    its Color, roughness, ior) as Cycles 3.4 shows it at zero bounces -- the GGX reflection of the lights
+    weighted by the dielectric Fresnel of the view, the transmitted part black."""
     name: str = "default"
     kind: str = "diffuse"            # one of MATERIAL_KINDS
     base_color: RGB = (0.8, 0.8, 0.8)
@@ -84,6 +88,7 @@ class Material:
     sheen_tint: float = 0.5
     clearcoat: float = 0.0
     clearcoat_roughness: float = 0.03
+    ior: float = 1.45                # 'glass' only: index of refraction (Blender's default)
     emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
                                      # every emissive triangle is a light (files without it load as 0)
 

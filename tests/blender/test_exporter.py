@@ -159,18 +159,18 @@ def test_unsupported_nodes_are_listed_once(empty_scene):
     textured = _principled_material("Textured")
     tex = textured.node_tree.nodes.new("ShaderNodeTexImage")
     textured.node_tree.links.new(tex.outputs["Color"], textured.node_tree.nodes["Principled BSDF"].inputs[0])
-    glass = bpy.data.materials.new("Glass")
-    glass.use_nodes = True
-    tree = glass.node_tree
+    toon = bpy.data.materials.new("Toon")
+    toon.use_nodes = True
+    tree = toon.node_tree
     tree.nodes.remove(tree.nodes["Principled BSDF"])
-    g = tree.nodes.new("ShaderNodeBsdfGlass")
+    g = tree.nodes.new("ShaderNodeBsdfToon")
     tree.links.new(g.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
     lamp = bpy.data.materials.new("Lamp")
     lamp.use_nodes = True
     tree = lamp.node_tree
     e = tree.nodes.new("ShaderNodeEmission")
     tree.links.new(e.outputs[0], tree.nodes["Material Output"].inputs["Surface"])
-    for i, mat in enumerate((textured, glass, lamp)):
+    for i, mat in enumerate((textured, toon, lamp)):
         builders.mesh_object(f"Obj{i}", "cube", mat, location=(3 * i, 0, 0))
     hairy = bpy.data.objects["Obj0"]
     hairy.modifiers.new("Hair", "PARTICLE_SYSTEM").particle_system.settings.type = "HAIR"
@@ -178,7 +178,7 @@ def test_unsupported_nodes_are_listed_once(empty_scene):
     scene, log = export()
     text = log.warning_text()
     assert "linked 'Base Color' input (Image Texture) (Textured)" in text
-    assert "'Glass BSDF' shader node" in text and "(Glass)" in text
+    assert "'Toon BSDF' shader node" in text and "(Toon)" in text
     # The Emission shader is read since issue 11 (was: logged as "emission on meshes (Lamp)").
     assert "Lamp" not in text
     assert [m.emission for m in scene.materials if m.name == "Lamp"] == [pytest.approx((1.0, 1.0, 1.0))]

@@ -127,10 +127,10 @@ def test_version_2_files_load_with_defaults_and_render_unchanged(tmp_path):
     with np.load(path) as data:
         arrays = {k: data[k] for k in data.files}
     meta = json.loads(bytes(arrays["scene.json"]).decode("utf-8"))
-    assert meta["version"] == 3
+    assert meta["version"] == sphrect.scene.FORMAT_VERSION
     meta["version"] = 2
     for m in meta["materials"]:
-        for key in ("specular_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_roughness"):
+        for key in ("specular_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_roughness", "ior"):
             del m[key]
     arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
     old = str(tmp_path / "v2.sphrect.npz")

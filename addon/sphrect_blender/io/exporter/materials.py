@@ -2,12 +2,14 @@
 
 Read from the node tree behind the active output: Diffuse BSDF and Principled BSDF (base colour, metallic,
 specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roughness: the renderer's
-'principled' kind, Cycles 3.4's model) for surfaces; emission with Cycles 3.4's conventions -- an Emission shader emits
-radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength
-adds to its BSDF, a Mix Shader scales each side's closures by its factor (svm_node_mix_closure), mesh
-emission is two-sided (emissive_pdf: |Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume
-Absorption or Principled Volume on the World output for a homogeneous medium. Only unlinked input values are
-read: every linked input and every other node is logged as unsupported."""
+'principled' kind, Cycles 3.4's model), Glass and Refraction BSDF and a Principled BSDF of transmission 1 (kind
+'glass': the dielectric reflection Cycles shows at zero bounces) for surfaces; volume-only materials (Volume
+linked, Surface not) make a transparent surface, left out by geometry.triangulate; emission with Cycles 3.4's
+conventions -- an Emission shader emits radiance colour x strength (svm_node_emission_weight), the Principled
+BSDF's Emission x Emission Strength adds to its BSDF, a Mix Shader scales each side's closures by its factor
+(svm_node_mix_closure), mesh emission is two-sided (emissive_pdf: |Ng . wi| > 0); Background for the world
+colour; Volume Scatter, Volume Absorption or Principled Volume on the World output for a homogeneous medium.
+Only unlinked input values are read: every linked input and every other node is logged as unsupported."""
 import dataclasses
 
 import numpy as np
@@ -139,8 +141,28 @@ def _bsdf(sphrect, node, log, name):
         return sphrect.Material(name=name, kind="diffuse", base_color=color)
     if node.bl_idname == "ShaderNodeBsdfPrincipled":
         return _principled(sphrect, node, log, name)
+    if node.bl_idname in {"ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction"}:
+        return _glass(sphrect, node, log, name)
     log.unsupported_feature(f"'{node.bl_label or node.bl_idname}' shader node (grey diffuse used)", name)
     return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
+
+
+def _glass(sphrect, node, log, name):
+    """Glass or Refraction BSDF as Cycles 3.4 shows it at zero bounces: the Glass BSDF's GGX reflection of the
+    lights, weighted by the dielectric Fresnel of the view (kind 'glass'); the refracted part, the whole of a
+    Refraction BSDF, is black (it needs a bounce, or a light seen through an open surface: not modelled)."""
+    distribution = getattr(node, "distribution", "GGX")
+    roughness = 0.0 if distribution == "SHARP" else float(_value(node, "Roughness", log, name))
+    if distribution in {"BECKMANN", "MULTI_GGX"} and roughness > 0:
+        log.unsupported_feature(f"{node.bl_label} distribution '{distribution}' (GGX used)", name)
+    _check_normal(node, log, name)
+    log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
+                            "except behind open surfaces)", name)
+    color = _rgb(_value(node, "Color", log, name))
+    if node.bl_idname == "ShaderNodeBsdfRefraction":
+        color = (0.0, 0.0, 0.0)
+    return sphrect.Material(name=name, kind="glass", base_color=color, roughness=roughness,
+                            ior=float(_value(node, "IOR", log, name)))
 
 
 # Principled BSDF inputs read into sphrect.Material (kind 'principled'), by the Material field they fill.
@@ -154,6 +176,10 @@ _PRINCIPLED_UNSUPPORTED = (("Subsurface", "subsurface scattering (Burley diffuse
 
 def _principled(sphrect, node, log, name):
     """Cycles 3.4's Principled BSDF (svm_node_closure_bsdf) at its default GGX distribution."""
+    if _value(node, "Transmission", log, name) >= 1 and _value(node, "Metallic", log, name) <= 0:
+        glass = _principled_glass(sphrect, node, log, name)
+        if glass is not None:
+            return glass
     color = _rgb(_value(node, "Base Color", log, name))
     values = {field: float(_value(node, socket, log, name)) for field, socket in _PRINCIPLED_INPUTS.items()}
     for socket, what in _PRINCIPLED_UNSUPPORTED:
@@ -169,6 +195,25 @@ def _principled(sphrect, node, log, name):
         log.unsupported_feature("alpha", name)
     _check_normal(node, log, name)
     return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission, **values)
+
+
+def _principled_glass(sphrect, node, log, name):
+    """A Principled BSDF of transmission 1, metallic 0: Cycles' closures are then only its glass (no diffuse,
+    sheen or other specular), whose reflection is a white Glass BSDF's at the same roughness and IOR when the
+    specular tint is 0 (cspec0 white) -- kind 'glass'.  None when a tint or clearcoat needs more."""
+    if _value(node, "Specular Tint", log, name) > 0 or _value(node, "Clearcoat", log, name) > 0:
+        return None
+    if getattr(node, "distribution", "GGX") == "MULTI_GGX" and _value(node, "Roughness", log, name) > 0.05:
+        log.unsupported_feature("Principled BSDF distribution 'Multiscatter GGX' (GGX used)", name)
+    _check_normal(node, log, name)
+    log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
+                            "except behind open surfaces)", name)
+    if _value(node, "Alpha", log, name) < 1:
+        log.unsupported_feature("alpha", name)
+    return sphrect.Material(name=name, kind="glass", base_color=(1.0, 1.0, 1.0),
+                            roughness=float(_value(node, "Roughness", log, name)),
+                            ior=float(_value(node, "IOR", log, name)),
+                            emission=_emission(node, "Emission", "Emission Strength", 1.0, log, name))
 
 
 def _check_normal(node, log, owner):

@@ -1,0 +1,112 @@
+"""Glass BSDF, Refraction BSDF and Principled transmission as Cycles 3.4 shows them at max_bounces 0
+(test_cycles_parity's renders and mean relative difference over 4x4 blocks): a closed sphere of the
+material over a diffuse plane, lit by a rectangle. Measured in Cycles when written (1024 spp, same scene):
+a GGX Glass BSDF renders as a Glossy BSDF (GGX) weighted by a Fresnel node of the same IOR (0.4-0.5% mean
+relative difference, i.e. noise) -- the lights' reflection with the view's dielectric Fresnel, the refracted
+part black; a Refraction BSDF's sphere is black; a Principled BSDF of transmission 1 (specular tint 0) renders
+as a white GGX Glass BSDF of its roughness and IOR (0.03-0.1%)."""
+import bpy
+import pytest
+
+from conftest import builders, export, render, set_resolution
+from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles, mean_relative_difference, render_cycles
+
+TOLERANCE = 0.01
+# (distribution, roughness, IOR); the Glass node's own default distribution is Beckmann (rendered as GGX).
+GLASS_CASES = [("GGX", 0.2, 1.45), ("GGX", 0.5, 1.45), ("GGX", 0.3, 1.8), ("GGX", 0.35, 1.2)]
+COLOR = (0.9, 0.7, 0.5, 1.0)
+
+
+def shader_material(node_type, **inputs):
+    mat = bpy.data.materials.new(node_type)
+    mat.use_nodes = True
+    tree = mat.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    node = tree.nodes.new(node_type)
+    if "distribution" in inputs:
+        node.distribution = inputs.pop("distribution")
+    for socket, value in inputs.items():
+        node.inputs[socket].default_value = value
+    tree.links.new(node.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def sphere_scene(scene, mat):
+    builders.mesh_object("Ground", "plane", builders.material("Ground", (0.8, 0.8, 0.8)), size=8)
+    ball = builders.mesh_object("Ball", "uv_sphere", mat, location=(0.0, 0.0, 1.0), segments=48, ring_count=24)
+    builders.smooth(ball)
+    lamp = builders.area_light("Light", "RECTANGLE", size=2.0, size_y=1.2, power=400.0, location=(1.2, 2.6, 3.0),
+                               visible=False)
+    builders.aim(lamp, (0.0, 0.0, 0.6))
+    set_resolution(scene, WIDTH, HEIGHT)
+    scene.sphrect.technique = "RECTANGLE"
+    bpy.context.view_layer.update()
+    return scene
+
+
+def test_glass_exports_its_inputs(empty_scene):
+    sphere_scene(empty_scene, shader_material("ShaderNodeBsdfGlass", distribution="GGX", Roughness=0.3, IOR=1.7,
+                                              Color=COLOR))
+    scene, log = export()
+    (mat,) = [m for m in scene.materials if m.name == "ShaderNodeBsdfGlass"]
+    assert (mat.kind, mat.roughness, mat.base_color) == ("glass", pytest.approx(0.3), pytest.approx(COLOR[:3]))
+    assert mat.ior == pytest.approx(1.7)
+    assert "refraction of lights" in log.warning_text()
+    assert "grey diffuse" not in log.warning_text()
+
+
+@pytest.mark.parametrize("distribution, roughness, ior", GLASS_CASES)
+def test_glass_matches_cycles(empty_scene, distribution, roughness, ior, tmp_path):
+    mat = shader_material("ShaderNodeBsdfGlass", distribution=distribution, Roughness=roughness, IOR=ior,
+                          Color=COLOR)
+    scene = sphere_scene(empty_scene, mat)
+    difference, ours, cycles = difference_to_cycles(scene, f"glass {distribution} r={roughness} ior={ior}",
+                                                    tmp_path)
+    assert difference <= TOLERANCE
+
+
+def test_glass_highlight_is_checked(empty_scene, tmp_path):
+    """The comparison can fail: the sphere rendered black (no highlight) differs from Cycles' glass."""
+    mat = shader_material("ShaderNodeBsdfGlass", distribution="GGX", Roughness=0.2, IOR=1.45, Color=COLOR)
+    scene = sphere_scene(empty_scene, mat)
+    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=256)
+    bpy.data.objects["Ball"].data.materials[0] = builders.material("Black", (0.0, 0.0, 0.0))
+    scene.render.engine = "SPHRECT"
+    scene.sphrect.samples, scene.sphrect.passes = 64, 1
+    black = render()["images"]["rectangle"]
+    assert mean_relative_difference(black, cycles) > 0.03
+
+
+@pytest.mark.parametrize("roughness", [0.0, 0.3])
+def test_refraction_bsdf_sphere_is_black_as_in_cycles(empty_scene, roughness, tmp_path):
+    mat = shader_material("ShaderNodeBsdfRefraction", distribution="GGX", Roughness=roughness, IOR=1.45)
+    scene = sphere_scene(empty_scene, mat)
+    exported, _ = export()
+    assert exported.materials[-1].kind == "glass" and exported.materials[-1].base_color == (0.0, 0.0, 0.0)
+    difference, ours, cycles = difference_to_cycles(scene, f"refraction r={roughness}", tmp_path)
+    assert difference <= TOLERANCE
+
+
+@pytest.mark.parametrize("roughness, ior", [(0.3, 1.45), (0.5, 1.6)])
+def test_principled_transmission_matches_cycles(empty_scene, roughness, ior, tmp_path):
+    mat = builders.material("Clear", (0.8, 0.45, 0.25), kind="principled", roughness=roughness)
+    node = mat.node_tree.nodes["Principled BSDF"]
+    node.inputs["Transmission"].default_value = 1.0
+    node.inputs["IOR"].default_value = ior
+    scene = sphere_scene(empty_scene, mat)
+    exported, _ = export()
+    assert [m.kind for m in exported.materials if m.name == "Clear"] == ["glass"]
+    difference, ours, cycles = difference_to_cycles(scene, f"principled transmission r={roughness} ior={ior}",
+                                                    tmp_path)
+    assert difference <= TOLERANCE
+
+
+def test_glass_default_beckmann_distribution_is_close_to_cycles(empty_scene, tmp_path):
+    """The Glass node's default distribution is Beckmann; rendered with GGX (warned), the figure is stated."""
+    mat = shader_material("ShaderNodeBsdfGlass", Roughness=0.3, IOR=1.45, Color=COLOR)
+    scene = sphere_scene(empty_scene, mat)
+    _, log = export()
+    assert "distribution 'BECKMANN' (GGX used)" in log.warning_text()
+    difference, ours, cycles = difference_to_cycles(scene, "glass Beckmann (GGX used) r=0.3", tmp_path)
+    assert difference <= 0.05
