@@ -189,10 +189,11 @@ void BindRender(py::module_& m) {
             py::arg("clearcoat_roughness"), py::arg("emission") = V3{0, 0, 0})
         .def(
             "add_glass_material",
-            [](RenderScene& s, V3 c, float roughness, float ior, V3 emission) {
-                return s.AddGlassMaterial(ToVec(c), roughness, ior, ToVec(emission));
+            [](RenderScene& s, V3 c, float roughness, float ior, bool beckmann, V3 emission) {
+                return s.AddGlassMaterial(ToVec(c), roughness, ior, beckmann, ToVec(emission));
             },
-            py::arg("base_color"), py::arg("roughness"), py::arg("ior"), py::arg("emission") = V3{0, 0, 0})
+            py::arg("base_color"), py::arg("roughness"), py::arg("ior"), py::arg("beckmann") = false,
+            py::arg("emission") = V3{0, 0, 0})
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none())
         .def("add_rect_light",

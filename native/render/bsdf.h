@@ -43,6 +43,7 @@ struct Material {
     bool has_dielectric = false;
     Spectrum dielectric;             // the closure's colour
     float dielectric_ior = 1.45f;
+    bool dielectric_beckmann = false;  // Beckmann D and G (the Glass node's default) instead of GGX
 };
 
 // The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface,
@@ -150,15 +151,18 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
     return m;
 }
 
-// Cycles 3.4's Glass BSDF (svm_node_closure_bsdf, CLOSURE_BSDF_MICROFACET_GGX_GLASS_ID, the node's default
-// GGX) as a direct-light-only render sees it: the reflection closure colour x F(wo.n, ior)
+// Cycles 3.4's Glass BSDF (svm_node_closure_bsdf, CLOSURE_BSDF_MICROFACET_{GGX,BECKMANN}_GLASS_ID) as a
+// direct-light-only render sees it: the reflection closure colour x F(wo.n, ior)
 // (fresnel_dielectric_cos of the view), GGX of alpha = roughness^2 with separable Smith G and no
 // micro-Fresnel; the refraction closure (colour x (1 - F)) needs a second bounce or a light behind an
 // open surface, neither modelled here (black).  Cycles' GGX returns 0 for alpha_x alpha_y <= 1e-7 (a
 // sharp glass is a delta lobe): black at zero bounces as well.  ior is the front side's (a back face
 // seen from inside would use 1 / ior in Cycles).
-inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float ior) {
+// beckmann: Cycles' Beckmann distribution (the node's default), evaluated with its D and rational G1, sampled
+// by GGX visible normals of the same alpha (the pdf is that of the sampling: unbiased).
+inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann = false) {
     Material m;
+    m.dielectric_beckmann = beckmann;
     m.glossy = m.principled = true;
     const float r = std::clamp(roughness, 0.0f, 1.0f);
     m.alpha = r * r;
@@ -222,6 +226,25 @@ inline float GgxReflectionPDF(const Vec3f& wo, const Vec3f& wi, float alpha) {
     return GgxG1(wo, alpha) * GgxD(h, alpha) / (4 * wo.z);
 }
 
+// --- Beckmann, as Cycles 3.4's bsdf_microfacet_beckmann (isotropic) --------------------------------
+
+inline float BeckmannD(const Vec3f& h, float alpha) {
+    const float c2 = h.z * h.z, a2 = alpha * alpha;
+    if (c2 <= 0) return 0;
+    const float tan2 = std::max(0.0f, 1 - c2) / c2;
+    return std::exp(-tan2 / a2) / (kPi * a2 * c2 * c2);
+}
+
+// Cycles' bsdf_beckmann_G1: Walter et al. 2007's rational approximation of Smith's G1.
+inline float BeckmannG1(float cos_theta, float alpha) {
+    const float c2 = cos_theta * cos_theta;
+    const float inv_a = alpha * SafeSqrt((1 - c2) / c2);
+    if (inv_a < 0.0625f) return 1;
+    const float a = 1 / inv_a;
+    if (a >= 1.6f) return 1;
+    return (3.535f * a + 2.181f * a * a) / (1 + 2.276f * a + 2.577f * a * a);
+}
+
 // --- Principled (Cycles 3.4) --------------------------------------------------------------------
 
 // Cycles' interpolate_fresnel_color: cspec0 blended towards white by the dielectric Fresnel's rise
@@ -254,8 +277,13 @@ inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& 
         f += PrincipledSpecularFresnel(m, cos_ih) * (GgxD(h, m.alpha) * g * inv_4cos);
     }
     if (m.has_dielectric) {
-        const float g = SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
-        f += m.dielectric * (DielectricFresnel(wo.z, m.dielectric_ior) * GgxD(h, m.alpha) * g * inv_4cos);
+        float dg;
+        if (m.dielectric_beckmann) {
+            dg = BeckmannD(h, m.alpha) * BeckmannG1(wo.z, m.alpha) * BeckmannG1(wi.z, m.alpha);
+        } else {
+            dg = GgxD(h, m.alpha) * SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
+        }
+        f += m.dielectric * (DielectricFresnel(wo.z, m.dielectric_ior) * dg * inv_4cos);
     }
     if (m.has_clearcoat) {
         const float g = SmithG1Ggx(wo.z, kClearcoatShadowingAlpha) * SmithG1Ggx(wi.z, kClearcoatShadowingAlpha);

@@ -180,12 +180,13 @@ int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectru
     return int(materials.size()) - 1;
 }
 
-int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float ior, const Spectrum& emission) {
+int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann,
+                                  const Spectrum& emission) {
     RequireNotCommitted();
     CheckColor("material base_color", color);
     CheckColor("material emission", emission);
     if (!std::isfinite(roughness) || !std::isfinite(ior)) Fail("material roughness and ior must be finite");
-    materials.push_back(MakeGlassMaterial(color, roughness, ior));
+    materials.push_back(MakeGlassMaterial(color, roughness, ior, beckmann));
     materials.back().emission = emission;
     return int(materials.size()) - 1;
 }

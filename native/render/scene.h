@@ -61,7 +61,8 @@ class RenderScene {
     int AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular,
                           const Spectrum& emission = {});
     int AddPrincipledMaterial(const PrincipledInputs& inputs, const Spectrum& emission = {});
-    int AddGlassMaterial(const Spectrum& color, float roughness, float ior, const Spectrum& emission = {});
+    int AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann = false,
+                         const Spectrum& emission = {});
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids may be null.
     // A mesh without triangles is validated and then ignored.
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,

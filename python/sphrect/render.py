@@ -45,8 +45,8 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .scene import (CAMERA_TYPES, MATERIAL_KINDS, SENSOR_FITS, Camera, EllipseLight, PointLight, RectLight, Scene,
-                    SpotLight, SunLight)
+from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, SENSOR_FITS, Camera, EllipseLight, PointLight,
+                    RectLight, Scene, SpotLight, SunLight)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -138,8 +138,11 @@ def build_native_scene(scene: Scene):
                 float(mat.specular_tint), float(mat.roughness), float(mat.sheen), float(mat.sheen_tint),
                 float(mat.clearcoat), float(mat.clearcoat_roughness), emission)
         elif mat.kind == "glass":
+            if mat.distribution not in GLASS_DISTRIBUTIONS:
+                raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} "
+                                 f"(expected {_one_of(GLASS_DISTRIBUTIONS)})")
             native.add_glass_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"),
-                                      float(mat.roughness), float(mat.ior), emission)
+                                      float(mat.roughness), float(mat.ior), mat.distribution == "beckmann", emission)
         else:
             raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {_one_of(MATERIAL_KINDS)})")
     n_materials = max(1, len(scene.materials))

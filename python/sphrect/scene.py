@@ -14,7 +14,7 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
   "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
   dataclasses below (version 1, before Material.emission, loads with emission 0;
   version 2, before the 'principled' kind, with its fields at their defaults; version 3, before the
-  'glass' kind and Material.ior);
+  'glass' kind and Material.ior, distribution);
 * for mesh *i*: ``mesh{i}.vertices`` (float32 [V,3]), ``mesh{i}.triangles``
   (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
   ``mesh{i}.material_ids`` (int32 [T]).
@@ -37,7 +37,8 @@ FORMAT_NAME = "sphrect-scene"
 # version 1 refuse version-2 files with a clear message instead of failing on the new field.
 # 3: Material kind 'principled' and its fields specular_tint, sheen, sheen_tint, clearcoat,
 # clearcoat_roughness.  Older files load unchanged: their kinds 'diffuse' / 'glossy' render as before.
-# 4: Material kind 'glass' (Cycles' Glass BSDF at zero bounces) and its field ior.  Older files load unchanged.
+# 4: Material kind 'glass' (Cycles' Glass BSDF at zero bounces) and its fields ior, distribution.  Older files
+# load unchanged.
 FORMAT_VERSION = 4
 
 RGB = Tuple[float, float, float]
@@ -45,6 +46,7 @@ V3 = Tuple[float, float, float]
 
 # The values the format's name fields take.
 MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass")
+GLASS_DISTRIBUTIONS = ("ggx", "beckmann")  # Cycles' microfacet distributions the 'glass' kind evaluates
 CAMERA_TYPES = ("perspective", "orthographic")
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 
@@ -75,8 +77,8 @@ class Material:
     BSDF, the model before 'principled'); 'principled': Blender's Principled BSDF as Cycles 3.4 evaluates it
     (Burley diffuse with retro-reflection, GGX specular with Cycles' Fresnel blend and tint, sheen, clearcoat;
     the fields below are the node's inputs of the same names); 'glass': Blender's Glass BSDF (base_color =
-    its Color, roughness, ior) as Cycles 3.4 shows it at zero bounces -- the GGX reflection of the lights
-    weighted by the dielectric Fresnel of the view, the transmitted part black."""
+    its Color, roughness, ior, distribution) as Cycles 3.4 shows it at zero bounces -- the microfacet reflection
+    of the lights weighted by the dielectric Fresnel of the view, the transmitted part black."""
     name: str = "default"
     kind: str = "diffuse"            # one of MATERIAL_KINDS
     base_color: RGB = (0.8, 0.8, 0.8)
@@ -89,6 +91,7 @@ class Material:
     clearcoat: float = 0.0
     clearcoat_roughness: float = 0.03
     ior: float = 1.45                # 'glass' only: index of refraction (Blender's default)
+    distribution: str = "ggx"        # 'glass' only: one of GLASS_DISTRIBUTIONS
     emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
                                      # every emissive triangle is a light (files without it load as 0)
 

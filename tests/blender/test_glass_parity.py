@@ -9,10 +9,14 @@ import bpy
 import pytest
 
 from conftest import builders, export, render, set_resolution
-from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles, mean_relative_difference, render_cycles
+from test_cycles_parity import HEIGHT, WIDTH, blocks, difference_to_cycles, mean_relative_difference, render_cycles
 
 TOLERANCE = 0.01
-# (distribution, roughness, IOR); the Glass node's own default distribution is Beckmann (rendered as GGX).
+# The highlight's blocks alone (a few dozen pixels, so noisier): measured when written 0.99-1.01 for GGX and
+# Beckmann, 1.036 for IOR 1.2 (F0 0.8%: a faint highlight over the plane's noise); the default Beckmann rendered
+# as GGX, before it was modelled, was 0.84.
+HIGHLIGHT_TOLERANCE = 0.05
+# (distribution, roughness, IOR); the Glass node's own default distribution, Beckmann, is tested below.
 GLASS_CASES = [("GGX", 0.2, 1.45), ("GGX", 0.5, 1.45), ("GGX", 0.3, 1.8), ("GGX", 0.35, 1.2)]
 COLOR = (0.9, 0.7, 0.5, 1.0)
 
@@ -45,6 +49,16 @@ def sphere_scene(scene, mat):
     return scene
 
 
+def highlight_ratio(scene, ours, cycles, tmp_path):
+    """Ours / Cycles summed over the 4x4 blocks the sphere's highlight lights (where Cycles' image exceeds its
+    black-sphere render by 10% of the largest excess): the whole-image figure is mostly the plane."""
+    bpy.data.objects["Ball"].data.materials[0] = builders.material("Black", (0.0, 0.0, 0.0))
+    black = blocks(render_cycles(scene, str(tmp_path / "black.exr"), samples=256))
+    a, b = blocks(ours), blocks(cycles)
+    lit = (b - black) > 0.1 * (b - black).max()
+    return float(a[lit].sum() / b[lit].sum())
+
+
 def test_glass_exports_its_inputs(empty_scene):
     sphere_scene(empty_scene, shader_material("ShaderNodeBsdfGlass", distribution="GGX", Roughness=0.3, IOR=1.7,
                                               Color=COLOR))
@@ -64,6 +78,9 @@ def test_glass_matches_cycles(empty_scene, distribution, roughness, ior, tmp_pat
     difference, ours, cycles = difference_to_cycles(scene, f"glass {distribution} r={roughness} ior={ior}",
                                                     tmp_path)
     assert difference <= TOLERANCE
+    ratio = highlight_ratio(scene, ours, cycles, tmp_path)
+    print(f"glass {distribution} r={roughness} ior={ior}: highlight ours / Cycles {ratio:.4f}")
+    assert abs(ratio - 1) <= HIGHLIGHT_TOLERANCE
 
 
 def test_glass_highlight_is_checked(empty_scene, tmp_path):
@@ -102,11 +119,17 @@ def test_principled_transmission_matches_cycles(empty_scene, roughness, ior, tmp
     assert difference <= TOLERANCE
 
 
-def test_glass_default_beckmann_distribution_is_close_to_cycles(empty_scene, tmp_path):
-    """The Glass node's default distribution is Beckmann; rendered with GGX (warned), the figure is stated."""
-    mat = shader_material("ShaderNodeBsdfGlass", Roughness=0.3, IOR=1.45, Color=COLOR)
+@pytest.mark.parametrize("roughness, ior", [(0.3, 1.45), (0.5, 1.6)])
+def test_glass_default_beckmann_distribution_matches_cycles(empty_scene, roughness, ior, tmp_path):
+    """The Glass node's default distribution is Beckmann (measured: 16% less highlight when rendered as GGX)."""
+    mat = shader_material("ShaderNodeBsdfGlass", Roughness=roughness, IOR=ior, Color=COLOR)
+    assert mat.node_tree.nodes["Glass BSDF"].distribution == "BECKMANN"
     scene = sphere_scene(empty_scene, mat)
-    _, log = export()
-    assert "distribution 'BECKMANN' (GGX used)" in log.warning_text()
-    difference, ours, cycles = difference_to_cycles(scene, "glass Beckmann (GGX used) r=0.3", tmp_path)
-    assert difference <= 0.05
+    exported, log = export()
+    assert [m.distribution for m in exported.materials if m.kind == "glass"] == ["beckmann"]
+    assert "distribution" not in log.warning_text()
+    difference, ours, cycles = difference_to_cycles(scene, f"glass Beckmann r={roughness} ior={ior}", tmp_path)
+    assert difference <= TOLERANCE
+    ratio = highlight_ratio(scene, ours, cycles, tmp_path)
+    print(f"glass Beckmann r={roughness} ior={ior}: highlight ours / Cycles {ratio:.4f}")
+    assert abs(ratio - 1) <= HIGHLIGHT_TOLERANCE

@@ -130,7 +130,8 @@ def test_version_2_files_load_with_defaults_and_render_unchanged(tmp_path):
     assert meta["version"] == sphrect.scene.FORMAT_VERSION
     meta["version"] = 2
     for m in meta["materials"]:
-        for key in ("specular_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_roughness", "ior"):
+        for key in ("specular_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_roughness", "ior",
+                    "distribution"):
             del m[key]
     arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
     old = str(tmp_path / "v2.sphrect.npz")

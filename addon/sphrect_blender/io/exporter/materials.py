@@ -148,13 +148,13 @@ def _bsdf(sphrect, node, log, name):
 
 
 def _glass(sphrect, node, log, name):
-    """Glass or Refraction BSDF as Cycles 3.4 shows it at zero bounces: the Glass BSDF's GGX reflection of the
-    lights, weighted by the dielectric Fresnel of the view (kind 'glass'); the refracted part, the whole of a
+    """Glass or Refraction BSDF as Cycles 3.4 shows it at zero bounces: the Glass BSDF's GGX / Beckmann reflection
+    of the lights, weighted by the dielectric Fresnel of the view (kind 'glass'); the refracted part, the whole of a
     Refraction BSDF, is black (it needs a bounce, or a light seen through an open surface: not modelled)."""
     distribution = getattr(node, "distribution", "GGX")
     roughness = 0.0 if distribution == "SHARP" else float(_value(node, "Roughness", log, name))
-    if distribution in {"BECKMANN", "MULTI_GGX"} and roughness > 0:
-        log.unsupported_feature(f"{node.bl_label} distribution '{distribution}' (GGX used)", name)
+    if distribution == "MULTI_GGX" and roughness > 0:
+        log.unsupported_feature(f"{node.bl_label} distribution 'Multiscatter GGX' (GGX used)", name)
     _check_normal(node, log, name)
     log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
                             "except behind open surfaces)", name)
@@ -162,7 +162,8 @@ def _glass(sphrect, node, log, name):
     if node.bl_idname == "ShaderNodeBsdfRefraction":
         color = (0.0, 0.0, 0.0)
     return sphrect.Material(name=name, kind="glass", base_color=color, roughness=roughness,
-                            ior=float(_value(node, "IOR", log, name)))
+                            ior=float(_value(node, "IOR", log, name)),
+                            distribution="beckmann" if distribution == "BECKMANN" else "ggx")
 
 
 # Principled BSDF inputs read into sphrect.Material (kind 'principled'), by the Material field they fill.
