@@ -10,25 +10,11 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "direction_quadrature.h"
 #include "render/bsdf.h"
 
 namespace sphrect::render {
 namespace {
-
-Vec3f Direction(float cos_theta, float phi) {
-    const float s = std::sqrt(std::max(0.0f, 1 - cos_theta * cos_theta));
-    return {s * std::cos(phi), s * std::sin(phi), cos_theta};
-}
-
-// Midpoint quadrature of g over the upper hemisphere (uniform in cos theta and phi).
-template <class F>
-double IntegrateHemisphere(F g, int n_theta = 600, int n_phi = 600) {
-    double sum = 0;
-    for (int i = 0; i < n_theta; ++i)
-        for (int j = 0; j < n_phi; ++j)
-            sum += g(Direction((i + 0.5f) / n_theta, 2 * kPi * (j + 0.5f) / n_phi));
-    return sum * 2 * M_PI / (double(n_theta) * n_phi);
-}
 
 struct NamedInputs {
     std::string name;
@@ -68,7 +54,7 @@ TEST(PrincipledBsdf, BurleyDiffuseIsThe2012FormWithFd90) {
     for (float r : {0.0f, 0.3f, 1.0f})
         for (float co : {0.1f, 0.5f, 0.95f})
             for (float ci : {0.05f, 0.4f, 0.9f}) {
-                const Vec3f wo = Direction(co, 0.2f), wi = Direction(ci, 2.5f);
+                const Vec3f wo = SphericalDirection(co, 0.2f), wi = SphericalDirection(ci, 2.5f);
                 const Vec3f h = Normalize(wo + wi);
                 const float fd90 = 0.5f + 2 * r * Dot(wi, h) * Dot(wi, h);
                 const float fl = std::pow(1 - ci, 5.0f), fv = std::pow(1 - co, 5.0f);
@@ -84,7 +70,7 @@ TEST(PrincipledBsdf, MaterialHasCyclesWeights) {
     const Vec3f n{0, 0, 1};
     EXPECT_NEAR(EvalBsdf<true>(d, n, n).x, 0.8f / kPi, 1e-6f);
     // Grazing view and light, roughness 1: the retro-reflection brightens (Fd90 = 2.5 at wi = wo).
-    const Vec3f g = Direction(0.0001f, 0);
+    const Vec3f g = SphericalDirection(0.0001f, 0);
     EXPECT_NEAR(EvalBsdf<true>(d, g, g).x / (0.8f / kPi), 2.5f * 2.5f, 0.01f);
     // Specular 0.5 -> IOR 1.5 (F0 = 0.04), metallic 1 -> no diffuse, cspec0 = base colour.
     const Material s = MakePrincipledMaterial(With(0, 0.5f, 0.5f));
@@ -108,7 +94,7 @@ TEST(PrincipledBsdf, IsReciprocal) {
         const Material m = MakePrincipledMaterial(c.in);
         for (float co : {0.2f, 0.7f})
             for (float ci : {0.1f, 0.5f, 0.9f}) {
-                const Vec3f wo = Direction(co, 0.4f), wi = Direction(ci, 3.0f);
+                const Vec3f wo = SphericalDirection(co, 0.4f), wi = SphericalDirection(ci, 3.0f);
                 const Spectrum a = EvalBsdf<true>(m, wo, wi), b = EvalBsdf<true>(m, wi, wo);
                 EXPECT_NEAR(a.x, b.x, 1e-5f * (1 + a.x)) << c.name;
                 EXPECT_NEAR(a.z, b.z, 1e-5f * (1 + a.z)) << c.name;
@@ -133,7 +119,7 @@ double Albedo(const Material& m, const Vec3f& wo) {
 TEST(PrincipledBsdf, WhiteFurnacePerLobe) {
     const Spectrum white{1, 1, 1};
     for (float co : {0.98f, 0.6f, 0.2f}) {
-        const Vec3f wo = Direction(co, 0);
+        const Vec3f wo = SphericalDirection(co, 0);
         // A white metal's single-scatter GGX loses energy to the missing multiple scattering, never gains;
         // measured: 1.00 / 0.83-0.91 / 0.31-0.51 at roughness 0.1 / 0.5 / 1 (Cycles' separable G).
         for (float r : {0.1f, 0.5f, 1.0f}) {
@@ -157,7 +143,7 @@ TEST(PrincipledBsdf, WhiteFurnacePerLobe) {
     }
     // Burley's retro-reflection at roughness 1 adds light at grazing angles: as in Cycles its albedo
     // exceeds the smooth one there (what the 7% was).
-    const Vec3f grazing = Direction(0.2f, 0);
+    const Vec3f grazing = SphericalDirection(0.2f, 0);
     EXPECT_GT(Albedo(MakePrincipledMaterial(With(0, 0, 1, 0, 0, 0.3f, 0, white)), grazing),
               Albedo(MakePrincipledMaterial(With(0, 0, 0, 0, 0, 0.3f, 0, white)), grazing) + 0.1);
 }
@@ -169,7 +155,7 @@ TEST(PrincipledBsdf, SamplesReportTheirPdfAndValue) {
     for (const NamedInputs& c : cases) {
         const Material m = MakePrincipledMaterial(c.in);
         for (float co : {0.9f, 0.4f, 0.1f}) {
-            const Vec3f wo = Direction(co, 0.3f);
+            const Vec3f wo = SphericalDirection(co, 0.3f);
             for (int i = 0; i < 5000; ++i) {
                 const BsdfSample s = SampleBsdf<true>(m, wo, {rng.NextFloat(), rng.NextFloat()});
                 if (s.pdf == 0) continue;
@@ -197,7 +183,7 @@ TEST(PrincipledBsdf, SamplingMatchesThePdfChiSquare) {
     for (const NamedInputs& c : Lobes()) {
         const Material m = MakePrincipledMaterial(c.in);
         for (float co : {0.85f, 0.3f}) {
-            const Vec3f wo = Direction(co, 0.7f);
+            const Vec3f wo = SphericalDirection(co, 0.7f);
             std::vector<double> expected(kTheta * kPhi, 0.0), observed(kTheta * kPhi, 0.0);
             double expected_total = 0;
             for (int i = 0; i < kTheta; ++i)
@@ -207,7 +193,7 @@ TEST(PrincipledBsdf, SamplingMatchesThePdfChiSquare) {
                         for (int b = 0; b < kSub; ++b) {
                             const float ct = (i + (a + 0.5f) / kSub) / kTheta;
                             const float phi = 2 * kPi * (j + (b + 0.5f) / kSub) / kPhi;
-                            sum += BsdfPDF<true>(m, wo, Direction(ct, phi));
+                            sum += BsdfPDF<true>(m, wo, SphericalDirection(ct, phi));
                         }
                     const double cell_area = 2 * M_PI / (double(kTheta) * kPhi);
                     expected[i * kPhi + j] = sum / (kSub * kSub) * cell_area * kSamples;
@@ -251,7 +237,7 @@ TEST(PrincipledBsdf, SamplingEstimatesTheAlbedo) {
     PCG32 rng(17);
     for (const NamedInputs& c : Lobes()) {
         const Material m = MakePrincipledMaterial(c.in);
-        const Vec3f wo = Direction(0.6f, 1.0f);
+        const Vec3f wo = SphericalDirection(0.6f, 1.0f);
         const double reference = IntegrateHemisphere([&](const Vec3f& wi) { return EvalBsdf<true>(m, wo, wi).y * wi.z; });
         const int n = 200000;
         double sum = 0, sum2 = 0;

@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "direction_quadrature.h"
 #include "core/rng.h"
 #include "render/bsdf.h"
 #include "render/camera.h"
@@ -23,23 +24,6 @@
 
 namespace sphrect::render {
 namespace {
-
-Vec3f SphericalDirection(float cos_theta, float phi) {
-    const float s = std::sqrt(std::max(0.0f, 1 - cos_theta * cos_theta));
-    return {s * std::cos(phi), s * std::sin(phi), cos_theta};
-}
-
-// Midpoint quadrature of g(w) over the sphere (uniform in cos theta and phi).
-template <class F>
-double IntegrateSphere(F g, int n_theta = 400, int n_phi = 400) {
-    double sum = 0;
-    for (int i = 0; i < n_theta; ++i)
-        for (int j = 0; j < n_phi; ++j) {
-            const float c = -1 + 2 * (i + 0.5f) / n_theta, phi = 2 * kPi * (j + 0.5f) / n_phi;
-            sum += g(SphericalDirection(c, phi));
-        }
-    return sum * 4 * M_PI / (double(n_theta) * n_phi);
-}
 
 std::vector<Material> TestMaterials() {
     return {MakeDiffuseMaterial({0.7f, 0.5f, 0.3f}), MakeGlossyMaterial({0.8f, 0.6f, 0.4f}, 0.5f, 0.0f, 0.5f),
