@@ -147,48 +147,45 @@ void RenderScene::SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, fl
     has_medium = medium.sigma_sampling > 0;
 }
 
-int RenderScene::AddDiffuseMaterial(const Spectrum& base, const Spectrum& emission) {
+// What every Add*Material checks first: not committed, and its colours.
+void RenderScene::CheckMaterialColors(const Spectrum& base, const Spectrum& emission) const {
     RequireNotCommitted();
     CheckColor("material base_color", base);
     CheckColor("material emission", emission);
-    materials.push_back(MakeDiffuseMaterial(base));
+}
+
+int RenderScene::PushMaterial(const Material& m, const Spectrum& emission) {
+    materials.push_back(m);
     materials.back().emission = emission;
     return int(materials.size()) - 1;
+}
+
+int RenderScene::AddDiffuseMaterial(const Spectrum& base, const Spectrum& emission) {
+    CheckMaterialColors(base, emission);
+    return PushMaterial(MakeDiffuseMaterial(base), emission);
 }
 
 int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular,
                                    const Spectrum& emission) {
-    RequireNotCommitted();
-    CheckColor("material base_color", base);
-    CheckColor("material emission", emission);
+    CheckMaterialColors(base, emission);
     if (!std::isfinite(roughness) || !std::isfinite(metallic) || !std::isfinite(specular))
         Fail("material roughness, metallic and specular must be finite");
-    materials.push_back(MakeGlossyMaterial(base, roughness, metallic, specular));
-    materials.back().emission = emission;
-    return int(materials.size()) - 1;
+    return PushMaterial(MakeGlossyMaterial(base, roughness, metallic, specular), emission);
 }
 
 int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectrum& emission) {
-    RequireNotCommitted();
-    CheckColor("material base_color", in.base_color);
-    CheckColor("material emission", emission);
+    CheckMaterialColors(in.base_color, emission);
     for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
                     in.clearcoat_roughness})
         if (!std::isfinite(v)) Fail("material Principled inputs must be finite");
-    materials.push_back(MakePrincipledMaterial(in));
-    materials.back().emission = emission;
-    return int(materials.size()) - 1;
+    return PushMaterial(MakePrincipledMaterial(in), emission);
 }
 
 int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann,
                                   const Spectrum& emission) {
-    RequireNotCommitted();
-    CheckColor("material base_color", color);
-    CheckColor("material emission", emission);
+    CheckMaterialColors(color, emission);
     if (!std::isfinite(roughness) || !std::isfinite(ior)) Fail("material roughness and ior must be finite");
-    materials.push_back(MakeGlassMaterial(color, roughness, ior, beckmann));
-    materials.back().emission = emission;
-    return int(materials.size()) - 1;
+    return PushMaterial(MakeGlassMaterial(color, roughness, ior, beckmann), emission);
 }
 
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,

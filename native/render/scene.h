@@ -117,6 +117,8 @@ class RenderScene {
     const std::vector<TreeEmitterRef>& light_tree_refs() const { return light_tree_refs_; }
 
   private:
+    void CheckMaterialColors(const Spectrum& base, const Spectrum& emission) const;
+    int PushMaterial(const Material& m, const Spectrum& emission);  // with its emission; returns its index
     mutable std::once_flag light_tree_once_;
     mutable LightTree light_tree_;
     mutable std::vector<TreeEmitterRef> light_tree_refs_;

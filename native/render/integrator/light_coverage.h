@@ -10,7 +10,6 @@
 
 #include <vector>
 
-#include "chunk.h"
 #include "render/camera.h"
 #include "render/embree_rays.h"
 #include "render/kernel.h"
