@@ -42,6 +42,15 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     passes: IntProperty(name="Progressive Passes", default=4, min=1, max=256,
                         description="The image is updated at least this many times while rendering the samples")
 
+    viewport_samples: IntProperty(name="Viewport Samples", default=64, min=1, soft_max=4096,
+                                  description="Camera samples per pixel of the 3D view's Rendered shading")
+    viewport_compare: BoolProperty(name="Viewport Compare", default=False,
+                                   description="Rendered shading shows two techniques side by side: the Technique "
+                                               "on the left, the Compare With technique on the right")
+    viewport_compare_technique: EnumProperty(name="Compare With", items=enum_items(TECHNIQUES, TECHNIQUE_LABELS),
+                                             default="AREA",
+                                             description="The technique of the right half of the viewport compare")
+
     compare: BoolProperty(name="Compare Techniques", default=False,
                           description="Render every chosen technique in one go, each as a render pass, "
                                       "and build a side-by-side comparison image")

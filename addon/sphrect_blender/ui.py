@@ -39,6 +39,25 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         col.prop(s, "threads")
 
 
+class RENDER_PT_sphrect_viewport(SphrectPanel, bpy.types.Panel):
+    """The 3D view's Rendered shading (the Technique and the light settings are the Sampling panel's)."""
+    bl_label = "Viewport"
+    bl_context = "render"
+    bl_parent_id = "RENDER_PT_sphrect_sampling"
+
+    def draw(self, context):
+        s = context.scene.sphrect
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        col = layout.column()
+        col.prop(s, "viewport_samples", text="Samples")
+        col.prop(s, "viewport_compare", text="Compare")
+        sub = col.column()
+        sub.active = s.viewport_compare
+        sub.prop(s, "viewport_compare_technique")
+
+
 class RENDER_PT_sphrect_compare(SphrectPanel, bpy.types.Panel):
     bl_label = "Compare Techniques"
     bl_context = "render"
@@ -88,7 +107,7 @@ class DATA_PT_sphrect_area_light(SphrectPanel, bpy.types.Panel):
         layout.prop(context.object, "visible_camera", text="Visible to Camera")
 
 
-classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_compare, DATA_PT_sphrect_area_light)
+classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_viewport, RENDER_PT_sphrect_compare, DATA_PT_sphrect_area_light)
 
 
 def register():

@@ -12,7 +12,7 @@ import numpy as np
 from ..images import load_reference_exr
 from ..names import ENGINE_ID, sphrect_name
 from ..native import load_sphrect
-from . import compare, display
+from . import compare, display, viewport
 from .schedule import (cancel_requested, clear_cancel_request, request_cancel, run_call, sample_schedule,
                        split_samples)
 
@@ -104,6 +104,16 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
                 self.register_pass(scene, renderlayer, technique_pass_name(e.name), 4, "RGBA", "COLOR")
             if settings.reference != "NONE":
                 self.register_pass(scene, renderlayer, technique_pass_name("reference"), 4, "RGBA", "COLOR")
+
+    # ---------------------------------------------------------------- viewport (Rendered shading)
+    def view_update(self, context, depsgraph):
+        viewport.view_update(self, context, depsgraph)
+
+    def view_draw(self, context, depsgraph):
+        viewport.view_draw(self, context, depsgraph)
+
+    def __del__(self):  # Blender frees the engine: the view left Rendered shading, the engine was switched
+        viewport.free(self)
 
     # ---------------------------------------------------------------- render
     def render(self, depsgraph):

@@ -1,0 +1,267 @@
+"""Rendered shading in the 3D view: the engine's view_update / view_draw (render_engine delegates here).
+
+    view_update  exports the scene the first time, then re-exports what the depsgraph updates call for
+                 (viewport_updates: lights only, the world, the scene camera, or everything)
+    view_draw    notices view changes (the region's matrices and size), restarts the worker when anything
+                 changed, uploads its newest images to GPU textures and draws them with the display-space
+                 shader, so the view transform and look match F12's; in compare mode two techniques side by
+                 side (left: the scene's technique, right: the viewport's compare technique)
+
+The rendering itself runs on a ViewportSession's worker thread (viewport_worker). A main-thread timer
+redraws the rendered views when a worker has a new image and stops sessions no view shows any more;
+F12 renders pause every worker (render_init .. render_complete / render_cancel)."""
+import dataclasses
+import threading
+import time
+import weakref
+
+import bpy
+import gpu
+import numpy as np
+from gpu_extras.batch import batch_for_shader
+
+from ..names import ENGINE_ID, TECHNIQUE_LABELS, label, sphrect_name
+from ..native import load_sphrect
+from . import viewport_worker
+from .viewport_camera import region_camera, view_signature
+from .viewport_updates import CAMERA, EVERYTHING, LIGHTS, WORLD, reexport_kinds
+
+REFRESH_SECONDS = 0.05        # how often the timer looks for new images
+SPLIT_LINE_PIXELS = 2         # the compare view's dividing line
+_sessions = weakref.WeakSet()  # live sessions, for the timer
+
+
+def settings_signature(settings):
+    """The scene settings a viewport image depends on (a change restarts it)."""
+    return (tuple(sorted(settings.renderer_options().items())), settings.technique, settings.viewport_samples,
+            settings.viewport_compare, settings.viewport_compare_technique)
+
+
+def viewport_techniques(settings):
+    """sphrect names of the techniques the viewport renders: the scene's, and in compare mode the second."""
+    first = sphrect_name(settings.technique)
+    second = sphrect_name(settings.viewport_compare_technique)
+    return (first, second) if settings.viewport_compare and second != first else (first,)
+
+
+class ViewportSession:
+    """One rendered 3D view: the exported scene, its worker and the textures of the newest image."""
+
+    def __init__(self):
+        self.scene = None          # sphrect.Scene as exported (camera: the scene camera)
+        self.settings = None
+        self.techniques = ()
+        self.view = None           # view_signature of the running job
+        self.changed = True        # restart the worker at the next draw
+        self.frame_ready = threading.Event()
+        self.worker = None
+        self._textures = None      # (frame, [GPUTexture]) of the newest drawn frame
+        self._reported = None      # the export warning last printed
+        self.last_update = None    # (what was re-exported, seconds): the cost of the last edit, for tests and docs
+
+    def free(self):
+        """Stop the worker (the engine is freed or no view shows SPHRECT any more)."""
+        if self.worker is not None:
+            self.worker.stop()
+        self._textures = None
+        _sessions.discard(self)
+
+    # ---------------------------------------------------------------- view_update
+    def update(self, depsgraph):
+        sphrect = load_sphrect()
+        from ..io.exporter import scene_from_depsgraph
+        from ..io.exporter.camera import export_camera
+        from ..io.exporter.lights import export_light
+        from ..io.exporter.log import ExportLog
+        from ..io.exporter.materials import export_world
+
+        bl_scene = depsgraph.scene
+        settings = bl_scene.sphrect
+        kinds = {EVERYTHING} if self.scene is None else reexport_kinds(depsgraph.updates)
+        signature = settings_signature(settings)
+        if not kinds and signature == self.settings:
+            return
+        self.settings, self.techniques, self.changed = signature, viewport_techniques(settings), True
+        start = time.perf_counter()
+        log = ExportLog()
+        if EVERYTHING in kinds:
+            self.scene, log = scene_from_depsgraph(depsgraph)
+        else:
+            if LIGHTS in kinds:
+                lights = (export_light(sphrect, i.object, i.matrix_world, i.object.name, log)
+                          for i in depsgraph.object_instances if i.object.type == "LIGHT")
+                self.scene = dataclasses.replace(self.scene, lights=[l for l in lights if l is not None])
+            if WORLD in kinds:
+                self.scene = dataclasses.replace(self.scene, world=export_world(sphrect, bl_scene.world, log))
+            if CAMERA in kinds:
+                cam = bl_scene.camera.evaluated_get(depsgraph) if bl_scene.camera is not None else None
+                self.scene = dataclasses.replace(self.scene, camera=export_camera(sphrect, bl_scene, cam, log))
+        self.last_update = (sorted(kinds), time.perf_counter() - start)
+        text = log.warning_text()
+        if text and text != self._reported:
+            print(text)
+        self._reported = text or self._reported
+
+    # ---------------------------------------------------------------- view_draw
+    def draw(self, engine, context, depsgraph):
+        region, region_3d = context.region, context.region_data
+        view = view_signature(region, region_3d)
+        if self.worker is None or not self.worker.alive:  # the first draw, or the timer stopped it
+            self.worker, self.changed = viewport_worker.ProgressiveWorker(on_frame=self.frame_ready.set), True
+            _sessions.add(self)
+            _start_timer()
+        if self.scene is not None and (self.changed or view != self.view):
+            self.view, self.changed = view, False
+            camera = region_camera(load_sphrect(), region, region_3d, self.scene.camera)
+            settings = depsgraph.scene.sphrect
+            self.worker.restart(viewport_worker.Job(dataclasses.replace(self.scene, camera=camera), self.techniques,
+                                                    settings.renderer_options(), settings.viewport_samples))
+        frame = self.worker.latest
+        if frame is None:
+            engine.update_stats("", "SPHRECT | Starting")
+            return
+        if frame.error:
+            engine.update_stats("", f"SPHRECT | {frame.error}")
+            return
+        textures = self._upload(frame)
+        _draw_textures(engine, depsgraph.scene, region, textures)
+        if len(textures) > 1:
+            _draw_labels(region, self.techniques)
+        state = "Preview" if frame.scale < 1 else f"Sample {frame.samples}/{frame.total_samples}"
+        engine.update_stats("", f"SPHRECT | {state} | {frame.seconds:.1f} s")
+
+    def _upload(self, frame):
+        """GPU textures of the frame's images (uploaded once per frame)."""
+        if self._textures is None or self._textures[0] is not frame:
+            self._textures = (frame, [_texture(image) for image in frame.images])
+        return self._textures[1]
+
+
+def _texture(image):
+    """A GPU texture of a sphrect image (row 0 = top; the texture's row 0 is the bottom)."""
+    height, width = image.shape[:2]
+    data = np.ascontiguousarray(np.flipud(image), dtype=np.float32).ravel()
+    return gpu.types.GPUTexture((width, height), format="RGBA16F", data=gpu.types.Buffer("FLOAT", data.size, data))
+
+
+def _quad(shader, x0, x1, height, u0, u1):
+    return batch_for_shader(shader, "TRI_FAN", {"pos": ((x0, 0), (x1, 0), (x1, height), (x0, height)),
+                                                "texCoord": ((u0, 0), (u1, 0), (u1, 1), (u0, 1))})
+
+
+def _draw_textures(engine, scene, region, textures):
+    """The images over the whole region: one, or each technique's half of its own image (left / right)."""
+    width, height = region.width, region.height
+    gpu.state.blend_set("ALPHA_PREMULT")
+    engine.bind_display_space_shader(scene)
+    shader = gpu.shader.from_builtin("2D_IMAGE")
+    n = len(textures)
+    for i, texture in enumerate(textures):
+        shader.uniform_sampler("image", texture)
+        _quad(shader, width * i / n, width * (i + 1) / n, height, i / n, (i + 1) / n).draw(shader)
+    engine.unbind_display_space_shader()
+    gpu.state.blend_set("NONE")
+    if n > 1:
+        line = gpu.shader.from_builtin("2D_UNIFORM_COLOR")
+        line.uniform_float("color", (1.0, 1.0, 1.0, 1.0))
+        for i in range(1, n):
+            x = width * i / n
+            batch_for_shader(line, "TRI_FAN", {"pos": ((x - SPLIT_LINE_PIXELS / 2, 0), (x + SPLIT_LINE_PIXELS / 2, 0),
+                                                       (x + SPLIT_LINE_PIXELS / 2, height),
+                                                       (x - SPLIT_LINE_PIXELS / 2, height))}).draw(line)
+
+
+def _draw_labels(region, techniques):
+    import blf
+    scale = bpy.context.preferences.system.ui_scale
+    blf.size(0, int(13 * scale))
+    blf.color(0, 1.0, 1.0, 1.0, 1.0)
+    blf.enable(0, blf.SHADOW)
+    blf.shadow(0, 3, 0.0, 0.0, 0.0, 1.0)
+    n = len(techniques)
+    for i, technique in enumerate(techniques):
+        blf.position(0, region.width * i / n + 12 * scale, 12 * scale, 0)
+        blf.draw(0, label(technique, TECHNIQUE_LABELS)[0])
+    blf.disable(0, blf.SHADOW)
+
+
+# -------------------------------------------------------------------- the engine's hooks
+def view_update(engine, context, depsgraph):
+    session = getattr(engine, "_viewport_session", None)
+    if session is None:
+        session = engine._viewport_session = ViewportSession()
+    session.update(depsgraph)
+
+
+def view_draw(engine, context, depsgraph):
+    session = getattr(engine, "_viewport_session", None)
+    if session is not None:
+        session.draw(engine, context, depsgraph)
+
+
+def free(engine):
+    """The engine is freed (the view left Rendered shading, the engine was switched, the file closed)."""
+    session = getattr(engine, "_viewport_session", None)
+    if session is not None:
+        engine._viewport_session = None
+        session.free()
+
+
+# -------------------------------------------------------------------- main-thread timer, F12 handlers
+def _rendered_views():
+    """The 3D view areas showing Rendered shading with SPHRECT."""
+    return [area for window in bpy.context.window_manager.windows if window.scene.render.engine == ENGINE_ID
+            for area in window.screen.areas
+            if area.type == "VIEW_3D" and area.spaces.active.shading.type == "RENDERED"]
+
+
+def _refresh():
+    """Redraw the rendered views when a worker has a new image; stop sessions no view shows."""
+    sessions = list(_sessions)
+    if not sessions:
+        return None
+    views = _rendered_views()
+    if not views:  # the engine is normally freed first (free); this catches what was not
+        for session in sessions:
+            session.free()
+        return None
+    if any(s.frame_ready.is_set() for s in sessions):
+        for session in sessions:
+            session.frame_ready.clear()
+        for area in views:
+            area.tag_redraw()
+    return REFRESH_SECONDS
+
+
+def _pause_for_f12(*_):
+    viewport_worker.pause_all()
+
+
+def _resume_after_f12(*_):
+    viewport_worker.resume_all()
+
+
+_F12_HANDLERS = (("render_init", _pause_for_f12), ("render_complete", _resume_after_f12),
+                 ("render_cancel", _resume_after_f12))
+
+
+def _start_timer():
+    if not bpy.app.timers.is_registered(_refresh):
+        bpy.app.timers.register(_refresh, first_interval=REFRESH_SECONDS)
+    for name, handler in _F12_HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        if handler not in handlers:
+            handlers.append(handler)
+
+
+def unregister():
+    """Stop every viewport (the add-on is disabled)."""
+    for session in list(_sessions):
+        session.free()
+    viewport_worker.stop_all()
+    if bpy.app.timers.is_registered(_refresh):
+        bpy.app.timers.unregister(_refresh)
+    for name, handler in _F12_HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        if handler in handlers:
+            handlers.remove(handler)

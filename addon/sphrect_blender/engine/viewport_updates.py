@@ -1,0 +1,39 @@
+"""What a depsgraph update asks the viewport to re-export.
+
+The native scene is built whole (its BVH, light tree and the camera's light footprints are made at commit),
+so every change rebuilds the renderer; what differs is how much of the Blender data is exported again:
+lights only (a light moved or edited: the meshes are kept), the world only, the scene camera only (its
+depth of field, seen through it), or everything (geometry, materials, objects added or removed, anything
+not recognised). View changes re-export nothing (the camera comes from the region, see viewport_camera)."""
+import bpy
+
+LIGHTS, WORLD, CAMERA, EVERYTHING = "lights", "world", "camera", "everything"
+
+# Updates that change nothing the exported scene holds (the scene's own settings are compared separately,
+# see viewport.settings_signature).
+_IGNORED = (bpy.types.Scene, bpy.types.Screen, bpy.types.WorkSpace, bpy.types.WindowManager)
+
+
+def _kind(update):
+    block = update.id
+    if isinstance(block, _IGNORED):
+        return None
+    if isinstance(block, bpy.types.Light):
+        return LIGHTS
+    if isinstance(block, bpy.types.Object):
+        if block.type == "LIGHT":
+            return LIGHTS
+        if block.type == "CAMERA":  # the region's matrices follow it; re-read its depth of field
+            return CAMERA
+        return EVERYTHING
+    if isinstance(block, bpy.types.Camera):
+        return CAMERA
+    if isinstance(block, bpy.types.World):
+        return WORLD
+    return EVERYTHING  # meshes, materials, node trees, collections (objects added or removed), images, ...
+
+
+def reexport_kinds(updates):
+    """The set of LIGHTS / WORLD / CAMERA / EVERYTHING that `depsgraph.updates` call for (EVERYTHING alone when present)."""
+    kinds = {k for k in map(_kind, updates) if k is not None}
+    return {EVERYTHING} if EVERYTHING in kinds else kinds
