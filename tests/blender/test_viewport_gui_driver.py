@@ -6,7 +6,7 @@ Phases, driven by a timer: switch the largest 3D view of the paper scene to Rend
 camera (overlays off) and wait for the viewport's samples; screenshot; F12 the same view and keep its
 colour-managed PNG; move the light and screenshot a second later; turn the viewport compare on and
 screenshot the split view; switch the engine to EEVEE and list the threads. Prints VP_RESULT <json>;
-the measurements are the test's to judge."""
+the measurements are the test's to judge. The screenshots go to $SPHRECT_VIEWPORT_OUT (default /tmp)."""
 import json
 import os
 import sys
@@ -19,7 +19,7 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 OUT = os.environ.get("SPHRECT_VIEWPORT_OUT", "/tmp")
 F12_SIZE = (128, 96)    # F12's resolution, 4:3 as the scene's camera
 BLOCKS = (16, 12)       # the images are compared by the means of these blocks
-VIEWPORT_SAMPLES = 4
+VIEWPORT_SAMPLES = int(os.environ.get("SPHRECT_VIEWPORT_SAMPLES", 4))  # more for docs/images/viewport*.png
 F12_SAMPLES = 16
 PHASE_TIMEOUT = 40.0    # seconds per phase before giving up
 
@@ -45,6 +45,9 @@ def main():
     scene.render.resolution_x, scene.render.resolution_y = F12_SIZE
     scene.render.resolution_percentage = 100
     scene.sphrect.samples, scene.sphrect.viewport_samples = F12_SAMPLES, VIEWPORT_SAMPLES
+    # Colour management that shows if the viewport skipped it: Filmic with a look and an exposure.
+    view = scene.view_settings
+    view.view_transform, view.look, view.exposure = "Filmic", "Medium High Contrast", 0.7
     viewport = sys.modules["sphrect_blender.engine.viewport"]
     worker_module = sys.modules["sphrect_blender.engine.viewport_worker"]
     result = {}
@@ -60,8 +63,9 @@ def main():
         return sessions[0] if sessions else None
 
     def frame():
+        """The worker's frame last drawn in the view."""
         s = session()
-        return s.worker.latest if s is not None and s.worker is not None else None
+        return s.drawn if s is not None else None
 
     def region_pixels(name):
         """The 3D view's region in a screenshot of the window: float [H, W, 4], row 0 = bottom."""
@@ -92,6 +96,14 @@ def main():
         state["phase"], state["t"] = name, time.time()
 
     def step():
+        try:
+            return phase_step()
+        except Exception:
+            import traceback
+            result["error"] = traceback.format_exc()
+            finish()
+
+    def phase_step():
         phase = state["phase"]
         elapsed = time.time() - state["t"]
         if elapsed > PHASE_TIMEOUT:
@@ -106,18 +118,20 @@ def main():
             with bpy.context.temp_override(window=window, area=area, region=region):
                 bpy.ops.view3d.view_center_camera()
             space.shading.type = "RENDERED"
+            state["rendered_at"] = time.perf_counter()
             result["region"] = [region.width, region.height]
             next_phase("converge")
         elif phase == "converge":
             f = frame()
             if f is not None and "first_image_seconds" not in result:
-                result["first_image_seconds"] = elapsed
+                result["first_image_seconds"] = session().drawn_at - state["rendered_at"]
                 result["first_image_scale"] = f.scale
-            if f is not None and f.error:
-                result["error"] = f.error
+            s = session()
+            if s is not None and s.worker is not None and s.worker.latest is not None and s.worker.latest.error:
+                result["error"] = s.worker.latest.error
                 finish()
             if f is not None and f.scale == 1 and f.samples >= f.total_samples:
-                result["converged_seconds"] = elapsed
+                result["converged_seconds"] = session().drawn_at - state["rendered_at"]
                 result["worker_seconds"] = f.seconds
                 result["export"] = session().last_update
                 pixels = region_pixels("rendered")
@@ -141,13 +155,16 @@ def main():
             result["f12_block_max_abs_diff"] = float(diff.max())
             result["f12_block_range"] = float(np.ptp(block_means(f12)))
             light = bpy.data.objects["Light"]
-            state["generation"] = session().worker._generation
+            state["generation"] = session().worker.latest.generation
+            state["moved_at"] = time.perf_counter()
             light.location.x += 1.5
             next_phase("moved")
         elif phase == "moved":
             f = frame()
             if "edit_first_image_seconds" not in result and f is not None and f.generation > state["generation"]:
-                result["edit_first_image_seconds"] = elapsed
+                # From the move to the draw of the first image that shows it (the view's own clock).
+                result["edit_first_image_seconds"] = session().drawn_at - state["moved_at"]
+                result["edit_first_image_scale"] = f.scale
                 result["edit_export"] = session().last_update
             if elapsed >= 1.0:
                 pixels = region_pixels("moved")
@@ -156,7 +173,7 @@ def main():
                 next_phase("compare")
         elif phase == "compare":
             f = frame()
-            if f is not None and len(f.images) == 2 and f.scale == 1:
+            if f is not None and len(f.images) == 2 and f.scale == 1 and f.samples >= f.total_samples:
                 pixels = region_pixels("compare")
                 middle = region.width // 2
                 result["compare_techniques"] = list(session().techniques)
@@ -178,4 +195,10 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except Exception:  # a window would stay open: say what failed and quit
+        import traceback
+        print("VP_RESULT " + json.dumps({"error": traceback.format_exc()}))
+        sys.stdout.flush()
+        os._exit(1)

@@ -28,6 +28,9 @@ from .viewport_updates import CAMERA, EVERYTHING, LIGHTS, WORLD, reexport_kinds
 
 REFRESH_SECONDS = 0.05        # how often the timer looks for new images
 SPLIT_LINE_PIXELS = 2         # the compare view's dividing line
+# Render tiles of the viewport (the image does not depend on it). The renderer takes the GIL after every tile
+# (for its progress callback), which with F12's 16-pixel tiles slows Blender's interface, drawn by Python too.
+TILE_SIZE = 64
 _sessions = weakref.WeakSet()  # live sessions, for the timer
 
 
@@ -58,6 +61,8 @@ class ViewportSession:
         self._textures = None      # (frame, [GPUTexture]) of the newest drawn frame
         self._reported = None      # the export warning last printed
         self.last_update = None    # (what was re-exported, seconds): the cost of the last edit, for tests and docs
+        self.drawn = None          # the worker's Frame last drawn, and when (time.perf_counter())
+        self.drawn_at = None
 
     def free(self):
         """Stop the worker (the engine is freed or no view shows SPHRECT any more)."""
@@ -114,8 +119,9 @@ class ViewportSession:
             self.view, self.changed = view, False
             camera = region_camera(load_sphrect(), region, region_3d, self.scene.camera)
             settings = depsgraph.scene.sphrect
+            options = dict(settings.renderer_options(), tile_size=TILE_SIZE)
             self.worker.restart(viewport_worker.Job(dataclasses.replace(self.scene, camera=camera), self.techniques,
-                                                    settings.renderer_options(), settings.viewport_samples))
+                                                    options, settings.viewport_samples))
         frame = self.worker.latest
         if frame is None:
             engine.update_stats("", "SPHRECT | Starting")
@@ -125,6 +131,7 @@ class ViewportSession:
             return
         textures = self._upload(frame)
         _draw_textures(engine, depsgraph.scene, region, textures)
+        self.drawn, self.drawn_at = frame, time.perf_counter()
         if len(textures) > 1:
             _draw_labels(region, self.techniques)
         state = "Preview" if frame.scale < 1 else f"Sample {frame.samples}/{frame.total_samples}"

@@ -23,9 +23,10 @@ def camera_from_matrices(sphrect, view_matrix, window_matrix, width, height, ape
         offset_x, offset_y = -proj[0, 3] / proj[0, 0], -proj[1, 3] / proj[1, 1]
         near = (proj[2, 3] + 1.0) / proj[2, 2]     # the z-range [-far, -near] maps to [-1, 1]
         far = (proj[2, 3] - 1.0) / proj[2, 2]
-        # Blender's orthographic views clip from behind the eye (near < 0): move the eye back to the near plane.
-        to_world[:3, 3] += to_world[:3, 2] * max(0.0, -near)
-        clip_start, clip_end = 0.0, far - min(near, 0.0)
+        clip_start, clip_end = near, far
+        if near < 0:  # Blender's orthographic views clip from behind the eye: move the eye back to the near plane
+            to_world[:3, 3] += to_world[:3, 2] * -near
+            clip_start, clip_end = 0.0, far - near
         kind = "orthographic"
     else:
         offset_x, offset_y = proj[0, 2] / proj[0, 0], proj[1, 2] / proj[1, 1]

@@ -7,6 +7,7 @@ A new job (the view or the scene changed) or stop() cancels the renderer call in
 restart costs at most a tile. pause_all() holds every worker while an F12 render runs, so that the viewport
 never takes CPU from it. Nothing here touches bpy: the thread only sees sphrect objects."""
 import dataclasses
+import os
 import threading
 import time
 import warnings
@@ -22,6 +23,7 @@ PREVIEW_DIVISORS = (4, 2)
 # uploading them to the GPU) stay small, short enough that the image refreshes several times a second.
 TARGET_CALL_SECONDS = 0.25
 THREAD_NAME = "SPHRECT viewport"  # every viewport thread's name (tests look for it)
+VIEWPORT_NICENESS = 10            # the worker's threads' nice value (Linux: per thread, inherited)
 
 _workers = weakref.WeakSet()  # live workers, for pause_all / stop_all
 _not_paused = threading.Event()
@@ -64,6 +66,15 @@ def next_batch(done, total, seconds_per_sample):
     has been timed), never past `total`."""
     n = 1 if seconds_per_sample is None else int(TARGET_CALL_SECONDS / max(seconds_per_sample, 1e-9))
     return max(1, min(n, total - done))
+
+
+def _lower_priority():
+    """Give this thread, and the renderer's threads it starts (they inherit it), a lower CPU priority than
+    Blender's interface: drawing and navigating stay fluid while the viewport renders on every core."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), VIEWPORT_NICENESS)
+    except (AttributeError, OSError):  # not Linux (a process-wide priority elsewhere): keep the default
+        pass
 
 
 class ProgressiveWorker:
@@ -115,6 +126,7 @@ class ProgressiveWorker:
         return not self._stopping and generation == self._generation and _not_paused.is_set()
 
     def _run(self):
+        _lower_priority()
         while True:
             with self._lock:
                 while not self._stopping and (self._job is None or not self.busy):

@@ -1,0 +1,203 @@
+"""Rendered shading (engine/viewport*.py): the view's camera, what an update re-exports, the progressive worker
+(its final image is the renderer's, restarts, stops, the pause for F12), the settings, and the real window
+under xvfb-run (test_viewport_gui_driver.py)."""
+import json
+import os
+import shutil
+import subprocess
+import time
+from types import SimpleNamespace
+
+import bpy
+import numpy as np
+import pytest
+
+import sphrect
+from conftest import addon_module, export, lit_test_scene, render
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+WAIT_SECONDS = 60.0  # a bound on waits for the worker, never reached when it works
+
+
+def worker_module():
+    return addon_module("engine.viewport_worker")
+
+
+def wait_for(condition, what):
+    end = time.time() + WAIT_SECONDS
+    while not condition():
+        assert time.time() < end, f"timed out waiting for {what}"
+        time.sleep(0.01)
+
+
+def small_job(scene, samples, width=48, height=36, techniques=("rectangle",)):
+    import dataclasses
+    camera = dataclasses.replace(scene.camera, width=width, height=height)
+    return worker_module().Job(dataclasses.replace(scene, camera=camera), tuple(techniques),
+                               dict(seed=2, threads=2), samples)
+
+
+# -------------------------------------------------------------------- the view's camera
+@pytest.mark.parametrize("kind, fit, shift", [("PERSP", "AUTO", (0.0, 0.0)), ("PERSP", "VERTICAL", (0.1, -0.2)),
+                                              ("ORTHO", "HORIZONTAL", (-0.15, 0.05))])
+def test_camera_from_matrices_is_the_exported_camera(empty_scene, kind, fit, shift):
+    """Blender's projection matrix of a camera, decoded, is the camera the exporter writes (same image
+    plane, frame and clipping): the viewport's camera view renders what F12 renders."""
+    camera_module = addon_module("engine.viewport_camera")
+    scene = empty_scene
+    cam = scene.camera
+    cam.data.type, cam.data.sensor_fit = kind, fit
+    cam.data.shift_x, cam.data.shift_y = shift
+    cam.data.ortho_scale, cam.data.clip_start, cam.data.clip_end = 5.0, 0.2, 80.0
+    bpy.context.view_layer.update()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    width, height = 32, 24
+    window = cam.calc_matrix_camera(depsgraph, x=width, y=height)
+    ours = camera_module.camera_from_matrices(sphrect, cam.matrix_world.inverted(), window, width, height)
+    exported = export()[0].camera
+    assert np.allclose(ours.image_plane(), exported.image_plane(), atol=1e-6)
+    assert np.allclose(ours.to_world, exported.to_world, atol=1e-6)
+    assert ours.type == exported.type
+    assert ours.clip_start == pytest.approx(exported.clip_start, rel=1e-4)
+    assert ours.clip_end == pytest.approx(exported.clip_end, rel=1e-4)
+
+
+# -------------------------------------------------------------------- what an update re-exports
+def test_reexport_kinds(empty_scene):
+    updates = addon_module("engine.viewport_updates")
+    scene = lit_test_scene(empty_scene)
+    light, box = bpy.data.objects["Light"], bpy.data.objects["Box"]
+    of = lambda *blocks: updates.reexport_kinds([SimpleNamespace(id=b) for b in blocks])
+    assert of(light, light.data, scene) == {updates.LIGHTS}
+    assert of(scene.world) == {updates.WORLD}
+    assert of(scene.camera, scene.camera.data) == {updates.CAMERA}
+    assert of(light, box) == {updates.EVERYTHING}
+    assert of(light, bpy.data.materials["Box"]) == {updates.EVERYTHING}
+    assert of(light, box.data) == {updates.EVERYTHING}
+    assert of(scene) == set()
+
+
+# -------------------------------------------------------------------- the worker
+def test_worker_final_image_is_the_renderers(empty_scene):
+    """Previews, then batches sized by time: with the Sobol pattern (it continues across calls) the final
+    image is the one a single render() call of the same samples makes."""
+    lit_test_scene(empty_scene)
+    exported = export()[0]
+    job = small_job(exported, samples=6)
+    worker = worker_module().ProgressiveWorker()
+    try:
+        worker.restart(job)
+        wait_for(lambda: not worker.busy, "the job")
+        frame = worker.latest
+    finally:
+        assert worker.stop()
+    assert frame.error is None and frame.scale == 1 and frame.samples == 6
+    r = sphrect.Renderer(job.scene, techniques=list(job.techniques), **job.options)
+    r.render(6)
+    assert np.allclose(frame.images[0], r.image("rectangle"), rtol=1e-5, atol=1e-6)
+
+
+def test_worker_previews_first_then_restarts_and_stops(empty_scene):
+    """The first image is a reduced-resolution one; restart() drops the running job for the new one (its
+    frames carry the new generation); stop() ends the thread in the middle of a long job."""
+    lit_test_scene(empty_scene)
+    exported = export()[0]
+    seen = []
+    worker = worker_module().ProgressiveWorker(on_frame=lambda: seen.append(worker.latest))
+    try:
+        worker.restart(small_job(exported, samples=100000, width=64, height=48))
+        wait_for(lambda: any(f.scale == 1 for f in seen), "a full-resolution frame")
+        assert seen[0].scale == 0.25 and seen[0].images[0].shape == (12, 16, 4)
+        first = seen[-1].generation
+        worker.restart(small_job(exported, samples=100000, width=40, height=30, techniques=("rectangle", "area")))
+        wait_for(lambda: worker.latest.generation > first, "the restarted job's frame")
+        assert len(worker.latest.images) == 2
+        assert worker.busy
+    finally:
+        assert worker.stop(timeout=10.0)
+    assert not worker.alive and worker not in worker_module().live_workers()
+
+
+def test_worker_reports_a_scene_it_cannot_render():
+    empty = sphrect.Scene(camera=sphrect.Camera(width=16, height=12))
+    worker = worker_module().ProgressiveWorker()
+    try:
+        worker.restart(worker_module().Job(empty, ("rectangle",), {}, 4))
+        wait_for(lambda: not worker.busy, "the job")
+    finally:
+        assert worker.stop()
+    assert "empty scene" in worker.latest.error
+
+
+def test_f12_pauses_the_viewport_and_is_unchanged(empty_scene):
+    """F12 (render_init .. render_complete) holds a running viewport worker, and its image is the same as
+    without one; the worker goes on afterwards."""
+    viewport = addon_module("engine.viewport")
+    scene = lit_test_scene(empty_scene)
+    scene.sphrect.samples = 8
+    alone = render()["images"]["rectangle"].copy()
+    worker = worker_module().ProgressiveWorker()
+    handlers = viewport._F12_HANDLERS
+    for name, handler in handlers:
+        getattr(bpy.app.handlers, name).append(handler)
+    paused = []
+    try:
+        worker.restart(small_job(export()[0], samples=100000))
+        wait_for(lambda: worker.latest is not None and worker.latest.scale == 1, "a full-resolution frame")
+        probe = lambda *_: paused.append(not worker_module()._not_paused.is_set())
+        bpy.app.handlers.render_pre.append(probe)
+        try:
+            with_viewport = render()["images"]["rectangle"]
+        finally:
+            bpy.app.handlers.render_pre.remove(probe)
+        assert worker_module()._not_paused.is_set()  # resumed
+        samples = worker.latest.samples
+        wait_for(lambda: worker.latest.samples > samples, "the worker to go on")
+    finally:
+        for name, handler in handlers:
+            getattr(bpy.app.handlers, name).remove(handler)
+        assert worker.stop()
+    assert paused == [True]
+    assert np.array_equal(alone, with_viewport)
+
+
+# -------------------------------------------------------------------- settings
+def test_viewport_settings_and_panel(empty_scene):
+    s = empty_scene.sphrect
+    assert s.viewport_samples == 64 and not s.viewport_compare
+    names = addon_module("names")
+    items = {i.identifier for i in s.bl_rna.properties["viewport_compare_technique"].enum_items}
+    assert items == {names.identifier(t) for t in names.TECHNIQUES}
+    viewport = addon_module("engine.viewport")
+    assert viewport.viewport_techniques(s) == ("rectangle",)
+    s.viewport_compare, s.viewport_compare_technique = True, "TRIANGLES"
+    assert viewport.viewport_techniques(s) == ("rectangle", "triangles")
+    s.viewport_compare_technique = "RECTANGLE"
+    assert viewport.viewport_techniques(s) == ("rectangle",)  # the same technique twice is one image
+    assert hasattr(bpy.types, "RENDER_PT_sphrect_viewport")
+
+
+# -------------------------------------------------------------------- in a real window
+@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt install xvfb)")
+def test_rendered_viewport_in_a_window(tmp_path):
+    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", bpy.app.binary_path, "--factory-startup",
+                          "--python", os.path.join(HERE, "test_viewport_gui_driver.py")],
+                         capture_output=True, text=True, timeout=180,
+                         env=dict(os.environ, SPHRECT_VIEWPORT_OUT=str(tmp_path)))
+    lines = [l for l in run.stdout.splitlines() if l.startswith("VP_RESULT ")]
+    assert lines, run.stdout[-2000:] + run.stderr[-2000:]
+    r = json.loads(lines[0][len("VP_RESULT "):])
+    print(r)
+    assert "timeout" not in r and "error" not in r, r
+    assert r["first_image_scale"] < 1                       # a reduced-resolution image first
+    assert r["region_std"] > 0.05                           # the scene, not a blank or grey region
+    # The camera frame of the converged viewport (4 samples) against F12 (16 samples), colour-managed
+    # (Filmic, a look and an exposure), by the means of 16 x 12 blocks of values in 0..1: measured 0.008.
+    assert r["f12_block_range"] > 0.5 and r["f12_block_mean_abs_diff"] < 0.03, r
+    assert r["edit_export"][0] == ["lights"]                # moving a light re-exports the lights only
+    assert r["edit_first_image_seconds"] < 1.0 and r["moved_mean_abs_diff"] > 0.01
+    assert r["compare_techniques"] == ["rectangle", "area"] and r["compare_line"] > 0.5
+    assert min(r["compare_halves_std"]) > 0.05
+    assert "SPHRECT viewport" in r["threads_rendering"]
+    assert "SPHRECT viewport" not in r["threads_after_switch"]
+    assert r["live_workers_after_switch"] == 0 and r["sessions_after_switch"] == 0
