@@ -77,6 +77,47 @@ def test_reexport_kinds(empty_scene):
     assert of(scene) == set()
 
 
+def test_session_update_reexports_what_changed(empty_scene):
+    """ViewportSession.update on the depsgraph's real updates (given to the update handler as to view_update):
+    a moved or edited light re-exports the lights only, a hidden object or a material edit everything."""
+    viewport = addon_module("engine.viewport")
+    scene = lit_test_scene(empty_scene)
+    session = viewport.ViewportSession()
+    session.update(bpy.context.evaluated_depsgraph_get())
+    assert session.last_update[0] == ["everything"] and len(session.scene.meshes) == 2
+    seen = []
+
+    def handler(_scene, depsgraph):
+        session.update(depsgraph)
+        seen.append(session.last_update[0])
+
+    def edit(change):
+        seen.clear()
+        session.last_update = (None, 0.0)
+        change()
+        bpy.context.evaluated_depsgraph_get().update()
+        return seen[-1] if seen else None
+
+    bpy.app.handlers.depsgraph_update_post.append(handler)
+    try:
+        light = bpy.data.objects["Light"]
+        meshes = [m.vertices for m in session.scene.meshes]
+        assert edit(lambda: setattr(light.location, "x", 1.25)) == ["lights"]
+        assert np.allclose(session.scene.lights[0].corner, export()[0].lights[0].corner)
+        assert all(a is b for a, b in zip(meshes, (m.vertices for m in session.scene.meshes)))  # kept
+        assert edit(lambda: setattr(light.data, "energy", 50.0)) == ["lights"]
+        assert np.allclose(session.scene.lights[0].radiance, export()[0].lights[0].radiance)
+        assert edit(lambda: bpy.data.objects["Box"].hide_set(True)) == ["everything"]
+        assert [m.name for m in session.scene.meshes] == ["Ground"]
+        color = bpy.data.materials["Ground"].node_tree.nodes["Diffuse BSDF"].inputs["Color"]
+        assert edit(lambda: setattr(color, "default_value", (0.1, 0.2, 0.3, 1.0))) == ["everything"]
+        assert session.scene.materials[session.scene.meshes[0].material_ids[0]].base_color == \
+            pytest.approx((0.1, 0.2, 0.3), abs=1e-6)
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(handler)
+        session.free()
+
+
 # -------------------------------------------------------------------- the worker
 def test_worker_final_image_is_the_renderers(empty_scene):
     """Previews, then batches sized by time: with the Sobol pattern (it continues across calls) the final

@@ -24,13 +24,11 @@ from ..names import ENGINE_ID, TECHNIQUE_LABELS, label, sphrect_name
 from ..native import load_sphrect
 from . import viewport_worker
 from .viewport_camera import region_camera, view_signature
-from .viewport_updates import CAMERA, EVERYTHING, LIGHTS, WORLD, reexport_kinds
+from .viewport_updates import (CAMERA, EVERYTHING, LIGHTS, WORLD, contents_signature, reexport_kinds,
+                               scene_updated)
 
 REFRESH_SECONDS = 0.05        # how often the timer looks for new images
 SPLIT_LINE_PIXELS = 2         # the compare view's dividing line
-# Render tiles of the viewport (the image does not depend on it). The renderer takes the GIL after every tile
-# (for its progress callback), which with F12's 16-pixel tiles slows Blender's interface, drawn by Python too.
-TILE_SIZE = 64
 _sessions = weakref.WeakSet()  # live sessions, for the timer
 
 
@@ -53,6 +51,7 @@ class ViewportSession:
     def __init__(self):
         self.scene = None          # sphrect.Scene as exported (camera: the scene camera)
         self.settings = None
+        self.contents = None       # viewport_updates.contents_signature of the exported scene
         self.techniques = ()
         self.view = None           # view_signature of the running job
         self.changed = True        # restart the worker at the next draw
@@ -63,6 +62,7 @@ class ViewportSession:
         self.last_update = None    # (what was re-exported, seconds): the cost of the last edit, for tests and docs
         self.drawn = None          # the worker's Frame last drawn, and when (time.perf_counter())
         self.drawn_at = None
+        self._stats_text = None
 
     def free(self):
         """Stop the worker (the engine is freed or no view shows SPHRECT any more)."""
@@ -73,6 +73,7 @@ class ViewportSession:
 
     # ---------------------------------------------------------------- view_update
     def update(self, depsgraph):
+        start = time.perf_counter()
         sphrect = load_sphrect()
         from ..io.exporter import scene_from_depsgraph
         from ..io.exporter.camera import export_camera
@@ -82,15 +83,18 @@ class ViewportSession:
 
         bl_scene = depsgraph.scene
         settings = bl_scene.sphrect
-        kinds = {EVERYTHING} if self.scene is None else reexport_kinds(depsgraph.updates)
+        updates = list(depsgraph.updates)
+        kinds = {EVERYTHING} if self.scene is None else reexport_kinds(updates)
+        if EVERYTHING not in kinds and scene_updated(updates) and contents_signature(depsgraph) != self.contents:
+            kinds = {EVERYTHING}  # an object was hidden or shown, the world or the camera replaced
         signature = settings_signature(settings)
         if not kinds and signature == self.settings:
             return
         self.settings, self.techniques, self.changed = signature, viewport_techniques(settings), True
-        start = time.perf_counter()
         log = ExportLog()
         if EVERYTHING in kinds:
             self.scene, log = scene_from_depsgraph(depsgraph)
+            self.contents = contents_signature(depsgraph)
         else:
             if LIGHTS in kinds:
                 lights = (export_light(sphrect, i.object, i.matrix_world, i.object.name, log)
@@ -119,15 +123,14 @@ class ViewportSession:
             self.view, self.changed = view, False
             camera = region_camera(load_sphrect(), region, region_3d, self.scene.camera)
             settings = depsgraph.scene.sphrect
-            options = dict(settings.renderer_options(), tile_size=TILE_SIZE)
             self.worker.restart(viewport_worker.Job(dataclasses.replace(self.scene, camera=camera), self.techniques,
-                                                    options, settings.viewport_samples))
+                                                    settings.renderer_options(), settings.viewport_samples))
         frame = self.worker.latest
         if frame is None:
-            engine.update_stats("", "SPHRECT | Starting")
+            self._stats(engine, "SPHRECT | Starting")
             return
         if frame.error:
-            engine.update_stats("", f"SPHRECT | {frame.error}")
+            self._stats(engine, f"SPHRECT | {frame.error}")
             return
         textures = self._upload(frame)
         _draw_textures(engine, depsgraph.scene, region, textures)
@@ -135,7 +138,13 @@ class ViewportSession:
         if len(textures) > 1:
             _draw_labels(region, self.techniques)
         state = "Preview" if frame.scale < 1 else f"Sample {frame.samples}/{frame.total_samples}"
-        engine.update_stats("", f"SPHRECT | {state} | {frame.seconds:.1f} s")
+        self._stats(engine, f"SPHRECT | {state} | {frame.seconds:.1f} s")
+
+    def _stats(self, engine, text):
+        """The view's status text; set only when it changes (setting it redraws the view)."""
+        if text != self._stats_text:
+            self._stats_text = text
+            engine.update_stats("", text)
 
     def _upload(self, frame):
         """GPU textures of the frame's images (uploaded once per frame)."""

@@ -9,8 +9,8 @@ import bpy
 
 LIGHTS, WORLD, CAMERA, EVERYTHING = "lights", "world", "camera", "everything"
 
-# Updates that change nothing the exported scene holds (the scene's own settings are compared separately,
-# see viewport.settings_signature).
+# Updates that name nothing the exported scene holds (the scene's settings and contents are compared
+# separately: viewport.settings_signature, contents_signature).
 _IGNORED = (bpy.types.Scene, bpy.types.Screen, bpy.types.WorkSpace, bpy.types.WindowManager)
 
 
@@ -34,6 +34,19 @@ def _kind(update):
 
 
 def reexport_kinds(updates):
-    """The set of LIGHTS / WORLD / CAMERA / EVERYTHING that `depsgraph.updates` call for (EVERYTHING alone when present)."""
+    """The set of LIGHTS / WORLD / CAMERA / EVERYTHING that `depsgraph.updates` call for (EVERYTHING alone
+    when present). A bare Scene update calls for nothing here: see contents_signature."""
     kinds = {k for k in map(_kind, updates) if k is not None}
     return {EVERYTHING} if EVERYTHING in kinds else kinds
+
+
+def scene_updated(updates):
+    return any(isinstance(u.id, bpy.types.Scene) for u in updates)
+
+
+def contents_signature(depsgraph):
+    """What a Scene update may change without naming the objects: which objects are shown (hiding one in the
+    view layer updates only the Scene), the world and the camera. Compared on Scene updates."""
+    scene = depsgraph.scene
+    shown = tuple((i.object.name, i.is_instance) for i in depsgraph.object_instances)
+    return shown, scene.world.name if scene.world else None, scene.camera.name if scene.camera else None

@@ -22,6 +22,7 @@ PREVIEW_DIVISORS = (4, 2)
 # A full-resolution call aims at this many seconds: long enough that the per-call costs (copying the images,
 # uploading them to the GPU) stay small, short enough that the image refreshes several times a second.
 TARGET_CALL_SECONDS = 0.25
+SLOW_BUILD_SECONDS = 0.1  # a renderer that took longer to build: no further preview (a million triangles: 0.5 s)
 THREAD_NAME = "SPHRECT viewport"  # every viewport thread's name (tests look for it)
 VIEWPORT_NICENESS = 10            # the worker's threads' nice value (Linux: per thread, inherited)
 
@@ -180,10 +181,15 @@ class ProgressiveWorker:
         for divisor in PREVIEW_DIVISORS:
             if min(full) // divisor < 8:   # too small to be worth it
                 continue
+            built = time.perf_counter()
             renderer = self._make_renderer(sphrect, job, divisor, caught)
+            # Each preview builds the native scene again (its BVH): for big scenes one preview only.
+            slow_build = time.perf_counter() - built > SLOW_BUILD_SECONDS
             if not self._render_call(renderer, 1, generation):
                 return False
             self._publish(frame(tuple(renderer.image(t) for t in job.techniques), 1, 1.0 / divisor))
+            if slow_build:
+                break
         renderer = self._make_renderer(sphrect, job, 1, caught)
         done, seconds_per_sample = 0, None
         while done < job.samples:
