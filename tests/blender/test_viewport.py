@@ -159,6 +159,15 @@ def test_worker_previews_first_then_restarts_and_stops(empty_scene):
     assert not worker.alive and worker not in worker_module().live_workers()
 
 
+def test_unregister_stops_the_viewport_workers(empty_scene):
+    lit_test_scene(empty_scene)
+    worker = worker_module().ProgressiveWorker()
+    worker.restart(small_job(export()[0], samples=100000))
+    wait_for(lambda: worker.latest is not None, "a frame")
+    addon_module("engine.viewport").unregister()  # as disabling the add-on does
+    assert not worker.alive and worker_module().live_workers() == []
+
+
 def test_worker_reports_a_scene_it_cannot_render():
     empty = sphrect.Scene(camera=sphrect.Camera(width=16, height=12))
     worker = worker_module().ProgressiveWorker()

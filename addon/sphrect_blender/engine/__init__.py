@@ -5,10 +5,12 @@
     compare         the comparison image (pure numpy)
     display         where the comparison image goes and showing it in an Image Editor
     blender_panels  Blender's own panels that SPHRECT also uses
+    viewport        Rendered shading in the 3D view (viewport_worker: its render thread, viewport_camera:
+                    the view as a camera, viewport_updates: what an edit re-exports)
 """
 import bpy
 
-from . import blender_panels, display
+from . import blender_panels, display, viewport
 from .render_engine import SphrectRenderEngine, last_render, technique_pass_name  # noqa: F401  (for scripts)
 from .schedule import request_cancel  # noqa: F401  (for scripts)
 
@@ -20,6 +22,7 @@ def register():
 
 
 def unregister():
+    viewport.unregister()  # stops the viewport threads
     display.unregister()
     blender_panels.unregister()
     bpy.utils.unregister_class(SphrectRenderEngine)
