@@ -159,6 +159,19 @@ def test_worker_previews_first_then_restarts_and_stops(empty_scene):
     assert not worker.alive and worker not in worker_module().live_workers()
 
 
+def test_a_paused_worker_stops_at_once(empty_scene):
+    """Freeing the view during F12 (the workers paused) does not wait for F12's end."""
+    lit_test_scene(empty_scene)
+    worker = worker_module().ProgressiveWorker()
+    worker.restart(small_job(export()[0], samples=100000))
+    wait_for(lambda: worker.latest is not None, "a frame")
+    worker_module().pause_all()
+    try:
+        assert worker.stop(timeout=2.0)
+    finally:
+        worker_module().resume_all()
+
+
 def test_unregister_stops_the_viewport_workers(empty_scene):
     lit_test_scene(empty_scene)
     worker = worker_module().ProgressiveWorker()

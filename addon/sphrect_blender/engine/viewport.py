@@ -63,6 +63,7 @@ class ViewportSession:
         self.drawn = None          # the worker's Frame last drawn, and when (time.perf_counter())
         self.drawn_at = None
         self._stats_text = None
+        self.error = None          # why the last update failed (shown instead of an image)
 
     def free(self):
         """Stop the worker (the engine is freed or no view shows SPHRECT any more)."""
@@ -113,6 +114,9 @@ class ViewportSession:
 
     # ---------------------------------------------------------------- view_draw
     def draw(self, engine, context, depsgraph):
+        if self.error:
+            self._stats(engine, self.error)
+            return
         region, region_3d = context.region, context.region_data
         view = view_signature(region, region_3d)
         if self.worker is None or not self.worker.alive:  # the first draw, or the timer stopped it
@@ -135,10 +139,11 @@ class ViewportSession:
         textures = self._upload(frame)
         _draw_textures(engine, depsgraph.scene, region, textures)
         self.drawn, self.drawn_at = frame, time.perf_counter()
-        if len(textures) > 1:
+        if len(textures) > 1 and len(textures) == len(self.techniques):
             _draw_labels(region, self.techniques)
         state = "Preview" if frame.scale < 1 else f"Sample {frame.samples}/{frame.total_samples}"
-        self._stats(engine, f"SPHRECT | {state} | {frame.seconds:.1f} s")
+        skipped = f" | skipped: {'; '.join(frame.warnings)}" if frame.warnings else ""  # lights it cannot render
+        self._stats(engine, f"SPHRECT | {state} | {frame.seconds:.1f} s{skipped}")
 
     def _stats(self, engine, text):
         """The view's status text; set only when it changes (setting it redraws the view)."""
@@ -206,7 +211,15 @@ def view_update(engine, context, depsgraph):
     session = getattr(engine, "_viewport_session", None)
     if session is None:
         session = engine._viewport_session = ViewportSession()
-    session.update(depsgraph)
+    try:
+        session.update(depsgraph)
+        session.error = None
+    except Exception as e:  # shown in the view (as F12 reports it), not a traceback at every edit
+        message = f"SPHRECT: {e}" if isinstance(e, ImportError) else f"SPHRECT export failed: {type(e).__name__}: {e}"
+        if message != session.error:
+            import traceback
+            traceback.print_exc()
+        session.error, session.changed = message, True
 
 
 def view_draw(engine, context, depsgraph):

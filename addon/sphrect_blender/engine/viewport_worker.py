@@ -22,6 +22,7 @@ PREVIEW_DIVISORS = (4, 2)
 # A full-resolution call aims at this many seconds: long enough that the per-call costs (copying the images,
 # uploading them to the GPU) stay small, short enough that the image refreshes several times a second.
 TARGET_CALL_SECONDS = 0.25
+PAUSE_POLL_SECONDS = 0.1  # how often a paused worker looks whether it should stop instead
 SLOW_BUILD_SECONDS = 0.1  # a renderer that took longer to build: no further preview (a million triangles: 0.5 s)
 THREAD_NAME = "SPHRECT viewport"  # every viewport thread's name (tests look for it)
 VIEWPORT_NICENESS = 10            # the worker's threads' nice value (Linux: per thread, inherited)
@@ -135,7 +136,8 @@ class ProgressiveWorker:
                 if self._stopping:
                     return
                 job, generation = self._job, self._generation
-            _not_paused.wait()
+            if not self._wait_unpaused(generation):
+                continue
             try:
                 finished = self._render_job(job, generation)
             except Exception as e:  # shown in the viewport; the thread waits for the next job
@@ -144,6 +146,13 @@ class ProgressiveWorker:
             with self._lock:
                 if finished and generation == self._generation:
                     self.busy = False
+
+    def _wait_unpaused(self, generation):
+        """Wait while F12 pauses the viewports; False if the job changed or the worker stops meanwhile."""
+        while not _not_paused.wait(PAUSE_POLL_SECONDS):
+            if self._stopping or generation != self._generation:
+                return False
+        return not self._stopping and generation == self._generation
 
     def _make_renderer(self, sphrect, job, divisor, caught):
         with warnings.catch_warnings(record=True) as new:
@@ -196,12 +205,11 @@ class ProgressiveWorker:
             n = next_batch(done, job.samples, seconds_per_sample)
             t0 = time.perf_counter()
             if not self._render_call(renderer, n, generation):
-                if _not_paused.is_set() or self._stopping or generation != self._generation:
+                if _not_paused.is_set() or not self._wait_unpaused(generation):
                     return False
-                _not_paused.wait()  # F12 is over: go on accumulating where the pause left off
-                continue
+                continue  # F12 is over: go on accumulating where the pause left off
             seconds_per_sample = (time.perf_counter() - t0) / n
-            done += n
+            done = int(renderer.stats(0)["samples"])  # the completed passes (a cancelled one adds none)
             self._publish(frame(tuple(renderer.image(t) for t in job.techniques), done, 1.0))
         return True
 
