@@ -8,8 +8,9 @@
 // pixel square has a closed form.  So the integrator estimates
 //     pixel = E[f(x) - g(x)] + integral of g over the pixel,   g(x) = L [x inside the light's image],
 // which is unbiased for any g whose integral is exact, and whose variance is that of f - g: zero
-// where the camera ray does see the light, f itself where it does not.  What is left at a light's
-// edge is what occludes it (an object in front) and the light's shading of what surrounds it.
+// where the camera ray does see the light, f itself where it does not.  Where an object in front
+// hides part of the light, a grid of cheap rays estimates the share it leaves seen
+// (integrator/light_coverage.h); what is left is the light's shading of what surrounds it.
 //
 // Coordinates: film pixels (x right, y down), the convention of GenerateCameraRay.
 #pragma once

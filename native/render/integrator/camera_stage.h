@@ -27,6 +27,9 @@ struct PrimaryHit {
     // Technique-independent part: visible lights before the surface, background; starts from the
     // camera stage's control-variate offset (light_coverage.h).
     Spectrum seen;
+    // The area light whose emission this sample does not add, because the offset holds the pixel's
+    // estimate of it (light_coverage.h, PartialCoverage::occluded), or -1.
+    int light_seen_by_estimate = -1;
     uint64_t rng_seed = 0;
 };
 
@@ -50,13 +53,17 @@ static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk&
         PrimaryHit* hits = &scratch.hits[size_t(c) * n];
         auto& partial = scratch.partial_coverages;
         partial.clear();
-        if (coverage) PartialCoverages(*p.scene, scratch.tile_screen_lights, x, y, partial);
+        if (coverage)
+            PartialCoverages(*p.scene, scratch.tile_screen_lights, x, y, p.samples,
+                             MixBits(DimensionSeed(pixel_seed, kDimLightEdge) ^ p.first_sample), partial);
+        const int light_seen_by_estimate = LightSeenByEstimate(partial);
         for (uint32_t i = 0; i < n; ++i) {
             const Point2<float> jitter = scratch.pixel_points[i];
             const float fx = x + jitter.u, fy = y + jitter.v;
             hits[i].ray = GenerateCameraRay<kDof>(camera, fx, fy, kDof ? scratch.lens_points[i] : Point2<float>{});
             hits[i].rng_seed = CameraSampleRngSeed(pixel_seed, p.first_sample + i);
             hits[i].seen = partial.empty() ? Spectrum() : CoverageOffset(partial, fx, fy);
+            hits[i].light_seen_by_estimate = light_seen_by_estimate;
         }
     }
 }
@@ -84,6 +91,7 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     scene.analytic_light_finder.ForEachCrossing(
         out.ray.o, out.ray.d, out.ray.tmin, std::min(out.t_end, out.ray.tmax), LightsSought::VisibleToCamera,
         [&](int i, float t) {
+            if (i == out.light_seen_by_estimate) return;
             seen += EmittedRadiance(scene.area_lights[i], -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);
         });
     if (!out.hit) seen += scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);

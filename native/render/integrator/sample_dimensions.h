@@ -12,7 +12,8 @@
 namespace sphrect::render {
 
 // Salts of the sample dimensions (DimensionSeed).
-enum Dimension : uint64_t { kDimPixel = 1, kDimLens = 2, kDimLight = 3, kDimBsdf = 4, kDimRng = 5 };
+// kDimLightEdge: the grid of light_coverage.h's EstimateSeenCoverage (per pixel and pass).
+enum Dimension : uint64_t { kDimPixel = 1, kDimLens = 2, kDimLight = 3, kDimBsdf = 4, kDimRng = 5, kDimLightEdge = 6 };
 
 // The seed of pixel `pixel`'s patterns under the render's seed.
 static inline uint64_t PixelSeed(uint64_t render_seed, uint64_t pixel) {
