@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Light samples per camera sample at equal light-sample budget: MSE against a reference, CPU time and MSE x time for
 1, 2 and 4 light samples (budget / light_samples camera samples, so each run shades ~budget light samples per pixel),
-rectangle technique and tree selection (--selections to add power) at the Renderer's other defaults.  Then, over all
-the scenes given, the geometric mean and the worst of each count's MSE x time relative to the best count of its scene.
+rectangle technique, tree selection (--selections to add power) and power-heuristic MIS (--mis to add others; and
+--bsdf-on-diffuse false,true for Renderer(bsdf_samples_on_diffuse=...)) at the Renderer's other defaults.  Then, over all the scenes given, the geometric mean and the worst of each configuration's
+MSE x time relative to the best configuration of its scene.
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_samples.py out/many_lights/08_disk_room
     PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_samples.py scenes/*.sphrect.npz --reference-spp 4096
@@ -47,35 +48,44 @@ def main():
     ap.add_argument("--budget", type=int, default=64, help="camera samples x light samples per pixel")
     ap.add_argument("--repeats", type=int, default=5, help="renders timed per count (the least time is kept)")
     ap.add_argument("--selections", default="tree", help=f"comma list of {','.join(sphrect.light_selections)}")
+    ap.add_argument("--mis", default="power", help=f"comma list of {','.join(sphrect.mis_modes)}")
+    ap.add_argument("--bsdf-on-diffuse", default="false", help="comma list of false, true")
     a = ap.parse_args()
-    relative = {(s, n): [] for s in a.selections.split(",") for n in LIGHT_SAMPLE_COUNTS}
+    flags = [{"false": False, "true": True}[v.strip().lower()] for v in a.bsdf_on_diffuse.split(",")]
+    configs = [(s, m, b) for s in a.selections.split(",") for m in a.mis.split(",") for b in flags
+               if m != "none" or b == flags[0]]  # without MIS the flag changes nothing
+    relative = {(s, m, b, n): [] for s, m, b in configs for n in LIGHT_SAMPLE_COUNTS}
     for source in a.sources:
         print(f"== {source}")
         scene, ref = load(source, a.reference_spp)
-        print(f"{'light samples':>13} {'selection':9} {'spp':>4} {'MSE':>10} {'time s':>7} {'MSE x time':>11}")
-        for selection in a.selections.split(","):
-            products = {}
+        print(f"{'light samples':>13} {'selection':9} {'mis':6} {'diffuse':7} {'spp':>4} {'MSE':>10} {'time s':>7} "
+              f"{'MSE x time':>11}")
+        products = {}
+        for selection, mis, on_diffuse in configs:
             for light_samples in LIGHT_SAMPLE_COUNTS:
                 spp = max(1, a.budget // light_samples)
                 mses, times = [], []
                 for seed in range(max(2, a.repeats)):
                     r = sphrect.Renderer(scene, techniques=["rectangle"], light_samples=light_samples,
-                                         light_selection=selection, seed=11 + seed, threads=1)
+                                         light_selection=selection, mis=mis, bsdf_samples_on_diffuse=on_diffuse,
+                                         seed=11 + seed, threads=1)
                     start = time.process_time()
                     r.render(spp)
                     times.append(time.process_time() - start)
                     if seed < 2:
                         mses.append(float(((r.image("rectangle")[..., :3] - ref) ** 2).mean()))
                 m, t = float(np.mean(mses)), min(times)
-                products[light_samples] = m * t
-                print(f"{light_samples:>13} {selection:9} {spp:>4} {m:>10.3g} {t:>7.3f} {m * t:>11.3g}", flush=True)
-            best = min(products.values())
-            for n, p in products.items():
-                relative[selection, n].append(p / best)
-    print("MSE x time relative to each scene's best count: geometric mean (worst)")
-    for (selection, n), values in relative.items():
+                products[selection, mis, on_diffuse, light_samples] = m * t
+                print(f"{light_samples:>13} {selection:9} {mis:6} {'bsdf' if on_diffuse else 'alone':7} {spp:>4} "
+                      f"{m:>10.3g} {t:>7.3f} {m * t:>11.3g}", flush=True)
+        best = min(products.values())
+        for key, p in products.items():
+            relative[key].append(p / best)
+    print("MSE x time relative to each scene's best configuration: geometric mean (worst)")
+    for (selection, mis, on_diffuse, n), values in relative.items():
         geo = math.exp(sum(math.log(v) for v in values) / len(values))
-        print(f"  {selection:6s} {n} light samples: {geo:.2f} ({max(values):.2f})")
+        diffuse = "" if mis == "none" else (", BSDF samples on diffuse" if on_diffuse else ", light alone on diffuse")
+        print(f"  {selection:6s} mis {mis}{diffuse}, {n} light samples: {geo:.2f} ({max(values):.2f})")
 
 
 if __name__ == "__main__":

@@ -88,7 +88,8 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
                                        int light_samples, const std::string& pattern, const std::string& mis,
                                        const std::string& medium_sampling, const std::string& light_selection,
                                        const std::string& ellipse_technique, uint64_t seed, int threads,
-                                       int tile_size, bool analytic_light_coverage) {
+                                       int tile_size, bool analytic_light_coverage,
+                                       bool bsdf_samples_on_diffuse) {
     if (!scene->committed()) throw py::value_error("the scene must be committed before rendering");
     render::RenderOptions o;
     o.techniques.clear();
@@ -110,6 +111,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
     o.threads = threads;
     o.tile_size = tile_size;
     o.analytic_light_coverage = analytic_light_coverage;
+    o.bsdf_samples_on_diffuse = bsdf_samples_on_diffuse;
     return std::make_unique<Renderer>(std::move(scene), std::move(o));
 }
 
@@ -221,7 +223,7 @@ void BindRender(py::module_& m) {
              py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("light_selection"),
              py::arg("ellipse_technique"), py::arg("seed"),
              py::arg("threads"),
-             py::arg("tile_size"), py::arg("analytic_light_coverage"))
+             py::arg("tile_size"), py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"))
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
         .def("cancel", &Renderer::Cancel)
         .def("image", &Image)

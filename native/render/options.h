@@ -36,6 +36,9 @@ struct RenderOptions {
     // The control variate of lights seen by the camera (integrator/light_coverage.h): the exact
     // share of each pixel that a light's image covers, instead of its camera samples' estimate.
     bool analytic_light_coverage = true;
+    // With MIS, also BSDF samples at purely diffuse (Lambert) hits when the lights are sampled by
+    // solid angle; off, such hits take light samples alone (integrator/shade_surface.h).
+    bool bsdf_samples_on_diffuse = false;
     // Benchmarks only: run the kernel with every feature compiled in (medium, glossy, depth of
     // field) whatever the scene needs, to measure what the specialised kernels save.
     bool force_all_features = false;

@@ -26,6 +26,11 @@ stays unbiased, and the noise of its edges is left only where something occludes
 applies to a pinhole or orthographic camera outside a medium; False estimates it from the camera samples
 as before.
 
+MIS at diffuse hits (bsdf_samples_on_diffuse, default False): with MIS on and the lights sampled by
+solid angle (every technique but "area", and ellipse_technique "spherical_ellipse"), a hit on a purely
+diffuse (Lambert) material takes light samples alone, and BSDF samples only to find the background;
+glossy and Principled hits keep both.  True gives diffuse hits their BSDF samples too.
+
 Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=2: best at equal time over
 the blend_scenes, the lights in view and their edges' coverage exact) on the blend_scenes (scripts/measure_light_selection.py, scripts/measure_light_samples.py;
 README, "Light selection and defaults").
@@ -188,7 +193,8 @@ class Renderer:
     def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 2,
                  pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
                  medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree",
-                 ellipse_technique: str = "spherical_ellipse", analytic_light_coverage: bool = True):
+                 ellipse_technique: str = "spherical_ellipse", analytic_light_coverage: bool = True,
+                 bsdf_samples_on_diffuse: bool = False):
         if isinstance(techniques, str):
             techniques = [techniques]
         techniques = list(techniques)
@@ -203,7 +209,7 @@ class Renderer:
         self._scene = native
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
                                     str(light_selection), str(ellipse_technique), seed, threads, tile_size,
-                                    bool(analytic_light_coverage))
+                                    bool(analytic_light_coverage), bool(bsdf_samples_on_diffuse))
         self._techniques = techniques
 
     @property

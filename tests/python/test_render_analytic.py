@@ -1,13 +1,15 @@
 """Analytic scenes: a Lambertian plane lit by one rectangle (parallel, perpendicular, distant,
 grazing), by a disc (under it, distant, near) with each ellipse technique, and by delta lights.  Every
 pixel's radiance is albedo / pi times the closed-form irradiance averaged over the pixel (Gauss-Legendre).
-Each technique and MIS mode must pass a per-pixel t-test over independent replicates.
+Each technique and MIS mode must pass a per-pixel t-test over independent replicates; with MIS, both with the
+diffuse plane taking light samples alone (the default) and with its BSDF samples (bsdf_samples_on_diffuse).
 
 False-failure rate: each image is one family of pixel tests with family-wise rate 1e-4 (Sidak
-correction); there are 4 x 4 x 3 + 3 x 2 x 2 + 1 + 1 + 2 + 4 x 2 + 4 = 76 image tests (rectangles, discs x
-ellipse techniques x MIS, the ellipse techniques against each other in fog, delta lights, the power check's
-correct images, several light samples, two lights), so a correct renderer fails this file with probability
-< 0.8 % (seeds are fixed, so the outcome is deterministic).  The last test shows the test has power: a 3 %
+correction); there are 4 x 4 x 5 + 3 x 2 x 2 + 1 + 1 + 2 + 4 x 2 + 4 = 108 image tests (rectangles x
+techniques x (no MIS, two heuristics x BSDF samples on the diffuse plane or not), discs x ellipse techniques x
+MIS, the ellipse techniques against each other in fog, delta lights, the power check's correct images, several
+light samples, two lights), so a correct renderer fails this file with probability < 1.1 % (seeds are fixed, so
+the outcome is deterministic).  The last test shows the test has power: a 3 %
 error in the expected image is rejected."""
 import math
 
@@ -60,18 +62,23 @@ def rect_expected(light, cam):
         P, (0, 0, 1), verts, two_sided=light.two_sided))
 
 
-@pytest.mark.parametrize("mis", sphrect.mis_modes)
+MIS_ON_DIFFUSE = [("none", False)] + [(m, b) for m in sphrect.mis_modes if m != "none" for b in (False, True)]
+
+
+@pytest.mark.parametrize("mis, bsdf_on_diffuse", MIS_ON_DIFFUSE)
 @pytest.mark.parametrize("name", list(RECT_SCENES))
-def test_rectangle_light_on_plane(name, mis):
+def test_rectangle_light_on_plane(name, mis, bsdf_on_diffuse):
     light = RECT_SCENES[name]
     scene = rect_scene(light)
     expected = rect_expected(light, scene.camera)
     assert expected.max() > 0.01  # the scene is actually lit
-    reps = replicate_images(scene, ALL_TECHNIQUES, REPLICATES, SAMPLES, mis=mis)
+    reps = replicate_images(scene, ALL_TECHNIQUES, REPLICATES, SAMPLES, mis=mis,
+                            bsdf_samples_on_diffuse=bsdf_on_diffuse)
     for t in ALL_TECHNIQUES:
         ok, p_min, alpha = pixel_t_test(reps[t], expected, FAMILY_ALPHA)
         rel = np.abs(reps[t].mean(0) - expected).max() / expected.max()
-        assert ok, f"{name}/{mis}/{t}: worst p = {p_min:.3g} < {alpha:.3g} (max rel. error {rel:.3g})"
+        assert ok, (f"{name}/{mis}/bsdf on diffuse {bsdf_on_diffuse}/{t}: worst p = {p_min:.3g} < {alpha:.3g} "
+                    f"(max rel. error {rel:.3g})")
 
 
 def disc_irradiance(P, center, radius, radiance):

@@ -15,6 +15,9 @@ struct ShadeContext {
     bool sample_bsdf;  // BSDF/phase samples are drawn: MIS on, or a background to find
     Spectrum sky;      // what a BSDF/phase ray that escapes brings: background x transmittance to infinity
     EllipseTechnique ellipse_technique;  // how disk and ellipse lights are sampled
+    // Purely diffuse hits may take light samples alone (shade_surface.h, LightSamplesAlone): MIS on,
+    // not RenderOptions::bsdf_samples_on_diffuse, and no ellipse light sampled by area.
+    bool diffuse_light_samples_alone;
 };
 
 template <bool kMedium>
@@ -26,7 +29,17 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
             opt.light_samples,
             opt.mis != MisMode::None || !IsBlack(scene.background),
             scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf),
-            opt.ellipse_technique};
+            opt.ellipse_technique,
+            opt.mis != MisMode::None && !opt.bsdf_samples_on_diffuse &&
+                !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights)};
+}
+
+// The same context without MIS: light samples alone, and BSDF samples only to find the background.
+static inline ShadeContext WithoutMis(const ShadeContext& c) {
+    ShadeContext out = c;
+    out.mis = MisMode::None;
+    out.sample_bsdf = !IsBlack(c.sky);
+    return out;
 }
 
 }  // namespace sphrect::render
