@@ -30,6 +30,9 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         col.prop(s, "light_samples")
         col.prop(s, "pattern")
         col.prop(s, "mis")
+        sub = col.column()
+        sub.active = s.mis != "NONE"
+        sub.prop(s, "bsdf_samples_on_diffuse")
         col.prop(s, "light_selection")
         col.prop(s, "ellipse_technique")
         col.prop(s, "analytic_light_coverage")
