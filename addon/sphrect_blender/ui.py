@@ -110,7 +110,8 @@ class DATA_PT_sphrect_area_light(SphrectPanel, bpy.types.Panel):
         layout.prop(context.object, "visible_camera", text="Visible to Camera")
 
 
-classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_viewport, RENDER_PT_sphrect_compare, DATA_PT_sphrect_area_light)
+classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_viewport, RENDER_PT_sphrect_compare,
+           DATA_PT_sphrect_area_light)
 
 
 def register():
