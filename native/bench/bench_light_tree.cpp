@@ -3,14 +3,15 @@
 // light per square metre at any N), powers over two decades, every tenth a point light and every
 // tenth a spot.  Receivers: points on the plane z = 0, normal +z.
 //
-//  BM_LightTreeBuild/<N>   Build of the tree from its LightBounds.  Counters: bytes_per_emitter
+//  BM_LightTreeBuild/<N>/<T>  Build of the tree from its LightBounds on T threads (wall-clock
+//                          time: large subtrees build in parallel).  Counters: bytes_per_emitter
 //                          (nodes + bit trails, LightTree::MemoryBytes() / N), depth.
 //  BM_LightTreeSample/<N>  one Sample(p, n, u) per iteration (receivers and u cycled from tables).
 //  BM_LightTreePmf/<N>     one Pmf(p, n, emitter) per iteration (the emitter a Sample chose).
 //  BM_LightTreeSelectionMoment/<N>  not a timing: the relative second moment of the light
 //                          choice, tree against power (see below; 1 is the ideal).
 //
-// Times are CPU times (the benchmark library's default), 1 thread.
+// Times are CPU times (the benchmark library's default), 1 thread, except the build's.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -84,11 +85,11 @@ std::vector<Query> Queries(int n) {
 }
 
 void BM_LightTreeBuild(benchmark::State& state) {
-    const int n = int(state.range(0));
+    const int n = int(state.range(0)), threads = int(state.range(1));
     const std::vector<LightBounds>& lights = Lights(n);
     LightTree tree;
     for (auto _ : state) {
-        tree.Build(lights);
+        tree.Build(lights, threads);
         benchmark::DoNotOptimize(tree.Nodes().data());
     }
     state.counters["bytes_per_emitter"] = double(tree.MemoryBytes()) / n;
@@ -169,7 +170,10 @@ void BM_LightTreeSelectionMoment(benchmark::State& state) {
     state.counters["moment_power"] = power_moment / receivers;
 }
 
-BENCHMARK(BM_LightTreeBuild)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LightTreeBuild)
+    ->ArgsProduct({{10, 100, 1000, 10000, 100000, 1000000}, {1, 2}})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LightTreeSample)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
 BENCHMARK(BM_LightTreePmf)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
 BENCHMARK(BM_LightTreeSelectionMoment)->RangeMultiplier(10)->Range(10, 10000)->Iterations(1);

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <system_error>
+#include <thread>
 
 namespace sphrect::render {
 
@@ -278,14 +280,22 @@ constexpr size_t kBinnedSample = 16384;
 constexpr size_t kSmallNode = 4;
 constexpr size_t kAllAxesNode = 1024;
 
+// Nodes with at least this many items build their two subtrees on two threads while threads
+// remain (LightTree::Build's `threads`).
+constexpr size_t kParallelNode = 1 << 15;
+
 class Builder {
   public:
     Builder(std::vector<BuildItem>& items, std::vector<LightTreeNode>& nodes, std::vector<uint64_t>& trails)
         : items_(items), nodes_(nodes), trails_(trails) {}
 
-    // Builds node `index` (already allocated) over items [begin, end); its two children are
-    // allocated side by side, so that traversal reads both from neighbouring memory.
-    NodeBounds Build(uint32_t index, size_t begin, size_t end, const ItemExtent& extent, int depth, uint64_t trail) {
+    // Builds node `index` over items [begin, end), its descendants in nodes [first_free,
+    // first_free + 2 (end - begin) - 2): its two children side by side at first_free (traversal
+    // reads both from neighbouring memory), then the left child's descendants, then the right's.
+    // That is the order a depth-first build would allocate them in, fixed by the item counts
+    // alone, so that subtrees built on other threads (up to `threads` in all) give the same tree.
+    NodeBounds Build(uint32_t index, size_t begin, size_t end, const ItemExtent& extent, int depth, uint64_t trail,
+                     uint32_t first_free, int threads) {
         max_depth_ = std::max(max_depth_, depth);
         NodeBounds nb;
         if (end - begin == 1) {
@@ -299,10 +309,31 @@ class Builder {
         }
         ItemExtent left_extent, right_extent;
         const size_t mid = Split(begin, end, extent, depth, left_extent, right_extent);
-        const uint32_t children = uint32_t(nodes_.size());
-        nodes_.resize(nodes_.size() + 2);
-        const NodeBounds left = Build(children, begin, mid, left_extent, depth + 1, trail);
-        const NodeBounds right = Build(children + 1, mid, end, right_extent, depth + 1, trail | (uint64_t(1) << depth));
+        const uint32_t children = first_free;
+        const uint32_t left_free = children + 2, right_free = left_free + 2 * uint32_t(mid - begin) - 2;
+        const uint64_t right_trail = trail | (uint64_t(1) << depth);
+        NodeBounds left, right;
+        std::thread left_thread;
+        Builder left_builder(items_, nodes_, trails_);  // its own scratch; disjoint items, nodes, trails
+        if (threads > 1 && end - begin >= kParallelNode) {
+            const int left_threads = threads / 2;
+            try {
+                left_thread = std::thread([&] {
+                    left = left_builder.Build(children, begin, mid, left_extent, depth + 1, trail, left_free,
+                                              left_threads);
+                });
+            } catch (const std::system_error&) {  // no thread to be had: build it here
+            }
+        }
+        if (left_thread.joinable()) {
+            right = Build(children + 1, mid, end, right_extent, depth + 1, right_trail, right_free,
+                          threads - threads / 2);
+            left_thread.join();
+            max_depth_ = std::max(max_depth_, left_builder.max_depth_);
+        } else {
+            left = Build(children, begin, mid, left_extent, depth + 1, trail, left_free, 1);
+            right = Build(children + 1, mid, end, right_extent, depth + 1, right_trail, right_free, 1);
+        }
         nb.box = left.box;
         nb.box.Grow(right.box);
         nb.cone = Union(left.cone, right.cone);
@@ -459,7 +490,7 @@ void Validate(const LightBounds& b, size_t i) {
 
 }  // namespace
 
-void LightTree::Build(const std::vector<LightBounds>& emitters) {
+void LightTree::Build(const std::vector<LightBounds>& emitters, int threads) {
     nodes_.clear();
     depth_ = 0;
     if (emitters.size() > size_t(kMaxLightTreeEmitters))
@@ -487,10 +518,10 @@ void LightTree::Build(const std::vector<LightBounds>& emitters) {
         items.push_back({b.lo, b.hi, (b.lo + b.hi) * 0.5f, float(b.power / total), Vec3f(c.axis), float(c.theta_o),
                          float(c.theta_e), uint32_t(i), c.two_sided});
     }
-    nodes_.reserve(2 * items.size() - 1);
+    nodes_.assign(2 * items.size() - 1, LightTreeNode());
+    if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
     Builder builder(items, nodes_, trails_);
-    nodes_.resize(1);
-    builder.Build(0, 0, items.size(), ExtentOf(items, 0, items.size()), 0, 0);
+    builder.Build(0, 0, items.size(), ExtentOf(items, 0, items.size()), 0, 0, 1, threads);
     depth_ = builder.MaxDepth();
 }
 

@@ -179,8 +179,9 @@ class LightTree {
   public:
     // Throws std::invalid_argument naming the emitter for NaN/infinite bounds, power or cone,
     // negative power, lo > hi, a zero axis of a cone narrower than the sphere, or too many.
-    // Emitters with zero power stay outside the tree (Pmf 0, never sampled).
-    void Build(const std::vector<LightBounds>& emitters);
+    // Emitters with zero power stay outside the tree (Pmf 0, never sampled).  Large subtrees are
+    // built on up to `threads` threads (0: the hardware's); the tree is the same for any count.
+    void Build(const std::vector<LightBounds>& emitters, int threads = 0);
 
     bool Empty() const { return nodes_.empty(); }
     int NumEmitters() const { return int(trails_.size()); }

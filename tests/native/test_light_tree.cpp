@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -116,6 +117,21 @@ double PmfSum(const LightTree& tree, const Receiver& r) {
     double sum = 0;
     for (int i = 0; i < tree.NumEmitters(); ++i) sum += tree.Pmf(r.p, r.n, i);
     return sum;
+}
+
+// Subtrees of kParallelNode items or more are built on threads of their own: the tree is the same
+// node for node (bytes) and pmf for pmf whatever the thread count.
+TEST(LightTree, SameTreeOnAnyNumberOfThreads) {
+    const Emitters e = MixedScene(150000, 77);
+    LightTree one, many;
+    one.Build(e.tree.bounds, 1);
+    many.Build(e.tree.bounds, 4);
+    ASSERT_EQ(one.NumNodes(), many.NumNodes());
+    ASSERT_GT(one.NumNodes(), 1 << 17);
+    EXPECT_EQ(one.Depth(), many.Depth());
+    EXPECT_EQ(0, std::memcmp(one.Nodes().data(), many.Nodes().data(), one.Nodes().size() * sizeof(LightTreeNode)));
+    for (const Receiver& r : RandomReceivers(50, 5, true))
+        for (int i = 0; i < one.NumEmitters(); i += 997) EXPECT_EQ(one.Pmf(r.p, r.n, i), many.Pmf(r.p, r.n, i));
 }
 
 TEST(LightTree, PmfsSumToOneWithAndWithoutNormal) {
