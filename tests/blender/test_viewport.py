@@ -262,5 +262,7 @@ def test_rendered_viewport_in_a_window(tmp_path):
     assert r["compare_techniques"] == ["rectangle", "area"] and r["compare_line"] > 0.5
     assert min(r["compare_halves_std"]) > 0.05
     assert "SPHRECT viewport" in r["threads_rendering"]
-    assert "SPHRECT viewport" not in r["threads_after_switch"]
+    assert "SPHRECT viewport" not in r["threads_after_solid"]      # leaving Rendered shading stops it
+    assert "SPHRECT viewport" in r["threads_rendering_again"]
+    assert "SPHRECT viewport" not in r["threads_after_switch"]     # so does switching engines
     assert r["live_workers_after_switch"] == 0 and r["sessions_after_switch"] == 0

@@ -5,7 +5,7 @@ under pytest it only defines the helpers below.
 Phases, driven by a timer: switch the largest 3D view of the paper scene to Rendered shading through the
 camera (overlays off) and wait for the viewport's samples; screenshot; F12 the same view and keep its
 colour-managed PNG; move the light and screenshot a second later; turn the viewport compare on and
-screenshot the split view; switch the engine to EEVEE and list the threads. Prints VP_RESULT <json>;
+screenshot the split view; switch to Solid shading and back, then the engine to EEVEE, listing the threads. Prints VP_RESULT <json>;
 the measurements are the test's to judge. The screenshots go to $SPHRECT_VIEWPORT_OUT (default /tmp)."""
 import json
 import os
@@ -181,6 +181,16 @@ def main():
                 result["compare_halves_std"] = [float(pixels[:, :middle - 2, :3].std()),
                                                 float(pixels[:, middle + 2:, :3].std())]
                 result["threads_rendering"] = [t.name for t in threading.enumerate()]
+                space.shading.type = "SOLID"
+                next_phase("solid")
+        elif phase == "solid":
+            if elapsed >= 1.0:
+                result["threads_after_solid"] = [t.name for t in threading.enumerate()]
+                space.shading.type = "RENDERED"
+                next_phase("rendered_again")
+        elif phase == "rendered_again":
+            if frame() is not None:  # a new session (the engine is new) has drawn
+                result["threads_rendering_again"] = [t.name for t in threading.enumerate()]
                 scene.render.engine = "BLENDER_EEVEE"
                 next_phase("switched")
         elif phase == "switched":
