@@ -21,6 +21,10 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     technique: EnumProperty(name="Technique", items=enum_items(TECHNIQUES, TECHNIQUE_LABELS), default="RECTANGLE",
                             description="How points on rectangular lights are chosen")
     samples: IntProperty(name="Samples", default=16, min=1, soft_max=4096, description="Camera samples per pixel")
+    time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, subtype="TIME_ABSOLUTE", unit="TIME",
+                              description="Stop an F12 render after this many seconds even if its samples are not "
+                                          "done, keeping the samples rendered (0: no limit; checked between the "
+                                          "renderer's calls, at most 262,144 camera samples each)")
     light_samples: IntProperty(name="Light Samples", default=2, min=1, soft_max=64,
                                description="Light samples per camera sample, each choosing one light and paired with a BSDF sample")
     pattern: EnumProperty(name="Pattern", items=enum_items(PATTERNS, PATTERN_LABELS), default="SOBOL",

@@ -1,6 +1,7 @@
 """Render Properties panels for scene.sphrect and the area light's two-sided switch."""
 import bpy
 
+from .light_notes import light_shape_notes
 from .names import ELLIPSE_TECHNIQUES, ENGINE_ID, LIGHT_SELECTIONS, TECHNIQUES
 from .properties import compare_ellipse_technique_switch, compare_light_selection_switch, compare_switch
 
@@ -15,6 +16,15 @@ class SphrectPanel:
         return context.engine in cls.COMPAT_ENGINES
 
 
+def draw_light_shapes_note(layout, scene, settings):
+    """Under the Technique: the scene's lights it does not sample, and what samples them."""
+    notes = light_shape_notes(scene, settings)
+    if notes:
+        box = layout.box().column(align=True)
+        for i, note in enumerate(notes):
+            box.label(text=note, icon="INFO" if i == 0 else "BLANK1")
+
+
 class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
     bl_label = "Sampling"
     bl_context = "render"
@@ -26,7 +36,9 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         layout.use_property_decorate = False
         col = layout.column()
         col.prop(s, "technique")
+        draw_light_shapes_note(col, context.scene, s)
         col.prop(s, "samples")
+        col.prop(s, "time_limit")
         col.prop(s, "light_samples")
         col.prop(s, "pattern")
         col.prop(s, "mis")

@@ -59,6 +59,24 @@ def step():
     if phase == "compare":
         if "SPHRECT Comparison" not in bpy.data.images:
             return 0.5  # the main-thread timer opens it shortly after the render
+        state["phase"], state["opened"] = "fitted", time.time()
+        return 0.2
+    if phase == "fitted":
+        fits = []
+        for w in bpy.context.window_manager.windows:
+            for a in w.screen.areas:
+                image = a.spaces.active.image if a.type == "IMAGE_EDITOR" else None
+                if image is not None and image.name == "SPHRECT Comparison":
+                    region = next(r for r in a.regions if r.type == "WINDOW")
+                    zoom = tuple(a.spaces.active.zoom)
+                    fits.append(dict(shown=[image.size[0] * zoom[0], image.size[1] * zoom[1]],
+                                     region=[region.width, region.height]))
+        fitted = fits and all(f["shown"][0] >= 0.8 * f["region"][0] or f["shown"][1] >= 0.8 * f["region"][1]
+                              for f in fits)
+        if not fitted and time.time() - state["opened"] < 5.0:
+            return 0.2  # the editor fits the image (View > Frame All) once it has drawn
+        result["comparison_fit"] = fits
+        result["fit_seconds"] = time.time() - state["opened"]
         rec = engine().last_render
         result["compare_errors"] = rec["errors"]
         result["compare_cancelled"] = rec["cancelled"]

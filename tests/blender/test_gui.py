@@ -22,5 +22,10 @@ def test_f12_compare_window_and_esc_cancel():
     assert "timeout" not in result, result
     assert result["compare_errors"] == [] and not result["compare_cancelled"]
     assert "SPHRECT Comparison" in result["editors"]  # opened in an Image Editor
+    # ... fitted to it (View > Frame All): wholly inside the editor, and filling it in width or height.
+    assert result["comparison_fit"], result
+    for fit in result["comparison_fit"]:
+        (w, h), (rw, rh) = fit["shown"], fit["region"]
+        assert w <= rw + 1 and h <= rh + 1 and (w >= 0.8 * rw or h >= 0.8 * rh), fit
     assert result["cancelled"] and result["samples"] < 200000
     assert result["partial_max"] > 0  # the partial image is kept

@@ -55,6 +55,7 @@ def open_in_image_editor(path):
                 space = area.spaces.active
                 if space.image is None or space.image.type != "RENDER_RESULT" or space.image == img:
                     space.image = img
+                    fit_later(window, area)
                     return img
     if windows and not bpy.app.background:
         with bpy.context.temp_override(window=windows[0]):
@@ -64,7 +65,39 @@ def open_in_image_editor(path):
             area = max(new.screen.areas, key=lambda a: a.width * a.height)
             area.type = "IMAGE_EDITOR"
             area.spaces.active.image = img
+            fit_later(new, area)
     return img
+
+
+def fit_later(window, area, delay=0.2, tries=15):
+    """View ▸ Frame All in the editor once it has drawn: the comparison, several images wide, would otherwise
+    open at 1:1, cropped to a strip or lost in a corner.  Retried every `delay` seconds until the image fills
+    the editor in width or height (a new window's regions, and the image's size, are not known before they
+    have drawn; on a loaded machine that takes a while)."""
+    state = {"tries": tries}
+
+    def fitted(space, region):
+        w, h = space.image.size
+        zx, zy = space.zoom
+        return w > 0 and h > 0 and (w * zx >= 0.8 * region.width or h * zy >= 0.8 * region.height)
+
+    def fit():
+        state["tries"] -= 1
+        try:
+            space = area.spaces.active
+            region = next((r for r in area.regions if r.type == "WINDOW"), None)
+            if region is not None and region.width > 1 and space.image is not None:
+                # (The editor's own space must be in the context, or the operator zooms another one.)
+                with bpy.context.temp_override(window=window, screen=window.screen, area=area, region=region,
+                                               space_data=space):
+                    bpy.ops.image.view_all(fit_view=True)
+                if fitted(space, region):
+                    return None
+        except (ReferenceError, RuntimeError, AttributeError) as e:  # the window closed, the editor changed
+            print(f"SPHRECT: could not fit the comparison to its editor: {e}")
+            return None
+        return delay if state["tries"] > 0 else None
+    bpy.app.timers.register(fit, first_interval=delay)
 
 
 def register():

@@ -119,7 +119,7 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
     def render(self, depsgraph):
         last_render.clear()
         last_render.update(errors=[], warnings=[], features=[], stats={}, images={}, comparison=None,
-                           cancelled=False)
+                           cancelled=False, time_limited=False)
         clear_cancel_request()
         try:
             self._render(depsgraph)
@@ -292,7 +292,13 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         calls = sample_schedule(settings.samples, settings.passes, self._pixels)
         pass_ends = set(np.cumsum(split_samples(settings.samples, settings.passes)).tolist())
         done, last_show = 0, time.perf_counter()
+        deadline = time.perf_counter() + settings.time_limit if settings.time_limit > 0 else None
         for i, n in enumerate(calls):
+            if deadline is not None and done > 0 and time.perf_counter() >= deadline:
+                # The time limit: keep the samples done (not a cancellation: the image is complete for them).
+                self._show(result, layer, renderers, entries, shown)
+                last_render["time_limited"] = True
+                break
             self._stats_line(f"{self._header} | {names} | samples {done}/{settings.samples}")
             finished = all(run_call(r, n, self._progress_callback(i * len(shared) + j, len(calls) * len(shared)))
                            for j, r in enumerate(shared))
@@ -306,7 +312,8 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
             if stop:
                 self._cancelled = True
                 break
-        self._stats_line(f"{self._header} | {names} | samples {done}/{settings.samples}")
+        limited = " (time limit)" if last_render.get("time_limited") else ""
+        self._stats_line(f"{self._header} | {names} | samples {done}/{settings.samples}{limited}")
 
     def _render_equal_time(self, renderers, entries, settings, result, layer, shown):
         budget = settings.time_budget
