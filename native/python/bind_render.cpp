@@ -196,6 +196,17 @@ void BindRender(py::module_& m) {
             },
             py::arg("base_color"), py::arg("roughness"), py::arg("ior"), py::arg("beckmann") = false,
             py::arg("emission") = V3{0, 0, 0})
+        .def(
+            "add_glossy_bsdf_material",
+            [](RenderScene& s, V3 c, float roughness, bool beckmann, V3 emission) {
+                return s.AddGlossyBsdfMaterial(ToVec(c), roughness, beckmann, ToVec(emission));
+            },
+            py::arg("base_color"), py::arg("roughness"), py::arg("beckmann") = false,
+            py::arg("emission") = V3{0, 0, 0})
+        .def(
+            "add_mix_material", [](RenderScene& s, V3 emission) { return s.AddMixMaterial(ToVec(emission)); },
+            py::arg("emission") = V3{0, 0, 0})
+        .def("mix_last_material_into", &RenderScene::MixLastMaterialInto, py::arg("target"), py::arg("weight"))
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none())
         .def("add_rect_light",
@@ -235,6 +246,7 @@ void BindRender(py::module_& m) {
     m.attr("MAX_SAMPLES_PER_CALL") = render::kMaxSamplesPerCall;
     m.attr("MAX_IMAGE_SIDE") = render::kMaxImageSide;
     m.attr("MAX_LIGHT_TREE_EMITTERS") = render::kMaxLightTreeEmitters;
+    m.attr("MAX_MIX_GLOSSY_LOBES") = render::kMaxMicrofacetLobes;
     m.attr("mis_modes") = NameTuple(render::kAllMisModes, render::MisModeName);
     m.attr("medium_samplings") = NameTuple(render::kAllMediumSamplings, render::MediumSamplingName);
     m.attr("light_selections") = NameTuple(render::kAllLightSelections, render::LightSelectionName);

@@ -1,19 +1,36 @@
 // Surface scattering: Lambert; the "glossy" model (Lambert diffuse weighted by 1 - metallic, plus
 // a GGX / Trowbridge-Reitz specular lobe with alpha = roughness^2, F0 = mix(0.08 * specular, base
 // colour, metallic), Schlick Fresnel, height-correlated Smith masking-shadowing: scene files'
-// kind 'glossy'); and Blender's Principled BSDF as Cycles 3.4 evaluates it (MakePrincipledMaterial,
-// lobes in principled_lobes.h).  All functions work in the shading frame where the normal is +z and
+// kind 'glossy'); Blender's Principled BSDF as Cycles 3.4 evaluates it (MakePrincipledMaterial,
+// lobes in principled_lobes.h); Glass and Glossy BSDF as microfacet lobes (MakeGlassMaterial,
+// MakeGlossyBsdfMaterial); Mix / Add Shader as the weighted sum of those (MixIntoMaterial), all evaluated
+// by EvalPrincipled.  All functions work in the shading frame where the normal is +z and
 // wo is on the +z side (the caller flips the normal to the viewer's side).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "core/rng.h"
 #include "principled_lobes.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
+
+// A microfacet reflection lobe as Cycles 3.4's closures evaluate it: colour x D G1(wo) G1(wi) / (4 cos cos)
+// (separable Smith G, no micro-Fresnel), times the macro dielectric Fresnel F(wo.n, fresnel_ior) when
+// fresnel_ior > 0 (Glass BSDF's reflection at zero bounces); fresnel_ior 0: no Fresnel (Glossy BSDF).
+struct MicrofacetLobe {
+    Spectrum color;
+    float alpha = 1;           // roughness^2
+    float fresnel_ior = 0;
+    bool beckmann = false;     // Cycles' Beckmann D and rational G1 instead of GGX (sampled by GGX normals)
+    float probability = 0;     // chance of sampling this lobe
+};
+// Lobes one material holds: enough for a Mix / Add of glossy and glass shaders at distinct roughnesses.
+constexpr int kMaxMicrofacetLobes = 4;
 
 struct Material {
     Spectrum diffuse;      // reflectance of the Lambert lobe (albedo): f = diffuse / pi; Principled:
@@ -38,12 +55,14 @@ struct Material {
     float clearcoat_alpha = 1;       // GTR1 alpha = clearcoat roughness^2
     float clearcoat_probability = 0; // chance of sampling the clearcoat lobe (the rest: cosine)
 
-    // Dielectric reflection of Cycles 3.4's Glass BSDF at zero bounces (MakeGlassMaterial): GGX of
-    // alpha (sampled as the specular lobe, specular_probability) weighted by the macro Fresnel at wo.
-    bool has_dielectric = false;
-    Spectrum dielectric;             // the closure's colour
-    float dielectric_ior = 1.45f;
-    bool dielectric_beckmann = false;  // Beckmann D and G (the Glass node's default) instead of GGX
+    // Microfacet reflection lobes of their own (Glossy BSDF, a Glass BSDF's reflection), each
+    // sampled with its own probability; Mix / Add Shader sums them (MixIntoMaterial).
+    int num_lobes = 0;
+    MicrofacetLobe lobes[kMaxMicrofacetLobes];
+    // Mixes only: a Lambert lobe beside the Burley one (a Diffuse BSDF mixed with other shaders), and the
+    // weight of the Principled specular (its Fresnel blend rises to white, so it cannot be folded into f0).
+    Spectrum lambert;
+    float specular_weight = 1;
 };
 
 // The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface,
@@ -59,6 +78,39 @@ struct PrincipledInputs {
     float clearcoat = 0;
     float clearcoat_roughness = 0.03f;
 };
+
+// Lobe choice roughly by albedo (the sheen's is at most ~0.1 of its weight, the clearcoat's
+// Fresnel starts at 0.04, a glass lobe's Fresnel at F0 or 0.04), each present lobe at least 10% of the samples;
+// the cosine (Lambert, Burley, sheen) takes the rest.  Sets specular_, clearcoat_ and each lobe's probability.
+inline void ChooseLobeProbabilities(Material& m) {
+    float w_cos = Luminance(m.lambert) + Luminance(m.diffuse) + 0.1f * Luminance(m.sheen);
+    float w_spec = m.has_specular ? std::max(Luminance(m.f0), 0.04f) * m.specular_weight : 0.0f;
+    float w_coat = m.has_clearcoat ? std::max(0.1f * m.clearcoat, 1e-3f) : 0.0f;
+    float w_lobe[kMaxMicrofacetLobes];
+    int lobes = (w_cos > 0) + (w_spec > 0) + (w_coat > 0);
+    for (int i = 0; i < m.num_lobes; ++i) {
+        const MicrofacetLobe& l = m.lobes[i];
+        const float fresnel = l.fresnel_ior > 0 ? std::max(DielectricFresnel(1, l.fresnel_ior), 0.04f) : 1.0f;
+        w_lobe[i] = std::max(Luminance(l.color) * fresnel, 1e-6f);
+        ++lobes;
+    }
+    if (lobes == 0) {
+        w_cos = 1;  // black: sample the cosine, evaluate 0
+    } else {
+        float total = w_cos + w_spec + w_coat;
+        for (int i = 0; i < m.num_lobes; ++i) total += w_lobe[i];
+        const float floor = 0.1f * total;
+        if (w_cos > 0) w_cos = std::max(w_cos, floor);
+        if (w_spec > 0) w_spec = std::max(w_spec, floor);
+        if (w_coat > 0) w_coat = std::max(w_coat, floor);
+        for (int i = 0; i < m.num_lobes; ++i) w_lobe[i] = std::max(w_lobe[i], floor);
+    }
+    float sum = w_cos + w_spec + w_coat;
+    for (int i = 0; i < m.num_lobes; ++i) sum += w_lobe[i];
+    m.specular_probability = w_spec / sum;
+    m.clearcoat_probability = w_coat / sum;
+    for (int i = 0; i < m.num_lobes; ++i) m.lobes[i].probability = w_lobe[i] / sum;
+}
 
 // Blender material parameters -> Material.  Roughness is clamped to 0.03 (alpha ~ 1e-3): a
 // perfect mirror is a delta lobe that direct lighting from area lights cannot sample by lights.
@@ -131,23 +183,29 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
         const float r = std::clamp(in.clearcoat_roughness, 0.03f, 1.0f);
         m.clearcoat_alpha = r * r;
     }
-    // Lobe choice roughly by albedo (the sheen's is at most ~0.1 of its weight, the clearcoat's
-    // Fresnel starts at 0.04), each present lobe at least 10% of the samples.
-    float w_cos = Luminance(m.diffuse) + 0.1f * Luminance(m.sheen);
-    float w_spec = m.has_specular ? std::max(Luminance(m.f0), 0.04f) : 0.0f;
-    float w_coat = m.has_clearcoat ? std::max(0.1f * m.clearcoat, 1e-3f) : 0.0f;
-    const int lobes = (w_cos > 0) + (w_spec > 0) + (w_coat > 0);
-    if (lobes == 0) {
-        w_cos = 1;  // black: sample the cosine, evaluate 0
-    } else {
-        const float total = w_cos + w_spec + w_coat, floor = 0.1f * total;
-        if (w_cos > 0) w_cos = std::max(w_cos, floor);
-        if (w_spec > 0) w_spec = std::max(w_spec, floor);
-        if (w_coat > 0) w_coat = std::max(w_coat, floor);
-    }
-    const float sum = w_cos + w_spec + w_coat;
-    m.specular_probability = w_spec / sum;
-    m.clearcoat_probability = w_coat / sum;
+    ChooseLobeProbabilities(m);
+    return m;
+}
+
+// A microfacet lobe of colour `color` and Blender roughness `roughness` (alpha = roughness^2); false (no
+// lobe) when Cycles would not make one: black, or sharp -- Cycles' microfacet closures return 0 for
+// alpha_x alpha_y <= 1e-7 (a delta lobe, which light samples cannot find: black at zero bounces).
+inline bool MakeMicrofacetLobe(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann,
+                               MicrofacetLobe& lobe) {
+    const float r = std::clamp(roughness, 0.0f, 1.0f);
+    lobe.alpha = r * r;
+    lobe.color = color;
+    lobe.fresnel_ior = fresnel_ior;
+    lobe.beckmann = beckmann;
+    return lobe.alpha * lobe.alpha > 1e-7f && !IsBlack(color);
+}
+
+// A material of microfacet lobes only (Glass, Glossy BSDF): one lobe or none (black).
+inline Material MakeSingleLobeMaterial(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann) {
+    Material m;
+    m.glossy = m.principled = true;
+    if (MakeMicrofacetLobe(color, roughness, fresnel_ior, beckmann, m.lobes[0])) m.num_lobes = 1;
+    ChooseLobeProbabilities(m);
     return m;
 }
 
@@ -155,24 +213,74 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
 // direct-light-only render sees it: the reflection closure colour x F(wo.n, ior)
 // (fresnel_dielectric_cos of the view), GGX of alpha = roughness^2 with separable Smith G and no
 // micro-Fresnel; the refraction closure (colour x (1 - F)) needs a second bounce or a light behind an
-// open surface, neither modelled here (black).  Cycles' GGX returns 0 for alpha_x alpha_y <= 1e-7 (a
-// sharp glass is a delta lobe): black at zero bounces as well.  ior is the front side's (a back face
-// seen from inside would use 1 / ior in Cycles).
+// open surface, neither modelled here (black).  A sharp glass is black (MakeMicrofacetLobe).  ior is the
+// front side's (a back face seen from inside would use 1 / ior in Cycles).
 // beckmann: Cycles' Beckmann distribution (the node's default), evaluated with its D and rational G1, sampled
 // by GGX visible normals of the same alpha (the pdf is that of the sampling: unbiased).
 inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann = false) {
-    Material m;
-    m.dielectric_beckmann = beckmann;
-    m.glossy = m.principled = true;
-    const float r = std::clamp(roughness, 0.0f, 1.0f);
-    m.alpha = r * r;
-    m.dielectric_ior = std::max(ior, 1e-5f);  // Cycles' fmaxf(ior, 1e-5)
-    if (m.alpha * m.alpha > 1e-7f && !IsBlack(color)) {
-        m.has_dielectric = true;
-        m.dielectric = color;
-        m.specular_probability = 1;
+    return MakeSingleLobeMaterial(color, roughness, std::max(ior, 1e-5f), beckmann);  // Cycles' fmaxf(ior, 1e-5)
+}
+
+// Cycles 3.4's Glossy BSDF (CLOSURE_BSDF_MICROFACET_{GGX,BECKMANN}_ID): colour x the microfacet reflection
+// with no Fresnel at all (the node's Color is its reflectance at every angle).
+inline Material MakeGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false) {
+    return MakeSingleLobeMaterial(color, roughness, 0, beckmann);
+}
+
+// Mix / Add Shader (svm_node_mix_closure: each side's closures scaled by its weight, (1 - fac) and fac;
+// Add: 1 and 1): `part`'s lobes scaled by `weight` and added to `mix`.  A mix holds Lambert lobes (summed),
+// at most one Principled BSDF's lobes (Burley, sheen, specular, clearcoat) and kMaxMicrofacetLobes microfacet
+// lobes (equal ones merged); what does not fit, and the former 'glossy' model, throw std::invalid_argument.
+// Emission is the caller's (RenderScene::PushMaterial).
+inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
+    if (!(weight >= 0) || !std::isfinite(weight)) throw std::invalid_argument("a mix layer's weight must be >= 0");
+    if (part.glossy && !part.principled)
+        throw std::invalid_argument("the 'glossy' model cannot be mixed (use 'principled')");
+    if (!part.principled) {  // Lambert
+        if (!IsBlack(part.diffuse)) mix.glossy = mix.principled = true;
+        mix.lambert += part.diffuse * weight;
+        ChooseLobeProbabilities(mix);
+        return;
     }
-    return m;
+    mix.glossy = mix.principled = true;
+    mix.lambert += part.lambert * weight;
+    const bool part_has_principled = !IsBlack(part.diffuse) || part.has_sheen || part.has_specular ||
+                                     part.has_clearcoat;
+    if (part_has_principled) {
+        const bool mix_has_principled = !IsBlack(mix.diffuse) || mix.has_sheen || mix.has_specular ||
+                                        mix.has_clearcoat;
+        if (mix_has_principled) throw std::invalid_argument("a mix holds at most one Principled BSDF");
+        mix.diffuse = part.diffuse * weight;
+        mix.burley_roughness = part.burley_roughness;
+        mix.has_sheen = part.has_sheen;
+        mix.sheen = part.sheen * weight;
+        mix.has_specular = part.has_specular;
+        mix.alpha = part.alpha;
+        mix.specular_ior = part.specular_ior;
+        mix.specular_f0 = part.specular_f0;
+        mix.f0 = part.f0;
+        mix.specular_weight = part.specular_weight * weight;
+        mix.has_clearcoat = part.has_clearcoat;
+        mix.clearcoat = part.clearcoat * weight;
+        mix.clearcoat_alpha = part.clearcoat_alpha;
+    }
+    for (int i = 0; i < part.num_lobes; ++i) {
+        MicrofacetLobe lobe = part.lobes[i];
+        lobe.color = lobe.color * weight;
+        int j = 0;
+        while (j < mix.num_lobes && !(mix.lobes[j].alpha == lobe.alpha && mix.lobes[j].fresnel_ior == lobe.fresnel_ior &&
+                                      mix.lobes[j].beckmann == lobe.beckmann))
+            ++j;
+        if (j < mix.num_lobes) {
+            mix.lobes[j].color += lobe.color;
+        } else {
+            if (mix.num_lobes == kMaxMicrofacetLobes)
+                throw std::invalid_argument("a mix holds at most " + std::to_string(kMaxMicrofacetLobes) +
+                                            " distinct glossy / glass lobes");
+            mix.lobes[mix.num_lobes++] = lobe;
+        }
+    }
+    ChooseLobeProbabilities(mix);
 }
 
 // --- GGX / Trowbridge-Reitz (Walter et al. 2007; Heitz 2014, 2018) ---------------------------
@@ -266,25 +374,29 @@ inline float ClearcoatReflectionPDF(const Vec3f& wo, const Vec3f& wi, float alph
     return ClearcoatD(h, alpha) * h.z / (4 * Dot(wo, h));
 }
 
+// One microfacet lobe's f (wo.z, wi.z > 0, h their half vector).
+inline Spectrum EvalMicrofacetLobe(const MicrofacetLobe& l, const Vec3f& wo, const Vec3f& wi, const Vec3f& h) {
+    float dg;
+    if (l.beckmann) {
+        dg = BeckmannD(h, l.alpha) * BeckmannG1(wo.z, l.alpha) * BeckmannG1(wi.z, l.alpha);
+    } else {
+        dg = GgxD(h, l.alpha) * SmithG1Ggx(wo.z, l.alpha) * SmithG1Ggx(wi.z, l.alpha);
+    }
+    const float fresnel = l.fresnel_ior > 0 ? DielectricFresnel(wo.z, l.fresnel_ior) : 1.0f;
+    return l.color * (fresnel * dg / (4 * wo.z * wi.z));
+}
+
 // wo.z, wi.z > 0.
 inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& wi) {
-    Spectrum f = m.diffuse * BurleyDiffuse(wo, wi, m.burley_roughness);
+    Spectrum f = m.diffuse * BurleyDiffuse(wo, wi, m.burley_roughness) + m.lambert * kInvPi;
     const Vec3f h = Normalize(wo + wi);
     const float cos_ih = Dot(wi, h), inv_4cos = 1 / (4 * wo.z * wi.z);
     if (m.has_sheen) f += m.sheen * SchlickWeight(cos_ih);
     if (m.has_specular) {
         const float g = SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
-        f += PrincipledSpecularFresnel(m, cos_ih) * (GgxD(h, m.alpha) * g * inv_4cos);
+        f += PrincipledSpecularFresnel(m, cos_ih) * (m.specular_weight * GgxD(h, m.alpha) * g * inv_4cos);
     }
-    if (m.has_dielectric) {
-        float dg;
-        if (m.dielectric_beckmann) {
-            dg = BeckmannD(h, m.alpha) * BeckmannG1(wo.z, m.alpha) * BeckmannG1(wi.z, m.alpha);
-        } else {
-            dg = GgxD(h, m.alpha) * SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
-        }
-        f += m.dielectric * (DielectricFresnel(wo.z, m.dielectric_ior) * dg * inv_4cos);
-    }
+    for (int i = 0; i < m.num_lobes; ++i) f += EvalMicrofacetLobe(m.lobes[i], wo, wi, h);
     if (m.has_clearcoat) {
         const float g = SmithG1Ggx(wo.z, kClearcoatShadowingAlpha) * SmithG1Ggx(wi.z, kClearcoatShadowingAlpha);
         const float fresnel = DielectricFresnel(cos_ih, kClearcoatIor);
@@ -297,14 +409,20 @@ inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& 
 // wo.z, wi.z > 0.
 inline float PrincipledPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) {
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
-    float pdf = (1 - ps - pc) * CosineHemispherePDF(wi.z);
+    float p_cos = 1 - ps - pc;
+    float pdf = 0;
     if (ps > 0) pdf += ps * GgxReflectionPDF(wo, wi, m.alpha);
     if (pc > 0) pdf += pc * ClearcoatReflectionPDF(wo, wi, m.clearcoat_alpha);
-    return pdf;
+    for (int i = 0; i < m.num_lobes; ++i) {
+        p_cos -= m.lobes[i].probability;
+        pdf += m.lobes[i].probability * GgxReflectionPDF(wo, wi, m.lobes[i].alpha);
+    }
+    return pdf + std::max(p_cos, 0.0f) * CosineHemispherePDF(wi.z);
 }
 
-// One uniform number picks the lobe (cosine for diffuse and sheen, GGX visible normals, GTR1
-// normals) and is rescaled to [0,1) for the lobe's own warp.
+// One uniform number picks the lobe (GGX visible normals of the specular, GTR1 normals, each microfacet
+// lobe's GGX visible normals, else the cosine for diffuse and sheen) and is rescaled to [0,1) for the
+// lobe's own warp.
 inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point2<float> u) {
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
     if (u.u < ps) {
@@ -317,7 +435,17 @@ inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point
         const Vec3f h = SampleGtr1Normal(m.clearcoat_alpha, u);
         return h * (2 * Dot(wo, h)) - wo;
     }
-    u.u = std::min((u.u - ps - pc) / (1 - ps - pc), kOneMinusEpsilonF);
+    float start = ps + pc;
+    for (int i = 0; i < m.num_lobes; ++i) {
+        const float p = m.lobes[i].probability;
+        if (u.u < start + p) {
+            u.u = std::min((u.u - start) / p, kOneMinusEpsilonF);
+            const Vec3f h = SampleGgxVisibleNormal(wo, m.lobes[i].alpha, u);
+            return h * (2 * Dot(wo, h)) - wo;
+        }
+        start += p;
+    }
+    u.u = std::min((u.u - start) / std::max(1 - start, 1e-7f), kOneMinusEpsilonF);
     return SampleCosineHemisphere(u);
 }
 

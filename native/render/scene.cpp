@@ -188,6 +188,31 @@ int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float 
     return PushMaterial(MakeGlassMaterial(color, roughness, ior, beckmann), emission);
 }
 
+int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann,
+                                       const Spectrum& emission) {
+    CheckMaterialColors(color, emission);
+    if (!std::isfinite(roughness)) Fail("material roughness must be finite");
+    return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann), emission);
+}
+
+int RenderScene::AddMixMaterial(const Spectrum& emission) {
+    CheckMaterialColors({}, emission);
+    return PushMaterial(MakeDiffuseMaterial({}), emission);
+}
+
+void RenderScene::MixLastMaterialInto(int target, float weight) {
+    RequireNotCommitted();
+    if (target < 0 || size_t(target) + 1 >= materials.size())
+        Fail("mix target must be a material added before the last one");
+    if (!(weight >= 0) || !std::isfinite(weight)) Fail("mix weight must be finite and >= 0");
+    const Material part = materials.back();
+    Material mix = materials[size_t(target)];
+    MixIntoMaterial(mix, part, weight);  // throws (the scene unchanged) if the mix cannot hold it
+    mix.emission += part.emission * weight;
+    materials[size_t(target)] = mix;
+    materials.pop_back();
+}
+
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
                           size_t nt, const float* normals, const int32_t* material_ids) {
     RequireNotCommitted();

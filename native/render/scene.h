@@ -63,6 +63,14 @@ class RenderScene {
     int AddPrincipledMaterial(const PrincipledInputs& inputs, const Spectrum& emission = {});
     int AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann = false,
                          const Spectrum& emission = {});
+    int AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false,
+                              const Spectrum& emission = {});
+    // Mix / Add Shader: AddMixMaterial makes an empty (black) material; each MixLastMaterialInto then
+    // takes the material added last (any Add*Material above, added for this), removes it from the list
+    // and adds its lobes and emission, scaled by weight, to the mix `target` (bsdf.h MixIntoMaterial,
+    // which says what a mix can hold; std::invalid_argument beyond that).
+    int AddMixMaterial(const Spectrum& emission = {});
+    void MixLastMaterialInto(int target, float weight);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids may be null.
     // A mesh without triangles is validated and then ignored.
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,

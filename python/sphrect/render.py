@@ -50,8 +50,8 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, SENSOR_FITS, Camera, EllipseLight, PointLight,
-                    RectLight, Scene, SpotLight, SunLight)
+from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, SENSOR_FITS, Camera, EllipseLight,
+                    MaterialLayer, PointLight, RectLight, Scene, SpotLight, SunLight)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -119,6 +119,42 @@ def _set_camera(native, cam: Camera) -> None:
                       float(cam.clip_start), float(min(cam.clip_end, 1e30)))
 
 
+def _add_material(native, mat):
+    """Adds `mat` to the native scene (a 'mix' as its layers, each added and mixed in); returns its index."""
+    emission = _rgb(mat.emission, f"material '{mat.name}' emission")
+    base_color = lambda: _rgb(mat.base_color, f"material '{mat.name}' base_color")
+    if mat.kind in ("glass", "glossy_bsdf") and mat.distribution not in GLASS_DISTRIBUTIONS:
+        raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} "
+                         f"(expected {_one_of(GLASS_DISTRIBUTIONS)})")
+    if mat.kind == "diffuse":
+        return native.add_diffuse_material(base_color(), emission)
+    if mat.kind == "glossy":
+        return native.add_glossy_material(base_color(), float(mat.roughness), float(mat.metallic),
+                                          float(mat.specular), emission)
+    if mat.kind == "principled":
+        return native.add_principled_material(
+            base_color(), float(mat.metallic), float(mat.specular), float(mat.specular_tint), float(mat.roughness),
+            float(mat.sheen), float(mat.sheen_tint), float(mat.clearcoat), float(mat.clearcoat_roughness), emission)
+    if mat.kind == "glass":
+        return native.add_glass_material(base_color(), float(mat.roughness), float(mat.ior),
+                                         mat.distribution == "beckmann", emission)
+    if mat.kind == "glossy_bsdf":
+        return native.add_glossy_bsdf_material(base_color(), float(mat.roughness), mat.distribution == "beckmann",
+                                               emission)
+    if mat.kind == "mix":
+        target = native.add_mix_material(emission)
+        for i, layer in enumerate(mat.layers):
+            if not isinstance(layer, MaterialLayer):
+                raise ValueError(f"material '{mat.name}': layer {i} is not a sphrect.MaterialLayer")
+            _add_material(native, layer.material)
+            try:
+                native.mix_last_material_into(target, float(layer.weight))
+            except ValueError as e:
+                raise ValueError(f"material '{mat.name}' layer {i} ('{layer.material.name}'): {e}") from None
+        return target
+    raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {_one_of(MATERIAL_KINDS)})")
+
+
 def build_native_scene(scene: Scene):
     """A committed ``_native._Scene`` for `scene`, and the list of skipped-light messages."""
     if not isinstance(scene, Scene):
@@ -131,25 +167,7 @@ def build_native_scene(scene: Scene):
     if med is not None:
         native.set_medium(_rgb(med.sigma_s, "medium sigma_s"), _rgb(med.sigma_a, "medium sigma_a"), float(med.g))
     for mat in scene.materials:
-        emission = _rgb(mat.emission, f"material '{mat.name}' emission")
-        if mat.kind == "diffuse":
-            native.add_diffuse_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"), emission)
-        elif mat.kind == "glossy":
-            native.add_glossy_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"),
-                                       float(mat.roughness), float(mat.metallic), float(mat.specular), emission)
-        elif mat.kind == "principled":
-            native.add_principled_material(
-                _rgb(mat.base_color, f"material '{mat.name}' base_color"), float(mat.metallic), float(mat.specular),
-                float(mat.specular_tint), float(mat.roughness), float(mat.sheen), float(mat.sheen_tint),
-                float(mat.clearcoat), float(mat.clearcoat_roughness), emission)
-        elif mat.kind == "glass":
-            if mat.distribution not in GLASS_DISTRIBUTIONS:
-                raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} "
-                                 f"(expected {_one_of(GLASS_DISTRIBUTIONS)})")
-            native.add_glass_material(_rgb(mat.base_color, f"material '{mat.name}' base_color"),
-                                      float(mat.roughness), float(mat.ior), mat.distribution == "beckmann", emission)
-        else:
-            raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {_one_of(MATERIAL_KINDS)})")
+        _add_material(native, mat)
     n_materials = max(1, len(scene.materials))
     for mesh in scene.meshes:
         v = np.asarray(mesh.vertices)

@@ -14,7 +14,8 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
   "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
   dataclasses below (version 1, before Material.emission, loads with emission 0;
   version 2, before the 'principled' kind, with its fields at their defaults; version 3, before the
-  'glass' kind and Material.ior, distribution);
+  'glass' kind and Material.ior, distribution; version 4, before the 'glossy_bsdf' and 'mix' kinds and
+  Material.layers);
 * for mesh *i*: ``mesh{i}.vertices`` (float32 [V,3]), ``mesh{i}.triangles``
   (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
   ``mesh{i}.material_ids`` (int32 [T]).
@@ -39,14 +40,17 @@ FORMAT_NAME = "sphrect-scene"
 # clearcoat_roughness.  Older files load unchanged: their kinds 'diffuse' / 'glossy' render as before.
 # 4: Material kind 'glass' (Cycles' Glass BSDF at zero bounces) and its fields ior, distribution.  Older files
 # load unchanged.
-FORMAT_VERSION = 4
+# 5: Material kinds 'glossy_bsdf' (Cycles' Glossy BSDF) and 'mix' (Mix / Add Shader: Material.layers, each a
+# MaterialLayer of a weight and a material).  Older files load unchanged.
+FORMAT_VERSION = 5
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
 
 # The values the format's name fields take.
-MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass")
-GLASS_DISTRIBUTIONS = ("ggx", "beckmann")  # Cycles' microfacet distributions the 'glass' kind evaluates
+MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "mix")
+# Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
+GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
 CAMERA_TYPES = ("perspective", "orthographic")
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 
@@ -78,7 +82,13 @@ class Material:
     (Burley diffuse with retro-reflection, GGX specular with Cycles' Fresnel blend and tint, sheen, clearcoat;
     the fields below are the node's inputs of the same names); 'glass': Blender's Glass BSDF (base_color =
     its Color, roughness, ior, distribution) as Cycles 3.4 shows it at zero bounces -- the microfacet reflection
-    of the lights weighted by the dielectric Fresnel of the view, the transmitted part black."""
+    of the lights weighted by the dielectric Fresnel of the view, the transmitted part black; 'glossy_bsdf':
+    Blender's Glossy BSDF (base_color = its Color, roughness, distribution), Cycles 3.4's microfacet reflection
+    with no Fresnel; 'mix': Mix / Add Shader, the sum of `layers`' materials each scaled by its weight (Cycles
+    scales each side's closures: (1 - fac) and fac for Mix, 1 and 1 for Add).  A mix holds any number of
+    'diffuse' layers, one 'principled' (or a mix holding one), and at most MAX_MIX_GLOSSY_LOBES distinct
+    'glass' / 'glossy_bsdf' lobes (equal roughness, distribution and IOR merge); not 'glossy'.  Its own
+    emission adds to its layers' (each scaled by its weight)."""
     name: str = "default"
     kind: str = "diffuse"            # one of MATERIAL_KINDS
     base_color: RGB = (0.8, 0.8, 0.8)
@@ -91,9 +101,24 @@ class Material:
     clearcoat: float = 0.0
     clearcoat_roughness: float = 0.03
     ior: float = 1.45                # 'glass' only: index of refraction (Blender's default)
-    distribution: str = "ggx"        # 'glass' only: one of GLASS_DISTRIBUTIONS
+    distribution: str = "ggx"        # 'glass' and 'glossy_bsdf' only: one of GLASS_DISTRIBUTIONS
+    layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only
     emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
                                      # every emissive triangle is a light (files without it load as 0)
+
+
+@dataclass
+class MaterialLayer:
+    """One shader of a 'mix' material and the weight its closures are scaled by."""
+    weight: float
+    material: Material
+
+
+def _material_from_dict(d) -> Material:
+    d = dict(d)
+    d["layers"] = [MaterialLayer(weight=l["weight"], material=_material_from_dict(l["material"]))
+                   for l in d.get("layers", [])]
+    return Material(**d)
 
 
 @dataclass
@@ -283,7 +308,7 @@ def load_scene(path: str) -> Scene:
         scene = Scene(
             camera=Camera(**meta["camera"]),
             world=World(medium=Medium(**medium) if medium else None, **world),
-            materials=[Material(**m) for m in meta["materials"]],
+            materials=[_material_from_dict(m) for m in meta["materials"]],
         )
         for l in meta["lights"]:
             l = dict(l)
