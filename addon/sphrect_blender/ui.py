@@ -1,6 +1,7 @@
-"""Render Properties panels for scene.sphrect and the area light's two-sided switch."""
+"""Render Properties panels for scene.sphrect, and the light panel (two-sided switch, settings ignored)."""
 import bpy
 
+from .io.exporter.lights import ignored_light_settings
 from .light_notes import light_shape_notes
 from .names import ELLIPSE_TECHNIQUES, ENGINE_ID, LIGHT_SELECTIONS, TECHNIQUES
 from .properties import compare_ellipse_technique_switch, compare_light_selection_switch, compare_switch
@@ -107,23 +108,34 @@ class RENDER_PT_sphrect_compare(SphrectPanel, bpy.types.Panel):
             col.prop(s, "reference_path")
 
 
-class DATA_PT_sphrect_area_light(SphrectPanel, bpy.types.Panel):
+class DATA_PT_sphrect_light(SphrectPanel, bpy.types.Panel):
+    """SPHRECT's own light settings (area lights), and the settings of Blender's light panels it ignores."""
     bl_label = "SPHRECT"
     bl_context = "data"
 
     @classmethod
     def poll(cls, context):
-        return context.engine in cls.COMPAT_ENGINES and context.light is not None and context.light.type == "AREA"
+        return context.engine in cls.COMPAT_ENGINES and context.light is not None
 
     def draw(self, context):
         layout = self.layout
         layout.use_property_split = True
-        layout.prop(context.light.sphrect, "two_sided")
-        layout.prop(context.object, "visible_camera", text="Visible to Camera")
+        light = context.light
+        if light.type == "AREA":
+            layout.prop(light.sphrect, "two_sided")
+            layout.prop(context.object, "visible_camera", text="Visible to Camera")
+        ignored = ignored_light_settings(light)
+        if ignored:
+            col = layout.column(align=True)
+            col.label(text="Ignored by SPHRECT:")
+            for label, _, differs in ignored:
+                row = col.row()
+                row.alert = differs  # set away from what SPHRECT assumes: the render differs from Cycles'
+                row.label(text=label, icon="ERROR" if differs else "DOT")
 
 
 classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_viewport, RENDER_PT_sphrect_compare,
-           DATA_PT_sphrect_area_light)
+           DATA_PT_sphrect_light)
 
 
 def register():

@@ -45,7 +45,7 @@ def test_blender_light_and_material_panels_shown_for_sphrect(empty_scene):
         assert "SPHRECT" in cls.COMPAT_ENGINES, panel
     for panel in ("DATA_PT_light", "DATA_PT_area", "DATA_PT_preview"):  # duplicates of DATA_PT_EEVEE_light
         assert "SPHRECT" not in getattr(bpy.types, panel).COMPAT_ENGINES, panel
-    for panel in ("RENDER_PT_sphrect_sampling", "RENDER_PT_sphrect_compare", "DATA_PT_sphrect_area_light"):
+    for panel in ("RENDER_PT_sphrect_sampling", "RENDER_PT_sphrect_compare", "DATA_PT_sphrect_light"):
         assert hasattr(bpy.types, panel), panel
 
 

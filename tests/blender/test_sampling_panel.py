@@ -42,3 +42,31 @@ def test_light_notes_name_what_the_technique_does_not_sample():
                 and o.data.shape in notes.RECTANGLE_SHAPES]:
         bpy.data.objects.remove(obj)
     assert notes.light_shape_notes(scene, scene.sphrect)[0].startswith("No rectangle lights")
+
+
+def test_light_panel_lists_the_settings_sphrect_ignores():
+    """The light panel's list and the exporter's warnings come from one table: every light type has its list;
+    a setting away from what SPHRECT assumes is flagged, and only then warned about at export."""
+    ensure_addon()
+    lights = addon_module("io.exporter.lights")
+    for kind in ("POINT", "SPOT", "SUN", "AREA"):
+        light = bpy.data.lights.new(f"probe {kind}", kind)
+        ignored = lights.ignored_light_settings(light)
+        assert "Specular factor" in [label for label, _, _ in ignored]
+        # A new light differs from SPHRECT's assumptions only in a point or spot light's radius and a sun's
+        # angle (Blender's defaults 0.25 m and 0.53 degrees: soft shadows in Cycles, hard ones here).
+        flagged = [label for label, _, differs in ignored if differs]
+        expected = {"POINT": ["Radius (hard shadows)"], "SPOT": ["Radius (hard shadows)"],
+                    "SUN": ["Angle (hard shadows)"], "AREA": []}[kind]
+        assert flagged == expected, (kind, ignored)
+        bpy.data.lights.remove(light)
+    sun = bpy.data.lights.new("probe sun", "SUN")
+    sun.angle, sun.specular_factor = 0.0, 0.5
+    flagged = [warning for _, warning, differs in lights.ignored_light_settings(sun) if differs]
+    assert flagged == ["light specular factor (1 used)"]
+    area = bpy.data.lights.new("probe area", "AREA")
+    area.spread = 1.0
+    assert [label for label, _, differs in lights.ignored_light_settings(area) if differs] == [
+        "Spread (full hemisphere)"]
+    bpy.data.lights.remove(sun)
+    bpy.data.lights.remove(area)

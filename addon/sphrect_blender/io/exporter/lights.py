@@ -7,6 +7,31 @@ import math
 import numpy as np
 
 
+# The light settings SPHRECT does not simulate, per light type: (attribute, the value SPHRECT assumes, the
+# panel's label, the export warning). One source for the exporter's warnings (given when a light's value is
+# not the assumed one) and the light panel's list of what it ignores.
+_ALL_TYPES = ("POINT", "SPOT", "SUN", "AREA")
+IGNORED_LIGHT_SETTINGS = (
+    (_ALL_TYPES, "diffuse_factor", 1.0, "Diffuse factor", "light diffuse factor (1 used)"),
+    (_ALL_TYPES, "specular_factor", 1.0, "Specular factor", "light specular factor (1 used)"),
+    (_ALL_TYPES, "volume_factor", 1.0, "Volume factor", "light volume factor (1 used)"),
+    (("POINT", "SPOT"), "shadow_soft_size", 0.0, "Radius (hard shadows)",
+     "point/spot light radius (treated as 0: hard shadows)"),
+    (("SUN",), "angle", 0.0, "Angle (hard shadows)", "sun angle (treated as 0: hard shadows)"),
+    (("AREA",), "spread", math.pi, "Spread (full hemisphere)", "area light spread (full hemisphere used)"),
+)
+
+
+def ignored_light_settings(light):
+    """[(label, warning, differs)] of the settings of `light` (a bpy Light) that SPHRECT ignores; `differs`:
+    the light's value is not the one SPHRECT assumes, so the render differs from Cycles'."""
+    out = []
+    for types, attr, assumed, label, warning in IGNORED_LIGHT_SETTINGS:
+        if light.type in types and hasattr(light, attr):
+            out.append((label, warning, abs(float(getattr(light, attr)) - assumed) > 1e-6))
+    return out
+
+
 def _axes(matrix_world):
     m = np.array(matrix_world, dtype=np.float64)
     return m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3]
@@ -44,9 +69,9 @@ def export_light(sphrect, obj, matrix_world, name, log):
     power = float(light.energy)
     if light.use_nodes and light.node_tree is not None and len(light.node_tree.nodes) > 2:
         log.unsupported_feature("light node trees (colour and power used)", light.name)
-    for factor in ("diffuse_factor", "specular_factor", "volume_factor"):
-        if abs(getattr(light, factor, 1.0) - 1.0) > 1e-6:
-            log.unsupported_feature(f"light {factor.replace('_', ' ')} (1 used)", light.name)
+    for _, warning, differs in ignored_light_settings(light):
+        if differs:
+            log.unsupported_feature(warning, light.name)
     if power <= 0 or not np.any(color > 0):
         log.problem(f"light '{name}' has no power: skipped")
         return None
@@ -54,8 +79,6 @@ def export_light(sphrect, obj, matrix_world, name, log):
         return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log)
     _, _, z, position = _axes(matrix_world)
     if light.type in {"POINT", "SPOT"}:
-        if light.shadow_soft_size > 0:
-            log.unsupported_feature("point/spot light radius (treated as 0: hard shadows)", light.name)
         intensity = sphrect.scene.point_light_intensity(power, color)
         if light.type == "POINT":
             return sphrect.PointLight(position=_tuple(position), intensity=intensity, name=name)
@@ -66,8 +89,6 @@ def export_light(sphrect, obj, matrix_world, name, log):
         return sphrect.SpotLight(position=_tuple(position), direction=_tuple(direction), intensity=intensity,
                                  spot_size=float(light.spot_size), spot_blend=float(light.spot_blend), name=name)
     if light.type == "SUN":
-        if light.angle > 0:
-            log.unsupported_feature("sun angle (treated as 0: hard shadows)", light.name)
         direction = _unit(-z)
         if direction is None:
             log.problem(f"sun '{name}' has zero scale along Z: skipped")
@@ -89,8 +110,6 @@ def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, lo
         # plane's normal, which local -Z no longer is), make the edges orthogonal.
         log.unsupported_feature("sheared area lights (edges made orthogonal)", light.name)
         ey = np.cross(np.cross(ex, ey) / rect_area, ex) * (rect_area / np.linalg.norm(ex) ** 2)
-    if light.spread < math.pi - 1e-6:
-        log.unsupported_feature("area light spread (full hemisphere used)", light.name)
     two_sided = bool(getattr(getattr(light, "sphrect", None), "two_sided", False))
     visible = bool(getattr(obj, "visible_camera", True))
     if light.shape in {"SQUARE", "RECTANGLE"}:
