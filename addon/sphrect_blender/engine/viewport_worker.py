@@ -90,6 +90,7 @@ class ProgressiveWorker:
         self._stopping = False
         self._renderer = None             # the one inside a render() call, for cancel()
         self.latest: Optional[Frame] = None
+        self.first_scale: Optional[float] = None  # the scale of the current job's first frame
         self.busy = False                 # a job is not finished yet
         self._thread = threading.Thread(target=self._run, name=THREAD_NAME, daemon=True)
         _workers.add(self)
@@ -217,6 +218,8 @@ class ProgressiveWorker:
         with self._lock:
             if frame.generation != self._generation:
                 return
+            if self.latest is None or self.latest.generation != frame.generation:
+                self.first_scale = frame.scale  # a preview's, unless the view is too small for one
             self.latest = frame
         if self._on_frame is not None:
             self._on_frame()
