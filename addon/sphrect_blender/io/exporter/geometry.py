@@ -2,7 +2,7 @@
 (no Python loop over vertices or triangles: a million triangles export in about a second)."""
 import numpy as np
 
-from .materials import is_volume_only
+from .materials import transparent_surface
 
 # Object types whose evaluated form converts to a mesh with Object.to_mesh().
 MESH_LIKE = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
@@ -16,16 +16,18 @@ class LocalMesh:
         self.vertices, self.triangles, self.normals, self.material_index = vertices, triangles, normals, material_index
 
 
-def _volume_only_slots(obj):
-    """Indices of the object's material slots whose material is volume-only (a transparent surface)."""
-    return np.array([i for i, slot in enumerate(obj.material_slots) if is_volume_only(slot.material)],
-                    dtype=np.int32)
+def _transparent_slots(obj):
+    """Indices of the object's material slots whose surface is transparent (materials.transparent_surface),
+    and the warnings naming why."""
+    reasons = [transparent_surface(slot.material) for slot in obj.material_slots]
+    return (np.array([i for i, r in enumerate(reasons) if r], dtype=np.int32),
+            sorted({r for r in reasons if r}))
 
 
 def triangulate(obj, log=None):
     """LocalMesh of an evaluated object (modifiers applied), or None if it has no triangles.
-    Triangles of volume-only materials are left out: Cycles shows their surface as transparent (the volume
-    itself is not simulated, which `log` is told, naming the object).
+    Triangles of transparent surfaces (volume-only materials, a white Transparent BSDF) are left out: Cycles shows
+    them as transparent (what is not simulated, the volume or a colour, `log` is told, naming the object).
     Smooth-shaded meshes get per-corner split normals (vertices unwelded so flat and smooth faces and
     sharp edges all keep Blender's normals); fully flat meshes get none (the renderer uses face normals)."""
     mesh = obj.to_mesh()
@@ -46,13 +48,12 @@ def triangulate(obj, log=None):
         triangles = triangles.reshape(-1, 3)
         material_index = np.empty(n, dtype=np.int32)
         tris.foreach_get("material_index", material_index)
-        volume_only = _volume_only_slots(obj)
-        if len(volume_only):
+        transparent, reasons = _transparent_slots(obj)
+        if len(transparent):
             slot_count = max(len(obj.material_slots), 1)
-            kept = ~np.isin(np.clip(material_index, 0, slot_count - 1), volume_only)
-            if log is not None:
-                log.unsupported_feature("volume-only materials (surface transparent, volume not simulated)",
-                                        obj.name)
+            kept = ~np.isin(np.clip(material_index, 0, slot_count - 1), transparent)
+            for reason in reasons if log is not None else ():
+                log.unsupported_feature(reason, obj.name)
             if not kept.any():
                 return None
             tris_kept = np.flatnonzero(kept)

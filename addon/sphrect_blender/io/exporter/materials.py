@@ -3,13 +3,16 @@
 Read from the node tree behind the active output: Diffuse BSDF and Principled BSDF (base colour, metallic,
 specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roughness: the renderer's
 'principled' kind, Cycles 3.4's model), Glass and Refraction BSDF and a Principled BSDF of transmission 1 (kind
-'glass': the dielectric reflection Cycles shows at zero bounces) for surfaces; volume-only materials (Volume
-linked, Surface not) make a transparent surface, left out by geometry.triangulate; emission with Cycles 3.4's
-conventions -- an Emission shader emits radiance colour x strength (svm_node_emission_weight), the Principled
-BSDF's Emission x Emission Strength adds to its BSDF, a Mix Shader scales each side's closures by its factor
-(svm_node_mix_closure), mesh emission is two-sided (emissive_pdf: |Ng . wi| > 0); Background for the world
-colour; Volume Scatter, Volume Absorption or Principled Volume on the World output for a homogeneous medium.
-Only unlinked input values are read: every linked input and every other node is logged as unsupported."""
+'glass': the dielectric reflection Cycles shows at zero bounces), Glossy BSDF and Anisotropic BSDF (kind
+'glossy_bsdf', no Fresnel) for surfaces; Mix Shader and Add Shader trees of those with unlinked factors (kind
+'mix': each shader's closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume
+linked, Surface not) and a white Transparent BSDF make a transparent surface, left out by geometry.triangulate;
+Holdout and Translucent BSDF are black (warned); emission with Cycles 3.4's conventions -- an Emission shader
+emits radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength
+adds to its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
+|Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume Absorption or Principled Volume on the
+World output for a homogeneous medium.  Only unlinked input values are read: every linked input and every other
+node is logged as unsupported."""
 import dataclasses
 
 import numpy as np
@@ -68,6 +71,25 @@ def is_volume_only(mat):
     return out is not None and out.inputs["Volume"].is_linked and _linked_node(out.inputs["Surface"]) is None
 
 
+def transparent_surface(mat):
+    """Why the material's surface is left out (geometry.triangulate), as the warning names it, or None:
+    volume-only, or a Transparent BSDF alone on the Surface (a white one lets camera and shadow rays through
+    unchanged in Cycles, transparent bounces being counted apart from max_bounces; a coloured one would filter
+    them, which the renderer cannot: warned)."""
+    if is_volume_only(mat):
+        return "volume-only materials (surface transparent, volume not simulated)"
+    if mat is None or not mat.use_nodes or mat.node_tree is None:
+        return None
+    out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
+    node = _linked_node(out.inputs["Surface"]) if out is not None else None
+    if node is None or node.bl_idname != "ShaderNodeBsdfTransparent":
+        return None
+    color = node.inputs["Color"]
+    if not color.is_linked and all(float(v) >= 1 for v in color.default_value[:3]):
+        return "Transparent BSDF surfaces (left out: transparent)"
+    return "Transparent BSDF surfaces (left out: its colour filtering camera and shadow rays is not modelled)"
+
+
 def export_material(sphrect, mat, log):
     if mat is None:
         return sphrect.Material(name="default")
@@ -75,7 +97,7 @@ def export_material(sphrect, mat, log):
     if not mat.use_nodes or mat.node_tree is None:
         return sphrect.Material(name=name, kind="diffuse", base_color=_rgb(mat.diffuse_color))
     out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
-    if is_volume_only(mat):  # its triangles are left out (geometry.triangulate), which warns per object
+    if transparent_surface(mat):  # its triangles are left out (geometry.triangulate), which warns per object
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
     if out is not None and out.inputs["Volume"].is_linked:
         log.unsupported_feature("material volumes", name)
@@ -85,12 +107,7 @@ def export_material(sphrect, mat, log):
     if node is None:
         log.unsupported_feature("materials without a surface shader (black)", name)
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
-    if node.bl_idname == "ShaderNodeEmission":
-        return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0),
-                                emission=_emission(node, "Color", "Strength", 1.0, log, name))
-    if node.bl_idname == "ShaderNodeMixShader":
-        return _mix_of_emission_and_bsdf(sphrect, node, log, name)
-    return _bsdf(sphrect, node, log, name)
+    return _shader(sphrect, node, log, name)
 
 
 def _emission(node, color_input, strength_input, weight, log, owner):
@@ -104,35 +121,110 @@ def _emission(node, color_input, strength_input, weight, log, owner):
     return _rgb(np.clip(color, 0, None) * strength * weight)
 
 
-def _mix_of_emission_and_bsdf(sphrect, node, log, name):
-    """Mix Shader of an Emission shader and a BSDF, with an unlinked factor: the emission weighted by its
-    side's share, the BSDF's reflectance (base colour, and the dielectric specular, which F0 is
-    proportional to) by the other's."""
-    fac_socket = node.inputs[0]
-    a, b = _linked_node(node.inputs[1]), _linked_node(node.inputs[2])
-    kinds = [n.bl_idname if n is not None else None for n in (a, b)]
-    if fac_socket.is_linked or kinds.count("ShaderNodeEmission") != 1:
-        what = "linked Mix Shader factor" if fac_socket.is_linked else "Mix Shader other than emission + BSDF"
-        log.unsupported_feature(f"{what} (grey diffuse used)", name)
+def _closures(node, weight, leaves, log, name):
+    """Appends (weight, shader node) for each shader reached through Mix and Add Shader nodes
+    (svm_node_mix_closure: the factor clamped to [0, 1], (1 - fac) to the first input, fac to the second;
+    Add: 1 to each); False for a linked factor (not modelled)."""
+    if node is None or weight <= 0:  # an unlinked shader input, or a side Cycles skips: no closure
+        return True
+    if node.bl_idname == "ShaderNodeMixShader":
+        fac_socket = node.inputs[0]
+        if fac_socket.is_linked:
+            return False
+        fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
+        return (_closures(_linked_node(node.inputs[1]), weight * (1 - fac), leaves, log, name)
+                and _closures(_linked_node(node.inputs[2]), weight * fac, leaves, log, name))
+    if node.bl_idname == "ShaderNodeAddShader":
+        return (_closures(_linked_node(node.inputs[0]), weight, leaves, log, name)
+                and _closures(_linked_node(node.inputs[1]), weight, leaves, log, name))
+    leaves.append((weight, node))
+    return True
+
+
+# Shaders that add no light a zero-bounce render of an opaque surface can show here, each with its warning.
+_BLACK_SHADERS = {
+    "ShaderNodeHoldout": "Holdout (black; the image's alpha stays 1)",
+    "ShaderNodeBsdfTranslucent": "Translucent BSDF (black: light through a thin surface is not modelled)",
+    "ShaderNodeBsdfTransparent": "Transparent BSDF inside a mix (its share black and opaque)",
+}
+
+
+def _shader(sphrect, node, log, name):
+    """The surface shader behind the output: one BSDF, or the weighted sum of the shaders a tree of Mix and Add
+    Shader nodes reaches (kind 'mix'), emission summed."""
+    leaves = []
+    if not _closures(node, 1.0, leaves, log, name):
+        log.unsupported_feature("linked Mix Shader factor (grey diffuse used)", name)
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
-    fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
-    emission_side = kinds.index("ShaderNodeEmission")
-    emission_weight = fac if emission_side == 1 else 1 - fac
-    emission = _emission((a, b)[emission_side], "Color", "Strength", emission_weight, log, name)
-    other = (a, b)[1 - emission_side]
-    if other is None:  # emission mixed with nothing (a black surface)
-        return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=emission)
-    bsdf = _bsdf(sphrect, other, log, name)
-    w = 1 - emission_weight
-    # The lobes' weights scale with w; the specular's Fresnel rise towards white at grazing angles does not
-    # (the scene format has no overall BSDF weight), a small approximation at grazing angles.
-    return dataclasses.replace(bsdf, base_color=_rgb(np.asarray(bsdf.base_color) * w), specular=bsdf.specular * w,
-                               sheen=bsdf.sheen * w, clearcoat=bsdf.clearcoat * w,
-                               emission=_rgb(np.asarray(bsdf.emission) * w + np.asarray(emission)))
+    emission = np.zeros(3)
+    layers = []
+    for weight, leaf in leaves:
+        if leaf.bl_idname == "ShaderNodeEmission":
+            emission += _emission(leaf, "Color", "Strength", weight, log, name)
+        elif leaf.bl_idname in _BLACK_SHADERS:
+            log.unsupported_feature(_BLACK_SHADERS[leaf.bl_idname], name)
+        else:
+            layers.append(sphrect.MaterialLayer(weight=weight, material=_bsdf(sphrect, leaf, log, name)))
+    layers = _fit_mix(sphrect, layers, log, name)
+    if not layers:
+        return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=_rgb(emission))
+    if len(layers) == 1:
+        (layer,) = layers
+        bsdf = layer.material
+        if layer.weight == 1 or bsdf.kind == "diffuse":  # a diffuse's weight folds into its colour exactly
+            return dataclasses.replace(bsdf, base_color=_rgb(np.asarray(bsdf.base_color) * layer.weight),
+                                       emission=_rgb(np.asarray(bsdf.emission) * layer.weight + emission))
+    return sphrect.Material(name=name, kind="mix", layers=layers, emission=_rgb(emission))
+
+
+def _lobe_key(mat):
+    """What makes two glossy / glass layers one lobe in the renderer (bsdf.h MixIntoMaterial)."""
+    return (mat.roughness, mat.distribution, mat.ior if mat.kind == "glass" else 0.0)
+
+
+def _fit_mix(sphrect, layers, log, name):
+    """The layers as the renderer's mix can hold them: several Principled BSDFs of equal inputs but for the base
+    colour merge exactly (weights summed, colours weight-averaged) where no tint makes the closures non-linear in
+    it; other ones are replaced by one of their weight-averaged inputs and total weight, and
+    glossy / glass lobes beyond sphrect.MAX_MIX_GLOSSY_LOBES distinct ones are dropped, lightest first, both
+    warned."""
+    principled = [l for l in layers if l.material.kind == "principled"]
+    if len(principled) > 1:
+        total = sum(l.weight for l in principled)
+        # Cycles' closures are linear in the base colour when neither tint divides it by its luminance.
+        inputs = [dataclasses.replace(l.material, name="", emission=(0.0, 0.0, 0.0), base_color=(0.0, 0.0, 0.0))
+                  for l in principled]
+        m0 = principled[0].material
+        linear_in_color = m0.specular_tint == 0 and (m0.sheen == 0 or m0.sheen_tint == 0)
+        if any(m != inputs[0] for m in inputs[1:]) or not linear_in_color:
+            log.unsupported_feature(f"a mix of {len(principled)} different Principled BSDFs (one of their "
+                                    "weight-averaged inputs used)", name)
+        fields = {f: getattr(principled[0].material, f) for f in
+                  ("roughness", "metallic", "specular", "specular_tint", "sheen", "sheen_tint", "clearcoat",
+                   "clearcoat_roughness")}
+        averaged = {f: sum(l.weight * getattr(l.material, f) for l in principled) / total for f in fields}
+        color = sum(l.weight * np.asarray(l.material.base_color) for l in principled) / total
+        emission = sum(l.weight * np.asarray(l.material.emission) for l in principled) / total
+        merged = dataclasses.replace(principled[0].material, base_color=_rgb(color), emission=_rgb(emission),
+                                     **averaged)
+        layers = [l for l in layers if l.material.kind != "principled"] + [sphrect.MaterialLayer(total, merged)]
+    lobes = {}
+    for l in layers:
+        if l.material.kind in ("glass", "glossy_bsdf"):
+            key = _lobe_key(l.material)
+            lobes[key] = lobes.get(key, 0.0) + l.weight
+    if len(lobes) > sphrect.MAX_MIX_GLOSSY_LOBES:
+        kept = set(sorted(lobes, key=lobes.get, reverse=True)[:sphrect.MAX_MIX_GLOSSY_LOBES])
+        log.unsupported_feature(f"a mix of {len(lobes)} glossy / glass shaders of different roughness or IOR "
+                                f"(the {sphrect.MAX_MIX_GLOSSY_LOBES} heaviest kept)", name)
+        layers = [l for l in layers if l.material.kind not in ("glass", "glossy_bsdf")
+                  or _lobe_key(l.material) in kept]
+    return layers
 
 
 def _bsdf(sphrect, node, log, name):
-    """A Diffuse or Principled BSDF node (the Principled one's own emission included)."""
+    """A Diffuse, Principled, Glossy, Anisotropic, Glass or Refraction BSDF node (the Principled one's own emission
+    included)."""
     if node.bl_idname == "ShaderNodeBsdfDiffuse":
         color = _rgb(_value(node, "Color", log, name))
         if _value(node, "Roughness", log, name) > 0:
@@ -143,8 +235,30 @@ def _bsdf(sphrect, node, log, name):
         return _principled(sphrect, node, log, name)
     if node.bl_idname in {"ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction"}:
         return _glass(sphrect, node, log, name)
+    if node.bl_idname in {"ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic"}:
+        return _glossy(sphrect, node, log, name)
     log.unsupported_feature(f"'{node.bl_label or node.bl_idname}' shader node (grey diffuse used)", name)
     return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
+
+
+def _glossy(sphrect, node, log, name):
+    """Glossy BSDF (and Blender 3.4's Anisotropic BSDF at anisotropy 0) as Cycles 3.4 evaluates it: Color x GGX
+    or Beckmann reflection of alpha = Roughness^2, no Fresnel (kind 'glossy_bsdf'); Sharp is a delta lobe, black at
+    zero bounces in both renderers."""
+    distribution = getattr(node, "distribution", "GGX")
+    roughness = 0.0 if distribution == "SHARP" else float(_value(node, "Roughness", log, name))
+    if distribution in {"MULTI_GGX", "ASHIKHMIN_SHIRLEY"} and roughness > 0:
+        label = {"MULTI_GGX": "Multiscatter GGX", "ASHIKHMIN_SHIRLEY": "Ashikhmin-Shirley"}[distribution]
+        log.unsupported_feature(f"{node.bl_label} distribution '{label}' (GGX used)", name)
+    if node.bl_idname == "ShaderNodeBsdfAnisotropic":
+        if abs(_value(node, "Anisotropy", log, name)) > 0:
+            log.unsupported_feature("anisotropy of Anisotropic BSDF (isotropic used)", name)
+        tangent = node.inputs.get("Tangent")
+        if tangent is not None and tangent.is_linked:
+            log.unsupported_feature("linked 'Tangent' input", name)
+    _check_normal(node, log, name)
+    return sphrect.Material(name=name, kind="glossy_bsdf", base_color=_rgb(_value(node, "Color", log, name)),
+                            roughness=roughness, distribution="beckmann" if distribution == "BECKMANN" else "ggx")
 
 
 def _glass(sphrect, node, log, name):
