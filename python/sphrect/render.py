@@ -123,6 +123,8 @@ def _add_material(native, mat):
     """Adds `mat` to the native scene (a 'mix' as its layers, each added and mixed in); returns its index."""
     emission = _rgb(mat.emission, f"material '{mat.name}' emission")
     base_color = lambda: _rgb(mat.base_color, f"material '{mat.name}' base_color")
+    if mat.layers and mat.kind != "mix":
+        raise ValueError(f"material '{mat.name}': only kind 'mix' has layers (kind {mat.kind!r})")
     if mat.kind in ("glass", "glossy_bsdf") and mat.distribution not in GLASS_DISTRIBUTIONS:
         raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} "
                          f"(expected {_one_of(GLASS_DISTRIBUTIONS)})")

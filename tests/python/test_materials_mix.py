@@ -134,6 +134,8 @@ def test_what_a_mix_cannot_hold_is_refused():
         sunlit_image(sphrect.Material(kind="mix", layers=many), np.array([0.0, 0.0, 1.0]))
     with pytest.raises(ValueError, match="'glossy' model cannot be mixed"):
         sunlit_image(sphrect.Material(kind="mix", layers=[layer(1.0, kind="glossy")]), np.array([0.0, 0.0, 1.0]))
+    with pytest.raises(ValueError, match="only kind 'mix' has layers"):
+        sunlit_image(sphrect.Material(kind="diffuse", layers=[layer(1.0, kind="diffuse")]), np.array([0.0, 0.0, 1.0]))
     with pytest.raises(ValueError, match="weight"):
         sunlit_image(sphrect.Material(kind="mix", layers=[layer(-0.5, kind="diffuse")]), np.array([0.0, 0.0, 1.0]))
 
