@@ -5,7 +5,7 @@ writes, and the warnings for what is not modelled."""
 import bpy
 import pytest
 
-from conftest import export, render
+from conftest import builders, export, render
 from test_cycles_parity import difference_to_cycles, mean_relative_difference
 from test_glass_parity import COLOR, highlight_ratio, shader_material, sphere_scene
 
@@ -147,3 +147,23 @@ def test_the_mix_comparison_can_fail(empty_scene, tmp_path):
     tree.nodes.remove(tree.nodes["Glossy BSDF"])
     dropped = render()["images"]["rectangle"]  # SPHRECT, at difference_to_cycles' settings
     assert mean_relative_difference(dropped, cycles) > 0.03
+
+
+def test_what_is_not_modelled_is_named_in_warnings(empty_scene):
+    """Anisotropy, the distributions rendered as GGX, and shaders of a mix that are black here."""
+    aniso = shader_material("ShaderNodeBsdfAnisotropic", Roughness=0.4)  # Blender's default anisotropy 0.5
+    ashikhmin = shader_material("ShaderNodeBsdfGlossy", distribution="ASHIKHMIN_SHIRLEY", Roughness=0.4)
+    holdout_mix = shader_tree("holdout_mix", lambda t: combine(t, "mix", node(t, "ShaderNodeHoldout"),
+                                                               glossy(t), 0.25).outputs[0])
+    sphere_scene(empty_scene, aniso)
+    for i, mat in enumerate((ashikhmin, holdout_mix)):
+        builders.mesh_object(f"Extra{i}", "cube", mat, location=(3.0 * (i + 1), 0.0, 0.5))
+    exported, log = export()
+    text = log.warning_text()
+    by_name = {m.name: m for m in exported.materials}
+    assert by_name["ShaderNodeBsdfAnisotropic"].kind == "glossy_bsdf"
+    assert "anisotropy of Anisotropic BSDF (isotropic used)" in text
+    assert "distribution 'Ashikhmin-Shirley' (GGX used)" in text
+    assert "Holdout" in text
+    # The holdout's share (0.75) is black: only the glossy side's 0.25 remains.
+    assert [(round(l.weight, 6), l.material.kind) for l in by_name["holdout_mix"].layers] == [(0.25, "glossy_bsdf")]
