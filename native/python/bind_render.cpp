@@ -89,7 +89,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
                                        const std::string& medium_sampling, const std::string& light_selection,
                                        const std::string& ellipse_technique, uint64_t seed, int threads,
                                        int tile_size, bool analytic_light_coverage,
-                                       bool bsdf_samples_on_diffuse) {
+                                       bool bsdf_samples_on_diffuse, uint64_t memory_limit) {
     if (!scene->committed()) throw py::value_error("the scene must be committed before rendering");
     render::RenderOptions o;
     o.techniques.clear();
@@ -112,6 +112,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
     o.tile_size = tile_size;
     o.analytic_light_coverage = analytic_light_coverage;
     o.bsdf_samples_on_diffuse = bsdf_samples_on_diffuse;
+    o.memory_limit = memory_limit;
     return std::make_unique<Renderer>(std::move(scene), std::move(o));
 }
 
@@ -234,7 +235,8 @@ void BindRender(py::module_& m) {
              py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("light_selection"),
              py::arg("ellipse_technique"), py::arg("seed"),
              py::arg("threads"),
-             py::arg("tile_size"), py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"))
+             py::arg("tile_size"), py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"),
+             py::arg("memory_limit"))
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
         .def("cancel", &Renderer::Cancel)
         .def("image", &Image)
@@ -243,6 +245,28 @@ void BindRender(py::module_& m) {
         .def_property_readonly("width", &Renderer::width)
         .def_property_readonly("height", &Renderer::height);
     m.attr("MAX_LIGHT_SAMPLES") = render::kMaxLightSamples;
+    m.attr("MAX_THREADS") = render::kMaxThreads;
+    m.def("default_memory_limit", &render::DefaultMemoryLimit,
+          "Bytes a Renderer's images may take by default: half the physical memory");
+    m.def(
+        "render_memory_bytes",
+        [](int techniques, int width, int height) {
+            render::RenderOptions o;
+            o.techniques.assign(size_t(std::max(techniques, 0)), Technique::Rectangle);
+            return render::RenderMemoryBytes(o, width, height);
+        },
+        py::arg("techniques"), py::arg("width"), py::arg("height"),
+        "Bytes the images of a Renderer with `techniques` techniques at width x height take");
+    m.def(
+        "check_render_memory",
+        [](int techniques, int width, int height, uint64_t memory_limit) {
+            render::RenderOptions o;
+            o.techniques.assign(size_t(std::max(techniques, 0)), Technique::Rectangle);
+            o.memory_limit = memory_limit;
+            render::CheckRenderMemory(o, width, height);
+        },
+        py::arg("techniques"), py::arg("width"), py::arg("height"), py::arg("memory_limit"),
+        "ValueError if those images would take more than memory_limit bytes (0: default_memory_limit())");
     m.attr("MAX_SAMPLES_PER_CALL") = render::kMaxSamplesPerCall;
     m.attr("MAX_IMAGE_SIDE") = render::kMaxImageSide;
     m.attr("MAX_LIGHT_TREE_EMITTERS") = render::kMaxLightTreeEmitters;

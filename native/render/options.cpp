@@ -1,6 +1,9 @@
 #include "options.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -19,7 +22,38 @@ void ValidateOptions(const RenderOptions& o) {
     if (o.light_samples < 1 || o.light_samples > kMaxLightSamples)
         throw std::invalid_argument("light_samples must be in 1.." + std::to_string(kMaxLightSamples));
     if (o.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");
+    if (o.threads > kMaxThreads)
+        throw std::invalid_argument("threads must be at most " + std::to_string(kMaxThreads) + " (got " +
+                                    std::to_string(o.threads) + "; 0: all cores)");
     if (o.tile_size < 1) throw std::invalid_argument("tile_size must be positive");
+}
+
+uint64_t RenderMemoryBytes(const RenderOptions& o, int width, int height) {
+    const uint64_t pixels = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
+    const uint64_t per_technique = pixels * (3 * sizeof(double) + 4 * sizeof(float));
+    return per_technique * o.techniques.size() + pixels * sizeof(uint32_t);
+}
+
+uint64_t DefaultMemoryLimit() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page <= 0) return uint64_t(8) << 30;  // unknown: 8 GiB
+    return uint64_t(pages) * uint64_t(page) / 2;
+}
+
+void CheckRenderMemory(const RenderOptions& o, int width, int height) {
+    const uint64_t need = RenderMemoryBytes(o, width, height);
+    const uint64_t limit = o.memory_limit > 0 ? o.memory_limit : DefaultMemoryLimit();
+    if (need <= limit) return;
+    auto gib = [](uint64_t bytes) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.2f GiB", double(bytes) / double(uint64_t(1) << 30));
+        return std::string(text);
+    };
+    throw std::invalid_argument("a " + std::to_string(width) + "x" + std::to_string(height) + " image with " +
+                                std::to_string(o.techniques.size()) + " technique(s) needs " + gib(need) +
+                                ", more than the memory limit of " + gib(limit) +
+                                (o.memory_limit > 0 ? "" : " (half the physical memory)") +
+                                ": lower the resolution or the techniques, or raise memory_limit");
 }
 
 void ValidateRenderCall(const RenderOptions& o, int samples) {

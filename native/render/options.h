@@ -15,6 +15,8 @@
 namespace sphrect::render {
 
 constexpr int kMaxLightSamples = 4096;
+// More render threads than this are refused (each is an OS thread; thousands fail to start).
+constexpr int kMaxThreads = 256;
 constexpr int kMaxSamplesPerCall = 1 << 20;
 // One pass keeps samples x light_samples pattern points per pixel in memory.
 constexpr int kMaxPatternPointsPerCallLog2 = 22;
@@ -39,6 +41,8 @@ struct RenderOptions {
     // With MIS, also BSDF samples at purely diffuse (Lambert) hits when the lights are sampled by
     // solid angle; off, such hits take light samples alone (integrator/shade_surface.h).
     bool bsdf_samples_on_diffuse = false;
+    // The most bytes the renderer's images may take (RenderMemoryBytes); 0: DefaultMemoryLimit().
+    uint64_t memory_limit = 0;
     // Benchmarks only: run the kernel with every feature compiled in (medium, glossy, depth of
     // field) whatever the scene needs, to measure what the specialised kernels save.
     bool force_all_features = false;
@@ -46,6 +50,16 @@ struct RenderOptions {
 
 // Throws std::invalid_argument naming the first option out of range.
 void ValidateOptions(const RenderOptions& o);
+
+// What a renderer of `o` for a width x height image holds: per technique the RGB sums (double) and
+// the image a caller copies out (RGBA float), and the sample counts.
+uint64_t RenderMemoryBytes(const RenderOptions& o, int width, int height);
+
+// Half of the machine's physical memory (the limit when RenderOptions::memory_limit is 0).
+uint64_t DefaultMemoryLimit();
+
+// Throws std::invalid_argument naming the figures if RenderMemoryBytes exceeds the limit.
+void CheckRenderMemory(const RenderOptions& o, int width, int height);
 
 // Throws std::invalid_argument if one Render(samples) call is out of range for `o`.
 void ValidateRenderCall(const RenderOptions& o, int samples);

@@ -17,6 +17,7 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
     : scene_(std::move(scene)), options_(std::move(options)) {
     if (!scene_ || !scene_->committed()) throw std::invalid_argument("the renderer needs a committed scene");
     ValidateOptions(options_);
+    CheckRenderMemory(options_, width(), height());  // before the tree and the images are allocated
     if (options_.light_selection == LightSelection::Tree) scene_->BuildLightTree();
     threads_ = options_.threads > 0 ? options_.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     const size_t pixels = size_t(width()) * height();
@@ -37,20 +38,31 @@ bool Renderer::Render(int samples, double time_budget, const std::function<void(
         return (uint64_t(next_sample_) + uint64_t(samples)) * uint64_t(options_.light_samples) >= kSampleIndexLimit;
     };
     if (exhausted()) throw std::invalid_argument("too many samples accumulated in this renderer");
-    cancel_.store(false);
+    // A Cancel() is consumed by the render it stops: the one in progress, or else the next one, which
+    // then returns at once (so that a cancel from another thread just before render() is not lost).
+    if (cancel_.exchange(false)) return false;
     const auto start = std::chrono::steady_clock::now();
     int passes = 0;
     bool complete = true;
     for (;;) {
         const auto pass_start = std::chrono::steady_clock::now();
-        complete = RenderPass(samples, progress);
+        try {
+            complete = RenderPass(samples, progress);
+        } catch (...) {  // a worker's or the progress callback's error stopped the workers through cancel_
+            cancel_.store(false);
+            throw;
+        }
         ++passes;
         const double pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
         {
             std::lock_guard<std::mutex> s(stats_mutex_);
             for (auto& st : stats_) st.wall_time += pass_seconds;
         }
-        if (!complete || time_budget <= 0) break;
+        if (!complete) {
+            cancel_.store(false);  // consumed
+            break;
+        }
+        if (time_budget <= 0) break;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         // Stop when one more pass would more likely overshoot the budget than not.
         if (elapsed + 0.5 * elapsed / passes >= time_budget) break;

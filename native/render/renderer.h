@@ -28,7 +28,8 @@ struct TechniqueStats {
 
 class Renderer {
   public:
-    // Throws std::invalid_argument on bad options or an uncommitted scene.
+    // Throws std::invalid_argument on bad options, an uncommitted scene, or images that would take
+    // more than the memory limit (CheckRenderMemory).
     Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions options);
     ~Renderer();
 
@@ -38,6 +39,8 @@ class Renderer {
     // Throws std::logic_error if this renderer is already rendering (one Render() at a time).
     bool Render(int samples, double time_budget = 0,
                 const std::function<void(int, int)>& progress = nullptr);
+    // Stops the render in progress at its next tile, or, when none is, the next Render() call
+    // before it renders anything (each cancel stops one render).
     void Cancel() { cancel_.store(true); }
 
     int width() const { return scene_->camera.width; }

@@ -35,6 +35,12 @@ Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=2: 
 the blend_scenes, the lights in view and their edges' coverage exact) on the blend_scenes (scripts/measure_light_selection.py, scripts/measure_light_samples.py;
 README, "Light selection and defaults").
 
+Resources: the images (per technique RGB sums in double and the RGBA float image a caller copies out) must fit
+memory_limit bytes (default None: sphrect.default_memory_limit(), half the physical memory), else ValueError
+names the figures before anything is allocated; threads is at most MAX_THREADS.  cancel() stops the render in
+progress at its next tile, or, called when none is running, the next render() call, which then returns False
+at once: each cancel() stops exactly one render, so one from another thread just before render() is not lost.
+
 Progressive rendering: each render() call (or each pass of a time budget) adds samples; the
 'sobol' pattern continues one sequence across calls, the other patterns stratify within a call.
 progress(done_tiles, total_tiles) counts the tiles of the current pass.  The image is identical
@@ -214,22 +220,27 @@ class Renderer:
                  pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
                  medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree",
                  ellipse_technique: str = "spherical_ellipse", analytic_light_coverage: bool = True,
-                 bsdf_samples_on_diffuse: bool = False):
+                 bsdf_samples_on_diffuse: bool = False, memory_limit: Optional[int] = None):
         if isinstance(techniques, str):
             techniques = [techniques]
         techniques = list(techniques)
         if not techniques:
             raise ValueError("at least one technique is needed")
         light_samples = _int_argument("light_samples", light_samples, 1, _native.MAX_LIGHT_SAMPLES)
-        threads, tile_size = _int_argument("threads", threads, 0), _int_argument("tile_size", tile_size, 1)
+        threads = _int_argument("threads", threads, 0, _native.MAX_THREADS)
+        tile_size = _int_argument("tile_size", tile_size, 1)
         seed = _int_argument("seed", seed, 0, 2 ** 64 - 1)
+        memory_limit = 0 if memory_limit is None else _int_argument("memory_limit", memory_limit, 1, 2 ** 64 - 1)
+        # Before the scene is built (its BVH can take long): the images must fit the memory limit.
+        _native.check_render_memory(len(techniques), int(scene.camera.width), int(scene.camera.height),
+                                    memory_limit)
         native, skipped = build_native_scene(scene)
         for msg in skipped:
             warnings.warn(msg, RuntimeWarning, stacklevel=2)
         self._scene = native
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
                                     str(light_selection), str(ellipse_technique), seed, threads, tile_size,
-                                    bool(analytic_light_coverage), bool(bsdf_samples_on_diffuse))
+                                    bool(analytic_light_coverage), bool(bsdf_samples_on_diffuse), memory_limit)
         self._techniques = techniques
 
     @property
@@ -271,7 +282,8 @@ class Renderer:
         return self._r.render(samples, budget, progress)
 
     def cancel(self) -> None:
-        """Stop the current render() at the next tile (thread-safe)."""
+        """Stop the render() in progress at its next tile, or, if none is, the next render() call before it
+        renders anything (thread-safe; each cancel stops one render)."""
         self._r.cancel()
 
     def image(self, technique=None) -> np.ndarray:
