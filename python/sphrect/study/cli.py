@@ -8,7 +8,9 @@ from typing import List, Optional
 
 from .._native import MAX_IMAGE_SIDE
 from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES
-from .jobs import SettingError, StudyConfig, sample_ladder
+from .jobs import SettingError, StudyConfig, check_positive, sample_ladder
+from .lock import StudyBusy
+from .preflight import check_resolution, check_workers
 from .reference import ReferenceSettings
 
 # The options' defaults are the settings' own.
@@ -86,14 +88,26 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+def _option(setting: str) -> str:
+    """The option of a setting (the scene is the positional argument)."""
+    return setting if setting == "scene" else "--" + setting.replace("_", "-")
+
+
 def main(argv: Optional[List[str]] = None) -> int:
+    """Every option is checked (alone and with the others) before anything is rendered: a bad one ends the study
+    at once with exit status 2 and a message naming it."""
     args = parser().parse_args(argv)
     from .report import write_report
-    if args.report_only:
-        path = write_report(args.out, sampler_table=not args.no_sampler_table, target_rmse=args.target_rmse)
-        print(path)
-        return 0
     try:
+        if args.target_rmse is not None:
+            check_positive("target_rmse", args.target_rmse)
+        if os.path.exists(args.out) and not os.path.isdir(args.out):
+            raise SettingError("out", f"{args.out} is a file, not a directory")
+        if args.report_only:
+            path = write_report(args.out, sampler_table=not args.no_sampler_table, target_rmse=args.target_rmse)
+            print(path)
+            return 0
+        check_workers(args.workers)
         config = StudyConfig(techniques=tuple(args.techniques), mis=tuple(args.mis), patterns=tuple(args.patterns),
                              light_selections=tuple(args.light_selections),
                              ellipse_techniques=tuple(args.ellipse_techniques),
@@ -102,26 +116,32 @@ def main(argv: Optional[List[str]] = None) -> int:
                              cycles=args.cycles != "off" and args.scene.endswith(".blend"),
                              grid_mis=tuple(args.grid_mis), grid_pattern=args.grid_pattern,
                              equal_time=args.equal_time)
-        reference = ReferenceSettings(samples=args.reference_samples or 64 * args.max_samples,
+        reference = ReferenceSettings(samples=64 * args.max_samples if args.reference_samples is None
+                                      else args.reference_samples,
                                       chunks=args.reference_chunks, technique=args.reference_technique,
                                       mis=args.reference_mis, pattern=args.reference_pattern,
                                       light_samples=args.light_samples)
-    except SettingError as e:  # named by its option (StudyConfig's fields are the options' names)
-        print(f"error: --{e.setting.replace('_', '-')}: {e}", file=sys.stderr)
+        if args.resolution:
+            check_resolution(*args.resolution, workers=args.workers or os.cpu_count() or 1, chunks=reference.chunks)
+        if not os.path.isfile(args.scene):
+            raise SettingError("scene", f"{args.scene}: no such file")
+        if not args.scene.endswith((".blend", ".npz")):
+            raise SettingError("scene", f"{args.scene}: expected a .blend or a .sphrect.npz scene file")
+        if args.cycles == "on":
+            from .cycles import find_blender
+            if not args.scene.endswith(".blend") or find_blender(args.blender) is None:
+                raise SettingError("cycles", "--cycles on needs a .blend scene and Blender")
+        from .study import run_study
+        summary = run_study(args.scene, args.out, config, reference, workers=args.workers,
+                            resolution=args.resolution, blender=args.blender, blender_script=args.blender_script,
+                            progress=not args.quiet, report=False)
+        path = write_report(args.out, sampler_table=not args.no_sampler_table, target_rmse=args.target_rmse)
+    except SettingError as e:  # named by its option (the settings' fields are the options' names)
+        print(f"error: {_option(e.setting)}: {e}", file=sys.stderr)
         return 2
-    except ValueError as e:
+    except (ValueError, StudyBusy) as e:  # an unreadable scene, an output folder in use, ...
         print(f"error: {e}", file=sys.stderr)
         return 2
-    if args.cycles == "on":
-        from .cycles import find_blender
-        if not args.scene.endswith(".blend") or find_blender(args.blender) is None:
-            print("error: --cycles on needs a .blend scene and Blender", file=sys.stderr)
-            return 2
-    from .study import run_study
-    summary = run_study(args.scene, args.out, config, reference, workers=args.workers, resolution=args.resolution,
-                        blender=args.blender, blender_script=args.blender_script, progress=not args.quiet,
-                        report=False)
-    path = write_report(args.out, sampler_table=not args.no_sampler_table, target_rmse=args.target_rmse)
     print(f"report: {os.path.abspath(path)} (and report.html)")
     if summary["failures"]:
         print(f"{len(summary['failures'])} runs failed (see {os.path.join(args.out, 'failed')}); run the same "

@@ -71,12 +71,15 @@ def export_blend(blend: str, out_path: str, resolution: Optional[Tuple[int, int]
                  blender: Optional[str] = None, blender_script: Optional[str] = None) -> str:
     """Export `blend` with the add-on to `out_path` (.sphrect.npz); returns the exporter's warnings (what the
     scene holds that sphrect does not support), '' when none."""
+    # Exported beside `out_path` and renamed over it: an interrupted export never leaves a partial scene file.
+    partial = os.path.join(os.path.dirname(os.path.abspath(out_path)), ".export-partial.sphrect.npz")
     with tempfile.TemporaryDirectory() as tmp:
         warnings_path = os.path.join(tmp, "warnings.json")
-        args = {"out": os.path.abspath(out_path), "warnings": warnings_path}
+        args = {"out": partial, "warnings": warnings_path}
         if resolution:
             args["width"], args["height"] = int(resolution[0]), int(resolution[1])
         run_blender(blend, "export", args, blender, blender_script, timeout=600)
+        os.replace(partial, out_path)
         with open(warnings_path) as f:
             return json.load(f).get("warnings", "")
 

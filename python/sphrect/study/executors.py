@@ -15,9 +15,14 @@ all cores and judges runs by wall time instead (then use ``--workers 1``).
 from __future__ import annotations
 
 import concurrent.futures as cf
+import ctypes
 import multiprocessing
 import os
+import signal
+import sys
 import tempfile
+import threading
+import time
 from abc import ABC, abstractmethod
 from concurrent.futures.process import BrokenProcessPool
 from typing import Any, Callable, Iterable, Iterator, Tuple
@@ -58,6 +63,32 @@ def _tracked(fn, marker_dir: str, index: int, task):
         os.unlink(marker)
 
 
+PR_SET_PDEATHSIG = 1  # linux/prctl.h
+PARENT_POLL_SECONDS = 0.5
+
+
+def _end_with_parent(parent: int) -> None:
+    """Worker initializer: end this worker when the study's process (`parent`) dies, even by kill -9, which no
+    cleanup code of the parent survives. On Linux the kernel sends SIGKILL (prctl PR_SET_PDEATHSIG), which also
+    stops a render inside native code; everywhere a watchdog thread ends the process once it is orphaned (its
+    parent pid changes). Checked once at once too, in case the parent died while this worker started."""
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:
+        os._exit(1)
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(PARENT_POLL_SECONDS)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="sphrect-parent-watchdog", daemon=True).start()
+
+
 class LocalProcessPool(Executor):
     """A pool of worker processes on this machine (started with 'spawn': the parent may hold render threads,
     which must not be forked). If a worker dies (killed, crashed in native code), the tasks that were running
@@ -96,7 +127,8 @@ class LocalProcessPool(Executor):
         pending = tasks if pending is None else pending
         for name in os.listdir(marker_dir):
             os.unlink(os.path.join(marker_dir, name))
-        pool = cf.ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=context)
+        pool = cf.ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=context,
+                                      initializer=_end_with_parent, initargs=(os.getpid(),))
         futures = {pool.submit(_tracked, fn, marker_dir, i, t): i for i, t in list(tasks.items())}
         broken = False
         try:

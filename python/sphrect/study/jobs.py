@@ -11,10 +11,13 @@ import dataclasses
 import hashlib
 import inspect
 import json
+import math
+import numbers
 import re
 from dataclasses import dataclass
 from typing import Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
+from .. import _native
 from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES, Renderer
 
 SPHRECT = "sphrect"
@@ -122,10 +125,18 @@ class Job:
         return Job(**{k: v for k, v in d.items() if k in names})
 
 
+# The renderer's limits, checked here so that a study refuses them before it renders anything.
+MAX_SEED = 2 ** 64 - 1                                    # render.Renderer's seed is an unsigned 64-bit integer
+MAX_SAMPLES = _native.MAX_SAMPLES_PER_CALL                # one job is one render() call
+MAX_LIGHT_SAMPLES = _native.MAX_LIGHT_SAMPLES
+MAX_THREADS = getattr(_native, "MAX_THREADS", 2 ** 31 - 1)  # render threads of one Renderer
+SAMPLE_INDEX_LIMIT = 2 ** 31  # camera samples x light samples of one render (native kSampleIndexLimit)
+
+
 def sample_ladder(max_samples: int, min_samples: int = 1) -> List[int]:
-    """Powers of two from min_samples up to max_samples: 1, 2, 4, ..."""
-    if max_samples < 1 or min_samples < 1 or min_samples > max_samples:
-        raise ValueError(f"need 1 <= min_samples <= max_samples, got {min_samples}, {max_samples}")
+    """Powers of two from min_samples up to max_samples: 1, 2, 4, ... (SettingError naming the bad one)."""
+    check_int("max_samples", max_samples, 1, MAX_SAMPLES)
+    check_int("min_samples", min_samples, 1, max_samples)
     ladder, n = [], 1
     while n <= max_samples:
         if n >= min_samples:
@@ -142,14 +153,34 @@ class SettingError(ValueError):
         self.setting = setting
 
 
-def _check_names(setting: str, kind: str, names: Sequence[str], allowed: Sequence[str]) -> Tuple[str, ...]:
-    names = tuple(names)
+def check_int(setting: str, value, lo: int, hi: int) -> int:
+    """`value` as an int in lo..hi, else SettingError naming `setting`."""
+    if not isinstance(value, numbers.Integral) or isinstance(value, bool) or not lo <= value <= hi:
+        raise SettingError(setting, f"must be an integer in {lo}..{hi}, got {value!r}")
+    return int(value)
+
+
+def check_positive(setting: str, value, optional: bool = False) -> Optional[float]:
+    """`value` as a positive finite float (or None when `optional`), else SettingError naming `setting`."""
+    if value is None and optional:
+        return None
+    if not isinstance(value, numbers.Real) or isinstance(value, bool) or not (value > 0 and math.isfinite(value)):
+        raise SettingError(setting, f"must be a positive number, got {value!r}")
+    return float(value)
+
+
+def check_names(setting: str, kind: str, names: Sequence[str], allowed: Sequence[str]) -> Tuple[str, ...]:
+    """The names (repeats dropped, order kept), each one of `allowed`, at least one; else SettingError."""
+    if isinstance(names, str):
+        names = (names,)
+    names = tuple(dict.fromkeys(names))
     if not names:
         raise SettingError(setting, f"no {kind} chosen")
     for n in names:
         if n not in allowed:
             raise SettingError(setting, f"unknown {kind} {n!r}; choose from {', '.join(allowed)}")
     return names
+
 
 
 @dataclass
@@ -170,25 +201,28 @@ class StudyConfig:
     equal_time: Optional[float] = None  # seconds; None = measured from the ladder (see equal_time_budget)
 
     def __post_init__(self):
-        self.techniques = _check_names("techniques", "technique", self.techniques, TECHNIQUES)
-        self.mis = _check_names("mis", "MIS mode", self.mis, MIS_MODES)
-        self.patterns = _check_names("patterns", "sample pattern", self.patterns, PATTERNS)
-        self.light_selections = _check_names("light_selections", "light selection", self.light_selections,
+        self.techniques = check_names("techniques", "technique", self.techniques, TECHNIQUES)
+        self.mis = check_names("mis", "MIS mode", self.mis, MIS_MODES)
+        self.patterns = check_names("patterns", "sample pattern", self.patterns, PATTERNS)
+        self.light_selections = check_names("light_selections", "light selection", self.light_selections,
                                              LIGHT_SELECTIONS)
-        self.ellipse_techniques = _check_names("ellipse_techniques", "ellipse technique", self.ellipse_techniques,
+        self.ellipse_techniques = check_names("ellipse_techniques", "ellipse technique", self.ellipse_techniques,
                                                ELLIPSE_TECHNIQUES)
-        self.grid_mis = _check_names("grid_mis", "MIS mode", self.grid_mis, MIS_MODES)
+        self.grid_mis = check_names("grid_mis", "MIS mode", self.grid_mis, MIS_MODES)
         # The grid's sample counts come from the ladder's costs: only MIS modes the ladder measures (a study of
         # --mis power alone, the add-on's default, would otherwise have no grid and no equal-time budget).
         self.grid_mis = tuple(m for m in self.grid_mis if m in self.mis) or (self.mis[-1],)
-        _check_names("grid_pattern", "sample pattern", (self.grid_pattern,), PATTERNS)
-        self.ladder = tuple(sorted(set(int(n) for n in self.ladder)))
-        if not self.ladder or self.ladder[0] < 1:
-            raise ValueError("the sample ladder needs counts >= 1")
-        if self.light_samples < 1:
-            raise ValueError("light_samples must be >= 1")
-        if self.threads < 0:
-            raise ValueError("threads must be >= 0 (0 = all)")
+        check_names("grid_pattern", "sample pattern", (self.grid_pattern,), PATTERNS)
+        if not self.ladder:
+            raise SettingError("max_samples", "the sample ladder is empty")
+        self.ladder = tuple(sorted(set(check_int("max_samples", n, 1, MAX_SAMPLES) for n in self.ladder)))
+        self.light_samples = check_int("light_samples", self.light_samples, 1, MAX_LIGHT_SAMPLES)
+        if self.ladder[-1] * self.light_samples >= SAMPLE_INDEX_LIMIT:  # the ladder's top job is the largest
+            raise SettingError("max_samples", f"{self.ladder[-1]} samples x {self.light_samples} light samples "
+                                              f"is more than a render takes (< {SAMPLE_INDEX_LIMIT})")
+        self.seed = check_int("seed", self.seed, 0, MAX_SEED)
+        self.threads = check_int("threads", self.threads, 0, MAX_THREADS)  # 0 = all cores
+        self.equal_time = check_positive("equal_time", self.equal_time, optional=True)
 
     @property
     def shows_selection(self) -> bool:
@@ -259,9 +293,9 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
 
     def samples(engine, technique, mis, light_selection, ellipse_technique):
         cost = seconds_per_sample.get((engine, technique, mis, light_selection, ellipse_technique))
-        if not (cost and cost > 0):
+        if not (cost and cost > 0 and math.isfinite(cost)):
             return None
-        n = max(1, int(round(budget / cost)))
+        n = min(max(1, int(round(budget / cost))), MAX_SAMPLES)  # a render() call takes at most MAX_SAMPLES
         return stratifiable_count(n) if engine == SPHRECT and config.grid_pattern == "stratified" else n
 
     jobs = []

@@ -22,7 +22,6 @@ study interrupted while making its reference resumes from the chunks already ren
 from __future__ import annotations
 
 import hashlib
-import json
 import math
 import os
 from dataclasses import asdict, dataclass
@@ -30,7 +29,8 @@ from typing import Dict, List
 
 import numpy as np
 
-from .jobs import SPHRECT, Job
+from ..render import MIS_MODES, PATTERNS, TECHNIQUES
+from .jobs import MAX_LIGHT_SAMPLES, MAX_SAMPLES, SAMPLE_INDEX_LIMIT, SPHRECT, Job, SettingError, check_int, check_names
 from .metrics import RELMSE_EPSILON, colour
 from .runner import REFERENCE_KIND
 from .store import ResultStore, atomic_write_json
@@ -50,10 +50,18 @@ class ReferenceSettings:
     light_samples: int = 1
 
     def __post_init__(self):
-        if self.chunks < 2:
-            raise ValueError("the reference needs at least 2 independent chunks to estimate its own error")
-        if self.samples < self.chunks:
-            raise ValueError(f"reference samples ({self.samples}) must be at least its chunks ({self.chunks})")
+        """Checks every setting; a SettingError names the study's option ("reference_" + the field's name, but
+        light_samples: the study's own)."""
+        self.chunks = check_int("reference_chunks", self.chunks, 2, 2 ** 16)  # >= 2 to estimate its own error
+        self.samples = check_int("reference_samples", self.samples, self.chunks, self.chunks * MAX_SAMPLES)
+        self.light_samples = check_int("light_samples", self.light_samples, 1, MAX_LIGHT_SAMPLES)
+        (self.technique,) = check_names("reference_technique", "technique", (self.technique,), TECHNIQUES)
+        (self.mis,) = check_names("reference_mis", "MIS mode", (self.mis,), MIS_MODES)
+        (self.pattern,) = check_names("reference_pattern", "sample pattern", (self.pattern,), PATTERNS)
+        if self.samples // self.chunks * self.light_samples >= SAMPLE_INDEX_LIMIT:
+            raise SettingError("reference_samples", f"{self.samples // self.chunks} samples per chunk x "
+                                                    f"{self.light_samples} light samples is more than a render "
+                                                    f"takes (< {SAMPLE_INDEX_LIMIT})")
 
 
 def reference_jobs(settings: ReferenceSettings, threads: int = 1) -> List[Job]:
@@ -106,9 +114,9 @@ def combine_reference(store: ResultStore, settings: ReferenceSettings, jobs: Lis
     return info
 
 
+REFERENCE_INFO_KEYS = ("id", "image", "chunk_keys", "scene_fingerprint", "estimated_rmse")
+
+
 def load_reference_info(store: ResultStore) -> Dict | None:
-    try:
-        with open(os.path.join(store.root, REFERENCE_JSON)) as f:
-            return json.load(f)
-    except (FileNotFoundError, ValueError):
-        return None
+    """reference.json; None when there is none or it is damaged (then set aside: the reference is recombined)."""
+    return store.read_json(REFERENCE_JSON, required=REFERENCE_INFO_KEYS)

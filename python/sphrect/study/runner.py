@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import multiprocessing
 import os
 import time
 from dataclasses import dataclass, replace
@@ -18,6 +19,7 @@ import numpy as np
 
 from . import metrics
 from .jobs import CYCLES, EQUAL_TIME, SPHRECT, Job
+from .lock import hold_worker_lock
 from .store import ResultStore
 
 REFERENCE_KIND = "reference"
@@ -133,6 +135,8 @@ def _reference(context: RunContext) -> np.ndarray:
 def run_job(context: RunContext, job: Job) -> Dict:
     """Render `job`, measure it and write its record (atomically) to the store; returns the record.
     Reference chunks and equal-time runs also keep their image in the store."""
+    if multiprocessing.parent_process() is not None:  # a worker: claim the folder while this process lives
+        hold_worker_lock(context.store_root)
     store = ResultStore(context.store_root)
     image, measured = _render_function(context)(context, job)
     image = np.asarray(image, dtype=np.float32)

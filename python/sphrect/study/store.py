@@ -10,12 +10,17 @@ Every file is written to a temporary file in the same directory, flushed to disk
 final name (``os.replace`` is atomic on POSIX), so an interrupted study never leaves a half-written file
 under a final name: a run is either recorded whole or not at all, and the next start redoes only the
 runs that have no record.
+
+A file that is damaged all the same (a truncated copy, a full disk, a hand edit) is never trusted: reading it
+says so on stderr and moves it to ``damaged/`` (so it is said once), and whatever needed it is recomputed --
+a run record or a run's image redoes the run, reference.npy or reference.json recombines the reference,
+state.json is rewritten.
 """
 from __future__ import annotations
 
 import json
 import os
-import warnings
+import sys
 from typing import Dict, Iterator, Optional
 
 import numpy as np
@@ -25,6 +30,7 @@ from ..fileio import atomic_write
 RUNS = "runs"
 FAILED = "failed"
 IMAGES = "images"
+DAMAGED = "damaged"
 
 
 def atomic_write_bytes(path: str, data: bytes) -> None:
@@ -49,6 +55,36 @@ class ResultStore:
         for sub in (RUNS, FAILED, IMAGES):
             os.makedirs(os.path.join(self.root, sub), exist_ok=True)
 
+    def set_aside(self, path: str, reason) -> None:
+        """Report a damaged file and move it to damaged/ (its next write recomputes it)."""
+        target = os.path.join(self.root, DAMAGED, os.path.relpath(path, self.root).replace(os.sep, "__"))
+        try:
+            os.makedirs(os.path.dirname(target), exist_ok=True)
+            os.replace(path, target)
+            where = f"moved to {target}"
+        except OSError as e:
+            where = f"could not be moved aside ({e})"
+        sys.stderr.write(f"damaged file {path} ({reason}): {where}; it will be recomputed\n")
+        sys.stderr.flush()
+
+    def read_json(self, name: str, required=()) -> Optional[Dict]:
+        """The JSON object in `name` (relative to the root) with the `required` keys; None when there is no such
+        file, or when it is damaged (then set aside)."""
+        path = os.path.join(self.root, name)
+        try:
+            with open(path, "r", encoding="utf-8") as f:
+                obj = json.load(f)
+        except FileNotFoundError:
+            return None
+        except (OSError, ValueError) as e:
+            self.set_aside(path, f"unreadable: {e}")
+            return None
+        missing = [k for k in required if k not in obj] if isinstance(obj, dict) else None
+        if missing is None or missing:
+            self.set_aside(path, "not a JSON object" if missing is None else f"no {', '.join(missing)}")
+            return None
+        return obj
+
     def remove_stale_temporaries(self) -> None:
         """Delete the temporaries of writes that never finished (a worker killed mid-write). Call only
         while no job is running: a live write's temporary looks the same."""
@@ -71,18 +107,20 @@ class ResultStore:
         atomic_write_json(os.path.join(self.root, FAILED, f"{key}.json"), {"key": key, "error": error})
 
     def read_run(self, key: str) -> Optional[Dict]:
-        try:
-            with open(self.run_path(key), "r", encoding="utf-8") as f:
-                return json.load(f)
-        except FileNotFoundError:
+        """The run's record; None when there is none, or a damaged one (set aside: the run is redone)."""
+        record = self.read_json(os.path.join(RUNS, f"{key}.json"), required=("key", "fingerprint", "job"))
+        if record is not None and not isinstance(record["job"], dict):
+            self.set_aside(self.run_path(key), "its job is not a JSON object")
             return None
-        except (OSError, ValueError) as e:  # cannot happen with atomic writes, but never trust a disk
-            warnings.warn(f"ignoring unreadable result {self.run_path(key)}: {e}")
-            return None
+        return record
 
     def is_done(self, key: str, fingerprint: str) -> bool:
+        """Whether the run has a record of this fingerprint, and its image (if it keeps one) is whole: a run whose
+        image is damaged is redone."""
         record = self.read_run(key)
-        return record is not None and record.get("fingerprint") == fingerprint
+        if record is None or record.get("fingerprint") != fingerprint:
+            return False
+        return "image" not in record or self.image_is_whole(record["image"])
 
     def runs(self, fingerprint: Optional[str] = None) -> Iterator[Dict]:
         """Every readable record (of the given fingerprint), in key order."""
@@ -98,11 +136,9 @@ class ResultStore:
         directory = os.path.join(self.root, FAILED)
         for name in sorted(os.listdir(directory)):
             if name.endswith(".json") and not name.startswith("."):
-                try:
-                    with open(os.path.join(directory, name), encoding="utf-8") as f:
-                        yield json.load(f)
-                except (OSError, ValueError):
-                    continue
+                failure = self.read_json(os.path.join(FAILED, name), required=("key", "error"))
+                if failure is not None:
+                    yield failure
 
     # -- images -------------------------------------------------------------------------------------
     def image_path(self, name: str) -> str:
@@ -114,7 +150,24 @@ class ResultStore:
         return path
 
     def load_image(self, name: str) -> Optional[np.ndarray]:
+        """The image; None when there is none, or a damaged one (set aside)."""
+        return self._open_image(name, mmap_mode=None)
+
+    def image_is_whole(self, name: str) -> bool:
+        """Whether the image file is there and whole (its header and all its data), without reading the data."""
+        return self._open_image(name, mmap_mode="r") is not None
+
+    def _open_image(self, name: str, mmap_mode: Optional[str]) -> Optional[np.ndarray]:
+        path = self.image_path(name)
         try:
-            return np.load(self.image_path(name), allow_pickle=False)
+            image = np.load(path, allow_pickle=False, mmap_mode=mmap_mode)
         except FileNotFoundError:
             return None
+        except (OSError, ValueError, EOFError) as e:  # truncated, not an .npy, an object array
+            self.set_aside(path, f"unreadable: {e}")
+            return None
+        if image.ndim != 3 or image.shape[2] not in (3, 4) or image.dtype != np.float32:
+            del image
+            self.set_aside(path, "not a float32 [H, W, 3|4] image")
+            return None
+        return image

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import json
 import os
 import sys
 import time
@@ -22,6 +21,8 @@ from . import metrics
 from .executors import Executor, LocalProcessPool
 from .jobs import SPHRECT, CostKey, Job, StudyConfig, build_plan, cost_key, equal_time_jobs, fingerprint
 from .metrics import time_of
+from .lock import WORKER_EXIT_WAIT, StudyLock
+from .preflight import check_resolution, check_workers
 from .progress import ProgressBar
 from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
 from .runner import RunContext, run_job
@@ -122,14 +123,17 @@ def seconds_per_sample(records: List[Dict], threads: int) -> Dict[CostKey, float
 def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
     """Default equal-time budget: the time our `rectangle` technique (or the first technique) takes, with the
     last grid MIS mode, the first light selection and the first ellipse technique, for a quarter of the ladder's
-    top sample count."""
+    top sample count. When that configuration has no measured run (its runs failed), the first of ours that has
+    one stands in; RuntimeError when the ladder measured none."""
     technique = "rectangle" if "rectangle" in config.techniques else config.techniques[0]
-    cost = seconds_per_sample(records, config.threads).get((SPHRECT, technique, config.grid_mis[-1],
-                                                            config.light_selections[0],
-                                                            config.ellipse_techniques[0]))
-    if not cost:
+    costs = seconds_per_sample(records, config.threads)
+    preferred = [(SPHRECT, technique, config.grid_mis[-1], config.light_selections[0],
+                  config.ellipse_techniques[0])]
+    measured = [key for key in preferred + sorted(costs) if key[0] == SPHRECT and costs.get(key, 0) > 0
+                and np.isfinite(costs[key])]
+    if not measured:
         raise RuntimeError("no ladder run measured: cannot choose the equal-time budget")
-    return cost * max(config.ladder[-1] // 4, 1)
+    return costs[measured[0]] * max(config.ladder[-1] // 4, 1)
 
 
 STATE_FILE = "state.json"
@@ -137,27 +141,39 @@ STATE_FILE = "state.json"
 
 def _write_state(out_dir: str, **values) -> None:
     """study state the report needs (the current runs' fingerprint, the equal-time budget)."""
-    path = os.path.join(out_dir, STATE_FILE)
-    state = {}
-    if os.path.exists(path):
-        with open(path) as f:
-            state = json.load(f)
+    state = ResultStore(out_dir).read_json(STATE_FILE) or {}  # a damaged one is set aside and rewritten
     state.update(values)
-    atomic_write_json(path, state)
+    atomic_write_json(os.path.join(out_dir, STATE_FILE), state)
 
 
 def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = None,
               reference: Optional[ReferenceSettings] = None, workers: Optional[int] = None,
               resolution: Optional[Tuple[int, int]] = None, blender: Optional[str] = None,
               executor: Optional[Executor] = None, render_hook: Optional[str] = None, progress: bool = True,
-              report: bool = True, sampler_table: bool = True, blender_script: Optional[str] = None) -> Dict:
+              report: bool = True, sampler_table: bool = True, blender_script: Optional[str] = None,
+              lock_wait: float = WORKER_EXIT_WAIT) -> Dict:
     """Run (or resume) the study of `input_path` (.blend or .sphrect.npz) into `out_dir`; returns a summary
-    dict (paths, counts, failures). See the package docstring for the phases."""
+    dict (paths, counts, failures). See the package docstring for the phases. Settings are checked before
+    anything renders (SettingError); StudyBusy when another study holds `out_dir` or workers of an earlier one
+    still run after `lock_wait` seconds (lock.py)."""
     config = config or StudyConfig()
     reference = reference or ReferenceSettings(samples=64 * max(config.ladder), light_samples=config.light_samples)
+    if not os.path.isfile(input_path):
+        raise ValueError(f"{input_path}: no such file")
+    if resolution is not None:
+        check_resolution(*resolution, workers=getattr(executor, "workers", None) or check_workers(workers) or 1,
+                         chunks=reference.chunks)
+    executor = executor or LocalProcessPool(check_workers(workers))
     os.makedirs(out_dir, exist_ok=True)
+    with StudyLock(out_dir, wait=lock_wait):
+        return _run_locked(input_path, out_dir, config, reference, executor, resolution, blender, blender_script,
+                           render_hook, progress, report, sampler_table)
+
+
+def _run_locked(input_path, out_dir, config, reference, executor, resolution, blender, blender_script, render_hook,
+                progress, report, sampler_table) -> Dict:
+    """run_study's phases, in a folder this study holds (lock.py)."""
     store = ResultStore(out_dir)
-    executor = executor or LocalProcessPool(workers)
     started = time.time()
 
     if config.cycles:
@@ -175,6 +191,8 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
     from ..scene import load_scene
     camera = load_scene(scene_path).camera
     width, height = resolution or (camera.width, camera.height)
+    check_resolution(width, height, workers=getattr(executor, "workers", None) or 1, chunks=reference.chunks,
+                     setting="resolution")  # the scene's own, when not given
     # Runs are redone when the scene, the resolution or the renderer's build changes.
     scene_fp = fingerprint(scene=scene_content_hash(scene_path), width=width, height=height,
                            renderer=renderer_build_hash())
@@ -198,7 +216,7 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
     info = load_reference_info(store)
     expected_keys = [j.key for j in chunk_jobs]
     if info is None or info.get("chunk_keys") != expected_keys or info.get("scene_fingerprint") != scene_fp \
-            or store.load_image(info["image"]) is None:
+            or not store.image_is_whole(info["image"]):
         info = combine_reference(store, reference, chunk_jobs, scene_fp)
     log(f"reference: {reference.samples} spp ({reference.technique}, mis={reference.mis}, {reference.pattern}), "
         f"estimated RMSE {info['estimated_rmse']:.4g}")
@@ -208,11 +226,15 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
     # 2. The sample ladder.
     ladder_records, ladder_failures = _run_phase(executor, context, store, build_plan(config), "ladder", progress)
 
-    # 3. Equal time.
-    budget = config.equal_time or equal_time_budget(ladder_records, config)
-    et_jobs = equal_time_jobs(config, budget, seconds_per_sample(ladder_records, config.threads))
+    # 3. Equal time (none when every ladder run failed: the report then shows the failures).
+    try:
+        budget = config.equal_time or equal_time_budget(ladder_records, config)
+    except RuntimeError as e:
+        log(f"{e}: equal-time renders skipped")
+        budget = None
+    et_jobs = equal_time_jobs(config, budget, seconds_per_sample(ladder_records, config.threads)) if budget else []
     et_records, et_failures = _run_phase(executor, context, store, et_jobs,
-                                         f"equal time ({budget:.3g} s)", progress)
+                                         f"equal time ({budget or 0:.3g} s)", progress)
 
     _write_state(out_dir, equal_time_budget=budget)
     summary = {"out_dir": os.path.abspath(out_dir), "reference": info, "ladder_runs": len(ladder_records),

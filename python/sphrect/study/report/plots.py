@@ -6,6 +6,7 @@ from typing import List, Tuple
 
 import numpy as np
 
+from ...fileio import atomic_write
 from ...render import TECHNIQUES
 from .. import metrics
 from ..jobs import CYCLES, CYCLES_CURVE, CurveKey
@@ -38,7 +39,7 @@ def _plt():
 
 def _save(plt, fig, path: str) -> None:
     fig.tight_layout()
-    fig.savefig(path, dpi=DPI)
+    atomic_write(path, lambda f: fig.savefig(f, format="png", dpi=DPI))
     plt.close(fig)
 
 

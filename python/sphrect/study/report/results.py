@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import os
 from collections import defaultdict
@@ -44,16 +43,21 @@ class StudyResults:
 
 
 def load_study(out_dir: str) -> StudyResults:
-    with open(os.path.join(out_dir, "config.json")) as f:
-        config = json.load(f)
-    with open(os.path.join(out_dir, "state.json")) as f:
-        state = json.load(f)
+    """The study's stored results; ValueError when a file the report needs is missing or damaged (running the study
+    again recomputes it)."""
     store = ResultStore(out_dir)
+    needed = {"config.json": ("study",), "state.json": ("run_fingerprint",)}
+    config, state = (store.read_json(name, required) for name, required in needed.items())
+    reference = load_reference_info(store)
+    for name, content in zip(list(needed) + ["reference.json"], (config, state, reference)):
+        if content is None:
+            raise ValueError(f"{os.path.join(out_dir, name)} is missing or damaged: run the study (not "
+                             f"--report-only) to recompute it")
     records = list(store.runs(state["run_fingerprint"]))
     settings = StudyConfig.from_dict(config["study"])
     for r in records:
         r["time"] = metrics.time_of(r, settings.threads)
-    return StudyResults(config=config, state=state, store=store, reference=load_reference_info(store),
+    return StudyResults(config=config, state=state, store=store, reference=reference,
                         settings=settings, ladder=[r for r in records if r["job"]["kind"] == LADDER],
                         equal_time=[r for r in records if r["job"]["kind"] == EQUAL_TIME],
                         failures=list(store.failures()))

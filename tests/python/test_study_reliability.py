@@ -1,0 +1,226 @@
+"""The study under bad input and faults (issue 15): every option is checked before anything renders and named in
+the message; every MIS mode and every pattern alone gives a report; a damaged file in the output folder is
+reported and recomputed on the next run; killing the study's process with -9 leaves no worker running; a second
+study of the same folder is refused, and one restarted after a kill waits for the earlier workers."""
+import fcntl
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import sphrect
+from sphrect.study import SerialExecutor, cli
+from sphrect.study.lock import STUDY_LOCK, WORKERS_LOCK, StudyBusy, StudyLock
+from test_study import fake_render, scene_file, study  # noqa: F401 (fixture; the hook's module)
+from test_study_render import paper_like_scene
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+@pytest.fixture
+def real_scene(tmp_path):
+    path = str(tmp_path / "tiny.sphrect.npz")
+    sphrect.save_scene(paper_like_scene(8, 6), path)
+    return path
+
+
+QUICK = ["--max-samples", "2", "--reference-samples", "16", "--reference-chunks", "2", "--cycles", "off",
+         "--workers", "1", "--no-sampler-table", "--quiet"]
+
+
+@pytest.mark.parametrize("options, named", [
+    (["--seed", "-1"], "--seed"),
+    (["--seed", str(2 ** 64)], "--seed"),
+    (["--equal-time", "-1"], "--equal-time"),
+    (["--equal-time", "nan"], "--equal-time"),
+    (["--equal-time", "0"], "--equal-time"),
+    (["--resolution", "32768x32768"], "--resolution"),
+    (["--light-samples", "0"], "--light-samples"),
+    (["--light-samples", "100000"], "--light-samples"),
+    (["--threads", "-1"], "--threads"),
+    (["--workers", "0"], "--workers"),
+    (["--workers", "-3"], "--workers"),
+    (["--max-samples", "0"], "--max-samples"),
+    (["--max-samples", str(2 ** 21)], "--max-samples"),
+    (["--min-samples", "4", "--max-samples", "2"], "--min-samples"),
+    (["--reference-samples", "1"], "--reference-samples"),
+    (["--reference-samples", "0"], "--reference-samples"),
+    (["--reference-chunks", "1"], "--reference-chunks"),
+    (["--reference-technique", "rect"], "--reference-technique"),
+    (["--reference-mis", "always"], "--reference-mis"),
+    (["--reference-pattern", "halton"], "--reference-pattern"),
+    (["--target-rmse", "-1"], "--target-rmse"),
+    (["--mis", "none,bogus"], "--mis"),
+    (["--grid-pattern", "halton"], "--grid-pattern"),
+])
+def test_bad_options_are_refused_before_anything_renders(real_scene, tmp_path, capsys, options, named):
+    out = tmp_path / "out"
+    base = list(QUICK)
+    if "--max-samples" in options:  # the option under test replaces the quick one
+        i = base.index("--max-samples")
+        del base[i:i + 2]
+    assert cli.main([real_scene, "--out", str(out), *base, *options]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"error: {named}: "), err
+    assert not (out / "runs").exists()  # nothing rendered, nothing written
+
+
+def test_a_missing_scene_and_a_file_as_out_are_refused(tmp_path, capsys):
+    assert cli.main([str(tmp_path / "none.sphrect.npz"), "--out", str(tmp_path / "o"), *QUICK]) == 2
+    assert capsys.readouterr().err.startswith("error: scene: ")
+    (tmp_path / "file").write_text("x")
+    assert cli.main([str(tmp_path / "none.sphrect.npz"), "--out", str(tmp_path / "file"), *QUICK]) == 2
+    assert capsys.readouterr().err.startswith("error: --out: ")
+
+
+@pytest.mark.parametrize("options", [["--mis", m] for m in sphrect.mis_modes]
+                         + [["--patterns", p] for p in sphrect.patterns])
+def test_each_mis_mode_and_each_pattern_alone_gives_a_report(real_scene, tmp_path, options):
+    """On the real renderer. Before the fix of the equal-time budget's MIS mode, --mis none or power alone rendered
+    the whole ladder and then stopped with 'no ladder run measured'."""
+    out = tmp_path / "out"
+    assert cli.main([real_scene, "--out", str(out), "--techniques", "area,rectangle", *QUICK, *options]) == 0
+    report = (out / "report.md").read_text()
+    assert "Equal time" in report or "equal_time_grid.png" in report
+    assert any(name.startswith("equal_time-") for name in os.listdir(out / "images"))
+
+
+# -- damaged files ------------------------------------------------------------------------------------------------
+
+def _files_read_back(out):
+    """Every file a rerun reads back (one of each kind)."""
+    runs = sorted(os.listdir(out / "runs"))
+    images = sorted(os.listdir(out / "images"))
+    return ["config.json", "state.json", "reference.json", "images/reference.npy",
+            "runs/" + next(n for n in runs if n.startswith("ladder-")),
+            "runs/" + next(n for n in runs if n.startswith("reference-")),
+            "runs/" + next(n for n in runs if n.startswith("equal_time-")),
+            "images/" + next(n for n in images if n.startswith("reference-")),
+            "images/" + next(n for n in images if n.startswith("equal_time-"))]
+
+
+@pytest.mark.parametrize("damage", ["truncated", "empty", "garbage"])
+def test_a_damaged_file_is_reported_and_recomputed(scene_file, tmp_path, monkeypatch, capfd, damage):
+    out = tmp_path / "out"
+    study(scene_file, out)
+    log = tmp_path / "renders.log"
+    monkeypatch.setenv("STUDY_FAKE_LOG", str(log))
+    for name in _files_read_back(out):
+        path = out / name
+        whole = path.read_bytes()
+        path.write_bytes({"truncated": whole[:len(whole) // 2], "empty": b"", "garbage": b"[1, 2"}[damage])
+        capfd.readouterr()
+        log.write_text("")
+        summary = study(scene_file, out)  # completes
+        err = capfd.readouterr().err
+        assert summary["failures"] == [] and (out / "report.md").exists(), name
+        assert f"damaged file {path}" in err or name in ("config.json",), (name, err)
+        if name.endswith(".npy"):
+            assert np.load(path).shape == (12, 16, 4), name  # recomputed, whole
+        elif name != "config.json":  # config.json is rewritten by every run, never read first
+            assert isinstance(json.loads(path.read_text()), dict), name
+        if name.startswith(("runs/", "images/")) and "reference.npy" not in name:
+            key = os.path.splitext(os.path.basename(name))[0]
+            assert key in log.read_text().split(), name  # the run was redone
+        if name != "config.json":
+            assert os.listdir(out / "damaged"), name  # set aside, not deleted
+
+
+def test_report_only_names_a_damaged_file(scene_file, tmp_path, capsys):
+    out = tmp_path / "out"
+    study(scene_file, out)
+    (out / "state.json").write_text("{")
+    assert cli.main([scene_file, "--out", str(out), "--report-only"]) == 2
+    assert "state.json is missing or damaged" in capsys.readouterr().err
+
+
+# -- processes ----------------------------------------------------------------------------------------------------
+
+def _children(pid):
+    """Pids of the live processes whose parent is `pid` (from /proc)."""
+    found = []
+    for name in os.listdir("/proc"):
+        if name.isdigit():
+            try:
+                with open(f"/proc/{name}/stat") as f:
+                    fields = f.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid and fields[0] != "Z":
+                found.append(int(name))
+    return found
+
+
+def _alive(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_killing_the_study_leaves_no_worker(tmp_path):
+    scene = str(tmp_path / "scene.sphrect.npz")
+    sphrect.save_scene(paper_like_scene(64, 48), scene)
+    out = tmp_path / "out"
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    # A reference of 2 x 2^19 samples keeps both workers rendering (in native code) far longer than this test.
+    study_process = subprocess.Popen([sys.executable, "-m", "sphrect.study", scene, "--out", str(out),
+                                      "--max-samples", "2", "--reference-samples", str(2 ** 20),
+                                      "--reference-chunks", "2", "--workers", "2", "--cycles", "off", "--quiet"],
+                                     env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        workers = []
+        while time.monotonic() < deadline and study_process.poll() is None:
+            workers = [p for p in _children(study_process.pid)
+                       if b"spawn_main" in open(f"/proc/{p}/cmdline", "rb").read()]
+            if len(workers) == 2 and os.path.exists(out / WORKERS_LOCK):
+                break
+            time.sleep(0.1)
+        assert len(workers) == 2, "the study did not start its workers"
+        time.sleep(1.0)  # let them start rendering
+        descendants = _children(study_process.pid)
+        os.kill(study_process.pid, signal.SIGKILL)
+        study_process.wait()
+        deadline = time.monotonic() + 10  # they end within a second or so; generous for a loaded machine
+        while time.monotonic() < deadline and any(_alive(p) for p in descendants):
+            time.sleep(0.1)
+        assert not [p for p in descendants if _alive(p)], "processes of the killed study still run"
+    finally:
+        if study_process.poll() is None:
+            study_process.kill()
+        for p in _children(study_process.pid):
+            os.kill(p, signal.SIGKILL)
+
+
+def test_a_second_study_of_the_same_folder_is_refused(real_scene, tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    with StudyLock(str(out)):
+        assert cli.main([real_scene, "--out", str(out), *QUICK]) == 2
+        err = capsys.readouterr().err
+        assert "is in use by another study" in err and f"pid {os.getpid()}" in err
+    assert not (out / "runs").exists()
+
+
+def test_a_restarted_study_waits_for_the_earlier_workers(scene_file, tmp_path, capfd):
+    out = tmp_path / "out"
+    out.mkdir()
+    # A leftover worker of a killed study holds the workers lock shared, as runner.hold_worker_lock does.
+    leftover = os.open(out / WORKERS_LOCK, os.O_RDWR | os.O_CREAT)
+    fcntl.flock(leftover, fcntl.LOCK_SH)
+    with pytest.raises(StudyBusy, match="worker processes of an earlier study"):
+        StudyLock(str(out), wait=0.3).__enter__()
+    threading.Timer(1.0, os.close, (leftover,)).start()  # it ends a second later
+    capfd.readouterr()
+    summary = study(scene_file, out)
+    assert summary["failures"] == [] and "waiting for the worker processes" in capfd.readouterr().err
+    assert (out / STUDY_LOCK).exists()
