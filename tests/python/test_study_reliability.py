@@ -224,3 +224,22 @@ def test_a_restarted_study_waits_for_the_earlier_workers(scene_file, tmp_path, c
     summary = study(scene_file, out)
     assert summary["failures"] == [] and "waiting for the worker processes" in capfd.readouterr().err
     assert (out / STUDY_LOCK).exists()
+
+
+def failing_ladder_render(context, job):
+    """The fake renderer, but every ladder run raises (as every run did with a negative seed)."""
+    if job.kind == "ladder":
+        raise RuntimeError("this ladder run fails")
+    return fake_render(context, job)
+
+
+def test_a_study_whose_ladder_runs_all_fail_still_writes_its_report(scene_file, tmp_path, capfd):
+    from sphrect.study import ReferenceSettings, run_study
+    from test_study import tiny_config
+    out = tmp_path / "out"
+    summary = run_study(scene_file, str(out), tiny_config(equal_time=None), ReferenceSettings(samples=256, chunks=2),
+                        executor=SerialExecutor(), render_hook="test_study_reliability:failing_ladder_render",
+                        progress=False, sampler_table=False)
+    assert len(summary["failures"]) == len(os.listdir(out / "failed")) > 0 and summary["equal_time_runs"] == 0
+    assert "equal-time renders skipped" in capfd.readouterr().err
+    assert (out / "report.md").exists()
