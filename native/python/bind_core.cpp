@@ -117,6 +117,23 @@ std::vector<std::array<T, width>> ReadRows(const py::handle& obj, const char* na
     return out;
 }
 
+// float32's range for what the core squares (lengths, dot products): coordinates and edge lengths
+// beyond sqrt(FLT_MAX) ~ 1.8e19 overflow, non-zero edges below sqrt(FLT_MIN) ~ 1.1e-19 underflow,
+// and the float32 code would answer 0 where the solid angle is 2 pi or finite.
+constexpr double kFloat32Largest = 1.8e19, kFloat32SmallestEdge = 1.1e-19;
+
+double LargestCoordinate(const Vec3d& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
+
+template <class T>
+void CheckFloat32Range(const Vec3<T>& v, const char* name, bool is_edge) {
+    if constexpr (std::is_same_v<T, float>) {
+        const double largest = LargestCoordinate(Vec3d(v)), length = Length(Vec3d(v));
+        if (largest > kFloat32Largest || (is_edge && length > 0 && length < kFloat32SmallestEdge))
+            throw py::value_error(std::string(name) + " is beyond what float32 computes (coordinates up to 1.8e19, "
+                                  "edges from 1.1e-19): use dtype='float64', or rescale the scene");
+    }
+}
+
 template <class T>
 std::vector<Vec3<T>> ReadVec3s(const py::handle& obj, const char* name, bool allow_batch) {
     std::vector<Vec3<T>> v;
@@ -125,7 +142,10 @@ std::vector<Vec3<T>> ReadVec3s(const py::handle& obj, const char* name, bool all
         if (!(a.ndim() == 1 && a.shape(0) == 3))
             throw py::value_error(std::string(name) + " must have shape (3,), got " + ShapeString(a));
     }
-    for (const auto& r : ReadRows<T, 3>(obj, name, true)) v.push_back({r[0], r[1], r[2]});
+    for (const auto& r : ReadRows<T, 3>(obj, name, true)) {
+        v.push_back({r[0], r[1], r[2]});
+        CheckFloat32Range(v.back(), name, false);
+    }
     return v;
 }
 
@@ -135,7 +155,37 @@ RectLight<T> ReadLight(const py::handle& corner, const py::handle& ex, const py:
                        ReadVec3s<T>(ey, "edge_y", false)[0], two_sided};
     const std::string problem = ValidateRectLight(light);
     if (!problem.empty()) throw py::value_error(problem);
+    CheckFloat32Range(light.ex, "edge_x", true);
+    CheckFloat32Range(light.ey, "edge_y", true);
     return light;
+}
+
+// Whether p lies on the light, within kOffLightTolerance of its longest edge (semi-axis) plus
+// kCoordinateTolerance of p's largest coordinate (float32's own rounding of far points), both off its
+// plane and beyond its edges.  pdf() gives 0 and invert() NaN for points off the light.
+constexpr double kOffLightTolerance = 1e-3, kCoordinateTolerance = 1e-5;
+
+template <class T>
+bool OnLight(const RectLight<T>& l, const Vec3<T>& point) {
+    const Vec3d p(point), c(l.corner), ex(l.ex), ey(l.ey);
+    const double wx = Length(ex), wy = Length(ey);
+    const double tol = kOffLightTolerance * std::max(wx, wy) + kCoordinateTolerance * LargestCoordinate(p);
+    const Vec3d d = p - c;
+    const double h = Dot(d, Normalize(Cross(ex, ey)));
+    const double u = Dot(d, ex) / wx, v = Dot(d, ey) / wy;  // along the edges, in length units
+    return std::abs(h) <= tol && u >= -tol && u <= wx + tol && v >= -tol && v <= wy + tol;
+}
+
+template <class T>
+bool OnLight(const EllipseLight<T>& l, const Vec3<T>& point) {
+    const Vec3d p(point), c(l.center), au(l.axis_u), av(l.axis_v);
+    const double a = Length(au), b = Length(av);
+    const double tol = kOffLightTolerance * std::max(a, b) + kCoordinateTolerance * LargestCoordinate(p);
+    const Vec3d d = p - c;
+    const double h = Dot(d, Normalize(Cross(au, av)));
+    const double x = Dot(d, au) / a, y = Dot(d, av) / b;  // along the semi-axes, in length units
+    const double ra = (x / (a + tol)), rb = (y / (b + tol));
+    return std::abs(h) <= tol && ra * ra + rb * rb <= 1;
 }
 
 // A per-row input (origin, normal) must have one row (shared) or as many rows as the batch.
@@ -256,15 +306,18 @@ py::array PdfRows(const C& s, const py::object& points_obj, ForEach&& for_each) 
     CheckRows(n, "points", s.normals.size(), "normal");
     py::array_t<T> pdf = NewArray<T>(n, 0);
     T* Q = pdf.mutable_data();
-    for_each(n, [&](size_t i, const auto& sampler) { Q[i] = sampler.Pdf(Vec3<T>(pts[i][0], pts[i][1], pts[i][2])); });
+    for_each(n, [&](size_t i, const auto& sampler) {
+        const Vec3<T> p(pts[i][0], pts[i][1], pts[i][2]);
+        Q[i] = OnLight(s.light, p) ? sampler.Pdf(p) : T(0);
+    });
     return pdf;
 }
 
-// uv [N, 2] of the points through a map's inverse: make_setup(origin) -> setup with .valid,
-// invert(setup, point) -> Point2<double>.
-template <class T, class MakeSetup, class Invert>
-py::array InvertRows(const py::object& origin, const py::object& points_obj, MakeSetup&& make_setup,
-                     Invert&& invert_point) {
+// uv [N, 2] of the points of `light` through a map's inverse: make_setup(origin) -> setup with
+// .valid, invert(setup, point) -> Point2<double>.
+template <class T, class Light, class MakeSetup, class Invert>
+py::array InvertRows(const Light& light, const py::object& origin, const py::object& points_obj,
+                     MakeSetup&& make_setup, Invert&& invert_point) {
     const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
     const auto pts = ReadRows<T, 3>(points_obj, "points", false);
     const size_t n = pts.size();
@@ -275,9 +328,10 @@ py::array InvertRows(const py::object& origin, const py::object& points_obj, Mak
         py::gil_scoped_release release;
         auto invert = [&](size_t i, const auto& r) {
             // A configuration the map does not cover (degenerate light, origin in the light's
-            // plane or behind a one-sided light) has no (u, v): NaN marks it.
+            // plane or behind a one-sided light), or a point off the light, has no (u, v): NaN.
             Point2<double> q{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
-            if (r.valid) q = invert_point(r, Vec3<T>(pts[i][0], pts[i][1], pts[i][2]));
+            const Vec3<T> p(pts[i][0], pts[i][1], pts[i][2]);
+            if (r.valid && OnLight(light, p)) q = invert_point(r, p);
             U[2 * i] = T(q.u);
             U[2 * i + 1] = T(q.v);
         };
@@ -328,7 +382,7 @@ py::array InvertImpl(const py::object& origin, const py::object& corner, const p
                      const py::object& points_obj, bool two_sided) {
     const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
     return InvertRows<T>(
-        origin, points_obj, [&](const Vec3<T>& o) { return MakeRectangleSetup(o, light); },
+        light, origin, points_obj, [&](const Vec3<T>& o) { return MakeRectangleSetup(o, light); },
         [](const RectangleSetup<T>& r, const Vec3<T>& p) { return InvertRectangle(r, p); });
 }
 
@@ -355,6 +409,8 @@ EllipseLight<T> ReadEllipse(const py::handle& center, const py::handle& au, cons
                           ReadVec3s<T>(av, "axis_v", false)[0], two_sided};
     const std::string problem = ValidateEllipseLight(light);
     if (!problem.empty()) throw py::value_error(problem);
+    CheckFloat32Range(light.axis_u, "axis_u", true);
+    CheckFloat32Range(light.axis_v, "axis_v", true);
     return light;
 }
 
@@ -396,9 +452,10 @@ py::array EllipsePdfImpl(EllipseTechnique technique, const py::object& origin, c
 template <class T>
 py::array InvertEllipseImpl(const py::object& origin, const py::object& center, const py::object& au,
                             const py::object& av, const py::object& points_obj, bool two_sided) {
-    const EllipseLightFrame<T> frame = MakeEllipseLightFrame(ReadEllipse<T>(center, au, av, two_sided));
+    const EllipseLight<T> light = ReadEllipse<T>(center, au, av, two_sided);
+    const EllipseLightFrame<T> frame = MakeEllipseLightFrame(light);
     return InvertRows<T>(
-        origin, points_obj, [&](const Vec3<T>& o) { return MakeSphericalEllipseSetup(o, frame); },
+        light, origin, points_obj, [&](const Vec3<T>& o) { return MakeSphericalEllipseSetup(o, frame); },
         [](const SphericalEllipseSetup<T>& r, const Vec3<T>& p) { return InvertSphericalEllipse(r, p); });
 }
 
@@ -482,7 +539,10 @@ renderer's single-precision code, 'float64' the double-precision one.)doc");
         },
         arg("technique"), arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("points"),
         arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
-        "Solid-angle pdf [N] with which the technique picks each of points [N, 3] (on the light) from origin.");
+        R"doc(Solid-angle pdf [N] with which the technique picks each of points [N, 3] (on the light) from origin.
+
+A point off the light -- farther than 1e-3 of its longest edge plus 1e-5 of the point's largest
+coordinate from its plane or beyond its edges -- gets pdf 0.)doc");
 
     m.def(
         "invert",
@@ -498,7 +558,8 @@ renderer's single-precision code, 'float64' the double-precision one.)doc");
 
 Where the map switches to area sampling for an extreme configuration (as sample() does), the
 inverse of that.  Rows whose configuration the map does not cover (degenerate light, origin in
-the light's plane or behind a one-sided light) are NaN.)doc");
+the light's plane or behind a one-sided light) are NaN, and so are points off the light (the
+tolerance of pdf()).)doc");
 
     m.attr("ellipse_techniques") = NameTuple(kAllEllipseTechniques, EllipseTechniqueName);
     m.def(
@@ -545,7 +606,8 @@ single-precision code, 'float64' the double-precision one.)doc");
         },
         arg("technique"), arg("origin"), arg("center"), arg("axis_u"), arg("axis_v"), arg("points"),
         arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
-        "Solid-angle pdf [N] with which the ellipse technique picks each of points [N, 3] (on the light) from origin.");
+        "Solid-angle pdf [N] with which the ellipse technique picks each of points [N, 3] (on the light) from origin; "
+        "0 off the light (pdf()'s tolerance).");
     m.def(
         "invert_ellipse",
         [](const py::object& origin, const py::object& center, const py::object& au, const py::object& av,
