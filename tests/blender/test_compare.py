@@ -48,6 +48,23 @@ def test_compare_equal_samples_with_reference(tmp_path):
     assert all(rec["stats"][t]["samples"] == 4 for t in TECHNIQUES)
 
 
+def test_an_unwritable_comparison_path_is_a_warning(tmp_path):
+    """The comparison PNG cannot be written (its folder would be inside a regular file, which even root cannot
+    create): the render still succeeds with every technique's image and pass, and a warning names the path."""
+    scene = open_blend("01_paper", 16, 12)
+    s = scene.sphrect
+    s.compare, s.samples, s.passes, s.reference = True, 2, 1, "NONE"
+    blocker = tmp_path / "not_a_folder"
+    blocker.write_text("a file where the output folder should be")
+    scene.render.filepath = str(blocker / "paper_")
+    bpy.ops.render.render(write_still=False)
+    rec = engine_module().last_render
+    assert rec["errors"] == [] and not rec["cancelled"]
+    assert rec["comparison"] is None
+    assert all(np.isfinite(rec["images"][t]).all() and rec["images"][t][..., :3].max() > 0 for t in TECHNIQUES)
+    assert any("could not write the comparison image" in w and str(blocker) in w for w in rec["warnings"])
+
+
 # setting -> (scene, its values as sphrect names, the compare_<setting>s() method): what compare mode can put
 # side by side besides the techniques.
 SIDE_BY_SIDE = {

@@ -346,15 +346,19 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
     def _comparison(self, bl_scene, entries, reference, settings):
         label = "REFERENCE" if settings.reference != "RENDER" else f"REFERENCE {settings.reference_samples} SPP"
         canvas = compare.comparison_image(entries, reference, reference_label=label)
-        path = display.comparison_path(bl_scene)
-        os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-        compare.write_png(path, canvas)
-        last_render["comparison"] = path
         for e in entries:
             if "rmse" in e:
                 last_render["stats"][e["name"]]["rmse"] = e["rmse"]
         summary = ", ".join(f"{e['name']} {e['samples']}spp {e['time']:.2f}s"
                             + (f" RMSE {e['rmse']:.4g}" if "rmse" in e else "") for e in entries)
         self._stats_line(f"{self._header} | {summary}")
+        path = display.comparison_path(bl_scene)
+        try:
+            os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+            compare.write_png(path, canvas)
+        except OSError as e:  # the renders and their passes are done and kept: only the PNG is lost
+            self._warning(f"SPHRECT: could not write the comparison image to {path}: {e.strerror or e}")
+            return
+        last_render["comparison"] = path
         print(f"SPHRECT comparison: {summary}\nSPHRECT comparison image: {path}")
         display.show_later(path)
