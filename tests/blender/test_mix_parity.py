@@ -116,6 +116,19 @@ def test_different_principled_bsdfs_in_a_mix_are_averaged_with_a_warning(empty_s
     assert "a mix of 2 different Principled BSDFs" in log.warning_text()
 
 
+def test_a_mix_of_diffuse_bsdfs_exports_as_one_diffuse(empty_scene):
+    """Lambert is linear in its colour, so the mix is one 'diffuse' (the renderer's diffuse-only kernel)."""
+    def build(t):
+        a = node(t, "ShaderNodeBsdfDiffuse", Color=(0.8, 0.2, 0.1, 1))
+        b = node(t, "ShaderNodeBsdfDiffuse", Color=(0.1, 0.4, 0.8, 1))
+        return combine(t, "add", combine(t, "mix", a, b, 0.25), node(t, "ShaderNodeEmission", Strength=2.0)).outputs[0]
+    sphere_scene(empty_scene, shader_tree("dd", build))
+    exported, _ = export()
+    (m,) = [m for m in exported.materials if m.name == "dd"]
+    assert m.kind == "diffuse" and m.base_color == pytest.approx((0.625, 0.25, 0.275))
+    assert m.emission == pytest.approx((2.0, 2.0, 2.0))
+
+
 def test_white_transparent_surface_is_left_out_as_cycles_shows_it(empty_scene, tmp_path):
     mat = shader_material("ShaderNodeBsdfTransparent", Color=(1.0, 1.0, 1.0, 1.0))
     scene = sphere_scene(empty_scene, mat)

@@ -168,12 +168,12 @@ def _shader(sphrect, node, log, name):
     layers = _fit_mix(sphrect, layers, log, name)
     if not layers:
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=_rgb(emission))
-    if len(layers) == 1:
-        (layer,) = layers
-        bsdf = layer.material
-        if layer.weight == 1 or bsdf.kind == "diffuse":  # a diffuse's weight folds into its colour exactly
-            return dataclasses.replace(bsdf, base_color=_rgb(np.asarray(bsdf.base_color) * layer.weight),
-                                       emission=_rgb(np.asarray(bsdf.emission) * layer.weight + emission))
+    if all(l.material.kind == "diffuse" for l in layers):  # Lambert is linear in its colour: one diffuse, exactly
+        color = sum(l.weight * np.asarray(l.material.base_color) for l in layers)
+        return sphrect.Material(name=name, kind="diffuse", base_color=_rgb(color), emission=_rgb(emission))
+    if len(layers) == 1 and layers[0].weight == 1:
+        bsdf = layers[0].material
+        return dataclasses.replace(bsdf, emission=_rgb(np.asarray(bsdf.emission) + emission))
     return sphrect.Material(name=name, kind="mix", layers=layers, emission=_rgb(emission))
 
 
