@@ -9,7 +9,7 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
 :func:`load_scene`): a NumPy ``.npz`` archive holding
 
 * ``scene.json`` -- a UTF-8 JSON document: ``{"format": "sphrect-scene",
-  "version": 4, "camera": {...}, "world": {...}, "materials": [...],
+  "version": 5, "camera": {...}, "world": {...}, "materials": [...],
   "lights": [{"type": "rect"|"ellipse"|"point"|"spot"|"sun", ...}, ...],
   "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
   dataclasses below (version 1, before Material.emission, loads with emission 0;
@@ -31,6 +31,7 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
+from . import scene_file
 from .fileio import atomic_write
 
 FORMAT_NAME = "sphrect-scene"
@@ -289,36 +290,48 @@ def save_scene(scene: Scene, path: str) -> None:
 
 
 def load_scene(path: str) -> Scene:
-    """Read a scene written by :func:`save_scene`; ValueError if it is not one."""
+    """Read a scene written by :func:`save_scene`; ValueError saying what is wrong if it is not one (sizes and
+    shapes are checked before any array is read: scene_file.py)."""
     try:
+        headers = scene_file.member_headers(path)
         data = np.load(path, allow_pickle=False)
-    except (OSError, zipfile.BadZipFile, ValueError) as e:
-        raise ValueError(f"{path}: not a sphrect scene file ({e})") from None
-    with data:
-        if "scene.json" not in data.files:
-            raise ValueError(f"{path}: not a sphrect scene file (no scene.json)")
-        meta = json.loads(bytes(data["scene.json"]).decode("utf-8"))
-        if meta.get("format") != FORMAT_NAME:
-            raise ValueError(f"{path}: not a sphrect scene file")
-        if meta.get("version", 0) > FORMAT_VERSION:
-            raise ValueError(f"{path}: scene format version {meta['version']} is newer than this sphrect "
-                             f"({FORMAT_VERSION})")
-        world = dict(meta["world"])
-        medium = world.pop("medium", None)
-        scene = Scene(
-            camera=Camera(**meta["camera"]),
-            world=World(medium=Medium(**medium) if medium else None, **world),
-            materials=[_material_from_dict(m) for m in meta["materials"]],
-        )
-        for l in meta["lights"]:
-            l = dict(l)
-            cls = _LIGHT_TYPES.get(l.pop("type"))
-            if cls is None:
-                raise ValueError(f"{path}: unknown light type")
-            scene.lights.append(cls(**l))
-        for m in meta["meshes"]:
-            key = m["arrays"]
-            get = lambda name: data[f"{key}.{name}"] if f"{key}.{name}" in data.files else None
-            scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
-                                     material_ids=get("material_ids"), name=m["name"]))
+    except scene_file.MalformedScene:
+        raise
+    except (ValueError, *scene_file.MALFORMED) as e:
+        raise ValueError(f"{path}: not a sphrect scene file ({type(e).__name__}: {e})") from None
+    try:
+        with data:
+            return _scene_from_file(path, data, headers)
+    except scene_file.MalformedScene:
+        raise
+    except (ValueError, *scene_file.MALFORMED) as e:
+        raise ValueError(f"{path}: malformed sphrect scene file ({type(e).__name__}: {e})") from None
+
+
+def _scene_from_file(path, data, headers) -> Scene:
+    meta = scene_file.read_meta(path, data, headers, FORMAT_NAME, FORMAT_VERSION)
+    for key in ("camera", "world", "materials", "lights", "meshes"):
+        if key not in meta:
+            raise ValueError(f"{path}: scene.json has no '{key}'")
+    world = dict(meta["world"])
+    medium = world.pop("medium", None)
+    scene = Scene(
+        camera=Camera(**meta["camera"]),
+        world=World(medium=Medium(**medium) if medium else None, **world),
+        materials=[_material_from_dict(m) for m in meta["materials"]],
+    )
+    for l in meta["lights"]:
+        l = dict(l)
+        cls = _LIGHT_TYPES.get(l.pop("type", None))
+        if cls is None:
+            raise ValueError(f"{path}: unknown light type")
+        scene.lights.append(cls(**l))
+    for m in meta["meshes"]:
+        key = m["arrays"]
+        if not isinstance(key, str):
+            raise ValueError(f"{path}: a mesh's 'arrays' is {key!r}, not a name")
+        scene_file.check_mesh_arrays(path, headers, key)
+        get = lambda name: data[f"{key}.{name}"] if f"{key}.{name}" in data.files else None
+        scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
+                                 material_ids=get("material_ids"), name=m["name"]))
     return scene

@@ -1,0 +1,110 @@
+"""Reading a ``.sphrect.npz`` scene file defensively (scene.load_scene): before any array is read, every member's
+inflated size and its declared .npy shape and dtype are checked against caps and against the mesh arrays' own
+counts, so that a small file cannot force gigabytes of allocation; and whatever is malformed -- a corrupted zip,
+a plain .npy, JSON that is not an object, a null or non-numeric version, missing or unknown keys, deep nesting --
+surfaces as ValueError saying what is wrong.  Pickled objects are refused, never executed (allow_pickle=False,
+and object dtypes are rejected from the headers)."""
+import json
+import zipfile
+import zlib
+
+import numpy as np
+
+# The largest inflated member, and all members together; the largest scene.json.
+MAX_MEMBER_BYTES = 4 << 30
+MAX_TOTAL_BYTES = 8 << 30
+MAX_JSON_BYTES = 64 << 20
+
+# Mesh arrays: dtype kind ('f' float, 'i' integer) and columns (None: one-dimensional).
+MESH_ARRAYS = {"vertices": ("f", 3), "normals": ("f", 3), "triangles": ("i", 3), "material_ids": ("i", None)}
+
+# What the loader may raise on malformed input besides ValueError, all reported as ValueError.
+MALFORMED = (KeyError, TypeError, AttributeError, IndexError, RecursionError, zlib.error, zipfile.BadZipFile,
+             EOFError, OSError, UnicodeDecodeError, OverflowError, NotImplementedError)
+
+
+class MalformedScene(ValueError):
+    """A scene file that cannot be read: the message names the file and what is wrong."""
+
+
+def member_headers(path):
+    """{member name without '.npy': (shape, dtype)} of every array in the archive, read from the .npy headers
+    only, each checked against the member's inflated size and the caps."""
+    headers, total = {}, 0
+    with zipfile.ZipFile(path) as zf:
+        for info in zf.infolist():
+            if info.file_size > MAX_MEMBER_BYTES:
+                raise MalformedScene(f"{path}: member {info.filename} inflates to {info.file_size} bytes, "
+                                     f"more than the {MAX_MEMBER_BYTES} a scene file may hold")
+            total += info.file_size
+            if total > MAX_TOTAL_BYTES:
+                raise MalformedScene(f"{path}: members inflate to more than {MAX_TOTAL_BYTES} bytes")
+            if not info.filename.endswith(".npy"):
+                raise MalformedScene(f"{path}: unexpected member {info.filename}")
+            with zf.open(info) as f:
+                version = np.lib.format.read_magic(f)
+                read = {(1, 0): np.lib.format.read_array_header_1_0,
+                        (2, 0): np.lib.format.read_array_header_2_0}.get(version)
+                if read is None:
+                    raise MalformedScene(f"{path}: member {info.filename} has .npy version {version}")
+                shape, _, dtype = read(f)
+                header_bytes = f.tell()
+            if dtype.hasobject:
+                raise MalformedScene(f"{path}: member {info.filename} holds Python objects (refused)")
+            count = 1
+            for n in shape:
+                count *= int(n)
+            if count * dtype.itemsize > info.file_size - header_bytes:
+                raise MalformedScene(f"{path}: member {info.filename} declares shape {shape} of {dtype}, "
+                                     f"more data than its {info.file_size} bytes hold")
+            headers[info.filename[:-len(".npy")]] = (tuple(int(n) for n in shape), dtype)
+    return headers
+
+
+def check_mesh_arrays(path, headers, key):
+    """The declared shapes of mesh `key`'s arrays: vertices and triangles present, each of its dtype kind and
+    columns, normals as many as vertices, material ids as many as triangles."""
+    shapes = {}
+    for name, (kind, columns) in MESH_ARRAYS.items():
+        header = headers.get(f"{key}.{name}")
+        if header is None:
+            if name in ("vertices", "triangles"):
+                raise MalformedScene(f"{path}: mesh {key} has no {name}")
+            continue
+        shape, dtype = header
+        expected = (shape[0], columns) if columns else (shape[0] if shape else 0,)
+        if dtype.kind not in kind or len(shape) != len(expected) or shape != expected:
+            want = f"[N, {columns}]" if columns else "[N]"
+            raise MalformedScene(f"{path}: mesh {key}.{name} is {dtype} {shape}, not {kind}-typed {want}")
+        shapes[name] = shape
+    if "normals" in shapes and shapes["normals"][0] != shapes["vertices"][0]:
+        raise MalformedScene(f"{path}: mesh {key} has {shapes['normals'][0]} normals for "
+                             f"{shapes['vertices'][0]} vertices")
+    if "material_ids" in shapes and shapes["material_ids"][0] != shapes["triangles"][0]:
+        raise MalformedScene(f"{path}: mesh {key} has {shapes['material_ids'][0]} material ids for "
+                             f"{shapes['triangles'][0]} triangles")
+
+
+def read_meta(path, data, headers, format_name, format_version):
+    """scene.json as a dict, checked: a JSON object of the format, with an integer version we can read."""
+    shape, dtype = headers.get("scene.json", ((), None))
+    if dtype is None:
+        raise MalformedScene(f"{path}: not a sphrect scene file (no scene.json)")
+    if dtype != np.uint8 or len(shape) != 1 or shape[0] > MAX_JSON_BYTES:
+        raise MalformedScene(f"{path}: scene.json is {dtype} {shape}, not UTF-8 bytes of at most "
+                             f"{MAX_JSON_BYTES}")
+    try:
+        meta = json.loads(bytes(data["scene.json"]).decode("utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError, RecursionError) as e:
+        raise MalformedScene(f"{path}: scene.json is not valid JSON ({type(e).__name__}: {e})") from None
+    if not isinstance(meta, dict):
+        raise MalformedScene(f"{path}: scene.json is a JSON {type(meta).__name__}, not an object")
+    if meta.get("format") != format_name:
+        raise MalformedScene(f"{path}: not a sphrect scene file")
+    version = meta.get("version")
+    if not isinstance(version, int) or isinstance(version, bool) or version < 1:
+        raise MalformedScene(f"{path}: scene format version {version!r} is not a positive integer")
+    if version > format_version:
+        raise MalformedScene(f"{path}: scene format version {version} is newer than this sphrect "
+                             f"({format_version})")
+    return meta
