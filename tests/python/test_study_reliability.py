@@ -176,6 +176,7 @@ def test_killing_the_study_leaves_no_worker(tmp_path):
                                       "--max-samples", "2", "--reference-samples", str(2 ** 20),
                                       "--reference-chunks", "2", "--workers", "2", "--cycles", "off", "--quiet"],
                                      env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    descendants = []
     try:
         deadline = time.monotonic() + 120
         workers = []
@@ -197,8 +198,9 @@ def test_killing_the_study_leaves_no_worker(tmp_path):
     finally:
         if study_process.poll() is None:
             study_process.kill()
-        for p in _children(study_process.pid):
-            os.kill(p, signal.SIGKILL)
+        for p in descendants + _children(study_process.pid):  # whatever survived a failure, not to run on
+            if _alive(p):
+                os.kill(p, signal.SIGKILL)
 
 
 def test_a_second_study_of_the_same_folder_is_refused(real_scene, tmp_path, capsys):

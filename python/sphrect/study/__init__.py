@@ -10,7 +10,8 @@ Command line: ``scripts/study.py scene.blend --out out/study`` (or ``python3 -m 
 
 Modules: jobs (the job list), executors (who runs it), runner (one job), store (crash-safe results),
 reference (the reference and its error), metrics, cycles (Blender subprocesses), report, study (the phases),
-cli.
+preflight (checks of settings against each other and the machine), lock (one study per output folder), cli.
+Behaviour under bad options, damaged files and a killed study: docs/study_reliability.md.
 """
 __all__ = ["Executor", "LocalProcessPool", "SerialExecutor", "Job", "StudyConfig", "build_plan", "sample_ladder",
            "ReferenceSettings", "run_study"]

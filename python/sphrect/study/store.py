@@ -5,6 +5,7 @@ Layout under the study's output directory:
 * ``runs/<job key>.json`` -- one file per finished run (its job, measurements and errors);
 * ``failed/<job key>.json`` -- the error of a run that raised (retried on the next start);
 * ``images/<name>.npy`` -- images kept for the report (reference, equal-time renders).
+* ``damaged/`` -- files found damaged, set aside (see below).
 
 Every file is written to a temporary file in the same directory, flushed to disk and renamed over its
 final name (``os.replace`` is atomic on POSIX), so an interrupted study never leaves a half-written file

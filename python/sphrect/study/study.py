@@ -161,8 +161,9 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
     if not os.path.isfile(input_path):
         raise ValueError(f"{input_path}: no such file")
     if resolution is not None:
-        check_resolution(*resolution, workers=getattr(executor, "workers", None) or check_workers(workers) or 1,
-                         chunks=reference.chunks)
+        # before a .blend's export; again below with the executor's own count
+        check_resolution(*resolution, workers=getattr(executor, "workers", None) or check_workers(workers)
+                         or os.cpu_count() or 1, chunks=reference.chunks)
     executor = executor or LocalProcessPool(check_workers(workers))
     os.makedirs(out_dir, exist_ok=True)
     with StudyLock(out_dir, wait=lock_wait):
