@@ -165,27 +165,31 @@ RectLight<T> ReadLight(const py::handle& corner, const py::handle& ex, const py:
 // plane and beyond its edges.  pdf() gives 0 and invert() NaN for points off the light.
 constexpr double kOffLightTolerance = 1e-3, kCoordinateTolerance = 1e-5;
 
+// Point p in the frame of a planar light at `origin` with axes a, b: its distance h off the plane
+// and its coordinates along the axes (length units), and the tolerance for p.
+struct LightPlanePoint {
+    double h, x, y, len_a, len_b, tol;
+};
+
+inline LightPlanePoint ToLightPlane(const Vec3d& p, const Vec3d& origin, const Vec3d& a, const Vec3d& b) {
+    const double len_a = Length(a), len_b = Length(b);
+    const Vec3d d = p - origin;
+    return {Dot(d, Normalize(Cross(a, b))), Dot(d, a) / len_a, Dot(d, b) / len_b, len_a, len_b,
+            kOffLightTolerance * std::max(len_a, len_b) + kCoordinateTolerance * LargestCoordinate(p)};
+}
+
 template <class T>
 bool OnLight(const RectLight<T>& l, const Vec3<T>& point) {
-    const Vec3d p(point), c(l.corner), ex(l.ex), ey(l.ey);
-    const double wx = Length(ex), wy = Length(ey);
-    const double tol = kOffLightTolerance * std::max(wx, wy) + kCoordinateTolerance * LargestCoordinate(p);
-    const Vec3d d = p - c;
-    const double h = Dot(d, Normalize(Cross(ex, ey)));
-    const double u = Dot(d, ex) / wx, v = Dot(d, ey) / wy;  // along the edges, in length units
-    return std::abs(h) <= tol && u >= -tol && u <= wx + tol && v >= -tol && v <= wy + tol;
+    const LightPlanePoint q = ToLightPlane(Vec3d(point), Vec3d(l.corner), Vec3d(l.ex), Vec3d(l.ey));
+    return std::abs(q.h) <= q.tol && q.x >= -q.tol && q.x <= q.len_a + q.tol && q.y >= -q.tol &&
+           q.y <= q.len_b + q.tol;
 }
 
 template <class T>
 bool OnLight(const EllipseLight<T>& l, const Vec3<T>& point) {
-    const Vec3d p(point), c(l.center), au(l.axis_u), av(l.axis_v);
-    const double a = Length(au), b = Length(av);
-    const double tol = kOffLightTolerance * std::max(a, b) + kCoordinateTolerance * LargestCoordinate(p);
-    const Vec3d d = p - c;
-    const double h = Dot(d, Normalize(Cross(au, av)));
-    const double x = Dot(d, au) / a, y = Dot(d, av) / b;  // along the semi-axes, in length units
-    const double ra = (x / (a + tol)), rb = (y / (b + tol));
-    return std::abs(h) <= tol && ra * ra + rb * rb <= 1;
+    const LightPlanePoint q = ToLightPlane(Vec3d(point), Vec3d(l.center), Vec3d(l.axis_u), Vec3d(l.axis_v));
+    const double ra = q.x / (q.len_a + q.tol), rb = q.y / (q.len_b + q.tol);
+    return std::abs(q.h) <= q.tol && ra * ra + rb * rb <= 1;
 }
 
 // A per-row input (origin, normal) must have one row (shared) or as many rows as the batch.

@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <cmath>
 #include <stdexcept>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -314,13 +315,14 @@ class Builder {
         const uint64_t right_trail = trail | (uint64_t(1) << depth);
         NodeBounds left, right;
         std::thread left_thread;
-        Builder left_builder(items_, nodes_, trails_);  // its own scratch; disjoint items, nodes, trails
+        std::optional<Builder> left_builder;  // its own scratch; disjoint items, nodes, trails
         if (threads > 1 && end - begin >= kParallelNode) {
             const int left_threads = threads / 2;
+            left_builder.emplace(items_, nodes_, trails_);
             try {
                 left_thread = std::thread([&] {
-                    left = left_builder.Build(children, begin, mid, left_extent, depth + 1, trail, left_free,
-                                              left_threads);
+                    left = left_builder->Build(children, begin, mid, left_extent, depth + 1, trail, left_free,
+                                               left_threads);
                 });
             } catch (const std::system_error&) {  // no thread to be had: build it here
             }
@@ -329,7 +331,7 @@ class Builder {
             right = Build(children + 1, mid, end, right_extent, depth + 1, right_trail, right_free,
                           threads - threads / 2);
             left_thread.join();
-            max_depth_ = std::max(max_depth_, left_builder.max_depth_);
+            max_depth_ = std::max(max_depth_, left_builder->max_depth_);
         } else {
             left = Build(children, begin, mid, left_extent, depth + 1, trail, left_free, 1);
             right = Build(children + 1, mid, end, right_extent, depth + 1, right_trail, right_free, 1);
