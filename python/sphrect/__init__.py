@@ -1,6 +1,6 @@
 """sphrect: solid-angle sampling of rectangular lights (Urena, Fajardo & King, EGSR 2013)
 and a small Embree direct-lighting renderer built on it."""
 from ._native import *  # noqa: F401,F403  (sampling core and renderer, C++)
-from .scene import (Camera, EllipseLight, Material, MaterialLayer, Medium, Mesh, PointLight,  # noqa: F401
-                    RectLight, Scene, SpotLight, SunLight, World, load_scene, save_scene)
+from .scene import (Camera, EllipseLight, Material, MaterialLayer, Medium, Mesh, MixFactor, PointLight,  # noqa: F401
+                    RectLight, Scene, SpotLight, SunLight, Texture, TextureLookup, World, load_scene, save_scene)
 from .render import Renderer, render  # noqa: E402,F401

@@ -18,7 +18,9 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
   Material.layers);
 * for mesh *i*: ``mesh{i}.vertices`` (float32 [V,3]), ``mesh{i}.triangles``
   (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
-  ``mesh{i}.material_ids`` (int32 [T]).
+  ``mesh{i}.material_ids`` (int32 [T]), ``mesh{i}.uvs`` (float32 [V,2]), ``mesh{i}.generated``
+  (float32 [V,3]);
+* for texture *i* with pixels: ``texture{i}.pixels`` (uint8 or float32 [H,W,C]).
 """
 from __future__ import annotations
 
@@ -27,7 +29,7 @@ import json
 import math
 import zipfile
 from dataclasses import dataclass, field
-from typing import List, Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
@@ -43,7 +45,10 @@ FORMAT_NAME = "sphrect-scene"
 # load unchanged.
 # 5: Material kinds 'glossy_bsdf' (Cycles' Glossy BSDF) and 'mix' (Mix / Add Shader: Material.layers, each a
 # MaterialLayer of a weight and a material).  Older files load unchanged.
-FORMAT_VERSION = 5
+# 6: Scene.textures (Texture: image pixels in the file, or a path loaded with OpenImageIO), Material.textures,
+# normal_map, normal_map_strength and MaterialLayer.factors (TextureLookup), Mesh.uvs and Mesh.generated.
+# Older files load unchanged (no textures).
+FORMAT_VERSION = 6
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -53,6 +58,17 @@ MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "mi
 # Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
 GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
 CAMERA_TYPES = ("perspective", "orthographic")
+# Image Texture nodes (Cycles 3.4's image lookups): the colour space of a texture's stored values ('srgb': decoded
+# to linear after filtering, as Cycles does for byte images; 'linear': used as stored, Blender's Non-Color and
+# Linear), the node's interpolation and extension, and the coordinates it reads.
+TEXTURE_COLORSPACES = ("srgb", "linear")
+TEXTURE_INTERPOLATIONS = ("linear", "closest")
+TEXTURE_EXTENSIONS = ("repeat", "extend", "clip")
+TEXTURE_COORDINATES = ("uv", "generated")
+TEXTURE_OUTPUTS = ("color", "alpha")
+# The material inputs a texture can drive (Material.textures' keys): 'base_color' is a colour (its Color output
+# as is, Alpha as grey), the others scalars (Color as its luminance, Cycles' rgb_to_gray, or Alpha).
+TEXTURED_INPUTS = ("base_color", "roughness", "metallic", "specular")
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 
 
@@ -106,19 +122,69 @@ class Material:
     layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only
     emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
                                      # every emissive triangle is a light (files without it load as 0)
+    # Image textures driving inputs (keys from TEXTURED_INPUTS; the value replaces the field of that name), and a
+    # Normal Map node's tangent-space map (its Color read as 2 c - 1 in the frame of the UVs' tangent, the
+    # bitangent and the shading normal; strength as the node's); none of a mix's layers has its own normal map.
+    textures: Dict[str, "TextureLookup"] = field(default_factory=dict)
+    normal_map: Optional["TextureLookup"] = None
+    normal_map_strength: float = 1.0
+
+
+@dataclass
+class TextureLookup:
+    """An Image Texture node read by a material input: Scene.textures[texture] at the mesh's coordinates
+    (Mesh.uvs or Mesh.generated, as (u, v, 0) or (x, y, z)) mapped by `transform` (3x4 affine, row-major: a
+    Mapping node of type Point; the identity by default), then the node's interpolation and extension; its
+    Color or Alpha output."""
+    texture: int
+    output: str = "color"            # one of TEXTURE_OUTPUTS
+    coordinates: str = "uv"          # one of TEXTURE_COORDINATES
+    transform: List[List[float]] = field(default_factory=lambda: np.eye(3, 4).tolist())
+    interpolation: str = "linear"    # one of TEXTURE_INTERPOLATIONS
+    extension: str = "repeat"        # one of TEXTURE_EXTENSIONS
+
+
+@dataclass
+class MixFactor:
+    """A Mix Shader's factor read from a texture (its scalar, clamped to [0, 1] as Cycles does): the layer's
+    weight is multiplied by fac, or by 1 - fac for the node's first shader (complement)."""
+    lookup: TextureLookup
+    complement: bool = False
 
 
 @dataclass
 class MaterialLayer:
-    """One shader of a 'mix' material and the weight its closures are scaled by."""
+    """One shader of a 'mix' material and the weight its closures are scaled by (times its factors', when
+    textures drive the Mix Shaders above it)."""
     weight: float
     material: Material
+    factors: List[MixFactor] = field(default_factory=list)
+
+
+@dataclass
+class Texture:
+    """An image: `pixels` (uint8 or float32 [H, W, C], C in 1..4, row 0 the image's bottom as in Blender's
+    Image.pixels, values as stored: see TEXTURE_COLORSPACES), or `path`, a file OpenImageIO reads when the scene
+    is rendered (magenta, Cycles' missing-image colour, with a warning, when it cannot)."""
+    name: str = "image"
+    pixels: Optional[np.ndarray] = None
+    path: str = ""
+    colorspace: str = "srgb"         # one of TEXTURE_COLORSPACES
+
+
+def _lookup_from_dict(d) -> "TextureLookup":
+    return TextureLookup(**d)
 
 
 def _material_from_dict(d) -> Material:
     d = dict(d)
-    d["layers"] = [MaterialLayer(weight=l["weight"], material=_material_from_dict(l["material"]))
+    d["layers"] = [MaterialLayer(weight=l["weight"], material=_material_from_dict(l["material"]),
+                                 factors=[MixFactor(lookup=_lookup_from_dict(f["lookup"]), complement=f["complement"])
+                                          for f in l.get("factors", [])])
                    for l in d.get("layers", [])]
+    d["textures"] = {k: _lookup_from_dict(v) for k, v in d.get("textures", {}).items()}
+    if d.get("normal_map") is not None:
+        d["normal_map"] = _lookup_from_dict(d["normal_map"])
     return Material(**d)
 
 
@@ -129,6 +195,8 @@ class Mesh:
     normals: Optional[np.ndarray] = None       # float32 [V, 3] or None (flat shading)
     material_ids: Optional[np.ndarray] = None  # int32 [T] into Scene.materials, or None (all 0)
     name: str = "mesh"
+    uvs: Optional[np.ndarray] = None           # float32 [V, 2]: texture coordinates 'uv', or None
+    generated: Optional[np.ndarray] = None     # float32 [V, 3]: texture coordinates 'generated', or None
 
 
 @dataclass
@@ -257,6 +325,7 @@ class Scene:
     materials: List[Material] = field(default_factory=lambda: [Material()])
     meshes: List[Mesh] = field(default_factory=list)
     lights: list = field(default_factory=list)  # RectLight | EllipseLight | PointLight | SpotLight | SunLight
+    textures: List[Texture] = field(default_factory=list)  # read by Material.textures through TextureLookup
 
 
 _LIGHT_TYPES = {"rect": RectLight, "ellipse": EllipseLight, "point": PointLight, "spot": SpotLight, "sun": SunLight}
@@ -274,8 +343,14 @@ def save_scene(scene: Scene, path: str) -> None:
         "materials": [dataclasses.asdict(m) for m in scene.materials],
         "lights": [dict(type=_LIGHT_NAMES[type(l)], **dataclasses.asdict(l)) for l in scene.lights],
         "meshes": [],
+        "textures": [],
     }
     arrays = {}
+    for i, t in enumerate(scene.textures):
+        key = f"texture{i}" if t.pixels is not None else None
+        meta["textures"].append({"name": t.name, "colorspace": t.colorspace, "path": t.path, "arrays": key})
+        if key:
+            arrays[f"{key}.pixels"] = np.asarray(t.pixels)
     for i, m in enumerate(scene.meshes):
         key = f"mesh{i}"
         meta["meshes"].append({"name": m.name, "arrays": key})
@@ -285,6 +360,10 @@ def save_scene(scene: Scene, path: str) -> None:
             arrays[f"{key}.normals"] = np.asarray(m.normals, dtype=np.float32)
         if m.material_ids is not None:
             arrays[f"{key}.material_ids"] = np.asarray(m.material_ids, dtype=np.int32)
+        if m.uvs is not None:
+            arrays[f"{key}.uvs"] = np.asarray(m.uvs, dtype=np.float32)
+        if m.generated is not None:
+            arrays[f"{key}.generated"] = np.asarray(m.generated, dtype=np.float32)
     arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
     atomic_write(path, lambda f: np.savez_compressed(f, **arrays))
 
@@ -333,5 +412,16 @@ def _scene_from_file(path, data, headers) -> Scene:
         scene_file.check_mesh_arrays(path, headers, key)
         get = lambda name: data[f"{key}.{name}"] if f"{key}.{name}" in data.files else None
         scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
-                                 material_ids=get("material_ids"), name=m["name"]))
+                                 material_ids=get("material_ids"), name=m["name"], uvs=get("uvs"),
+                                 generated=get("generated")))
+    for t in meta.get("textures", []):
+        key = t.get("arrays")
+        if key is not None and not isinstance(key, str):
+            raise ValueError(f"{path}: a texture's 'arrays' is {key!r}, not a name")
+        pixels = None
+        if key is not None:
+            scene_file.check_texture_arrays(path, headers, key)
+            pixels = data[f"{key}.pixels"]
+        scene.textures.append(Texture(name=t["name"], pixels=pixels, path=t.get("path", ""),
+                                      colorspace=t["colorspace"]))
     return scene

@@ -16,7 +16,10 @@ MAX_TOTAL_BYTES = 8 << 30
 MAX_JSON_BYTES = 64 << 20
 
 # Mesh arrays: dtype kind ('f' float, 'i' integer) and columns (None: one-dimensional).
-MESH_ARRAYS = {"vertices": ("f", 3), "normals": ("f", 3), "triangles": ("i", 3), "material_ids": ("i", None)}
+MESH_ARRAYS = {"vertices": ("f", 3), "normals": ("f", 3), "triangles": ("i", 3), "material_ids": ("i", None),
+               "uvs": ("f", 2), "generated": ("f", 3)}
+# Per-vertex arrays: as many rows as vertices.
+PER_VERTEX_ARRAYS = ("normals", "uvs", "generated")
 
 # What the loader may raise on malformed input besides ValueError, all reported as ValueError.
 MALFORMED = (KeyError, TypeError, AttributeError, IndexError, RecursionError, zlib.error, zipfile.BadZipFile,
@@ -77,12 +80,23 @@ def check_mesh_arrays(path, headers, key):
             want = f"[N, {columns}]" if columns else "[N]"
             raise MalformedScene(f"{path}: mesh {key}.{name} is {dtype} {shape}, not {kind}-typed {want}")
         shapes[name] = shape
-    if "normals" in shapes and shapes["normals"][0] != shapes["vertices"][0]:
-        raise MalformedScene(f"{path}: mesh {key} has {shapes['normals'][0]} normals for "
-                             f"{shapes['vertices'][0]} vertices")
+    for name in PER_VERTEX_ARRAYS:
+        if name in shapes and shapes[name][0] != shapes["vertices"][0]:
+            raise MalformedScene(f"{path}: mesh {key} has {shapes[name][0]} {name} for "
+                                 f"{shapes['vertices'][0]} vertices")
     if "material_ids" in shapes and shapes["material_ids"][0] != shapes["triangles"][0]:
         raise MalformedScene(f"{path}: mesh {key} has {shapes['material_ids'][0]} material ids for "
                              f"{shapes['triangles'][0]} triangles")
+
+
+def check_texture_arrays(path, headers, key):
+    """The declared shape of texture `key`'s pixels: uint8 or float32 [H, W, C], C in 1..4."""
+    header = headers.get(f"{key}.pixels")
+    if header is None:
+        raise MalformedScene(f"{path}: texture {key} has no pixels")
+    shape, dtype = header
+    if dtype not in (np.uint8, np.float32) or len(shape) != 3 or not 1 <= shape[2] <= 4:
+        raise MalformedScene(f"{path}: texture {key}.pixels is {dtype} {shape}, not uint8 or float32 [H, W, 1..4]")
 
 
 def read_meta(path, data, headers, format_name, format_version):
