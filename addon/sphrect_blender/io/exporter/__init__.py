@@ -7,18 +7,22 @@ import numpy as np
 
 from ...native import load_sphrect
 from .camera import export_camera
-from .geometry import MESH_LIKE, to_world, triangulate
+from .geometry import MESH_LIKE, render_uv_layer, to_world, triangulate
 from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
+from .textures import TextureExport, coordinates_needed
 
 
 class _Materials:
-    """Blender materials -> indices into Scene.materials (index 0: the default for empty slots)."""
+    """Blender materials -> indices into Scene.materials (index 0: the default for empty slots), and the images
+    they read -> Scene.textures."""
 
     def __init__(self, sphrect, log):
         self.sphrect, self.log = sphrect, log
+        self.textures = TextureExport(sphrect, log)
         self.list = [sphrect.Material(name="default")]
+        self.coordinates = [set()]  # per material: the mesh coordinates it reads (textures.coordinates_needed)
         self.index = {}
 
     def id_of(self, mat):
@@ -27,12 +31,25 @@ class _Materials:
         key = mat.name_full
         if key not in self.index:
             self.index[key] = len(self.list)
-            self.list.append(export_material(self.sphrect, mat, self.log))
+            self.list.append(export_material(self.sphrect, mat, self.log, self.textures))
+            self.coordinates.append(coordinates_needed(self.list[-1]))
         return self.index[key]
 
     def slot_ids(self, obj):
         slots = [self.id_of(s.material) for s in obj.material_slots]
         return np.array(slots or [0], dtype=np.int32)
+
+    def coordinates_of(self, obj, slots):
+        """The coordinates the object's materials read; UV Map / Normal Map nodes naming another UV map than the
+        object's render one are warned (that one is used)."""
+        needed = set().union(*(self.coordinates[i] for i in slots))
+        if "uv" in needed and obj.type == "MESH":
+            layer = render_uv_layer(obj.data)
+            named = set().union(*(self.textures.uv_maps_named.get(self.list[i].name, set()) for i in slots))
+            for uv_map in sorted(named - {layer.name if layer is not None else ""}):
+                self.log.unsupported_feature(f"UV map '{uv_map}' named by a node, not the render UV map (that "
+                                             "one used)", obj.name)
+        return needed
 
 
 def scene_from_depsgraph(depsgraph):
@@ -67,9 +84,10 @@ def scene_from_depsgraph(depsgraph):
             log.unsupported_feature("per-object ray visibility (object rendered as visible)", obj.name)
         key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
         if key not in cache:  # instances share the triangulation and the material ids
-            local = triangulate(obj, log)
+            slots = materials.slot_ids(obj)
+            needed = materials.coordinates_of(obj, slots)
+            local = triangulate(obj, log, uvs="uv" in needed, generated="generated" in needed)
             if local is not None:
-                slots = materials.slot_ids(obj)
                 cache[key] = (local, slots[np.clip(local.material_index, 0, len(slots) - 1)])
             else:
                 cache[key] = None
@@ -82,8 +100,10 @@ def scene_from_depsgraph(depsgraph):
             continue
         vertices, triangles, normals = world
         scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
-                                         material_ids=material_ids, name=name))
+                                         material_ids=material_ids, name=name, uvs=local.uvs,
+                                         generated=local.generated))
     scene.materials = materials.list
+    scene.textures = materials.textures.list
     emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}
     lit_by_meshes = any(np.isin(m.material_ids, list(emissive)).any() for m in scene.meshes) if emissive else False
     if not scene.lights and not lit_by_meshes and not any(c > 0 for c in scene.world.background):

@@ -9,11 +9,49 @@ MESH_LIKE = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
 
 
 class LocalMesh:
-    """Triangles of one evaluated object in its own space (shared by all its instances)."""
-    __slots__ = ("vertices", "triangles", "normals", "material_index")
+    """Triangles of one evaluated object in its own space (shared by all its instances); texture coordinates
+    (uvs, generated: per vertex, or None) are the object's own whatever its world matrix."""
+    __slots__ = ("vertices", "triangles", "normals", "material_index", "uvs", "generated")
 
-    def __init__(self, vertices, triangles, normals, material_index):
+    def __init__(self, vertices, triangles, normals, material_index, uvs=None, generated=None):
         self.vertices, self.triangles, self.normals, self.material_index = vertices, triangles, normals, material_index
+        self.uvs, self.generated = uvs, generated
+
+
+def render_uv_layer(mesh):
+    """The UV map Cycles reads by default (its 'UV' attribute): the active render one, else the active one."""
+    for layer in mesh.uv_layers:
+        if layer.active_render:
+            return layer
+    return mesh.uv_layers.active
+
+
+def _corner_uvs(mesh, tris, n, log, name):
+    """float32 [n, 3, 2]: the render UV map at each triangle corner (per loop, so seams keep both sides' UVs);
+    zeros, warned, without a UV map (Cycles reads (0, 0))."""
+    layer = render_uv_layer(mesh)
+    if layer is None:
+        if log is not None:
+            log.unsupported_feature("textured meshes without a UV map (UVs (0, 0), as Cycles reads)", name)
+        return np.zeros((n, 3, 2), dtype=np.float32)
+    per_loop = np.empty(len(mesh.loops) * 2, dtype=np.float32)
+    layer.data.foreach_get("uv", per_loop)
+    loops = np.empty(n * 3, dtype=np.int32)
+    tris.foreach_get("loops", loops)
+    return per_loop.reshape(-1, 2)[loops].reshape(n, 3, 2)
+
+
+def _generated(mesh):
+    """float32 [V, 3]: Blender's Generated coordinates of each vertex, the undeformed position mapped by the mesh's
+    texture space to [0, 1] (Cycles' mesh_texture_space: (co - (location - size)) / (2 size), 0.5 on an axis of
+    size 0)."""
+    undeformed = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("undeformed_co", undeformed)
+    location = np.array(mesh.texspace_location, dtype=np.float64)
+    size = np.array(mesh.texspace_size, dtype=np.float64)
+    half_inverse = np.divide(0.5, size, out=np.zeros(3), where=size != 0)
+    generated = undeformed.reshape(-1, 3) * half_inverse - (location * half_inverse - 0.5)
+    return generated.astype(np.float32)
 
 
 def _transparent_slots(obj):
@@ -24,12 +62,14 @@ def _transparent_slots(obj):
             sorted({r for r in reasons if r}))
 
 
-def triangulate(obj, log=None):
-    """LocalMesh of an evaluated object (modifiers applied), or None if it has no triangles.
+def triangulate(obj, log=None, uvs=False, generated=False):
+    """LocalMesh of an evaluated object (modifiers applied), or None if it has no triangles; with the texture
+    coordinates its materials read (`uvs`: the render UV map, `generated`: Blender's Generated ones).
     Triangles of transparent surfaces (volume-only materials, a white Transparent BSDF) are left out: Cycles shows
     them as transparent (what is not simulated, the volume or a colour, `log` is told, naming the object).
     Smooth-shaded meshes get per-corner split normals (vertices unwelded so flat and smooth faces and
-    sharp edges all keep Blender's normals); fully flat meshes get none (the renderer uses face normals)."""
+    sharp edges all keep Blender's normals), as do meshes with UVs (seams); fully flat meshes get no normals (the
+    renderer uses face normals)."""
     mesh = obj.to_mesh()
     try:
         if mesh is None:
@@ -68,16 +108,22 @@ def triangulate(obj, log=None):
             split = np.empty(n * 9, dtype=np.float32)
             tris.foreach_get("split_normals", split)
             split = split.reshape(n, 3, 3)
+        corner_uvs = _corner_uvs(mesh, tris, n, log, obj.name) if uvs else None
+        vertex_generated = _generated(mesh) if generated else None
         if tris_kept is not None:
             triangles, material_index = triangles[tris_kept], material_index[tris_kept]
             split = split[tris_kept] if split is not None else None
+            corner_uvs = corner_uvs[tris_kept] if corner_uvs is not None else None
             n = len(tris_kept)
         normals = None
-        if split is not None:
-            vertices = vertices[triangles.ravel()]
+        if split is not None or corner_uvs is not None:  # unwelded: a vertex per triangle corner
+            corners = triangles.ravel()
+            vertices = vertices[corners]
+            vertex_generated = vertex_generated[corners] if vertex_generated is not None else None
             triangles = np.arange(3 * n, dtype=np.int32).reshape(-1, 3)
-            normals = split.reshape(-1, 3)
-        return LocalMesh(vertices, triangles, normals, material_index)
+            normals = split.reshape(-1, 3) if split is not None else None
+        corner_uvs = corner_uvs.reshape(-1, 2) if corner_uvs is not None else None
+        return LocalMesh(vertices, triangles, normals, material_index, corner_uvs, vertex_generated)
     finally:
         obj.to_mesh_clear()
 

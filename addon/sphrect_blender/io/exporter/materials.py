@@ -11,11 +11,15 @@ Holdout and Translucent BSDF are black (warned); emission with Cycles 3.4's conv
 emits radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength
 adds to its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
 |Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume Absorption or Principled Volume on the
-World output for a homogeneous medium.  Only unlinked input values are read: every linked input and every other
-node is logged as unsupported."""
+World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color, Roughness,
+Metallic and Specular, the Color of Diffuse, Glossy and Glass BSDFs and their Roughness, Mix Shader factors, and a
+Normal input through a tangent-space Normal Map node; every other linked input and every other node is logged as
+unsupported, its own value used."""
 import dataclasses
 
 import numpy as np
+
+from .textures import TextureExport, follow_reroutes, image_texture_source
 
 
 def _active_output(tree, node_type):
@@ -27,14 +31,15 @@ def _active_output(tree, node_type):
 
 
 def _linked_node(socket):
-    if socket is None or not socket.is_linked:
-        return None
-    node = socket.links[0].from_node
-    while node.bl_idname == "NodeReroute":
-        if not node.inputs[0].is_linked:
-            return None
-        node = node.inputs[0].links[0].from_node
-    return node
+    return follow_reroutes(socket)[0]
+
+
+def _own_value(socket):
+    value = socket.default_value
+    try:
+        return tuple(float(v) for v in value)
+    except TypeError:
+        return float(value)
 
 
 def _value(node, name, log, owner):
@@ -45,11 +50,61 @@ def _value(node, name, log, owner):
     if socket.is_linked:
         source = socket.links[0].from_node
         log.unsupported_feature(f"linked '{name}' input ({source.bl_label or source.bl_idname})", owner)
-    value = socket.default_value
-    try:
-        return tuple(float(v) for v in value)
-    except TypeError:
-        return float(value)
+    return _own_value(socket)
+
+
+# The material inputs (sphrect.scene.TEXTURED_INPUTS) an Image Texture can drive on each shader node; the socket
+# of a field is its title-cased name ('Base Color', 'Roughness', ...), 'Color' for the base colour of the BSDFs
+# other than Principled's.
+_TEXTURABLE = {"ShaderNodeBsdfPrincipled": {"base_color", "roughness", "metallic", "specular"},
+               "ShaderNodeBsdfDiffuse": {"base_color"},
+               "ShaderNodeBsdfGlossy": {"base_color", "roughness"},
+               "ShaderNodeBsdfAnisotropic": {"base_color", "roughness"},
+               "ShaderNodeBsdfGlass": {"base_color", "roughness"}}
+
+
+def _socket_name(node, field):
+    if field == "base_color" and node.bl_idname != "ShaderNodeBsdfPrincipled":
+        return "Color"
+    return field.replace("_", " ").title()
+
+
+class _Inputs:
+    """A shader node's inputs as a sphrect.Material reads them: read(field) is the input's own value, and an input
+    an Image Texture node drives is recorded in `textures` (field -> TextureLookup) instead of warned."""
+
+    def __init__(self, sphrect, node, textures, log, owner):
+        self.node, self.log, self.owner = node, log, owner
+        allowed = _TEXTURABLE.get(node.bl_idname, set())
+        self.textured_fields = [f for f in sphrect.scene.TEXTURED_INPUTS if f in allowed]
+        self.tex_export = textures
+        self.textures = {}
+
+    def textured(self, field):
+        """Whether `field`'s input is linked from an Image Texture node (recorded on the first call)."""
+        if field in self.textures:
+            return True
+        if field not in self.textured_fields:
+            return False
+        source = image_texture_source(self.node.inputs.get(_socket_name(self.node, field)))
+        if source is None:
+            return False
+        self.textures[field] = self.tex_export.lookup(*source, self.owner)
+        return True
+
+    def read(self, field):
+        if self.textured(field):
+            return _own_value(self.node.inputs[_socket_name(self.node, field)])
+        return _value(self.node, _socket_name(self.node, field), self.log, self.owner)
+
+    def value(self, name):
+        """An input that no texture drives, by socket name (a linked one warned)."""
+        return _value(self.node, name, self.log, self.owner)
+
+    def unwarned(self, name):
+        """An input's own value, unwarned (for tests of which model applies; the value read later warns)."""
+        socket = self.node.inputs.get(name)
+        return _own_value(socket) if socket is not None else None
 
 
 def _rgb(v):
@@ -90,7 +145,10 @@ def transparent_surface(mat):
     return "Transparent BSDF surfaces (left out: its colour filtering camera and shadow rays is not modelled)"
 
 
-def export_material(sphrect, mat, log):
+def export_material(sphrect, mat, log, textures=None):
+    """sphrect.Material of a Blender material; the images its Image Texture nodes read go to `textures`
+    (a TextureExport, the scene's list)."""
+    textures = textures if textures is not None else TextureExport(sphrect, log)
     if mat is None:
         return sphrect.Material(name="default")
     name = mat.name
@@ -107,7 +165,7 @@ def export_material(sphrect, mat, log):
     if node is None:
         log.unsupported_feature("materials without a surface shader (black)", name)
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
-    return _shader(sphrect, node, log, name)
+    return _shader(sphrect, node, textures, log, name)
 
 
 def _emission(node, color_input, strength_input, weight, log, owner):
@@ -121,23 +179,32 @@ def _emission(node, color_input, strength_input, weight, log, owner):
     return _rgb(np.clip(color, 0, None) * strength * weight)
 
 
-def _closures(node, weight, leaves, log, name):
-    """Appends (weight, shader node) for each shader reached through Mix and Add Shader nodes
+def _closures(sphrect, node, weight, factors, leaves, textures, name):
+    """Appends (weight, shader node, mix factors) for each shader reached through Mix and Add Shader nodes
     (svm_node_mix_closure: the factor clamped to [0, 1], (1 - fac) to the first input, fac to the second;
-    Add: 1 to each); False for a linked factor (not modelled)."""
+    Add: 1 to each).  A factor an Image Texture drives is a MixFactor of each shader below it (its complement
+    for the first input); False for a factor linked from anything else (not modelled)."""
     if node is None or weight <= 0:  # an unlinked shader input, or a side Cycles skips: no closure
         return True
     if node.bl_idname == "ShaderNodeMixShader":
         fac_socket = node.inputs[0]
+        first, second = _linked_node(node.inputs[1]), _linked_node(node.inputs[2])
         if fac_socket.is_linked:
-            return False
+            source = image_texture_source(fac_socket)
+            if source is None:
+                return False
+            lookup = textures.lookup(*source, name)
+            return (_closures(sphrect, first, weight, factors + [sphrect.MixFactor(lookup=lookup, complement=True)],
+                              leaves, textures, name)
+                    and _closures(sphrect, second, weight, factors + [sphrect.MixFactor(lookup=lookup)], leaves,
+                                  textures, name))
         fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
-        return (_closures(_linked_node(node.inputs[1]), weight * (1 - fac), leaves, log, name)
-                and _closures(_linked_node(node.inputs[2]), weight * fac, leaves, log, name))
+        return (_closures(sphrect, first, weight * (1 - fac), factors, leaves, textures, name)
+                and _closures(sphrect, second, weight * fac, factors, leaves, textures, name))
     if node.bl_idname == "ShaderNodeAddShader":
-        return (_closures(_linked_node(node.inputs[0]), weight, leaves, log, name)
-                and _closures(_linked_node(node.inputs[1]), weight, leaves, log, name))
-    leaves.append((weight, node))
+        return (_closures(sphrect, _linked_node(node.inputs[0]), weight, factors, leaves, textures, name)
+                and _closures(sphrect, _linked_node(node.inputs[1]), weight, factors, leaves, textures, name))
+    leaves.append((weight, node, factors))
     return True
 
 
@@ -149,65 +216,97 @@ _BLACK_SHADERS = {
 }
 
 
-def _shader(sphrect, node, log, name):
+def _is_textured(layer):
+    """Whether a layer reads a texture (its material's inputs, normal map or its mix factors): such layers are
+    evaluated per hit by the renderer and never merged with others here."""
+    m = layer.material
+    return bool(layer.factors or m.textures or m.normal_map is not None)
+
+
+def _shader(sphrect, node, textures, log, name):
     """The surface shader behind the output: one BSDF, or the weighted sum of the shaders a tree of Mix and Add
     Shader nodes reaches (kind 'mix'), emission summed."""
     leaves = []
-    if not _closures(node, 1.0, leaves, log, name):
+    if not _closures(sphrect, node, 1.0, [], leaves, textures, name):
         log.unsupported_feature("linked Mix Shader factor (grey diffuse used)", name)
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
     emission = np.zeros(3)
     layers = []
-    for weight, leaf in leaves:
+    for weight, leaf, factors in leaves:
         if leaf.bl_idname == "ShaderNodeEmission":
+            if factors:
+                log.unsupported_feature("Emission under a texture-driven Mix Shader factor (the factor read as 1)",
+                                        name)
             emission += _emission(leaf, "Color", "Strength", weight, log, name)
         elif leaf.bl_idname in _BLACK_SHADERS:
             log.unsupported_feature(_BLACK_SHADERS[leaf.bl_idname], name)
         else:
-            layers.append(sphrect.MaterialLayer(weight=weight, material=_bsdf(sphrect, leaf, log, name)))
+            layers.append(sphrect.MaterialLayer(weight=weight, material=_bsdf(sphrect, leaf, textures, log, name),
+                                                factors=factors))
     layers = _fit_mix(sphrect, layers, log, name)
     if not layers:
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=_rgb(emission))
-    if all(l.material.kind == "diffuse" for l in layers):  # Lambert is linear in its colour: one diffuse, exactly
+    if all(l.material.kind == "diffuse" and not _is_textured(l) for l in layers):
+        # Lambert is linear in its colour: one diffuse, exactly
         color = sum(l.weight * np.asarray(l.material.base_color) for l in layers)
         return sphrect.Material(name=name, kind="diffuse", base_color=_rgb(color), emission=_rgb(emission))
-    if len(layers) == 1 and layers[0].weight == 1:
+    if len(layers) == 1 and layers[0].weight == 1 and not layers[0].factors:
         bsdf = layers[0].material
         return dataclasses.replace(bsdf, emission=_rgb(np.asarray(bsdf.emission) + emission))
-    return sphrect.Material(name=name, kind="mix", layers=layers, emission=_rgb(emission))
+    normal_map = _mix_normal_map(layers, log, name)
+    return sphrect.Material(name=name, kind="mix", layers=layers, emission=_rgb(emission), **normal_map)
+
+
+def _mix_normal_map(layers, log, name):
+    """The mix's normal map (a mix's layers have none of their own): the one every layer has, else the first
+    one (warned); taken off the layers."""
+    maps = [(l.material.normal_map, l.material.normal_map_strength) for l in layers]
+    used = [m for m in maps if m[0] is not None]
+    if not used:
+        return {}
+    if len(used) < len(maps) or any(m != used[0] for m in used[1:]):
+        log.unsupported_feature("shaders of a mix with different normal maps (the first one used for all)", name)
+    for l in layers:
+        l.material = dataclasses.replace(l.material, normal_map=None, normal_map_strength=1.0)
+    return {"normal_map": used[0][0], "normal_map_strength": used[0][1]}
 
 
 def _lobe_key(mat):
     """What makes two glossy / glass layers one lobe in the renderer (bsdf.h MixIntoMaterial)."""
-    return (mat.roughness, mat.distribution, mat.ior if mat.kind == "glass" else 0.0)
+    return (mat.roughness, mat.distribution, mat.ior if mat.kind == "glass" else 0.0,
+            repr(mat.textures.get("roughness")))
+
+
+def _average_principled(sphrect, principled):
+    """One layer for several Principled BSDF layers: their total weight, weight-averaged inputs and colour."""
+    total = sum(l.weight for l in principled)
+    fields = ("roughness", "metallic", "specular", "specular_tint", "sheen", "sheen_tint", "clearcoat",
+              "clearcoat_roughness")
+    averaged = {f: sum(l.weight * getattr(l.material, f) for l in principled) / total for f in fields}
+    color = sum(l.weight * np.asarray(l.material.base_color) for l in principled) / total
+    emission = sum(l.weight * np.asarray(l.material.emission) for l in principled) / total
+    merged = dataclasses.replace(principled[0].material, base_color=_rgb(color), emission=_rgb(emission),
+                                 **averaged)
+    return sphrect.MaterialLayer(total, merged)
 
 
 def _fit_mix(sphrect, layers, log, name):
-    """The layers as the renderer's mix can hold them: several Principled BSDFs of equal inputs but for the base
-    colour merge exactly (weights summed, colours weight-averaged) where no tint makes the closures non-linear in
-    it; other ones are replaced by one of their weight-averaged inputs and total weight, and
-    glossy / glass lobes beyond sphrect.MAX_MIX_GLOSSY_LOBES distinct ones are dropped, lightest first, both
-    warned."""
-    principled = [l for l in layers if l.material.kind == "principled"]
-    if len(principled) > 1:
-        total = sum(l.weight for l in principled)
+    """The layers as the renderer's mix can hold them: several untextured Principled BSDFs of equal inputs but for
+    the base colour merge exactly (weights summed, colours weight-averaged) where no tint makes the closures
+    non-linear in it; other untextured ones are replaced by one of their weight-averaged inputs and total weight;
+    textured layers (textures.py: evaluated per hit) stay apart; glossy / glass lobes beyond
+    sphrect.MAX_MIX_GLOSSY_LOBES distinct ones are dropped, lightest first; all warned."""
+    plain = [l for l in layers if l.material.kind == "principled" and not _is_textured(l)]
+    if len(plain) > 1:
         # Cycles' closures are linear in the base colour when neither tint divides it by its luminance.
         inputs = [dataclasses.replace(l.material, name="", emission=(0.0, 0.0, 0.0), base_color=(0.0, 0.0, 0.0))
-                  for l in principled]
-        m0 = principled[0].material
+                  for l in plain]
+        m0 = plain[0].material
         linear_in_color = m0.specular_tint == 0 and (m0.sheen == 0 or m0.sheen_tint == 0)
         if any(m != inputs[0] for m in inputs[1:]) or not linear_in_color:
-            log.unsupported_feature(f"a mix of {len(principled)} different Principled BSDFs (one of their "
+            log.unsupported_feature(f"a mix of {len(plain)} different Principled BSDFs (one of their "
                                     "weight-averaged inputs used)", name)
-        fields = {f: getattr(principled[0].material, f) for f in
-                  ("roughness", "metallic", "specular", "specular_tint", "sheen", "sheen_tint", "clearcoat",
-                   "clearcoat_roughness")}
-        averaged = {f: sum(l.weight * getattr(l.material, f) for l in principled) / total for f in fields}
-        color = sum(l.weight * np.asarray(l.material.base_color) for l in principled) / total
-        emission = sum(l.weight * np.asarray(l.material.emission) for l in principled) / total
-        merged = dataclasses.replace(principled[0].material, base_color=_rgb(color), emission=_rgb(emission),
-                                     **averaged)
-        layers = [l for l in layers if l.material.kind != "principled"] + [sphrect.MaterialLayer(total, merged)]
+        layers = [l for l in layers if not any(l is p for p in plain)] + [_average_principled(sphrect, plain)]
     lobes = {}
     for l in layers:
         if l.material.kind in ("glass", "glossy_bsdf"):
@@ -222,62 +321,66 @@ def _fit_mix(sphrect, layers, log, name):
     return layers
 
 
-def _bsdf(sphrect, node, log, name):
+def _bsdf(sphrect, node, textures, log, name):
     """A Diffuse, Principled, Glossy, Anisotropic, Glass or Refraction BSDF node (the Principled one's own emission
     included)."""
+    inputs = _Inputs(sphrect, node, textures, log, name)
     if node.bl_idname == "ShaderNodeBsdfDiffuse":
-        color = _rgb(_value(node, "Color", log, name))
-        if _value(node, "Roughness", log, name) > 0:
+        color = _rgb(inputs.read("base_color"))
+        if inputs.value("Roughness") > 0:
             log.unsupported_feature("Oren-Nayar roughness of Diffuse BSDF (Lambert used)", name)
-        _check_normal(node, log, name)
-        return sphrect.Material(name=name, kind="diffuse", base_color=color)
+        return sphrect.Material(name=name, kind="diffuse", base_color=color, textures=inputs.textures,
+                                **_normal_map(node, textures, log, name))
     if node.bl_idname == "ShaderNodeBsdfPrincipled":
-        return _principled(sphrect, node, log, name)
+        return _principled(sphrect, node, inputs, textures, log, name)
     if node.bl_idname in {"ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction"}:
-        return _glass(sphrect, node, log, name)
+        return _glass(sphrect, node, inputs, textures, log, name)
     if node.bl_idname in {"ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic"}:
-        return _glossy(sphrect, node, log, name)
+        return _glossy(sphrect, node, inputs, textures, log, name)
     log.unsupported_feature(f"'{node.bl_label or node.bl_idname}' shader node (grey diffuse used)", name)
     return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
 
 
-def _glossy(sphrect, node, log, name):
+def _glossy(sphrect, node, inputs, textures, log, name):
     """Glossy BSDF (and Blender 3.4's Anisotropic BSDF at anisotropy 0) as Cycles 3.4 evaluates it: Color x GGX
     or Beckmann reflection of alpha = Roughness^2, no Fresnel (kind 'glossy_bsdf'); Sharp is a delta lobe, black at
     zero bounces in both renderers."""
     distribution = getattr(node, "distribution", "GGX")
-    roughness = 0.0 if distribution == "SHARP" else float(_value(node, "Roughness", log, name))
-    if distribution in {"MULTI_GGX", "ASHIKHMIN_SHIRLEY"} and roughness > 0:
+    roughness = 0.0 if distribution == "SHARP" else float(inputs.read("roughness"))
+    rough = roughness > 0 or "roughness" in inputs.textures
+    if distribution in {"MULTI_GGX", "ASHIKHMIN_SHIRLEY"} and rough:
         label = {"MULTI_GGX": "Multiscatter GGX", "ASHIKHMIN_SHIRLEY": "Ashikhmin-Shirley"}[distribution]
         log.unsupported_feature(f"{node.bl_label} distribution '{label}' (GGX used)", name)
     if node.bl_idname == "ShaderNodeBsdfAnisotropic":
-        if abs(_value(node, "Anisotropy", log, name)) > 0:
+        if abs(inputs.value("Anisotropy")) > 0:
             log.unsupported_feature("anisotropy of Anisotropic BSDF (isotropic used)", name)
         tangent = node.inputs.get("Tangent")
         if tangent is not None and tangent.is_linked:
             log.unsupported_feature("linked 'Tangent' input", name)
-    _check_normal(node, log, name)
-    return sphrect.Material(name=name, kind="glossy_bsdf", base_color=_rgb(_value(node, "Color", log, name)),
-                            roughness=roughness, distribution="beckmann" if distribution == "BECKMANN" else "ggx")
+    color = _rgb(inputs.read("base_color"))
+    return sphrect.Material(name=name, kind="glossy_bsdf", base_color=color, roughness=roughness,
+                            distribution="beckmann" if distribution == "BECKMANN" else "ggx",
+                            textures=inputs.textures, **_normal_map(node, textures, log, name))
 
 
-def _glass(sphrect, node, log, name):
+def _glass(sphrect, node, inputs, textures, log, name):
     """Glass or Refraction BSDF as Cycles 3.4 shows it at zero bounces: the Glass BSDF's GGX / Beckmann reflection
     of the lights, weighted by the dielectric Fresnel of the view (kind 'glass'); the refracted part, the whole of a
     Refraction BSDF, is black (it needs a bounce, or a light seen through an open surface: not modelled)."""
     distribution = getattr(node, "distribution", "GGX")
-    roughness = 0.0 if distribution == "SHARP" else float(_value(node, "Roughness", log, name))
-    if distribution == "MULTI_GGX" and roughness > 0:
+    roughness = 0.0 if distribution == "SHARP" else float(inputs.read("roughness"))
+    if distribution == "MULTI_GGX" and (roughness > 0 or "roughness" in inputs.textures):
         log.unsupported_feature(f"{node.bl_label} distribution 'Multiscatter GGX' (GGX used)", name)
-    _check_normal(node, log, name)
+    normal_map = _normal_map(node, textures, log, name)
     log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
                             "except behind open surfaces)", name)
-    color = _rgb(_value(node, "Color", log, name))
+    color = _rgb(inputs.read("base_color"))
     if node.bl_idname == "ShaderNodeBsdfRefraction":
         color = (0.0, 0.0, 0.0)
     return sphrect.Material(name=name, kind="glass", base_color=color, roughness=roughness,
-                            ior=float(_value(node, "IOR", log, name)),
-                            distribution="beckmann" if distribution == "BECKMANN" else "ggx")
+                            ior=float(inputs.value("IOR")),
+                            distribution="beckmann" if distribution == "BECKMANN" else "ggx",
+                            textures=inputs.textures, **normal_map)
 
 
 # Principled BSDF inputs read into sphrect.Material (kind 'principled'), by the Material field they fill.
@@ -289,52 +392,85 @@ _PRINCIPLED_UNSUPPORTED = (("Subsurface", "subsurface scattering (Burley diffuse
                            ("Transmission", "transmission"), ("Anisotropic", "anisotropy"))
 
 
-def _principled(sphrect, node, log, name):
+def _principled(sphrect, node, inputs, textures, log, name):
     """Cycles 3.4's Principled BSDF (svm_node_closure_bsdf) at its default GGX distribution."""
-    if _value(node, "Transmission", log, name) >= 1 and _value(node, "Metallic", log, name) <= 0:
-        glass = _principled_glass(sphrect, node, log, name)
+    if (inputs.value("Transmission") >= 1 and not inputs.textured("metallic")
+            and inputs.unwarned("Metallic") <= 0):
+        glass = _principled_glass(sphrect, node, inputs, textures, log, name)
         if glass is not None:
             return glass
-    color = _rgb(_value(node, "Base Color", log, name))
-    values = {field: float(_value(node, socket, log, name)) for field, socket in _PRINCIPLED_INPUTS.items()}
+    color = _rgb(inputs.read("base_color"))
+    values = {field: float(inputs.read(field) if field in inputs.textured_fields else inputs.value(socket))
+              for field, socket in _PRINCIPLED_INPUTS.items()}
     for socket, what in _PRINCIPLED_UNSUPPORTED:
         _nonzero_input(node, socket, log, name, what)
     # Cycles uses multiscatter GGX for 'MULTI_GGX' above roughness 0.075 (single-scatter below).
-    if getattr(node, "distribution", "GGX") == "MULTI_GGX" and values["roughness"] > 0.075:
+    if getattr(node, "distribution", "GGX") == "MULTI_GGX" and (values["roughness"] > 0.075
+                                                                 or "roughness" in inputs.textures):
         log.unsupported_feature("Principled BSDF distribution 'Multiscatter GGX' (GGX used)", name)
     clearcoat_normal = node.inputs.get("Clearcoat Normal")
     if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
         log.unsupported_feature("linked 'Clearcoat Normal' input", name)
     emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name)
-    if _value(node, "Alpha", log, name) < 1:
+    if inputs.value("Alpha") < 1:
         log.unsupported_feature("alpha", name)
-    _check_normal(node, log, name)
-    return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission, **values)
+    return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission,
+                            textures=inputs.textures, **_normal_map(node, textures, log, name), **values)
 
 
-def _principled_glass(sphrect, node, log, name):
+def _principled_glass(sphrect, node, inputs, textures, log, name):
     """A Principled BSDF of transmission 1, metallic 0: Cycles' closures are then only its glass (no diffuse,
     sheen or other specular), whose reflection is a white Glass BSDF's at the same roughness and IOR when the
-    specular tint is 0 (cspec0 white) -- kind 'glass'.  None when a tint or clearcoat needs more."""
-    if _value(node, "Specular Tint", log, name) > 0 or _value(node, "Clearcoat", log, name) > 0:
+    specular tint is 0 (cspec0 white) -- kind 'glass' (a Roughness texture kept).  None when a tint or clearcoat
+    needs more."""
+    if inputs.value("Specular Tint") > 0 or inputs.value("Clearcoat") > 0:
         return None
-    if getattr(node, "distribution", "GGX") == "MULTI_GGX" and _value(node, "Roughness", log, name) > 0.05:
+    roughness = float(inputs.read("roughness"))
+    if getattr(node, "distribution", "GGX") == "MULTI_GGX" and (roughness > 0.05 or "roughness" in inputs.textures):
         log.unsupported_feature("Principled BSDF distribution 'Multiscatter GGX' (GGX used)", name)
-    _check_normal(node, log, name)
+    normal_map = _normal_map(node, textures, log, name)
     log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
                             "except behind open surfaces)", name)
-    if _value(node, "Alpha", log, name) < 1:
+    if inputs.value("Alpha") < 1:
         log.unsupported_feature("alpha", name)
-    return sphrect.Material(name=name, kind="glass", base_color=(1.0, 1.0, 1.0),
-                            roughness=float(_value(node, "Roughness", log, name)),
-                            ior=float(_value(node, "IOR", log, name)),
-                            emission=_emission(node, "Emission", "Emission Strength", 1.0, log, name))
+    return sphrect.Material(name=name, kind="glass", base_color=(1.0, 1.0, 1.0), roughness=roughness,
+                            ior=float(inputs.value("IOR")),
+                            emission=_emission(node, "Emission", "Emission Strength", 1.0, log, name),
+                            textures={k: v for k, v in inputs.textures.items() if k == "roughness"}, **normal_map)
 
 
-def _check_normal(node, log, owner):
+# Blender's Normal Map node Color when nothing is linked to it: the unperturbed normal.
+_FLAT_NORMAL_COLOR = (0.5, 0.5, 1.0)
+
+
+def _normal_map(node, textures, log, owner):
+    """Material.normal_map / normal_map_strength of a shader's Normal input: a tangent-space Normal Map node whose
+    Color an Image Texture drives ({} and a warning for other nodes, spaces or colours)."""
     socket = node.inputs.get("Normal")
-    if socket is not None and socket.is_linked:
-        log.unsupported_feature("normal maps / bump", owner)
+    source = _linked_node(socket)
+    if source is None:
+        return {}
+    if source.bl_idname != "ShaderNodeNormalMap":
+        log.unsupported_feature(f"'{source.bl_label or source.bl_idname}' node on a Normal input (ignored)", owner)
+        return {}
+    if source.space != "TANGENT":
+        log.unsupported_feature(f"Normal Map space '{source.space}' (ignored)", owner)
+        return {}
+    strength = source.inputs["Strength"]
+    if strength.is_linked:
+        log.unsupported_feature("linked 'Strength' input of a Normal Map node (its value used)", owner)
+    color = source.inputs["Color"]
+    image = image_texture_source(color)
+    if image is None:
+        if color.is_linked:
+            feeding = _linked_node(color)
+            label = (feeding.bl_label or feeding.bl_idname) if feeding is not None else "a reroute"
+            log.unsupported_feature(f"Normal Map colour from '{label}' (ignored)", owner)
+        elif any(abs(float(c) - f) > 1e-6 for c, f in zip(color.default_value, _FLAT_NORMAL_COLOR)):
+            log.unsupported_feature("Normal Map node of an unlinked colour (ignored)", owner)
+        return {}
+    textures.name_uv_map(source.uv_map, owner)
+    return {"normal_map": textures.lookup(*image, owner), "normal_map_strength": float(strength.default_value)}
 
 
 def export_world(sphrect, world, log):

@@ -1,0 +1,192 @@
+"""Image Texture nodes -> sphrect.TextureLookup, and Blender images -> sphrect.Texture (one per image).
+
+Pixels come from Blender's image data (packed, generated or on disk alike) with `foreach_get`, no per-pixel
+Python: byte images as uint8 (Blender's bytes), float images as float32, Blender's row order (row 0 = bottom) and
+channel count.  What Cycles 3.4 reads and how:
+
+* colour space: a byte image's values are in its colour space ('sRGB' -> 'srgb', decoded after filtering as
+  Cycles does; the data spaces -> 'linear'); a float image's buffer is already scene linear (Blender converts it
+  on load; Cycles' BlenderImageLoader marks such builtin images raw), so float images are 'linear'.
+* a missing image (file not found, no image on the node) is Cycles' magenta (TEX_IMAGE_MISSING_*), warned.
+* the Vector input: unlinked -> the active render UV map (Cycles' default); Texture Coordinate 'UV' /
+  'Generated' or a UV Map node, through Mapping nodes (their affine maps composed into `transform`).
+"""
+import mathutils
+import numpy as np
+
+# Cycles' colour for an image it cannot read (kernel/svm/image.h TEX_IMAGE_MISSING_R/G/B/A).
+MISSING_IMAGE_RGBA = (1.0, 0.0, 1.0, 1.0)
+# Blender's colour spaces whose values are used as stored (the rest of the OCIO config is approximated as linear).
+_LINEAR_COLORSPACES = {"Non-Color", "Linear", "Raw", "Linear Rec.709"}
+_INTERPOLATIONS = {"Linear": "linear", "Closest": "closest"}  # Cubic and Smart: 'linear', warned
+_IMAGE_NODE = "ShaderNodeTexImage"
+
+
+def follow_reroutes(socket):
+    """(node, output socket) feeding `socket` through reroutes, or (None, None) when nothing does."""
+    if socket is None or not socket.is_linked:
+        return None, None
+    link = socket.links[0]
+    while link.from_node.bl_idname == "NodeReroute":
+        upstream = link.from_node.inputs[0]
+        if not upstream.is_linked:
+            return None, None
+        link = upstream.links[0]
+    return link.from_node, link.from_socket
+
+
+def image_texture_source(socket):
+    """(Image Texture node, 'color' | 'alpha') when `socket` is linked from one (directly or through reroutes)."""
+    node, output = follow_reroutes(socket)
+    if node is None or node.bl_idname != _IMAGE_NODE:
+        return None
+    return node, "alpha" if output.identifier == "Alpha" else "color"
+
+
+def lookups_of(material):
+    """Every TextureLookup a sphrect.Material reads (its inputs, normal map, layers and their mix factors)."""
+    found = list(material.textures.values())
+    if material.normal_map is not None:
+        found.append(material.normal_map)
+    for layer in material.layers:
+        found.extend(f.lookup for f in layer.factors)
+        found.extend(lookups_of(layer.material))
+    return found
+
+
+def has_normal_map(material):
+    return material.normal_map is not None or any(has_normal_map(l.material) for l in material.layers)
+
+
+def coordinates_needed(material):
+    """The mesh coordinates ('uv', 'generated') a material reads; a normal map needs the UVs (its tangents)."""
+    needed = {lookup.coordinates for lookup in lookups_of(material)}
+    if has_normal_map(material):
+        needed.add("uv")
+    return needed
+
+
+class TextureExport:
+    """Scene.textures as the materials' Image Texture nodes fill it (one Texture per Blender image)."""
+
+    def __init__(self, sphrect, log):
+        self.sphrect, self.log = sphrect, log
+        self.list = []
+        self.index = {}
+        self.uv_maps_named = {}  # material name -> UV map names its nodes ask for (checked per object)
+
+    def lookup(self, node, output, owner):
+        """The TextureLookup of Image Texture `node`'s output ('color' / 'alpha') read by material `owner`."""
+        interpolation = _INTERPOLATIONS.get(node.interpolation)
+        if interpolation is None:
+            self.log.unsupported_feature(f"Image Texture interpolation '{node.interpolation}' (Linear used)", owner)
+            interpolation = "linear"
+        if node.projection != "FLAT":
+            self.log.unsupported_feature(f"Image Texture projection '{node.projection}' (Flat used)", owner)
+        coordinates, transform = self._vector(node.inputs["Vector"], owner)
+        return self.sphrect.TextureLookup(texture=self.texture_of(node.image, owner), output=output,
+                                          coordinates=coordinates, transform=transform[:3].tolist(),
+                                          interpolation=interpolation, extension=node.extension.lower())
+
+    def name_uv_map(self, uv_map, owner):
+        """A UV Map or Normal Map node of material `owner` names `uv_map` ('' = the active render one)."""
+        if uv_map:
+            self.uv_maps_named.setdefault(owner, set()).add(uv_map)
+
+    def texture_of(self, image, owner):
+        """Index into Scene.textures of `image` (None: the node has no image), added on first use."""
+        key = image.name_full if image is not None else None
+        if key not in self.index:
+            self.index[key] = len(self.list)
+            self.list.append(self._texture(image, owner))
+        return self.index[key]
+
+    def _texture(self, image, owner):
+        if image is None:
+            self.log.problem(f"an Image Texture node of material '{owner}' has no image: magenta, as Cycles "
+                             "shows it")
+            return self._missing("(no image)")
+        if image.source in {"SEQUENCE", "MOVIE", "TILED"}:
+            self.log.unsupported_feature(f"image source '{image.source}' (its current pixels used)", image.name)
+        count = len(image.pixels)  # reading the pixels loads the image (packed or from its file)
+        width, height = image.size
+        if not image.has_data or count == 0 or width * height == 0:
+            self.log.problem(f"image '{image.name}' could not be read ({image.filepath or 'no file'}): magenta, "
+                             "as Cycles shows it")
+            return self._missing(image.name)
+        channels = count // (width * height)
+        pixels = np.empty(count, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        pixels = pixels.reshape(height, width, channels)
+        if image.is_float:
+            colorspace = "linear"  # Blender's float buffers are scene linear whatever the file's colour space
+        else:
+            pixels = np.round(pixels * 255.0).astype(np.uint8)  # Blender's bytes, a quarter of the memory
+            colorspace = self._colorspace(image)
+        return self.sphrect.Texture(name=image.name, pixels=pixels, colorspace=colorspace)
+
+    def _colorspace(self, image):
+        name = image.colorspace_settings.name
+        if name == "sRGB":
+            return "srgb"
+        if name not in _LINEAR_COLORSPACES:
+            self.log.unsupported_feature(f"image colour space '{name}' (read as linear)", image.name)
+        return "linear"
+
+    def _missing(self, name):
+        pixels = np.array(MISSING_IMAGE_RGBA, dtype=np.float32).reshape(1, 1, 4)
+        return self.sphrect.Texture(name=name, pixels=pixels, colorspace="linear")
+
+    def _vector(self, socket, owner):
+        """(coordinates, 4x4 transform) of an Image Texture's Vector input: the coordinates it reads and the
+        Mapping nodes' affine maps between them and the node (composed, the one nearest the image last)."""
+        transform = np.eye(4)
+        node, output = follow_reroutes(socket)
+        while node is not None and node.bl_idname == "ShaderNodeMapping":
+            mapping = self._mapping(node, owner)
+            if mapping is None:
+                return "uv", np.eye(4)
+            transform = transform @ mapping
+            node, output = follow_reroutes(node.inputs["Vector"])
+            if node is None:
+                self.log.unsupported_feature("Mapping node with an unlinked Vector input (UV used)", owner)
+                return "uv", np.eye(4)
+        if node is None:
+            return "uv", transform  # Cycles' default for an unlinked Image Texture vector: the UV map
+        if node.bl_idname == "ShaderNodeTexCoord" and output.identifier in {"UV", "Generated"}:
+            if node.from_instancer:
+                self.log.unsupported_feature("Texture Coordinate 'From Instancer' (the object's own used)", owner)
+            return output.identifier.lower(), transform
+        if node.bl_idname == "ShaderNodeUVMap":
+            if node.from_instancer:
+                self.log.unsupported_feature("UV Map 'From Instancer' (the object's own used)", owner)
+            self.name_uv_map(node.uv_map, owner)
+            return "uv", transform
+        label = output.name if node.bl_idname == "ShaderNodeTexCoord" else node.bl_label or node.bl_idname
+        self.log.unsupported_feature(f"Image Texture vector from '{label}' (UV used)", owner)
+        return "uv", np.eye(4)
+
+    def _mapping(self, node, owner):
+        """4x4 matrix of a Mapping node (svm_mapping: Point T R S, Texture its inverse S^-1 R^T (v - T), Vector
+        R S); None (warned) for a Normal mapping."""
+        values = {}
+        for name in ("Location", "Rotation", "Scale"):
+            socket = node.inputs[name]
+            if socket.is_linked:
+                self.log.unsupported_feature(f"linked '{name}' input of a Mapping node (its value used)", owner)
+            values[name] = np.array(socket.default_value, dtype=np.float64)
+        rotation = np.array(mathutils.Euler(values["Rotation"], "XYZ").to_matrix(), dtype=np.float64)
+        scale, location = values["Scale"], values["Location"]
+        m = np.eye(4)
+        if node.vector_type in {"POINT", "VECTOR"}:
+            m[:3, :3] = rotation * scale  # R S: column j scaled by scale[j]
+            if node.vector_type == "POINT":
+                m[:3, 3] = location
+        elif node.vector_type == "TEXTURE":
+            inverse_scale = np.divide(1.0, scale, out=np.zeros(3), where=scale != 0)  # Cycles' safe_divide
+            m[:3, :3] = inverse_scale[:, None] * rotation.T
+            m[:3, 3] = -m[:3, :3] @ location
+        else:
+            self.log.unsupported_feature(f"Mapping node of type '{node.vector_type}' (ignored)", owner)
+            return None
+        return m
