@@ -20,9 +20,9 @@ def new_image(name, pixels, float_buffer=False, colorspace=None, pack=True):
     """A Blender image of `pixels` (float [H, W, 4], row 0 = bottom, as Image.pixels), packed by default."""
     height, width = pixels.shape[:2]
     image = bpy.data.images.new(name, width, height, alpha=True, float_buffer=float_buffer)
-    image.pixels.foreach_set(np.ascontiguousarray(pixels, dtype=np.float32).ravel())
-    if colorspace is not None:
+    if colorspace is not None:  # first: setting it regenerates a generated image's pixels
         image.colorspace_settings.name = colorspace
+    image.pixels.foreach_set(np.ascontiguousarray(pixels, dtype=np.float32).ravel())
     if pack:
         image.pack()
     return image
@@ -117,15 +117,15 @@ def test_packed_and_on_disk_byte_images_are_blender_bytes(empty_scene, tmp_path)
 def test_float_images_are_float32_and_linear(empty_scene):
     pixels = random_pixels() * 4.0  # beyond 1: a float image's range
     on_plane(textured("F", new_image("HDR", pixels, float_buffer=True)))
-    # Blender's float buffers are scene linear whatever the image's colour space says (Blender converts the
-    # buffer when it changes): the buffer as Blender holds it, read as linear (Cycles' builtin float images).
+    # Blender's float buffers are scene linear whatever the image's colour space says: the buffer as Blender holds
+    # it, read as linear (Cycles' builtin float images; measured: a float image marked sRGB renders as stored).
     marked = new_image("Marked", pixels, float_buffer=True, colorspace="sRGB")
     on_plane(textured("S", marked), "Other", location=(3, 0, 0))
     scene, _ = export()
     hdr, srgb = scene.textures
     assert hdr.pixels.dtype == srgb.pixels.dtype == np.float32
     np.testing.assert_array_equal(hdr.pixels, pixels)
-    np.testing.assert_array_equal(srgb.pixels, np.array(marked.pixels[:], dtype=np.float32).reshape(pixels.shape))
+    np.testing.assert_array_equal(srgb.pixels, pixels)
     assert hdr.colorspace == srgb.colorspace == "linear"
 
 
@@ -155,6 +155,38 @@ def test_missing_image_is_magenta_with_a_warning(empty_scene):
     text = log.warning_text()
     assert "image 'Gone' could not be read" in text and "magenta" in text
     assert "material 'NoImage' has no image" in text
+
+
+def test_partial_alpha_gives_the_colour_cycles_reads(empty_scene):
+    """Measured in Cycles 3.4 (emission from the Color output, Closest): a straight-alpha byte image's colour
+    comes multiplied by its alpha (in its sRGB-encoded values), and as stored when the node's Alpha output is
+    linked; a float image's buffer (premultiplied in Blender) comes as stored, divided by its alpha when Alpha is
+    linked; Non-Color images as stored either way."""
+    pixels = random_pixels(2, 3)
+    pixels[..., 3] = [[1.0, 0.5, 0.25], [0.0, 0.75, 1.0]]
+    byte, floats = new_image("Bytes", pixels), new_image("Floats", pixels, float_buffer=True)
+    data = new_image("Data", pixels, colorspace="Non-Color")
+    for i, image in enumerate((byte, floats, data)):
+        on_plane(textured(f"Color{i}", image), f"A{i}", location=(3 * i, 0, 0))
+        alpha_used = textured(f"Alpha{i}", image)  # the same image, its Alpha output also used
+        tree = alpha_used.node_tree
+        tree.links.new(tree.nodes["Image Texture"].outputs["Alpha"], tree.nodes["Diffuse BSDF"].inputs["Roughness"])
+        on_plane(alpha_used, f"B{i}", location=(3 * i, 3, 0))
+    scene, log = export()
+    texture = lambda name: scene.textures[material_named(scene, name).textures["base_color"].texture]
+    alpha = pixels[..., 3:]
+    as_bytes = lambda p: np.round(p * 255).astype(np.uint8)
+    expected = {"Color0": as_bytes(np.concatenate([pixels[..., :3] * alpha, alpha], axis=2)),
+                "Alpha0": as_bytes(pixels),
+                "Color1": pixels,
+                "Alpha1": np.concatenate([np.where((alpha > 0) & (alpha < 1), pixels[..., :3] / np.where(
+                    alpha > 0, alpha, 1), pixels[..., :3]), alpha], axis=2).astype(np.float32),
+                "Color2": as_bytes(pixels), "Alpha2": as_bytes(pixels)}
+    for name, values in expected.items():
+        np.testing.assert_allclose(texture(name).pixels.astype(np.float64), values, atol=1 if values.dtype ==
+                                   np.uint8 else 1e-6, err_msg=name)
+    assert len(scene.textures) == 5  # the Non-Color image once
+    assert texture("Alpha0").name == "Bytes (unassociated alpha)"
 
 
 def test_interpolation_extension_output_and_what_is_approximated(empty_scene):

@@ -7,6 +7,8 @@ channel count.  What Cycles 3.4 reads and how:
 * colour space: a byte image's values are in its colour space ('sRGB' -> 'srgb', decoded after filtering as
   Cycles does; the data spaces -> 'linear'); a float image's buffer is already scene linear (Blender converts it
   on load; Cycles' BlenderImageLoader marks such builtin images raw), so float images are 'linear'.
+* alpha: the colour is multiplied by the alpha as Cycles stores images, or not where the node's Alpha output is
+  used (then Cycles divides it back): an image of partial alpha read both ways is two Textures (_apply_alpha_mode).
 * a missing image (file not found, no image on the node) is Cycles' magenta (TEX_IMAGE_MISSING_*), warned.
 * the Vector input: unlinked -> the active render UV map (Cycles' default); Texture Coordinate 'UV' /
   'Generated' or a UV Map node, through Mapping nodes (their affine maps composed into `transform`).
@@ -66,6 +68,32 @@ def coordinates_needed(material):
     return needed
 
 
+def _apply_alpha_mode(image, pixels, unassociated):
+    """Turns Blender's pixels (float [H, W, C], in place) into the colour Cycles 3.4's Image Texture node gives:
+    Cycles stores colour x alpha (a byte image of straight alpha is multiplied on load, in its encoded values;
+    Blender's float buffers and 'Premultiplied' bytes already are), and divides the filtered colour by the alpha
+    when the node's Alpha output is linked (here per pixel: the same for Closest, close for Linear); neither for
+    data colour spaces or 'Channel Packed' images; 'None' ignores the alpha (1).  Returns whether the two
+    colours differ for this image."""
+    if pixels.shape[2] < 4:
+        return False
+    mode = image.alpha_mode
+    if mode == "NONE":
+        pixels[..., 3] = 1.0
+        return False
+    alpha = pixels[..., 3:4]
+    if mode == "CHANNEL_PACKED" or image.colorspace_settings.is_data or not (alpha < 1).any():
+        return False
+    color = pixels[..., :3]
+    held_straight = mode == "STRAIGHT" and not image.is_float
+    if held_straight and not unassociated:
+        color *= alpha
+    elif not held_straight and unassociated:
+        partial = (alpha > 0) & (alpha < 1)
+        np.divide(color, alpha, out=color, where=np.broadcast_to(partial, color.shape))
+    return True
+
+
 class TextureExport:
     """Scene.textures as the materials' Image Texture nodes fill it (one Texture per Blender image)."""
 
@@ -84,7 +112,9 @@ class TextureExport:
         if node.projection != "FLAT":
             self.log.unsupported_feature(f"Image Texture projection '{node.projection}' (Flat used)", owner)
         coordinates, transform = self._vector(node.inputs["Vector"], owner)
-        return self.sphrect.TextureLookup(texture=self.texture_of(node.image, owner), output=output,
+        # Cycles divides the colour by the alpha when the node's Alpha output is used (NODE_IMAGE_ALPHA_UNASSOCIATE).
+        texture = self.texture_of(node.image, owner, unassociated=node.outputs["Alpha"].is_linked)
+        return self.sphrect.TextureLookup(texture=texture, output=output,
                                           coordinates=coordinates, transform=transform[:3].tolist(),
                                           interpolation=interpolation, extension=node.extension.lower())
 
@@ -93,19 +123,25 @@ class TextureExport:
         if uv_map:
             self.uv_maps_named.setdefault(owner, set()).add(uv_map)
 
-    def texture_of(self, image, owner):
-        """Index into Scene.textures of `image` (None: the node has no image), added on first use."""
-        key = image.name_full if image is not None else None
+    def texture_of(self, image, owner, unassociated=False):
+        """Index into Scene.textures of `image` (None: the node has no image), added on first use: its colour
+        associated with (multiplied by) its alpha, as Cycles stores images, or `unassociated` (two Textures only
+        for an image whose alpha makes them differ)."""
+        key = (image.name_full if image is not None else None, unassociated)
         if key not in self.index:
+            texture, alpha_matters = self._texture(image, owner, unassociated)
             self.index[key] = len(self.list)
-            self.list.append(self._texture(image, owner))
+            self.list.append(texture)
+            if not alpha_matters:
+                self.index[(key[0], not unassociated)] = self.index[key]
         return self.index[key]
 
-    def _texture(self, image, owner):
+    def _texture(self, image, owner, unassociated):
+        """(Texture, whether its associated and unassociated colours differ)."""
         if image is None:
             self.log.problem(f"an Image Texture node of material '{owner}' has no image: magenta, as Cycles "
                              "shows it")
-            return self._missing("(no image)")
+            return self._missing("(no image)"), False
         if image.source in {"SEQUENCE", "MOVIE", "TILED"}:
             self.log.unsupported_feature(f"image source '{image.source}' (its current pixels used)", image.name)
         count = len(image.pixels)  # reading the pixels loads the image (packed or from its file)
@@ -113,17 +149,19 @@ class TextureExport:
         if not image.has_data or count == 0 or width * height == 0:
             self.log.problem(f"image '{image.name}' could not be read ({image.filepath or 'no file'}): magenta, "
                              "as Cycles shows it")
-            return self._missing(image.name)
+            return self._missing(image.name), False
         channels = count // (width * height)
         pixels = np.empty(count, dtype=np.float32)
         image.pixels.foreach_get(pixels)
         pixels = pixels.reshape(height, width, channels)
+        alpha_matters = _apply_alpha_mode(image, pixels, unassociated)
         if image.is_float:
             colorspace = "linear"  # Blender's float buffers are scene linear whatever the file's colour space
         else:
-            pixels = np.round(pixels * 255.0).astype(np.uint8)  # Blender's bytes, a quarter of the memory
+            pixels = np.round(np.clip(pixels, 0.0, 1.0) * 255.0).astype(np.uint8)  # bytes: a quarter of the memory
             colorspace = self._colorspace(image)
-        return self.sphrect.Texture(name=image.name, pixels=pixels, colorspace=colorspace)
+        name = image.name + (" (unassociated alpha)" if unassociated and alpha_matters else "")
+        return self.sphrect.Texture(name=name, pixels=pixels, colorspace=colorspace), alpha_matters
 
     def _colorspace(self, image):
         name = image.colorspace_settings.name
