@@ -21,12 +21,20 @@
 11_paper_disk    the paper's scene with its light replaced by a two-sided disk of the same area and
                  power, its lowest point 5 cm above the ground
 12_disk_ceiling  the room of 02_room lit by a ceiling disk of the rectangle's area and power
+13_textured_room a room of image textures made here with numpy and packed into the .blend: a glossy wooden
+                 floor (sRGB planks, a Non-Color roughness map), a tiled back wall (UVs scaled by a Mapping
+                 node), a normal-mapped side wall (tangent space, smooth bumps) and a checkered crate
+                 (Generated coordinates, closest filtering), lit by a ceiling rectangle and a ceiling disk
+14_still_life    glass and metal on a wooden table: a Glass BSDF sphere, a brushed-metal can (Principled,
+                 metallic), a polished Glossy BSDF ring, a clearcoated ceramic vase and a box of a diffuse +
+                 glossy Mix Shader, under a rectangle softbox and a disk light
 """
 import math
 import os
 import sys
 
 import bpy
+import numpy as np
 from mathutils import Matrix, Vector
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -459,11 +467,242 @@ def night_street():
     save("10_night_street")
 
 
+# ------------------------------------------------------------------ image textures, made here with numpy
+def packed_image(name, rgb, non_color=False):
+    """A byte image of an (h, w, 3) array in [0, 1] whose row 0 is the top (values as stored: sRGB-encoded
+    colours, or data for Non-Color), packed into the .blend (as PNG), so the scene needs no other file."""
+    h, w = rgb.shape[:2]
+    rgba = np.ones((h, w, 4), dtype=np.float32)
+    rgba[..., :3] = np.clip(rgb, 0.0, 1.0)
+    image = bpy.data.images.new(name, w, h, alpha=False)
+    image.pixels.foreach_set(np.flipud(rgba).ravel())  # Blender's rows go bottom to top
+    image.file_format = "PNG"
+    image.pack()
+    if non_color:
+        image.colorspace_settings.name = "Non-Color"
+    return image
+
+
+def texel_grid(height, width):
+    """(u, v) of each texel's centre, (h, w) arrays in [0, 1), v = 1 on row 0 (the top) as UVs run."""
+    u = (np.arange(width) + 0.5) / width
+    v = 1.0 - (np.arange(height) + 0.5) / height
+    return np.meshgrid(u, v)
+
+
+def smooth_noise(u, v, rng, octaves=4, base=2):
+    """Tileable smooth noise in [-1, 1]: a sum of sines of integer frequencies with random phases."""
+    total, norm = np.zeros_like(u), 0.0
+    for k in range(octaves):
+        f, a = base * 2 ** k, 0.5 ** k
+        for _ in range(2):
+            fu, fv = rng.integers(-f, f + 1, size=2)
+            total += a * np.sin(2 * np.pi * (fu * u + fv * v) + rng.uniform(0, 2 * np.pi))
+            norm += a
+    return total / norm
+
+
+def wood_planks(width, height, planks, seed):
+    """(colour, roughness) images (height x width) of `planks` rows of planks along u, each row with its own
+    tone, grain, end joint and roughness, dark gaps between them (sRGB colour; roughness as data)."""
+    rng = np.random.default_rng(seed)
+    u, v = texel_grid(height, width)
+    row = np.minimum((v * planks).astype(int), planks - 1)
+    across = v * planks - row                                     # 0..1 across a plank
+    along = (u - rng.uniform(0, 1, planks)[row]) % 1.0            # 0 at the row's end joint
+    tone, rough = rng.uniform(0.8, 1.15, planks)[row], rng.uniform(0.25, 0.45, planks)[row]
+    phase = rng.uniform(0, 1, planks)[row]
+    wobble = 0.35 * smooth_noise(u, v, rng, octaves=3)           # grain lines meandering along the plank
+    grain = 0.5 + 0.5 * np.sin(2 * np.pi * (2.5 * across + wobble + phase + 0.6 * along))
+    light, dark = np.array([0.80, 0.58, 0.36]), np.array([0.55, 0.34, 0.18])
+    color = (dark + (light - dark) * grain[..., None] ** 1.5) * tone[..., None]
+    gap = (np.minimum(across, 1 - across) * height / planks < 1.0) | (np.minimum(along, 1 - along) * width < 0.75)
+    color[gap] = (0.15, 0.09, 0.05)
+    roughness = rough + 0.1 * (grain - 0.5)
+    roughness[gap] = 0.8
+    return np.clip(color, 0, 1), np.repeat(np.clip(roughness, 0, 1)[..., None], 3, axis=2)
+
+
+def wall_tile(size, seed):
+    """One square ceramic tile (2 x 2 of slightly different tones) with grey grout at its border; repeats."""
+    rng = np.random.default_rng(seed)
+    u, v = texel_grid(size, size)
+    quadrant = (2 * u).astype(int) + 2 * (2 * v).astype(int)
+    tones = np.array([[0.86, 0.84, 0.78], [0.80, 0.83, 0.84], [0.84, 0.80, 0.74], [0.78, 0.80, 0.76]])
+    color = tones[quadrant] * (1 + 0.03 * smooth_noise(u, v, rng))[..., None]
+    fu, fv = (2 * u) % 1.0, (2 * v) % 1.0
+    grout = (np.minimum(fu, 1 - fu) < 0.03) | (np.minimum(fv, 1 - fv) < 0.03)
+    color[grout] = (0.45, 0.44, 0.42)
+    return np.clip(color, 0, 1)
+
+
+def bump_normal_map(size, bumps, slope):
+    """A tangent-space normal map (Non-Color, (n + 1) / 2) of the height field sin^2(pi k u) sin^2(pi k v):
+    `bumps` x `bumps` smooth round bumps that tile, tilting the normal by up to atan(slope)."""
+    u, v = texel_grid(size, size)
+    k = np.pi * bumps
+    su, sv = np.sin(k * u), np.sin(k * v)
+    dh_du = slope * np.sin(2 * k * u) * sv ** 2   # d/du of (slope / k) sin^2(k u) sin^2(k v)
+    dh_dv = slope * su ** 2 * np.sin(2 * k * v)
+    n = np.stack([-dh_du, -dh_dv, np.ones_like(u)], axis=-1)
+    n /= np.linalg.norm(n, axis=-1, keepdims=True)
+    return 0.5 * (n + 1.0)
+
+
+def checker(size, squares, a, b):
+    u, v = texel_grid(size, size)
+    odd = ((u * squares).astype(int) + (v * squares).astype(int)) % 2 == 1
+    return np.where(odd[..., None], np.array(b), np.array(a))
+
+
+def node_material(name, shader, viewport_color=(0.8, 0.8, 0.8), **inputs):
+    """A material whose Surface is one `shader` node (a bl_idname) of the given input values (socket names with
+    spaces as underscores); returns (material, shader node) for linking textures into it."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    tree = mat.node_tree
+    tree.nodes.clear()
+    out = tree.nodes.new("ShaderNodeOutputMaterial")
+    node = tree.nodes.new(shader)
+    for socket, value in inputs.items():
+        node.inputs[socket.replace("_", " ")].default_value = value
+    tree.links.new(node.outputs[0], out.inputs["Surface"])
+    mat.diffuse_color = (*viewport_color, 1)
+    return mat, node
+
+
+def image_texture(mat, image, socket, vector=None, interpolation="Linear", extension="REPEAT"):
+    """An Image Texture node of `image` whose Color drives `socket` (an input of a node of mat's tree), read at
+    `vector` (a socket giving texture coordinates; None: the mesh's active UV map)."""
+    tree = mat.node_tree
+    tex = tree.nodes.new("ShaderNodeTexImage")
+    tex.image, tex.interpolation, tex.extension = image, interpolation, extension
+    if vector is not None:
+        tree.links.new(vector, tex.inputs["Vector"])
+    tree.links.new(tex.outputs["Color"], socket)
+    return tex
+
+
+def texture_coordinate(mat, output):
+    """The given output ('UV', 'Generated', ...) of a Texture Coordinate node in mat's tree."""
+    return mat.node_tree.nodes.new("ShaderNodeTexCoord").outputs[output]
+
+
+def scaled_uvs(mat, scale):
+    """UVs through a Mapping node scaling them by `scale` (x, y, z): the texture repeats that many times."""
+    tree = mat.node_tree
+    mapping = tree.nodes.new("ShaderNodeMapping")
+    mapping.inputs["Scale"].default_value = scale
+    tree.links.new(texture_coordinate(mat, "UV"), mapping.inputs["Vector"])
+    return mapping.outputs["Vector"]
+
+
+def wall(name, mat, location, rotation, width, height):
+    """A rectangle (one quad, UVs 0..1 over it) of width x height, a rotated XY plane."""
+    return mesh_object(name, "plane", mat, location=location, rotation=rotation, scale=(width / 2, height / 2, 1),
+                       size=2.0)
+
+
+def textured_room():
+    fresh_scene("textured_room")
+    w, d, h = 6.0, 5.0, 3.0
+    # Floor: wooden planks (sRGB) on a Principled BSDF whose roughness is a Non-Color map of the same planks.
+    wood, roughness = wood_planks(256, 512, 16, seed=13)  # 31 cm planks
+    floor, bsdf = node_material("Wood Floor", "ShaderNodeBsdfPrincipled", (0.6, 0.4, 0.25), Specular=0.5)
+    image_texture(floor, packed_image("Wood Planks", wood), bsdf.inputs["Base Color"])
+    image_texture(floor, packed_image("Wood Roughness", roughness, non_color=True), bsdf.inputs["Roughness"])
+    wall("Floor", floor, (0, 0, 0), (0, 0, 0), w, d)
+    # Back wall: one tile image repeated 12 x 6 times (50 cm tiles) by a Mapping node on the UVs.
+    tiles, bsdf = node_material("Tiles", "ShaderNodeBsdfDiffuse", (0.8, 0.8, 0.78))
+    image_texture(tiles, packed_image("Wall Tile", wall_tile(128, seed=14)), bsdf.inputs["Color"],
+                  vector=scaled_uvs(tiles, (12.0, 6.0, 1.0)))
+    wall("Back Wall", tiles, (0, d / 2, h / 2), (math.pi / 2, 0, 0), w, h)
+    # Left wall: plaster of 10 x 5 smooth bumps (60 cm) through a tangent-space Normal Map node.
+    plaster, bsdf = node_material("Bumpy Plaster", "ShaderNodeBsdfPrincipled", (0.7, 0.66, 0.6),
+                                  Base_Color=(0.7, 0.66, 0.6, 1), Roughness=0.6)
+    normal_map = plaster.node_tree.nodes.new("ShaderNodeNormalMap")
+    normal_map.space = "TANGENT"
+    plaster.node_tree.links.new(normal_map.outputs["Normal"], bsdf.inputs["Normal"])
+    image_texture(plaster, packed_image("Wall Bumps", bump_normal_map(128, 1, slope=0.8), non_color=True),
+                  normal_map.inputs["Color"], vector=scaled_uvs(plaster, (d / 0.6, h / 0.6, 1.0)))
+    wall("Left Wall", plaster, (-w / 2, 0, h / 2), (math.pi / 2, 0, math.pi / 2), d, h)
+    paint = material("Paint", (0.75, 0.75, 0.72))
+    wall("Right Wall", paint, (w / 2, 0, h / 2), (math.pi / 2, 0, -math.pi / 2), d, h)
+    wall("Front Wall", paint, (0, -d / 2, h / 2), (math.pi / 2, 0, math.pi), w, h)
+    wall("Ceiling", paint, (0, 0, h), (math.pi, 0, 0), w, d)
+    # A crate checkered through its Generated coordinates (0..1 over its bounds), closest-texel filtering.
+    crate, bsdf = node_material("Checker Crate", "ShaderNodeBsdfDiffuse", (0.6, 0.3, 0.2))
+    image_texture(crate, packed_image("Checker", checker(64, 8, (0.85, 0.75, 0.55), (0.45, 0.2, 0.12))),
+                  bsdf.inputs["Color"], vector=texture_coordinate(crate, "Generated"), interpolation="Closest")
+    mesh_object("Crate", "cube", crate, location=(1.1, 1.0, 0.45), size=0.9, rotation=(0, 0, 0.35))
+    smooth(mesh_object("Ball", "uv_sphere", material("Red Plastic", (0.7, 0.12, 0.08), kind="principled",
+                                                      roughness=0.35), location=(-1.0, 0.2, 0.5), radius=0.5,
+                       segments=32, ring_count=16))
+    area_light("Ceiling Panel", "RECTANGLE", size=1.6, size_y=0.8, power=200.0, location=(0.4, 0.2, h - 0.02))
+    area_light("Ceiling Disk", "DISK", size=0.6, power=120.0, location=(-1.6, 1.4, h - 0.02))
+    camera((0.6, -2.3, 1.6), (-0.6, 1.0, 0.8), lens=20.0)
+    save("13_textured_room")
+
+
+def still_life():
+    fresh_scene("still_life")
+    room(material("Studio Walls", (0.55, 0.55, 0.55)), size=(5, 5, 3))
+    # A table: a wooden top (the planks image on the cube's UVs) on four legs.
+    wood, _ = wood_planks(128, 128, 6, seed=7)
+    top_mat, bsdf = node_material("Table Top", "ShaderNodeBsdfPrincipled", (0.55, 0.35, 0.2), Roughness=0.45)
+    image_texture(top_mat, packed_image("Table Wood", wood), bsdf.inputs["Base Color"])
+    top_z = 0.78
+    mesh_object("Table Top", "cube", top_mat, location=(0, 0, top_z - 0.03), scale=(0.8, 0.45, 0.03), size=2.0)
+    leg = material("Table Legs", (0.25, 0.17, 0.1))
+    for x in (-0.72, 0.72):
+        for y in (-0.38, 0.38):
+            mesh_object(f"Leg {x:+.2f} {y:+.2f}", "cube", leg, location=(x, y, (top_z - 0.06) / 2),
+                        scale=(0.03, 0.03, (top_z - 0.06) / 2), size=2.0)
+    glass, _ = node_material("Glass", "ShaderNodeBsdfGlass", (0.9, 0.95, 1.0), IOR=1.45, Roughness=0.05)
+    smooth(mesh_object("Glass Sphere", "uv_sphere", glass, location=(-0.38, 0.02, top_z + 0.12), radius=0.12,
+                       segments=32, ring_count=16))
+    brushed = material("Brushed Metal", (0.9, 0.9, 0.92), kind="principled", roughness=0.3, metallic=1.0)
+    can = mesh_object("Brushed Can", "cylinder", brushed, location=(-0.05, 0.18, top_z + 0.11), radius=0.07,
+                      depth=0.22, vertices=32)
+    for p in can.data.polygons:  # the side smooth, the caps flat
+        p.use_smooth = len(p.vertices) == 4
+    polished, _ = node_material("Polished Gold", "ShaderNodeBsdfGlossy", (0.95, 0.8, 0.45),
+                                Color=(0.95, 0.8, 0.45, 1), Roughness=0.1)
+    smooth(mesh_object("Polished Ring", "torus", polished, location=(0.32, -0.08, top_z + 0.035),
+                       major_radius=0.1, minor_radius=0.035, major_segments=32, minor_segments=12))
+    ceramic, bsdf = node_material("Ceramic", "ShaderNodeBsdfPrincipled", (0.15, 0.35, 0.6),
+                                  Base_Color=(0.15, 0.35, 0.6, 1), Roughness=0.5, Clearcoat=1.0,
+                                  Clearcoat_Roughness=0.05)
+    smooth(mesh_object("Ceramic Vase", "uv_sphere", ceramic, location=(0.2, 0.25, top_z + 0.14), radius=0.1,
+                       scale=(1.0, 1.0, 1.4), segments=24, ring_count=12))
+    # A box of lacquered paint: a Mix Shader of 70 % Diffuse and 30 % Glossy BSDF.
+    lacquer = bpy.data.materials.new("Lacquer Mix")
+    lacquer.use_nodes, lacquer.diffuse_color = True, (0.8, 0.3, 0.1, 1)
+    nodes, links = lacquer.node_tree.nodes, lacquer.node_tree.links
+    nodes.clear()
+    out, mix = nodes.new("ShaderNodeOutputMaterial"), nodes.new("ShaderNodeMixShader")
+    diffuse, glossy = nodes.new("ShaderNodeBsdfDiffuse"), nodes.new("ShaderNodeBsdfGlossy")
+    diffuse.inputs["Color"].default_value = (0.8, 0.3, 0.1, 1)
+    glossy.inputs["Roughness"].default_value = 0.2
+    mix.inputs["Fac"].default_value = 0.3
+    links.new(diffuse.outputs[0], mix.inputs[1])
+    links.new(glossy.outputs[0], mix.inputs[2])
+    links.new(mix.outputs[0], out.inputs["Surface"])
+    mesh_object("Lacquer Box", "cube", lacquer, location=(-0.12, -0.2, top_z + 0.06), size=0.12,
+                rotation=(0, 0, 0.5))
+    target = (0.0, 0.05, top_z + 0.1)
+    aim(area_light("Softbox", "RECTANGLE", size=0.9, size_y=0.6, power=60.0, location=(-1.1, -1.2, 1.8)), target)
+    aim(area_light("Rim Disk", "DISK", size=0.3, power=20.0, location=(1.1, 0.9, 1.6)), target)
+    camera((0.15, -1.55, 1.3), target, lens=45.0)
+    save("14_still_life")
+
+
 SCENES = {"01_paper": paper, "02_room": lambda: room_scene("02_room", fog=False), "03_glossy_floor": glossy_floor,
           "04_foggy_room": lambda: room_scene("04_foggy_room", fog=True), "05_hard_cases": hard_cases,
           "06_mixed_lights": mixed_lights, "07_studio": studio, "08_disk_room": disk_room,
           "09_hall": hall, "10_night_street": night_street, "11_paper_disk": paper_disk,
-          "12_disk_ceiling": lambda: room_scene("12_disk_ceiling", fog=False, disk=True)}
+          "12_disk_ceiling": lambda: room_scene("12_disk_ceiling", fog=False, disk=True),
+          "13_textured_room": textured_room, "14_still_life": still_life}
 
 if __name__ == "__main__":
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
