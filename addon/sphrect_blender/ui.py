@@ -1,6 +1,10 @@
-"""Render Properties panels for scene.sphrect, and the light panel (two-sided switch, settings ignored)."""
+"""Render Properties panels for scene.sphrect, the light panel (two-sided switch, settings ignored) and the
+material panel (what SPHRECT ignores or approximates in the active material)."""
+import textwrap
+
 import bpy
 
+from . import material_notes
 from .io.exporter.lights import ignored_light_settings
 from .light_notes import light_shape_notes
 from .names import ELLIPSE_TECHNIQUES, ENGINE_ID, LIGHT_SELECTIONS, TECHNIQUES
@@ -134,15 +138,41 @@ class DATA_PT_sphrect_light(SphrectPanel, bpy.types.Panel):
                 row.label(text=label, icon="ERROR" if differs else "DOT")
 
 
+class MATERIAL_PT_sphrect_material(SphrectPanel, bpy.types.Panel):
+    """What SPHRECT ignores or approximates in the active material: the export's own warnings for it."""
+    bl_label = "SPHRECT"
+    bl_context = "material"
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES and context.material is not None
+
+    def draw(self, context):
+        notes = material_notes.material_notes(context.material)
+        col = self.layout.column(align=True)
+        if not notes:
+            col.label(text="Nothing ignored by SPHRECT", icon="CHECKMARK")
+            return
+        col.label(text="Ignored or approximated by SPHRECT:")
+        # Labels do not wrap: break each note to the panel's width (about 7 pixels a character).
+        scale = context.preferences.system.ui_scale or 1.0  # 0 without a window
+        columns = max(24, int(context.region.width / (7 * scale)) - 4)
+        for note in notes:
+            for i, line in enumerate(textwrap.wrap(note, columns)):
+                col.label(text=line, icon="DOT" if i == 0 else "BLANK1")
+
+
 classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_viewport, RENDER_PT_sphrect_compare,
-           DATA_PT_sphrect_light)
+           DATA_PT_sphrect_light, MATERIAL_PT_sphrect_material)
 
 
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
+    material_notes.register()
 
 
 def unregister():
+    material_notes.unregister()
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)
