@@ -3,8 +3,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-PACKAGES=(cmake g++ make blender libembree-dev libtbb-dev pybind11-dev python3-dev python3-numpy python3-pytest
-          python3-matplotlib python3-scipy python3-mpmath libboost-math-dev libgtest-dev libbenchmark-dev xvfb xauth)
+PACKAGES=(cmake g++ make pkg-config blender libembree-dev libtbb-dev pybind11-dev python3-dev python3-numpy python3-pytest
+          python3-matplotlib python3-scipy python3-mpmath libboost-math-dev libopenimageio-dev libgtest-dev libbenchmark-dev xvfb xauth)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

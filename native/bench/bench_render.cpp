@@ -105,7 +105,9 @@ bool DenseScene() {
     return v && std::string(v) == "dense";
 }
 
-std::shared_ptr<RenderScene> BenchScene() {
+// textured: the material's base colour read from a 1 x 1 image (the lookup, the material rebuilt per hit and
+// the vertex fetch for the texture coordinates are paid; the meshes have no UVs, so (0, 0) is read).
+std::shared_ptr<RenderScene> BenchScene(bool textured = false) {
     auto s = std::make_shared<RenderScene>();
     CameraModel c;
     c.width = kWidth;
@@ -116,6 +118,12 @@ std::shared_ptr<RenderScene> BenchScene() {
     std::copy(&m[0][0], &m[0][0] + 12, &c.to_world[0][0]);
     s->SetCamera(c);
     s->AddDiffuseMaterial({0.6f, 0.6f, 0.6f});
+    if (textured) {
+        const float grey[3] = {0.6f, 0.6f, 0.6f};
+        TextureLookup lookup;
+        lookup.image = s->AddImage("grey", 1, 1, 3, nullptr, grey, false);
+        s->SetMaterialTexture(0, TexturedInput::kBaseColor, lookup);
+    }
     const bool dense = DenseScene();
     if (dense) {
         AddBumpyGround(*s, 6.0f, 190, 0.04f);  // 72.2k triangles
@@ -380,6 +388,26 @@ void BM_DiffuseKernel(benchmark::State& state) {
                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_DiffuseKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
+
+// The diffuse scene (0) and the same scene with its base colour from a texture (1): what a texture costs
+// where it is used.  That a scene without textures pays nothing for them is the A/B of BM_DiffuseKernel/0
+// between builds before and after textures (ab_bench_render.py).
+void BM_TexturedKernel(benchmark::State& state) {
+    static const std::shared_ptr<RenderScene> textured = BenchScene(true);
+    RenderOptions o;
+    o.techniques = {Technique::Rectangle};
+    o.threads = 1;
+    for (auto _ : state) {
+        const double t0 = ProcessCpuSeconds();
+        Renderer r(state.range(0) ? textured : Scene(), o);
+        r.Render(kSamples);
+        state.SetIterationTime(ProcessCpuSeconds() - t0);
+    }
+    state.SetLabel(state.range(0) ? "base colour from a texture" : "constant base colour");
+    state.counters["s/sample"] = benchmark::Counter(double(kWidth) * kHeight * kSamples * state.iterations(),
+                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_TexturedKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
 
 }  // namespace
 }  // namespace sphrect::render

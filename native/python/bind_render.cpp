@@ -41,8 +41,18 @@ CArray<T> RowsOf3(const py::handle& obj, const char* what) {
     return a;
 }
 
+// [n, columns] float32 per-vertex attribute of a mesh (one row per vertex), or an empty array for None.
+CArray<float> VertexAttribute(const py::object& obj, py::ssize_t columns, py::ssize_t vertices, const std::string& what) {
+    if (obj.is_none()) return {};
+    CArray<float> a = CArray<float>::ensure(obj);
+    if (!a || a.ndim() != 2 || a.shape(1) != columns || a.shape(0) != vertices)
+        throw py::value_error(what + " must have shape [V, " + std::to_string(columns) + "] for the V vertices");
+    return a;
+}
+
 void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices, const py::object& triangles,
-             const py::object& normals, const py::object& material_ids) {
+             const py::object& normals, const py::object& material_ids, const py::object& uvs,
+             const py::object& generated) {
     const auto v = RowsOf3<float>(vertices, "vertices");
     const auto t = RowsOf3<int32_t>(triangles, "triangles");
     CArray<float> n;
@@ -56,9 +66,54 @@ void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices
         if (!m || m.ndim() != 1 || m.shape(0) != t.shape(0))
             throw py::value_error("mesh '" + name + "': material_ids must have one entry per triangle");
     }
+    const CArray<float> uv = VertexAttribute(uvs, 2, v.shape(0), "mesh '" + name + "': uvs");
+    const CArray<float> gen = VertexAttribute(generated, 3, v.shape(0), "mesh '" + name + "': generated");
     py::gil_scoped_release release;  // validation and the copies into Embree's buffers
     s.AddMesh(name, v.data(), size_t(v.shape(0)), t.data(), size_t(t.shape(0)), normals.is_none() ? nullptr : n.data(),
-              material_ids.is_none() ? nullptr : m.data());
+              material_ids.is_none() ? nullptr : m.data(), uvs.is_none() ? nullptr : uv.data(),
+              generated.is_none() ? nullptr : gen.data());
+}
+
+// An image from a [H, W, C] uint8 or float32 array (C in 1..4, rows bottom to top).
+int AddImage(RenderScene& s, const std::string& name, const py::array& pixels, bool srgb) {
+    if (pixels.ndim() != 3 || pixels.shape(2) < 1 || pixels.shape(2) > 4 || pixels.shape(0) < 1 || pixels.shape(1) < 1)
+        throw py::value_error("image '" + name + "': pixels must have shape [H, W, 1..4]");
+    if (pixels.shape(0) > render::kMaxImageSide || pixels.shape(1) > render::kMaxImageSide)
+        throw py::value_error("image '" + name + "': at most " + std::to_string(render::kMaxImageSide) + " pixels a side");
+    const int h = int(pixels.shape(0)), w = int(pixels.shape(1)), c = int(pixels.shape(2));
+    if (py::isinstance<py::array_t<uint8_t>>(pixels)) {
+        const auto a = CArray<uint8_t>::ensure(pixels);
+        return s.AddImage(name, w, h, c, a.data(), nullptr, srgb);
+    }
+    const auto a = CArray<float>::ensure(pixels);
+    if (!a) throw py::value_error("image '" + name + "': pixels must be numbers");
+    return s.AddImage(name, w, h, c, nullptr, a.data(), srgb);
+}
+
+template <class Enum, size_t N>
+Enum EnumNamed(const std::string& name, const char* const (&names)[N], const char* what) {
+    for (size_t i = 0; i < N; ++i)
+        if (name == names[i]) return Enum(i);
+    std::string allowed;
+    for (size_t i = 0; i < N; ++i) allowed += (i ? ", '" : "'") + std::string(names[i]) + "'";
+    throw py::value_error(std::string(what) + " must be one of " + allowed + ", got '" + name + "'");
+}
+
+render::TextureLookup MakeLookup(int image, bool alpha_output, bool generated, const py::object& transform,
+                                 const std::string& interpolation, const std::string& extension) {
+    render::TextureLookup t;
+    t.image = image;
+    t.alpha_output = alpha_output;
+    t.generated = generated;
+    const auto m = CArray<double>::ensure(transform);
+    if (!m || m.ndim() != 2 || m.shape(0) != 3 || m.shape(1) != 4)
+        throw py::value_error("texture transform must be a 3x4 matrix");
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) t.transform[r][c] = float(m.at(r, c));
+    t.interpolation = EnumNamed<render::TextureInterpolation>(interpolation, render::kTextureInterpolationNames,
+                                                              "texture interpolation");
+    t.extension = EnumNamed<render::TextureExtension>(extension, render::kTextureExtensionNames, "texture extension");
+    return t;
 }
 
 void SetCamera(RenderScene& s, int width, int height, const py::object& to_world, bool orthographic,
@@ -151,6 +206,17 @@ py::dict Stats(const Renderer& r, int k) {
 }  // namespace
 
 void BindRender(py::module_& m) {
+    py::class_<render::TextureLookup>(m, "_TextureLookup", "An image lookup bound to a material input (sphrect.TextureLookup)")
+        .def(py::init(&MakeLookup), py::arg("image"), py::arg("alpha_output"), py::arg("generated"), py::arg("transform"),
+             py::arg("interpolation"), py::arg("extension"));
+    auto names = [](const auto& list) {
+        py::tuple t(std::size(list));
+        for (size_t i = 0; i < std::size(list); ++i) t[i] = list[i];
+        return t;
+    };
+    m.attr("textured_inputs") = names(render::kTexturedInputNames);
+    m.attr("texture_interpolations") = names(render::kTextureInterpolationNames);
+    m.attr("texture_extensions") = names(render::kTextureExtensionNames);
     py::class_<RenderScene, std::shared_ptr<RenderScene>>(m, "_Scene",
                                                            "Native scene; built by sphrect.Renderer from a sphrect.Scene")
         .def(py::init<>())
@@ -207,9 +273,30 @@ void BindRender(py::module_& m) {
         .def(
             "add_mix_material", [](RenderScene& s, V3 emission) { return s.AddMixMaterial(ToVec(emission)); },
             py::arg("emission") = V3{0, 0, 0})
-        .def("mix_last_material_into", &RenderScene::MixLastMaterialInto, py::arg("target"), py::arg("weight"))
+        .def(
+            "mix_last_material_into",
+            [](RenderScene& s, int target, float weight, const std::vector<std::pair<render::TextureLookup, bool>>& f) {
+                std::vector<render::MixFactorLookup> factors;
+                for (const auto& [lookup, complement] : f) factors.push_back({lookup, complement});
+                s.MixLastMaterialInto(target, weight, factors);
+            },
+            py::arg("target"), py::arg("weight"), py::arg("factors") = std::vector<std::pair<render::TextureLookup, bool>>{})
+        .def("add_image", &AddImage, py::arg("name"), py::arg("pixels"), py::arg("srgb"))
+        .def("load_image", &RenderScene::LoadImage, py::arg("name"), py::arg("path"), py::arg("srgb"),
+             py::call_guard<py::gil_scoped_release>())
+        .def(
+            "set_material_texture",
+            [](RenderScene& s, int material, const std::string& input, const render::TextureLookup& lookup) {
+                s.SetMaterialTexture(material,
+                                     EnumNamed<render::TexturedInput>(input, render::kTexturedInputNames, "textured input"),
+                                     lookup);
+            },
+            py::arg("material"), py::arg("input"), py::arg("lookup"))
+        .def("set_material_normal_map", &RenderScene::SetMaterialNormalMap, py::arg("material"), py::arg("lookup"),
+             py::arg("strength"))
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
-             py::arg("normals") = py::none(), py::arg("material_ids") = py::none())
+             py::arg("normals") = py::none(), py::arg("material_ids") = py::none(), py::arg("uvs") = py::none(),
+             py::arg("generated") = py::none())
         .def("add_rect_light",
              [](RenderScene& s, V3 corner, V3 ex, V3 ey, V3 radiance, bool two_sided, bool visible) {
                  return s.AddRectLight(ToVec(corner), ToVec(ex), ToVec(ey), ToVec(radiance), two_sided, visible);

@@ -41,6 +41,8 @@ struct Material {
     float specular_probability = 0;  // chance of sampling the specular lobe in SampleBsdf
     bool glossy = false;   // anything beyond Lambert: needs the kGlossy kernel
     Spectrum emission;     // radiance emitted from both sides (emissive meshes); 0: none
+    bool textured = false;     // images drive its inputs: a hit evaluates its recipe (textured_material.h)
+    bool normal_mapped = false;  // RenderScene::normal_maps holds its map
 
     // Principled BSDF (Cycles 3.4).  Sheen and clearcoat cost only a flag test when absent.
     bool principled = false;
@@ -227,15 +229,25 @@ inline Material MakeGlossyBsdfMaterial(const Spectrum& color, float roughness, b
     return MakeSingleLobeMaterial(color, roughness, 0, beckmann);
 }
 
+// What MixIntoMaterial does with a part the mix cannot hold: throw std::invalid_argument (building a scene), or, at
+// a textured hit (whose recipe was checked with kThrow on its untextured values, so this is the rare case of
+// textures making lobes that merged there distinct), keep what fits: the part's Principled lobes dropped, an
+// extra microfacet lobe added to the last one.  Never throws.
+enum class MixOverflow { kThrow, kLenient };
+
 // Mix / Add Shader (svm_node_mix_closure: each side's closures scaled by its weight, (1 - fac) and fac;
 // Add: 1 and 1): `part`'s lobes scaled by `weight` and added to `mix`.  A mix holds Lambert lobes (summed),
 // at most one Principled BSDF's lobes (Burley, sheen, specular, clearcoat) and kMaxMicrofacetLobes microfacet
-// lobes (equal ones merged); what does not fit, and the former 'glossy' model, throw std::invalid_argument.
+// lobes (equal ones merged); what does not fit, and the former 'glossy' model, are kPolicy's.
 // Emission is the caller's (RenderScene::PushMaterial).
+template <MixOverflow kPolicy = MixOverflow::kThrow>
 inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
-    if (!(weight >= 0) || !std::isfinite(weight)) throw std::invalid_argument("a mix layer's weight must be >= 0");
-    if (part.glossy && !part.principled)
-        throw std::invalid_argument("the 'glossy' model cannot be mixed (use 'principled')");
+    constexpr bool kThrows = kPolicy == MixOverflow::kThrow;
+    if constexpr (kThrows) {
+        if (!(weight >= 0) || !std::isfinite(weight)) throw std::invalid_argument("a mix layer's weight must be >= 0");
+        if (part.glossy && !part.principled)
+            throw std::invalid_argument("the 'glossy' model cannot be mixed (use 'principled')");
+    }
     if (!part.principled) {  // Lambert
         if (!IsBlack(part.diffuse)) mix.glossy = mix.principled = true;
         mix.lambert += part.diffuse * weight;
@@ -246,10 +258,10 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
     mix.lambert += part.lambert * weight;
     const bool part_has_principled = !IsBlack(part.diffuse) || part.has_sheen || part.has_specular ||
                                      part.has_clearcoat;
-    if (part_has_principled) {
-        const bool mix_has_principled = !IsBlack(mix.diffuse) || mix.has_sheen || mix.has_specular ||
-                                        mix.has_clearcoat;
-        if (mix_has_principled) throw std::invalid_argument("a mix holds at most one Principled BSDF");
+    const bool mix_has_principled = !IsBlack(mix.diffuse) || mix.has_sheen || mix.has_specular || mix.has_clearcoat;
+    if (part_has_principled && mix_has_principled && kThrows)
+        throw std::invalid_argument("a mix holds at most one Principled BSDF");
+    if (part_has_principled && !mix_has_principled) {
         mix.diffuse = part.diffuse * weight;
         mix.burley_roughness = part.burley_roughness;
         mix.has_sheen = part.has_sheen;
@@ -273,11 +285,13 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
             ++j;
         if (j < mix.num_lobes) {
             mix.lobes[j].color += lobe.color;
-        } else {
-            if (mix.num_lobes == kMaxMicrofacetLobes)
-                throw std::invalid_argument("a mix holds at most " + std::to_string(kMaxMicrofacetLobes) +
-                                            " distinct glossy / glass lobes");
+        } else if (mix.num_lobes < kMaxMicrofacetLobes) {
             mix.lobes[mix.num_lobes++] = lobe;
+        } else if constexpr (kThrows) {
+            throw std::invalid_argument("a mix holds at most " + std::to_string(kMaxMicrofacetLobes) +
+                                        " distinct glossy / glass lobes");
+        } else {
+            mix.lobes[kMaxMicrofacetLobes - 1].color += lobe.color;
         }
     }
     ChooseLobeProbabilities(mix);

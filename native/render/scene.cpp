@@ -86,6 +86,8 @@ std::vector<std::string> SceneFeatures::Names() const {
     if (orthographic) n.push_back("orthographic");
     if (background) n.push_back("background");
     if (emissive_meshes) n.push_back("emissive_meshes");
+    if (textures) n.push_back("textures");
+    if (normal_maps) n.push_back("normal_maps");
     return n;
 }
 
@@ -154,15 +156,30 @@ void RenderScene::CheckMaterialColors(const Spectrum& base, const Spectrum& emis
     CheckColor("material emission", emission);
 }
 
-int RenderScene::PushMaterial(const Material& m, const Spectrum& emission) {
+int RenderScene::PushMaterial(const Material& m, const Spectrum& emission, const MaterialRecipe& recipe) {
     materials.push_back(m);
     materials.back().emission = emission;
+    material_recipes.push_back(recipe);
+    normal_maps.emplace_back();
     return int(materials.size()) - 1;
 }
 
+namespace {
+MaterialRecipe Recipe(MaterialKind kind, const Spectrum& base, float roughness = 0.5f, float metallic = 0,
+                      float specular = 0.5f) {
+    MaterialRecipe r;
+    r.kind = kind;
+    r.inputs.base_color = base;
+    r.inputs.roughness = roughness;
+    r.inputs.metallic = metallic;
+    r.inputs.specular = specular;
+    return r;
+}
+}  // namespace
+
 int RenderScene::AddDiffuseMaterial(const Spectrum& base, const Spectrum& emission) {
     CheckMaterialColors(base, emission);
-    return PushMaterial(MakeDiffuseMaterial(base), emission);
+    return PushMaterial(MakeDiffuseMaterial(base), emission, Recipe(MaterialKind::kDiffuse, base));
 }
 
 int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular,
@@ -170,7 +187,8 @@ int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float 
     CheckMaterialColors(base, emission);
     if (!std::isfinite(roughness) || !std::isfinite(metallic) || !std::isfinite(specular))
         Fail("material roughness, metallic and specular must be finite");
-    return PushMaterial(MakeGlossyMaterial(base, roughness, metallic, specular), emission);
+    return PushMaterial(MakeGlossyMaterial(base, roughness, metallic, specular), emission,
+                        Recipe(MaterialKind::kGlossy, base, roughness, metallic, specular));
 }
 
 int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectrum& emission) {
@@ -178,43 +196,116 @@ int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectru
     for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
                     in.clearcoat_roughness})
         if (!std::isfinite(v)) Fail("material Principled inputs must be finite");
-    return PushMaterial(MakePrincipledMaterial(in), emission);
+    MaterialRecipe r;
+    r.kind = MaterialKind::kPrincipled;
+    r.inputs = in;
+    return PushMaterial(MakePrincipledMaterial(in), emission, r);
 }
 
 int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann,
                                   const Spectrum& emission) {
     CheckMaterialColors(color, emission);
     if (!std::isfinite(roughness) || !std::isfinite(ior)) Fail("material roughness and ior must be finite");
-    return PushMaterial(MakeGlassMaterial(color, roughness, ior, beckmann), emission);
+    MaterialRecipe r = Recipe(MaterialKind::kGlass, color, roughness);
+    r.ior = ior;
+    r.beckmann = beckmann;
+    return PushMaterial(MakeGlassMaterial(color, roughness, ior, beckmann), emission, r);
 }
 
 int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann,
                                        const Spectrum& emission) {
     CheckMaterialColors(color, emission);
     if (!std::isfinite(roughness)) Fail("material roughness must be finite");
-    return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann), emission);
+    MaterialRecipe r = Recipe(MaterialKind::kGlossyBsdf, color, roughness);
+    r.beckmann = beckmann;
+    return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann), emission, r);
 }
 
 int RenderScene::AddMixMaterial(const Spectrum& emission) {
     CheckMaterialColors({}, emission);
-    return PushMaterial(MakeDiffuseMaterial({}), emission);
+    return PushMaterial(MakeDiffuseMaterial({}), emission, Recipe(MaterialKind::kMix, {}));
 }
 
-void RenderScene::MixLastMaterialInto(int target, float weight) {
+void RenderScene::MixLastMaterialInto(int target, float weight, const std::vector<MixFactorLookup>& factors) {
     RequireNotCommitted();
     if (target < 0 || size_t(target) + 1 >= materials.size())
         Fail("mix target must be a material added before the last one");
+    if (material_recipes[size_t(target)].kind != MaterialKind::kMix) Fail("mix target must be a mix material");
     if (!(weight >= 0) || !std::isfinite(weight)) Fail("mix weight must be finite and >= 0");
+    for (const MixFactorLookup& f : factors) CheckLookup(f.lookup);
     const Material part = materials.back();
+    if (!factors.empty() && !IsBlack(part.emission))
+        Fail("an emitting mix layer cannot have texture-driven factors (mesh lights need a constant emission)");
+    if (normal_maps.back().lookup.bound()) Fail("a mix layer cannot have a normal map of its own (the mix's has)");
     Material mix = materials[size_t(target)];
-    MixIntoMaterial(mix, part, weight);  // throws (the scene unchanged) if the mix cannot hold it
+    // The untextured values stand for the textured ones (a factor as 1/2): the structure a hit rebuilds.
+    MixIntoMaterial(mix, part, factors.empty() ? weight : weight * 0.5f);  // throws (the scene unchanged) if it cannot hold it
     mix.emission += part.emission * weight;
+    mix.textured = mix.textured || part.textured || !factors.empty();
+    material_recipes[size_t(target)].layers.push_back({weight, factors, material_recipes.back()});
     materials[size_t(target)] = mix;
     materials.pop_back();
+    material_recipes.pop_back();
+    normal_maps.pop_back();
+}
+
+void RenderScene::CheckLookup(const TextureLookup& lookup) const {
+    RequireNotCommitted();
+    if (lookup.image < 0 || size_t(lookup.image) >= images.size())
+        Fail("texture lookup of image " + std::to_string(lookup.image) + " but the scene has " +
+             std::to_string(images.size()) + " images");
+    for (const auto& row : lookup.transform)
+        for (float v : row)
+            if (!std::isfinite(v)) Fail("texture transform must be finite");
+}
+
+int RenderScene::AddImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
+                          const float* floats, bool srgb) {
+    RequireNotCommitted();
+    const std::string who = "image '" + name + "'";
+    if (width <= 0 || height <= 0 || channels < 1 || channels > 4) Fail(who + " must be [H > 0, W > 0, 1..4]");
+    if ((bytes == nullptr) == (floats == nullptr)) Fail(who + ": give bytes or floats");
+    const size_t n = size_t(width) * size_t(height) * size_t(channels);
+    Image im;
+    im.name = name;
+    im.width = width;
+    im.height = height;
+    im.channels = channels;
+    im.srgb = srgb;
+    if (bytes) {
+        im.bytes.assign(bytes, bytes + n);
+    } else {
+        im.floats.assign(floats, floats + n);
+        for (float& v : im.floats)
+            if (!std::isfinite(v)) v = 0;  // Cycles' image loader zeroes non-finite texels too
+    }
+    images.push_back(std::move(im));
+    return int(images.size()) - 1;
+}
+
+void RenderScene::SetMaterialTexture(int material, TexturedInput input, const TextureLookup& lookup) {
+    CheckLookup(lookup);
+    if (material < 0 || size_t(material) >= materials.size()) Fail("texture of material " + std::to_string(material) +
+                                                                   " but the scene has " +
+                                                                   std::to_string(materials.size()));
+    MaterialRecipe& r = material_recipes[size_t(material)];
+    if (r.kind == MaterialKind::kMix) Fail("a mix's textures are its layers'");
+    if (r.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no textures (use 'principled')");
+    r.textures[int(input)] = lookup;
+    materials[size_t(material)].textured = true;
+}
+
+void RenderScene::SetMaterialNormalMap(int material, const TextureLookup& lookup, float strength) {
+    CheckLookup(lookup);
+    if (material < 0 || size_t(material) >= materials.size()) Fail("normal map of a material that does not exist");
+    if (!std::isfinite(strength)) Fail("normal map strength must be finite");
+    normal_maps[size_t(material)] = {lookup, std::max(strength, 0.0f)};  // Cycles: max(strength, 0)
+    materials[size_t(material)].normal_mapped = true;
 }
 
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
-                          size_t nt, const float* normals, const int32_t* material_ids) {
+                          size_t nt, const float* normals, const int32_t* material_ids, const float* uvs,
+                          const float* generated) {
     RequireNotCommitted();
     const std::string who = "mesh '" + name + "'";
     if (nv > (size_t(1) << 31) || nt > (size_t(1) << 31)) Fail(who + " is too large");
@@ -241,6 +332,21 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
             if (!IsFinite(n)) Fail(who + ": normal " + std::to_string(i) + " is not finite");
             const float len = Length(n);
             m.normals[i] = len > 0 ? n / len : Vec3f();  // zero: fall back to the geometric normal
+        }
+    }
+    if (uvs) {
+        m.uvs.resize(nv);
+        for (size_t i = 0; i < nv; ++i) {
+            m.uvs[i] = {uvs[2 * i], uvs[2 * i + 1]};
+            if (!std::isfinite(m.uvs[i].u) || !std::isfinite(m.uvs[i].v))
+                Fail(who + ": uv " + std::to_string(i) + " is not finite");
+        }
+    }
+    if (generated) {
+        m.generated.resize(nv);
+        for (size_t i = 0; i < nv; ++i) {
+            m.generated[i] = {generated[3 * i], generated[3 * i + 1], generated[3 * i + 2]};
+            if (!IsFinite(m.generated[i])) Fail(who + ": generated coordinate " + std::to_string(i) + " is not finite");
         }
     }
     if (material_ids) {
@@ -386,7 +492,12 @@ void RenderScene::Commit() {
         if (m.material_ids.empty()) used[0] = true;
         for (int32_t id : m.material_ids) used[id] = true;
     }
-    for (size_t i = 0; i < materials.size(); ++i) features_.glossy |= used[i] && materials[i].glossy;
+    for (size_t i = 0; i < materials.size(); ++i) {
+        features_.glossy |= used[i] && materials[i].glossy;
+        features_.textures |= used[i] && materials[i].textured;
+        features_.normal_maps |= used[i] && materials[i].normal_mapped;
+    }
+    CheckTextureCoordinates();
     features_.medium = has_medium;
     features_.dof = camera.aperture_radius > 0 && !camera.orthographic;
     features_.orthographic = camera.orthographic;
@@ -395,6 +506,28 @@ void RenderScene::Commit() {
     features_.background = !IsBlack(background);
     features_.emissive_meshes = has_mesh_lights;
     committed_ = true;
+}
+
+void RenderScene::CheckTextureCoordinates() {
+    for (const MeshData& m : meshes) {
+        std::vector<bool> seen(materials.size(), false);
+        auto check = [&](int32_t id) {
+            if (seen[size_t(id)]) return;
+            seen[size_t(id)] = true;
+            const MaterialRecipe& r = material_recipes[size_t(id)];
+            const NormalMap& nm = normal_maps[size_t(id)];
+            // A normal map's tangents come from the UVs, whichever coordinates its image reads.
+            const bool wants_uv = r.ReadsCoordinates(false) || nm.lookup.bound();
+            if (wants_uv && m.uvs.empty())
+                warnings.push_back("mesh '" + m.name + "': material " + std::to_string(id) +
+                                   " reads UV coordinates the mesh does not have (0, 0 used, as Cycles does)");
+            if ((r.ReadsCoordinates(true) || (nm.lookup.bound() && nm.lookup.generated)) && m.generated.empty())
+                warnings.push_back("mesh '" + m.name + "': material " + std::to_string(id) +
+                                   " reads generated coordinates the mesh does not have (0 used)");
+        };
+        if (m.material_ids.empty()) check(0);
+        for (int32_t id : m.material_ids) check(id);
+    }
 }
 
 void RenderScene::BuildLightTree() const {

@@ -17,6 +17,8 @@
 #include "light_tree.h"
 #include "lights.h"
 #include "medium.h"
+#include "texture.h"
+#include "textured_material.h"
 
 namespace sphrect::render {
 
@@ -35,6 +37,16 @@ struct MeshData {
     // Emissive meshes: per triangle the index of its area light (a triangle, or the rectangle it
     // forms with its neighbour), -1 if it emits nothing; empty when no triangle emits.
     std::vector<int32_t> triangle_light;
+    // Texture coordinates, per vertex, or empty: 'uv' (Mesh.uvs) and 'generated' (Mesh.generated).
+    std::vector<Point2<float>> uvs;
+    std::vector<Vec3f> generated;
+};
+
+// A material's Normal Map node (tangent space): its image lookup, strength, read in the frame of the
+// mesh's UV tangent, bitangent and shading normal (ApplyNormalMap).
+struct NormalMap {
+    TextureLookup lookup;
+    float strength = 1;
 };
 
 // What a scene asks of the integrator; each flag selects a specialised kernel or a feature name.
@@ -42,6 +54,7 @@ struct SceneFeatures {
     bool glossy = false, medium = false, dof = false;
     bool ellipse_lights = false, delta_lights = false, orthographic = false, background = false;
     bool emissive_meshes = false;
+    bool textures = false, normal_maps = false;
     std::vector<std::string> Names() const;
 };
 
@@ -70,11 +83,22 @@ class RenderScene {
     // and adds its lobes and emission, scaled by weight, to the mix `target` (bsdf.h MixIntoMaterial,
     // which says what a mix can hold; std::invalid_argument beyond that).
     int AddMixMaterial(const Spectrum& emission = {});
-    void MixLastMaterialInto(int target, float weight);
-    // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids may be null.
-    // A mesh without triangles is validated and then ignored.
+    // factors: Mix Shader factors from textures above the layer (its weight times each; an emitting layer cannot
+    // have any: mesh lights need a constant emission).
+    void MixLastMaterialInto(int target, float weight, const std::vector<MixFactorLookup>& factors = {});
+    // Images, then lookups of them bound to a material's inputs (before it is mixed into another) and its
+    // normal map.  AddImage copies width x height x channels bytes or floats (rows bottom to top); LoadImage
+    // reads a file with OpenImageIO, or on failure makes Cycles' magenta missing image and a warning.
+    int AddImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
+                 const float* floats, bool srgb);
+    int LoadImage(const std::string& name, const std::string& path, bool srgb);
+    void SetMaterialTexture(int material, TexturedInput input, const TextureLookup& lookup);
+    void SetMaterialNormalMap(int material, const TextureLookup& lookup, float strength);
+    // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids / uvs / generated may be
+    // null.  A mesh without triangles is validated and then ignored.
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,
-                 size_t num_triangles, const float* normals, const int32_t* material_ids);
+                 size_t num_triangles, const float* normals, const int32_t* material_ids, const float* uvs = nullptr,
+                 const float* generated = nullptr);
     // Area lights return "" when added, or why the light was skipped (zero area, black).
     std::string AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
                              bool two_sided, bool visible);
@@ -97,6 +121,10 @@ class RenderScene {
     bool has_medium = false;
     HomogeneousMedium medium;
     std::vector<Material> materials;
+    // Per material: what it was made from, which a hit on a textured one (Material::textured) evaluates.
+    std::vector<MaterialRecipe> material_recipes;
+    std::vector<NormalMap> normal_maps;  // per material; lookup unbound: none
+    std::vector<Image> images;
     std::vector<MeshData> meshes;  // index = Embree geometry id (meshes without triangles are not kept)
     // The scene's lights [0, num_analytic_lights), intersected analytically by camera and BSDF rays,
     // then the emissive meshes' (on_mesh), which those rays find through Embree.
@@ -126,7 +154,10 @@ class RenderScene {
 
   private:
     void CheckMaterialColors(const Spectrum& base, const Spectrum& emission) const;
-    int PushMaterial(const Material& m, const Spectrum& emission);  // with its emission; returns its index
+    // With its emission and the recipe it was made from; returns its index.
+    int PushMaterial(const Material& m, const Spectrum& emission, const MaterialRecipe& recipe);
+    void CheckLookup(const TextureLookup& lookup) const;
+    void CheckTextureCoordinates();  // Commit(): warns of meshes a textured material reads without their coordinates
     mutable std::once_flag light_tree_once_;
     mutable LightTree light_tree_;
     mutable std::vector<TreeEmitterRef> light_tree_refs_;

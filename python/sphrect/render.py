@@ -56,8 +56,9 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, SENSOR_FITS, Camera, EllipseLight,
-                    MaterialLayer, PointLight, RectLight, Scene, SpotLight, SunLight)
+from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, SENSOR_FITS, TEXTURE_COLORSPACES,
+                    TEXTURE_COORDINATES, TEXTURE_OUTPUTS, Camera, EllipseLight, MaterialLayer, MixFactor, PointLight,
+                    RectLight, Scene, SpotLight, SunLight, Texture, TextureLookup)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -125,8 +126,71 @@ def _set_camera(native, cam: Camera) -> None:
                       float(cam.clip_start), float(min(cam.clip_end, 1e30)))
 
 
-def _add_material(native, mat):
-    """Adds `mat` to the native scene (a 'mix' as its layers, each added and mixed in); returns its index."""
+def _add_textures(native, scene: Scene) -> None:
+    """The scene's images, in order (a path read by OpenImageIO natively: a missing file is magenta and warned)."""
+    for i, t in enumerate(scene.textures):
+        if not isinstance(t, Texture):
+            raise ValueError(f"scene.textures[{i}] is not a sphrect.Texture")
+        if t.colorspace not in TEXTURE_COLORSPACES:
+            raise ValueError(f"texture '{t.name}': colorspace must be {_one_of(TEXTURE_COLORSPACES)}, "
+                             f"got {t.colorspace!r}")
+        srgb = t.colorspace == "srgb"
+        if t.pixels is None:
+            if not t.path:
+                raise ValueError(f"texture '{t.name}' has neither pixels nor a path")
+            native.load_image(t.name, str(t.path), srgb)
+            continue
+        pixels = np.asarray(t.pixels)
+        if pixels.ndim == 2:
+            pixels = pixels[:, :, None]
+        if pixels.dtype != np.uint8:
+            if not np.issubdtype(pixels.dtype, np.number) or np.issubdtype(pixels.dtype, np.complexfloating):
+                raise ValueError(f"texture '{t.name}': pixels must be uint8 or floats (got dtype {pixels.dtype})")
+            pixels = np.ascontiguousarray(pixels, dtype=np.float32)
+        native.add_image(t.name, np.ascontiguousarray(pixels), srgb)
+
+
+def _native_lookup(lookup, n_textures: int, what: str):
+    if not isinstance(lookup, TextureLookup):
+        raise ValueError(f"{what} must be a sphrect.TextureLookup, got {type(lookup).__name__}")
+    if isinstance(lookup.texture, bool) or not isinstance(lookup.texture, numbers.Integral) \
+            or not 0 <= lookup.texture < n_textures:
+        raise ValueError(f"{what}: texture {lookup.texture!r} is not an index into the scene's {n_textures} textures")
+    for name, allowed in (("output", TEXTURE_OUTPUTS), ("coordinates", TEXTURE_COORDINATES),
+                          ("interpolation", _native.texture_interpolations),
+                          ("extension", _native.texture_extensions)):
+        if getattr(lookup, name) not in allowed:
+            raise ValueError(f"{what}: {name} must be {_one_of(allowed)}, got {getattr(lookup, name)!r}")
+    transform = np.asarray(lookup.transform, dtype=np.float64)
+    if transform.shape != (3, 4) or not np.all(np.isfinite(transform)):
+        raise ValueError(f"{what}: transform must be a finite 3x4 matrix")
+    return _native._TextureLookup(int(lookup.texture), lookup.output == "alpha", lookup.coordinates == "generated",
+                                  transform, lookup.interpolation, lookup.extension)
+
+
+def _bind_textures(native, index: int, mat, n_textures: int) -> None:
+    """Material `index`'s image lookups (Material.textures) and normal map."""
+    for name, lookup in mat.textures.items():
+        if name not in _native.textured_inputs:
+            raise ValueError(f"material '{mat.name}': no input {name!r} takes a texture "
+                             f"(expected {_one_of(_native.textured_inputs)})")
+        native.set_material_texture(index, name, _native_lookup(lookup, n_textures,
+                                                                f"material '{mat.name}' texture '{name}'"))
+    if mat.normal_map is not None:
+        native.set_material_normal_map(index, _native_lookup(mat.normal_map, n_textures,
+                                                             f"material '{mat.name}' normal_map"),
+                                       float(mat.normal_map_strength))
+
+
+def _add_material(native, mat, n_textures: int = 0):
+    """Adds `mat` to the native scene (a 'mix' as its layers, each added and mixed in) with its textures; returns its
+    index."""
+    index = _add_untextured_material(native, mat, n_textures)
+    _bind_textures(native, index, mat, n_textures)
+    return index
+
+
+def _add_untextured_material(native, mat, n_textures: int):
     emission = _rgb(mat.emission, f"material '{mat.name}' emission")
     base_color = lambda: _rgb(mat.base_color, f"material '{mat.name}' base_color")
     if mat.layers and mat.kind != "mix":
@@ -154,9 +218,15 @@ def _add_material(native, mat):
         for i, layer in enumerate(mat.layers):
             if not isinstance(layer, MaterialLayer):
                 raise ValueError(f"material '{mat.name}': layer {i} is not a sphrect.MaterialLayer")
-            _add_material(native, layer.material)
+            _add_material(native, layer.material, n_textures)
+            factors = []
+            for j, f in enumerate(layer.factors):
+                if not isinstance(f, MixFactor):
+                    raise ValueError(f"material '{mat.name}' layer {i}: factor {j} is not a sphrect.MixFactor")
+                factors.append((_native_lookup(f.lookup, n_textures, f"material '{mat.name}' layer {i} factor {j}"),
+                                bool(f.complement)))
             try:
-                native.mix_last_material_into(target, float(layer.weight))
+                native.mix_last_material_into(target, float(layer.weight), factors)
             except ValueError as e:
                 raise ValueError(f"material '{mat.name}' layer {i} ('{layer.material.name}'): {e}") from None
         return target
@@ -174,8 +244,9 @@ def build_native_scene(scene: Scene):
     med = scene.world.medium
     if med is not None:
         native.set_medium(_rgb(med.sigma_s, "medium sigma_s"), _rgb(med.sigma_a, "medium sigma_a"), float(med.g))
+    _add_textures(native, scene)
     for mat in scene.materials:
-        _add_material(native, mat)
+        _add_material(native, mat, len(scene.textures))
     n_materials = max(1, len(scene.materials))
     for mesh in scene.meshes:
         v = np.asarray(mesh.vertices)
@@ -185,7 +256,7 @@ def build_native_scene(scene: Scene):
         ids = None
         if mesh.material_ids is not None:
             ids = _int_array(mesh.material_ids, f"mesh '{mesh.name}' material_ids", upper=n_materials)
-        native.add_mesh(mesh.name, v, t, mesh.normals, ids)
+        native.add_mesh(mesh.name, v, t, mesh.normals, ids, mesh.uvs, mesh.generated)
     for light in scene.lights:
         msg = ""
         if isinstance(light, RectLight):

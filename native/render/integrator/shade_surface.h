@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 
 #include "emitters.h"
 #include "render/bsdf.h"
@@ -74,6 +75,17 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
     });
 }
 
+// The hit's material: the scene's, or for a textured one its recipe evaluated at the hit's texture coordinates
+// into `storage` (its emission the material's own: emission is not textured).
+static inline const Material& MaterialAtHit(const RenderScene& scene, const SurfaceHit& h,
+                                            std::optional<Material>& storage) {
+    const Material& m = scene.materials[size_t(h.material)];
+    if (!m.textured) return m;
+    storage.emplace(EvaluateTexturedMaterial(scene.material_recipes[size_t(h.material)], scene.images, h.tc));
+    storage->emission = m.emission;
+    return *storage;
+}
+
 // Whether a hit on material m takes light samples alone (no MIS partner): a purely diffuse
 // material with the lights sampled by solid angle (not `area`, for rectangles nor for the scene's
 // ellipses), unless RenderOptions::bsdf_samples_on_diffuse (ShadeContext).  There the light sample's density already follows
@@ -98,7 +110,8 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
                                 const ShadowSink& sink, uint64_t& light_ticks) {
     const RenderScene& scene = c_scene.scene;
     const Frame frame = Frame::FromZ(h.ns);
-    const SurfaceShadingPoint sp{h, scene.materials[h.material], frame, frame.ToLocal(wo_world),
+    std::optional<Material> textured;  // a textured material's inputs at this hit (not constructed otherwise)
+    const SurfaceShadingPoint sp{h, MaterialAtHit(scene, h, textured), frame, frame.ToLocal(wo_world),
                                  OffsetOrigin(h.p, h.ng)};
     if (sp.wo.z <= 0) return;
     const ShadeContext without_mis = WithoutMis(c_scene);

@@ -1,4 +1,5 @@
-// The surface a camera ray hits, from Embree's answer: point, normals facing the ray, material.
+// The surface a camera ray hits, from Embree's answer: point, normals facing the ray, material, and for
+// textured or normal-mapped materials the texture coordinates (the normal map applied to ns).
 #pragma once
 
 #include "render/camera.h"
@@ -13,18 +14,61 @@ struct SurfaceHit {
     Vec3f ns;     // unit shading normal, flipped with ng
     float t = 0;  // distance along the camera ray
     int material = 0;
+    TextureCoordinates tc;  // set only for a textured or normal-mapped material
 };
+
+// The mesh's texture coordinates at barycentrics (b0, b1, b2) of triangle (i0, i1, i2); zero where it has none.
+static inline TextureCoordinates InterpolateTextureCoordinates(const MeshData& m, uint32_t i0, uint32_t i1, uint32_t i2,
+                                                               float b0, float b1, float b2) {
+    TextureCoordinates tc;
+    if (!m.uvs.empty()) {
+        const Point2<float>& a = m.uvs[i0];
+        const Point2<float>& b = m.uvs[i1];
+        const Point2<float>& c = m.uvs[i2];
+        tc.uv = {a.u * b0 + b.u * b1 + c.u * b2, a.v * b0 + b.v * b1 + c.v * b2, 0};
+    }
+    if (!m.generated.empty()) tc.generated = m.generated[i0] * b0 + m.generated[i1] * b1 + m.generated[i2] * b2;
+    return tc;
+}
+
+// Blender's Normal Map node in tangent space (Cycles' svm_node_normal_map): the map's colour c read as
+// 2 c - 1 in the frame of the tangent T, the bitangent B = sign cross(N, T) and the normal N (the shading
+// normal before it faces the ray), then mixed with N by the strength: normalize(N + (N_map - N) strength).
+// T is the triangle's dp/du made orthogonal to N and sign the handedness of (dp/du, dp/dv): on a triangle
+// with affine UVs, what MikkTSpace's per-vertex tangents give (smoothly curved meshes differ slightly).  A
+// triangle with degenerate UVs keeps N.
+static inline Vec3f ApplyNormalMap(const RenderScene& scene, const NormalMap& map, const Vec3f p[3],
+                                   const Point2<float> uv[3], const TextureCoordinates& tc, const Vec3f& n) {
+    const Vec3f e1 = p[1] - p[0], e2 = p[2] - p[0];
+    const float du1 = uv[1].u - uv[0].u, dv1 = uv[1].v - uv[0].v, du2 = uv[2].u - uv[0].u, dv2 = uv[2].v - uv[0].v;
+    const float det = du1 * dv2 - du2 * dv1;
+    if (!(std::abs(det) > 0)) return n;
+    const Vec3f dpdu = (e1 * dv2 - e2 * dv1) / det, dpdv = (e2 * du1 - e1 * du2) / det;
+    Vec3f t = dpdu - n * Dot(n, dpdu);
+    const float lt = Length(t);
+    if (!(lt > 0)) return n;
+    t = t / lt;
+    const Vec3f b = Cross(n, t) * (Dot(Cross(n, t), dpdv) < 0 ? -1.0f : 1.0f);
+    const Spectrum c = TextureColor(EvalTextureAt(scene.images, map.lookup, tc));
+    Vec3f mapped = t * (2 * c.x - 1) + b * (2 * c.y - 1) + n * (2 * c.z - 1);
+    if (map.strength != 1) mapped = n + (mapped - n) * map.strength;
+    const float lm = Length(mapped);
+    return lm > 0 ? mapped / lm : n;
+}
 
 static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray, const RTCRayHit& rh) {
     const MeshData& m = scene.meshes[rh.hit.geomID];
     const uint32_t tri = rh.hit.primID;
     SurfaceHit s;
     s.t = rh.ray.tfar;
+    s.material = m.material_ids.empty() ? 0 : m.material_ids[tri];
+    const Material& material = scene.materials[size_t(s.material)];
     Vec3f ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);  // Embree's unnormalised geometric normal
     const float len = Length(ng);
     ng = len > 0 ? ng / len : -ray.d;
     Vec3f ns = ng;
-    if (m.normals.empty()) {
+    const bool textured = material.textured || material.normal_mapped;
+    if (m.normals.empty() && !textured) {
         s.p = ray.o + ray.d * s.t;  // flat shading: no vertex fetch needed
     } else {
         // Interpolated shading normal (and the point from the barycentrics, which is more precise).
@@ -32,12 +76,24 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
         auto vertex = [&](uint32_t i) {
             return Vec3f(m.vertices[3 * i], m.vertices[3 * i + 1], m.vertices[3 * i + 2]);
         };
+        const Vec3f p[3] = {vertex(i0), vertex(i1), vertex(i2)};
         const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
-        s.p = vertex(i0) * b0 + vertex(i1) * b1 + vertex(i2) * b2;
-        const Vec3f n = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
-        const float ln = Length(n);
-        if (ln > 0) ns = n / ln;
-        if (Dot(ns, ng) < 0) ns = -ns;  // shading normal on the geometric normal's side
+        s.p = p[0] * b0 + p[1] * b1 + p[2] * b2;
+        if (!m.normals.empty()) {
+            const Vec3f n = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
+            const float ln = Length(n);
+            if (ln > 0) ns = n / ln;
+            if (Dot(ns, ng) < 0) ns = -ns;  // shading normal on the geometric normal's side
+        }
+        if (textured) {
+            s.tc = InterpolateTextureCoordinates(m, i0, i1, i2, b0, b1, b2);
+            if (material.normal_mapped && !m.uvs.empty()) {
+                // In the frame Blender's winding gives (Embree's Ng may point the other way), then back.
+                const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
+                const Point2<float> uv[3] = {m.uvs[i0], m.uvs[i1], m.uvs[i2]};
+                ns = ApplyNormalMap(scene, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
+            }
+        }
     }
     // Surfaces are two-sided: both normals face the incoming ray.
     if (Dot(ng, ray.d) > 0) {
@@ -46,7 +102,6 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
     }
     s.ng = ng;
     s.ns = ns;
-    s.material = m.material_ids.empty() ? 0 : m.material_ids[tri];
     return s;
 }
 

@@ -1,0 +1,145 @@
+// Image textures as Cycles 3.4 reads them (kernel/device/cpu/image.h, kernel/svm/image.h): an image of
+// bytes or floats, looked up at mapped coordinates with the Image Texture node's interpolation
+// (closest: the texel containing the point; linear: bilinear between the four texel centres
+// around it) and extension (repeat: wrap; extend: clamp to the edge texel; clip: texels outside
+// the image are transparent black), then, for an sRGB image, decoded to linear after filtering
+// (Cycles' NODE_IMAGE_COMPRESS_AS_SRGB: byte images keep their stored values and decode per lookup).
+// Rows run bottom to top, as in Blender's Image.pixels: v = 0 is the image's bottom edge.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sampling_util.h"
+
+namespace sphrect::render {
+
+struct Rgba {
+    float r = 0, g = 0, b = 0, a = 0;
+    Rgba operator*(float s) const { return {r * s, g * s, b * s, a * s}; }
+    Rgba operator+(const Rgba& o) const { return {r + o.r, g + o.g, b + o.b, a + o.a}; }
+    Spectrum rgb() const { return {r, g, b}; }
+};
+
+// Cycles' TEX_IMAGE_MISSING_R/G/B/A: what a lookup of an image that could not be loaded returns.
+constexpr Rgba kMissingImageColor{1, 0, 1, 1};
+
+enum class TextureInterpolation { kLinear, kClosest };
+enum class TextureExtension { kRepeat, kExtend, kClip };
+
+struct Image {
+    std::string name;
+    int width = 0, height = 0, channels = 0;  // channels 1..4: grey, grey+alpha, RGB, RGBA
+    std::vector<uint8_t> bytes;               // width x height x channels, or empty: floats
+    std::vector<float> floats;
+    bool srgb = false;                        // stored values are sRGB-encoded (decoded after filtering)
+
+    // Texel (x, y), both in range, as RGBA in stored units (bytes / 255).
+    Rgba Texel(int x, int y) const {
+        const size_t i = (size_t(y) * size_t(width) + size_t(x)) * size_t(channels);
+        float v[4];
+        if (!bytes.empty()) {
+            for (int c = 0; c < channels; ++c) v[c] = bytes[i + c] * (1.0f / 255.0f);
+        } else {
+            for (int c = 0; c < channels; ++c) v[c] = floats[i + c];
+        }
+        switch (channels) {
+            case 1: return {v[0], v[0], v[0], 1};
+            case 2: return {v[0], v[0], v[0], v[1]};
+            case 3: return {v[0], v[1], v[2], 1};
+            default: return {v[0], v[1], v[2], v[3]};
+        }
+    }
+};
+
+// The sRGB electro-optical transfer function (IEC 61966-2-1), Cycles' color_srgb_to_linear.
+inline float SrgbToLinear(float c) {
+    if (c < 0.04045f) return c < 0 ? 0.0f : c * (1.0f / 12.92f);
+    return std::pow((c + 0.055f) * (1.0f / 1.055f), 2.4f);
+}
+
+namespace texture_detail {
+
+// Cycles' wrap_periodic / wrap_clamp: a texel index inside [0, size).
+inline int WrapRepeat(int x, int size) {
+    const int r = x % size;
+    return r < 0 ? r + size : r;
+}
+inline int WrapExtend(int x, int size) { return x < 0 ? 0 : (x >= size ? size - 1 : x); }
+
+// Texel (x, y) under the extension, indices possibly outside the image.
+inline Rgba ExtendedTexel(const Image& im, int x, int y, TextureExtension ext) {
+    switch (ext) {
+        case TextureExtension::kRepeat: return im.Texel(WrapRepeat(x, im.width), WrapRepeat(y, im.height));
+        case TextureExtension::kExtend: return im.Texel(WrapExtend(x, im.width), WrapExtend(y, im.height));
+        case TextureExtension::kClip:
+            if (x < 0 || y < 0 || x >= im.width || y >= im.height) return {};
+            return im.Texel(x, y);
+    }
+    return {};
+}
+
+// Floor to int, saturating so that huge or non-finite coordinates stay well defined.
+inline int FloorToInt(float x) {
+    if (!(x > -1e9f)) return -1000000000;
+    if (!(x < 1e9f)) return 1000000000;
+    return int(std::floor(x));
+}
+
+}  // namespace texture_detail
+
+// The image at (u, v) in [0, 1]^2 per period, filtered and extended, decoded to linear RGB(A).
+inline Rgba LookupImage(const Image& im, float u, float v, TextureInterpolation interp, TextureExtension ext) {
+    using namespace texture_detail;
+    if (im.width <= 0 || im.height <= 0) return kMissingImageColor;
+    Rgba c;
+    if (interp == TextureInterpolation::kClosest) {
+        // Cycles clips closest lookups on the [0, 1] square itself.
+        if (ext == TextureExtension::kClip && !(u >= 0 && v >= 0 && u <= 1 && v <= 1)) return {};
+        c = ExtendedTexel(im, FloorToInt(u * im.width), FloorToInt(v * im.height), ext);
+    } else {
+        const float x = u * im.width - 0.5f, y = v * im.height - 0.5f;
+        const int ix = FloorToInt(x), iy = FloorToInt(y);
+        const float tx = std::isfinite(x) ? x - std::floor(x) : 0.0f, ty = std::isfinite(y) ? y - std::floor(y) : 0.0f;
+        c = (ExtendedTexel(im, ix, iy, ext) * (1 - tx) + ExtendedTexel(im, ix + 1, iy, ext) * tx) * (1 - ty) +
+            (ExtendedTexel(im, ix, iy + 1, ext) * (1 - tx) + ExtendedTexel(im, ix + 1, iy + 1, ext) * tx) * ty;
+    }
+    if (im.srgb) {
+        c.r = SrgbToLinear(c.r);
+        c.g = SrgbToLinear(c.g);
+        c.b = SrgbToLinear(c.b);
+    }
+    return c;
+}
+
+// Where a material input reads an Image Texture node: which image, at which coordinates (the mesh's
+// UVs as (u, v, 0) or its Generated coordinates), mapped by a 3x4 affine transform (the Mapping
+// node), and which output (Color, or Alpha).
+struct TextureLookup {
+    int image = -1;                // into RenderScene::images; -1: no texture
+    bool alpha_output = false;
+    bool generated = false;        // coordinates 'generated' (MeshData::generated) instead of 'uv'
+    float transform[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
+    TextureInterpolation interpolation = TextureInterpolation::kLinear;
+    TextureExtension extension = TextureExtension::kRepeat;
+
+    bool bound() const { return image >= 0; }
+};
+
+// The lookup's value at texture coordinates `coords` (before the mapping): its output as RGBA.
+inline Rgba EvalTextureLookup(const std::vector<Image>& images, const TextureLookup& t, const Vec3f& coords) {
+    const float(&m)[3][4] = t.transform;
+    const float u = m[0][0] * coords.x + m[0][1] * coords.y + m[0][2] * coords.z + m[0][3];
+    const float v = m[1][0] * coords.x + m[1][1] * coords.y + m[1][2] * coords.z + m[1][3];
+    const Rgba c = LookupImage(images[size_t(t.image)], u, v, t.interpolation, t.extension);
+    return t.alpha_output ? Rgba{c.a, c.a, c.a, 1} : c;
+}
+
+// As a colour input sees it (Alpha as grey) and as a scalar input does (Cycles converts a colour
+// to a float by its luminance, linear_rgb_to_gray: Rec.709 in Blender's default configuration).
+inline Spectrum TextureColor(const Rgba& c) { return c.rgb(); }
+inline float TextureScalar(const Rgba& c) { return Luminance(c.rgb()); }
+
+}  // namespace sphrect::render

@@ -1,0 +1,116 @@
+// Materials whose inputs images drive: each material keeps the recipe it was made from (its kind,
+// its inputs, the lookups bound to them, a mix's layers), and a hit on a textured one rebuilds its
+// Material from the recipe with the looked-up values (EvaluateTexturedMaterial).  Untextured
+// materials never come here: the integrator reads RenderScene::materials as before, and a scene
+// without textures pays one flag test per hit (BM_DiffuseKernel vs BM_TexturedKernel).
+#pragma once
+
+#include <vector>
+
+#include "bsdf.h"
+#include "texture.h"
+
+namespace sphrect::render {
+
+enum class MaterialKind { kDiffuse, kGlossy, kPrincipled, kGlass, kGlossyBsdf, kMix };
+
+// The inputs a lookup can drive (the scene format's TEXTURED_INPUTS, in order; bindings export the names).
+enum class TexturedInput { kBaseColor, kRoughness, kMetallic, kSpecular, kCount };
+constexpr int kNumTexturedInputs = int(TexturedInput::kCount);
+constexpr const char* kTexturedInputNames[kNumTexturedInputs] = {"base_color", "roughness", "metallic", "specular"};
+constexpr const char* kTextureInterpolationNames[] = {"linear", "closest"};  // TextureInterpolation's order
+constexpr const char* kTextureExtensionNames[] = {"repeat", "extend", "clip"};  // TextureExtension's order
+
+// A Mix Shader factor from a texture: the layer's weight times fac, or 1 - fac (the node's first shader).
+struct MixFactorLookup {
+    TextureLookup lookup;
+    bool complement = false;
+};
+
+struct MaterialRecipeLayer;
+
+struct MaterialRecipe {
+    MaterialKind kind = MaterialKind::kDiffuse;
+    PrincipledInputs inputs;  // base_color, roughness, metallic, specular used by every kind that has them
+    float ior = 1.45f;        // glass
+    bool beckmann = false;    // glass, glossy BSDF
+    TextureLookup textures[kNumTexturedInputs];
+    std::vector<MaterialRecipeLayer> layers;  // kMix
+
+    bool ReadsCoordinates(bool generated) const;  // some lookup reads 'generated' (true) or 'uv' (false)
+};
+
+struct MaterialRecipeLayer {
+    float weight = 1;
+    std::vector<MixFactorLookup> factors;
+    MaterialRecipe material;
+};
+
+inline bool MaterialRecipe::ReadsCoordinates(bool generated) const {
+    for (const TextureLookup& t : textures)
+        if (t.bound() && t.generated == generated) return true;
+    for (const MaterialRecipeLayer& l : layers) {
+        for (const MixFactorLookup& f : l.factors)
+            if (f.lookup.generated == generated) return true;
+        if (l.material.ReadsCoordinates(generated)) return true;
+    }
+    return false;
+}
+
+// Texture coordinates at a hit: the mesh's UVs as (u, v, 0) and its Generated coordinates (zero where the
+// mesh has none: Cycles reads zeros for a missing attribute too).
+struct TextureCoordinates {
+    Vec3f uv, generated;
+};
+
+inline Rgba EvalTextureAt(const std::vector<Image>& images, const TextureLookup& t, const TextureCoordinates& tc) {
+    return EvalTextureLookup(images, t, t.generated ? tc.generated : tc.uv);
+}
+
+// The material of a recipe that is not a mix, with these inputs.
+inline Material MakeMaterialFromInputs(const MaterialRecipe& r, const PrincipledInputs& in) {
+    switch (r.kind) {
+        case MaterialKind::kDiffuse: return MakeDiffuseMaterial(in.base_color);
+        case MaterialKind::kGlossy: return MakeGlossyMaterial(in.base_color, in.roughness, in.metallic, in.specular);
+        case MaterialKind::kPrincipled: return MakePrincipledMaterial(in);
+        case MaterialKind::kGlass: return MakeGlassMaterial(in.base_color, in.roughness, r.ior, r.beckmann);
+        case MaterialKind::kGlossyBsdf: return MakeGlossyBsdfMaterial(in.base_color, in.roughness, r.beckmann);
+        case MaterialKind::kMix: break;
+    }
+    return MakeDiffuseMaterial({});  // a mix's layers are the caller's
+}
+
+// The recipe's material at texture coordinates tc: each bound input replaced by its lookup (colours as
+// RGB, scalars as luminance; Cycles' closure setup clamps them as the Make*Material functions do), a mix
+// rebuilt from its layers with the factors' weights (clamped to [0, 1], as svm_node_mix_closure does).
+// Emission is not textured: the caller keeps the material's own.
+inline Material EvaluateTexturedMaterial(const MaterialRecipe& r, const std::vector<Image>& images,
+                                         const TextureCoordinates& tc) {
+    if (r.kind == MaterialKind::kMix) {
+        Material mix = MakeDiffuseMaterial({});
+        for (const MaterialRecipeLayer& l : r.layers) {
+            float w = l.weight;
+            for (const MixFactorLookup& f : l.factors) {
+                const float fac = std::clamp(TextureScalar(EvalTextureAt(images, f.lookup, tc)), 0.0f, 1.0f);
+                w *= f.complement ? 1 - fac : fac;
+            }
+            MixIntoMaterial<MixOverflow::kLenient>(mix, EvaluateTexturedMaterial(l.material, images, tc), w);
+        }
+        return mix;
+    }
+    PrincipledInputs in = r.inputs;
+    auto scalar = [&](TexturedInput i, float& value) {
+        const TextureLookup& t = r.textures[int(i)];
+        if (t.bound()) value = TextureScalar(EvalTextureAt(images, t, tc));
+    };
+    if (const TextureLookup& t = r.textures[int(TexturedInput::kBaseColor)]; t.bound()) {
+        const Spectrum c = TextureColor(EvalTextureAt(images, t, tc));
+        in.base_color = {std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f)};
+    }
+    scalar(TexturedInput::kRoughness, in.roughness);
+    scalar(TexturedInput::kMetallic, in.metallic);
+    scalar(TexturedInput::kSpecular, in.specular);
+    return MakeMaterialFromInputs(r, in);
+}
+
+}  // namespace sphrect::render
