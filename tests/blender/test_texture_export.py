@@ -158,10 +158,10 @@ def test_missing_image_is_magenta_with_a_warning(empty_scene):
 
 
 def test_partial_alpha_gives_the_colour_cycles_reads(empty_scene):
-    """Measured in Cycles 3.4 (emission from the Color output, Closest): a straight-alpha byte image's colour
-    comes multiplied by its alpha (in its sRGB-encoded values), and as stored when the node's Alpha output is
-    linked; a float image's buffer (premultiplied in Blender) comes as stored, divided by its alpha when Alpha is
-    linked; Non-Color images as stored either way."""
+    """Measured in Cycles 3.4 (test_texture_parity's lookups): a straight-alpha byte image's colour comes
+    multiplied by its alpha (its encoded bytes, truncated), and as stored when the node's Alpha output is used; a
+    float image's buffer (premultiplied in Blender) comes as stored, divided by its alpha when Alpha is used;
+    Non-Color images as stored either way.  An Alpha output linked to a node that reaches no output is unused."""
     pixels = random_pixels(2, 3)
     pixels[..., 3] = [[1.0, 0.5, 0.25], [0.0, 0.75, 1.0]]
     byte, floats = new_image("Bytes", pixels), new_image("Floats", pixels, float_buffer=True)
@@ -172,19 +172,26 @@ def test_partial_alpha_gives_the_colour_cycles_reads(empty_scene):
         tree = alpha_used.node_tree
         tree.links.new(tree.nodes["Image Texture"].outputs["Alpha"], tree.nodes["Diffuse BSDF"].inputs["Roughness"])
         on_plane(alpha_used, f"B{i}", location=(3 * i, 3, 0))
+    dangling = textured("Dangling", byte)  # Alpha linked to a node that reaches no output: Cycles drops it
+    tree = dangling.node_tree
+    tree.links.new(tree.nodes["Image Texture"].outputs["Alpha"], tree.nodes.new("ShaderNodeMath").inputs[0])
+    on_plane(dangling, "C", location=(0, 6, 0))
     scene, log = export()
     texture = lambda name: scene.textures[material_named(scene, name).textures["base_color"].texture]
     alpha = pixels[..., 3:]
     as_bytes = lambda p: np.round(p * 255).astype(np.uint8)
-    expected = {"Color0": as_bytes(np.concatenate([pixels[..., :3] * alpha, alpha], axis=2)),
-                "Alpha0": as_bytes(pixels),
+    premultiplied = as_bytes(pixels).astype(int)
+    premultiplied[..., :3] = premultiplied[..., :3] * premultiplied[..., 3:] // 255  # Cycles' integer premultiply
+    byte_alpha = premultiplied[..., 3:] / 255  # unassociated: divided back by the alpha (in float: not bytes)
+    expected = {"Color0": premultiplied.astype(np.uint8),
+                "Alpha0": np.concatenate([premultiplied[..., :3] / 255 / np.where(byte_alpha > 0, byte_alpha, 1),
+                                          byte_alpha], axis=2).astype(np.float32),
                 "Color1": pixels,
                 "Alpha1": np.concatenate([np.where((alpha > 0) & (alpha < 1), pixels[..., :3] / np.where(
                     alpha > 0, alpha, 1), pixels[..., :3]), alpha], axis=2).astype(np.float32),
-                "Color2": as_bytes(pixels), "Alpha2": as_bytes(pixels)}
+                "Color2": as_bytes(pixels), "Alpha2": as_bytes(pixels), "Dangling": premultiplied.astype(np.uint8)}
     for name, values in expected.items():
-        np.testing.assert_allclose(texture(name).pixels.astype(np.float64), values, atol=1 if values.dtype ==
-                                   np.uint8 else 1e-6, err_msg=name)
+        np.testing.assert_allclose(texture(name).pixels.astype(np.float64), values, atol=1e-6, err_msg=name)
     assert len(scene.textures) == 5  # the Non-Color image once
     assert texture("Alpha0").name == "Bytes (unassociated alpha)"
 

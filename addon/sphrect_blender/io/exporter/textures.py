@@ -70,11 +70,11 @@ def coordinates_needed(material):
 
 def _apply_alpha_mode(image, pixels, unassociated):
     """Turns Blender's pixels (float [H, W, C], in place) into the colour Cycles 3.4's Image Texture node gives:
-    Cycles stores colour x alpha (a byte image of straight alpha is multiplied on load, in its encoded values;
+    Cycles stores colour x alpha (a byte image of straight alpha is multiplied on load, in its encoded bytes;
     Blender's float buffers and 'Premultiplied' bytes already are), and divides the filtered colour by the alpha
-    when the node's Alpha output is linked (here per pixel: the same for Closest, close for Linear); neither for
+    when the node's Alpha output is used (here per pixel: the same for Closest, close for Linear); neither for
     data colour spaces or 'Channel Packed' images; 'None' ignores the alpha (1).  Returns whether the two
-    colours differ for this image."""
+    colours differ for this image (a byte image's unassociated colour is then no longer bytes)."""
     if pixels.shape[2] < 4:
         return False
     mode = image.alpha_mode
@@ -85,10 +85,10 @@ def _apply_alpha_mode(image, pixels, unassociated):
     if mode == "CHANNEL_PACKED" or image.colorspace_settings.is_data or not (alpha < 1).any():
         return False
     color = pixels[..., :3]
-    held_straight = mode == "STRAIGHT" and not image.is_float
-    if held_straight and not unassociated:
-        color *= alpha
-    elif not held_straight and unassociated:
+    if mode == "STRAIGHT" and not image.is_float:  # BlenderImageLoader's integer premultiply: c a / 255, truncated
+        as_bytes = np.round(pixels * 255.0).astype(np.int32)
+        color[...] = (as_bytes[..., :3] * as_bytes[..., 3:4] // 255) / 255.0
+    if unassociated:
         partial = (alpha > 0) & (alpha < 1)
         np.divide(color, alpha, out=color, where=np.broadcast_to(partial, color.shape))
     return True
@@ -102,6 +102,7 @@ class TextureExport:
         self.list = []
         self.index = {}
         self.uv_maps_named = {}  # material name -> UV map names its nodes ask for (checked per object)
+        self._used = {}  # node tree -> names of the nodes its output reaches
 
     def lookup(self, node, output, owner):
         """The TextureLookup of Image Texture `node`'s output ('color' / 'alpha') read by material `owner`."""
@@ -112,11 +113,30 @@ class TextureExport:
         if node.projection != "FLAT":
             self.log.unsupported_feature(f"Image Texture projection '{node.projection}' (Flat used)", owner)
         coordinates, transform = self._vector(node.inputs["Vector"], owner)
-        # Cycles divides the colour by the alpha when the node's Alpha output is used (NODE_IMAGE_ALPHA_UNASSOCIATE).
-        texture = self.texture_of(node.image, owner, unassociated=node.outputs["Alpha"].is_linked)
+        # Cycles divides the colour by the alpha when the node's Alpha output is used (NODE_IMAGE_ALPHA_UNASSOCIATE)
+        # by a node its graph keeps: one the material's output reaches.
+        used = self._used_nodes(node.id_data)
+        alpha_used = any(link.to_node.name in used for link in node.outputs["Alpha"].links if not link.is_muted)
+        texture = self.texture_of(node.image, owner, unassociated=alpha_used)
         return self.sphrect.TextureLookup(texture=texture, output=output,
                                           coordinates=coordinates, transform=transform[:3].tolist(),
                                           interpolation=interpolation, extension=node.extension.lower())
+
+    def _used_nodes(self, tree):
+        """Names of the nodes of `tree` the active Material Output reaches through links (Cycles drops the rest)."""
+        key = tree.name_full if hasattr(tree, "name_full") else id(tree)
+        if key not in self._used:
+            outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+            active = [n for n in outputs if getattr(n, "is_active_output", False)] or outputs[:1]
+            used, stack = set(), list(active)
+            while stack:
+                n = stack.pop()
+                if n.name in used:
+                    continue
+                used.add(n.name)
+                stack.extend(link.from_node for socket in n.inputs for link in socket.links if not link.is_muted)
+            self._used[key] = used
+        return self._used[key]
 
     def name_uv_map(self, uv_map, owner):
         """A UV Map or Normal Map node of material `owner` names `uv_map` ('' = the active render one)."""
@@ -157,6 +177,8 @@ class TextureExport:
         alpha_matters = _apply_alpha_mode(image, pixels, unassociated)
         if image.is_float:
             colorspace = "linear"  # Blender's float buffers are scene linear whatever the file's colour space
+        elif unassociated and alpha_matters:  # colour / alpha: between bytes, kept as float32 (still encoded)
+            colorspace = self._colorspace(image)
         else:
             pixels = np.round(np.clip(pixels, 0.0, 1.0) * 255.0).astype(np.uint8)  # bytes: a quarter of the memory
             colorspace = self._colorspace(image)
