@@ -11,7 +11,8 @@ EXPECTED_FEATURES = {"03_glossy_floor": {"glossy"}, "04_foggy_room": {"medium"},
                      "06_mixed_lights": {"ellipse_lights", "delta_lights"}, "09_hall": {"glossy", "ellipse_lights"},
                      "10_night_street": {"delta_lights", "emissive_meshes", "background"},
                      "11_paper_disk": {"ellipse_lights"}, "12_disk_ceiling": {"ellipse_lights"},
-                     "13_textured_room": {"glossy", "ellipse_lights"}, "14_still_life": {"glossy", "ellipse_lights"}}
+                     "13_textured_room": {"glossy", "ellipse_lights", "textures", "normal_maps"},
+                     "14_still_life": {"glossy", "ellipse_lights", "textures"}}
 # The one thing a scene is warned about, if any: what Cycles shows at zero bounces and SPHRECT does not model.
 EXPECTED_WARNING = {"14_still_life": "refraction of lights seen through a surface"}
 
