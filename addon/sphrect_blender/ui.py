@@ -153,10 +153,11 @@ class MATERIAL_PT_sphrect_material(SphrectPanel, bpy.types.Panel):
         if not notes:
             col.label(text="Nothing ignored by SPHRECT", icon="CHECKMARK")
             return
-        col.label(text="Ignored or approximated by SPHRECT:")
-        # Labels do not wrap: break each note to the panel's width (about 7 pixels a character).
+        # Labels do not wrap: break the lines to the panel's width (about 7 pixels a character).
         scale = context.preferences.system.ui_scale or 1.0  # 0 without a window
-        columns = max(24, int(context.region.width / (7 * scale)) - 4)
+        columns = max(16, int(context.region.width / (7 * scale)) - 6)
+        for line in textwrap.wrap("Ignored or approximated by SPHRECT:", columns + 2):
+            col.label(text=line)
         for note in notes:
             for i, line in enumerate(textwrap.wrap(note, columns)):
                 col.label(text=line, icon="DOT" if i == 0 else "BLANK1")

@@ -49,10 +49,12 @@ def test_panel_lists_what_the_export_ignores(empty_scene):
     on_box(empty_scene, rough)
     notes = notes_module().material_notes(rough)
     assert notes == ["Oren-Nayar roughness of Diffuse BSDF (Lambert used)"]
-    labels = drawn_labels(rough)
-    assert labels[0][0] == "Ignored or approximated by SPHRECT:"
+    labels = drawn_labels(rough, width=600)
+    assert labels[0] == ("Ignored or approximated by SPHRECT:", "NONE")
     assert " ".join(text for text, _ in labels[1:]) == notes[0]  # wrapped to the panel's width, nothing lost
-    assert len(drawn_labels(rough, width=120)) > 2
+    assert [icon for _, icon in labels[1:]] == ["DOT"] + ["BLANK1"] * (len(labels) - 2)
+    narrow = drawn_labels(rough, width=200)
+    assert len(narrow) > len(labels) and " ".join(text for text, _ in narrow) == " ".join(t for t, _ in labels)
     # One source: the render's warnings name the same thing for that material.
     _, log = export()
     assert log.unsupported[notes[0]] == ["Rough Diffuse"]
