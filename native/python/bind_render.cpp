@@ -271,6 +271,10 @@ void BindRender(py::module_& m) {
             py::arg("base_color"), py::arg("roughness"), py::arg("beckmann") = false,
             py::arg("emission") = V3{0, 0, 0})
         .def(
+            "add_translucent_material",
+            [](RenderScene& s, V3 c, V3 emission) { return s.AddTranslucentMaterial(ToVec(c), ToVec(emission)); },
+            py::arg("base_color"), py::arg("emission") = V3{0, 0, 0})
+        .def(
             "add_mix_material", [](RenderScene& s, V3 emission) { return s.AddMixMaterial(ToVec(emission)); },
             py::arg("emission") = V3{0, 0, 0})
         .def(

@@ -65,6 +65,12 @@ struct Material {
     // weight of the Principled specular (its Fresnel blend rises to white, so it cannot be folded into f0).
     Spectrum lambert;
     float specular_weight = 1;
+    // Translucent BSDF (Cycles' CLOSURE_BSDF_TRANSLUCENT_ID): f = translucent / pi for wi on the side opposite wo,
+    // sampled by the cosine about -n with this probability.  Its light arrives through the surface, so shading
+    // takes samples on both sides (shade_surface.h).
+    Spectrum translucent;
+    float translucent_probability = 0;
+    bool has_translucent = false;
 };
 
 // The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface,
@@ -86,10 +92,11 @@ struct PrincipledInputs {
 // the cosine (Lambert, Burley, sheen) takes the rest.  Sets specular_, clearcoat_ and each lobe's probability.
 inline void ChooseLobeProbabilities(Material& m) {
     float w_cos = Luminance(m.lambert) + Luminance(m.diffuse) + 0.1f * Luminance(m.sheen);
+    float w_trans = m.has_translucent ? std::max(Luminance(m.translucent), 1e-6f) : 0.0f;
     float w_spec = m.has_specular ? std::max(Luminance(m.f0), 0.04f) * m.specular_weight : 0.0f;
     float w_coat = m.has_clearcoat ? std::max(0.1f * m.clearcoat, 1e-3f) : 0.0f;
     float w_lobe[kMaxMicrofacetLobes];
-    int lobes = (w_cos > 0) + (w_spec > 0) + (w_coat > 0);
+    int lobes = (w_cos > 0) + (w_spec > 0) + (w_coat > 0) + (w_trans > 0);
     for (int i = 0; i < m.num_lobes; ++i) {
         const MicrofacetLobe& l = m.lobes[i];
         const float fresnel = l.fresnel_ior > 0 ? std::max(DielectricFresnel(1, l.fresnel_ior), 0.04f) : 1.0f;
@@ -99,17 +106,19 @@ inline void ChooseLobeProbabilities(Material& m) {
     if (lobes == 0) {
         w_cos = 1;  // black: sample the cosine, evaluate 0
     } else {
-        float total = w_cos + w_spec + w_coat;
+        float total = w_cos + w_spec + w_coat + w_trans;
         for (int i = 0; i < m.num_lobes; ++i) total += w_lobe[i];
         const float floor = 0.1f * total;
+        if (w_trans > 0) w_trans = std::max(w_trans, floor);
         if (w_cos > 0) w_cos = std::max(w_cos, floor);
         if (w_spec > 0) w_spec = std::max(w_spec, floor);
         if (w_coat > 0) w_coat = std::max(w_coat, floor);
         for (int i = 0; i < m.num_lobes; ++i) w_lobe[i] = std::max(w_lobe[i], floor);
     }
-    float sum = w_cos + w_spec + w_coat;
+    float sum = w_cos + w_spec + w_coat + w_trans;
     for (int i = 0; i < m.num_lobes; ++i) sum += w_lobe[i];
     m.specular_probability = w_spec / sum;
+    m.translucent_probability = w_trans / sum;
     m.clearcoat_probability = w_coat / sum;
     for (int i = 0; i < m.num_lobes; ++i) m.lobes[i].probability = w_lobe[i] / sum;
 }
@@ -189,6 +198,17 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
     return m;
 }
 
+// Cycles 3.4's Translucent BSDF: Lambertian transmission, f = colour / pi towards the other side of the surface
+// (bsdf_translucent_eval), what a zero-bounce render shows of a thin surface lit from behind.
+inline Material MakeTranslucentMaterial(const Spectrum& color) {
+    Material m;
+    m.glossy = m.principled = true;
+    m.translucent = color;
+    m.has_translucent = !IsBlack(color);
+    ChooseLobeProbabilities(m);
+    return m;
+}
+
 // A microfacet lobe of colour `color` and Blender roughness `roughness` (alpha = roughness^2); false (no
 // lobe) when Cycles would not make one: black, or sharp -- Cycles' microfacet closures return 0 for
 // alpha_x alpha_y <= 1e-7 (a delta lobe, which light samples cannot find: black at zero bounces).
@@ -256,6 +276,10 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
     }
     mix.glossy = mix.principled = true;
     mix.lambert += part.lambert * weight;
+    if (part.has_translucent) {
+        mix.translucent += part.translucent * weight;
+        mix.has_translucent = true;
+    }
     const bool part_has_principled = !IsBlack(part.diffuse) || part.has_sheen || part.has_specular ||
                                      part.has_clearcoat;
     const bool mix_has_principled = !IsBlack(mix.diffuse) || mix.has_sheen || mix.has_specular || mix.has_clearcoat;
@@ -420,10 +444,11 @@ inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& 
     return f;
 }
 
-// wo.z, wi.z > 0.
+// wo.z > 0; wi.z > 0, or < 0 for the translucent lobe.
 inline float PrincipledPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+    if (wi.z < 0) return m.translucent_probability * CosineHemispherePDF(-wi.z);
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
-    float p_cos = 1 - ps - pc;
+    float p_cos = 1 - ps - pc - m.translucent_probability;
     float pdf = 0;
     if (ps > 0) pdf += ps * GgxReflectionPDF(wo, wi, m.alpha);
     if (pc > 0) pdf += pc * ClearcoatReflectionPDF(wo, wi, m.clearcoat_alpha);
@@ -434,6 +459,14 @@ inline float PrincipledPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) 
     return pdf + std::max(p_cos, 0.0f) * CosineHemispherePDF(wi.z);
 }
 
+// wo mirrored about the microfacet normal h, or the zero direction (no sample: its pdf is 0) when that falls
+// below the surface: a reflection lobe's density there is not part of the pdf, where only the translucent
+// lobe samples.
+inline Vec3f ReflectAbove(const Vec3f& wo, const Vec3f& h) {
+    const Vec3f wi = h * (2 * Dot(wo, h)) - wo;
+    return wi.z > 0 ? wi : Vec3f();
+}
+
 // One uniform number picks the lobe (GGX visible normals of the specular, GTR1 normals, each microfacet
 // lobe's GGX visible normals, else the cosine for diffuse and sheen) and is rescaled to [0,1) for the
 // lobe's own warp.
@@ -442,12 +475,12 @@ inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point
     if (u.u < ps) {
         u.u = std::min(u.u / ps, kOneMinusEpsilonF);
         const Vec3f h = SampleGgxVisibleNormal(wo, m.alpha, u);
-        return h * (2 * Dot(wo, h)) - wo;
+        return ReflectAbove(wo, h);
     }
     if (u.u < ps + pc) {
         u.u = std::min((u.u - ps) / pc, kOneMinusEpsilonF);
         const Vec3f h = SampleGtr1Normal(m.clearcoat_alpha, u);
-        return h * (2 * Dot(wo, h)) - wo;
+        return ReflectAbove(wo, h);
     }
     float start = ps + pc;
     for (int i = 0; i < m.num_lobes; ++i) {
@@ -455,18 +488,28 @@ inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point
         if (u.u < start + p) {
             u.u = std::min((u.u - start) / p, kOneMinusEpsilonF);
             const Vec3f h = SampleGgxVisibleNormal(wo, m.lobes[i].alpha, u);
-            return h * (2 * Dot(wo, h)) - wo;
+            return ReflectAbove(wo, h);
         }
         start += p;
     }
+    if (const float pt = m.translucent_probability; u.u < start + pt) {
+        u.u = std::min((u.u - start) / pt, kOneMinusEpsilonF);
+        const Vec3f w = SampleCosineHemisphere(u);
+        return {w.x, w.y, -w.z};
+    }
+    start += m.translucent_probability;
     u.u = std::min((u.u - start) / std::max(1 - start, 1e-7f), kOneMinusEpsilonF);
     return SampleCosineHemisphere(u);
 }
 
 // --- The BSDF, specialised on whether a glossy lobe can exist ----------------------------------
 
+// wi below the surface (wi.z < 0) only reaches the translucent lobe.
 template <bool kGlossy>
 inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+    if constexpr (kGlossy) {
+        if (m.has_translucent && wi.z < 0 && wo.z > 0) return m.translucent * kInvPi;
+    }
     if (wi.z <= 0 || wo.z <= 0) return {};
     if constexpr (kGlossy) {
         if (m.principled) return EvalPrincipled(m, wo, wi);
@@ -484,6 +527,9 @@ inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi) {
 
 template <bool kGlossy>
 inline float BsdfPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+    if constexpr (kGlossy) {
+        if (m.has_translucent && wi.z < 0 && wo.z > 0) return PrincipledPDF(m, wo, wi);
+    }
     if (wi.z <= 0 || wo.z <= 0) return 0;
     if constexpr (kGlossy) {
         if (m.principled) return PrincipledPDF(m, wo, wi);

@@ -221,6 +221,11 @@ int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, b
     return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann), emission, r);
 }
 
+int RenderScene::AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission) {
+    CheckMaterialColors(color, emission);
+    return PushMaterial(MakeTranslucentMaterial(color), emission, Recipe(MaterialKind::kTranslucent, color));
+}
+
 int RenderScene::AddMixMaterial(const Spectrum& emission) {
     CheckMaterialColors({}, emission);
     return PushMaterial(MakeDiffuseMaterial({}), emission, Recipe(MaterialKind::kMix, {}));

@@ -82,6 +82,7 @@ class RenderScene {
     // takes the material added last (any Add*Material above, added for this), removes it from the list
     // and adds its lobes and emission, scaled by weight, to the mix `target` (bsdf.h MixIntoMaterial,
     // which says what a mix can hold; std::invalid_argument beyond that).
+    int AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission = {});
     int AddMixMaterial(const Spectrum& emission = {});
     // factors: Mix Shader factors from textures above the layer (its weight times each; an emitting layer cannot
     // have any: mesh lights need a constant emission).

@@ -213,6 +213,8 @@ def _add_untextured_material(native, mat, n_textures: int):
     if mat.kind == "glossy_bsdf":
         return native.add_glossy_bsdf_material(base_color(), float(mat.roughness), mat.distribution == "beckmann",
                                                emission)
+    if mat.kind == "translucent":
+        return native.add_translucent_material(base_color(), emission)
     if mat.kind == "mix":
         target = native.add_mix_material(emission)
         for i, layer in enumerate(mat.layers):

@@ -45,7 +45,7 @@ FORMAT_NAME = "sphrect-scene"
 # load unchanged.
 # 5: Material kinds 'glossy_bsdf' (Cycles' Glossy BSDF) and 'mix' (Mix / Add Shader: Material.layers, each a
 # MaterialLayer of a weight and a material).  Older files load unchanged.
-# 6: Scene.textures (Texture: image pixels in the file, or a path loaded with OpenImageIO), Material.textures,
+# 6: Material kind 'translucent' (Cycles' Translucent BSDF); Scene.textures (Texture: image pixels in the file, or a path loaded with OpenImageIO), Material.textures,
 # normal_map, normal_map_strength and MaterialLayer.factors (TextureLookup), Mesh.uvs and Mesh.generated.
 # Older files load unchanged (no textures).
 FORMAT_VERSION = 6
@@ -54,7 +54,7 @@ RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
 
 # The values the format's name fields take.
-MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "mix")
+MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "translucent", "mix")
 # Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
 GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
 CAMERA_TYPES = ("perspective", "orthographic")
@@ -101,7 +101,8 @@ class Material:
     its Color, roughness, ior, distribution) as Cycles 3.4 shows it at zero bounces -- the microfacet reflection
     of the lights weighted by the dielectric Fresnel of the view, the transmitted part black; 'glossy_bsdf':
     Blender's Glossy BSDF (base_color = its Color, roughness, distribution), Cycles 3.4's microfacet reflection
-    with no Fresnel; 'mix': Mix / Add Shader, the sum of `layers`' materials each scaled by its weight (Cycles
+    with no Fresnel; 'translucent': Blender's Translucent BSDF (base_color = its Color), Lambertian transmission,
+    lit through the surface from the side opposite the viewer; 'mix': Mix / Add Shader, the sum of `layers`' materials each scaled by its weight (Cycles
     scales each side's closures: (1 - fac) and fac for Mix, 1 and 1 for Add).  A mix holds any number of
     'diffuse' layers, one 'principled' (or a mix holding one), and at most MAX_MIX_GLOSSY_LOBES distinct
     'glass' / 'glossy_bsdf' lobes (equal roughness, distribution and IOR merge); not 'glossy'.  Its own

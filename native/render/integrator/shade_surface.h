@@ -14,7 +14,7 @@
 namespace sphrect::render {
 
 // A surface point as shading sees it: the hit, its material, the shading frame, the direction
-// towards the camera in it, and where its occlusion rays start (off the surface).
+// towards the camera in it, and where its occlusion rays start (off the surface, on the camera's side).
 struct SurfaceShadingPoint {
     const SurfaceHit& hit;
     const Material& material;
@@ -22,6 +22,25 @@ struct SurfaceShadingPoint {
     Vec3f wo;
     Vec3f origin;
 };
+
+// Where a ray leaving towards world direction `dir` (wi in the shading frame) starts: off the camera's side,
+// or for a translucent material off the other side; false where the direction reaches no lobe (the geometric
+// and shading normals disagree on its side, or it is below and the material is not translucent).
+template <bool kGlossy>
+static inline bool RayOriginTowards(const SurfaceShadingPoint& sp, const Vec3f& wi, const Vec3f& dir, Vec3f& origin) {
+    const float side = Dot(dir, sp.hit.ng);
+    if (wi.z > 0 && side > 0) {
+        origin = sp.origin;
+        return true;
+    }
+    if constexpr (kGlossy) {
+        if (sp.material.has_translucent && wi.z < 0 && side < 0) {
+            origin = OffsetOrigin(sp.hit.p, -sp.hit.ng);
+            return true;
+        }
+    }
+    return false;
+}
 
 // Light sampling: f Le T cos w / (pmf pdf) for a point on the chosen light, w its MIS weight
 // against the BSDF sample.
@@ -31,12 +50,13 @@ static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceS
     const EmitterSample e = SampleChosenEmitter<K>(c, light, light.u, light_sampling);
     if (!e.valid) return;
     const Vec3f wi = sp.frame.ToLocal(e.dir);
-    if (!(wi.z > 0) || !(Dot(e.dir, sp.hit.ng) > 0)) return;
+    Vec3f origin;
+    if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
     const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
     if (IsBlack(f)) return;
     const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
-    sink.Add(sp.origin, e.dir, e.dist,
-             f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (wi.z * w / e.pdf));
+    sink.Add(origin, e.dir, e.dist,
+             f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (std::abs(wi.z) * w / e.pdf));
 }
 
 // BSDF sampling: finds the area lights (MIS partner of the light sample) and the background,
@@ -47,9 +67,10 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
     const BsdfSample bs = SampleBsdf<kGlossy>(sp.material, sp.wo, u);
     if (!(bs.pdf > 0)) return;
     const Vec3f wi_world = sp.frame.FromLocal(bs.wi);
-    if (!(Dot(wi_world, sp.hit.ng) > 0)) return;
-    QueueEmittersAlongRay<K, kMedium>(c, sp.origin, wi_world, bs.pdf, light_sampling,
-                                      sink.Scaled(bs.f * (bs.wi.z / bs.pdf)));
+    Vec3f origin;
+    if (!RayOriginTowards<kGlossy>(sp, bs.wi, wi_world, origin)) return;
+    QueueEmittersAlongRay<K, kMedium>(c, origin, wi_world, bs.pdf, light_sampling,
+                                      sink.Scaled(bs.f * (std::abs(bs.wi.z) / bs.pdf)));
 }
 
 // One point, spot or sun light: f Li T cos.
@@ -57,12 +78,14 @@ template <bool kGlossy, bool kMedium>
 static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceShadingPoint& sp, const DeltaLight& d,
                                           const ShadowSink& sink) {
     const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p);
-    if (IsBlack(di.li) || Dot(di.wi, sp.hit.ng) <= 0) return;
+    if (IsBlack(di.li)) return;
     const Vec3f wi = sp.frame.ToLocal(di.wi);
-    if (wi.z <= 0) return;
+    Vec3f origin;
+    if (!RayOriginTowards<kGlossy>(sp, wi, di.wi, origin)) return;
     const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
     if (IsBlack(f)) return;
-    sink.Add(sp.origin, di.wi, di.dist, f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * wi.z);
+    sink.Add(origin, di.wi, di.dist,
+             f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * std::abs(wi.z));
 }
 
 // The delta lights evaluated once per camera sample (ForEachDeltaLightEvaluatedOnce: all with "power",
@@ -119,8 +142,10 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     const ShadowSink pair_sink = sink.Scaled(1.0f / c.light_samples);
     // Without lights to choose and BSDF samples (only delta lights evaluated once) there is nothing to sample.
     const int n_pairs = (HasChoosableLights(scene, c.light_selection) || c.sample_bsdf) ? c.light_samples : 0;
-    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, h.ns, h.ns, n_pairs, c.ellipse_technique,
-                                           light_ticks);
+    // A translucent surface receives light from both sides: no horizon for the light tree.
+    const Vec3f tree_normal = sp.material.has_translucent ? Vec3f() : h.ns;
+    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, h.ns, tree_normal, n_pairs,
+                                           c.ellipse_technique, light_ticks);
     for (int j = 0; j < n_pairs; ++j) {
         const ChosenLight light = light_sampling.Choose(light_points[j]);
         if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow
