@@ -71,7 +71,22 @@ struct Material {
     Spectrum translucent;
     float translucent_probability = 0;
     bool has_translucent = false;
+    // At a normal-mapped hit: the normal before the map, in the shading frame of the mapped one, which scales the
+    // diffuse lobes by BumpShadowingTerm (Cycles does for closures labelled diffuse whose normal differs).
+    bool bump_shadowing = false;
+    Vec3f unmapped_normal;
 };
+
+// Cycles' bump_shadowing_term (Chiang et al., "Taming the Shadow Terminator", 2019): the smooth falloff of
+// diffuse light where a perturbed normal n (here +z) faces a light that the unperturbed normal n0 sees at
+// grazing angles; g = (n0.wi) / ((n.wi) (n0.n)), the term 1 outside g in [0, 1).
+inline float BumpShadowingTerm(const Vec3f& n0, const Vec3f& wi) {
+    const float denominator = wi.z * n0.z;
+    if (denominator == 0) return 1;
+    const float g = Dot(n0, wi) / denominator;
+    if (!(g >= 0 && g < 1)) return 1;
+    return g + g * g - g * g * g;
+}
 
 // The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface,
 // transmission and anisotropy are not: the exporter warns about them.
@@ -430,6 +445,7 @@ inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& 
     const Vec3f h = Normalize(wo + wi);
     const float cos_ih = Dot(wi, h), inv_4cos = 1 / (4 * wo.z * wi.z);
     if (m.has_sheen) f += m.sheen * SchlickWeight(cos_ih);
+    if (m.bump_shadowing) f = f * BumpShadowingTerm(m.unmapped_normal, wi);  // the diffuse lobes so far
     if (m.has_specular) {
         const float g = SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
         f += PrincipledSpecularFresnel(m, cos_ih) * (m.specular_weight * GgxD(h, m.alpha) * g * inv_4cos);
@@ -508,7 +524,11 @@ inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point
 template <bool kGlossy>
 inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi) {
     if constexpr (kGlossy) {
-        if (m.has_translucent && wi.z < 0 && wo.z > 0) return m.translucent * kInvPi;
+        if (m.has_translucent && wi.z < 0 && wo.z > 0) {
+            // Transmission: Cycles' term about the flipped normals, i.e. the mirrored direction here.
+            const float bump = m.bump_shadowing ? BumpShadowingTerm(m.unmapped_normal, -wi) : 1.0f;
+            return m.translucent * (kInvPi * bump);
+        }
     }
     if (wi.z <= 0 || wo.z <= 0) return {};
     if constexpr (kGlossy) {

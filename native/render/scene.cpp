@@ -304,6 +304,8 @@ void RenderScene::SetMaterialNormalMap(int material, const TextureLookup& lookup
     CheckLookup(lookup);
     if (material < 0 || size_t(material) >= materials.size()) Fail("normal map of a material that does not exist");
     if (!std::isfinite(strength)) Fail("normal map strength must be finite");
+    if (material_recipes[size_t(material)].kind == MaterialKind::kGlossy)
+        Fail("the 'glossy' model takes no normal map (use 'principled')");
     normal_maps[size_t(material)] = {lookup, std::max(strength, 0.0f)};  // Cycles: max(strength, 0)
     materials[size_t(material)].normal_mapped = true;
 }
@@ -501,6 +503,7 @@ void RenderScene::Commit() {
         features_.glossy |= used[i] && materials[i].glossy;
         features_.textures |= used[i] && materials[i].textured;
         features_.normal_maps |= used[i] && materials[i].normal_mapped;
+        features_.glossy |= used[i] && materials[i].normal_mapped;  // the bump shadowing: MaterialAtHit
     }
     CheckTextureCoordinates();
     features_.medium = has_medium;

@@ -153,22 +153,47 @@ def test_generated_coordinates_read_the_mesh_attribute():
 
 
 def test_flat_normal_map_keeps_the_normal_and_a_tilted_one_tilts_it():
-    mat = sphrect.Material(kind="principled", base_color=(0.7, 0.7, 0.7), roughness=0.4)
+    # A glossy lobe: no bump shadowing term (Cycles applies it to diffuse lobes only), so a constant tilted map
+    # must equal smooth normals tilted the same way.
+    mat = sphrect.Material(kind="glossy_bsdf", base_color=(0.7, 0.7, 0.7), roughness=0.4)
     plain = render(lit_scene(mat))
     flat = sphrect.Material(**{**mat.__dict__, "normal_map": LOOKUP})
     np.testing.assert_allclose(render(lit_scene(flat, [constant((0.5, 0.5, 1.0))])), plain, rtol=1e-5, atol=1e-7)
-    # A constant map tilting the normal towards +u (= +x here) equals smooth normals tilted that way.
-    n = np.array([0.3, 0.0, 1.0]) / np.linalg.norm([0.3, 0.0, 1.0])
-    tilted_map = render(lit_scene(flat, [constant(tuple((n + 1) / 2))]))
-    scene = lit_scene(mat)
-    scene.meshes[0].normals = np.tile(n.astype(np.float32), (4, 1))
-    np.testing.assert_allclose(tilted_map, render(scene), rtol=1e-4, atol=1e-6)
+    # Tilting towards +u (= +x here) and towards +v (= +y): the tangent and bitangent frame of the UVs.
+    for tilt in ((0.3, 0.0, 1.0), (0.0, -0.4, 1.0)):
+        n = np.array(tilt) / np.linalg.norm(tilt)
+        tilted_map = render(lit_scene(flat, [constant(tuple((n + 1) / 2))]))
+        scene = lit_scene(mat)
+        scene.meshes[0].normals = np.tile(n.astype(np.float32), (4, 1))
+        np.testing.assert_allclose(tilted_map, render(scene), rtol=1e-4, atol=1e-6)
     # Half strength: normalize(N + (N_map - N) / 2).
+    n = np.array([0.3, 0.0, 1.0]) / np.linalg.norm([0.3, 0.0, 1.0])
     half = sphrect.Material(**{**flat.__dict__, "normal_map_strength": 0.5})
     m = np.array([0.0, 0.0, 1.0]) + (n - [0.0, 0.0, 1.0]) * 0.5
+    scene = lit_scene(mat)
     scene.meshes[0].normals = np.tile((m / np.linalg.norm(m)).astype(np.float32), (4, 1))
     np.testing.assert_allclose(render(lit_scene(half, [constant(tuple((n + 1) / 2))])), render(scene),
                                rtol=1e-4, atol=1e-6)
+
+
+def bump_shadowing_term(n0, n, wi):
+    """Cycles' bump_shadowing_term, written from Chiang et al. 2019."""
+    g = (n0 @ wi) / ((n @ wi) * (n0 @ n))
+    return 1.0 if not 0 <= g < 1 else g + g * g - g ** 3
+
+
+def test_normal_mapped_diffuse_has_cycles_bump_shadowing():
+    # A sun at a grazing angle to the plane lights a Lambert plane whose map tilts the normal towards it:
+    # radiance = albedo / pi * E * (n . wi) * term(n0, n, wi).
+    n = np.array([0.5, 0.0, 1.0]) / np.linalg.norm([0.5, 0.0, 1.0])
+    wi = np.array([0.9, 0.0, 0.25]) / np.linalg.norm([0.9, 0.0, 0.25])
+    mat = sphrect.Material(base_color=(0.5, 0.5, 0.5), normal_map=LOOKUP)
+    scene = lit_scene(mat, [constant(tuple((n + 1) / 2))])
+    scene.lights = [sphrect.SunLight(direction=tuple(-wi), irradiance=(2.0, 2.0, 2.0))]
+    img = render(scene, spp=1)
+    term = bump_shadowing_term(np.array([0.0, 0.0, 1.0]), n, wi)
+    assert term < 0.99  # the case exercises the term
+    np.testing.assert_allclose(img, 0.5 / np.pi * 2.0 * (n @ wi) * term, rtol=1e-5)
 
 
 def write_ppm(path, pixels):

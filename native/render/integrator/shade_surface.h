@@ -99,13 +99,28 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 }
 
 // The hit's material: the scene's, or for a textured one its recipe evaluated at the hit's texture coordinates
-// into `storage` (its emission the material's own: emission is not textured).
-static inline const Material& MaterialAtHit(const RenderScene& scene, const SurfaceHit& h,
+// into `storage` (its emission the material's own: emission is not textured); a normal-mapped one in the
+// Principled form (MixIntoMaterial of weight 1: a Lambert lobe as `lambert`) with its bump shadowing.
+static inline const Material& MaterialAtHit(const RenderScene& scene, const SurfaceHit& h, const Frame& frame,
                                             std::optional<Material>& storage) {
     const Material& m = scene.materials[size_t(h.material)];
-    if (!m.textured) return m;
-    storage.emplace(EvaluateTexturedMaterial(scene.material_recipes[size_t(h.material)], scene.images, h.tc));
-    storage->emission = m.emission;
+    if (!m.textured && !m.normal_mapped) return m;
+    if (m.textured) {
+        storage.emplace(EvaluateTexturedMaterial(scene.material_recipes[size_t(h.material)], scene.images, h.tc));
+        storage->emission = m.emission;
+    } else {
+        storage.emplace(m);
+    }
+    if (m.normal_mapped) {
+        if (!storage->principled) {
+            Material principled = MakeDiffuseMaterial({});
+            MixIntoMaterial<MixOverflow::kLenient>(principled, *storage, 1);
+            principled.emission = storage->emission;
+            *storage = principled;
+        }
+        storage->bump_shadowing = true;
+        storage->unmapped_normal = frame.ToLocal(h.ns_unmapped);
+    }
     return *storage;
 }
 
@@ -134,7 +149,7 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     const RenderScene& scene = c_scene.scene;
     const Frame frame = Frame::FromZ(h.ns);
     std::optional<Material> textured;  // a textured material's inputs at this hit (not constructed otherwise)
-    const SurfaceShadingPoint sp{h, MaterialAtHit(scene, h, textured), frame, frame.ToLocal(wo_world),
+    const SurfaceShadingPoint sp{h, MaterialAtHit(scene, h, frame, textured), frame, frame.ToLocal(wo_world),
                                  OffsetOrigin(h.p, h.ng)};
     if (sp.wo.z <= 0) return;
     const ShadeContext without_mis = WithoutMis(c_scene);

@@ -15,6 +15,7 @@ struct SurfaceHit {
     float t = 0;  // distance along the camera ray
     int material = 0;
     TextureCoordinates tc;  // set only for a textured or normal-mapped material
+    Vec3f ns_unmapped;      // normal-mapped materials: the shading normal before the map (flipped with ns)
 };
 
 // The mesh's texture coordinates at barycentrics (b0, b1, b2) of triangle (i0, i1, i2); zero where it has none.
@@ -91,6 +92,7 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
                 // In the frame Blender's winding gives (Embree's Ng may point the other way), then back.
                 const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
                 const Point2<float> uv[3] = {m.uvs[i0], m.uvs[i1], m.uvs[i2]};
+                s.ns_unmapped = ns;
                 ns = ApplyNormalMap(scene, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
             }
         }
@@ -99,6 +101,7 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
     if (Dot(ng, ray.d) > 0) {
         ng = -ng;
         ns = -ns;
+        s.ns_unmapped = -s.ns_unmapped;
     }
     s.ng = ng;
     s.ns = ns;
