@@ -5,6 +5,7 @@ study of the same folder is refused, and one restarted after a kill waits for th
 import fcntl
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -17,7 +18,7 @@ import pytest
 import sphrect
 from sphrect.study import SerialExecutor, cli
 from sphrect.study.lock import STUDY_LOCK, WORKERS_LOCK, StudyBusy, StudyLock
-from test_study import fake_render, scene_file, study  # noqa: F401 (fixture; the hook's module)
+from test_study import H, W, fake_render, scene_file, study  # noqa: F401 (fixture; the hook's module)
 from test_study_render import paper_like_scene
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -105,10 +106,31 @@ def _files_read_back(out):
             "images/" + next(n for n in images if n.startswith("equal_time-"))]
 
 
-@pytest.mark.parametrize("damage", ["truncated", "empty", "garbage"])
-def test_a_damaged_file_is_reported_and_recomputed(scene_file, tmp_path, monkeypatch, capfd, damage):
+# The damage tests' study: every kind of file a rerun reads back, in a smaller study than test_study's tiny one
+# (two techniques, one MIS mode and pattern) since each of their 27 reruns writes the report, whose plots cost
+# most of a rerun; the whole tiny study's report is test_study.py's.
+DAMAGE_STUDY = dict(techniques=("area", "rectangle"), mis=("balance",), patterns=("sobol",))
+
+
+@pytest.fixture(scope="module")
+def studied(tmp_path_factory):
+    """(scene file, folder of a finished DAMAGE_STUDY of it), made once for the module: tests damage a copy."""
+    root = tmp_path_factory.mktemp("studied")
+    scene = str(root / "tiny.sphrect.npz")
+    sphrect.save_scene(sphrect.Scene(camera=sphrect.Camera(width=W, height=H)), scene)  # test_study's scene_file
+    study(scene, root / "out", **DAMAGE_STUDY)
+    return scene, root / "out"
+
+
+def copy_of_study(studied, tmp_path):
     out = tmp_path / "out"
-    study(scene_file, out)
+    shutil.copytree(studied[1], out)
+    return out
+
+
+@pytest.mark.parametrize("damage", ["truncated", "empty", "garbage"])
+def test_a_damaged_file_is_reported_and_recomputed(studied, tmp_path, monkeypatch, capfd, damage):
+    scene, out = studied[0], copy_of_study(studied, tmp_path)
     log = tmp_path / "renders.log"
     monkeypatch.setenv("STUDY_FAKE_LOG", str(log))
     for name in _files_read_back(out):
@@ -117,7 +139,7 @@ def test_a_damaged_file_is_reported_and_recomputed(scene_file, tmp_path, monkeyp
         path.write_bytes({"truncated": whole[:len(whole) // 2], "empty": b"", "garbage": b"[1, 2"}[damage])
         capfd.readouterr()
         log.write_text("")
-        summary = study(scene_file, out)  # completes
+        summary = study(scene, out, **DAMAGE_STUDY)  # completes
         err = capfd.readouterr().err
         assert summary["failures"] == [] and (out / "report.md").exists(), name
         assert f"damaged file {path}" in err or name in ("config.json",), (name, err)
@@ -132,11 +154,10 @@ def test_a_damaged_file_is_reported_and_recomputed(scene_file, tmp_path, monkeyp
             assert os.listdir(out / "damaged"), name  # set aside, not deleted
 
 
-def test_report_only_names_a_damaged_file(scene_file, tmp_path, capsys):
-    out = tmp_path / "out"
-    study(scene_file, out)
+def test_report_only_names_a_damaged_file(studied, tmp_path, capsys):
+    out = copy_of_study(studied, tmp_path)
     (out / "state.json").write_text("{")
-    assert cli.main([scene_file, "--out", str(out), "--report-only"]) == 2
+    assert cli.main([studied[0], "--out", str(out), "--report-only"]) == 2
     assert "state.json is missing or damaged" in capsys.readouterr().err
 
 
@@ -223,7 +244,7 @@ def test_a_restarted_study_waits_for_the_earlier_workers(scene_file, tmp_path, c
         StudyLock(str(out), wait=0.3).__enter__()
     threading.Timer(1.0, os.close, (leftover,)).start()  # it ends a second later
     capfd.readouterr()
-    summary = study(scene_file, out)
+    summary = study(scene_file, out, report=False)  # the report of these results is test_study.py's
     assert summary["failures"] == [] and "waiting for the worker processes" in capfd.readouterr().err
     assert (out / STUDY_LOCK).exists()
 
