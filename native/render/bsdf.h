@@ -75,6 +75,9 @@ struct Material {
     // diffuse lobes by BumpShadowingTerm (Cycles does for closures labelled diffuse whose normal differs).
     bool bump_shadowing = false;
     Vec3f unmapped_normal;
+    // Some lobe has a dielectric Fresnel (fresnel_ior > 0: glass): a hit on a back face uses 1 / ior, as Cycles'
+    // glass closures do for SD_BACKFACING (MaterialAtHit).
+    bool has_dielectric = false;
 };
 
 // Cycles' bump_shadowing_term (Chiang et al., "Taming the Shadow Terminator", 2019): the smooth falloff of
@@ -242,6 +245,7 @@ inline Material MakeSingleLobeMaterial(const Spectrum& color, float roughness, f
     Material m;
     m.glossy = m.principled = true;
     if (MakeMicrofacetLobe(color, roughness, fresnel_ior, beckmann, m.lobes[0])) m.num_lobes = 1;
+    m.has_dielectric = m.num_lobes > 0 && fresnel_ior > 0;
     ChooseLobeProbabilities(m);
     return m;
 }
@@ -251,7 +255,7 @@ inline Material MakeSingleLobeMaterial(const Spectrum& color, float roughness, f
 // (fresnel_dielectric_cos of the view), GGX of alpha = roughness^2 with separable Smith G and no
 // micro-Fresnel; the refraction closure (colour x (1 - F)) needs a second bounce or a light behind an
 // open surface, neither modelled here (black).  A sharp glass is black (MakeMicrofacetLobe).  ior is the
-// front side's (a back face seen from inside would use 1 / ior in Cycles).
+// front side's: a back face takes 1 / ior at the hit (MaterialAtHit), as in Cycles.
 // beckmann: Cycles' Beckmann distribution (the node's default), evaluated with its D and rational G1, sampled
 // by GGX visible normals of the same alpha (the pdf is that of the sampling: unbiased).
 inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann = false) {
@@ -291,6 +295,7 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
     }
     mix.glossy = mix.principled = true;
     mix.lambert += part.lambert * weight;
+    mix.has_dielectric = mix.has_dielectric || part.has_dielectric;
     if (part.has_translucent) {
         mix.translucent += part.translucent * weight;
         mix.has_translucent = true;

@@ -81,3 +81,18 @@ def test_glass_fields_round_trip_and_version_3_files_load(tmp_path):
     old = str(tmp_path / "v3.sphrect.npz")
     np.savez_compressed(old, **arrays)
     assert [plain(m) for m in sphrect.load_scene(old).materials] == [plain(principled)]
+
+
+@pytest.mark.parametrize("ior", [1.45, 1.8])
+def test_glass_seen_from_its_back_face_uses_the_inverse_ior(ior):
+    # Cycles' glass closures take 1 / ior on a back face (SD_BACKFACING): the plane with its winding reversed
+    # renders as the front face with 1 / ior (past the critical angle that is total reflection).
+    mat = sphrect.Material(kind="glass", base_color=(0.9, 0.7, 0.5), roughness=0.3, ior=ior)
+    wi = np.array([0.2, 0.5, 1.0]) / np.linalg.norm([0.2, 0.5, 1.0])
+    back = sunlit_plane(mat, wi)
+    back.meshes[0].triangles = back.meshes[0].triangles[:, ::-1].copy()
+    inverse = sunlit_plane(dataclasses.replace(mat, ior=1 / ior), wi)
+    front = sphrect.render(sunlit_plane(mat, wi), samples=2)["rectangle"][..., :3]
+    image = sphrect.render(back, samples=2)["rectangle"][..., :3]
+    np.testing.assert_allclose(image, sphrect.render(inverse, samples=2)["rectangle"][..., :3], rtol=1e-5, atol=1e-9)
+    assert image.mean() > 1.2 * front.mean()  # seen from inside, the dielectric reflects more

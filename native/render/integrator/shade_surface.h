@@ -100,11 +100,12 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 
 // The hit's material: the scene's, or for a textured one its recipe evaluated at the hit's texture coordinates
 // into `storage` (its emission the material's own: emission is not textured); a normal-mapped one in the
-// Principled form (MixIntoMaterial of weight 1: a Lambert lobe as `lambert`) with its bump shadowing.
+// Principled form (MixIntoMaterial of weight 1: a Lambert lobe as `lambert`) with its bump shadowing; a glass
+// lobe seen from its back face with the inverse IOR.
 static inline const Material& MaterialAtHit(const RenderScene& scene, const SurfaceHit& h, const Frame& frame,
                                             std::optional<Material>& storage) {
     const Material& m = scene.materials[size_t(h.material)];
-    if (!m.textured && !m.normal_mapped) return m;
+    if (!m.textured && !m.normal_mapped && !(m.has_dielectric && h.backfacing)) return m;
     if (m.textured) {
         storage.emplace(EvaluateTexturedMaterial(scene.material_recipes[size_t(h.material)], scene.images, h.tc));
         storage->emission = m.emission;
@@ -120,6 +121,10 @@ static inline const Material& MaterialAtHit(const RenderScene& scene, const Surf
         }
         storage->bump_shadowing = true;
         storage->unmapped_normal = frame.ToLocal(h.ns_unmapped);
+    }
+    if (m.has_dielectric && h.backfacing) {  // seen from inside: the relative IOR inverts
+        for (int i = 0; i < storage->num_lobes; ++i)
+            if (storage->lobes[i].fresnel_ior > 0) storage->lobes[i].fresnel_ior = 1 / storage->lobes[i].fresnel_ior;
     }
     return *storage;
 }

@@ -16,6 +16,7 @@ struct SurfaceHit {
     int material = 0;
     TextureCoordinates tc;  // set only for a textured or normal-mapped material
     Vec3f ns_unmapped;      // normal-mapped materials: the shading normal before the map (flipped with ns)
+    bool backfacing = false;  // materials with a dielectric lobe: the ray hit the side its winding faces away from
 };
 
 // The mesh's texture coordinates at barycentrics (b0, b1, b2) of triangle (i0, i1, i2); zero where it has none.
@@ -68,7 +69,7 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
     const float len = Length(ng);
     ng = len > 0 ? ng / len : -ray.d;
     Vec3f ns = ng;
-    const bool textured = material.textured || material.normal_mapped;
+    const bool textured = material.textured || material.normal_mapped || material.has_dielectric;
     if (m.normals.empty() && !textured) {
         s.p = ray.o + ray.d * s.t;  // flat shading: no vertex fetch needed
     } else {
@@ -86,11 +87,13 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
             if (ln > 0) ns = n / ln;
             if (Dot(ns, ng) < 0) ns = -ns;  // shading normal on the geometric normal's side
         }
-        if (textured) {
+        // The side Blender's winding gives (Embree's Ng may point the other way).
+        const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
+        s.backfacing = Dot(ng, ray.d) * side > 0;
+        if (material.textured || material.normal_mapped) {
             s.tc = InterpolateTextureCoordinates(m, i0, i1, i2, b0, b1, b2);
             if (material.normal_mapped && !m.uvs.empty()) {
-                // In the frame Blender's winding gives (Embree's Ng may point the other way), then back.
-                const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
+                // In the frame of Blender's winding, then back.
                 const Point2<float> uv[3] = {m.uvs[i0], m.uvs[i1], m.uvs[i2]};
                 s.ns_unmapped = ns;
                 ns = ApplyNormalMap(scene, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
