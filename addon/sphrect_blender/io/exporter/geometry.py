@@ -26,8 +26,8 @@ def render_uv_layer(mesh):
     return mesh.uv_layers.active
 
 
-def _corner_uvs(mesh, tris, n, log, name):
-    """float32 [n, 3, 2]: the render UV map at each triangle corner (per loop, so seams keep both sides' UVs);
+def _corner_uvs(mesh, corner_loops, n, log, name):
+    """float32 [n, 3, 2]: the render UV map at each triangle corner (its loop's, so seams keep both sides' UVs);
     zeros, warned, without a UV map (Cycles reads (0, 0))."""
     layer = render_uv_layer(mesh)
     if layer is None:
@@ -36,9 +36,7 @@ def _corner_uvs(mesh, tris, n, log, name):
         return np.zeros((n, 3, 2), dtype=np.float32)
     per_loop = np.empty(len(mesh.loops) * 2, dtype=np.float32)
     layer.data.foreach_get("uv", per_loop)
-    loops = np.empty(n * 3, dtype=np.int32)
-    tris.foreach_get("loops", loops)
-    return per_loop.reshape(-1, 2)[loops].reshape(n, 3, 2)
+    return per_loop.reshape(-1, 2)[corner_loops].reshape(n, 3, 2)
 
 
 def _generated(mesh):
@@ -83,9 +81,17 @@ def triangulate(obj, log=None, uvs=False, generated=False):
         vertices = np.empty(vertex_count * 3, dtype=np.float32)
         mesh.vertices.foreach_get("co", vertices)
         vertices = vertices.reshape(-1, 3)
-        triangles = np.empty(n * 3, dtype=np.int32)
-        tris.foreach_get("vertices", triangles)
-        triangles = triangles.reshape(-1, 3)
+        corner_loops = None
+        if uvs:  # the corners' loops give their UVs, and their vertices (quicker than a second foreach_get)
+            corner_loops = np.empty(n * 3, dtype=np.int32)
+            tris.foreach_get("loops", corner_loops)
+            loop_vertex = np.empty(len(mesh.loops), dtype=np.int32)
+            mesh.loops.foreach_get("vertex_index", loop_vertex)
+            triangles = loop_vertex[corner_loops].reshape(-1, 3)
+        else:
+            triangles = np.empty(n * 3, dtype=np.int32)
+            tris.foreach_get("vertices", triangles)
+            triangles = triangles.reshape(-1, 3)
         material_index = np.empty(n, dtype=np.int32)
         tris.foreach_get("material_index", material_index)
         transparent, reasons = _transparent_slots(obj)
@@ -108,7 +114,7 @@ def triangulate(obj, log=None, uvs=False, generated=False):
             split = np.empty(n * 9, dtype=np.float32)
             tris.foreach_get("split_normals", split)
             split = split.reshape(n, 3, 3)
-        corner_uvs = _corner_uvs(mesh, tris, n, log, obj.name) if uvs else None
+        corner_uvs = _corner_uvs(mesh, corner_loops, n, log, obj.name) if uvs else None
         vertex_generated = _generated(mesh) if generated else None
         if tris_kept is not None:
             triangles, material_index = triangles[tris_kept], material_index[tris_kept]

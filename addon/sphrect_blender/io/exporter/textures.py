@@ -180,7 +180,9 @@ class TextureExport:
         elif unassociated and alpha_matters:  # colour / alpha: between bytes, kept as float32 (still encoded)
             colorspace = self._colorspace(image)
         else:
-            pixels = np.round(np.clip(pixels, 0.0, 1.0) * 255.0).astype(np.uint8)  # bytes: a quarter of the memory
+            pixels *= 255.0  # back to Blender's bytes (a quarter of the memory): k / 255 -> k, rounded
+            pixels += 0.5
+            pixels = pixels.astype(np.uint8)
             colorspace = self._colorspace(image)
         name = image.name + (" (unassociated alpha)" if unassociated and alpha_matters else "")
         return self.sphrect.Texture(name=name, pixels=pixels, colorspace=colorspace), alpha_matters
