@@ -9,13 +9,14 @@ import pytest
 from conftest import engine_module, open_blend, render
 from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles, mean_relative_difference
 
-# Measured when written (Cycles seeds 0 and 1 differ by 0.24% and 0.50%):
+# Measured when written (Cycles' seeds 0 and 1 differ by 0.24% on the room, 0.50% on the still life):
 # - still life 0.41%, at the two renders' noise: the other parity tests' bound for models that agree exactly.
-# - textured room 1.30%, systematic: SPHRECT darker on the normal-mapped left wall, a plane of object scale
-#   (2.5, 1.5, 1). Cycles applies a tangent-space normal map in object space and transforms the result by the
-#   object's normal matrix, the renderer in world space: the same where the object has no non-uniform scale (a
-#   2:1 plane: 14% apart with the object scaled, 0.3% with the scale applied to its mesh). The bound is 1.5x it.
-BOUND = {"13_textured_room": 0.02, "14_still_life": 0.01}
+# - textured room 1.52%, systematic, all of it on the normal-mapped left wall, a plane of object scale
+#   (2.5, 1.5, 1): Cycles applies a tangent-space normal map in object space and transforms the result by the
+#   object's normal matrix, the renderer in world space -- the same without a non-uniform object scale (a 2:1
+#   plane: 14% apart with the object scaled, 0.06% with the scale applied to its mesh; the room with the wall's
+#   scale applied: 0.29%). Its bound is 1.6x the figure; 1% once normal maps follow the object's scale.
+BOUND = {"13_textured_room": 0.025, "14_still_life": 0.01}
 # The images each scene's parity depends on: without them the comparison is far off (it sees the textures).
 FAR_WITHOUT = {"13_textured_room": ("Wood Floor", "Base Color"), "14_still_life": ("Table Top", "Base Color")}
 
@@ -33,5 +34,6 @@ def test_textured_scenes_match_cycles(name, tmp_path):
     material, socket = FAR_WITHOUT[name]
     tree = bpy.data.materials[material].node_tree
     tree.links.remove(tree.nodes["Principled BSDF"].inputs[socket].links[0])
-    untextured = render()["images"]["rectangle"]
-    assert mean_relative_difference(untextured, cycles) > 2 * BOUND[name]
+    untextured = mean_relative_difference(render()["images"]["rectangle"], cycles)
+    print(f"{name} without '{material}' {socket} texture: {untextured:.4f}")
+    assert untextured > 2 * BOUND[name]
