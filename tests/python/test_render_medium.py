@@ -9,6 +9,8 @@ T(s) = exp(-sigma_t s), p the Henyey-Greenstein phase function, by Gauss-Legendr
 the pixel, the light and t (composite, to t = 80, where T < 1e-13).  Every technique and each
 distance-sampling strategy must pass the per-pixel t-test of test_render_analytic (family-wise
 false-failure rate 1e-4 per image, 4 x 3 + 3 images: < 0.15 % for the file)."""
+import functools
+
 import numpy as np
 import pytest
 
@@ -80,11 +82,17 @@ def expected():
     return expected_image()
 
 
+@functools.lru_cache(maxsize=None)
+def replicates_with_mis(medium_sampling):
+    """Every technique's 16 replicates of 1024 spp with MIS, rendered once: the power check reuses rectangle's (a
+    technique's images do not depend on the others rendered with it)."""
+    return replicate_images(medium_scene(), ALL_TECHNIQUES, 16, 1024, medium_sampling=medium_sampling, mis="balance")
+
+
 @pytest.mark.parametrize("medium_sampling", ["distance", "equiangular", "mis"])
 def test_single_scattering_matches_quadrature(expected, medium_sampling):
-    scene = medium_scene()
     assert expected.min() > 1e-3
-    reps = replicate_images(scene, ALL_TECHNIQUES, 16, 1024, medium_sampling=medium_sampling, mis="balance")
+    reps = replicates_with_mis(medium_sampling)
     for t in ALL_TECHNIQUES:
         ok, p_min, alpha = pixel_t_test(reps[t], expected, 1e-4, rel_tol=1e-3)
         rel = np.abs(reps[t].mean(0) - expected).max() / expected.max()
@@ -107,6 +115,6 @@ def test_single_scattering_with_several_light_samples(expected):
 def test_medium_test_has_power(expected):
     """The same test rejects an expected image 5 % off (the estimate's relative standard error is
     ~0.5 %: strong extinction makes both distance strategies noisy here)."""
-    reps = replicate_images(medium_scene(), ["rectangle"], 16, 1024, medium_sampling="mis", mis="balance")
+    reps = replicates_with_mis("mis")
     assert pixel_t_test(reps["rectangle"], expected, 1e-4, rel_tol=1e-3)[0]
     assert not pixel_t_test(reps["rectangle"], expected * 1.05, 1e-4, rel_tol=1e-3)[0]
