@@ -285,6 +285,20 @@ void BindRender(py::module_& m) {
                 s.MixLastMaterialInto(target, weight, factors);
             },
             py::arg("target"), py::arg("weight"), py::arg("factors") = std::vector<std::pair<render::TextureLookup, bool>>{})
+        .def(
+            "set_last_mesh_object_linear",
+            [](RenderScene& s, const py::object& linear, const py::object& inverse) {
+                float l[3][3], li[3][3];
+                for (auto [obj, out] : {std::pair{&linear, &l}, std::pair{&inverse, &li}}) {
+                    const auto a = CArray<double>::ensure(*obj);
+                    if (!a || a.ndim() != 2 || a.shape(0) != 3 || a.shape(1) != 3)
+                        throw py::value_error("object_linear must be a 3x3 matrix");
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 3; ++c) (*out)[r][c] = float(a.at(r, c));
+                }
+                s.SetLastMeshObjectLinear(l, li);
+            },
+            py::arg("linear"), py::arg("inverse"))
         .def("add_image", &AddImage, py::arg("name"), py::arg("pixels"), py::arg("srgb"))
         .def("load_image", &RenderScene::LoadImage, py::arg("name"), py::arg("path"), py::arg("srgb"),
              py::call_guard<py::gil_scoped_release>())

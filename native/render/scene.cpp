@@ -300,6 +300,19 @@ void RenderScene::SetMaterialTexture(int material, TexturedInput input, const Te
     materials[size_t(material)].textured = true;
 }
 
+void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]) {
+    RequireNotCommitted();
+    if (meshes.empty()) return;
+    MeshData& m = meshes.back();
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            if (!std::isfinite(linear[r][c]) || !std::isfinite(inverse[r][c])) Fail("object_linear must be finite");
+            m.object_linear[r][c] = linear[r][c];
+            m.object_linear_inverse[r][c] = inverse[r][c];
+        }
+    m.has_object_linear = true;
+}
+
 void RenderScene::SetMaterialNormalMap(int material, const TextureLookup& lookup, float strength) {
     CheckLookup(lookup);
     if (material < 0 || size_t(material) >= materials.size()) Fail("normal map of a material that does not exist");

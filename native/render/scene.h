@@ -40,6 +40,9 @@ struct MeshData {
     // Texture coordinates, per vertex, or empty: 'uv' (Mesh.uvs) and 'generated' (Mesh.generated).
     std::vector<Point2<float>> uvs;
     std::vector<Vec3f> generated;
+    // The linear part L of its object's matrix and L^-1 (row-major), for normal maps applied in object space.
+    bool has_object_linear = false;
+    float object_linear[3][3], object_linear_inverse[3][3];
 };
 
 // A material's Normal Map node (tangent space): its image lookup, strength, read in the frame of the
@@ -95,6 +98,8 @@ class RenderScene {
     int LoadImage(const std::string& name, const std::string& path, bool srgb);
     void SetMaterialTexture(int material, TexturedInput input, const TextureLookup& lookup);
     void SetMaterialNormalMap(int material, const TextureLookup& lookup, float strength);
+    // The mesh added last: its object's linear map and inverse (meshes without triangles are not kept: ignored).
+    void SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids / uvs / generated may be
     // null.  A mesh without triangles is validated and then ignored.
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,

@@ -258,7 +258,14 @@ def build_native_scene(scene: Scene):
         ids = None
         if mesh.material_ids is not None:
             ids = _int_array(mesh.material_ids, f"mesh '{mesh.name}' material_ids", upper=n_materials)
+        linear = None
+        if mesh.object_linear is not None:
+            linear = np.asarray(mesh.object_linear, dtype=np.float64)
+            if linear.shape != (3, 3) or not np.all(np.isfinite(linear)) or not abs(np.linalg.det(linear)) > 0:
+                raise ValueError(f"mesh '{mesh.name}': object_linear must be an invertible finite 3x3 matrix")
         native.add_mesh(mesh.name, v, t, mesh.normals, ids, mesh.uvs, mesh.generated)
+        if linear is not None and len(t):  # a mesh without triangles is not kept
+            native.set_last_mesh_object_linear(linear, np.linalg.inv(linear))
     for light in scene.lights:
         msg = ""
         if isinstance(light, RectLight):

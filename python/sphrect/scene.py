@@ -46,7 +46,7 @@ FORMAT_NAME = "sphrect-scene"
 # 5: Material kinds 'glossy_bsdf' (Cycles' Glossy BSDF) and 'mix' (Mix / Add Shader: Material.layers, each a
 # MaterialLayer of a weight and a material).  Older files load unchanged.
 # 6: Material kind 'translucent' (Cycles' Translucent BSDF); Scene.textures (Texture: image pixels in the file, or a path loaded with OpenImageIO), Material.textures,
-# normal_map, normal_map_strength and MaterialLayer.factors (TextureLookup), Mesh.uvs and Mesh.generated.
+# normal_map, normal_map_strength and MaterialLayer.factors (TextureLookup), Mesh.uvs, generated and object_linear.
 # Older files load unchanged (no textures).
 FORMAT_VERSION = 6
 
@@ -198,6 +198,10 @@ class Mesh:
     name: str = "mesh"
     uvs: Optional[np.ndarray] = None           # float32 [V, 2]: texture coordinates 'uv', or None
     generated: Optional[np.ndarray] = None     # float32 [V, 3]: texture coordinates 'generated', or None
+    # The linear part L of the matrix of the object the mesh comes from (world = L local + offset), or None (the
+    # identity): tangent-space normal maps are applied in the object's space, as Cycles does, which differs from
+    # world space where L scales non-uniformly.
+    object_linear: Optional[List[List[float]]] = None
 
 
 @dataclass
@@ -355,6 +359,8 @@ def save_scene(scene: Scene, path: str) -> None:
     for i, m in enumerate(scene.meshes):
         key = f"mesh{i}"
         meta["meshes"].append({"name": m.name, "arrays": key})
+        if m.object_linear is not None:
+            meta["meshes"][-1]["object_linear"] = np.asarray(m.object_linear, dtype=np.float64).tolist()
         arrays[f"{key}.vertices"] = np.asarray(m.vertices, dtype=np.float32)
         arrays[f"{key}.triangles"] = np.asarray(m.triangles, dtype=np.int32)
         if m.normals is not None:
@@ -414,7 +420,7 @@ def _scene_from_file(path, data, headers) -> Scene:
         get = lambda name: data[f"{key}.{name}"] if f"{key}.{name}" in data.files else None
         scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
                                  material_ids=get("material_ids"), name=m["name"], uvs=get("uvs"),
-                                 generated=get("generated")))
+                                 generated=get("generated"), object_linear=m.get("object_linear")))
     for t in meta.get("textures", []):
         key = t.get("arrays")
         if key is not None and not isinstance(key, str):

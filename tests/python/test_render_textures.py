@@ -270,3 +270,24 @@ def test_emitting_layer_with_a_texture_factor_is_refused():
     mat = sphrect.Material(kind="mix", layers=[sphrect.MaterialLayer(1.0, glow, [sphrect.MixFactor(LOOKUP)])])
     with pytest.raises(ValueError, match="constant emission"):
         sphrect.Renderer(lit_scene(mat, [constant((0.5, 0.5, 0.5))]), techniques="rectangle")
+
+
+def test_normal_map_is_applied_in_object_space():
+    # A plane scaled 2.5x along x as an object: Cycles maps the tangent-space normal in object space, then
+    # transforms it as a normal (by L^-T), which tilts it less along the stretched axis.
+    mat = sphrect.Material(kind="glossy_bsdf", base_color=(0.7, 0.7, 0.7), roughness=0.4, normal_map=LOOKUP)
+    n = np.array([0.3, 0.0, 1.0]) / np.linalg.norm([0.3, 0.0, 1.0])
+    linear = np.diag([2.5, 1.0, 1.0])
+    scene = lit_scene(mat, [constant(tuple((n + 1) / 2))])
+    local = scene.meshes[0].vertices.copy()
+    scene.meshes[0].vertices = (local @ linear.T).astype(np.float32)
+    scene.meshes[0].object_linear = linear.tolist()
+    expected_normal = np.linalg.inv(linear).T @ n
+    expected_normal /= np.linalg.norm(expected_normal)
+    smooth = lit_scene(sphrect.Material(kind="glossy_bsdf", base_color=(0.7, 0.7, 0.7), roughness=0.4))
+    smooth.meshes[0].vertices = scene.meshes[0].vertices
+    smooth.meshes[0].normals = np.tile(expected_normal.astype(np.float32), (4, 1))
+    np.testing.assert_allclose(render(scene), render(smooth), rtol=1e-4, atol=1e-6)
+    # In world space (no object_linear) the tilt is the map's own, visibly different.
+    scene.meshes[0].object_linear = None
+    assert np.abs(render(scene) - render(smooth)).max() > 1e-3

@@ -33,29 +33,54 @@ static inline TextureCoordinates InterpolateTextureCoordinates(const MeshData& m
     return tc;
 }
 
+// m v, and m^T v, for a row-major 3x3 m.
+static inline Vec3f Apply3x3(const float (&m)[3][3], const Vec3f& v) {
+    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+            m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
+}
+static inline Vec3f Apply3x3Transposed(const float (&m)[3][3], const Vec3f& v) {
+    return {m[0][0] * v.x + m[1][0] * v.y + m[2][0] * v.z, m[0][1] * v.x + m[1][1] * v.y + m[2][1] * v.z,
+            m[0][2] * v.x + m[1][2] * v.y + m[2][2] * v.z};
+}
+
 // Blender's Normal Map node in tangent space (Cycles' svm_node_normal_map): the map's colour c read as
 // 2 c - 1 in the frame of the tangent T, the bitangent B = sign cross(N, T) and the normal N (the shading
-// normal before it faces the ray), then mixed with N by the strength: normalize(N + (N_map - N) strength).
-// T is the triangle's dp/du made orthogonal to N and sign the handedness of (dp/du, dp/dv): on a triangle
-// with affine UVs, what MikkTSpace's per-vertex tangents give (smoothly curved meshes differ slightly).  A
-// triangle with degenerate UVs keeps N.
-static inline Vec3f ApplyNormalMap(const RenderScene& scene, const NormalMap& map, const Vec3f p[3],
-                                   const Point2<float> uv[3], const TextureCoordinates& tc, const Vec3f& n) {
+// normal before it faces the ray), in the object's space, then brought to the world as a normal and mixed with
+// N by the strength: normalize(N + (N_map - N) strength).  T is the triangle's dp/du made orthogonal to N and
+// sign the handedness of (dp/du, dp/dv): on a triangle with affine UVs, what MikkTSpace's per-vertex tangents
+// give (smoothly curved meshes differ slightly).  Object space: with the object's linear map L, a direction
+// maps by L^-1 and a normal by L^T (and back by L^-T), which matters where L scales non-uniformly.  A triangle
+// with degenerate UVs keeps N.
+static inline Vec3f ApplyNormalMap(const RenderScene& scene, const MeshData& mesh, const NormalMap& map,
+                                   const Vec3f p[3], const Point2<float> uv[3], const TextureCoordinates& tc,
+                                   const Vec3f& n_world) {
     const Vec3f e1 = p[1] - p[0], e2 = p[2] - p[0];
     const float du1 = uv[1].u - uv[0].u, dv1 = uv[1].v - uv[0].v, du2 = uv[2].u - uv[0].u, dv2 = uv[2].v - uv[0].v;
     const float det = du1 * dv2 - du2 * dv1;
-    if (!(std::abs(det) > 0)) return n;
-    const Vec3f dpdu = (e1 * dv2 - e2 * dv1) / det, dpdv = (e2 * du1 - e1 * du2) / det;
+    if (!(std::abs(det) > 0)) return n_world;
+    Vec3f dpdu = (e1 * dv2 - e2 * dv1) / det, dpdv = (e2 * du1 - e1 * du2) / det, n = n_world;
+    if (mesh.has_object_linear) {
+        dpdu = Apply3x3(mesh.object_linear_inverse, dpdu);
+        dpdv = Apply3x3(mesh.object_linear_inverse, dpdv);
+        n = Apply3x3Transposed(mesh.object_linear, n);
+        const float ln = Length(n);
+        if (!(ln > 0)) return n_world;
+        n = n / ln;
+    }
     Vec3f t = dpdu - n * Dot(n, dpdu);
     const float lt = Length(t);
-    if (!(lt > 0)) return n;
+    if (!(lt > 0)) return n_world;
     t = t / lt;
     const Vec3f b = Cross(n, t) * (Dot(Cross(n, t), dpdv) < 0 ? -1.0f : 1.0f);
     const Spectrum c = TextureColor(EvalTextureAt(scene.images, map.lookup, tc));
     Vec3f mapped = t * (2 * c.x - 1) + b * (2 * c.y - 1) + n * (2 * c.z - 1);
-    if (map.strength != 1) mapped = n + (mapped - n) * map.strength;
-    const float lm = Length(mapped);
-    return lm > 0 ? mapped / lm : n;
+    if (mesh.has_object_linear) mapped = Apply3x3Transposed(mesh.object_linear_inverse, mapped);
+    float lm = Length(mapped);
+    if (!(lm > 0)) return n_world;
+    mapped = mapped / lm;
+    if (map.strength != 1) mapped = n_world + (mapped - n_world) * map.strength;
+    lm = Length(mapped);
+    return lm > 0 ? mapped / lm : n_world;
 }
 
 static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray, const RTCRayHit& rh) {
@@ -96,7 +121,7 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
                 // In the frame of Blender's winding, then back.
                 const Point2<float> uv[3] = {m.uvs[i0], m.uvs[i1], m.uvs[i2]};
                 s.ns_unmapped = ns;
-                ns = ApplyNormalMap(scene, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
+                ns = ApplyNormalMap(scene, m, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
             }
         }
     }
