@@ -425,22 +425,64 @@ def test_texture_driven_mix_factors_and_their_complements(empty_scene):
     assert "grey diffuse" not in log.warning_text()
 
 
-def test_textured_principled_layers_are_not_merged(empty_scene):
-    image = new_image("Mask", random_pixels(), colorspace="Non-Color")
+def luminance_mean(pixels):
+    """The mean of a Non-Color byte image's colour read as a scalar (Rec.709 luminance, Cycles' rgb_to_y)."""
+    return float((np.round(pixels[..., :3] * 255) / 255 @ np.array([0.2126, 0.7152, 0.0722])).mean())
+
+
+def test_textured_principled_layers_become_one_the_renderer_holds(empty_scene):
+    """The renderer's mix holds one Principled BSDF: two under a texture-driven factor are averaged, each weighted
+    by its factor's image mean (warned), and the scene builds."""
+    pixels = random_pixels()
+    image = new_image("Mask", pixels, colorspace="Non-Color")
     t = Tree("PP")
     a, b = t.node("ShaderNodeBsdfPrincipled"), t.node("ShaderNodeBsdfPrincipled")
-    b.inputs["Base Color"].default_value = (0.1, 0.2, 0.7, 1)
+    a.inputs["Base Color"].default_value, b.inputs["Base Color"].default_value = (0.9, 0.1, 0.1, 1), (0.1, 0.2, 0.7, 1)
+    b.inputs["Roughness"].default_value = 0.9
     mix = t.node("ShaderNodeMixShader")
     t.link(a.outputs[0], mix.inputs[1])
     t.link(b.outputs[0], mix.inputs[2])
-    t.link(t.image(image).outputs["Alpha"], mix.inputs[0])
+    fac = t.image(image)
+    t.link(fac.outputs["Color"], mix.inputs[0])
+    t.link(fac.outputs["Color"], b.inputs["Base Color"])
     on_plane(t.surface(mix))
+    mean = luminance_mean(pixels)
     scene, log = export()
     pp = material_named(scene, "PP")
-    assert [(l.material.kind, [f.complement for f in l.factors]) for l in pp.layers] == [("principled", [True]),
-                                                                                       ("principled", [False])]
-    assert pp.layers[0].factors[0].lookup.output == "alpha"
-    assert "Principled BSDFs" not in log.warning_text()
+    (layer,) = pp.layers if pp.kind == "mix" else [sphrect.MaterialLayer(1.0, pp)]
+    assert layer.factors == [] and layer.weight == pytest.approx(1.0)
+    assert layer.material.roughness == pytest.approx((1 - mean) * 0.5 + mean * 0.9)
+    assert "base_color" in layer.material.textures  # the textured one's
+    assert "a mix of 2 Principled BSDFs, textured ones among them" in log.warning_text()
+    sphrect.Renderer(scene, techniques="rectangle")  # builds: one Principled BSDF
+
+
+def test_emission_under_a_texture_factor_is_its_mean(empty_scene):
+    pixels = random_pixels()
+    image = new_image("Mask", pixels, colorspace="Non-Color")
+    t = Tree("Glow")
+    diffuse, glow = t.node("ShaderNodeBsdfDiffuse"), t.node("ShaderNodeEmission")
+    glow.inputs["Strength"].default_value = 4.0
+    principled = t.node("ShaderNodeBsdfPrincipled")  # its own emission under the complement
+    principled.inputs["Emission"].default_value = (1.0, 0.5, 0.25, 1.0)
+    principled.inputs["Emission Strength"].default_value = 2.0
+    inner, outer = t.node("ShaderNodeMixShader"), t.node("ShaderNodeMixShader")
+    t.link(diffuse.outputs[0], inner.inputs[1])
+    t.link(glow.outputs[0], inner.inputs[2])
+    t.link(t.image(image).outputs["Color"], inner.inputs[0])
+    t.link(principled.outputs[0], outer.inputs[1])
+    t.link(inner.outputs[0], outer.inputs[2])
+    outer.inputs[0].default_value = 0.5
+    t.link(t.nodes["Image Texture"].outputs["Color"], outer.inputs[0])  # the same mask drives both
+    on_plane(t.surface(outer))
+    scene, log = export()
+    glow_material = material_named(scene, "Glow")
+    fac = luminance_mean(pixels)
+    expected = 4.0 * fac * fac + (1 - fac) * 2.0 * np.array([1.0, 0.5, 0.25])  # white emission x fac x fac
+    assert glow_material.emission == pytest.approx(expected, rel=1e-5)
+    assert all(l.material.emission == (0.0, 0.0, 0.0) for l in glow_material.layers)
+    assert "emission under a texture-driven Mix Shader factor (the factor's image mean used)" in log.warning_text()
+    sphrect.Renderer(scene, techniques="rectangle")  # builds: no layer under a factor emits
 
 
 def normal_mapped(name, image, strength=0.7, space="TANGENT", shader="ShaderNodeBsdfPrincipled"):

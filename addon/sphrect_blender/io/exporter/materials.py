@@ -7,7 +7,7 @@ specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roug
 'glossy_bsdf', no Fresnel) for surfaces; Mix Shader and Add Shader trees of those with unlinked factors (kind
 'mix': each shader's closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume
 linked, Surface not) and a white Transparent BSDF make a transparent surface, left out by geometry.triangulate;
-Holdout and Translucent BSDF are black (warned); emission with Cycles 3.4's conventions -- an Emission shader
+Translucent BSDF (kind 'translucent'); Holdout is black (warned); emission with Cycles 3.4's conventions -- an Emission shader
 emits radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength
 adds to its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
 |Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume Absorption or Principled Volume on the
@@ -60,7 +60,8 @@ _TEXTURABLE = {"ShaderNodeBsdfPrincipled": {"base_color", "roughness", "metallic
                "ShaderNodeBsdfDiffuse": {"base_color"},
                "ShaderNodeBsdfGlossy": {"base_color", "roughness"},
                "ShaderNodeBsdfAnisotropic": {"base_color", "roughness"},
-               "ShaderNodeBsdfGlass": {"base_color", "roughness"}}
+               "ShaderNodeBsdfGlass": {"base_color", "roughness"},
+               "ShaderNodeBsdfTranslucent": {"base_color"}}
 
 
 def _socket_name(node, field):
@@ -211,7 +212,6 @@ def _closures(sphrect, node, weight, factors, leaves, textures, name):
 # Shaders that add no light a zero-bounce render of an opaque surface can show here, each with its warning.
 _BLACK_SHADERS = {
     "ShaderNodeHoldout": "Holdout (black; the image's alpha stays 1)",
-    "ShaderNodeBsdfTranslucent": "Translucent BSDF (black: light through a thin surface is not modelled)",
     "ShaderNodeBsdfTransparent": "Transparent BSDF inside a mix (its share black and opaque)",
 }
 
@@ -232,18 +232,24 @@ def _shader(sphrect, node, textures, log, name):
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
     emission = np.zeros(3)
     layers = []
+    # Emission is constant over a surface (every emissive triangle is a light): under a texture-driven factor it
+    # takes the factor's mean over its image.
+    constant_emission = "emission under a texture-driven Mix Shader factor (the factor's image mean used)"
     for weight, leaf, factors in leaves:
         if leaf.bl_idname == "ShaderNodeEmission":
             if factors:
-                log.unsupported_feature("Emission under a texture-driven Mix Shader factor (the factor read as 1)",
-                                        name)
-            emission += _emission(leaf, "Color", "Strength", weight, log, name)
+                log.unsupported_feature(constant_emission, name)
+            emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name)
         elif leaf.bl_idname in _BLACK_SHADERS:
             log.unsupported_feature(_BLACK_SHADERS[leaf.bl_idname], name)
         else:
-            layers.append(sphrect.MaterialLayer(weight=weight, material=_bsdf(sphrect, leaf, textures, log, name),
-                                                factors=factors))
-    layers = _fit_mix(sphrect, layers, log, name)
+            bsdf = _bsdf(sphrect, leaf, textures, log, name)
+            if factors and any(c > 0 for c in bsdf.emission):
+                log.unsupported_feature(constant_emission, name)
+                emission += weight * textures.factor_mean(factors) * np.asarray(bsdf.emission)
+                bsdf = dataclasses.replace(bsdf, emission=(0.0, 0.0, 0.0))
+            layers.append(sphrect.MaterialLayer(weight=weight, material=bsdf, factors=factors))
+    layers = _fit_mix(sphrect, layers, textures, log, name)
     if not layers:
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=_rgb(emission))
     if all(l.material.kind == "diffuse" and not _is_textured(l) for l in layers):
@@ -277,25 +283,29 @@ def _lobe_key(mat):
             repr(mat.textures.get("roughness")))
 
 
-def _average_principled(sphrect, principled):
-    """One layer for several Principled BSDF layers: their total weight, weight-averaged inputs and colour."""
-    total = sum(l.weight for l in principled)
+def _average_principled(sphrect, principled, weights=None):
+    """One layer for several Principled BSDF layers: their total weight, weight-averaged inputs and colour
+    (`weights`: the layers' own by default)."""
+    weights = [l.weight for l in principled] if weights is None else weights
+    total = sum(weights)
     fields = ("roughness", "metallic", "specular", "specular_tint", "sheen", "sheen_tint", "clearcoat",
               "clearcoat_roughness")
-    averaged = {f: sum(l.weight * getattr(l.material, f) for l in principled) / total for f in fields}
-    color = sum(l.weight * np.asarray(l.material.base_color) for l in principled) / total
-    emission = sum(l.weight * np.asarray(l.material.emission) for l in principled) / total
-    merged = dataclasses.replace(principled[0].material, base_color=_rgb(color), emission=_rgb(emission),
-                                 **averaged)
+    average = lambda values: sum(w * np.asarray(v, dtype=float) for w, v in zip(weights, values)) / total
+    averaged = {f: float(average([getattr(l.material, f) for l in principled])) for f in fields}
+    merged = dataclasses.replace(principled[0].material, base_color=_rgb(average([l.material.base_color for l in
+                                                                                principled])),
+                                 emission=_rgb(average([l.material.emission for l in principled])), **averaged)
     return sphrect.MaterialLayer(total, merged)
 
 
-def _fit_mix(sphrect, layers, log, name):
+def _fit_mix(sphrect, layers, textures, log, name):
     """The layers as the renderer's mix can hold them: several untextured Principled BSDFs of equal inputs but for
     the base colour merge exactly (weights summed, colours weight-averaged) where no tint makes the closures
     non-linear in it; other untextured ones are replaced by one of their weight-averaged inputs and total weight;
-    textured layers (textures.py: evaluated per hit) stay apart; glossy / glass lobes beyond
-    sphrect.MAX_MIX_GLOSSY_LOBES distinct ones are dropped, lightest first; all warned."""
+    textured layers (textures.py: evaluated per hit) stay apart, but for Principled BSDFs (the renderer's mix holds
+    one): several with a textured one are averaged too, each mix factor read as its image's mean, the heaviest
+    textured one's textures kept; glossy / glass lobes beyond sphrect.MAX_MIX_GLOSSY_LOBES distinct ones are
+    dropped, lightest first; all warned."""
     plain = [l for l in layers if l.material.kind == "principled" and not _is_textured(l)]
     if len(plain) > 1:
         # Cycles' closures are linear in the base colour when neither tint divides it by its luminance.
@@ -307,6 +317,19 @@ def _fit_mix(sphrect, layers, log, name):
             log.unsupported_feature(f"a mix of {len(plain)} different Principled BSDFs (one of their "
                                     "weight-averaged inputs used)", name)
         layers = [l for l in layers if not any(l is p for p in plain)] + [_average_principled(sphrect, plain)]
+    principled = [l for l in layers if l.material.kind == "principled"]
+    if len(principled) > 1:
+        log.unsupported_feature(f"a mix of {len(principled)} Principled BSDFs, textured ones among them (one of "
+                                "their averaged inputs used, mix factors read as their images' means)", name)
+        weights = [l.weight * textures.factor_mean(l.factors) for l in principled]
+        merged = _average_principled(sphrect, principled, weights)
+        textured = max((l for l in principled if l.material.textures or l.material.normal_map is not None),
+                       key=lambda l: l.weight, default=None)
+        if textured is not None:
+            merged.material = dataclasses.replace(merged.material, textures=textured.material.textures,
+                                                  normal_map=textured.material.normal_map,
+                                                  normal_map_strength=textured.material.normal_map_strength)
+        layers = [l for l in layers if l.material.kind != "principled"] + [merged]
     lobes = {}
     for l in layers:
         if l.material.kind in ("glass", "glossy_bsdf"):
@@ -337,6 +360,9 @@ def _bsdf(sphrect, node, textures, log, name):
         return _glass(sphrect, node, inputs, textures, log, name)
     if node.bl_idname in {"ShaderNodeBsdfGlossy", "ShaderNodeBsdfAnisotropic"}:
         return _glossy(sphrect, node, inputs, textures, log, name)
+    if node.bl_idname == "ShaderNodeBsdfTranslucent":  # Lambertian transmission: lit through the surface
+        return sphrect.Material(name=name, kind="translucent", base_color=_rgb(inputs.read("base_color")),
+                                textures=inputs.textures, **_normal_map(node, textures, log, name))
     log.unsupported_feature(f"'{node.bl_label or node.bl_idname}' shader node (grey diffuse used)", name)
     return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
 

@@ -22,6 +22,9 @@ MISSING_IMAGE_RGBA = (1.0, 0.0, 1.0, 1.0)
 _LINEAR_COLORSPACES = {"Non-Color", "Linear", "Raw", "Linear Rec.709"}
 _INTERPOLATIONS = {"Linear": "linear", "Closest": "closest"}  # Cubic and Smart: 'linear', warned
 _IMAGE_NODE = "ShaderNodeTexImage"
+# Cycles' rgb_to_y for Blender's scene linear (Rec.709), the weights a colour read as a scalar takes (the renderer's
+# Luminance in native/render/sampling_util.h): here only for the mean of a factor that cannot vary (factor_mean).
+_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 
 def follow_reroutes(socket):
@@ -103,6 +106,7 @@ class TextureExport:
         self.index = {}
         self.uv_maps_named = {}  # material name -> UV map names its nodes ask for (checked per object)
         self._used = {}  # node tree -> names of the nodes its output reaches
+        self._means = {}  # (texture, output) -> its scalar's mean (factor_mean)
 
     def lookup(self, node, output, owner):
         """The TextureLookup of Image Texture `node`'s output ('color' / 'alpha') read by material `owner`."""
@@ -137,6 +141,35 @@ class TextureExport:
                 stack.extend(link.from_node for socket in n.inputs for link in socket.links if not link.is_muted)
             self._used[key] = used
         return self._used[key]
+
+    def factor_mean(self, factors):
+        """The product of MixFactors' means over their images: the constant weight of shaders whose factor the
+        renderer cannot vary (an emission, a second Principled BSDF in a mix)."""
+        result = 1.0
+        for f in factors:
+            mean = self._scalar_mean(f.lookup.texture, f.lookup.output)
+            result *= 1.0 - mean if f.complement else mean
+        return result
+
+    def _scalar_mean(self, index, output):
+        """Mean of a texture's scalar (its alpha, or its colour's luminance, decoded, clamped to [0, 1] as a Mix
+        factor is) over its pixels."""
+        key = (index, output)
+        texture = self.list[index]
+        if texture is None or texture.pixels is None:  # not read (the material panel's notes): no mean to take
+            return 0.5
+        if key not in self._means:
+            pixels = texture.pixels.astype(np.float64) / (255.0 if texture.pixels.dtype == np.uint8 else 1.0)
+            channels = pixels.shape[2]
+            if output == "alpha":
+                value = pixels[..., -1] if channels in (2, 4) else np.ones(pixels.shape[:2])
+            else:
+                rgb = pixels[..., :3] if channels >= 3 else np.repeat(pixels[..., :1], 3, axis=2)
+                if texture.colorspace == "srgb":  # IEC 61966-2-1, as Cycles decodes
+                    rgb = np.where(rgb < 0.04045, np.maximum(rgb, 0) / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+                value = rgb @ _LUMINANCE
+            self._means[key] = float(np.clip(value, 0.0, 1.0).mean())
+        return self._means[key]
 
     def name_uv_map(self, uv_map, owner):
         """A UV Map or Normal Map node of material `owner` names `uv_map` ('' = the active render one)."""
