@@ -274,6 +274,8 @@ void BindRender(py::module_& m) {
             "add_translucent_material",
             [](RenderScene& s, V3 c, V3 emission) { return s.AddTranslucentMaterial(ToVec(c), ToVec(emission)); },
             py::arg("base_color"), py::arg("emission") = V3{0, 0, 0})
+        .def("add_holdout_material", &RenderScene::AddHoldoutMaterial)
+        .def("set_film_transparent", &RenderScene::SetFilmTransparent, py::arg("transparent"))
         .def(
             "add_mix_material", [](RenderScene& s, V3 emission) { return s.AddMixMaterial(ToVec(emission)); },
             py::arg("emission") = V3{0, 0, 0})

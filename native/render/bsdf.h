@@ -78,6 +78,9 @@ struct Material {
     // Some lobe has a dielectric Fresnel (fresnel_ior > 0: glass): a hit on a back face uses 1 / ior, as Cycles'
     // glass closures do for SD_BACKFACING (MaterialAtHit).
     bool has_dielectric = false;
+    // Holdout (Cycles' CLOSURE_HOLDOUT_ID): the share of the surface that is a hole in the image, black and of alpha
+    // 0 where the camera sees it (the film's alpha is 1 - holdout there); its light reflection is the rest's.
+    float holdout = 0;
 };
 
 // Cycles' bump_shadowing_term (Chiang et al., "Taming the Shadow Terminator", 2019): the smooth falloff of
@@ -227,6 +230,13 @@ inline Material MakeTranslucentMaterial(const Spectrum& color) {
     return m;
 }
 
+// Blender's Holdout shader: black, and the camera sees a hole (alpha 0) where it is.
+inline Material MakeHoldoutMaterial() {
+    Material m;
+    m.holdout = 1;
+    return m;
+}
+
 // A microfacet lobe of colour `color` and Blender roughness `roughness` (alpha = roughness^2); false (no
 // lobe) when Cycles would not make one: black, or sharp -- Cycles' microfacet closures return 0 for
 // alpha_x alpha_y <= 1e-7 (a delta lobe, which light samples cannot find: black at zero bounces).
@@ -287,6 +297,7 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
         if (part.glossy && !part.principled)
             throw std::invalid_argument("the 'glossy' model cannot be mixed (use 'principled')");
     }
+    mix.holdout += part.holdout * weight;
     if (!part.principled) {  // Lambert
         if (!IsBlack(part.diffuse)) mix.glossy = mix.principled = true;
         mix.lambert += part.diffuse * weight;

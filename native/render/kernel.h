@@ -71,6 +71,7 @@ struct KernelParams {
     uint32_t pass;           // pass number (seeds the non-progressive patterns)
     double* const* sums;     // per technique, RGB per pixel
     uint32_t* counts;
+    double* alpha_sums;      // per pixel, shared by the techniques (the camera samples are)
 };
 
 using TileKernel = void (*)(const KernelParams&, const TileRect&, ThreadScratch&, TileTally&);

@@ -31,7 +31,7 @@ void ValidateOptions(const RenderOptions& o) {
 uint64_t RenderMemoryBytes(const RenderOptions& o, int width, int height) {
     const uint64_t pixels = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0));
     const uint64_t per_technique = pixels * (3 * sizeof(double) + 4 * sizeof(float));
-    return per_technique * o.techniques.size() + pixels * sizeof(uint32_t);
+    return per_technique * o.techniques.size() + pixels * (sizeof(uint32_t) + sizeof(double));  // counts, alpha
 }
 
 uint64_t DefaultMemoryLimit() {

@@ -23,6 +23,7 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
     const size_t pixels = size_t(width()) * height();
     sums_.assign(options_.techniques.size(), std::vector<double>(3 * pixels, 0.0));
     counts_.assign(pixels, 0);
+    alpha_sums_.assign(pixels, 0.0);
     stats_.assign(options_.techniques.size(), TechniqueStats{});
 }
 
@@ -76,7 +77,8 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
     const std::vector<TileRect> tiles = CutIntoTiles(width(), height(), options_.tile_size);
     std::vector<double*> sums(sums_.size());
     for (size_t k = 0; k < sums_.size(); ++k) sums[k] = sums_[k].data();
-    const KernelParams params{&scene, &options_, samples, next_sample_, pass_, sums.data(), counts_.data()};
+    const KernelParams params{&scene,      &options_,      samples, next_sample_, pass_, sums.data(), counts_.data(),
+                              alpha_sums_.data()};
     const SceneFeatures& f = scene.features();
     const bool all = options_.force_all_features;
     const TileKernel kernel = SelectTileKernel(f.dof || all, f.glossy || all, f.medium || all);
@@ -121,7 +123,7 @@ void Renderer::Image(int k, float* out) const {
         out[4 * i + 0] = float(s[3 * i + 0] * inv);
         out[4 * i + 1] = float(s[3 * i + 1] * inv);
         out[4 * i + 2] = float(s[3 * i + 2] * inv);
-        out[4 * i + 3] = 1.0f;
+        out[4 * i + 3] = counts_[i] > 0 ? float(alpha_sums_[i] * inv) : 1.0f;
     }
 }
 

@@ -59,6 +59,7 @@ class Renderer {
     int threads_ = 1;
     std::vector<std::vector<double>> sums_;  // per technique, RGB per pixel
     std::vector<uint32_t> counts_;           // camera samples per pixel
+    std::vector<double> alpha_sums_;         // the film's alpha summed per pixel
     std::vector<TechniqueStats> stats_;
     uint32_t next_sample_ = 0, pass_ = 0;
     std::atomic<bool> cancel_{false};

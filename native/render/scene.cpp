@@ -226,6 +226,16 @@ int RenderScene::AddTranslucentMaterial(const Spectrum& color, const Spectrum& e
     return PushMaterial(MakeTranslucentMaterial(color), emission, Recipe(MaterialKind::kTranslucent, color));
 }
 
+int RenderScene::AddHoldoutMaterial() {
+    RequireNotCommitted();
+    return PushMaterial(MakeHoldoutMaterial(), {}, Recipe(MaterialKind::kHoldout, {}));
+}
+
+void RenderScene::SetFilmTransparent(bool transparent) {
+    RequireNotCommitted();
+    film_transparent = transparent;
+}
+
 int RenderScene::AddMixMaterial(const Spectrum& emission) {
     CheckMaterialColors({}, emission);
     return PushMaterial(MakeDiffuseMaterial({}), emission, Recipe(MaterialKind::kMix, {}));

@@ -70,6 +70,9 @@ class RenderScene {
 
     void SetCamera(const CameraModel& camera);
     void SetBackground(const Spectrum& radiance);
+    // Blender's Film > Transparent: camera rays that escape see nothing and give alpha 0 (the background still
+    // lights the scene).
+    void SetFilmTransparent(bool transparent);
     void SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
     // emission: radiance of the surfaces using the material (both sides); each emissive triangle
     // becomes an area light at Commit().
@@ -86,6 +89,7 @@ class RenderScene {
     // and adds its lobes and emission, scaled by weight, to the mix `target` (bsdf.h MixIntoMaterial,
     // which says what a mix can hold; std::invalid_argument beyond that).
     int AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission = {});
+    int AddHoldoutMaterial();
     int AddMixMaterial(const Spectrum& emission = {});
     // factors: Mix Shader factors from textures above the layer (its weight times each; an emitting layer cannot
     // have any: mesh lights need a constant emission).
@@ -124,6 +128,7 @@ class RenderScene {
     RTCScene rtc_scene = nullptr;
     CameraModel camera;
     Spectrum background;
+    bool film_transparent = false;
     bool has_medium = false;
     HomogeneousMedium medium;
     std::vector<Material> materials;

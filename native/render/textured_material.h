@@ -12,7 +12,7 @@
 
 namespace sphrect::render {
 
-enum class MaterialKind { kDiffuse, kGlossy, kPrincipled, kGlass, kGlossyBsdf, kTranslucent, kMix };
+enum class MaterialKind { kDiffuse, kGlossy, kPrincipled, kGlass, kGlossyBsdf, kTranslucent, kHoldout, kMix };
 
 // The inputs a lookup can drive (the scene format's TEXTURED_INPUTS, in order; bindings export the names).
 enum class TexturedInput { kBaseColor, kRoughness, kMetallic, kSpecular, kCount };
@@ -76,6 +76,7 @@ inline Material MakeMaterialFromInputs(const MaterialRecipe& r, const Principled
         case MaterialKind::kGlass: return MakeGlassMaterial(in.base_color, in.roughness, r.ior, r.beckmann);
         case MaterialKind::kGlossyBsdf: return MakeGlossyBsdfMaterial(in.base_color, in.roughness, r.beckmann);
         case MaterialKind::kTranslucent: return MakeTranslucentMaterial(in.base_color);
+        case MaterialKind::kHoldout: return MakeHoldoutMaterial();
         case MaterialKind::kMix: break;
     }
     return MakeDiffuseMaterial({});  // a mix's layers are the caller's

@@ -213,6 +213,8 @@ def _add_untextured_material(native, mat, n_textures: int):
     if mat.kind == "glossy_bsdf":
         return native.add_glossy_bsdf_material(base_color(), float(mat.roughness), mat.distribution == "beckmann",
                                                emission)
+    if mat.kind == "holdout":
+        return native.add_holdout_material()
     if mat.kind == "translucent":
         return native.add_translucent_material(base_color(), emission)
     if mat.kind == "mix":
@@ -243,6 +245,7 @@ def build_native_scene(scene: Scene):
     skipped = []
     _set_camera(native, scene.camera)
     native.set_background(_rgb(scene.world.background, "world background"))
+    native.set_film_transparent(bool(scene.camera.film_transparent))
     med = scene.world.medium
     if med is not None:
         native.set_medium(_rgb(med.sigma_s, "medium sigma_s"), _rgb(med.sigma_a, "medium sigma_a"), float(med.g))
@@ -367,7 +370,8 @@ class Renderer:
         self._r.cancel()
 
     def image(self, technique=None) -> np.ndarray:
-        """float32 [H, W, 4] RGBA (alpha 1), row 0 at the top: the mean of the samples so far."""
+        """float32 [H, W, 4] RGBA, row 0 at the top: the mean of the samples so far.  Alpha is the film's: 1 but
+        where the camera sees a 'holdout' material, or escapes with Camera.film_transparent."""
         return self._r.image(self._index(technique))
 
     def stats(self, technique=None) -> dict:

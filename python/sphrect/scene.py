@@ -45,7 +45,8 @@ FORMAT_NAME = "sphrect-scene"
 # load unchanged.
 # 5: Material kinds 'glossy_bsdf' (Cycles' Glossy BSDF) and 'mix' (Mix / Add Shader: Material.layers, each a
 # MaterialLayer of a weight and a material).  Older files load unchanged.
-# 6: Material kind 'translucent' (Cycles' Translucent BSDF); Scene.textures (Texture: image pixels in the file, or a path loaded with OpenImageIO), Material.textures,
+# 6: Material kinds 'translucent' (Cycles' Translucent BSDF) and 'holdout', Camera.film_transparent; Scene.textures
+# (Texture: image pixels in the file, or a path loaded with OpenImageIO), Material.textures,
 # normal_map, normal_map_strength and MaterialLayer.factors (TextureLookup), Mesh.uvs, generated and object_linear.
 # Older files load unchanged (no textures).
 FORMAT_VERSION = 6
@@ -54,7 +55,7 @@ RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
 
 # The values the format's name fields take.
-MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "translucent", "mix")
+MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "translucent", "holdout", "mix")
 # Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
 GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
 CAMERA_TYPES = ("perspective", "orthographic")
@@ -102,7 +103,8 @@ class Material:
     of the lights weighted by the dielectric Fresnel of the view, the transmitted part black; 'glossy_bsdf':
     Blender's Glossy BSDF (base_color = its Color, roughness, distribution), Cycles 3.4's microfacet reflection
     with no Fresnel; 'translucent': Blender's Translucent BSDF (base_color = its Color), Lambertian transmission,
-    lit through the surface from the side opposite the viewer; 'mix': Mix / Add Shader, the sum of `layers`' materials each scaled by its weight (Cycles
+    lit through the surface from the side opposite the viewer; 'holdout': Blender's Holdout, black and of alpha 0
+    in the image (in a mix, alpha 1 - its weight); 'mix': Mix / Add Shader, the sum of `layers`' materials each scaled by its weight (Cycles
     scales each side's closures: (1 - fac) and fac for Mix, 1 and 1 for Add).  A mix holds any number of
     'diffuse' layers, one 'principled' (or a mix holding one), and at most MAX_MIX_GLOSSY_LOBES distinct
     'glass' / 'glossy_bsdf' lobes (equal roughness, distribution and IOR merge); not 'glossy'.  Its own
@@ -299,6 +301,7 @@ class Camera:
     focus_distance: float = 10.0
     clip_start: float = 0.0
     clip_end: float = 1e30
+    film_transparent: bool = False   # Blender's Film > Transparent: escaping camera rays give alpha 0 and no colour
 
     def image_plane(self):
         """(half_width, half_height, offset_x, offset_y) of the image at distance 1 (perspective)

@@ -17,7 +17,7 @@ def lit_scene(width=16, height=12):
 
 def test_the_memory_estimate_is_the_images():
     # Per technique 3 doubles + 4 floats per pixel, and a sample count per pixel.
-    assert sphrect.render_memory_bytes(4, 1000, 500) == 500_000 * (4 * 40 + 4)
+    assert sphrect.render_memory_bytes(4, 1000, 500) == 500_000 * (4 * 40 + 4 + 8)
     assert 0 < sphrect.default_memory_limit() < 2 ** 50
 
 

@@ -31,6 +31,7 @@ struct PrimaryHit {
     // estimate of it (light_coverage.h, PartialCoverage::occluded), or -1.
     int light_seen_by_estimate = -1;
     uint64_t rng_seed = 0;
+    float alpha = 1;  // the film's alpha: 0 where it sees a holdout or, with a transparent film, escapes
 };
 
 // Pattern points and camera rays of the chunk's camera samples, pixel by pixel:
@@ -94,7 +95,13 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
             if (i == out.light_seen_by_estimate) return;
             seen += EmittedRadiance(scene.area_lights[i], -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);
         });
-    if (!out.hit) seen += scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
+    if (out.hit) {
+        out.alpha = 1 - std::min(scene.materials[out.surface.material].holdout, 1.0f);
+    } else if (scene.film_transparent) {
+        out.alpha = 0;
+    } else {
+        seen += scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
+    }
     out.seen = seen;
 }
 

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "camera_stage.h"
 #include "chunk.h"
 #include "render/kernel.h"
 
@@ -32,10 +33,14 @@ static inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32
 // Adds the chunk's pixel sums (technique k's at pixel_sums[k * stride + c]) to the pass's
 // buffers, and its samples to the pixels' counts.
 static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk, const Spectrum* pixel_sums,
-                                   int stride) {
+                                   int stride, const PrimaryHit* hits) {
     const size_t techniques = p.options->techniques.size();
+    const uint32_t n = uint32_t(p.samples);
     for (int c = 0; c < chunk.count; ++c) {
         const uint64_t pixel = chunk.PixelIndex(c, p.scene->camera.width);
+        double alpha = 0;
+        for (uint32_t i = 0; i < n; ++i) alpha += hits[size_t(c) * n + i].alpha;
+        p.alpha_sums[pixel] += alpha;
         for (size_t k = 0; k < techniques; ++k) {
             const Spectrum& sum = pixel_sums[k * stride + c];
             double* px = p.sums[k] + 3 * pixel;

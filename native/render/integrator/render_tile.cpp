@@ -121,7 +121,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
                 SumPixelSamples(scratch.sample_values.data(), chunk.count, n, &scratch.pixel_sums[k * chunk_pixels]);
             tt.total_seconds += shading.Seconds();
         }
-        AddChunkToImage(p, chunk, scratch.pixel_sums.data(), chunk_pixels);
+        AddChunkToImage(p, chunk, scratch.pixel_sums.data(), chunk_pixels, scratch.hits.data());
     }
 }
 

@@ -26,11 +26,9 @@ def export_camera(sphrect, bl_scene, cam_obj, log):
         log.unsupported_feature("render region (the full frame is rendered)")
     if render.use_motion_blur:
         log.unsupported_feature("motion blur")
-    if render.film_transparent:
-        log.unsupported_feature("transparent film (alpha is 1)")
     if cam_obj is None:
         log.problem("the scene has no camera: using a default camera at the origin looking down -Z")
-        return sphrect.Camera(width=width, height=height)
+        return sphrect.Camera(width=width, height=height, film_transparent=bool(render.film_transparent))
     cam = cam_obj.data
     to_world = rigid_matrix(cam_obj.matrix_world)
     kind = {"PERSP": "perspective", "ORTHO": "orthographic"}.get(cam.type)
@@ -57,4 +55,5 @@ def export_camera(sphrect, bl_scene, cam_obj, log):
         sensor_width=float(cam.sensor_width), sensor_height=float(cam.sensor_height), sensor_fit=cam.sensor_fit,
         shift_x=float(cam.shift_x), shift_y=float(cam.shift_y), ortho_scale=float(cam.ortho_scale),
         aperture_radius=float(aperture_radius), focus_distance=float(max(focus_distance, 1e-6)),
-        clip_start=float(cam.clip_start), clip_end=float(cam.clip_end))
+        clip_start=float(cam.clip_start), clip_end=float(cam.clip_end),
+        film_transparent=bool(render.film_transparent))
