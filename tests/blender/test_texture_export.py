@@ -497,7 +497,7 @@ def normal_mapped(name, image, strength=0.7, space="TANGENT", shader="ShaderNode
 
 def test_normal_maps(empty_scene):
     image = new_image("Bumps", random_pixels(), colorspace="Non-Color")
-    on_plane(normal_mapped("NM", image), "A")
+    on_plane(normal_mapped("NM", image), "A", rotation=(0.2, 0.0, 0.7), scale=(0.5, 2.0, 1.0))
     on_plane(normal_mapped("Object", image, space="OBJECT"), "B", location=(3, 0, 0))
     t = Tree("Bump")
     bsdf = t.node("ShaderNodeBsdfDiffuse")
@@ -510,6 +510,10 @@ def test_normal_maps(empty_scene):
     assert nm.normal_map is not None and nm.normal_map.texture == 0 and nm.normal_map_strength == pytest.approx(0.7)
     assert nm.textures == {}
     assert mesh_named(scene, "A").uvs is not None  # the normal map's tangents need them
+    # ... and the object's linear map (Cycles applies normal maps in the object's space).
+    matrix = np.array(bpy.data.objects["A"].matrix_world)
+    np.testing.assert_allclose(mesh_named(scene, "A").object_linear, matrix[:3, :3])
+    assert mesh_named(scene, "B").object_linear is None
     assert material_named(scene, "Object").normal_map is None and material_named(scene, "Bump").normal_map is None
     assert mesh_named(scene, "B").uvs is None
     text = log.warning_text()
