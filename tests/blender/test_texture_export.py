@@ -336,7 +336,7 @@ def blender_corner_uvs(obj):
 def test_cube_uvs_per_corner_keep_seams(empty_scene):
     image = new_image("Img", random_pixels())
     cube = builders.mesh_object("Cube", "cube", textured("T", image), location=(1, 2, 3), rotation=(0.3, 0, 0))
-    plain = builders.mesh_object("Plain", "cube", builders.material("Plain"), location=(4, 0, 0))
+    builders.mesh_object("Plain", "cube", builders.material("Plain"), location=(4, 0, 0))
     scene, log = export()
     mesh = mesh_named(scene, "Cube")
     expected = blender_corner_uvs(cube)

@@ -254,8 +254,9 @@ def plane_points(mesh, attribute):
 
 def emission_plane(scene, build):
     """A 2 m plane whose material's Emission Color and Diffuse Color build(tree) links, seen from straight above
-    by an orthographic camera that frames it exactly.  Returns (tree, emission, diffuse): the Surface is linked to the diffuse for the export
-    (whose lookup it gives), to the emission for Cycles (which then shows the lookup's value)."""
+    by an orthographic camera that frames it exactly.  Returns (tree, emission, diffuse): the Surface is linked to
+    the diffuse for the export (whose lookup it gives), to the emission for Cycles (which then shows the lookup's
+    value)."""
     t = Tree("Probe")
     emission, diffuse = t.node("ShaderNodeEmission"), t.node("ShaderNodeBsdfDiffuse")
     source = build(t)

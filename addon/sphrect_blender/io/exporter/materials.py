@@ -4,17 +4,17 @@ Read from the node tree behind the active output: Diffuse BSDF and Principled BS
 specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roughness: the renderer's
 'principled' kind, Cycles 3.4's model), Glass and Refraction BSDF and a Principled BSDF of transmission 1 (kind
 'glass': the dielectric reflection Cycles shows at zero bounces), Glossy BSDF and Anisotropic BSDF (kind
-'glossy_bsdf', no Fresnel) for surfaces; Mix Shader and Add Shader trees of those with unlinked factors (kind
-'mix': each shader's closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume
-linked, Surface not) and a white Transparent BSDF make a transparent surface, left out by geometry.triangulate;
-Translucent BSDF (kind 'translucent'); Holdout is black (warned); emission with Cycles 3.4's conventions -- an Emission shader
-emits radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength
-adds to its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
+'glossy_bsdf', no Fresnel) for surfaces; Mix Shader and Add Shader trees of those (kind 'mix': each shader's
+closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume linked, Surface not)
+and a white Transparent BSDF make a transparent surface, left out by geometry.triangulate; Translucent BSDF (kind
+'translucent'); Holdout is black (warned); emission with Cycles 3.4's conventions -- an Emission shader emits
+radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength adds to
+its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
 |Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume Absorption or Principled Volume on the
-World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color, Roughness,
-Metallic and Specular, the Color of Diffuse, Glossy and Glass BSDFs and their Roughness, Mix Shader factors, and a
-Normal input through a tangent-space Normal Map node; every other linked input and every other node is logged as
-unsupported, its own value used."""
+World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
+Roughness, Metallic and Specular, the Color of Diffuse, Glossy, Glass and Translucent BSDFs and the Roughness of
+Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; every other
+linked input and every other node is logged as unsupported, its own value used."""
 import dataclasses
 
 import numpy as np
