@@ -1,15 +1,58 @@
-// RenderScene::LoadImage: an image file named by a scene (outside Blender), read with OpenImageIO.
-// Byte images stay bytes (decoded per lookup when sRGB, as Cycles keeps them); every other pixel
-// format is read as float.  A file that cannot be read becomes Cycles' missing image, magenta, with
-// a warning: the render goes on and shows where the image was, as Cycles does.
-#include <OpenImageIO/imageio.h>
+// RenderScene::LoadImage: an image file named by a scene (outside Blender), read by the OpenImageIO reader
+// module (image_io/read_image.h), loaded on first use.  A file that cannot be read -- or no reader -- becomes
+// Cycles' missing image, magenta, with a warning: the render goes on and shows where the image was, as Cycles
+// does.
+#include <dlfcn.h>
 
-#include <memory>
-#include <vector>
+#include <cstdlib>
+#include <mutex>
+#include <string>
 
+#include "image_io/read_image.h"
 #include "scene.h"
 
 namespace sphrect::render {
+
+namespace {
+
+struct ImageReader {
+    SphrectReadImageFn read = nullptr;
+    SphrectFreeImagePixelsFn free = nullptr;
+    std::string error;
+};
+
+// The module: SPHRECT_IMAGE_IO if set, else next to the shared object holding this code (the Python package's
+// _native), else where the build put it.
+const ImageReader& Reader() {
+    static ImageReader reader;
+    static std::once_flag once;
+    std::call_once(once, [] {
+        std::string candidates[3];
+        if (const char* env = std::getenv("SPHRECT_IMAGE_IO")) candidates[0] = env;
+        Dl_info info;
+        if (dladdr(reinterpret_cast<void*>(&Reader), &info) && info.dli_fname) {
+            const std::string self = info.dli_fname;
+            candidates[1] = self.substr(0, self.find_last_of('/') + 1) + "libsphrect_image_io.so";
+        }
+        candidates[2] = SPHRECT_IMAGE_IO_BUILD_PATH;
+        for (const std::string& path : candidates) {
+            if (path.empty()) continue;
+            void* lib = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+            if (!lib) {
+                reader.error = dlerror();
+                continue;
+            }
+            reader.read = reinterpret_cast<SphrectReadImageFn>(dlsym(lib, "sphrect_read_image"));
+            reader.free = reinterpret_cast<SphrectFreeImagePixelsFn>(dlsym(lib, "sphrect_free_image_pixels"));
+            if (reader.read && reader.free) return;
+            reader.error = path + " has no sphrect_read_image";
+        }
+        reader.read = nullptr;
+    });
+    return reader;
+}
+
+}  // namespace
 
 int RenderScene::LoadImage(const std::string& name, const std::string& path, bool srgb) {
     RequireNotCommitted();
@@ -19,24 +62,21 @@ int RenderScene::LoadImage(const std::string& name, const std::string& path, boo
                                   kMissingImageColor.a};
         return AddImage(name, 1, 1, 4, nullptr, magenta, false);
     };
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) return missing("cannot be read (" + OIIO::geterror() + ")");
-    const OIIO::ImageSpec& spec = in->spec();
-    const int w = spec.width, h = spec.height, c = std::min(spec.nchannels, 4);
-    if (w <= 0 || h <= 0 || c <= 0 || int64_t(w) * h > (int64_t(1) << 30)) return missing("has no usable size");
-    const bool bytes = spec.format == OIIO::TypeDesc::UINT8;
-    const size_t row = size_t(w) * size_t(c);
-    std::vector<uint8_t> b(bytes ? row * size_t(h) : 0);
-    std::vector<float> f(bytes ? 0 : row * size_t(h));
-    // OpenImageIO's rows run top to bottom, Blender's (and ours) bottom to top: read with a negative y stride
-    // from the last row.
-    void* last_row = bytes ? static_cast<void*>(b.data() + row * size_t(h - 1))
-                           : static_cast<void*>(f.data() + row * size_t(h - 1));
-    const OIIO::stride_t elem = bytes ? 1 : sizeof(float);
-    const bool ok = in->read_image(0, 0, 0, c, bytes ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT, last_row,
-                                   OIIO::AutoStride, -OIIO::stride_t(row) * elem, OIIO::AutoStride);
-    if (!ok) return missing("could not be decoded (" + in->geterror() + ")");
-    return AddImage(name, w, h, c, bytes ? b.data() : nullptr, bytes ? nullptr : f.data(), srgb);
+    const ImageReader& reader = Reader();
+    if (!reader.read) return missing("no OpenImageIO reader module (" + reader.error + ")");
+    SphrectImagePixels im{};
+    char error[512] = {0};
+    if (!reader.read(path.c_str(), &im, error, sizeof error)) return missing(error);
+    int id;
+    try {
+        id = AddImage(name, im.width, im.height, im.channels, im.bytes ? static_cast<const uint8_t*>(im.pixels) : nullptr,
+                      im.bytes ? nullptr : static_cast<const float*>(im.pixels), srgb);
+    } catch (...) {
+        reader.free(im.pixels);
+        throw;
+    }
+    reader.free(im.pixels);
+    return id;
 }
 
 }  // namespace sphrect::render

@@ -123,7 +123,7 @@ void Renderer::Image(int k, float* out) const {
         out[4 * i + 0] = float(s[3 * i + 0] * inv);
         out[4 * i + 1] = float(s[3 * i + 1] * inv);
         out[4 * i + 2] = float(s[3 * i + 2] * inv);
-        out[4 * i + 3] = counts_[i] > 0 ? float(alpha_sums_[i] * inv) : 1.0f;
+        out[4 * i + 3] = scene_->film_alpha && counts_[i] > 0 ? float(alpha_sums_[i] * inv) : 1.0f;
     }
 }
 

@@ -515,6 +515,7 @@ void RenderScene::Commit() {
     for (size_t i = 0; i < delta_lights.size(); ++i)
         if (delta_lights[i].kind == DeltaKind::Sun) sun_lights.push_back(uint32_t(i));
     features_ = {};
+    film_alpha = film_transparent;
     // A glossy material only matters when some triangle uses it.
     std::vector<bool> used(materials.size(), false);
     for (const auto& m : meshes) {
@@ -526,7 +527,9 @@ void RenderScene::Commit() {
         features_.glossy |= used[i] && materials[i].glossy;
         features_.textures |= used[i] && materials[i].textured;
         features_.normal_maps |= used[i] && materials[i].normal_mapped;
-        features_.glossy |= used[i] && materials[i].normal_mapped;  // the bump shadowing: MaterialAtHit
+        // Textures, normal maps (their bump shadowing) and back faces of dielectrics: the glossy kernel's (MaterialAtHit).
+        features_.glossy |= used[i] && (materials[i].textured || materials[i].normal_mapped);
+        film_alpha |= used[i] && materials[i].holdout > 0;
     }
     CheckTextureCoordinates();
     features_.medium = has_medium;

@@ -129,6 +129,7 @@ class RenderScene {
     CameraModel camera;
     Spectrum background;
     bool film_transparent = false;
+    bool film_alpha = false;  // Commit(): the film's alpha can differ from 1 (transparent film, or a holdout used)
     bool has_medium = false;
     HomogeneousMedium medium;
     std::vector<Material> materials;

@@ -291,3 +291,21 @@ def test_normal_map_is_applied_in_object_space():
     # In world space (no object_linear) the tilt is the map's own, visibly different.
     scene.meshes[0].object_linear = None
     assert np.abs(render(scene) - render(smooth)).max() > 1e-3
+
+
+def test_openimageio_is_loaded_only_for_image_files(tmp_path):
+    # Its ~250 shared libraries cost an import half a second: sphrect loads its reader module on first use.
+    import subprocess
+    import sys
+    write_ppm(tmp_path / "a.ppm", np.zeros((2, 2, 3), np.uint8))
+    code = ("import sphrect, numpy as np, re\n"
+            "maps = lambda: open('/proc/self/maps').read()\n"
+            "before = 'libOpenImageIO' in maps()\n"
+            "m = sphrect.Material(textures={'base_color': sphrect.TextureLookup(0)})\n"
+            f"s = sphrect.Scene(camera=sphrect.Camera(width=4, height=4), materials=[m], "
+            f"textures=[sphrect.Texture(path={str(tmp_path / 'a.ppm')!r})], "
+            "lights=[sphrect.PointLight(position=(0, 0, 1), intensity=(1, 1, 1))])\n"
+            "sphrect.Renderer(s)\n"
+            "print(before, 'libOpenImageIO' in maps())\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["False", "True"]

@@ -77,11 +77,11 @@ static inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_
 }
 
 // The camera ray's first hit, and what it sees directly (shared by all techniques).
-template <bool kMedium>
+template <bool kGlossy, bool kMedium>
 static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, PrimaryHit& out) {
     out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     out.t_end = out.hit ? rh.ray.tfar : kInf;
-    if (out.hit) out.surface = MakeSurfaceHit(scene, out.ray, rh);
+    if (out.hit) out.surface = MakeSurfaceHit<kGlossy>(scene, out.ray, rh);
     Spectrum seen = out.seen;  // the coverage offset GenerateCameraSamples set
     // Emissive meshes are seen at their hit (two-sided, like their lights); the loop below covers
     // only the analytic lights, so they are not counted twice.
@@ -95,20 +95,17 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
             if (i == out.light_seen_by_estimate) return;
             seen += EmittedRadiance(scene.area_lights[i], -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);
         });
-    if (out.hit) {
-        out.alpha = 1 - std::min(scene.materials[out.surface.material].holdout, 1.0f);
-    } else if (scene.film_transparent) {
-        out.alpha = 0;
-    } else {
-        seen += scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
-    }
+    if (!out.hit && !scene.film_transparent) seen += scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
+    if (scene.film_alpha)
+        out.alpha = out.hit ? 1 - std::min(scene.materials[out.surface.material].holdout, 1.0f)
+                            : (scene.film_transparent ? 0.0f : 1.0f);
     out.seen = seen;
 }
 
-template <bool kMedium>
+template <bool kGlossy, bool kMedium>
 static inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit* rtc_hits, size_t n,
                                        PrimaryHit* hits) {
-    for (size_t s = 0; s < n; ++s) FinishCameraSample<kMedium>(scene, rtc_hits[s], hits[s]);
+    for (size_t s = 0; s < n; ++s) FinishCameraSample<kGlossy, kMedium>(scene, rtc_hits[s], hits[s]);
 }
 
 }  // namespace sphrect::render

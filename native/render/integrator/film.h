@@ -38,9 +38,11 @@ static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk
     const uint32_t n = uint32_t(p.samples);
     for (int c = 0; c < chunk.count; ++c) {
         const uint64_t pixel = chunk.PixelIndex(c, p.scene->camera.width);
-        double alpha = 0;
-        for (uint32_t i = 0; i < n; ++i) alpha += hits[size_t(c) * n + i].alpha;
-        p.alpha_sums[pixel] += alpha;
+        if (p.scene->film_alpha) {
+            double alpha = 0;
+            for (uint32_t i = 0; i < n; ++i) alpha += hits[size_t(c) * n + i].alpha;
+            p.alpha_sums[pixel] += alpha;
+        }
         for (size_t k = 0; k < techniques; ++k) {
             const Spectrum& sum = pixel_sums[k * stride + c];
             double* px = p.sums[k] + 3 * pixel;

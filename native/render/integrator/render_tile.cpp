@@ -106,7 +106,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
         const Stopwatch camera;
         GenerateCameraSamples<kDof>(p, chunk, ctx.sample_bsdf, scratch);
         TraceCameraRays(scene.rtc_scene, scratch.hits.data(), chunk_n, scratch.camera_hits.data());
-        FinishCameraSamples<kMedium>(scene, scratch.camera_hits.data(), chunk_n, scratch.hits.data());
+        FinishCameraSamples<kGlossy, kMedium>(scene, scratch.camera_hits.data(), chunk_n, scratch.hits.data());
         tally.camera_seconds += camera.Seconds();
         tally.camera_rays += chunk_n;
 

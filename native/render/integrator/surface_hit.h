@@ -51,7 +51,7 @@ static inline Vec3f Apply3x3Transposed(const float (&m)[3][3], const Vec3f& v) {
 // give (smoothly curved meshes differ slightly).  Object space: with the object's linear map L, a direction
 // maps by L^-1 and a normal by L^T (and back by L^-T), which matters where L scales non-uniformly.  A triangle
 // with degenerate UVs keeps N.
-static inline Vec3f ApplyNormalMap(const RenderScene& scene, const MeshData& mesh, const NormalMap& map,
+[[gnu::noinline, gnu::cold]] static Vec3f ApplyNormalMap(const RenderScene& scene, const MeshData& mesh, const NormalMap& map,
                                    const Vec3f p[3], const Point2<float> uv[3], const TextureCoordinates& tc,
                                    const Vec3f& n_world) {
     const Vec3f e1 = p[1] - p[0], e2 = p[2] - p[0];
@@ -83,47 +83,60 @@ static inline Vec3f ApplyNormalMap(const RenderScene& scene, const MeshData& mes
     return lm > 0 ? mapped / lm : n_world;
 }
 
+// What a textured, normal-mapped or dielectric material needs of the hit (out of line: cold for most scenes):
+// texture coordinates, the normal map applied to ns, and which side of the triangle the ray hit.
+[[gnu::noinline]] static void AddHitExtras(const RenderScene& scene, const MeshData& m, const Material& material,
+                                           const uint32_t (&i)[3], const Vec3f (&p)[3], float b0, float b1, float b2,
+                                           const Ray& ray, const Vec3f& ng, Vec3f& ns, SurfaceHit& s) {
+    // The side Blender's winding gives (Embree's Ng may point the other way).
+    const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
+    s.backfacing = Dot(ng, ray.d) * side > 0;
+    if (!material.textured && !material.normal_mapped) return;
+    s.tc = InterpolateTextureCoordinates(m, i[0], i[1], i[2], b0, b1, b2);
+    if (material.normal_mapped && !m.uvs.empty()) {
+        // In the frame of Blender's winding, then back.
+        const Point2<float> uv[3] = {m.uvs[i[0]], m.uvs[i[1]], m.uvs[i[2]]};
+        s.ns_unmapped = ns;
+        ns = ApplyNormalMap(scene, m, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
+    }
+}
+
+// kGlossy: the kernel that can meet textured, normal-mapped and dielectric materials (RenderScene::Commit sends
+// scenes using them to it); the diffuse kernel has none of their code.
+template <bool kGlossy>
 static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray, const RTCRayHit& rh) {
     const MeshData& m = scene.meshes[rh.hit.geomID];
     const uint32_t tri = rh.hit.primID;
     SurfaceHit s;
     s.t = rh.ray.tfar;
     s.material = m.material_ids.empty() ? 0 : m.material_ids[tri];
-    const Material& material = scene.materials[size_t(s.material)];
     Vec3f ng(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);  // Embree's unnormalised geometric normal
     const float len = Length(ng);
     ng = len > 0 ? ng / len : -ray.d;
     Vec3f ns = ng;
-    const bool textured = material.textured || material.normal_mapped || material.has_dielectric;
-    if (m.normals.empty() && !textured) {
+    const Material* extras = nullptr;  // the material, when it needs AddHitExtras
+    if constexpr (kGlossy) {
+        const Material& material = scene.materials[size_t(s.material)];
+        if (material.textured || material.normal_mapped || material.has_dielectric) extras = &material;
+    }
+    if (m.normals.empty() && !extras) {
         s.p = ray.o + ray.d * s.t;  // flat shading: no vertex fetch needed
     } else {
         // Interpolated shading normal (and the point from the barycentrics, which is more precise).
-        const uint32_t i0 = m.triangles[3 * tri], i1 = m.triangles[3 * tri + 1], i2 = m.triangles[3 * tri + 2];
-        auto vertex = [&](uint32_t i) {
-            return Vec3f(m.vertices[3 * i], m.vertices[3 * i + 1], m.vertices[3 * i + 2]);
+        const uint32_t i[3] = {m.triangles[3 * tri], m.triangles[3 * tri + 1], m.triangles[3 * tri + 2]};
+        auto vertex = [&](uint32_t k) {
+            return Vec3f(m.vertices[3 * k], m.vertices[3 * k + 1], m.vertices[3 * k + 2]);
         };
-        const Vec3f p[3] = {vertex(i0), vertex(i1), vertex(i2)};
+        const Vec3f p[3] = {vertex(i[0]), vertex(i[1]), vertex(i[2])};
         const float b1 = rh.hit.u, b2 = rh.hit.v, b0 = 1 - b1 - b2;
         s.p = p[0] * b0 + p[1] * b1 + p[2] * b2;
         if (!m.normals.empty()) {
-            const Vec3f n = m.normals[i0] * b0 + m.normals[i1] * b1 + m.normals[i2] * b2;
+            const Vec3f n = m.normals[i[0]] * b0 + m.normals[i[1]] * b1 + m.normals[i[2]] * b2;
             const float ln = Length(n);
             if (ln > 0) ns = n / ln;
             if (Dot(ns, ng) < 0) ns = -ns;  // shading normal on the geometric normal's side
         }
-        // The side Blender's winding gives (Embree's Ng may point the other way).
-        const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
-        s.backfacing = Dot(ng, ray.d) * side > 0;
-        if (material.textured || material.normal_mapped) {
-            s.tc = InterpolateTextureCoordinates(m, i0, i1, i2, b0, b1, b2);
-            if (material.normal_mapped && !m.uvs.empty()) {
-                // In the frame of Blender's winding, then back.
-                const Point2<float> uv[3] = {m.uvs[i0], m.uvs[i1], m.uvs[i2]};
-                s.ns_unmapped = ns;
-                ns = ApplyNormalMap(scene, m, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
-            }
-        }
+        if (extras) AddHitExtras(scene, m, *extras, i, p, b0, b1, b2, ray, ng, ns, s);
     }
     // Surfaces are two-sided: both normals face the incoming ray.
     if (Dot(ng, ray.d) > 0) {
