@@ -7,7 +7,7 @@ specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roug
 'glossy_bsdf', no Fresnel) for surfaces; Mix Shader and Add Shader trees of those (kind 'mix': each shader's
 closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume linked, Surface not)
 and a white Transparent BSDF make a transparent surface, left out by geometry.triangulate; Translucent BSDF (kind
-'translucent'); Holdout is black (warned); emission with Cycles 3.4's conventions -- an Emission shader emits
+'translucent'); Holdout (kind 'holdout': black, alpha 0); emission with Cycles 3.4's conventions -- an Emission shader emits
 radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength adds to
 its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
 |Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume Absorption or Principled Volume on the
@@ -211,7 +211,6 @@ def _closures(sphrect, node, weight, factors, leaves, textures, name):
 
 # Shaders that add no light a zero-bounce render of an opaque surface can show here, each with its warning.
 _BLACK_SHADERS = {
-    "ShaderNodeHoldout": "Holdout (black; the image's alpha stays 1)",
     "ShaderNodeBsdfTransparent": "Transparent BSDF inside a mix (its share black and opaque)",
 }
 
@@ -240,6 +239,12 @@ def _shader(sphrect, node, textures, log, name):
             if factors:
                 log.unsupported_feature(constant_emission, name)
             emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name)
+        elif leaf.bl_idname == "ShaderNodeHoldout":  # black, and a hole in the film's alpha (1 - its weight)
+            if factors:  # the film's alpha is made at the camera hit from the material's constant holdout
+                log.unsupported_feature("Holdout under a texture-driven Mix Shader factor (the factor's image mean "
+                                        "used)", name)
+            layers.append(sphrect.MaterialLayer(weight=weight * textures.factor_mean(factors),
+                                                material=sphrect.Material(name=name, kind="holdout")))
         elif leaf.bl_idname in _BLACK_SHADERS:
             log.unsupported_feature(_BLACK_SHADERS[leaf.bl_idname], name)
         else:
