@@ -47,10 +47,12 @@ def mean_relative_difference(ours, theirs):
     return float(np.mean(np.abs(a[lit] - b[lit]) / b[lit]))
 
 
-def difference_to_cycles(scene, label, tmp_path, light_samples=2):
-    """Render `scene` with Cycles (2048 spp) and with SPHRECT (512 spp, rectangle); print and return the mean
-    relative difference, and both images."""
-    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=2048)
+def difference_to_cycles(scene, label, tmp_path, light_samples=2, cycles=None):
+    """Render `scene` with Cycles (2048 spp; or take `cycles`, Cycles' image of this scene an earlier call returned:
+    its render is deterministic) and with SPHRECT (512 spp, rectangle); print and return the mean relative
+    difference, and both images."""
+    if cycles is None:
+        cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=2048)
     scene.render.engine = "SPHRECT"
     scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 512, 1, light_samples
     ours = render()["images"]["rectangle"]

@@ -78,6 +78,10 @@ def test_glossy_matches_cycles(empty_scene, distribution, roughness, tmp_path):
     assert abs(ratio - 1) <= HIGHLIGHT_TOLERANCE
 
 
+# Cycles' image of a mix's scene, kept for test_the_mix_comparison_can_fail (the same scene).
+MIX_CYCLES_IMAGES = {}
+
+
 @pytest.mark.parametrize("name", sorted(MIXES))
 def test_mix_matches_cycles(empty_scene, name, tmp_path):
     scene = sphere_scene(empty_scene, shader_tree(name, MIXES[name]))
@@ -87,6 +91,7 @@ def test_mix_matches_cycles(empty_scene, name, tmp_path):
     assert m.kind == ("principled" if name == "principled_principled_mix0.3" else "mix")
     assert "grey diffuse" not in log.warning_text() and "Principled BSDFs" not in log.warning_text()
     difference, ours, cycles = difference_to_cycles(scene, f"mix {name}", tmp_path)
+    MIX_CYCLES_IMAGES[name] = cycles
     ratio = highlight_ratio(scene, ours, cycles, tmp_path)
     print(f"mix {name}: highlight ours / Cycles {ratio:.4f}")
     assert difference <= TOLERANCE
@@ -154,9 +159,10 @@ def test_holdout_and_translucent_spheres_are_black_with_a_warning(empty_scene, n
 
 def test_the_mix_comparison_can_fail(empty_scene, tmp_path):
     """The diffuse + glossy mix rendered with its glossy side dropped is far from Cycles' mix."""
-    scene = sphere_scene(empty_scene, shader_tree("m", MIXES["diffuse_glossy_mix0.4"]))
-    _, ours, cycles = difference_to_cycles(scene, "mix reference", tmp_path)
-    tree = bpy.data.materials["m"].node_tree
+    name = "diffuse_glossy_mix0.4"
+    scene = sphere_scene(empty_scene, shader_tree(name, MIXES[name]))
+    _, ours, cycles = difference_to_cycles(scene, "mix reference", tmp_path, cycles=MIX_CYCLES_IMAGES.get(name))
+    tree = bpy.data.materials[name].node_tree
     tree.nodes.remove(tree.nodes["Glossy BSDF"])
     dropped = render()["images"]["rectangle"]  # SPHRECT, at difference_to_cycles' settings
     assert mean_relative_difference(dropped, cycles) > 0.03
