@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "bsdf_chi_square.h"
 #include "direction_quadrature.h"
 #include "render/bsdf.h"
 
@@ -168,67 +169,17 @@ TEST(PrincipledBsdf, SamplesReportTheirPdfAndValue) {
     }
 }
 
-// Wilson-Hilferty approximation of the chi-square quantile for k degrees of freedom at normal score z.
-double ChiSquareQuantile(int k, double z) {
-    const double a = 2.0 / (9.0 * k);
-    return k * std::pow(1 - a + z * std::sqrt(a), 3);
-}
-
 TEST(PrincipledBsdf, SamplingMatchesThePdfChiSquare) {
-    // Samples binned on a (cos theta, phi) grid of the hemisphere against the pdf integrated over each
-    // cell (8 x 8 midpoint points per cell); cells expecting < 5 are pooled (Pearson's rule).  Rejected
-    // samples (reflected below the horizon) are the pdf's missing mass, pooled as one more cell.
-    constexpr int kTheta = 24, kPhi = 48, kSub = 8, kSamples = 400000;
+    // Over the upper hemisphere (bsdf_chi_square.h); rejected samples (reflected below the horizon) are the
+    // pdf's missing mass.
     PCG32 rng(2024);
     for (const NamedInputs& c : Lobes()) {
         const Material m = MakePrincipledMaterial(c.in);
         for (float co : {0.85f, 0.3f}) {
-            const Vec3f wo = SphericalDirection(co, 0.7f);
-            std::vector<double> expected(kTheta * kPhi, 0.0), observed(kTheta * kPhi, 0.0);
-            double expected_total = 0;
-            for (int i = 0; i < kTheta; ++i)
-                for (int j = 0; j < kPhi; ++j) {
-                    double sum = 0;
-                    for (int a = 0; a < kSub; ++a)
-                        for (int b = 0; b < kSub; ++b) {
-                            const float ct = (i + (a + 0.5f) / kSub) / kTheta;
-                            const float phi = 2 * kPi * (j + (b + 0.5f) / kSub) / kPhi;
-                            sum += BsdfPDF<true>(m, wo, SphericalDirection(ct, phi));
-                        }
-                    const double cell_area = 2 * M_PI / (double(kTheta) * kPhi);
-                    expected[i * kPhi + j] = sum / (kSub * kSub) * cell_area * kSamples;
-                    expected_total += expected[i * kPhi + j];
-                }
-            double rejected = 0;
-            for (int n = 0; n < kSamples; ++n) {
-                const BsdfSample s = SampleBsdf<true>(m, wo, {rng.NextFloat(), rng.NextFloat()});
-                if (s.pdf == 0) {
-                    ++rejected;
-                    continue;
-                }
-                const int i = std::min(int(s.wi.z * kTheta), kTheta - 1);
-                float phi = std::atan2(s.wi.y, s.wi.x);
-                if (phi < 0) phi += 2 * kPi;
-                const int j = std::min(int(phi / (2 * kPi) * kPhi), kPhi - 1);
-                observed[i * kPhi + j] += 1;
-            }
-            double chi2 = 0, pool_e = std::max(0.0, kSamples - expected_total), pool_o = rejected;
-            int cells = 0;
-            for (size_t k = 0; k < expected.size(); ++k) {
-                if (expected[k] < 5) {
-                    pool_e += expected[k];
-                    pool_o += observed[k];
-                    continue;
-                }
-                chi2 += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
-                ++cells;
-            }
-            if (pool_e >= 5) {
-                chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
-                ++cells;
-            }
-            ASSERT_GT(cells, 20) << c.name;
-            EXPECT_LT(chi2, ChiSquareQuantile(cells - 1, 4.753)) << c.name << " cos_o " << co << ", " << cells << " cells";
+            const ChiSquare chi2 = BsdfSamplingChiSquare(m, SphericalDirection(co, 0.7f), rng, 0, 24, 48, 8, 400000);
+            ASSERT_GT(chi2.cells, 20) << c.name;
+            EXPECT_LT(chi2.statistic, ChiSquareQuantile(chi2.cells - 1, 4.753))
+                << c.name << " cos_o " << co << ", " << chi2.cells << " cells";
         }
     }
 }

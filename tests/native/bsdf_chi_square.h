@@ -1,0 +1,77 @@
+// Pearson chi-square of a material's BSDF sampling against its pdf (shared by the BSDF tests): samples binned on
+// a (cos theta, phi) grid over cos theta in [cos_lo, 1] against the pdf integrated over each cell (sub x sub
+// midpoint points); cells expecting < 5 pooled (Pearson's rule), and samples without a direction (pdf 0) are
+// the pdf's missing mass, pooled too.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "core/rng.h"
+#include "direction_quadrature.h"
+#include "render/bsdf.h"
+
+namespace sphrect::render {
+
+struct ChiSquare {
+    double statistic = 0;
+    int cells = 0;
+};
+
+// Wilson-Hilferty approximation of the chi-square quantile for k degrees of freedom at normal score z.
+inline double ChiSquareQuantile(int k, double z) {
+    const double a = 2.0 / (9.0 * k);
+    return k * std::pow(1 - a + z * std::sqrt(a), 3);
+}
+
+inline ChiSquare BsdfSamplingChiSquare(const Material& m, const Vec3f& wo, PCG32& rng, float cos_lo, int n_theta,
+                                       int n_phi, int sub, int samples) {
+    std::vector<double> expected(size_t(n_theta) * n_phi, 0.0), observed(expected.size(), 0.0);
+    const float cos_range = 1 - cos_lo;
+    double expected_total = 0;
+    for (int i = 0; i < n_theta; ++i)
+        for (int j = 0; j < n_phi; ++j) {
+            double sum = 0;
+            for (int a = 0; a < sub; ++a)
+                for (int b = 0; b < sub; ++b) {
+                    const float ct = cos_lo + cos_range * (i + (a + 0.5f) / sub) / n_theta;
+                    const float phi = 2 * kPi * (j + (b + 0.5f) / sub) / n_phi;
+                    sum += BsdfPDF<true>(m, wo, SphericalDirection(ct, phi));
+                }
+            const double cell_area = 2 * M_PI * cos_range / (double(n_theta) * n_phi);
+            expected[size_t(i) * n_phi + j] = sum / (sub * sub) * cell_area * samples;
+            expected_total += expected[size_t(i) * n_phi + j];
+        }
+    double rejected = 0;
+    for (int n = 0; n < samples; ++n) {
+        const BsdfSample s = SampleBsdf<true>(m, wo, {rng.NextFloat(), rng.NextFloat()});
+        if (s.pdf == 0) {
+            ++rejected;
+            continue;
+        }
+        const int i = std::clamp(int((s.wi.z - cos_lo) / cos_range * n_theta), 0, n_theta - 1);
+        float phi = std::atan2(s.wi.y, s.wi.x);
+        if (phi < 0) phi += 2 * kPi;
+        const int j = std::min(int(phi / (2 * kPi) * n_phi), n_phi - 1);
+        observed[size_t(i) * n_phi + j] += 1;
+    }
+    ChiSquare r;
+    double pool_e = std::max(0.0, samples - expected_total), pool_o = rejected;
+    for (size_t k = 0; k < expected.size(); ++k) {
+        if (expected[k] < 5) {
+            pool_e += expected[k];
+            pool_o += observed[k];
+            continue;
+        }
+        r.statistic += (observed[k] - expected[k]) * (observed[k] - expected[k]) / expected[k];
+        ++r.cells;
+    }
+    if (pool_e >= 5) {
+        r.statistic += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+        ++r.cells;
+    }
+    return r;
+}
+
+}  // namespace sphrect::render
