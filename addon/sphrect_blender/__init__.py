@@ -7,7 +7,8 @@ Python use (inside Blender):
 From outside Blender (export, Cycles render by command name): headless.py.
 
 Modules: native (finding the `sphrect` package), names (the module's name lists as enum items), images
-(image files and the reference cache), properties (settings), ui (panels), operators (File > Export),
+(image files and the reference cache), properties (settings), ui (panels), material_notes (what the material
+panel lists), operators (File > Export),
 io/exporter (depsgraph -> sphrect.Scene), engine/ (the render engine), headless and cycles_peer (commands
 for programs outside Blender). The add-on depends on the `sphrect` package, never the other way round.
 """
