@@ -170,16 +170,19 @@ def _native_lookup(lookup, n_textures: int, what: str):
 
 def _bind_textures(native, index: int, mat, n_textures: int) -> None:
     """Material `index`'s image lookups (Material.textures) and normal map."""
-    for name, lookup in mat.textures.items():
-        if name not in _native.textured_inputs:
-            raise ValueError(f"material '{mat.name}': no input {name!r} takes a texture "
-                             f"(expected {_one_of(_native.textured_inputs)})")
-        native.set_material_texture(index, name, _native_lookup(lookup, n_textures,
-                                                                f"material '{mat.name}' texture '{name}'"))
-    if mat.normal_map is not None:
-        native.set_material_normal_map(index, _native_lookup(mat.normal_map, n_textures,
-                                                             f"material '{mat.name}' normal_map"),
-                                       float(mat.normal_map_strength))
+    if not isinstance(mat.textures, dict):
+        raise ValueError(f"material '{mat.name}': textures must be a dict of input name -> sphrect.TextureLookup, "
+                         f"got {type(mat.textures).__name__}")
+    try:
+        for name, lookup in mat.textures.items():
+            if name not in _native.textured_inputs:
+                raise ValueError(f"no input {name!r} takes a texture (expected {_one_of(_native.textured_inputs)})")
+            native.set_material_texture(index, name, _native_lookup(lookup, n_textures, f"texture '{name}'"))
+        if mat.normal_map is not None:
+            native.set_material_normal_map(index, _native_lookup(mat.normal_map, n_textures, "normal_map"),
+                                           float(mat.normal_map_strength))
+    except ValueError as e:
+        raise ValueError(f"material '{mat.name}': {e}") from None
 
 
 def _add_material(native, mat, n_textures: int = 0):
