@@ -22,17 +22,11 @@ COLOR = (0.9, 0.7, 0.5, 1.0)
 
 
 def shader_material(node_type, **inputs):
-    mat = bpy.data.materials.new(node_type)
-    mat.use_nodes = True
-    tree = mat.node_tree
-    tree.nodes.clear()
-    out = tree.nodes.new("ShaderNodeOutputMaterial")
-    node = tree.nodes.new(node_type)
-    if "distribution" in inputs:
-        node.distribution = inputs.pop("distribution")
-    for socket, value in inputs.items():
-        node.inputs[socket].default_value = value
-    tree.links.new(node.outputs[0], out.inputs["Surface"])
+    """make_scenes' node_material named after the node type; `distribution` sets the node's distribution."""
+    distribution = inputs.pop("distribution", None)
+    mat, node = builders.node_material(node_type, node_type, **{k.replace(" ", "_"): v for k, v in inputs.items()})
+    if distribution is not None:
+        node.distribution = distribution
     return mat
 
 
