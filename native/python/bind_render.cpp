@@ -75,7 +75,7 @@ void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices
 }
 
 // An image from a [H, W, C] uint8 or float32 array (C in 1..4, rows bottom to top).
-int AddImage(RenderScene& s, const std::string& name, const py::array& pixels, bool srgb) {
+render::Image ImageOfArray(const std::string& name, const py::array& pixels, bool srgb) {
     if (pixels.ndim() != 3 || pixels.shape(2) < 1 || pixels.shape(2) > 4 || pixels.shape(0) < 1 || pixels.shape(1) < 1)
         throw py::value_error("image '" + name + "': pixels must have shape [H, W, 1..4]");
     if (pixels.shape(0) > render::kMaxImageSide || pixels.shape(1) > render::kMaxImageSide)
@@ -83,11 +83,15 @@ int AddImage(RenderScene& s, const std::string& name, const py::array& pixels, b
     const int h = int(pixels.shape(0)), w = int(pixels.shape(1)), c = int(pixels.shape(2));
     if (py::isinstance<py::array_t<uint8_t>>(pixels)) {
         const auto a = CArray<uint8_t>::ensure(pixels);
-        return s.AddImage(name, w, h, c, a.data(), nullptr, srgb);
+        return render::MakeImage(name, w, h, c, a.data(), nullptr, srgb);
     }
     const auto a = CArray<float>::ensure(pixels);
     if (!a) throw py::value_error("image '" + name + "': pixels must be numbers");
-    return s.AddImage(name, w, h, c, nullptr, a.data(), srgb);
+    return render::MakeImage(name, w, h, c, nullptr, a.data(), srgb);
+}
+
+int AddImage(RenderScene& s, const std::string& name, const py::array& pixels, bool srgb) {
+    return s.AddImage(ImageOfArray(name, pixels, srgb));
 }
 
 template <class Enum, size_t N>
@@ -214,6 +218,14 @@ void BindRender(py::module_& m) {
         for (size_t i = 0; i < std::size(list); ++i) t[i] = list[i];
         return t;
     };
+    m.def(
+        "texture_scalar_mean",
+        [](const py::array& pixels, bool srgb, bool alpha_output) {
+            return render::ImageScalarMean(ImageOfArray("pixels", pixels, srgb), alpha_output);
+        },
+        py::arg("pixels"), py::arg("srgb"), py::arg("alpha_output"),
+        "Mean over an image's texels ([H, W, C] uint8 or float32) of the scalar a material input reads there (the "
+        "decoded colour's Rec.709 luminance, or the alpha), each clamped to [0, 1] as a Mix factor is.");
     m.attr("textured_inputs") = names(render::kTexturedInputNames);
     m.attr("texture_interpolations") = names(render::kTextureInterpolationNames);
     m.attr("texture_extensions") = names(render::kTextureExtensionNames);

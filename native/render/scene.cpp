@@ -276,25 +276,12 @@ void RenderScene::CheckLookup(const TextureLookup& lookup) const {
 
 int RenderScene::AddImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
                           const float* floats, bool srgb) {
+    return AddImage(MakeImage(name, width, height, channels, bytes, floats, srgb));
+}
+
+int RenderScene::AddImage(Image image) {
     RequireNotCommitted();
-    const std::string who = "image '" + name + "'";
-    if (width <= 0 || height <= 0 || channels < 1 || channels > 4) Fail(who + " must be [H > 0, W > 0, 1..4]");
-    if ((bytes == nullptr) == (floats == nullptr)) Fail(who + ": give bytes or floats");
-    const size_t n = size_t(width) * size_t(height) * size_t(channels);
-    Image im;
-    im.name = name;
-    im.width = width;
-    im.height = height;
-    im.channels = channels;
-    im.srgb = srgb;
-    if (bytes) {
-        im.bytes.assign(bytes, bytes + n);
-    } else {
-        im.floats.assign(floats, floats + n);
-        for (float& v : im.floats)
-            if (!std::isfinite(v)) v = 0;  // Cycles' image loader zeroes non-finite texels too
-    }
-    images.push_back(std::move(im));
+    images.push_back(std::move(image));
     return int(images.size()) - 1;
 }
 

@@ -99,6 +99,7 @@ class RenderScene {
     // reads a file with OpenImageIO, or on failure makes Cycles' magenta missing image and a warning.
     int AddImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
                  const float* floats, bool srgb);
+    int AddImage(Image image);  // made by MakeImage (texture.h)
     int LoadImage(const std::string& name, const std::string& path, bool srgb);
     void SetMaterialTexture(int material, TexturedInput input, const TextureLookup& lookup);
     void SetMaterialNormalMap(int material, const TextureLookup& lookup, float strength);

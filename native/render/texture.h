@@ -7,8 +7,10 @@
 // Rows run bottom to top, as in Blender's Image.pixels: v = 0 is the image's bottom edge.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -60,6 +62,40 @@ inline float SrgbToLinear(float c) {
     return std::pow((c + 0.055f) * (1.0f / 1.055f), 2.4f);
 }
 
+inline Rgba DecodeTexel(const Image& im, Rgba c) {
+    if (im.srgb) {
+        c.r = SrgbToLinear(c.r);
+        c.g = SrgbToLinear(c.g);
+        c.b = SrgbToLinear(c.b);
+    }
+    return c;
+}
+
+// An image of width x height x channels bytes or floats (exactly one given; rows bottom to top); non-finite
+// floats become 0, as Cycles' image loader makes them.  std::invalid_argument for a bad shape.
+inline Image MakeImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
+                       const float* floats, bool srgb) {
+    const std::string who = "image '" + name + "'";
+    if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
+        throw std::invalid_argument(who + " must be [H > 0, W > 0, 1..4]");
+    if ((bytes == nullptr) == (floats == nullptr)) throw std::invalid_argument(who + ": give bytes or floats");
+    const size_t n = size_t(width) * size_t(height) * size_t(channels);
+    Image im;
+    im.name = name;
+    im.width = width;
+    im.height = height;
+    im.channels = channels;
+    im.srgb = srgb;
+    if (bytes) {
+        im.bytes.assign(bytes, bytes + n);
+    } else {
+        im.floats.assign(floats, floats + n);
+        for (float& v : im.floats)
+            if (!std::isfinite(v)) v = 0;
+    }
+    return im;
+}
+
 namespace texture_detail {
 
 // Cycles' wrap_periodic / wrap_clamp: a texel index inside [0, size).
@@ -106,12 +142,7 @@ inline Rgba LookupImage(const Image& im, float u, float v, TextureInterpolation 
         c = (ExtendedTexel(im, ix, iy, ext) * (1 - tx) + ExtendedTexel(im, ix + 1, iy, ext) * tx) * (1 - ty) +
             (ExtendedTexel(im, ix, iy + 1, ext) * (1 - tx) + ExtendedTexel(im, ix + 1, iy + 1, ext) * tx) * ty;
     }
-    if (im.srgb) {
-        c.r = SrgbToLinear(c.r);
-        c.g = SrgbToLinear(c.g);
-        c.b = SrgbToLinear(c.b);
-    }
-    return c;
+    return DecodeTexel(im, c);
 }
 
 // Where a material input reads an Image Texture node: which image, at which coordinates (the mesh's
@@ -141,5 +172,17 @@ inline Rgba EvalTextureLookup(const std::vector<Image>& images, const TextureLoo
 // to a float by its luminance, linear_rgb_to_gray: Rec.709 in Blender's default configuration).
 inline Spectrum TextureColor(const Rgba& c) { return c.rgb(); }
 inline float TextureScalar(const Rgba& c) { return Luminance(c.rgb()); }
+
+// The mean over the image's texels of what a scalar input reads there (its Color output's luminance, or its
+// Alpha), each clamped to [0, 1] as a Mix factor is: the constant the exporter puts where a factor cannot vary.
+inline double ImageScalarMean(const Image& im, bool alpha_output) {
+    double sum = 0;
+    for (int y = 0; y < im.height; ++y)
+        for (int x = 0; x < im.width; ++x) {
+            const Rgba c = DecodeTexel(im, im.Texel(x, y));
+            sum += std::clamp(alpha_output ? c.a : TextureScalar(c), 0.0f, 1.0f);
+        }
+    return sum / (double(im.width) * im.height);
+}
 
 }  // namespace sphrect::render

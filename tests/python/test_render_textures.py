@@ -311,3 +311,12 @@ def test_openimageio_is_loaded_only_for_image_files(tmp_path):
             "print(before, 'libOpenImageIO' in maps())\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
     assert out == ["False", "True"]
+
+
+def test_texture_scalar_mean_is_the_mean_of_decoded_clamped_texels():
+    grey = np.full((2, 2, 3), 128, np.uint8)
+    assert sphrect.texture_scalar_mean(grey, True, False) == pytest.approx(SRGB_128, rel=1e-6)
+    assert sphrect.texture_scalar_mean(grey, False, False) == pytest.approx(128 / 255, rel=1e-6)
+    rgba = np.array([[[1.0, 0.0, 0.0, 0.25], [4.0, 4.0, 4.0, 0.75]]], np.float32)  # luminance 0.2126, 4 -> 1
+    assert sphrect.texture_scalar_mean(rgba, False, False) == pytest.approx((0.2126 + 1.0) / 2, rel=1e-6)
+    assert sphrect.texture_scalar_mean(rgba, False, True) == pytest.approx(0.5)

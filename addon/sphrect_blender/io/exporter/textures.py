@@ -22,9 +22,6 @@ MISSING_IMAGE_RGBA = (1.0, 0.0, 1.0, 1.0)
 _LINEAR_COLORSPACES = {"Non-Color", "Linear", "Raw", "Linear Rec.709"}
 _INTERPOLATIONS = {"Linear": "linear", "Closest": "closest"}  # Cubic and Smart: 'linear', warned
 _IMAGE_NODE = "ShaderNodeTexImage"
-# Cycles' rgb_to_y for Blender's scene linear (Rec.709), the weights a colour read as a scalar takes (the renderer's
-# Luminance in native/render/sampling_util.h): here only for the mean of a factor that cannot vary (factor_mean).
-_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 
 def follow_reroutes(socket):
@@ -158,17 +155,9 @@ class TextureExport:
         texture = self.list[index]
         if texture is None or texture.pixels is None:  # not read (the material panel's notes): no mean to take
             return 0.5
-        if key not in self._means:
-            pixels = texture.pixels.astype(np.float64) / (255.0 if texture.pixels.dtype == np.uint8 else 1.0)
-            channels = pixels.shape[2]
-            if output == "alpha":
-                value = pixels[..., -1] if channels in (2, 4) else np.ones(pixels.shape[:2])
-            else:
-                rgb = pixels[..., :3] if channels >= 3 else np.repeat(pixels[..., :1], 3, axis=2)
-                if texture.colorspace == "srgb":  # IEC 61966-2-1, as Cycles decodes
-                    rgb = np.where(rgb < 0.04045, np.maximum(rgb, 0) / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
-                value = rgb @ _LUMINANCE
-            self._means[key] = float(np.clip(value, 0.0, 1.0).mean())
+        if key not in self._means:  # the renderer's own texel decoding and scalar (texture.h ImageScalarMean)
+            self._means[key] = self.sphrect.texture_scalar_mean(texture.pixels, texture.colorspace == "srgb",
+                                                                output == "alpha")
         return self._means[key]
 
     def name_uv_map(self, uv_map, owner):
