@@ -57,8 +57,9 @@ import numpy as np
 
 from . import _native
 from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, SENSOR_FITS, TEXTURE_COLORSPACES,
-                    TEXTURE_COORDINATES, TEXTURE_OUTPUTS, Camera, EllipseLight, MaterialLayer, MixFactor, PointLight,
-                    RectLight, Scene, SpotLight, SunLight, Texture, TextureLookup)
+                    TEXTURE_COORDINATES, TEXTURE_EXTENSIONS, TEXTURE_INTERPOLATIONS, TEXTURE_OUTPUTS, TEXTURED_INPUTS,
+                    Camera, EllipseLight, MaterialLayer, MixFactor, PointLight, RectLight, Scene, SpotLight, SunLight,
+                    Texture, TextureLookup)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -157,8 +158,7 @@ def _native_lookup(lookup, n_textures: int, what: str):
             or not 0 <= lookup.texture < n_textures:
         raise ValueError(f"{what}: texture {lookup.texture!r} is not an index into the scene's {n_textures} textures")
     for name, allowed in (("output", TEXTURE_OUTPUTS), ("coordinates", TEXTURE_COORDINATES),
-                          ("interpolation", _native.texture_interpolations),
-                          ("extension", _native.texture_extensions)):
+                          ("interpolation", TEXTURE_INTERPOLATIONS), ("extension", TEXTURE_EXTENSIONS)):
         if getattr(lookup, name) not in allowed:
             raise ValueError(f"{what}: {name} must be {_one_of(allowed)}, got {getattr(lookup, name)!r}")
     transform = np.asarray(lookup.transform, dtype=np.float64)
@@ -175,8 +175,8 @@ def _bind_textures(native, index: int, mat, n_textures: int) -> None:
                          f"got {type(mat.textures).__name__}")
     try:
         for name, lookup in mat.textures.items():
-            if name not in _native.textured_inputs:
-                raise ValueError(f"no input {name!r} takes a texture (expected {_one_of(_native.textured_inputs)})")
+            if name not in TEXTURED_INPUTS:
+                raise ValueError(f"no input {name!r} takes a texture (expected {_one_of(TEXTURED_INPUTS)})")
             native.set_material_texture(index, name, _native_lookup(lookup, n_textures, f"texture '{name}'"))
         if mat.normal_map is not None:
             native.set_material_normal_map(index, _native_lookup(mat.normal_map, n_textures, "normal_map"),

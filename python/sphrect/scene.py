@@ -33,7 +33,7 @@ from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 
-from . import scene_file
+from . import _native, scene_file
 from .fileio import atomic_write
 
 FORMAT_NAME = "sphrect-scene"
@@ -63,13 +63,13 @@ CAMERA_TYPES = ("perspective", "orthographic")
 # to linear after filtering, as Cycles does for byte images; 'linear': used as stored, Blender's Non-Color and
 # Linear), the node's interpolation and extension, and the coordinates it reads.
 TEXTURE_COLORSPACES = ("srgb", "linear")
-TEXTURE_INTERPOLATIONS = ("linear", "closest")
-TEXTURE_EXTENSIONS = ("repeat", "extend", "clip")
+TEXTURE_INTERPOLATIONS = tuple(_native.texture_interpolations)  # ("linear", "closest"): render/textured_material.h
+TEXTURE_EXTENSIONS = tuple(_native.texture_extensions)          # ("repeat", "extend", "clip")
 TEXTURE_COORDINATES = ("uv", "generated")
 TEXTURE_OUTPUTS = ("color", "alpha")
 # The material inputs a texture can drive (Material.textures' keys): 'base_color' is a colour (its Color output
 # as is, Alpha as grey), the others scalars (Color as its luminance, Cycles' rgb_to_gray, or Alpha).
-TEXTURED_INPUTS = ("base_color", "roughness", "metallic", "specular")
+TEXTURED_INPUTS = tuple(_native.textured_inputs)  # ("base_color", "roughness", "metallic", "specular")
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 
 

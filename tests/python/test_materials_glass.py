@@ -24,7 +24,9 @@ def beckmann_g1(c, alpha):
     return (3.535 * a + 2.181 * a * a) / (1 + 2.276 * a + 2.577 * a * a) if a < 1.6 else 1.0
 
 
-def cycles_glass_reflection(m, wo, wi):
+def cycles_microfacet_reflection(m, wo, wi):
+    """Cycles 3.4's GGX / Beckmann reflection closure, colour x D G1(wo) G1(wi) / (4 cos cos), no Fresnel (the
+    Glossy BSDF; the Glass BSDF's reflection adds the Fresnel of the view)."""
     h = (wo + wi) / np.linalg.norm(wo + wi)
     alpha = m.roughness ** 2
     if m.distribution == "beckmann":
@@ -34,7 +36,11 @@ def cycles_glass_reflection(m, wo, wi):
     else:
         d = alpha ** 2 / (math.pi * (h[2] ** 2 * (alpha ** 2 - 1) + 1) ** 2)
         g = smith_g1(wo[2], alpha) * smith_g1(wi[2], alpha)
-    return np.asarray(m.base_color) * fresnel_dielectric(wo[2], m.ior) * d * g / (4 * wo[2] * wi[2])
+    return np.asarray(m.base_color) * d * g / (4 * wo[2] * wi[2])
+
+
+def cycles_glass_reflection(m, wo, wi):
+    return fresnel_dielectric(wo[2], m.ior) * cycles_microfacet_reflection(m, wo, wi)
 
 
 def sunlit_plane(mat, wi):

@@ -12,26 +12,13 @@ import pytest
 
 import sphrect
 from render_testing import plane_mesh
-from test_materials_glass import beckmann_g1, cycles_glass_reflection
-from test_materials_principled import (E_SUN, TILT, cycles_principled_brdf, fresnel_dielectric, plain, smith_g1,
+from test_materials_glass import cycles_glass_reflection
+from test_materials_glass import cycles_microfacet_reflection as cycles_glossy  # the Glossy BSDF
+from test_materials_principled import (E_SUN, TILT, cycles_principled_brdf, fresnel_dielectric, plain,
                                       tilted_camera)
 
 WO = np.array([0.0, -math.sin(TILT), math.cos(TILT)])
 SUNS = [(0.0, 1.2), (0.6, -0.4), (0.0, 3.0)]  # (x, y) of wi before normalising, z = 1
-
-
-def cycles_glossy(m, wo, wi):
-    """Cycles 3.4's Glossy BSDF: colour x D G1(wo) G1(wi) / (4 cos cos), no Fresnel."""
-    h = (wo + wi) / np.linalg.norm(wo + wi)
-    alpha = m.roughness ** 2
-    if m.distribution == "beckmann":
-        c2 = h[2] ** 2
-        d = math.exp(-(1 - c2) / c2 / alpha ** 2) / (math.pi * alpha ** 2 * c2 * c2)
-        g = beckmann_g1(wo[2], alpha) * beckmann_g1(wi[2], alpha)
-    else:
-        d = alpha ** 2 / (math.pi * (h[2] ** 2 * (alpha ** 2 - 1) + 1) ** 2)
-        g = smith_g1(wo[2], alpha) * smith_g1(wi[2], alpha)
-    return np.asarray(m.base_color) * d * g / (4 * wo[2] * wi[2])
 
 
 def reference(m, wo, wi):
