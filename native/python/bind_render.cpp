@@ -287,6 +287,9 @@ void BindRender(py::module_& m) {
             [](RenderScene& s, V3 c, V3 emission) { return s.AddTranslucentMaterial(ToVec(c), ToVec(emission)); },
             py::arg("base_color"), py::arg("emission") = V3{0, 0, 0})
         .def("add_holdout_material", &RenderScene::AddHoldoutMaterial)
+        .def(
+            "add_transparent_material", [](RenderScene& s, V3 c) { return s.AddTransparentMaterial(ToVec(c)); },
+            py::arg("base_color"))
         .def("set_film_transparent", &RenderScene::SetFilmTransparent, py::arg("transparent"))
         .def(
             "add_mix_material", [](RenderScene& s, V3 emission) { return s.AddMixMaterial(ToVec(emission)); },
@@ -390,6 +393,7 @@ void BindRender(py::module_& m) {
     m.attr("MAX_IMAGE_SIDE") = render::kMaxImageSide;
     m.attr("MAX_LIGHT_TREE_EMITTERS") = render::kMaxLightTreeEmitters;
     m.attr("MAX_MIX_GLOSSY_LOBES") = render::kMaxMicrofacetLobes;
+    m.attr("MAX_TRANSPARENT_HITS") = render::kMaxTransparentHits;
     m.attr("mis_modes") = NameTuple(render::kAllMisModes, render::MisModeName);
     m.attr("medium_samplings") = NameTuple(render::kAllMediumSamplings, render::MediumSamplingName);
     m.attr("light_selections") = NameTuple(render::kAllLightSelections, render::LightSelectionName);

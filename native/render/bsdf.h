@@ -81,6 +81,13 @@ struct Material {
     // Holdout (Cycles' CLOSURE_HOLDOUT_ID): the share of the surface that is a hole in the image, black and of alpha
     // 0 where the camera sees it (the film's alpha is 1 - holdout there); its light reflection is the rest's.
     float holdout = 0;
+    // Transparent BSDF (CLOSURE_BSDF_TRANSPARENT_ID), and Principled Alpha < 1 (Cycles expands it into a Mix Shader with
+    // a white Transparent BSDF): the colour that camera and shadow rays keep passing straight through the surface
+    // (integrator/transparency.h).  opaque_weight: the summed mix weights of the other shaders, which a camera ray
+    // stopping at the surface shades (0 for a Transparent BSDF alone).
+    Spectrum transparency;
+    bool has_transparency = false;
+    float opaque_weight = 1;
 };
 
 // Cycles' bump_shadowing_term (Chiang et al., "Taming the Shadow Terminator", 2019): the smooth falloff of
@@ -237,6 +244,23 @@ inline Material MakeHoldoutMaterial() {
     return m;
 }
 
+// Blender's Transparent BSDF: nothing reflected; camera and shadow rays go on through it, filtered by `color`.
+inline Material MakeTransparentMaterial(const Spectrum& color) {
+    Material m;
+    m.transparency = color;
+    m.has_transparency = !IsBlack(color);
+    m.opaque_weight = 0;
+    return m;
+}
+
+// The material a Mix / Add Shader starts from, before MixIntoMaterial adds its parts: black, opaque only where a
+// part is.
+inline Material MakeEmptyMixMaterial() {
+    Material m = MakeDiffuseMaterial({});
+    m.opaque_weight = 0;
+    return m;
+}
+
 // A microfacet lobe of colour `color` and Blender roughness `roughness` (alpha = roughness^2); false (no
 // lobe) when Cycles would not make one: black, or sharp -- Cycles' microfacet closures return 0 for
 // alpha_x alpha_y <= 1e-7 (a delta lobe, which light samples cannot find: black at zero bounces).
@@ -298,6 +322,11 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
             throw std::invalid_argument("the 'glossy' model cannot be mixed (use 'principled')");
     }
     mix.holdout += part.holdout * weight;
+    mix.opaque_weight += part.opaque_weight * weight;
+    if (part.has_transparency) {
+        mix.transparency += part.transparency * weight;
+        mix.has_transparency = !IsBlack(mix.transparency);
+    }
     if (!part.principled) {  // Lambert
         if (!IsBlack(part.diffuse)) mix.glossy = mix.principled = true;
         mix.lambert += part.diffuse * weight;

@@ -26,6 +26,7 @@ struct ThreadScratch {
     std::vector<RTCRayHit> camera_hits;              // Embree's answers for `hits`' rays
     std::vector<Spectrum> sample_values;             // radiance per camera sample of a chunk
     std::vector<DeferredShadowRay> shadow_rays;      // queued by shading, traced after it
+    std::vector<uint8_t> shadow_crossed;             // per shadow ray: it crossed a transparent surface
     std::vector<Point2<float>> pixel_points, lens_points, light_points, bsdf_points;
     std::vector<Spectrum> pixel_sums;                // per technique, per pixel of a chunk
     std::vector<int> tile_screen_lights;             // light_coverage.h: the lights over the tile,

@@ -1,5 +1,7 @@
 #include "scene.h"
 
+#include "embree_rays.h"
+
 #include <cmath>
 #include <algorithm>
 #include <array>
@@ -88,6 +90,7 @@ std::vector<std::string> SceneFeatures::Names() const {
     if (emissive_meshes) n.push_back("emissive_meshes");
     if (textures) n.push_back("textures");
     if (normal_maps) n.push_back("normal_maps");
+    if (transparency) n.push_back("transparency");
     return n;
 }
 
@@ -226,6 +229,11 @@ int RenderScene::AddTranslucentMaterial(const Spectrum& color, const Spectrum& e
     return PushMaterial(MakeTranslucentMaterial(color), emission, Recipe(MaterialKind::kTranslucent, color));
 }
 
+int RenderScene::AddTransparentMaterial(const Spectrum& color) {
+    CheckMaterialColors(color, {});
+    return PushMaterial(MakeTransparentMaterial(color), {}, Recipe(MaterialKind::kTransparent, color));
+}
+
 int RenderScene::AddHoldoutMaterial() {
     RequireNotCommitted();
     return PushMaterial(MakeHoldoutMaterial(), {}, Recipe(MaterialKind::kHoldout, {}));
@@ -238,7 +246,7 @@ void RenderScene::SetFilmTransparent(bool transparent) {
 
 int RenderScene::AddMixMaterial(const Spectrum& emission) {
     CheckMaterialColors({}, emission);
-    return PushMaterial(MakeDiffuseMaterial({}), emission, Recipe(MaterialKind::kMix, {}));
+    return PushMaterial(MakeEmptyMixMaterial(), emission, Recipe(MaterialKind::kMix, {}));
 }
 
 void RenderScene::MixLastMaterialInto(int target, float weight, const std::vector<MixFactorLookup>& factors) {
@@ -482,6 +490,7 @@ void RenderScene::Commit() {
                 Fail("mesh '" + m.name + "': triangle " + std::to_string(i) + " uses material " +
                      std::to_string(m.material_ids[i]) + " but the scene has " + std::to_string(materials.size()) +
                      " materials");
+    LetRaysThroughTransparentMeshes();
     rtcCommitScene(rtc_scene);
     AddMeshLights();
     analytic_light_finder.Build(device_, area_lights, num_analytic_lights);
@@ -526,7 +535,44 @@ void RenderScene::Commit() {
     features_.delta_lights = !delta_lights.empty();
     features_.background = !IsBlack(background);
     features_.emissive_meshes = has_mesh_lights;
+    features_.transparency = has_transparency;
+    if (has_transparency && has_medium)
+        warnings.push_back("transparent surfaces in a medium: a camera ray that goes through one weights its "
+                           "single scattering in front of the surface by the surface's transparency too (approximate)");
     committed_ = true;
+}
+
+namespace {
+
+// The occlusion filter of meshes with transparent materials (ShadowRayContext, embree_rays.h).
+void LetThroughTransparent(const RTCFilterFunctionNArguments* args) {
+    const auto* ctx = reinterpret_cast<const ShadowRayContext*>(args->context);
+    if (!ctx->crossed_transparent) return;
+    const auto* scene = static_cast<const RenderScene*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const unsigned geom = RTCHitN_geomID(args->hit, args->N, i), prim = RTCHitN_primID(args->hit, args->N, i);
+        if (!scene->MayBeTransparent(scene->meshes[geom], prim)) continue;
+        args->valid[i] = 0;
+        ctx->crossed_transparent[RTCRayN_id(args->ray, args->N, i)] = 1;
+    }
+}
+
+}  // namespace
+
+void RenderScene::LetRaysThroughTransparentMeshes() {
+    has_transparency = false;
+    for (size_t id = 0; id < meshes.size(); ++id) {
+        const MeshData& m = meshes[id];
+        bool transparent = false;
+        for (size_t t = 0; t < m.num_triangles && !transparent; ++t) transparent = MayBeTransparent(m, uint32_t(t));
+        if (!transparent) continue;
+        has_transparency = true;
+        RTCGeometry geom = rtcGetGeometry(rtc_scene, unsigned(id));
+        rtcSetGeometryUserData(geom, this);
+        rtcSetGeometryOccludedFilterFunction(geom, &LetThroughTransparent);
+        rtcCommitGeometry(geom);
+    }
 }
 
 void RenderScene::CheckTextureCoordinates() {

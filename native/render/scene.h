@@ -22,6 +22,10 @@
 
 namespace sphrect::render {
 
+// Transparent surfaces a camera or shadow ray goes through before it counts as blocked (black), as Cycles'
+// transparent_max_bounces does at its default (integrator/transparency.h).
+constexpr int kMaxTransparentHits = 8;
+
 // Limits of a scene's camera: each image side, and the pixel count (the bindings export the side).
 constexpr int kMaxImageSide = 1 << 15;
 constexpr int kMaxImagePixelsLog2 = 27;
@@ -57,7 +61,7 @@ struct SceneFeatures {
     bool glossy = false, medium = false, dof = false;
     bool ellipse_lights = false, delta_lights = false, orthographic = false, background = false;
     bool emissive_meshes = false;
-    bool textures = false, normal_maps = false;
+    bool textures = false, normal_maps = false, transparency = false;
     std::vector<std::string> Names() const;
 };
 
@@ -90,6 +94,7 @@ class RenderScene {
     // which says what a mix can hold; std::invalid_argument beyond that).
     int AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission = {});
     int AddHoldoutMaterial();
+    int AddTransparentMaterial(const Spectrum& color);  // Transparent BSDF (integrator/transparency.h)
     int AddMixMaterial(const Spectrum& emission = {});
     // factors: Mix Shader factors from textures above the layer (its weight times each; an emitting layer cannot
     // have any: mesh lights need a constant emission).
@@ -147,6 +152,12 @@ class RenderScene {
     std::vector<ScreenLight> screen_lights;  // of those, the camera's view of the ones it sees whole
     LightSelector light_selector;            // over area_lights, by power
     bool has_mesh_lights = false;            // some area light is on_mesh
+    bool has_transparency = false;           // Commit(): some triangle's material may let rays through
+    // Whether triangle `prim` of `mesh` has a material that may let rays through (integrator/transparency.h).
+    bool MayBeTransparent(const MeshData& mesh, uint32_t prim) const {
+        const int32_t material = mesh.material_ids.empty() ? 0 : mesh.material_ids[prim];
+        return materials[size_t(material)].has_transparency;
+    }
     std::vector<std::string> warnings;       // Commit()'s, e.g. skipped degenerate emissive triangles
     // Centres for equi-angular sampling in the medium: area lights' centres and point/spot
     // lights' positions, picked by power (sun excluded: it is infinitely far).
@@ -176,6 +187,7 @@ class RenderScene {
     mutable std::vector<TreeEmitterRef> light_tree_refs_;
     void RequireNotCommitted() const;
     void AddMeshLights();
+    void LetRaysThroughTransparentMeshes();  // Commit(): sets has_transparency and the meshes' occlusion filters
     RTCDevice device_ = nullptr;
     bool committed_ = false, camera_set_ = false;
     SceneFeatures features_;

@@ -12,7 +12,9 @@
 
 namespace sphrect::render {
 
-enum class MaterialKind { kDiffuse, kGlossy, kPrincipled, kGlass, kGlossyBsdf, kTranslucent, kHoldout, kMix };
+enum class MaterialKind {
+    kDiffuse, kGlossy, kPrincipled, kGlass, kGlossyBsdf, kTranslucent, kHoldout, kTransparent, kMix
+};
 
 // The inputs a lookup can drive (the scene format's TEXTURED_INPUTS, in order; bindings export the names).
 enum class TexturedInput { kBaseColor, kRoughness, kMetallic, kSpecular, kCount };
@@ -77,6 +79,7 @@ inline Material MakeMaterialFromInputs(const MaterialRecipe& r, const Principled
         case MaterialKind::kGlossyBsdf: return MakeGlossyBsdfMaterial(in.base_color, in.roughness, r.beckmann);
         case MaterialKind::kTranslucent: return MakeTranslucentMaterial(in.base_color);
         case MaterialKind::kHoldout: return MakeHoldoutMaterial();
+        case MaterialKind::kTransparent: return MakeTransparentMaterial(in.base_color);
         case MaterialKind::kMix: break;
     }
     return MakeDiffuseMaterial({});  // a mix's layers are the caller's
@@ -89,7 +92,7 @@ inline Material MakeMaterialFromInputs(const MaterialRecipe& r, const Principled
 inline Material EvaluateTexturedMaterial(const MaterialRecipe& r, const std::vector<Image>& images,
                                          const TextureCoordinates& tc) {
     if (r.kind == MaterialKind::kMix) {
-        Material mix = MakeDiffuseMaterial({});
+        Material mix = MakeEmptyMixMaterial();
         for (const MaterialRecipeLayer& l : r.layers) {
             float w = l.weight;
             for (const MixFactorLookup& f : l.factors) {

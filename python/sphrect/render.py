@@ -220,6 +220,10 @@ def _add_untextured_material(native, mat, n_textures: int):
         return native.add_holdout_material()
     if mat.kind == "translucent":
         return native.add_translucent_material(base_color(), emission)
+    if mat.kind == "transparent":
+        if any(mat.emission):
+            raise ValueError(f"material '{mat.name}': a 'transparent' material has no emission (mix in one instead)")
+        return native.add_transparent_material(base_color())
     if mat.kind == "mix":
         target = native.add_mix_material(emission)
         for i, layer in enumerate(mat.layers):

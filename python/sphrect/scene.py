@@ -49,13 +49,16 @@ FORMAT_NAME = "sphrect-scene"
 # (Texture: image pixels in the file, or a path loaded with OpenImageIO), Material.textures,
 # normal_map, normal_map_strength and MaterialLayer.factors (TextureLookup), Mesh.uvs, generated and object_linear.
 # Older files load unchanged (no textures).
-FORMAT_VERSION = 6
+# 7: Material kind 'transparent' (Blender's Transparent BSDF: camera and shadow rays go through, filtered by its
+# colour; with a mix, a Principled BSDF's Alpha).  Older files load unchanged.
+FORMAT_VERSION = 7
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
 
 # The values the format's name fields take.
-MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "translucent", "holdout", "mix")
+MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "translucent", "holdout", "transparent",
+                  "mix")
 # Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
 GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
 CAMERA_TYPES = ("perspective", "orthographic")
@@ -104,7 +107,9 @@ class Material:
     Blender's Glossy BSDF (base_color = its Color, roughness, distribution), Cycles 3.4's microfacet reflection
     with no Fresnel; 'translucent': Blender's Translucent BSDF (base_color = its Color), Lambertian transmission,
     lit through the surface from the side opposite the viewer; 'holdout': Blender's Holdout, black and of alpha 0
-    in the image (in a mix, alpha 1 - its weight); 'mix': Mix / Add Shader, the sum of `layers`' materials each scaled by its weight (Cycles
+    in the image (in a mix, alpha 1 - its weight); 'transparent': Blender's Transparent BSDF (base_color = its
+    Color), which camera and shadow rays go straight through, filtered by the colour (a Principled BSDF's Alpha a is
+    a 'mix' of it, white, weighted 1 - a and of the Principled weighted a, as Cycles expands it); 'mix': Mix / Add Shader, the sum of `layers`' materials each scaled by its weight (Cycles
     scales each side's closures: (1 - fac) and fac for Mix, 1 and 1 for Add).  A mix holds any number of
     'diffuse' layers, one 'principled' (or a mix holding one), and at most MAX_MIX_GLOSSY_LOBES distinct
     'glass' / 'glossy_bsdf' lobes (equal roughness, distribution and IOR merge); not 'glossy'.  Its own

@@ -244,17 +244,18 @@ def test_other_linked_inputs_stay_warnings_naming_the_node(empty_scene):
     t = Tree("Other")
     bsdf = t.node("ShaderNodeBsdfPrincipled")
     t.link(t.node("ShaderNodeTexNoise").outputs["Color"], bsdf.inputs["Base Color"])
-    t.link(t.image(image).outputs["Alpha"], bsdf.inputs["Alpha"])  # not one of TEXTURED_INPUTS
-    t.link(t.image(image).outputs["Color"], bsdf.inputs["Sheen Tint"])
+    t.link(t.image(image).outputs["Color"], bsdf.inputs["Sheen Tint"])  # not one of TEXTURED_INPUTS
     math_node = t.node("ShaderNodeMath")
     t.link(t.image(image).outputs["Color"], math_node.inputs[0])
     t.link(math_node.outputs[0], bsdf.inputs["Roughness"])  # a texture through another node: not followed
+    t.link(math_node.outputs[0], bsdf.inputs["Alpha"])  # (an Image Texture's is a mix factor: test_transparent_parity)
     on_plane(t.surface(bsdf))
     scene, log = export()
     assert material_named(scene, "Other").textures == {}
     text = log.warning_text()
-    for warning in ("linked 'Base Color' input (Noise Texture)", "linked 'Alpha' input (Image Texture)",
-                    "linked 'Sheen Tint' input (Image Texture)", "linked 'Roughness' input (Math)"):
+    for warning in ("linked 'Base Color' input (Noise Texture)", "Principled Alpha linked from a node other than an "
+                    "Image Texture (1 used)", "linked 'Sheen Tint' input (Image Texture)",
+                    "linked 'Roughness' input (Math)"):
         assert warning in text
 
 

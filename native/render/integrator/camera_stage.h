@@ -16,6 +16,7 @@
 #include "render/kernel.h"
 #include "sample_dimensions.h"
 #include "surface_hit.h"
+#include "transparency.h"
 
 namespace sphrect::render {
 
@@ -32,6 +33,8 @@ struct PrimaryHit {
     int light_seen_by_estimate = -1;
     uint64_t rng_seed = 0;
     float alpha = 1;  // the film's alpha: 0 where it sees a holdout or, with a transparent film, escapes
+    // What the hit's light is multiplied by: 1, but for a ray that went through transparent surfaces (transparency.h).
+    Spectrum throughput{1, 1, 1};
 };
 
 // Pattern points and camera rays of the chunk's camera samples, pixel by pixel:
@@ -65,6 +68,7 @@ static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk&
             hits[i].rng_seed = CameraSampleRngSeed(pixel_seed, p.first_sample + i);
             hits[i].seen = partial.empty() ? Spectrum() : CoverageOffset(partial, fx, fy);
             hits[i].light_seen_by_estimate = light_seen_by_estimate;
+            hits[i].throughput = {1, 1, 1};
         }
     }
 }
@@ -76,29 +80,70 @@ static inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_
     IntersectCameraRays(scene, rtc_hits, n);
 }
 
-// The camera ray's first hit, and what it sees directly (shared by all techniques).
+// What the camera ray sees directly from t_begin up to its hit (or escape), times `throughput` (kWeighted; else
+// 1): the hit's emission and the analytic lights it crosses before it.
+template <bool kMedium, bool kWeighted>
+static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHit& out, float t_begin, Spectrum& seen) {
+    auto weighted = [&](const Spectrum& v) { return kWeighted ? out.throughput * v : v; };
+    // Emissive meshes are seen at their hit (two-sided, like their lights); the loop below covers
+    // only the analytic lights, so they are not counted twice.
+    if (out.hit && scene.has_mesh_lights) {
+        const Spectrum& le = scene.materials[out.surface.material].emission;
+        if (!IsBlack(le)) seen += weighted(le * SegmentTransmittance<kMedium>(scene.medium, out.t_end));
+    }
+    scene.analytic_light_finder.ForEachCrossing(
+        out.ray.o, out.ray.d, t_begin, std::min(out.t_end, out.ray.tmax), LightsSought::VisibleToCamera,
+        [&](int i, float t) {
+            if (i == out.light_seen_by_estimate) return;
+            seen += weighted(EmittedRadiance(scene.area_lights[i], -out.ray.d) *
+                             SegmentTransmittance<kMedium>(scene.medium, t));
+        });
+}
+
+// The camera ray's first hit, or what lies past it while it is transparent (transparency.h): the hit shading
+// takes, the ray's throughput, and what it sees on the way.  Out of line: scenes without transparency skip it.
+template <bool kGlossy, bool kMedium>
+[[gnu::noinline]] static void FollowThroughTransparent(const RenderScene& scene, PrimaryHit& out, Spectrum& seen) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (int transparent_hits = 0; out.hit; ++transparent_hits) {
+        const SurfaceTransparency st = TransparencyAt(scene, out.surface);
+        if (IsBlack(st.transparency)) return;
+        PCG32 choice(out.rng_seed, 0x7ea5a9e1ull + uint64_t(transparent_hits));
+        if (!CameraRayThroughTransparent(st, choice.NextFloat(), out.throughput)) return;
+        if (transparent_hits == kMaxTransparentHits) {  // Cycles ends the path: black, opaque
+            out.throughput = {};
+            return;
+        }
+        const float t_begin = out.t_end;
+        RTCRayHit rh = MakeRTCRayHit(out.ray.o, out.ray.d, BeyondHit(out.t_end), out.ray.tmax);
+        rtcIntersect1(scene.rtc_scene, &ctx, &rh);
+        out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        out.t_end = out.hit ? rh.ray.tfar : kInf;
+        if (out.hit) out.surface = MakeSurfaceHit<kGlossy>(scene, out.ray, rh);
+        AddSeenAlongSegment<kMedium, true>(scene, out, t_begin, seen);
+    }
+}
+
+// The camera ray's hit that shading takes (its first, or past transparent surfaces), its throughput, and what it
+// sees directly (shared by all techniques).
 template <bool kGlossy, bool kMedium>
 static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, PrimaryHit& out) {
     out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     out.t_end = out.hit ? rh.ray.tfar : kInf;
     if (out.hit) out.surface = MakeSurfaceHit<kGlossy>(scene, out.ray, rh);
     Spectrum seen = out.seen;  // the coverage offset GenerateCameraSamples set
-    // Emissive meshes are seen at their hit (two-sided, like their lights); the loop below covers
-    // only the analytic lights, so they are not counted twice.
-    if (out.hit && scene.has_mesh_lights) {
-        const Spectrum& le = scene.materials[out.surface.material].emission;
-        if (!IsBlack(le)) seen += le * SegmentTransmittance<kMedium>(scene.medium, out.t_end);
+    AddSeenAlongSegment<kMedium, false>(scene, out, out.ray.tmin, seen);
+    if (scene.has_transparency && out.hit) FollowThroughTransparent<kGlossy, kMedium>(scene, out, seen);
+    if (!out.hit && !scene.film_transparent)
+        seen += out.throughput * scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
+    if (scene.film_alpha) {
+        // 1 - the share of the pixel that is a hole: the holdout at the hit, or the escape through a transparent film.
+        const float through = (out.throughput.x + out.throughput.y + out.throughput.z) / 3;
+        const float hole = out.hit ? std::min(scene.materials[out.surface.material].holdout, 1.0f)
+                                   : (scene.film_transparent ? 1.0f : 0.0f);
+        out.alpha = 1 - through * hole;
     }
-    scene.analytic_light_finder.ForEachCrossing(
-        out.ray.o, out.ray.d, out.ray.tmin, std::min(out.t_end, out.ray.tmax), LightsSought::VisibleToCamera,
-        [&](int i, float t) {
-            if (i == out.light_seen_by_estimate) return;
-            seen += EmittedRadiance(scene.area_lights[i], -out.ray.d) * SegmentTransmittance<kMedium>(scene.medium, t);
-        });
-    if (!out.hit && !scene.film_transparent) seen += scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
-    if (scene.film_alpha)
-        out.alpha = out.hit ? 1 - std::min(scene.materials[out.surface.material].holdout, 1.0f)
-                            : (scene.film_transparent ? 0.0f : 1.0f);
     out.seen = seen;
 }
 

@@ -63,6 +63,14 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
+    // Past transparent surfaces (their filtering is the occlusion ray's: ResolveShadowRays).
+    for (int crossed = 0; c.scene.has_transparency && rh.hit.geomID != RTC_INVALID_GEOMETRY_ID &&
+                          c.scene.MayBeTransparent(c.scene.meshes[rh.hit.geomID], rh.hit.primID);
+         ++crossed) {
+        if (crossed == kMaxTransparentHits) return;
+        rh = MakeRTCRayHit(o, d, BeyondHit(rh.ray.tfar), kInf);
+        rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
+    }
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
     const MeshData& m = c.scene.meshes[rh.hit.geomID];
     if (m.triangle_light.empty()) return;

@@ -69,9 +69,11 @@ void ShadeCameraSamples(Technique technique, const ShadeContext& c, size_t n, Th
     DispatchTechnique(technique, [&](auto tag) {
         constexpr Technique K = decltype(tag)::value;
         for (uint32_t s = 0; s < uint32_t(n); ++s) {
-            scratch.sample_values[s] = scratch.hits[s].seen;
-            ShadeCameraSample<K, kGlossy, kMedium>(c, scratch.hits[s], &scratch.light_points[s * nl],
-                                                   &scratch.bsdf_points[s * nl], ShadowSink{&queue, s}, light_ticks);
+            const PrimaryHit& ph = scratch.hits[s];
+            scratch.sample_values[s] = ph.seen;
+            if (IsBlack(ph.throughput)) continue;  // past too many transparent surfaces
+            ShadeCameraSample<K, kGlossy, kMedium>(c, ph, &scratch.light_points[s * nl], &scratch.bsdf_points[s * nl],
+                                                   ShadowSink{&queue, s, ph.throughput}, light_ticks);
         }
     });
 }
@@ -116,7 +118,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             const Stopwatch shading;
             ShadeCameraSamples<kGlossy, kMedium>(opt.techniques[k], ctx, chunk_n, scratch, tt.light_ticks);
             tt.rays += scratch.shadow_rays.size();
-            ResolveShadowRays(scene.rtc_scene, scratch.shadow_rays, scratch.sample_values.data());
+            ResolveShadowRays(scene, scratch.shadow_rays, scratch.sample_values.data(), scratch.shadow_crossed);
             tt.dropped +=
                 SumPixelSamples(scratch.sample_values.data(), chunk.count, n, &scratch.pixel_sums[k * chunk_pixels]);
             tt.total_seconds += shading.Seconds();

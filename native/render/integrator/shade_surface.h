@@ -114,7 +114,7 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
     }
     if (m.normal_mapped) {
         if (!out.principled) {
-            Material principled = MakeDiffuseMaterial({});
+            Material principled = MakeEmptyMixMaterial();
             MixIntoMaterial<MixOverflow::kLenient>(principled, out, 1);
             principled.emission = out.emission;
             out = principled;

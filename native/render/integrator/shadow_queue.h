@@ -8,6 +8,7 @@
 
 #include "render/embree_rays.h"
 #include "render/kernel.h"
+#include "transparency.h"
 
 namespace sphrect::render {
 
@@ -35,12 +36,25 @@ struct ShadowSink {
 };
 
 // Traces the queued shadow rays (one stream, OccludeShadowRays) and adds the unblocked
-// contributions to their camera samples.
-static inline void ResolveShadowRays(RTCScene scene, std::vector<DeferredShadowRay>& queue, Spectrum* sample_values) {
+// contributions to their camera samples; in a scene with transparent surfaces, each filtered by those it crosses
+// (transparency.h; `crossed` is scratch space).
+static inline void ResolveShadowRays(const RenderScene& scene, std::vector<DeferredShadowRay>& queue,
+                                     Spectrum* sample_values, std::vector<uint8_t>& crossed) {
     if (queue.empty()) return;
-    OccludeShadowRays(scene, &queue[0].ray, queue.size(), sizeof(DeferredShadowRay));
-    for (const DeferredShadowRay& q : queue)
-        if (q.ray.tfar >= 0) sample_values[q.sample] += q.contribution;
+    if (!scene.has_transparency) {
+        OccludeShadowRays(scene.rtc_scene, &queue[0].ray, queue.size(), sizeof(DeferredShadowRay));
+        for (const DeferredShadowRay& q : queue)
+            if (q.ray.tfar >= 0) sample_values[q.sample] += q.contribution;
+        return;
+    }
+    crossed.assign(queue.size(), 0);
+    for (size_t i = 0; i < queue.size(); ++i) queue[i].ray.id = unsigned(i);
+    OccludeShadowRays(scene.rtc_scene, &queue[0].ray, queue.size(), sizeof(DeferredShadowRay), crossed.data());
+    for (size_t i = 0; i < queue.size(); ++i) {
+        const DeferredShadowRay& q = queue[i];
+        if (q.ray.tfar < 0) continue;
+        sample_values[q.sample] += crossed[i] ? q.contribution * ShadowTransmittance(scene, q.ray) : q.contribution;
+    }
 }
 
 }  // namespace sphrect::render

@@ -7,7 +7,9 @@ specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roug
 'glossy_bsdf', no Fresnel) for surfaces; Mix Shader and Add Shader trees of those (kind 'mix': each shader's
 closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume linked, Surface not)
 and a white Transparent BSDF make a transparent surface, left out by geometry.triangulate; Translucent BSDF (kind
-'translucent'); Holdout (kind 'holdout': black, alpha 0); emission with Cycles 3.4's conventions -- an Emission shader emits
+'translucent'); Holdout (kind 'holdout': black, alpha 0); a coloured Transparent BSDF and a Principled BSDF's Alpha
+(constant or an Image Texture's, expanded into a Mix Shader with a white Transparent BSDF as Cycles does) as kind
+'transparent'; emission with Cycles 3.4's conventions -- an Emission shader emits
 radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength adds to
 its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
 |Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume Absorption or Principled Volume on the
@@ -129,9 +131,9 @@ def is_volume_only(mat):
 
 def transparent_surface(mat):
     """Why the material's surface is left out (geometry.triangulate), as the warning names it, or None:
-    volume-only, or a Transparent BSDF alone on the Surface (a white one lets camera and shadow rays through
-    unchanged in Cycles, transparent bounces being counted apart from max_bounces; a coloured one would filter
-    them, which the renderer cannot: warned)."""
+    volume-only, or a white Transparent BSDF alone on the Surface (it lets camera and shadow rays through unchanged
+    in Cycles, transparent bounces being counted apart from max_bounces: leaving it out is exact and costs nothing;
+    a coloured one is kind 'transparent')."""
     if is_volume_only(mat):
         return "volume-only materials (surface transparent, volume not simulated)"
     if mat is None or not mat.use_nodes or mat.node_tree is None:
@@ -143,7 +145,7 @@ def transparent_surface(mat):
     color = node.inputs["Color"]
     if not color.is_linked and all(float(v) >= 1 for v in color.default_value[:3]):
         return "Transparent BSDF surfaces (left out: transparent)"
-    return "Transparent BSDF surfaces (left out: its colour filtering camera and shadow rays is not modelled)"
+    return None  # a coloured one filters the rays through it: kind 'transparent'
 
 
 def export_material(sphrect, mat, log, textures=None):
@@ -202,6 +204,19 @@ def _closures(sphrect, node, weight, factors, leaves, textures, name):
         fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
         return (_closures(sphrect, first, weight * (1 - fac), factors, leaves, textures, name)
                 and _closures(sphrect, second, weight * fac, factors, leaves, textures, name))
+    if node.bl_idname == "ShaderNodeBsdfPrincipled" and _has_alpha(node):
+        # Cycles' PrincipledBsdfNode::expand: Mix Shader of Fac = Alpha, a white Transparent BSDF first.
+        alpha_socket = node.inputs["Alpha"]
+        source = image_texture_source(alpha_socket) if alpha_socket.is_linked else None
+        if source is not None:
+            lookup = textures.lookup(*source, name)
+            leaves.append((weight, WHITE_TRANSPARENT, factors + [sphrect.MixFactor(lookup=lookup, complement=True)]))
+            leaves.append((weight, node, factors + [sphrect.MixFactor(lookup=lookup)]))
+        else:
+            alpha = min(max(float(alpha_socket.default_value), 0.0), 1.0)
+            leaves.append((weight * (1 - alpha), WHITE_TRANSPARENT, factors))
+            leaves.append((weight * alpha, node, factors))
+        return True
     if node.bl_idname == "ShaderNodeAddShader":
         return (_closures(sphrect, _linked_node(node.inputs[0]), weight, factors, leaves, textures, name)
                 and _closures(sphrect, _linked_node(node.inputs[1]), weight, factors, leaves, textures, name))
@@ -209,10 +224,27 @@ def _closures(sphrect, node, weight, factors, leaves, textures, name):
     return True
 
 
-# Shaders that add no light a zero-bounce render of an opaque surface can show here, each with its warning.
-_BLACK_SHADERS = {
-    "ShaderNodeBsdfTransparent": "Transparent BSDF inside a mix (its share black and opaque)",
-}
+# The white Transparent BSDF Cycles mixes under a Principled BSDF whose Alpha is below 1 (_closures).
+WHITE_TRANSPARENT = "white Transparent BSDF of a Principled Alpha"
+
+
+def _has_alpha(node):
+    """Whether a Principled BSDF's Alpha makes it partly transparent: below 1, or linked (an Image Texture: per hit;
+    anything else is not modelled, Alpha 1 used and warned by _principled)."""
+    socket = node.inputs.get("Alpha")
+    if socket is None:
+        return False
+    if socket.is_linked:
+        return image_texture_source(socket) is not None
+    return float(socket.default_value) < 1
+
+
+def _transparent(sphrect, leaf, log, name):
+    """kind 'transparent' of a Transparent BSDF node (its Color; a linked one is not modelled: its value used) or of
+    WHITE_TRANSPARENT."""
+    if leaf is WHITE_TRANSPARENT:
+        return sphrect.Material(name=name, kind="transparent", base_color=(1.0, 1.0, 1.0))
+    return sphrect.Material(name=name, kind="transparent", base_color=_rgb(_value(leaf, "Color", log, name)[:3]))
 
 
 def _is_textured(layer):
@@ -235,7 +267,10 @@ def _shader(sphrect, node, textures, log, name):
     # takes the factor's mean over its image.
     constant_emission = "emission under a texture-driven Mix Shader factor (the factor's image mean used)"
     for weight, leaf, factors in leaves:
-        if leaf.bl_idname == "ShaderNodeEmission":
+        if leaf is WHITE_TRANSPARENT or leaf.bl_idname == "ShaderNodeBsdfTransparent":
+            layers.append(sphrect.MaterialLayer(weight=weight, material=_transparent(sphrect, leaf, log, name),
+                                                factors=factors))
+        elif leaf.bl_idname == "ShaderNodeEmission":
             if factors:
                 log.unsupported_feature(constant_emission, name)
             emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name)
@@ -245,8 +280,6 @@ def _shader(sphrect, node, textures, log, name):
                                         "used)", name)
             layers.append(sphrect.MaterialLayer(weight=weight * textures.factor_mean(factors),
                                                 material=sphrect.Material(name=name, kind="holdout")))
-        elif leaf.bl_idname in _BLACK_SHADERS:
-            log.unsupported_feature(_BLACK_SHADERS[leaf.bl_idname], name)
         else:
             bsdf = _bsdf(sphrect, leaf, textures, log, name)
             if factors and any(c > 0 for c in bsdf.emission):
@@ -443,10 +476,17 @@ def _principled(sphrect, node, inputs, textures, log, name):
     if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
         log.unsupported_feature("linked 'Clearcoat Normal' input", name)
     emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name)
-    if inputs.value("Alpha") < 1:
-        log.unsupported_feature("alpha", name)
+    _unmodelled_alpha(node, log, name)
     return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission,
                             textures=inputs.textures, **_normal_map(node, textures, log, name), **values)
+
+
+def _unmodelled_alpha(node, log, name):
+    """Warns of a Principled Alpha linked from something other than an Image Texture (Alpha 1 used); the rest is
+    _closures' mix with a Transparent BSDF."""
+    socket = node.inputs.get("Alpha")
+    if socket is not None and socket.is_linked and image_texture_source(socket) is None:
+        log.unsupported_feature("Principled Alpha linked from a node other than an Image Texture (1 used)", name)
 
 
 def _principled_glass(sphrect, node, inputs, textures, log, name):
@@ -462,8 +502,7 @@ def _principled_glass(sphrect, node, inputs, textures, log, name):
     normal_map = _normal_map(node, textures, log, name)
     log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
                             "except behind open surfaces)", name)
-    if inputs.value("Alpha") < 1:
-        log.unsupported_feature("alpha", name)
+    _unmodelled_alpha(node, log, name)
     return sphrect.Material(name=name, kind="glass", base_color=(1.0, 1.0, 1.0), roughness=roughness,
                             ior=float(inputs.value("IOR")),
                             emission=_emission(node, "Emission", "Emission Strength", 1.0, log, name),
