@@ -109,3 +109,45 @@ def test_transparent_film_alpha_through_a_sheet():
     r = sphrect.Renderer(s, techniques="rectangle", seed=1)
     r.render(8)
     np.testing.assert_allclose(r.image("rectangle")[..., 3], 0.6, atol=1e-6)
+
+
+def test_alpha_texture_cuts_the_sheet_out_per_texel():
+    """A Principled Alpha from an image (exported as a mix whose factors read its alpha): a 2 x 1 image of alpha
+    0 (left half, transparent) and 1 (right half, an opaque black sheet).  The right half is black; the left
+    quarter of the view (x < -0.5) is the floor alone exactly, its rays to the light (x in [-0.6, 0.6]) crossing the
+    sheet only where it is transparent; in between the opaque half may shadow the floor."""
+    pixels = np.array([[[0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]]], np.float32)
+    lookup = sphrect.TextureLookup(0, output="alpha", interpolation="closest")
+    clear = sphrect.Material(kind="transparent", base_color=(1.0, 1.0, 1.0))
+    black = sphrect.Material(base_color=(0.0, 0.0, 0.0))
+    sheet = sphrect.Material(kind="mix", layers=[
+        sphrect.MaterialLayer(1.0, clear, factors=[sphrect.MixFactor(lookup, complement=True)]),
+        sphrect.MaterialLayer(1.0, black, factors=[sphrect.MixFactor(lookup)])])
+    s = scene(sheet)
+    mesh = s.meshes[0]
+    mesh.uvs = np.zeros((8, 2), np.float32)
+    mesh.uvs[4:] = (mesh.vertices[4:, :2] + 1.5) / 3.0  # the sheet's square onto [0, 1]^2 (its x = 0 at u = 0.5)
+    s.textures = [sphrect.Texture(pixels=pixels, colorspace="linear")]
+    img = render(s)[..., 0]
+    floor_only = render(sphrect.Scene(camera=s.camera, materials=s.materials[:1], meshes=[plane_mesh(1.5)],
+                                      lights=[light()]))[..., 0]
+    w = img.shape[1]  # 8 pixels over x in [-1, 1]
+    assert np.all(img[:, w // 2:] == 0)
+    np.testing.assert_allclose(img[:, : w // 4], floor_only[:, : w // 4], rtol=2e-6)
+    assert np.all(img[:, : w // 2] <= floor_only[:, : w // 2] * (1 + 2e-6)) and img[:, : w // 2].min() > 0
+    assert img[:, w // 4: w // 2].sum() < 0.99 * floor_only[:, w // 4: w // 2].sum()  # the cut-out's shadow
+
+
+def test_transparent_kind_round_trips_through_the_scene_file(tmp_path):
+    path = tmp_path / "s.sphrect.npz"
+    s = scene(sphrect.Material(name="sheet", kind="transparent", base_color=(0.5, 0.25, 0.9)))
+    sphrect.save_scene(s, path)
+    loaded = sphrect.load_scene(path)
+    assert loaded.materials[1].kind == "transparent" and loaded.materials[1].base_color == pytest.approx((0.5, 0.25, 0.9))
+    np.testing.assert_array_equal(render(loaded), render(s))
+
+
+def test_transparent_material_with_emission_is_refused():
+    s = scene(sphrect.Material(kind="transparent", emission=(1.0, 1.0, 1.0)))
+    with pytest.raises(ValueError, match="no emission"):
+        sphrect.Renderer(s)
