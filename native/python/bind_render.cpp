@@ -252,7 +252,8 @@ void BindRender(py::module_& m) {
         .def(
             "add_principled_material",
             [](RenderScene& s, V3 c, float metallic, float specular, float specular_tint, float roughness, float sheen,
-               float sheen_tint, float clearcoat, float clearcoat_roughness, V3 emission) {
+               float sheen_tint, float clearcoat, float clearcoat_roughness, V3 emission, float anisotropic,
+               float anisotropic_rotation) {
                 render::PrincipledInputs in;
                 in.base_color = ToVec(c);
                 in.metallic = metallic;
@@ -263,11 +264,14 @@ void BindRender(py::module_& m) {
                 in.sheen_tint = sheen_tint;
                 in.clearcoat = clearcoat;
                 in.clearcoat_roughness = clearcoat_roughness;
+                in.anisotropic = anisotropic;
+                in.anisotropic_rotation = anisotropic_rotation;
                 return s.AddPrincipledMaterial(in, ToVec(emission));
             },
             py::arg("base_color"), py::arg("metallic"), py::arg("specular"), py::arg("specular_tint"),
             py::arg("roughness"), py::arg("sheen"), py::arg("sheen_tint"), py::arg("clearcoat"),
-            py::arg("clearcoat_roughness"), py::arg("emission") = V3{0, 0, 0})
+            py::arg("clearcoat_roughness"), py::arg("emission") = V3{0, 0, 0}, py::arg("anisotropic") = 0.0f,
+            py::arg("anisotropic_rotation") = 0.0f)
         .def(
             "add_glass_material",
             [](RenderScene& s, V3 c, float roughness, float ior, bool beckmann, V3 emission) {
@@ -277,11 +281,11 @@ void BindRender(py::module_& m) {
             py::arg("emission") = V3{0, 0, 0})
         .def(
             "add_glossy_bsdf_material",
-            [](RenderScene& s, V3 c, float roughness, bool beckmann, V3 emission) {
-                return s.AddGlossyBsdfMaterial(ToVec(c), roughness, beckmann, ToVec(emission));
+            [](RenderScene& s, V3 c, float roughness, bool beckmann, V3 emission, float anisotropy, float rotation) {
+                return s.AddGlossyBsdfMaterial(ToVec(c), roughness, beckmann, ToVec(emission), anisotropy, rotation);
             },
             py::arg("base_color"), py::arg("roughness"), py::arg("beckmann") = false,
-            py::arg("emission") = V3{0, 0, 0})
+            py::arg("emission") = V3{0, 0, 0}, py::arg("anisotropy") = 0.0f, py::arg("rotation") = 0.0f)
         .def(
             "add_translucent_material",
             [](RenderScene& s, V3 c, V3 emission) { return s.AddTranslucentMaterial(ToVec(c), ToVec(emission)); },

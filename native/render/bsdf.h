@@ -28,6 +28,13 @@ struct MicrofacetLobe {
     float fresnel_ior = 0;
     bool beckmann = false;     // Cycles' Beckmann D and rational G1 instead of GGX (sampled by GGX normals)
     float probability = 0;     // chance of sampling this lobe
+    // Anisotropic GGX (Anisotropic BSDF): alpha along the tangent, alpha_y across it (= alpha: isotropic); the
+    // tangent turned about the normal by `rotation` turns, at the hit (cos, sin of its angle in the shading frame:
+    // SetHitTangent).
+    float alpha_y = 1;
+    float rotation = 0;
+    float tangent_cos = 1, tangent_sin = 0;
+    bool anisotropic() const { return alpha_y != alpha; }
 };
 // Lobes one material holds: enough for a Mix / Add of glossy and glass shaders at distinct roughnesses.
 constexpr int kMaxMicrofacetLobes = 4;
@@ -56,6 +63,13 @@ struct Material {
     float clearcoat = 0;             // 0.25 x Clearcoat, Cycles' weight of the clearcoat lobe
     float clearcoat_alpha = 1;       // GTR1 alpha = clearcoat roughness^2
     float clearcoat_probability = 0; // chance of sampling the clearcoat lobe (the rest: cosine)
+    // Principled Anisotropic: the specular's alpha across its tangent (alpha along it), the tangent's rotation in
+    // turns (Anisotropic Rotation) and, at the hit, its angle in the shading frame (SetHitTangent).
+    float specular_alpha_y = 1;
+    float specular_rotation = 0;
+    float specular_tangent_cos = 1, specular_tangent_sin = 0;
+    // Some lobe is anisotropic: a hit needs the mesh's tangent (surface_hit.h, Cycles' radial default).
+    bool anisotropic = false;
 
     // Microfacet reflection lobes of their own (Glossy BSDF, a Glass BSDF's reflection), each
     // sampled with its own probability; Mix / Add Shader sums them (MixIntoMaterial).
@@ -101,8 +115,8 @@ inline float BumpShadowingTerm(const Vec3f& n0, const Vec3f& wi) {
     return g + g * g - g * g * g;
 }
 
-// The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface,
-// transmission and anisotropy are not: the exporter warns about them.
+// The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface and
+// transmission are not: the exporter warns about them.
 struct PrincipledInputs {
     Spectrum base_color{0.8f, 0.8f, 0.8f};
     float metallic = 0;
@@ -113,6 +127,8 @@ struct PrincipledInputs {
     float sheen_tint = 0.5f;
     float clearcoat = 0;
     float clearcoat_roughness = 0.03f;
+    float anisotropic = 0;           // Cycles: alpha_x = r^2 / aspect, alpha_y = r^2 aspect, aspect = sqrt(1 - 0.9 a)
+    float anisotropic_rotation = 0;  // turns about the normal
 };
 
 // Lobe choice roughly by albedo (the sheen's is at most ~0.1 of its weight, the clearcoat's
@@ -206,7 +222,14 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
     if (specular > kCutoff || metallic > kCutoff) {
         m.has_specular = true;
         const float r = std::max(roughness, 0.03f);
-        m.alpha = r * r;
+        m.alpha = m.specular_alpha_y = r * r;
+        if (in.anisotropic != 0) {  // svm_node_closure_bsdf (Principled): aspect = sqrt(1 - 0.9 anisotropic)
+            const float aspect = SafeSqrt(1 - 0.9f * std::min(in.anisotropic, 1.0f));
+            m.alpha = std::min(r * r / aspect, 1.0f);  // bsdf_microfacet_ggx_setup: saturate
+            m.specular_alpha_y = std::min(r * r * aspect, 1.0f);
+            m.specular_rotation = in.anisotropic_rotation;
+            m.anisotropic = m.alpha != m.specular_alpha_y;
+        }
         m.specular_ior = 2 / (1 - std::sqrt(0.08f * specular)) - 1;
         m.specular_f0 = DielectricFresnel(1, m.specular_ior);
         const float lum = 0.3f * base.x + 0.6f * base.y + 0.1f * base.z;  // Cycles' approximation here
@@ -267,7 +290,7 @@ inline Material MakeEmptyMixMaterial() {
 inline bool MakeMicrofacetLobe(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann,
                                MicrofacetLobe& lobe) {
     const float r = std::clamp(roughness, 0.0f, 1.0f);
-    lobe.alpha = r * r;
+    lobe.alpha = lobe.alpha_y = r * r;
     lobe.color = color;
     lobe.fresnel_ior = fresnel_ior;
     lobe.beckmann = beckmann;
@@ -298,8 +321,35 @@ inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float 
 
 // Cycles 3.4's Glossy BSDF (CLOSURE_BSDF_MICROFACET_{GGX,BECKMANN}_ID): colour x the microfacet reflection
 // with no Fresnel at all (the node's Color is its reflectance at every angle).
-inline Material MakeGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false) {
-    return MakeSingleLobeMaterial(color, roughness, 0, beckmann);
+// anisotropy, rotation: Blender's Anisotropic BSDF (svm_node_closure_bsdf with a tangent): alpha = roughness^2
+// stretched along the tangent by 1 / (1 - a) across and (1 - a) along it for a >= 0 (a clamped to +-0.99; negative
+// swaps them), the tangent turned by `rotation` turns.  GGX only (Beckmann stays isotropic: the exporter warns).
+inline Material MakeGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false,
+                                       float anisotropy = 0, float rotation = 0) {
+    Material m = MakeSingleLobeMaterial(color, roughness, 0, beckmann);
+    if (m.num_lobes == 0 || beckmann || anisotropy == 0) return m;
+    MicrofacetLobe& l = m.lobes[0];
+    const float a = std::clamp(anisotropy, -0.99f, 0.99f), r2 = l.alpha;
+    l.alpha = std::min(a < 0 ? r2 / (1 + a) : r2 * (1 - a), 1.0f);
+    l.alpha_y = std::min(a < 0 ? r2 * (1 + a) : r2 / (1 - a), 1.0f);
+    l.rotation = rotation;
+    m.anisotropic = l.anisotropic();
+    return m;
+}
+
+// A hit's tangent (unit, in the shading frame: z = 0) given to the material's anisotropic lobes, each turned by
+// its rotation about the normal (Cycles' rotate_around_axis(T, N, rotation 2 pi)).
+inline void SetHitTangent(Material& m, const Vec3f& tangent) {
+    const float base = std::atan2(tangent.y, tangent.x);
+    auto turned = [&](float rotation, float& c, float& s) {
+        const float angle = base + 2 * kPi * rotation;
+        c = std::cos(angle);
+        s = std::sin(angle);
+    };
+    if (m.has_specular && m.alpha != m.specular_alpha_y)
+        turned(m.specular_rotation, m.specular_tangent_cos, m.specular_tangent_sin);
+    for (int i = 0; i < m.num_lobes; ++i)
+        if (m.lobes[i].anisotropic()) turned(m.lobes[i].rotation, m.lobes[i].tangent_cos, m.lobes[i].tangent_sin);
 }
 
 // What MixIntoMaterial does with a part the mix cannot hold: throw std::invalid_argument (building a scene), or, at
@@ -336,6 +386,7 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
     mix.glossy = mix.principled = true;
     mix.lambert += part.lambert * weight;
     mix.has_dielectric = mix.has_dielectric || part.has_dielectric;
+    mix.anisotropic = mix.anisotropic || part.anisotropic;
     if (part.has_translucent) {
         mix.translucent += part.translucent * weight;
         mix.has_translucent = true;
@@ -352,6 +403,8 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
         mix.sheen = part.sheen * weight;
         mix.has_specular = part.has_specular;
         mix.alpha = part.alpha;
+        mix.specular_alpha_y = part.specular_alpha_y;
+        mix.specular_rotation = part.specular_rotation;
         mix.specular_ior = part.specular_ior;
         mix.specular_f0 = part.specular_f0;
         mix.f0 = part.f0;
@@ -364,9 +417,11 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
         MicrofacetLobe lobe = part.lobes[i];
         lobe.color = lobe.color * weight;
         int j = 0;
-        while (j < mix.num_lobes && !(mix.lobes[j].alpha == lobe.alpha && mix.lobes[j].fresnel_ior == lobe.fresnel_ior &&
-                                      mix.lobes[j].beckmann == lobe.beckmann))
-            ++j;
+        const auto same = [&](const MicrofacetLobe& o) {
+            return o.alpha == lobe.alpha && o.alpha_y == lobe.alpha_y && o.rotation == lobe.rotation &&
+                   o.fresnel_ior == lobe.fresnel_ior && o.beckmann == lobe.beckmann;
+        };
+        while (j < mix.num_lobes && !same(mix.lobes[j])) ++j;
         if (j < mix.num_lobes) {
             mix.lobes[j].color += lobe.color;
         } else if (mix.num_lobes < kMaxMicrofacetLobes) {
@@ -410,8 +465,9 @@ inline Spectrum SchlickFresnel(const Spectrum& f0, float cos_theta) {
 
 // Heitz 2018, "Sampling the GGX Distribution of Visible Normals": a microfacet normal with
 // density D_wo(h) = G1(wo) max(0, wo.h) D(h) / wo.z.
-inline Vec3f SampleGgxVisibleNormal(const Vec3f& wo, float alpha, Point2<float> u) {
-    const Vec3f vh = Normalize(Vec3f(alpha * wo.x, alpha * wo.y, wo.z));
+// ax, ay: the roughness along x and y (anisotropic; equal: isotropic).
+inline Vec3f SampleGgxVisibleNormal(const Vec3f& wo, float ax, float ay, Point2<float> u) {
+    const Vec3f vh = Normalize(Vec3f(ax * wo.x, ay * wo.y, wo.z));
     const float len2 = vh.x * vh.x + vh.y * vh.y;
     const Vec3f t1 = len2 > 0 ? Vec3f(-vh.y, vh.x, 0) / std::sqrt(len2) : Vec3f(1, 0, 0);
     const Vec3f t2 = Cross(vh, t1);
@@ -421,7 +477,10 @@ inline Vec3f SampleGgxVisibleNormal(const Vec3f& wo, float alpha, Point2<float> 
     const float s = 0.5f * (1 + vh.z);
     p2 = (1 - s) * SafeSqrt(1 - p1 * p1) + s * p2;
     const Vec3f nh = t1 * p1 + t2 * p2 + vh * SafeSqrt(1 - p1 * p1 - p2 * p2);
-    return Normalize(Vec3f(alpha * nh.x, alpha * nh.y, std::max(1e-6f, nh.z)));
+    return Normalize(Vec3f(ax * nh.x, ay * nh.y, std::max(1e-6f, nh.z)));
+}
+inline Vec3f SampleGgxVisibleNormal(const Vec3f& wo, float alpha, Point2<float> u) {
+    return SampleGgxVisibleNormal(wo, alpha, alpha, u);
 }
 
 // Solid-angle pdf of wi = reflect(wo, h) when h is drawn from the visible normals:
@@ -430,6 +489,47 @@ inline float GgxReflectionPDF(const Vec3f& wo, const Vec3f& wi, float alpha) {
     if (wi.z <= 0) return 0;
     const Vec3f h = Normalize(wo + wi);
     return GgxG1(wo, alpha) * GgxD(h, alpha) / (4 * wo.z);
+}
+
+// --- Anisotropic GGX, as Cycles 3.4's bsdf_microfacet_ggx for alpha_x != alpha_y ----------------------
+// In the frame of the lobe's tangent: x along it, z the normal (Cycles' make_orthonormals_tangent); (c, s) the
+// tangent's cos and sin in the shading frame.
+inline Vec3f IntoTangentFrame(const Vec3f& w, float c, float s) { return {c * w.x + s * w.y, c * w.y - s * w.x, w.z}; }
+inline Vec3f OutOfTangentFrame(const Vec3f& w, float c, float s) { return {c * w.x - s * w.y, s * w.x + c * w.y, w.z}; }
+
+// D for unit h in the tangent frame: 1 / (pi ax ay ((hx / ax)^2 + (hy / ay)^2 + hz^2)^2), Walter et al.'s
+// anisotropic form cos^-4 (1 + tan^2 (cos^2 phi / ax^2 + sin^2 phi / ay^2))^-2 / (pi ax ay) multiplied out.
+inline float GgxAnisotropicD(const Vec3f& h, float ax, float ay) {
+    const float sx = h.x / ax, sy = h.y / ay;
+    const float d = sx * sx + sy * sy + h.z * h.z;
+    return 1 / (kPi * ax * ay * d * d);
+}
+
+// Smith G1 with the roughness projected on w's azimuth, alpha^2 = cos^2 phi ax^2 + sin^2 phi ay^2 (Cycles'
+// separable G1: 2 / (1 + sqrt(1 + alpha^2 tan^2))).
+inline float SmithG1GgxAnisotropic(const Vec3f& w, float ax, float ay) {
+    const float z2 = w.z * w.z;
+    if (!(z2 > 0)) return 0;
+    return 2 / (1 + SafeSqrt(1 + (w.x * w.x * ax * ax + w.y * w.y * ay * ay) / z2));
+}
+
+// Solid-angle pdf of wi = reflect(wo, h), h from the visible normals (tangent frame): G1(wo) D(h) / (4 wo.z).
+inline float GgxAnisotropicReflectionPDF(const Vec3f& wo, const Vec3f& wi, float ax, float ay) {
+    if (wi.z <= 0) return 0;
+    return SmithG1GgxAnisotropic(wo, ax, ay) * GgxAnisotropicD(Normalize(wo + wi), ax, ay) / (4 * wo.z);
+}
+
+// An anisotropic lobe's D G1 G1, and its sampling pdf, in the shading frame.
+inline float GgxAnisotropicDG(const Vec3f& wo, const Vec3f& wi, const Vec3f& h, float ax, float ay, float c, float s) {
+    const Vec3f o = IntoTangentFrame(wo, c, s), i = IntoTangentFrame(wi, c, s);
+    return GgxAnisotropicD(IntoTangentFrame(h, c, s), ax, ay) * SmithG1GgxAnisotropic(o, ax, ay) *
+           SmithG1GgxAnisotropic(i, ax, ay);
+}
+inline float GgxAnisotropicPDF(const Vec3f& wo, const Vec3f& wi, float ax, float ay, float c, float s) {
+    return GgxAnisotropicReflectionPDF(IntoTangentFrame(wo, c, s), IntoTangentFrame(wi, c, s), ax, ay);
+}
+inline Vec3f SampleGgxAnisotropicNormal(const Vec3f& wo, float ax, float ay, float c, float s, Point2<float> u) {
+    return OutOfTangentFrame(SampleGgxVisibleNormal(IntoTangentFrame(wo, c, s), ax, ay, u), c, s);
 }
 
 // --- Beckmann, as Cycles 3.4's bsdf_microfacet_beckmann (isotropic) --------------------------------
@@ -477,6 +577,8 @@ inline Spectrum EvalMicrofacetLobe(const MicrofacetLobe& l, const Vec3f& wo, con
     float dg;
     if (l.beckmann) {
         dg = BeckmannD(h, l.alpha) * BeckmannG1(wo.z, l.alpha) * BeckmannG1(wi.z, l.alpha);
+    } else if (l.anisotropic()) {
+        dg = GgxAnisotropicDG(wo, wi, h, l.alpha, l.alpha_y, l.tangent_cos, l.tangent_sin);
     } else {
         dg = GgxD(h, l.alpha) * SmithG1Ggx(wo.z, l.alpha) * SmithG1Ggx(wi.z, l.alpha);
     }
@@ -492,8 +594,11 @@ inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& 
     if (m.has_sheen) f += m.sheen * SchlickWeight(cos_ih);
     if (m.bump_shadowing) f = f * BumpShadowingTerm(m.unmapped_normal, wi);  // the diffuse lobes so far
     if (m.has_specular) {
-        const float g = SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha);
-        f += PrincipledSpecularFresnel(m, cos_ih) * (m.specular_weight * GgxD(h, m.alpha) * g * inv_4cos);
+        const float dg = m.alpha == m.specular_alpha_y
+                             ? GgxD(h, m.alpha) * SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha)
+                             : GgxAnisotropicDG(wo, wi, h, m.alpha, m.specular_alpha_y, m.specular_tangent_cos,
+                                                m.specular_tangent_sin);
+        f += PrincipledSpecularFresnel(m, cos_ih) * (m.specular_weight * dg * inv_4cos);
     }
     for (int i = 0; i < m.num_lobes; ++i) f += EvalMicrofacetLobe(m.lobes[i], wo, wi, h);
     if (m.has_clearcoat) {
@@ -511,11 +616,17 @@ inline float PrincipledPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) 
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
     float p_cos = 1 - ps - pc - m.translucent_probability;
     float pdf = 0;
-    if (ps > 0) pdf += ps * GgxReflectionPDF(wo, wi, m.alpha);
+    if (ps > 0)
+        pdf += ps * (m.alpha == m.specular_alpha_y ? GgxReflectionPDF(wo, wi, m.alpha)
+                                                   : GgxAnisotropicPDF(wo, wi, m.alpha, m.specular_alpha_y,
+                                                                       m.specular_tangent_cos, m.specular_tangent_sin));
     if (pc > 0) pdf += pc * ClearcoatReflectionPDF(wo, wi, m.clearcoat_alpha);
     for (int i = 0; i < m.num_lobes; ++i) {
-        p_cos -= m.lobes[i].probability;
-        pdf += m.lobes[i].probability * GgxReflectionPDF(wo, wi, m.lobes[i].alpha);
+        const MicrofacetLobe& l = m.lobes[i];
+        p_cos -= l.probability;
+        pdf += l.probability * (l.anisotropic()
+                                    ? GgxAnisotropicPDF(wo, wi, l.alpha, l.alpha_y, l.tangent_cos, l.tangent_sin)
+                                    : GgxReflectionPDF(wo, wi, l.alpha));
     }
     return pdf + std::max(p_cos, 0.0f) * CosineHemispherePDF(wi.z);
 }
@@ -535,7 +646,10 @@ inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
     if (u.u < ps) {
         u.u = std::min(u.u / ps, kOneMinusEpsilonF);
-        const Vec3f h = SampleGgxVisibleNormal(wo, m.alpha, u);
+        const Vec3f h = m.alpha == m.specular_alpha_y
+                            ? SampleGgxVisibleNormal(wo, m.alpha, u)
+                            : SampleGgxAnisotropicNormal(wo, m.alpha, m.specular_alpha_y, m.specular_tangent_cos,
+                                                         m.specular_tangent_sin, u);
         return ReflectAbove(wo, h);
     }
     if (u.u < ps + pc) {
@@ -548,7 +662,10 @@ inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point
         const float p = m.lobes[i].probability;
         if (u.u < start + p) {
             u.u = std::min((u.u - start) / p, kOneMinusEpsilonF);
-            const Vec3f h = SampleGgxVisibleNormal(wo, m.lobes[i].alpha, u);
+            const MicrofacetLobe& l = m.lobes[i];
+            const Vec3f h = l.anisotropic()
+                                ? SampleGgxAnisotropicNormal(wo, l.alpha, l.alpha_y, l.tangent_cos, l.tangent_sin, u)
+                                : SampleGgxVisibleNormal(wo, l.alpha, u);
             return ReflectAbove(wo, h);
         }
         start += p;

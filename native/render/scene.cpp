@@ -197,7 +197,7 @@ int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float 
 int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectrum& emission) {
     CheckMaterialColors(in.base_color, emission);
     for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
-                    in.clearcoat_roughness})
+                    in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation})
         if (!std::isfinite(v)) Fail("material Principled inputs must be finite");
     MaterialRecipe r;
     r.kind = MaterialKind::kPrincipled;
@@ -216,12 +216,15 @@ int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float 
 }
 
 int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann,
-                                       const Spectrum& emission) {
+                                       const Spectrum& emission, float anisotropy, float rotation) {
     CheckMaterialColors(color, emission);
-    if (!std::isfinite(roughness)) Fail("material roughness must be finite");
+    if (!std::isfinite(roughness) || !std::isfinite(anisotropy) || !std::isfinite(rotation))
+        Fail("material roughness, anisotropy and rotation must be finite");
     MaterialRecipe r = Recipe(MaterialKind::kGlossyBsdf, color, roughness);
     r.beckmann = beckmann;
-    return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann), emission, r);
+    r.inputs.anisotropic = anisotropy;
+    r.inputs.anisotropic_rotation = rotation;
+    return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann, anisotropy, rotation), emission, r);
 }
 
 int RenderScene::AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission) {
@@ -588,6 +591,10 @@ void RenderScene::CheckTextureCoordinates() {
             if (wants_uv && m.uvs.empty())
                 warnings.push_back("mesh '" + m.name + "': material " + std::to_string(id) +
                                    " reads UV coordinates the mesh does not have (0, 0 used, as Cycles does)");
+            if (materials[size_t(id)].anisotropic && m.generated.empty())
+                warnings.push_back("mesh '" + m.name + "': material " + std::to_string(id) +
+                                   " is anisotropic but the mesh has no generated coordinates for its radial tangent "
+                                   "(an arbitrary tangent used)");
             if ((r.ReadsCoordinates(true) || (nm.lookup.bound() && nm.lookup.generated)) && m.generated.empty())
                 warnings.push_back("mesh '" + m.name + "': material " + std::to_string(id) +
                                    " reads generated coordinates the mesh does not have (0 used)");

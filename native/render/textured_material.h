@@ -76,7 +76,9 @@ inline Material MakeMaterialFromInputs(const MaterialRecipe& r, const Principled
         case MaterialKind::kGlossy: return MakeGlossyMaterial(in.base_color, in.roughness, in.metallic, in.specular);
         case MaterialKind::kPrincipled: return MakePrincipledMaterial(in);
         case MaterialKind::kGlass: return MakeGlassMaterial(in.base_color, in.roughness, r.ior, r.beckmann);
-        case MaterialKind::kGlossyBsdf: return MakeGlossyBsdfMaterial(in.base_color, in.roughness, r.beckmann);
+        case MaterialKind::kGlossyBsdf:
+            return MakeGlossyBsdfMaterial(in.base_color, in.roughness, r.beckmann, in.anisotropic,
+                                          in.anisotropic_rotation);
         case MaterialKind::kTranslucent: return MakeTranslucentMaterial(in.base_color);
         case MaterialKind::kHoldout: return MakeHoldoutMaterial();
         case MaterialKind::kTransparent: return MakeTransparentMaterial(in.base_color);

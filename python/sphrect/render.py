@@ -209,13 +209,14 @@ def _add_untextured_material(native, mat, n_textures: int):
     if mat.kind == "principled":
         return native.add_principled_material(
             base_color(), float(mat.metallic), float(mat.specular), float(mat.specular_tint), float(mat.roughness),
-            float(mat.sheen), float(mat.sheen_tint), float(mat.clearcoat), float(mat.clearcoat_roughness), emission)
+            float(mat.sheen), float(mat.sheen_tint), float(mat.clearcoat), float(mat.clearcoat_roughness), emission,
+            float(mat.anisotropic), float(mat.anisotropic_rotation))
     if mat.kind == "glass":
         return native.add_glass_material(base_color(), float(mat.roughness), float(mat.ior),
                                          mat.distribution == "beckmann", emission)
     if mat.kind == "glossy_bsdf":
         return native.add_glossy_bsdf_material(base_color(), float(mat.roughness), mat.distribution == "beckmann",
-                                               emission)
+                                               emission, float(mat.anisotropic), float(mat.anisotropic_rotation))
     if mat.kind == "holdout":
         return native.add_holdout_material()
     if mat.kind == "translucent":

@@ -125,6 +125,11 @@ class Material:
     sheen_tint: float = 0.5
     clearcoat: float = 0.0
     clearcoat_roughness: float = 0.03
+    # 'principled': the node's Anisotropic and Anisotropic Rotation (turns); 'glossy_bsdf': the Anisotropic BSDF's
+    # Anisotropy and Rotation (0 for a Glossy BSDF; GGX only).  Both stretch the GGX lobe along the mesh's tangent
+    # as Cycles does, the tangent being Cycles' default: radial about the object's Z axis from Mesh.generated.
+    anisotropic: float = 0.0
+    anisotropic_rotation: float = 0.0
     ior: float = 1.45                # 'glass' only: index of refraction (Blender's default)
     distribution: str = "ggx"        # 'glass' and 'glossy_bsdf' only: one of GLASS_DISTRIBUTIONS
     layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only

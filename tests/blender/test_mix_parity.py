@@ -170,8 +170,8 @@ def test_the_mix_comparison_can_fail(empty_scene, tmp_path):
 
 
 def test_what_is_not_modelled_is_named_in_warnings(empty_scene):
-    """Anisotropy and the distributions rendered as GGX are warned; a Holdout in a mix is a layer."""
-    aniso = shader_material("ShaderNodeBsdfAnisotropic", Roughness=0.4)  # Blender's default anisotropy 0.5
+    """Beckmann anisotropy and the distributions rendered as GGX are warned; a Holdout in a mix is a layer."""
+    aniso = shader_material("ShaderNodeBsdfAnisotropic", Roughness=0.4, distribution="BECKMANN")  # anisotropy 0.5
     ashikhmin = shader_material("ShaderNodeBsdfGlossy", distribution="ASHIKHMIN_SHIRLEY", Roughness=0.4)
     holdout_mix = shader_tree("holdout_mix", lambda t: combine(t, "mix", node(t, "ShaderNodeHoldout"),
                                                                glossy(t), 0.25).outputs[0])
@@ -182,7 +182,7 @@ def test_what_is_not_modelled_is_named_in_warnings(empty_scene):
     text = log.warning_text()
     by_name = {m.name: m for m in exported.materials}
     assert by_name["ShaderNodeBsdfAnisotropic"].kind == "glossy_bsdf"
-    assert "anisotropy of Anisotropic BSDF (isotropic used)" in text
+    assert "anisotropy of a Beckmann Anisotropic BSDF (isotropic used)" in text
     assert "distribution 'Ashikhmin-Shirley' (GGX used)" in text
     # The holdout's share (0.75) is a hole in the film's alpha (test_alpha_parity): a layer of its own, not warned.
     assert "Holdout" not in text

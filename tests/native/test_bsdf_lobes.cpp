@@ -1,9 +1,9 @@
-// The lobes beyond Principled (render/bsdf.h): Glass and Glossy BSDF, Translucent, and Mix / Add Shader
-// materials holding several of them.  For each: sampling against its pdf over the whole sphere (Pearson
+// The lobes beyond Principled (render/bsdf.h): Glass, Glossy and Anisotropic BSDF, Principled Anisotropic,
+// Translucent, and Mix / Add Shader materials holding several of them.  For each: sampling against its pdf over the whole sphere (Pearson
 // chi-square, so the translucent lobe's lower hemisphere is checked too), the sampling estimate of the
 // albedo against quadrature, reciprocity, and a Translucent's closed form.
 // Statistical checks use fixed seeds; each chi-square bound is the 1 - 1e-6 quantile, each mean a 6-sigma
-// bound: false-failure rate < 2e-5 for the file (14 chi-square tests, 7 means).
+// bound: false-failure rate < 3e-5 for the file (20 chi-square tests, 10 means).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -29,6 +29,22 @@ Material Mix(std::initializer_list<std::pair<Material, float>> parts) {
     return mix;
 }
 
+// An anisotropic material with the hit's tangent at `angle` radians in the shading frame (SetHitTangent).
+Material WithTangent(Material m, float angle) {
+    SetHitTangent(m, {std::cos(angle), std::sin(angle), 0});
+    return m;
+}
+
+PrincipledInputs AnisotropicPrincipled() {
+    PrincipledInputs p;
+    p.base_color = {0.8f, 0.6f, 0.3f};
+    p.metallic = 0.7f;
+    p.roughness = 0.35f;
+    p.anisotropic = 0.8f;
+    p.anisotropic_rotation = 0.1f;
+    return p;
+}
+
 std::vector<NamedMaterial> Materials() {
     PrincipledInputs principled;
     principled.base_color = {0.7f, 0.4f, 0.2f};
@@ -45,6 +61,11 @@ std::vector<NamedMaterial> Materials() {
         {"principled + glass + translucent", Mix({{MakePrincipledMaterial(principled), 0.5f},
                                                   {MakeGlassMaterial({1, 1, 1}, 0.3f, 1.5f), 0.3f},
                                                   {MakeTranslucentMaterial({0.9f, 0.9f, 0.9f}), 0.2f}})},
+        {"anisotropic glossy a=0.6", WithTangent(MakeGlossyBsdfMaterial({0.9f, 0.9f, 0.9f}, 0.4f, false, 0.6f, 0.15f), 0.5f)},
+        {"principled anisotropic 0.8", WithTangent(MakePrincipledMaterial(AnisotropicPrincipled()), -1.0f)},
+        {"diffuse + anisotropic glossy a=-0.5", WithTangent(Mix({{MakeDiffuseMaterial({0.4f, 0.4f, 0.4f}), 0.5f},
+                                                                 {MakeGlossyBsdfMaterial({1, 1, 1}, 0.3f, false, -0.5f), 0.5f}}),
+                                                            2.0f)},
         {"two glossy + translucent + diffuse", Mix({{MakeGlossyBsdfMaterial({1, 1, 1}, 0.2f), 0.3f},
                                                     {MakeGlossyBsdfMaterial({1, 0.5f, 0.5f}, 0.6f), 0.3f},
                                                     {MakeTranslucentMaterial({0.5f, 0.5f, 0.5f}), 0.2f},
@@ -109,6 +130,51 @@ TEST(BsdfLobes, MixesAreReciprocal) {
                 EXPECT_NEAR(f.y, g.y, 1e-5f * (1 + f.y)) << c.name;
             }
     }
+}
+
+TEST(BsdfLobes, AnisotropicGgxDistributionIsNormalised) {
+    // Integral of D(h) cos(theta_h) over the hemisphere of normals is 1 (Walter et al. 2007, eq. 4).
+    for (auto [ax, ay] : {std::pair{0.3f, 0.3f}, {0.2f, 0.6f}, {0.9f, 0.25f}}) {
+        const double integral = IntegrateSphere(
+            [&](const Vec3f& h) { return h.z > 0 ? GgxAnisotropicD(h, ax, ay) * h.z : 0.0f; }, 800, 800);
+        EXPECT_NEAR(integral, 1.0, 3e-3) << ax << " " << ay;
+    }
+}
+
+TEST(BsdfLobes, AnisotropicGgxReducesToIsotropicAndTurnsWithItsTangent) {
+    const Vec3f wo = SphericalDirection(0.7f, 0.3f), wi = SphericalDirection(0.4f, 2.4f), h = Normalize(wo + wi);
+    // Equal roughnesses: the isotropic lobe, whatever the tangent.
+    EXPECT_NEAR(GgxAnisotropicDG(wo, wi, h, 0.3f, 0.3f, std::cos(1.1f), std::sin(1.1f)),
+                GgxD(h, 0.3f) * SmithG1Ggx(wo.z, 0.3f) * SmithG1Ggx(wi.z, 0.3f), 1e-4f);
+    // A tangent turned by a quarter turn swaps the roughnesses; by half a turn changes nothing.
+    const float a = GgxAnisotropicDG(wo, wi, h, 0.2f, 0.6f, std::cos(0.4f), std::sin(0.4f));
+    const float quarter = GgxAnisotropicDG(wo, wi, h, 0.6f, 0.2f, std::cos(0.4f + kPi / 2), std::sin(0.4f + kPi / 2));
+    const float half = GgxAnisotropicDG(wo, wi, h, 0.2f, 0.6f, std::cos(0.4f + kPi), std::sin(0.4f + kPi));
+    EXPECT_NEAR(quarter, a, 1e-4f * a);
+    EXPECT_NEAR(half, a, 1e-4f * a);
+    // The Anisotropic BSDF's rotation input turns the lobe as its tangent does.
+    const Material turned = WithTangent(MakeGlossyBsdfMaterial({1, 1, 1}, 0.4f, false, 0.6f, 0.25f), 0.3f);
+    const Material tangent_turned = WithTangent(MakeGlossyBsdfMaterial({1, 1, 1}, 0.4f, false, 0.6f, 0.0f),
+                                                0.3f + kPi / 2);
+    EXPECT_NEAR(EvalBsdf<true>(turned, wo, wi).y, EvalBsdf<true>(tangent_turned, wo, wi).y, 1e-5f);
+    // Anisotropy changes the lobe (the test above can fail).
+    const Material iso = MakeGlossyBsdfMaterial({1, 1, 1}, 0.4f);
+    EXPECT_GT(std::abs(EvalBsdf<true>(turned, wo, wi).y - EvalBsdf<true>(iso, wo, wi).y),
+              0.05f * EvalBsdf<true>(iso, wo, wi).y);
+}
+
+TEST(BsdfLobes, AnisotropyFollowsCyclesRoughnessMapping) {
+    // svm_node_closure_bsdf: Principled aspect = sqrt(1 - 0.9 a), alpha_x = r^2 / aspect, alpha_y = r^2 aspect;
+    // Anisotropic BSDF a >= 0: alpha_x = r^2 (1 - a), alpha_y = r^2 / (1 - a).
+    const Material p = MakePrincipledMaterial(AnisotropicPrincipled());
+    const float r2 = 0.35f * 0.35f, aspect = std::sqrt(1 - 0.9f * 0.8f);
+    EXPECT_FLOAT_EQ(p.alpha, r2 / aspect);
+    EXPECT_FLOAT_EQ(p.specular_alpha_y, r2 * aspect);
+    EXPECT_TRUE(p.anisotropic);
+    const Material g = MakeGlossyBsdfMaterial({1, 1, 1}, 0.5f, false, 0.6f);
+    EXPECT_FLOAT_EQ(g.lobes[0].alpha, 0.25f * 0.4f);
+    EXPECT_FLOAT_EQ(g.lobes[0].alpha_y, 0.25f / 0.4f);
+    EXPECT_FALSE(MakeGlossyBsdfMaterial({1, 1, 1}, 0.5f, true, 0.6f).anisotropic);  // Beckmann: isotropic
 }
 
 }  // namespace

@@ -122,6 +122,7 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
         out.bump_shadowing = true;
         out.unmapped_normal = frame.ToLocal(h.ns_unmapped);
     }
+    if (m.anisotropic && Dot(h.tangent, h.tangent) > 0) SetHitTangent(out, frame.ToLocal(h.tangent));
     if (m.has_dielectric && h.backfacing) {  // seen from inside: the relative IOR inverts
         for (int i = 0; i < out.num_lobes; ++i)
             if (out.lobes[i].fresnel_ior > 0) out.lobes[i].fresnel_ior = 1 / out.lobes[i].fresnel_ior;
@@ -134,7 +135,7 @@ static inline const Material& MaterialAtHit(const RenderScene& scene, const Surf
                                             std::optional<Material>& storage) {
     const Material& m = scene.materials[size_t(h.material)];
     if constexpr (!kGlossy) return m;  // Commit() sends scenes with any of these to the glossy kernel
-    if (!m.textured && !m.normal_mapped && !(m.has_dielectric && h.backfacing)) return m;
+    if (!m.textured && !m.normal_mapped && !m.anisotropic && !(m.has_dielectric && h.backfacing)) return m;
     storage.emplace(HitSpecificMaterial(scene, h, frame));
     return *storage;
 }

@@ -17,6 +17,7 @@ struct SurfaceHit {
     TextureCoordinates tc;  // set only for a textured or normal-mapped material
     Vec3f ns_unmapped;      // normal-mapped materials: the shading normal before the map (flipped with ns)
     bool backfacing = false;  // materials with a dielectric lobe: the ray hit the side its winding faces away from
+    Vec3f tangent;            // anisotropic materials: the mesh's radial tangent (RadialTangent; zero without one)
 };
 
 // The mesh's texture coordinates at barycentrics (b0, b1, b2) of triangle (i0, i1, i2); zero where it has none.
@@ -83,6 +84,18 @@ static inline Vec3f Apply3x3Transposed(const float (&m)[3][3], const Vec3f& v) {
     return lm > 0 ? mapped / lm : n_world;
 }
 
+// Cycles' default tangent (primitive_tangent: what an unlinked Tangent input reads), radial about the object's Z axis:
+// (-(g.y - 0.5), g.x - 0.5, 0) of the Generated coordinates g, taken to the world as a normal
+// (object_normal_transform, L^-T) and made orthogonal to the shading normal n.  Zero where it is undefined (on
+// the axis).
+static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, const Vec3f& n) {
+    Vec3f t(-(generated.y - 0.5f), generated.x - 0.5f, 0);
+    if (m.has_object_linear) t = Apply3x3Transposed(m.object_linear_inverse, t);
+    const Vec3f across = Cross(t, n);
+    const float len = Length(across);
+    return len > 0 ? Cross(n, across / len) : Vec3f();
+}
+
 // What a textured, normal-mapped or dielectric material needs of the hit (out of line: cold for most scenes):
 // texture coordinates, the normal map applied to ns, and which side of the triangle the ray hit.
 [[gnu::noinline]] static void AddHitExtras(const RenderScene& scene, const MeshData& m, const Material& material,
@@ -91,8 +104,9 @@ static inline Vec3f Apply3x3Transposed(const float (&m)[3][3], const Vec3f& v) {
     // The side Blender's winding gives (Embree's Ng may point the other way).
     const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
     s.backfacing = Dot(ng, ray.d) * side > 0;
-    if (!material.textured && !material.normal_mapped) return;
+    if (!material.textured && !material.normal_mapped && !material.anisotropic) return;
     s.tc = InterpolateTextureCoordinates(m, i[0], i[1], i[2], b0, b1, b2);
+    if (material.anisotropic && !m.generated.empty()) s.tangent = RadialTangent(m, s.tc.generated, ns);
     if (material.normal_mapped && !m.uvs.empty()) {
         // In the frame of Blender's winding, then back.
         const Point2<float> uv[3] = {m.uvs[i[0]], m.uvs[i[1]], m.uvs[i[2]]};
@@ -117,7 +131,8 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
     const Material* extras = nullptr;  // the material, when it needs AddHitExtras
     if constexpr (kGlossy) {
         const Material& material = scene.materials[size_t(s.material)];
-        if (material.textured || material.normal_mapped || material.has_dielectric) extras = &material;
+        if (material.textured || material.normal_mapped || material.has_dielectric || material.anisotropic)
+            extras = &material;
     }
     if (m.normals.empty() && !extras) {
         s.p = ray.o + ray.d * s.t;  // flat shading: no vertex fetch needed

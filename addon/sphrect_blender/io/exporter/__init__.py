@@ -11,7 +11,7 @@ from .geometry import MESH_LIKE, render_uv_layer, to_world, triangulate
 from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
-from .textures import TextureExport, coordinates_needed, has_normal_map
+from .textures import TextureExport, coordinates_needed, has_normal_map, is_anisotropic
 
 
 class _Materials:
@@ -88,20 +88,21 @@ def scene_from_depsgraph(depsgraph):
             needed = materials.coordinates_of(obj, slots)
             local = triangulate(obj, log, uvs="uv" in needed, generated="generated" in needed)
             if local is not None:
-                normal_mapped = any(has_normal_map(materials.list[i]) for i in slots)
-                cache[key] = (local, slots[np.clip(local.material_index, 0, len(slots) - 1)], normal_mapped)
+                object_space = any(has_normal_map(materials.list[i]) or is_anisotropic(materials.list[i])
+                                   for i in slots)
+                cache[key] = (local, slots[np.clip(local.material_index, 0, len(slots) - 1)], object_space)
             else:
                 cache[key] = None
         if cache[key] is None:
             continue
-        local, material_ids, normal_mapped = cache[key]
+        local, material_ids, object_space = cache[key]
         world = to_world(local, inst.matrix_world)
         if world is None:
             log.problem(f"object '{name}' has zero scale: skipped")
             continue
         vertices, triangles, normals = world
-        # Normal maps apply in the object's space (Cycles): the renderer needs its linear map.
-        object_linear = np.array(inst.matrix_world)[:3, :3].tolist() if normal_mapped else None
+        # Normal maps and the default tangent apply in the object's space (Cycles): the renderer needs its linear map.
+        object_linear = np.array(inst.matrix_world)[:3, :3].tolist() if object_space else None
         scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
                                          material_ids=material_ids, name=name, uvs=local.uvs,
                                          generated=local.generated, object_linear=object_linear))

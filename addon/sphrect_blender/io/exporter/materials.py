@@ -4,7 +4,8 @@ Read from the node tree behind the active output: Diffuse BSDF and Principled BS
 specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roughness: the renderer's
 'principled' kind, Cycles 3.4's model), Glass and Refraction BSDF and a Principled BSDF of transmission 1 (kind
 'glass': the dielectric reflection Cycles shows at zero bounces), Glossy BSDF and Anisotropic BSDF (kind
-'glossy_bsdf', no Fresnel) for surfaces; Mix Shader and Add Shader trees of those (kind 'mix': each shader's
+'glossy_bsdf', no Fresnel; their anisotropy and the Principled BSDF's along Cycles' default radial tangent) for
+surfaces; Mix Shader and Add Shader trees of those (kind 'mix': each shader's
 closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume linked, Surface not)
 and a white Transparent BSDF make a transparent surface, left out by geometry.triangulate; Translucent BSDF (kind
 'translucent'); Holdout (kind 'holdout': black, alpha 0); a coloured Transparent BSDF and a Principled BSDF's Alpha
@@ -406,25 +407,38 @@ def _bsdf(sphrect, node, textures, log, name):
 
 
 def _glossy(sphrect, node, inputs, textures, log, name):
-    """Glossy BSDF (and Blender 3.4's Anisotropic BSDF at anisotropy 0) as Cycles 3.4 evaluates it: Color x GGX
-    or Beckmann reflection of alpha = Roughness^2, no Fresnel (kind 'glossy_bsdf'); Sharp is a delta lobe, black at
-    zero bounces in both renderers."""
+    """Glossy BSDF and Blender 3.4's Anisotropic BSDF as Cycles 3.4 evaluates them: Color x GGX or Beckmann
+    reflection of alpha = Roughness^2, no Fresnel (kind 'glossy_bsdf'), the Anisotropic BSDF's GGX stretched along
+    Cycles' default tangent by its Anisotropy and turned by its Rotation; Sharp is a delta lobe, black at zero
+    bounces in both renderers."""
     distribution = getattr(node, "distribution", "GGX")
     roughness = 0.0 if distribution == "SHARP" else float(inputs.read("roughness"))
     rough = roughness > 0 or "roughness" in inputs.textures
     if distribution in {"MULTI_GGX", "ASHIKHMIN_SHIRLEY"} and rough:
         label = {"MULTI_GGX": "Multiscatter GGX", "ASHIKHMIN_SHIRLEY": "Ashikhmin-Shirley"}[distribution]
         log.unsupported_feature(f"{node.bl_label} distribution '{label}' (GGX used)", name)
+    anisotropy = {}
     if node.bl_idname == "ShaderNodeBsdfAnisotropic":
-        if abs(inputs.value("Anisotropy")) > 0:
-            log.unsupported_feature("anisotropy of Anisotropic BSDF (isotropic used)", name)
-        tangent = node.inputs.get("Tangent")
-        if tangent is not None and tangent.is_linked:
-            log.unsupported_feature("linked 'Tangent' input", name)
+        anisotropy = _anisotropy(node, inputs, "Anisotropy", "Rotation", log, name)
+        if anisotropy and distribution == "BECKMANN":
+            log.unsupported_feature("anisotropy of a Beckmann Anisotropic BSDF (isotropic used)", name)
+            anisotropy = {}
     color = _rgb(inputs.read("base_color"))
     return sphrect.Material(name=name, kind="glossy_bsdf", base_color=color, roughness=roughness,
                             distribution="beckmann" if distribution == "BECKMANN" else "ggx",
-                            textures=inputs.textures, **_normal_map(node, textures, log, name))
+                            textures=inputs.textures, **anisotropy, **_normal_map(node, textures, log, name))
+
+
+def _anisotropy(node, inputs, amount, rotation, log, name):
+    """Material.anisotropic / anisotropic_rotation of a shader's anisotropy inputs ({} when isotropic), along
+    Cycles' default tangent (a linked Tangent is not modelled: warned)."""
+    value = float(inputs.value(amount))
+    if value == 0:
+        return {}
+    tangent = node.inputs.get("Tangent")
+    if tangent is not None and tangent.is_linked:
+        log.unsupported_feature("linked 'Tangent' input (the default radial tangent used)", name)
+    return {"anisotropic": value, "anisotropic_rotation": float(inputs.value(rotation))}
 
 
 def _glass(sphrect, node, inputs, textures, log, name):
@@ -453,7 +467,7 @@ _PRINCIPLED_INPUTS = {"metallic": "Metallic", "specular": "Specular", "specular_
                       "clearcoat": "Clearcoat", "clearcoat_roughness": "Clearcoat Roughness"}
 # Above Cycles' closure cutoff these change the image and are not modelled.
 _PRINCIPLED_UNSUPPORTED = (("Subsurface", "subsurface scattering (Burley diffuse used)"),
-                           ("Transmission", "transmission"), ("Anisotropic", "anisotropy"))
+                           ("Transmission", "transmission"))
 
 
 def _principled(sphrect, node, inputs, textures, log, name):
@@ -475,6 +489,7 @@ def _principled(sphrect, node, inputs, textures, log, name):
     clearcoat_normal = node.inputs.get("Clearcoat Normal")
     if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
         log.unsupported_feature("linked 'Clearcoat Normal' input", name)
+    values.update(_anisotropy(node, inputs, "Anisotropic", "Anisotropic Rotation", log, name))
     emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name)
     _unmodelled_alpha(node, log, name)
     return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission,

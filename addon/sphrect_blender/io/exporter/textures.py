@@ -60,11 +60,20 @@ def has_normal_map(material):
     return material.normal_map is not None or any(has_normal_map(l.material) for l in material.layers)
 
 
+def is_anisotropic(material):
+    """Whether a lobe of the material is stretched along the mesh's tangent: Cycles' default one, radial about the
+    object's Z axis from the Generated coordinates, in the object's space."""
+    return material.anisotropic != 0 or any(is_anisotropic(l.material) for l in material.layers)
+
+
 def coordinates_needed(material):
-    """The mesh coordinates ('uv', 'generated') a material reads; a normal map needs the UVs (its tangents)."""
+    """The mesh coordinates ('uv', 'generated') a material reads; a normal map needs the UVs (its tangents), an
+    anisotropic lobe the Generated coordinates (its radial tangent)."""
     needed = {lookup.coordinates for lookup in lookups_of(material)}
     if has_normal_map(material):
         needed.add("uv")
+    if is_anisotropic(material):
+        needed.add("generated")
     return needed
 
 
