@@ -122,7 +122,8 @@ render::TextureLookup MakeLookup(int image, bool alpha_output, bool generated, c
 
 void SetCamera(RenderScene& s, int width, int height, const py::object& to_world, bool orthographic,
                float half_width, float half_height, float offset_x, float offset_y, float aperture_radius,
-               float focus_distance, float clip_start, float clip_end) {
+               float focus_distance, float clip_start, float clip_end, const std::string& pixel_filter,
+               float filter_width) {
     const auto mat = CArray<double>::ensure(to_world);
     if (!mat || mat.ndim() != 2 || mat.shape(0) != 4 || mat.shape(1) != 4)
         throw py::value_error("camera to_world must be a 4x4 matrix");
@@ -140,6 +141,12 @@ void SetCamera(RenderScene& s, int width, int height, const py::object& to_world
     c.focus_distance = focus_distance;
     c.clip_start = clip_start;
     c.clip_end = clip_end;
+    if (!(filter_width >= render::kMinPixelFilterWidth && filter_width <= render::kMaxPixelFilterWidth))
+        throw py::value_error(py::str("camera filter_width must be in [{:g}, {:g}] pixels, got {:g}")
+                                  .format(render::kMinPixelFilterWidth, render::kMaxPixelFilterWidth, filter_width)
+                                  .cast<std::string>());
+    c.filter = render::MakePixelFilter(
+        EnumNamed<render::PixelFilterType>(pixel_filter, render::kPixelFilterNames, "camera pixel_filter"), filter_width);
     s.SetCamera(c);
 }
 
@@ -229,13 +236,16 @@ void BindRender(py::module_& m) {
     m.attr("textured_inputs") = names(render::kTexturedInputNames);
     m.attr("texture_interpolations") = names(render::kTextureInterpolationNames);
     m.attr("texture_extensions") = names(render::kTextureExtensionNames);
+    m.attr("pixel_filters") = names(render::kPixelFilterNames);
+    m.attr("MIN_PIXEL_FILTER_WIDTH") = render::kMinPixelFilterWidth;
+    m.attr("MAX_PIXEL_FILTER_WIDTH") = render::kMaxPixelFilterWidth;
     py::class_<RenderScene, std::shared_ptr<RenderScene>>(m, "_Scene",
                                                            "Native scene; built by sphrect.Renderer from a sphrect.Scene")
         .def(py::init<>())
         .def("set_camera", &SetCamera, py::arg("width"), py::arg("height"), py::arg("to_world"),
              py::arg("orthographic"), py::arg("half_width"), py::arg("half_height"), py::arg("offset_x"),
              py::arg("offset_y"), py::arg("aperture_radius"), py::arg("focus_distance"), py::arg("clip_start"),
-             py::arg("clip_end"))
+             py::arg("clip_end"), py::arg("pixel_filter") = "box", py::arg("filter_width") = 1.0f)
         .def("set_background", [](RenderScene& s, V3 c) { s.SetBackground(ToVec(c)); })
         .def("set_medium", [](RenderScene& s, V3 ss, V3 sa, float g) { s.SetMedium(ToVec(ss), ToVec(sa), g); })
         .def(

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "pixel_filter.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -17,6 +18,7 @@ struct CameraModel {
     float offset_x = 0, offset_y = 0;             // shift, same units
     float aperture_radius = 0, focus_distance = 10;
     float clip_start = 0, clip_end = 1e30f;
+    PixelFilter filter;  // where in and around its pixel a camera sample looks (pixel_filter.h); default the 1-px box
 
     Vec3f PointToWorld(const Vec3f& p) const {
         return {to_world[0][0] * p.x + to_world[0][1] * p.y + to_world[0][2] * p.z + to_world[0][3],

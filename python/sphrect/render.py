@@ -14,7 +14,8 @@ choice is stratified with the pattern).  "tree" (default): a light tree over the
 an estimate of its contribution at the shading point (power, distance, orientation); "power": an
 area light with probability proportional to its power (luminance x area x sides), and point and
 spot lights evaluated once per camera sample each.  Suns are evaluated once per camera sample with
-either.  Pixels use a box filter.
+either.  Pixels are filtered as Camera.pixel_filter says (box, gaussian or blackman_harris of Camera.filter_width
+pixels, as Cycles' Film > Pixel Filter): camera samples land around the pixel centre as the filter is distributed.
 
 Disk and ellipse lights (ellipse_technique, one of ELLIPSE_TECHNIQUES, for every technique's pass):
 "spherical_ellipse" (default) samples the solid angle they subtend with the area-preserving map of
@@ -23,8 +24,8 @@ the spherical ellipse (Guillen et al., EGSR 2017; sphrect.sample_ellipse); "area
 Lights seen by the camera (analytic_light_coverage, default True): in pixels that a rectangle's or an
 ellipse's image partly covers, the share it covers is computed exactly (a control variate: the image
 stays unbiased, and the noise of its edges is left only where something occludes the light).  It
-applies to a pinhole or orthographic camera outside a medium; False estimates it from the camera samples
-as before.
+applies to a pinhole or orthographic camera with the 1-px box filter, outside a medium; False estimates it from
+the camera samples as before.
 
 MIS at diffuse hits (bsdf_samples_on_diffuse, default False): with MIS on and the lights sampled by
 solid angle (every technique but "area", and ellipse_technique "spherical_ellipse"), a hit on a purely
@@ -56,8 +57,9 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, SENSOR_FITS, TEXTURE_COLORSPACES,
-                    TEXTURE_COORDINATES, TEXTURE_EXTENSIONS, TEXTURE_INTERPOLATIONS, TEXTURE_OUTPUTS, TEXTURED_INPUTS,
+from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, PIXEL_FILTERS, SENSOR_FITS,
+                    TEXTURE_COLORSPACES, TEXTURE_COORDINATES, TEXTURE_EXTENSIONS, TEXTURE_INTERPOLATIONS, TEXTURE_OUTPUTS,
+                    TEXTURED_INPUTS,
                     Camera, EllipseLight, MaterialLayer, MixFactor, PointLight, RectLight, Scene, SpotLight, SunLight,
                     Texture, TextureLookup)
 
@@ -121,10 +123,17 @@ def _set_camera(native, cam: Camera) -> None:
     m = np.asarray(cam.to_world, dtype=np.float64)
     if m.shape != (4, 4):
         raise ValueError(f"camera to_world must be 4x4, got shape {m.shape}")
+    if cam.pixel_filter not in PIXEL_FILTERS:
+        raise ValueError(f"camera pixel_filter must be {_one_of(PIXEL_FILTERS)}, got {cam.pixel_filter!r}")
+    lo, hi = _native.MIN_PIXEL_FILTER_WIDTH, _native.MAX_PIXEL_FILTER_WIDTH
+    if (isinstance(cam.filter_width, bool) or not isinstance(cam.filter_width, numbers.Real)
+            or not lo <= float(cam.filter_width) <= hi):
+        raise ValueError(f"camera filter_width must be a number of pixels in [{lo:g}, {hi:g}], "
+                         f"got {cam.filter_width!r}")
     hw, hh, ox, oy = cam.image_plane()
     native.set_camera(int(cam.width), int(cam.height), m, cam.type == "orthographic", float(hw), float(hh),
                       float(ox), float(oy), float(cam.aperture_radius), float(cam.focus_distance),
-                      float(cam.clip_start), float(min(cam.clip_end, 1e30)))
+                      float(cam.clip_start), float(min(cam.clip_end, 1e30)), cam.pixel_filter, float(cam.filter_width))
 
 
 def _add_textures(native, scene: Scene) -> None:

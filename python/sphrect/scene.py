@@ -51,7 +51,9 @@ FORMAT_NAME = "sphrect-scene"
 # Older files load unchanged (no textures).
 # 7: Material kind 'transparent' (Blender's Transparent BSDF: camera and shadow rays go through, filtered by its
 # colour; with a mix, a Principled BSDF's Alpha).  Older files load unchanged.
-FORMAT_VERSION = 7
+# 8: Camera.pixel_filter, filter_width (Cycles' Film > Pixel Filter: box, gaussian, blackman_harris).  Older files
+# load as a box of width 1, the only filter before.
+FORMAT_VERSION = 8
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -62,6 +64,7 @@ MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "tr
 # Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
 GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
 CAMERA_TYPES = ("perspective", "orthographic")
+PIXEL_FILTERS = tuple(_native.pixel_filters)  # ("box", "gaussian", "blackman_harris"): render/pixel_filter.h
 # Image Texture nodes (Cycles 3.4's image lookups): the colour space of a texture's stored values ('srgb': decoded
 # to linear after filtering, as Cycles does for byte images; 'linear': used as stored, Blender's Non-Color and
 # Linear), the node's interpolation and extension, and the coordinates it reads.
@@ -312,6 +315,12 @@ class Camera:
     clip_start: float = 0.0
     clip_end: float = 1e30
     film_transparent: bool = False   # Blender's Film > Transparent: escaping camera rays give alpha 0 and no colour
+    # Cycles' Film > Pixel Filter: one of PIXEL_FILTERS, of filter_width pixels (box: its side; gaussian: 4 sigma,
+    # cut at 6 sigma; blackman_harris: its support is 2 x the width).  Camera samples land around their pixel
+    # centre as the filter is distributed (filter importance sampling, weight 1).  Blender's default: Blackman-Harris
+    # 1.5; this default, the 1-px box, is the renderer's before filters (and keeps Exact Light Edges).
+    pixel_filter: str = "box"
+    filter_width: float = 1.0        # pixels, in [MIN_PIXEL_FILTER_WIDTH, MAX_PIXEL_FILTER_WIDTH]
 
     def image_plane(self):
         """(half_width, half_height, offset_x, offset_y) of the image at distance 1 (perspective)

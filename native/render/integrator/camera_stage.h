@@ -62,8 +62,10 @@ static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk&
                              MixBits(DimensionSeed(pixel_seed, kDimLightEdge) ^ p.first_sample), partial);
         const int light_seen_by_estimate = LightSeenByEstimate(partial);
         for (uint32_t i = 0; i < n; ++i) {
+            // The pixel pattern's point, through the pixel filter in x and y separately (stratification kept).
             const Point2<float> jitter = scratch.pixel_points[i];
-            const float fx = x + jitter.u, fy = y + jitter.v;
+            const float fx = FilmCoordinate(camera.filter, x, jitter.u);
+            const float fy = FilmCoordinate(camera.filter, y, jitter.v);
             hits[i].ray = GenerateCameraRay<kDof>(camera, fx, fy, kDof ? scratch.lens_points[i] : Point2<float>{});
             hits[i].rng_seed = CameraSampleRngSeed(pixel_seed, p.first_sample + i);
             hits[i].seen = partial.empty() ? Spectrum() : CoverageOffset(partial, fx, fy);

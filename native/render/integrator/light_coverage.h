@@ -40,8 +40,10 @@ constexpr int kSeenCoverageRaysPerSample = 16;
 constexpr int kSeenCoverageMaxGrid = 128;
 
 static inline bool UsesLightCoverage(const RenderScene& scene, const RenderOptions& opt) {
-    // (A light behind a transparent surface is seen filtered: the coverage estimate does not model it.)
-    return opt.analytic_light_coverage && !scene.has_medium && !scene.has_transparency && !scene.screen_lights.empty();
+    // (A light behind a transparent surface is seen filtered: the coverage estimate does not model it.  The
+    // estimate is the light's share of the pixel's 1-px box: other pixel filters estimate it from the samples.)
+    return opt.analytic_light_coverage && !scene.has_medium && !scene.has_transparency &&
+           !scene.screen_lights.empty() && scene.camera.filter.IsUnitBox();
 }
 
 // The screen lights whose image may overlap the tile (indices into scene.screen_lights).
