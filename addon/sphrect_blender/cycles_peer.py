@@ -12,11 +12,13 @@ import bpy
 import numpy as np
 from mathutils import Matrix
 
+from .names import DEFAULT_FILTER_WIDTH, DEFAULT_PIXEL_FILTER, PIXEL_FILTERS, identifier
+
 
 def use_direct_lighting(scene, args):
     """Cycles settings for a direct-lighting render comparable with sphrect's: CPU, no adaptive sampling,
-    no denoising, no bounces, no light threshold or clamping, a fixed seed, a one-pixel box filter, the
-    Standard view transform, a 32-bit EXR."""
+    no denoising, no bounces, no light threshold or clamping, a fixed seed, SPHRECT's pixel filter (use_pixel_filter),
+    the Standard view transform, a 32-bit EXR."""
     render = scene.render
     render.engine = "CYCLES"
     cycles = scene.cycles
@@ -29,8 +31,7 @@ def use_direct_lighting(scene, args):
     cycles.sample_clamp_indirect = 0.0
     cycles.seed = int(args["seed"])
     cycles.use_animated_seed = False
-    cycles.pixel_filter_type = "BOX"  # one-pixel box, as our renderer's pixel samples
-    cycles.filter_width = 1.0
+    use_pixel_filter(scene)
     cycles.time_limit = float(args.get("time_limit") or 0.0)
     if args["threads"] > 0:
         render.threads_mode = "FIXED"
@@ -52,6 +53,19 @@ def use_direct_lighting(scene, args):
     settings.file_format = "OPEN_EXR"
     settings.color_depth = "32"
     settings.exr_codec = "ZIP"
+
+
+def use_pixel_filter(scene):
+    """Cycles' pixel filter set to the scene's SPHRECT one (the Film panel's), read as raw ID properties so that
+    the add-on need not be registered: an enum is stored as its item's number, its place in sphrect.pixel_filters
+    (names.py), and an unset one is the add-on's default (Cycles' own, Blackman-Harris 1.5), which is what the
+    exporter then reads too.  Cycles makes a box 1 pixel wide whatever the width, as the exporter does."""
+    settings = scene.get("sphrect") or {}
+    number = settings.get("pixel_filter")
+    known = isinstance(number, int) and 0 <= number < len(PIXEL_FILTERS)
+    name = PIXEL_FILTERS[number] if known else DEFAULT_PIXEL_FILTER
+    scene.cycles.pixel_filter_type = identifier(name)  # Cycles' identifiers: BOX, GAUSSIAN, BLACKMAN_HARRIS
+    scene.cycles.filter_width = float(settings.get("filter_width", DEFAULT_FILTER_WIDTH))
 
 
 def split_two_sided_lights(scene):

@@ -2,7 +2,7 @@
 as Blender enum items.
 
 One source: the native module's lists (`sphrect.techniques`, `sphrect.patterns`, `sphrect.mis_modes`,
-`sphrect.light_selections`, `sphrect.ellipse_techniques`). An
+`sphrect.light_selections`, `sphrect.ellipse_techniques`, `sphrect.pixel_filters`). An
 item's identifier is the name upper-cased ('rectangle_cosine' -> 'RECTANGLE_COSINE': what scripts, tests and
 the scene builders set) and its number is the name's position in the module's list, which is what a .blend
 file stores: the module's lists may grow at the end only. The add-on's own part is the UI text (the *_LABELS
@@ -56,6 +56,18 @@ ELLIPSE_TECHNIQUE_LABELS = {
                           "small or distant enough that both give the same"),
 }
 
+# Cycles' Film > Pixel Filter (render/pixel_filter.h): where in and around its pixel a camera sample looks.
+PIXEL_FILTER_LABELS = {
+    "box": ("Box", "Every sample counts alike over the pixel's own square: the sharpest edges, the most aliasing "
+                   "(Cycles renders every box 1 pixel wide, and so does SPHRECT from Blender)"),
+    "gaussian": ("Gaussian", "Samples spread around the pixel centre as a Gaussian of standard deviation Width / 4 "
+                             "(cut at 1.5 Widths): smooth edges, some blur"),
+    "blackman_harris": ("Blackman-Harris", "Samples spread around the pixel centre as a Blackman-Harris window "
+                                           "Width to either side: smooth edges with less blur than a Gaussian "
+                                           "(Cycles' default, at 1.5 pixels)"),
+}
+DEFAULT_PIXEL_FILTER, DEFAULT_FILTER_WIDTH = "blackman_harris", 1.5  # Cycles' defaults
+
 
 def identifier(name):
     """Blender enum identifier of a sphrect name."""
@@ -89,3 +101,16 @@ PATTERNS = _module_names("patterns", PATTERN_LABELS)
 MIS_MODES = _module_names("mis_modes", MIS_LABELS)
 LIGHT_SELECTIONS = _module_names("light_selections", LIGHT_SELECTION_LABELS)
 ELLIPSE_TECHNIQUES = _module_names("ellipse_techniques", ELLIPSE_TECHNIQUE_LABELS)
+PIXEL_FILTERS = _module_names("pixel_filters", PIXEL_FILTER_LABELS)
+
+
+def _module_value(attribute, fallback):
+    try:
+        return getattr(load_sphrect(), attribute)
+    except (ImportError, AttributeError):
+        return fallback
+
+
+# The Filter Width's range, pixels (the module's float32 limits, rounded for the UI; without the module, Blender's).
+FILTER_WIDTH_RANGE = tuple(round(float(_module_value(name, fallback)), 6)
+                           for name, fallback in (("MIN_PIXEL_FILTER_WIDTH", 0.01), ("MAX_PIXEL_FILTER_WIDTH", 10.0)))

@@ -4,9 +4,10 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, P
                        StringProperty)
 
 from .images import cache_reference_image
-from .names import (ELLIPSE_TECHNIQUE_LABELS, ELLIPSE_TECHNIQUES, LIGHT_SELECTION_LABELS, LIGHT_SELECTIONS,
-                    MIS_LABELS, MIS_MODES, PATTERN_LABELS, PATTERNS, TECHNIQUE_LABELS, TECHNIQUES, enum_items, label,
-                    sphrect_name)
+from .names import (DEFAULT_FILTER_WIDTH, DEFAULT_PIXEL_FILTER, ELLIPSE_TECHNIQUE_LABELS, ELLIPSE_TECHNIQUES,
+                    FILTER_WIDTH_RANGE, LIGHT_SELECTION_LABELS, LIGHT_SELECTIONS, MIS_LABELS, MIS_MODES, PATTERN_LABELS,
+                    PATTERNS, PIXEL_FILTER_LABELS, PIXEL_FILTERS, TECHNIQUE_LABELS, TECHNIQUES, enum_items, identifier,
+                    label, sphrect_name)
 
 
 def _read_reference(path):
@@ -47,6 +48,15 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
                     "where the lights are sampled by solid angle: the same image on average, faster, and less "
                     "noisy in most scenes; glossy surfaces and area sampling keep MIS either way")
     seed: IntProperty(name="Seed", default=0, min=0)
+    pixel_filter: EnumProperty(name="Pixel Filter", items=enum_items(PIXEL_FILTERS, PIXEL_FILTER_LABELS),
+                               default=identifier(DEFAULT_PIXEL_FILTER),
+                               description="How a pixel weighs what its camera samples see, as Cycles' Film > Pixel "
+                                           "Filter (the Cycles comparisons use the same). Other than Box, it turns "
+                                           "Exact Light Edges off")
+    filter_width: FloatProperty(name="Width", default=DEFAULT_FILTER_WIDTH, min=FILTER_WIDTH_RANGE[0],
+                                max=FILTER_WIDTH_RANGE[1], subtype="PIXEL",
+                                description="Width of the pixel filter: lower is crisper, higher softer with less "
+                                            "aliasing (Box is always 1 pixel, as in Cycles)")
     threads: IntProperty(name="Threads", default=0, min=0, description="Render threads (0: all cores)")
     passes: IntProperty(name="Progressive Passes", default=4, min=1, max=256,
                         description="The image is updated at least this many times while rendering the samples")

@@ -59,6 +59,24 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         col.prop(s, "threads")
 
 
+class RENDER_PT_sphrect_film(SphrectPanel, bpy.types.Panel):
+    """Blender's Film > Transparent and Cycles' Pixel Filter, which SPHRECT renders as Cycles does."""
+    bl_label = "Film"
+    bl_context = "render"
+
+    def draw(self, context):
+        s = context.scene.sphrect
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        col = layout.column()
+        col.prop(context.scene.render, "film_transparent", text="Transparent")
+        col.prop(s, "pixel_filter")
+        sub = col.column()
+        sub.active = s.pixel_filter != "BOX"  # Cycles renders every box 1 pixel wide
+        sub.prop(s, "filter_width")
+
+
 class RENDER_PT_sphrect_viewport(SphrectPanel, bpy.types.Panel):
     """The 3D view's Rendered shading (the Technique and the light settings are the Sampling panel's)."""
     bl_label = "Viewport"
@@ -163,7 +181,7 @@ class MATERIAL_PT_sphrect_material(SphrectPanel, bpy.types.Panel):
                 col.label(text=line, icon="DOT" if i == 0 else "BLANK1")
 
 
-classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_viewport, RENDER_PT_sphrect_compare,
+classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_film, RENDER_PT_sphrect_viewport, RENDER_PT_sphrect_compare,
            DATA_PT_sphrect_light, MATERIAL_PT_sphrect_material)
 
 

@@ -1,5 +1,7 @@
-"""Blender camera -> sphrect.Camera (Blender's model: looks down local -Z, +Y up)."""
+"""Blender camera -> sphrect.Camera (Blender's model: looks down local -Z, +Y up), with the scene's film settings."""
 import numpy as np
+
+from ...names import sphrect_name
 
 
 def render_resolution(render):
@@ -17,6 +19,15 @@ def rigid_matrix(matrix_world):
     return m
 
 
+def film_settings(bl_scene):
+    """Camera fields of the film: Film > Transparent, and the SPHRECT Film panel's pixel filter, a box always 1 pixel
+    wide as Cycles 3.4 renders it (whatever its Width says), so that the image is Cycles' at edges too."""
+    settings = bl_scene.original.sphrect  # as the engine's settings: an add-on property change does not re-evaluate
+    pixel_filter = sphrect_name(settings.pixel_filter)
+    width = 1.0 if pixel_filter == "box" else float(settings.filter_width)
+    return dict(film_transparent=bool(bl_scene.render.film_transparent), pixel_filter=pixel_filter, filter_width=width)
+
+
 def export_camera(sphrect, bl_scene, cam_obj, log):
     width, height = render_resolution(bl_scene.render)
     render = bl_scene.render
@@ -28,7 +39,7 @@ def export_camera(sphrect, bl_scene, cam_obj, log):
         log.unsupported_feature("motion blur")
     if cam_obj is None:
         log.problem("the scene has no camera: using a default camera at the origin looking down -Z")
-        return sphrect.Camera(width=width, height=height, film_transparent=bool(render.film_transparent))
+        return sphrect.Camera(width=width, height=height, **film_settings(bl_scene))
     cam = cam_obj.data
     to_world = rigid_matrix(cam_obj.matrix_world)
     kind = {"PERSP": "perspective", "ORTHO": "orthographic"}.get(cam.type)
@@ -55,5 +66,4 @@ def export_camera(sphrect, bl_scene, cam_obj, log):
         sensor_width=float(cam.sensor_width), sensor_height=float(cam.sensor_height), sensor_fit=cam.sensor_fit,
         shift_x=float(cam.shift_x), shift_y=float(cam.shift_y), ortho_scale=float(cam.ortho_scale),
         aperture_radius=float(aperture_radius), focus_distance=float(max(focus_distance, 1e-6)),
-        clip_start=float(cam.clip_start), clip_end=float(cam.clip_end),
-        film_transparent=bool(render.film_transparent))
+        clip_start=float(cam.clip_start), clip_end=float(cam.clip_end), **film_settings(bl_scene))
