@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/rng.h"
+#include "multiscatter_ggx.h"
 #include "principled_lobes.h"
 #include "sampling_util.h"
 
@@ -70,6 +71,8 @@ struct Material {
     float specular_tangent_cos = 1, specular_tangent_sin = 0;
     // Some lobe is anisotropic: a hit needs the mesh's tangent (surface_hit.h, Cycles' radial default).
     bool anisotropic = false;
+    // The specular is Cycles' multiple-scattering GGX (multiscatter_ggx.h): Multiscatter GGX above roughness 0.075.
+    bool multiscatter = false;
 
     // Microfacet reflection lobes of their own (Glossy BSDF, a Glass BSDF's reflection), each
     // sampled with its own probability; Mix / Add Shader sums them (MixIntoMaterial).
@@ -129,6 +132,7 @@ struct PrincipledInputs {
     float clearcoat_roughness = 0.03f;
     float anisotropic = 0;           // Cycles: alpha_x = r^2 / aspect, alpha_y = r^2 aspect, aspect = sqrt(1 - 0.9 a)
     float anisotropic_rotation = 0;  // turns about the normal
+    bool multiscatter = false;       // the node's distribution Multiscatter GGX (else GGX)
 };
 
 // Lobe choice roughly by albedo (the sheen's is at most ~0.1 of its weight, the clearcoat's
@@ -230,6 +234,7 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
             m.specular_rotation = in.anisotropic_rotation;
             m.anisotropic = m.alpha != m.specular_alpha_y;
         }
+        m.multiscatter = in.multiscatter && roughness > 0.075f;  // Cycles: single-scatter GGX at or below
         m.specular_ior = 2 / (1 - std::sqrt(0.08f * specular)) - 1;
         m.specular_f0 = DielectricFresnel(1, m.specular_ior);
         const float lum = 0.3f * base.x + 0.6f * base.y + 0.1f * base.z;  // Cycles' approximation here
@@ -405,6 +410,7 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
         mix.alpha = part.alpha;
         mix.specular_alpha_y = part.specular_alpha_y;
         mix.specular_rotation = part.specular_rotation;
+        mix.multiscatter = part.multiscatter;
         mix.specular_ior = part.specular_ior;
         mix.specular_f0 = part.specular_f0;
         mix.f0 = part.f0;
@@ -587,13 +593,21 @@ inline Spectrum EvalMicrofacetLobe(const MicrofacetLobe& l, const Vec3f& wo, con
 }
 
 // wo.z, wi.z > 0.
-inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+// sampled: wi is the BSDF's own sample (its multiple-scattering walk then starts from the view, as Cycles' sampling
+// walk does: multiscatter_ggx.h).
+inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& wi, bool sampled = false) {
     Spectrum f = m.diffuse * BurleyDiffuse(wo, wi, m.burley_roughness) + m.lambert * kInvPi;
     const Vec3f h = Normalize(wo + wi);
     const float cos_ih = Dot(wi, h), inv_4cos = 1 / (4 * wo.z * wi.z);
     if (m.has_sheen) f += m.sheen * SchlickWeight(cos_ih);
     if (m.bump_shadowing) f = f * BumpShadowingTerm(m.unmapped_normal, wi);  // the diffuse lobes so far
-    if (m.has_specular) {
+    if (m.has_specular && m.multiscatter) {
+        const bool iso = m.alpha == m.specular_alpha_y;
+        const float c = m.specular_tangent_cos, s = m.specular_tangent_sin;
+        f += MultiscatterGgxEval(iso ? wo : IntoTangentFrame(wo, c, s), iso ? wi : IntoTangentFrame(wi, c, s), m.alpha,
+                                 m.specular_alpha_y, m.specular_ior, m.f0, sampled) *
+             m.specular_weight;
+    } else if (m.has_specular) {
         const float dg = m.alpha == m.specular_alpha_y
                              ? GgxD(h, m.alpha) * SmithG1Ggx(wo.z, m.alpha) * SmithG1Ggx(wi.z, m.alpha)
                              : GgxAnisotropicDG(wo, wi, h, m.alpha, m.specular_alpha_y, m.specular_tangent_cos,
@@ -684,7 +698,7 @@ inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point
 
 // wi below the surface (wi.z < 0) only reaches the translucent lobe.
 template <bool kGlossy>
-inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi, bool sampled = false) {
     if constexpr (kGlossy) {
         if (m.has_translucent && wi.z < 0 && wo.z > 0) {
             // Transmission: Cycles' term about the flipped normals, i.e. the mirrored direction here.
@@ -694,7 +708,7 @@ inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi) {
     }
     if (wi.z <= 0 || wo.z <= 0) return {};
     if constexpr (kGlossy) {
-        if (m.principled) return EvalPrincipled(m, wo, wi);
+        if (m.principled) return EvalPrincipled(m, wo, wi, sampled);
     }
     Spectrum f = m.diffuse * kInvPi;
     if constexpr (kGlossy) {
@@ -752,7 +766,7 @@ inline BsdfSample SampleBsdf(const Material& m, const Vec3f& wo, Point2<float> u
                 s.pdf = 0;
                 return s;
             }
-            s.f = EvalBsdf<true>(m, wo, s.wi);
+            s.f = EvalBsdf<true>(m, wo, s.wi, true);
             return s;
         }
     }

@@ -57,10 +57,9 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, PIXEL_FILTERS, SENSOR_FITS,
-                    TEXTURE_COLORSPACES, TEXTURE_COORDINATES, TEXTURE_EXTENSIONS, TEXTURE_INTERPOLATIONS, TEXTURE_OUTPUTS,
-                    TEXTURED_INPUTS,
-                    Camera, EllipseLight, MaterialLayer, MixFactor, PointLight, RectLight, Scene, SpotLight, SunLight,
+from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, PIXEL_FILTERS, PRINCIPLED_DISTRIBUTIONS,
+                    SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_COORDINATES, TEXTURE_EXTENSIONS, TEXTURE_INTERPOLATIONS,
+                    TEXTURE_OUTPUTS, TEXTURED_INPUTS, Camera, EllipseLight, MaterialLayer, MixFactor, PointLight, RectLight, Scene, SpotLight, SunLight,
                     Texture, TextureLookup)
 
 TECHNIQUES = tuple(_native.techniques)
@@ -207,9 +206,11 @@ def _add_untextured_material(native, mat, n_textures: int):
     base_color = lambda: _rgb(mat.base_color, f"material '{mat.name}' base_color")
     if mat.layers and mat.kind != "mix":
         raise ValueError(f"material '{mat.name}': only kind 'mix' has layers (kind {mat.kind!r})")
-    if mat.kind in ("glass", "glossy_bsdf") and mat.distribution not in GLASS_DISTRIBUTIONS:
-        raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} "
-                         f"(expected {_one_of(GLASS_DISTRIBUTIONS)})")
+    distributions = {"glass": GLASS_DISTRIBUTIONS, "glossy_bsdf": GLASS_DISTRIBUTIONS,
+                     "principled": PRINCIPLED_DISTRIBUTIONS}.get(mat.kind)
+    if distributions is not None and mat.distribution not in distributions:
+        raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} for kind {mat.kind!r} "
+                         f"(expected {_one_of(distributions)})")
     if mat.kind == "diffuse":
         return native.add_diffuse_material(base_color(), emission)
     if mat.kind == "glossy":
@@ -219,7 +220,7 @@ def _add_untextured_material(native, mat, n_textures: int):
         return native.add_principled_material(
             base_color(), float(mat.metallic), float(mat.specular), float(mat.specular_tint), float(mat.roughness),
             float(mat.sheen), float(mat.sheen_tint), float(mat.clearcoat), float(mat.clearcoat_roughness), emission,
-            float(mat.anisotropic), float(mat.anisotropic_rotation))
+            float(mat.anisotropic), float(mat.anisotropic_rotation), mat.distribution == "multiscatter_ggx")
     if mat.kind == "glass":
         return native.add_glass_material(base_color(), float(mat.roughness), float(mat.ior),
                                          mat.distribution == "beckmann", emission)

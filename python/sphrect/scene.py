@@ -53,7 +53,9 @@ FORMAT_NAME = "sphrect-scene"
 # colour; with a mix, a Principled BSDF's Alpha).  Older files load unchanged.
 # 8: Camera.pixel_filter, filter_width (Cycles' Film > Pixel Filter: box, gaussian, blackman_harris).  Older files
 # load as a box of width 1, the only filter before.
-FORMAT_VERSION = 8
+# 9: Material.anisotropic, anisotropic_rotation (Principled Anisotropic, the Anisotropic BSDF) and the 'principled'
+# distribution 'multiscatter_ggx' (PRINCIPLED_DISTRIBUTIONS).  Older files load unchanged (isotropic GGX).
+FORMAT_VERSION = 9
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -63,6 +65,8 @@ MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "tr
                   "mix")
 # Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
 GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
+# The Principled BSDF's: GGX, or Cycles' multiple-scattering GGX (Heitz et al. 2016) above roughness 0.075.
+PRINCIPLED_DISTRIBUTIONS = ("ggx", "multiscatter_ggx")
 CAMERA_TYPES = ("perspective", "orthographic")
 PIXEL_FILTERS = tuple(_native.pixel_filters)  # ("box", "gaussian", "blackman_harris"): render/pixel_filter.h
 # Image Texture nodes (Cycles 3.4's image lookups): the colour space of a texture's stored values ('srgb': decoded
@@ -134,7 +138,7 @@ class Material:
     anisotropic: float = 0.0
     anisotropic_rotation: float = 0.0
     ior: float = 1.45                # 'glass' only: index of refraction (Blender's default)
-    distribution: str = "ggx"        # 'glass' and 'glossy_bsdf' only: one of GLASS_DISTRIBUTIONS
+    distribution: str = "ggx"        # 'glass', 'glossy_bsdf': one of GLASS_DISTRIBUTIONS; 'principled': PRINCIPLED_...
     layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only
     emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
                                      # every emissive triangle is a light (files without it load as 0)

@@ -147,3 +147,17 @@ def test_principled_inputs_are_validated():
     mat = sphrect.Material(kind="principled", sheen=float("nan"))
     with pytest.raises(Exception, match="finite"):
         sphrect.render(sphrect.Scene(materials=[mat], meshes=[plane_mesh()]), samples=1)
+
+
+def test_principled_distribution_is_validated_and_multiscatter_brightens_a_rough_metal():
+    scene = lambda **kw: sphrect.Scene(
+        camera=tilted_camera(), meshes=[plane_mesh()],
+        materials=[sphrect.Material(kind="principled", base_color=(0.9, 0.9, 0.9), metallic=1.0, roughness=0.9, **kw)],
+        world=sphrect.World(background=(1.0, 1.0, 1.0)))
+    with pytest.raises(ValueError, match="distribution 'beckmann' for kind 'principled'"):
+        sphrect.render(scene(distribution="beckmann"), samples=1)
+    # Under a white sky a rough white metal reflects most of it with multiple scattering, far less without
+    # (tests/native/test_bsdf_lobes.cpp checks the walk's energy; Cycles' images: test_multiscatter_parity).
+    multi = sphrect.render(scene(distribution="multiscatter_ggx"), samples=64)["rectangle"][..., :3].mean()
+    single = sphrect.render(scene(), samples=64)["rectangle"][..., :3].mean()
+    assert multi > 0.8 * 0.9 and single < 0.7 * multi

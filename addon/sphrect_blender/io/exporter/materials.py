@@ -471,7 +471,7 @@ _PRINCIPLED_UNSUPPORTED = (("Subsurface", "subsurface scattering (Burley diffuse
 
 
 def _principled(sphrect, node, inputs, textures, log, name):
-    """Cycles 3.4's Principled BSDF (svm_node_closure_bsdf) at its default GGX distribution."""
+    """Cycles 3.4's Principled BSDF (svm_node_closure_bsdf), GGX or Multiscatter GGX."""
     if (inputs.value("Transmission") >= 1 and not inputs.textured("metallic")
             and inputs.unwarned("Metallic") <= 0):
         glass = _principled_glass(sphrect, node, inputs, textures, log, name)
@@ -482,10 +482,9 @@ def _principled(sphrect, node, inputs, textures, log, name):
               for field, socket in _PRINCIPLED_INPUTS.items()}
     for socket, what in _PRINCIPLED_UNSUPPORTED:
         _nonzero_input(node, socket, log, name, what)
-    # Cycles uses multiscatter GGX for 'MULTI_GGX' above roughness 0.075 (single-scatter below).
-    if getattr(node, "distribution", "GGX") == "MULTI_GGX" and (values["roughness"] > 0.075
-                                                                 or "roughness" in inputs.textures):
-        log.unsupported_feature("Principled BSDF distribution 'Multiscatter GGX' (GGX used)", name)
+    # Multiscatter GGX: Cycles' random walk above roughness 0.075 (the renderer's switch, as Cycles' closure setup).
+    if getattr(node, "distribution", "GGX") == "MULTI_GGX":
+        values["distribution"] = "multiscatter_ggx"
     clearcoat_normal = node.inputs.get("Clearcoat Normal")
     if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
         log.unsupported_feature("linked 'Clearcoat Normal' input", name)
