@@ -263,7 +263,7 @@ void BindRender(py::module_& m) {
             "add_principled_material",
             [](RenderScene& s, V3 c, float metallic, float specular, float specular_tint, float roughness, float sheen,
                float sheen_tint, float clearcoat, float clearcoat_roughness, V3 emission, float anisotropic,
-               float anisotropic_rotation, bool multiscatter) {
+               float anisotropic_rotation, bool multiscatter, float transmission, float ior) {
                 render::PrincipledInputs in;
                 in.base_color = ToVec(c);
                 in.metallic = metallic;
@@ -277,12 +277,15 @@ void BindRender(py::module_& m) {
                 in.anisotropic = anisotropic;
                 in.anisotropic_rotation = anisotropic_rotation;
                 in.multiscatter = multiscatter;
+                in.transmission = transmission;
+                in.ior = ior;
                 return s.AddPrincipledMaterial(in, ToVec(emission));
             },
             py::arg("base_color"), py::arg("metallic"), py::arg("specular"), py::arg("specular_tint"),
             py::arg("roughness"), py::arg("sheen"), py::arg("sheen_tint"), py::arg("clearcoat"),
             py::arg("clearcoat_roughness"), py::arg("emission") = V3{0, 0, 0}, py::arg("anisotropic") = 0.0f,
-            py::arg("anisotropic_rotation") = 0.0f, py::arg("multiscatter") = false)
+            py::arg("anisotropic_rotation") = 0.0f, py::arg("multiscatter") = false, py::arg("transmission") = 0.0f,
+            py::arg("ior") = 1.45f)
         .def(
             "add_glass_material",
             [](RenderScene& s, V3 c, float roughness, float ior, bool beckmann, V3 emission) {

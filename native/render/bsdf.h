@@ -133,6 +133,11 @@ struct PrincipledInputs {
     float anisotropic = 0;           // Cycles: alpha_x = r^2 / aspect, alpha_y = r^2 aspect, aspect = sqrt(1 - 0.9 a)
     float anisotropic_rotation = 0;  // turns about the normal
     bool multiscatter = false;       // the node's distribution Multiscatter GGX (else GGX)
+    // Transmission t: its glass part, of weight t (1 - metallic), shows at zero bounces as a Glass BSDF's reflection
+    // (IOR `ior`, the Fresnel of the view); the diffuse and sheen take (1 - metallic)(1 - t), the specular 1 - that
+    // glass weight (svm_node_closure_bsdf).
+    float transmission = 0;
+    float ior = 1.45f;
 };
 
 // Lobe choice roughly by albedo (the sheen's is at most ~0.1 of its weight, the clearcoat's
@@ -194,6 +199,19 @@ inline Material MakeGlossyMaterial(const Spectrum& base, float roughness, float 
     return m;
 }
 
+// A microfacet lobe of colour `color` and Blender roughness `roughness` (alpha = roughness^2); false (no
+// lobe) when Cycles would not make one: black, or sharp -- Cycles' microfacet closures return 0 for
+// alpha_x alpha_y <= 1e-7 (a delta lobe, which light samples cannot find: black at zero bounces).
+inline bool MakeMicrofacetLobe(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann,
+                               MicrofacetLobe& lobe) {
+    const float r = std::clamp(roughness, 0.0f, 1.0f);
+    lobe.alpha = lobe.alpha_y = r * r;
+    lobe.color = color;
+    lobe.fresnel_ior = fresnel_ior;
+    lobe.beckmann = beckmann;
+    return lobe.alpha * lobe.alpha > 1e-7f && !IsBlack(color);
+}
+
 // Cycles 3.4's closures of the Principled node (svm_node_closure_bsdf, CLOSURE_BSDF_PRINCIPLED_ID,
 // its default GGX distribution = single-scatter GGX; no transmission): a Burley diffuse of weight
 // (1 - metallic) base colour, sheen of weight (1 - metallic) sheen (mix(1, tint, sheen_tint), tint =
@@ -210,7 +228,17 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
     const float metallic = std::clamp(in.metallic, 0.0f, 1.0f);
     const float specular = std::clamp(in.specular, 0.0f, 1.0f);
     const float roughness = std::clamp(in.roughness, 0.0f, 1.0f);
-    const float diffuse_weight = 1 - metallic;
+    const float transmission = std::clamp(in.transmission, 0.0f, 1.0f);
+    const float diffuse_weight = (1 - metallic) * (1 - transmission);
+    const float glass_weight = transmission * (1 - metallic);
+    m.specular_weight = 1 - glass_weight;
+    if (glass_weight > kCutoff) {  // Cycles' refl_roughness: unclamped; a sharp one is black at zero bounces
+        MicrofacetLobe& l = m.lobes[m.num_lobes];
+        if (MakeMicrofacetLobe(Spectrum(glass_weight, glass_weight, glass_weight), roughness, std::max(in.ior, 1e-5f),
+                               false, l))
+            ++m.num_lobes;
+        m.has_dielectric = m.num_lobes > 0;
+    }
     if (diffuse_weight > kCutoff && std::abs(base.x + base.y + base.z) / 3 > kCutoff) {
         m.diffuse = base * diffuse_weight;
         m.burley_roughness = roughness;
@@ -223,7 +251,7 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
         m.sheen = (Spectrum(1 - st, 1 - st, 1 - st) + tint * st) * (sheen * diffuse_weight);
         m.has_sheen = !IsBlack(m.sheen);
     }
-    if (specular > kCutoff || metallic > kCutoff) {
+    if (m.specular_weight > kCutoff && (specular > kCutoff || metallic > kCutoff)) {
         m.has_specular = true;
         const float r = std::max(roughness, 0.03f);
         m.alpha = m.specular_alpha_y = r * r;
@@ -287,19 +315,6 @@ inline Material MakeEmptyMixMaterial() {
     Material m = MakeDiffuseMaterial({});
     m.opaque_weight = 0;
     return m;
-}
-
-// A microfacet lobe of colour `color` and Blender roughness `roughness` (alpha = roughness^2); false (no
-// lobe) when Cycles would not make one: black, or sharp -- Cycles' microfacet closures return 0 for
-// alpha_x alpha_y <= 1e-7 (a delta lobe, which light samples cannot find: black at zero bounces).
-inline bool MakeMicrofacetLobe(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann,
-                               MicrofacetLobe& lobe) {
-    const float r = std::clamp(roughness, 0.0f, 1.0f);
-    lobe.alpha = lobe.alpha_y = r * r;
-    lobe.color = color;
-    lobe.fresnel_ior = fresnel_ior;
-    lobe.beckmann = beckmann;
-    return lobe.alpha * lobe.alpha > 1e-7f && !IsBlack(color);
 }
 
 // A material of microfacet lobes only (Glass, Glossy BSDF): one lobe or none (black).

@@ -197,7 +197,7 @@ int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float 
 int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectrum& emission) {
     CheckMaterialColors(in.base_color, emission);
     for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
-                    in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation})
+                    in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation, in.transmission, in.ior})
         if (!std::isfinite(v)) Fail("material Principled inputs must be finite");
     MaterialRecipe r;
     r.kind = MaterialKind::kPrincipled;

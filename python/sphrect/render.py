@@ -220,7 +220,8 @@ def _add_untextured_material(native, mat, n_textures: int):
         return native.add_principled_material(
             base_color(), float(mat.metallic), float(mat.specular), float(mat.specular_tint), float(mat.roughness),
             float(mat.sheen), float(mat.sheen_tint), float(mat.clearcoat), float(mat.clearcoat_roughness), emission,
-            float(mat.anisotropic), float(mat.anisotropic_rotation), mat.distribution == "multiscatter_ggx")
+            float(mat.anisotropic), float(mat.anisotropic_rotation), mat.distribution == "multiscatter_ggx",
+            float(mat.transmission), float(mat.ior))
     if mat.kind == "glass":
         return native.add_glass_material(base_color(), float(mat.roughness), float(mat.ior),
                                          mat.distribution == "beckmann", emission)

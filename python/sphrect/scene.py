@@ -54,7 +54,8 @@ FORMAT_NAME = "sphrect-scene"
 # 8: Camera.pixel_filter, filter_width (Cycles' Film > Pixel Filter: box, gaussian, blackman_harris).  Older files
 # load as a box of width 1, the only filter before.
 # 9: Material.anisotropic, anisotropic_rotation (Principled Anisotropic, the Anisotropic BSDF) and the 'principled'
-# distribution 'multiscatter_ggx' (PRINCIPLED_DISTRIBUTIONS).  Older files load unchanged (isotropic GGX).
+# distribution 'multiscatter_ggx' (PRINCIPLED_DISTRIBUTIONS), Material.transmission ('principled', with its ior).
+# Older files load unchanged (isotropic GGX, no transmission).
 FORMAT_VERSION = 9
 
 RGB = Tuple[float, float, float]
@@ -137,7 +138,10 @@ class Material:
     # as Cycles does, the tangent being Cycles' default: radial about the object's Z axis from Mesh.generated.
     anisotropic: float = 0.0
     anisotropic_rotation: float = 0.0
-    ior: float = 1.45                # 'glass' only: index of refraction (Blender's default)
+    ior: float = 1.45                # 'glass', 'principled': index of refraction (Blender's default)
+    # 'principled': Transmission; its glass part (weight transmission x (1 - metallic)) shows the reflection of the
+    # lights a Glass BSDF of `ior` and `roughness` shows at zero bounces, the refracted part black.
+    transmission: float = 0.0
     distribution: str = "ggx"        # 'glass', 'glossy_bsdf': one of GLASS_DISTRIBUTIONS; 'principled': PRINCIPLED_...
     layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only
     emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;

@@ -113,6 +113,28 @@ def test_principled_transmission_matches_cycles(empty_scene, roughness, ior, tmp
     assert difference <= TOLERANCE
 
 
+@pytest.mark.parametrize("transmission, metallic", [(0.5, 0.0), (0.7, 0.4)])
+def test_partial_principled_transmission_matches_cycles(empty_scene, transmission, metallic, tmp_path):
+    """Transmission below 1: Cycles' diffuse and sheen take (1 - metallic)(1 - t), the glass part t (1 - metallic)
+    (its reflection, the Fresnel of the view), the specular the rest (kind 'principled' with transmission, ior)."""
+    mat = builders.material("Partly clear", (0.8, 0.45, 0.25), kind="principled", roughness=0.4)
+    node = mat.node_tree.nodes["Principled BSDF"]
+    node.inputs["Transmission"].default_value = transmission
+    node.inputs["Metallic"].default_value = metallic
+    node.inputs["IOR"].default_value = 1.5
+    scene = sphere_scene(empty_scene, mat)
+    exported, log = export()
+    (m,) = [m for m in exported.materials if m.name == "Partly clear"]
+    assert (m.kind, m.transmission, m.ior) == ("principled", pytest.approx(transmission), pytest.approx(1.5))
+    assert "transmission" not in log.warning_text().replace("transmission's", "")
+    difference, ours, cycles = difference_to_cycles(scene, f"principled transmission {transmission} metallic "
+                                                    f"{metallic}", tmp_path)
+    assert difference <= TOLERANCE
+    ratio = highlight_ratio(scene, ours, cycles, tmp_path)
+    print(f"principled transmission {transmission} metallic {metallic}: highlight ours / Cycles {ratio:.4f}")
+    assert abs(ratio - 1) <= HIGHLIGHT_TOLERANCE
+
+
 @pytest.mark.parametrize("roughness, ior", [(0.3, 1.45), (0.5, 1.6)])
 def test_glass_default_beckmann_distribution_matches_cycles(empty_scene, roughness, ior, tmp_path):
     """The Glass node's default distribution is Beckmann (measured: 16% less highlight when rendered as GGX)."""

@@ -98,6 +98,7 @@ def test_exporter_reads_principled_inputs_and_names_the_rest(empty_scene):
     assert got == pytest.approx(tuple(inputs.values()))
     text = log.warning_text()
     assert "subsurface scattering (Burley diffuse used) (P)" in text
-    assert "anisotropy (P)" in text
-    assert "Multiscatter GGX" in text
+    # Anisotropy and Multiscatter GGX are modelled (test_anisotropic_parity, test_multiscatter_parity).
+    assert (m.anisotropic, m.distribution) == (pytest.approx(0.5), "multiscatter_ggx")
+    assert "anisotropy" not in text and "Multiscatter GGX" not in text
     assert "Plain" not in text  # Blender's default Principled BSDF is modelled in full

@@ -47,7 +47,8 @@ def cycles_principled_brdf(m, wo, wi):
     base = np.asarray(m.base_color, float)
     h = (wo + wi) / np.linalg.norm(wo + wi)
     ci, co, cih, ch = wi[2], wo[2], float(wi @ h), h[2]
-    dw = 1 - m.metallic
+    glass = m.transmission * (1 - m.metallic)  # Transmission's glass part: the reflection, the view's Fresnel
+    dw = (1 - m.metallic) * (1 - m.transmission)
     fd90 = 0.5 + 2 * m.roughness * cih * cih
     f = base * dw * (1 + (fd90 - 1) * schlick(ci)) * (1 + (fd90 - 1) * schlick(co)) / math.pi
     lum709 = base @ [0.2126, 0.7152, 0.0722]
@@ -59,7 +60,11 @@ def cycles_principled_brdf(m, wo, wi):
     cspec0 = np.clip(0.08 * m.specular * tint * (1 - m.metallic) + base * m.metallic, 0, 1)
     rise = (fresnel_dielectric(cih, ior) - f0) / (1 - f0)
     d = alpha ** 2 / (math.pi * (ch * ch * (alpha ** 2 - 1) + 1) ** 2)
-    f = f + (cspec0 * (1 - rise) + rise) * d * smith_g1(co, alpha) * smith_g1(ci, alpha) / (4 * co * ci)
+    f = f + (1 - glass) * (cspec0 * (1 - rise) + rise) * d * smith_g1(co, alpha) * smith_g1(ci, alpha) / (4 * co * ci)
+    if glass > 0:
+        ag = m.roughness ** 2
+        dg = ag ** 2 / (math.pi * (ch * ch * (ag ** 2 - 1) + 1) ** 2)
+        f = f + glass * fresnel_dielectric(co, m.ior) * dg * smith_g1(co, ag) * smith_g1(ci, ag) / (4 * co * ci)
     a2 = max(m.clearcoat_roughness, 0.03) ** 4
     d_gtr1 = (a2 - 1) / (math.pi * math.log(a2) * (1 + (a2 - 1) * ch * ch))
     coat = 0.25 * m.clearcoat * fresnel_dielectric(cih, 1.5) * d_gtr1 * smith_g1(co, 0.25) * smith_g1(ci, 0.25)
@@ -72,6 +77,7 @@ MATERIALS = {
     "half metal": dict(roughness=0.5, metallic=0.5),
     "sheen": dict(roughness=0.6, sheen=1.0, sheen_tint=0.3),
     "clearcoat": dict(roughness=0.7, clearcoat=1.0, clearcoat_roughness=0.4),
+    "transmission": dict(roughness=0.45, transmission=0.6, metallic=0.3, ior=1.6),
 }
 
 

@@ -466,8 +466,7 @@ _PRINCIPLED_INPUTS = {"metallic": "Metallic", "specular": "Specular", "specular_
                       "roughness": "Roughness", "sheen": "Sheen", "sheen_tint": "Sheen Tint",
                       "clearcoat": "Clearcoat", "clearcoat_roughness": "Clearcoat Roughness"}
 # Above Cycles' closure cutoff these change the image and are not modelled.
-_PRINCIPLED_UNSUPPORTED = (("Subsurface", "subsurface scattering (Burley diffuse used)"),
-                           ("Transmission", "transmission"))
+_PRINCIPLED_UNSUPPORTED = (("Subsurface", "subsurface scattering (Burley diffuse used)"),)
 
 
 def _principled(sphrect, node, inputs, textures, log, name):
@@ -485,6 +484,7 @@ def _principled(sphrect, node, inputs, textures, log, name):
     # Multiscatter GGX: Cycles' random walk above roughness 0.075 (the renderer's switch, as Cycles' closure setup).
     if getattr(node, "distribution", "GGX") == "MULTI_GGX":
         values["distribution"] = "multiscatter_ggx"
+    values.update(_principled_transmission(node, inputs, values, log, name))
     clearcoat_normal = node.inputs.get("Clearcoat Normal")
     if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
         log.unsupported_feature("linked 'Clearcoat Normal' input", name)
@@ -493,6 +493,22 @@ def _principled(sphrect, node, inputs, textures, log, name):
     _unmodelled_alpha(node, log, name)
     return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission,
                             textures=inputs.textures, **_normal_map(node, textures, log, name), **values)
+
+
+def _principled_transmission(node, inputs, values, log, name):
+    """Material.transmission / ior of a Principled BSDF whose Transmission is above 0 ({} otherwise): its glass part
+    reflects the lights as a Glass BSDF does at zero bounces (Cycles' closure weight t (1 - metallic), the Fresnel of
+    the view), the refracted part black."""
+    transmission = float(inputs.value("Transmission"))
+    if transmission <= 0:
+        return {}
+    log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
+                            "except behind open surfaces)", name)
+    if values["specular_tint"] > 0:
+        log.unsupported_feature("Specular Tint of the transmission's reflection (untinted)", name)
+    if values.get("distribution") == "multiscatter_ggx" and values["roughness"] > 0.05:
+        log.unsupported_feature("Multiscatter GGX of the transmission's reflection (GGX used)", name)
+    return {"transmission": transmission, "ior": float(inputs.value("IOR"))}
 
 
 def _unmodelled_alpha(node, log, name):
