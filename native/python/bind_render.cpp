@@ -295,11 +295,14 @@ void BindRender(py::module_& m) {
             py::arg("emission") = V3{0, 0, 0})
         .def(
             "add_glossy_bsdf_material",
-            [](RenderScene& s, V3 c, float roughness, bool beckmann, V3 emission, float anisotropy, float rotation) {
-                return s.AddGlossyBsdfMaterial(ToVec(c), roughness, beckmann, ToVec(emission), anisotropy, rotation);
+            [](RenderScene& s, V3 c, float roughness, bool beckmann, V3 emission, float anisotropy, float rotation,
+               bool multiscatter) {
+                return s.AddGlossyBsdfMaterial(ToVec(c), roughness, beckmann, ToVec(emission), anisotropy, rotation,
+                                               multiscatter);
             },
             py::arg("base_color"), py::arg("roughness"), py::arg("beckmann") = false,
-            py::arg("emission") = V3{0, 0, 0}, py::arg("anisotropy") = 0.0f, py::arg("rotation") = 0.0f)
+            py::arg("emission") = V3{0, 0, 0}, py::arg("anisotropy") = 0.0f, py::arg("rotation") = 0.0f,
+            py::arg("multiscatter") = false)
         .def(
             "add_translucent_material",
             [](RenderScene& s, V3 c, V3 emission) { return s.AddTranslucentMaterial(ToVec(c), ToVec(emission)); },

@@ -36,6 +36,10 @@ struct MicrofacetLobe {
     float rotation = 0;
     float tangent_cos = 1, tangent_sin = 0;
     bool anisotropic() const { return alpha_y != alpha; }
+    // Cycles' multiple-scattering GGX (Glossy / Anisotropic BSDF of distribution Multiscatter GGX above the
+    // singular roughness; multiscatter_ggx.h): `color` also tints each bounce.
+    bool multiscatter = false;
+    Spectrum bounce_color;
 };
 // Lobes one material holds: enough for a Mix / Add of glossy and glass shaders at distinct roughnesses.
 constexpr int kMaxMicrofacetLobes = 4;
@@ -344,11 +348,17 @@ inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float 
 // anisotropy, rotation: Blender's Anisotropic BSDF (svm_node_closure_bsdf with a tangent): alpha = roughness^2
 // stretched along the tangent by 1 / (1 - a) across and (1 - a) along it for a >= 0 (a clamped to +-0.99; negative
 // swaps them), the tangent turned by `rotation` turns.  GGX only (Beckmann stays isotropic: the exporter warns).
+// multiscatter: the distribution Multiscatter GGX (GGX's lobe shape from its random walk: MicrofacetLobe).
 inline Material MakeGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false,
-                                       float anisotropy = 0, float rotation = 0) {
+                                       float anisotropy = 0, float rotation = 0, bool multiscatter = false) {
     Material m = MakeSingleLobeMaterial(color, roughness, 0, beckmann);
-    if (m.num_lobes == 0 || beckmann || anisotropy == 0) return m;
+    if (m.num_lobes == 0 || beckmann) return m;
     MicrofacetLobe& l = m.lobes[0];
+    if (multiscatter) {  // bsdf_microfacet_multi_ggx_common_setup: the colour saturated, alpha >= 1e-4
+        l.multiscatter = true;
+        l.bounce_color = {std::clamp(color.x, 0.0f, 1.0f), std::clamp(color.y, 0.0f, 1.0f), std::clamp(color.z, 0.0f, 1.0f)};
+    }
+    if (anisotropy == 0) return m;
     const float a = std::clamp(anisotropy, -0.99f, 0.99f), r2 = l.alpha;
     l.alpha = std::min(a < 0 ? r2 / (1 + a) : r2 * (1 - a), 1.0f);
     l.alpha_y = std::min(a < 0 ? r2 * (1 + a) : r2 / (1 - a), 1.0f);
@@ -440,7 +450,11 @@ inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
         int j = 0;
         const auto same = [&](const MicrofacetLobe& o) {
             return o.alpha == lobe.alpha && o.alpha_y == lobe.alpha_y && o.rotation == lobe.rotation &&
-                   o.fresnel_ior == lobe.fresnel_ior && o.beckmann == lobe.beckmann;
+                   o.fresnel_ior == lobe.fresnel_ior && o.beckmann == lobe.beckmann &&
+                   o.multiscatter == lobe.multiscatter &&
+                   (!lobe.multiscatter || (o.bounce_color.x == lobe.bounce_color.x &&
+                                           o.bounce_color.y == lobe.bounce_color.y &&
+                                           o.bounce_color.z == lobe.bounce_color.z));
         };
         while (j < mix.num_lobes && !same(mix.lobes[j])) ++j;
         if (j < mix.num_lobes) {
@@ -593,8 +607,15 @@ inline float ClearcoatReflectionPDF(const Vec3f& wo, const Vec3f& wi, float alph
     return ClearcoatD(h, alpha) * h.z / (4 * Dot(wo, h));
 }
 
-// One microfacet lobe's f (wo.z, wi.z > 0, h their half vector).
-inline Spectrum EvalMicrofacetLobe(const MicrofacetLobe& l, const Vec3f& wo, const Vec3f& wi, const Vec3f& h) {
+// One microfacet lobe's f (wo.z, wi.z > 0, h their half vector; sampled: wi is the BSDF's own sample).
+inline Spectrum EvalMicrofacetLobe(const MicrofacetLobe& l, const Vec3f& wo, const Vec3f& wi, const Vec3f& h,
+                                   bool sampled) {
+    if (l.multiscatter) {
+        const float c = l.tangent_cos, s = l.tangent_sin;
+        const bool iso = !l.anisotropic();
+        return l.color * MultiscatterGgxEval(iso ? wo : IntoTangentFrame(wo, c, s), iso ? wi : IntoTangentFrame(wi, c, s),
+                                             l.alpha, l.alpha_y, 0, {}, sampled, l.bounce_color);
+    }
     float dg;
     if (l.beckmann) {
         dg = BeckmannD(h, l.alpha) * BeckmannG1(wo.z, l.alpha) * BeckmannG1(wi.z, l.alpha);
@@ -629,7 +650,7 @@ inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& 
                                                 m.specular_tangent_sin);
         f += PrincipledSpecularFresnel(m, cos_ih) * (m.specular_weight * dg * inv_4cos);
     }
-    for (int i = 0; i < m.num_lobes; ++i) f += EvalMicrofacetLobe(m.lobes[i], wo, wi, h);
+    for (int i = 0; i < m.num_lobes; ++i) f += EvalMicrofacetLobe(m.lobes[i], wo, wi, h, sampled);
     if (m.has_clearcoat) {
         const float g = SmithG1Ggx(wo.z, kClearcoatShadowingAlpha) * SmithG1Ggx(wi.z, kClearcoatShadowingAlpha);
         const float fresnel = DielectricFresnel(cos_ih, kClearcoatIor);

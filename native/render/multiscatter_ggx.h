@@ -132,17 +132,20 @@ inline uint64_t HashDirections(const Vec3f& a, const Vec3f& b) {
 // surface again restart at the top height), by up to 10% in albedo at roughness 1 (a white furnace: 0.91 against
 // 1.00 from the view at cos 0.8), and Cycles' image mixes them by its MIS weights.  from_view: a BSDF sample's (the
 // sampling walk's side of that mix).
+// eta > 0: the Principled BSDF's variant (Fresnel blend of cspec0 at each bounce); eta = 0: the Glossy and Anisotropic
+// BSDF's, whose `color` tints each bounce instead (the caller multiplies by it once more: it is the closure's weight).
 inline Spectrum MultiscatterGgxEval(const Vec3f& wo, const Vec3f& wi, float ax, float ay, float eta,
-                                    const Spectrum& cspec0, bool from_view = false) {
+                                    const Spectrum& cspec0, bool from_view = false, const Spectrum& color = {}) {
+    const bool fresnel = eta > 0;
     Vec3f start = wo, exit = wi;  // Cycles' wi, wo
     if (!from_view && exit.z < start.z) std::swap(start, exit);
     if (start.z < 1e-5f || exit.z < 1e-5f) return {};
     float lambda_r = WalkLambda(-start, ax, ay);
     const float exit_lambda = WalkLambda(exit, ax, ay);
     const Vec3f h = Normalize(start + exit);
-    const float f0 = DielectricFresnel(1, eta);
+    const float f0 = fresnel ? DielectricFresnel(1, eta) : 0.0f;
     // Single scattering, with the height-correlated G2 = 1 / (1 + Lambda(start) + Lambda(exit)); f cos(exit).
-    Spectrum throughput = BlendedFresnel(start, h, eta, f0, cspec0);
+    Spectrum throughput = fresnel ? BlendedFresnel(start, h, eta, f0, cspec0) : Spectrum(1, 1, 1);
     Spectrum eval = throughput * (WalkGgxD(h, ax, ay) * 0.25f / (start.z * (-lambda_r + exit_lambda)));
     uint64_t state = HashDirections(wo, wi);
     auto uniform = [&] {
@@ -161,8 +164,9 @@ inline Spectrum MultiscatterGgxEval(const Vec3f& wo, const Vec3f& wi, float ax, 
             eval += throughput * throughput * (phase * HeightMasking(exit, HeightCdf(hr), exit_lambda));
         }
         if (order + 1 < kOrders) {
-            if (order > 0) throughput = throughput * BlendedFresnel(-wr, m, eta, f0, cspec0);
+            if (fresnel && order > 0) throughput = throughput * BlendedFresnel(-wr, m, eta, f0, cspec0);
             wr = wr - m * (2 * Dot(wr, m));
+            if (!fresnel) throughput = throughput * color;
             lambda_r = WalkLambda(wr, ax, ay);
             c1 = HeightCdf(hr);
             g1 = HeightMasking(wr, c1, lambda_r);

@@ -216,7 +216,7 @@ int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float 
 }
 
 int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann,
-                                       const Spectrum& emission, float anisotropy, float rotation) {
+                                       const Spectrum& emission, float anisotropy, float rotation, bool multiscatter) {
     CheckMaterialColors(color, emission);
     if (!std::isfinite(roughness) || !std::isfinite(anisotropy) || !std::isfinite(rotation))
         Fail("material roughness, anisotropy and rotation must be finite");
@@ -224,7 +224,9 @@ int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, b
     r.beckmann = beckmann;
     r.inputs.anisotropic = anisotropy;
     r.inputs.anisotropic_rotation = rotation;
-    return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann, anisotropy, rotation), emission, r);
+    r.inputs.multiscatter = multiscatter;
+    return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann, anisotropy, rotation, multiscatter), emission,
+                        r);
 }
 
 int RenderScene::AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission) {

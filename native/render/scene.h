@@ -88,7 +88,8 @@ class RenderScene {
                          const Spectrum& emission = {});
     // anisotropy, rotation: the Anisotropic BSDF's (MakeGlossyBsdfMaterial); 0 for a Glossy BSDF.
     int AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false,
-                              const Spectrum& emission = {}, float anisotropy = 0, float rotation = 0);
+                              const Spectrum& emission = {}, float anisotropy = 0, float rotation = 0,
+                              bool multiscatter = false);
     // Mix / Add Shader: AddMixMaterial makes an empty (black) material; each MixLastMaterialInto then
     // takes the material added last (any Add*Material above, added for this), removes it from the list
     // and adds its lobes and emission, scaled by weight, to the mix `target` (bsdf.h MixIntoMaterial,

@@ -78,7 +78,7 @@ inline Material MakeMaterialFromInputs(const MaterialRecipe& r, const Principled
         case MaterialKind::kGlass: return MakeGlassMaterial(in.base_color, in.roughness, r.ior, r.beckmann);
         case MaterialKind::kGlossyBsdf:
             return MakeGlossyBsdfMaterial(in.base_color, in.roughness, r.beckmann, in.anisotropic,
-                                          in.anisotropic_rotation);
+                                          in.anisotropic_rotation, in.multiscatter);
         case MaterialKind::kTranslucent: return MakeTranslucentMaterial(in.base_color);
         case MaterialKind::kHoldout: return MakeHoldoutMaterial();
         case MaterialKind::kTransparent: return MakeTransparentMaterial(in.base_color);

@@ -57,7 +57,7 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
-from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, MATERIAL_KINDS, PIXEL_FILTERS, PRINCIPLED_DISTRIBUTIONS,
+from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, GLOSSY_DISTRIBUTIONS, MATERIAL_KINDS, PIXEL_FILTERS, PRINCIPLED_DISTRIBUTIONS,
                     SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_COORDINATES, TEXTURE_EXTENSIONS, TEXTURE_INTERPOLATIONS,
                     TEXTURE_OUTPUTS, TEXTURED_INPUTS, Camera, EllipseLight, MaterialLayer, MixFactor, PointLight, RectLight, Scene, SpotLight, SunLight,
                     Texture, TextureLookup)
@@ -206,7 +206,7 @@ def _add_untextured_material(native, mat, n_textures: int):
     base_color = lambda: _rgb(mat.base_color, f"material '{mat.name}' base_color")
     if mat.layers and mat.kind != "mix":
         raise ValueError(f"material '{mat.name}': only kind 'mix' has layers (kind {mat.kind!r})")
-    distributions = {"glass": GLASS_DISTRIBUTIONS, "glossy_bsdf": GLASS_DISTRIBUTIONS,
+    distributions = {"glass": GLASS_DISTRIBUTIONS, "glossy_bsdf": GLOSSY_DISTRIBUTIONS,
                      "principled": PRINCIPLED_DISTRIBUTIONS}.get(mat.kind)
     if distributions is not None and mat.distribution not in distributions:
         raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} for kind {mat.kind!r} "
@@ -227,7 +227,8 @@ def _add_untextured_material(native, mat, n_textures: int):
                                          mat.distribution == "beckmann", emission)
     if mat.kind == "glossy_bsdf":
         return native.add_glossy_bsdf_material(base_color(), float(mat.roughness), mat.distribution == "beckmann",
-                                               emission, float(mat.anisotropic), float(mat.anisotropic_rotation))
+                                               emission, float(mat.anisotropic), float(mat.anisotropic_rotation),
+                                               mat.distribution == "multiscatter_ggx")
     if mat.kind == "holdout":
         return native.add_holdout_material()
     if mat.kind == "translucent":

@@ -54,7 +54,7 @@ FORMAT_NAME = "sphrect-scene"
 # 8: Camera.pixel_filter, filter_width (Cycles' Film > Pixel Filter: box, gaussian, blackman_harris).  Older files
 # load as a box of width 1, the only filter before.
 # 9: Material.anisotropic, anisotropic_rotation (Principled Anisotropic, the Anisotropic BSDF) and the 'principled'
-# distribution 'multiscatter_ggx' (PRINCIPLED_DISTRIBUTIONS), Material.transmission ('principled', with its ior).
+# and 'glossy_bsdf' distribution 'multiscatter_ggx', Material.transmission ('principled', with its ior).
 # Older files load unchanged (isotropic GGX, no transmission).
 FORMAT_VERSION = 9
 
@@ -66,8 +66,10 @@ MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "tr
                   "mix")
 # Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
 GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
-# The Principled BSDF's: GGX, or Cycles' multiple-scattering GGX (Heitz et al. 2016) above roughness 0.075.
+# The Principled BSDF's: GGX, or Cycles' multiple-scattering GGX (Heitz et al. 2016) above roughness 0.075; the
+# Glossy BSDF's (kind 'glossy_bsdf') adds it to the glass ones.
 PRINCIPLED_DISTRIBUTIONS = ("ggx", "multiscatter_ggx")
+GLOSSY_DISTRIBUTIONS = GLASS_DISTRIBUTIONS + ("multiscatter_ggx",)
 CAMERA_TYPES = ("perspective", "orthographic")
 PIXEL_FILTERS = tuple(_native.pixel_filters)  # ("box", "gaussian", "blackman_harris"): render/pixel_filter.h
 # Image Texture nodes (Cycles 3.4's image lookups): the colour space of a texture's stored values ('srgb': decoded
@@ -142,7 +144,7 @@ class Material:
     # 'principled': Transmission; its glass part (weight transmission x (1 - metallic)) shows the reflection of the
     # lights a Glass BSDF of `ior` and `roughness` shows at zero bounces, the refracted part black.
     transmission: float = 0.0
-    distribution: str = "ggx"        # 'glass', 'glossy_bsdf': one of GLASS_DISTRIBUTIONS; 'principled': PRINCIPLED_...
+    distribution: str = "ggx"        # 'glass': one of GLASS_DISTRIBUTIONS, 'glossy_bsdf' GLOSSY_..., 'principled' PRINCIPLED_...
     layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only
     emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
                                      # every emissive triangle is a light (files without it load as 0)

@@ -37,3 +37,18 @@ def test_multiscatter_sphere_matches_cycles(empty_scene, case, tmp_path):
     ratio = highlight_ratio(scene, ours, cycles, tmp_path)
     print(f"multiscatter {case}: highlight ours / Cycles {ratio:.3f}")
     assert abs(ratio - 1) <= HIGHLIGHT_TOLERANCE
+
+
+def test_multiscatter_glossy_bsdf_matches_cycles(empty_scene, tmp_path):
+    """The Glossy BSDF's Multiscatter GGX: no Fresnel, its Color tinting every bounce (and the whole, as the closure's
+    weight)."""
+    mat = shader_material("ShaderNodeBsdfGlossy", distribution="MULTI_GGX", Roughness=0.8, Color=(0.9, 0.5, 0.3, 1.0))
+    scene = sphere_scene(empty_scene, mat)
+    exported, log = export()
+    (m,) = [m for m in exported.materials if m.name == mat.name]
+    assert (m.kind, m.distribution) == ("glossy_bsdf", "multiscatter_ggx") and "Multiscatter" not in log.warning_text()
+    difference, ours, cycles = difference_to_cycles(scene, "multiscatter glossy", tmp_path)
+    assert difference <= TOLERANCE
+    ratio = highlight_ratio(scene, ours, cycles, tmp_path)
+    print(f"multiscatter glossy: highlight ours / Cycles {ratio:.3f}")
+    assert abs(ratio - 1) <= HIGHLIGHT_TOLERANCE

@@ -319,7 +319,8 @@ def _mix_normal_map(layers, log, name):
 def _lobe_key(mat):
     """What makes two glossy / glass layers one lobe in the renderer (bsdf.h MixIntoMaterial)."""
     return (mat.roughness, mat.distribution, mat.ior if mat.kind == "glass" else 0.0,
-            repr(mat.textures.get("roughness")))
+            repr(mat.textures.get("roughness")), mat.anisotropic, mat.anisotropic_rotation,
+            mat.base_color if mat.distribution == "multiscatter_ggx" else None)  # its colour tints each bounce
 
 
 def _average_principled(sphrect, principled, weights=None):
@@ -414,9 +415,8 @@ def _glossy(sphrect, node, inputs, textures, log, name):
     distribution = getattr(node, "distribution", "GGX")
     roughness = 0.0 if distribution == "SHARP" else float(inputs.read("roughness"))
     rough = roughness > 0 or "roughness" in inputs.textures
-    if distribution in {"MULTI_GGX", "ASHIKHMIN_SHIRLEY"} and rough:
-        label = {"MULTI_GGX": "Multiscatter GGX", "ASHIKHMIN_SHIRLEY": "Ashikhmin-Shirley"}[distribution]
-        log.unsupported_feature(f"{node.bl_label} distribution '{label}' (GGX used)", name)
+    if distribution == "ASHIKHMIN_SHIRLEY" and rough:
+        log.unsupported_feature(f"{node.bl_label} distribution 'Ashikhmin-Shirley' (GGX used)", name)
     anisotropy = {}
     if node.bl_idname == "ShaderNodeBsdfAnisotropic":
         anisotropy = _anisotropy(node, inputs, "Anisotropy", "Rotation", log, name)
@@ -425,8 +425,12 @@ def _glossy(sphrect, node, inputs, textures, log, name):
             anisotropy = {}
     color = _rgb(inputs.read("base_color"))
     return sphrect.Material(name=name, kind="glossy_bsdf", base_color=color, roughness=roughness,
-                            distribution="beckmann" if distribution == "BECKMANN" else "ggx",
+                            distribution=_GLOSSY_DISTRIBUTIONS.get(distribution, "ggx"),
                             textures=inputs.textures, **anisotropy, **_normal_map(node, textures, log, name))
+
+
+# Blender's Glossy / Anisotropic BSDF distributions -> Material.distribution (Sharp, Ashikhmin-Shirley: GGX).
+_GLOSSY_DISTRIBUTIONS = {"BECKMANN": "beckmann", "MULTI_GGX": "multiscatter_ggx"}
 
 
 def _anisotropy(node, inputs, amount, rotation, log, name):
