@@ -41,7 +41,7 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
         name="Exact Light Edges", default=True,
         description="For rectangle and disk lights seen by the camera, compute exactly how much of each pixel they "
                     "cover instead of estimating it from the samples (unbiased; removes the noise of their edges "
-                    "where nothing hides them; not in a volume or with depth of field)")
+                    "where nothing hides them; not in a volume, with depth of field or a pixel filter other than Box)")
     bsdf_samples_on_diffuse: BoolProperty(
         name="MIS on Diffuse", default=False,
         description="Also draw BSDF samples (MIS) at purely diffuse surfaces. Off, they take light samples alone "

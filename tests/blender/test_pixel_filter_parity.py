@@ -2,13 +2,12 @@
 camera from above, no lights, rendered by SPHRECT and by Cycles (through the study's peer, cycles_peer.py, which
 takes the scene's SPHRECT filter) with Blackman-Harris 1.5, Gaussian 1.5 and the box; both also against the corner's
 convolution with the filter.  The Film panel's settings, their defaults (Cycles') and the exporter."""
-import importlib
-
 import bpy
 import numpy as np
 import pytest
 
 from conftest import addon_module, builders, export, render, set_resolution
+from test_cycles_parity import cycles_peer
 
 WIDTH, HEIGHT, SAMPLES = 24, 16, 1024
 # Film pixels: the emitter covers film x > EDGE_X and y < EDGE_Y, 0.45 and 0.2 px from the nearest pixel centres,
@@ -56,10 +55,6 @@ def corner_scene(empty_scene):
                          location=((x0 + 3) / 2, (y0 + 3) / 2, 0.0), scale=((3 - x0) / 2, (3 - y0) / 2, 1.0))
     bpy.context.view_layer.update()
     return scene
-
-
-def cycles_peer():
-    return importlib.import_module("sphrect_blender.cycles_peer")  # not imported by registering the add-on
 
 
 def render_sphrect(scene):
