@@ -67,6 +67,9 @@ def fresh_scene(name):
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
     scene.sphrect.samples = 16
+    # The 1-px box, not Blender's Blackman-Harris: the study's figures are the box's, and it keeps Exact Light
+    # Edges (the Cycles peer renders the scene's filter too).
+    scene.sphrect.pixel_filter = "BOX"
     black_world(scene)
     return scene
 

@@ -7,22 +7,18 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import builders, export, render, set_resolution
-from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles, mean_relative_difference
+from conftest import builders, export, render
+from test_cycles_parity import difference_to_cycles, mean_relative_difference
 from test_texture_export import Tree, new_image
+from test_texture_parity import plane_scene
 
 TOLERANCE = 0.01
 
 
 def sheet_scene(scene, mat):
-    builders.mesh_object("Ground", "plane", builders.material("Ground", (0.8, 0.8, 0.8)), size=5.0)
+    """The texture test's lit ground seen from above, and a sheet of `mat` hanging between it and the light."""
+    plane_scene(scene, builders.material("Ground", (0.8, 0.8, 0.8)))
     builders.mesh_object("Sheet", "plane", mat, location=(0.2, 0.1, 1.2), rotation=(0.0, 0.25, 0.3), size=2.2)
-    builders.camera((0.0, -0.6, 4.0), (0.0, 0.0, 0.0), lens=35.0)
-    lamp = builders.area_light("Light", "RECTANGLE", size=1.5, size_y=1.0, power=300.0, location=(1.2, 1.0, 2.8),
-                               visible=False)
-    builders.aim(lamp, (0.0, 0.0, 0.0))
-    set_resolution(scene, WIDTH, HEIGHT)
-    scene.sphrect.technique = "RECTANGLE"
     bpy.context.view_layer.update()
     return scene
 
