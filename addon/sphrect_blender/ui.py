@@ -92,6 +92,7 @@ class RENDER_PT_sphrect_viewport(SphrectPanel, bpy.types.Panel):
         layout.use_property_decorate = False
         col = layout.column()
         col.prop(s, "viewport_samples", text="Samples")
+        col.prop(context.scene.render, "preview_pixel_size", text="Pixel Size")
         col.prop(s, "viewport_compare", text="Compare")
         sub = col.column()
         sub.active = s.viewport_compare

@@ -138,6 +138,37 @@ def test_worker_final_image_is_the_renderers(empty_scene):
     assert np.allclose(frame.images[0], r.image("rectangle"), rtol=1e-5, atol=1e-6)
 
 
+def test_worker_honours_the_viewport_pixel_size(empty_scene):
+    """Blender's Viewport > Pixel Size 2: the job renders at half the view's resolution (its previews below that),
+    the image a render of the halved camera makes; the draw reads the setting (AUTO: the interface's pixel size)."""
+    lit_test_scene(empty_scene)
+    exported = export()[0]
+    job = small_job(exported, samples=4)._replace(pixel_size=2)
+    worker = worker_module().ProgressiveWorker()
+    seen = []
+    worker._on_frame = lambda: seen.append(worker.latest)
+    try:
+        worker.restart(job)
+        wait_for(lambda: not worker.busy, "the job")
+        frame = worker.latest
+    finally:
+        assert worker.stop()
+    assert frame.error is None and not frame.preview and frame.scale == 0.5 and frame.samples == 4
+    assert frame.images[0].shape == (18, 24, 4)
+    previews = [f for f in seen if f.preview]
+    assert previews and all(f.images[0].shape == (9, 12, 4) for f in previews)  # the view's 48 x 36 / (2 x 2)
+    assert all(f.images[0].shape == (18, 24, 4) for f in seen if not f.preview)
+    small = worker_module().scaled_scene(job.scene, 2)
+    r = sphrect.Renderer(small, techniques=list(job.techniques), **job.options)
+    r.render(4)
+    assert np.allclose(frame.images[0], r.image("rectangle"), rtol=1e-5, atol=1e-6)
+    viewport = addon_module("engine.viewport")
+    empty_scene.render.preview_pixel_size = "4"
+    assert viewport.viewport_pixel_size(empty_scene, bpy.context) == 4
+    empty_scene.render.preview_pixel_size = "AUTO"
+    assert viewport.viewport_pixel_size(empty_scene, bpy.context) == max(1, round(bpy.context.preferences.system.pixel_size))
+
+
 def test_worker_previews_first_then_restarts_and_stops(empty_scene):
     """The first image is a reduced-resolution one; restart() drops the running job for the new one (its
     frames carry the new generation); stop() ends the thread in the middle of a long job."""

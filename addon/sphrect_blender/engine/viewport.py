@@ -118,7 +118,8 @@ class ViewportSession:
             self._stats(engine, self.error)
             return
         region, region_3d = context.region, context.region_data
-        view = view_signature(region, region_3d)
+        pixel_size = viewport_pixel_size(depsgraph.scene, context)
+        view = (view_signature(region, region_3d), pixel_size)
         if self.worker is None or not self.worker.alive:  # the first draw, or the timer stopped it
             self.worker, self.changed = viewport_worker.ProgressiveWorker(on_frame=self.frame_ready.set), True
             _sessions.add(self)
@@ -128,7 +129,8 @@ class ViewportSession:
             camera = region_camera(load_sphrect(), region, region_3d, self.scene.camera)
             settings = depsgraph.scene.sphrect
             self.worker.restart(viewport_worker.Job(dataclasses.replace(self.scene, camera=camera), self.techniques,
-                                                    settings.renderer_options(), settings.viewport_samples))
+                                                    settings.renderer_options(), settings.viewport_samples,
+                                                    pixel_size))
         frame = self.worker.latest
         if frame is None:
             self._stats(engine, "SPHRECT | Starting")
@@ -141,7 +143,7 @@ class ViewportSession:
         self.drawn, self.drawn_at = frame, time.perf_counter()
         if len(textures) > 1 and len(textures) == len(self.techniques):
             _draw_labels(region, self.techniques)
-        state = "Preview" if frame.scale < 1 else f"Sample {frame.samples}/{frame.total_samples}"
+        state = "Preview" if frame.preview else f"Sample {frame.samples}/{frame.total_samples}"
         skipped = f" | skipped: {'; '.join(frame.warnings)}" if frame.warnings else ""  # lights it cannot render
         self._stats(engine, f"SPHRECT | {state} | {frame.seconds:.1f} s{skipped}")
 
@@ -207,6 +209,15 @@ def _draw_labels(region, techniques):
 
 
 # -------------------------------------------------------------------- the engine's hooks
+def viewport_pixel_size(bl_scene, context):
+    """Blender's Viewport > Pixel Size (scene.render.preview_pixel_size): 1, 2, 4 or 8, or AUTO, the interface's
+    pixel size (2 on a high-DPI screen), as Cycles reads it."""
+    value = bl_scene.render.preview_pixel_size
+    if value == "AUTO":
+        return max(1, int(round(context.preferences.system.pixel_size)))
+    return int(value)
+
+
 def view_update(engine, context, depsgraph):
     session = getattr(engine, "_viewport_session", None)
     if session is None:

@@ -34,11 +34,13 @@ _not_paused.set()
 
 class Job(NamedTuple):
     """What a viewport shows: `scene` (camera = the view at full resolution), rendered with `techniques`
-    (one, or two for the split view) to `samples` per pixel."""
+    (one, or two for the split view) to `samples` per pixel, at the view's resolution divided by `pixel_size`
+    (Blender's Viewport > Pixel Size: one rendered pixel per pixel_size^2 screen pixels)."""
     scene: object
     techniques: Tuple[str, ...]
     options: dict
     samples: int
+    pixel_size: int = 1
 
 
 class Frame(NamedTuple):
@@ -52,6 +54,7 @@ class Frame(NamedTuple):
     seconds: float        # since the job started
     error: Optional[str] = None
     warnings: Tuple[str, ...] = ()
+    preview: bool = False  # a reduced-resolution first image, before the job's own resolution
 
 
 def scaled_scene(scene, divisor):
@@ -185,10 +188,13 @@ class ProgressiveWorker:
         sphrect = load_sphrect()
         start = time.perf_counter()
         caught: List[str] = []
-        frame = lambda images, samples, scale: Frame(generation, images, samples, job.samples, scale,
-                                                     time.perf_counter() - start, warnings=tuple(caught))
+        frame = lambda images, samples, scale, preview=False: Frame(
+            generation, images, samples, job.samples, scale, time.perf_counter() - start, warnings=tuple(caught),
+            preview=preview)
         full = job.scene.camera.width, job.scene.camera.height
-        for divisor in PREVIEW_DIVISORS:
+        base = max(1, int(job.pixel_size))
+        for preview_divisor in PREVIEW_DIVISORS:
+            divisor = base * preview_divisor
             if min(full) // divisor < 8:   # too small to be worth it
                 continue
             built = time.perf_counter()
@@ -197,10 +203,10 @@ class ProgressiveWorker:
             slow_build = time.perf_counter() - built > SLOW_BUILD_SECONDS
             if not self._render_call(renderer, 1, generation):
                 return False
-            self._publish(frame(tuple(renderer.image(t) for t in job.techniques), 1, 1.0 / divisor))
+            self._publish(frame(tuple(renderer.image(t) for t in job.techniques), 1, 1.0 / divisor, True))
             if slow_build:
                 break
-        renderer = self._make_renderer(sphrect, job, 1, caught)
+        renderer = self._make_renderer(sphrect, job, base, caught)
         done, seconds_per_sample = 0, None
         while done < job.samples:
             n = next_batch(done, job.samples, seconds_per_sample)
@@ -211,7 +217,7 @@ class ProgressiveWorker:
                 continue  # F12 is over: go on accumulating where the pause left off
             seconds_per_sample = (time.perf_counter() - t0) / n
             done = int(renderer.stats(0)["samples"])  # the completed passes (a cancelled one adds none)
-            self._publish(frame(tuple(renderer.image(t) for t in job.techniques), done, 1.0))
+            self._publish(frame(tuple(renderer.image(t) for t in job.techniques), done, 1.0 / base))
         return True
 
     def _publish(self, frame):
