@@ -20,6 +20,13 @@ class SphrectPanel:
     def poll(cls, context):
         return context.engine in cls.COMPAT_ENGINES
 
+    def settings_layout(self, context):
+        """(scene.sphrect, the panel's layout with labels split from the properties, as Blender's render panels)."""
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        return context.scene.sphrect, layout
+
 
 def draw_light_shapes_note(layout, scene, settings):
     """Under the Technique: the scene's lights it does not sample, and what samples them."""
@@ -35,10 +42,7 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
     bl_context = "render"
 
     def draw(self, context):
-        s = context.scene.sphrect
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
+        s, layout = self.settings_layout(context)
         col = layout.column()
         col.prop(s, "technique")
         draw_light_shapes_note(col, context.scene, s)
@@ -67,10 +71,7 @@ class RENDER_PT_sphrect_film(SphrectPanel, bpy.types.Panel):
     bl_context = "render"
 
     def draw(self, context):
-        s = context.scene.sphrect
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
+        s, layout = self.settings_layout(context)
         col = layout.column()
         col.prop(context.scene.render, "film_transparent", text="Transparent")
         col.prop(s, "pixel_filter")
@@ -86,10 +87,7 @@ class RENDER_PT_sphrect_viewport(SphrectPanel, bpy.types.Panel):
     bl_parent_id = "RENDER_PT_sphrect_sampling"
 
     def draw(self, context):
-        s = context.scene.sphrect
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
+        s, layout = self.settings_layout(context)
         col = layout.column()
         col.prop(s, "viewport_samples", text="Samples")
         col.prop(context.scene.render, "preview_pixel_size", text="Pixel Size")
@@ -107,10 +105,7 @@ class RENDER_PT_sphrect_compare(SphrectPanel, bpy.types.Panel):
         self.layout.prop(context.scene.sphrect, "compare", text="")
 
     def draw(self, context):
-        s = context.scene.sphrect
-        layout = self.layout
-        layout.use_property_split = True
-        layout.use_property_decorate = False
+        s, layout = self.settings_layout(context)
         layout.active = s.compare
         col = layout.column(heading="Techniques", align=True)
         for name in TECHNIQUES:

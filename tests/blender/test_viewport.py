@@ -37,6 +37,19 @@ def small_job(scene, samples, width=48, height=36, techniques=("rectangle",)):
                                dict(seed=2, threads=2), samples)
 
 
+def run_to_the_end(job, seen=None):
+    """The last frame of `job` on a new worker (every published frame appended to `seen`), the worker stopped."""
+    worker = worker_module().ProgressiveWorker()
+    if seen is not None:
+        worker._on_frame = lambda: seen.append(worker.latest)
+    try:
+        worker.restart(job)
+        wait_for(lambda: not worker.busy, "the job")
+        return worker.latest
+    finally:
+        assert worker.stop()
+
+
 # -------------------------------------------------------------------- the view's camera
 @pytest.mark.parametrize("kind, fit, shift", [("PERSP", "AUTO", (0.0, 0.0)), ("PERSP", "VERTICAL", (0.1, -0.2)),
                                               ("ORTHO", "HORIZONTAL", (-0.15, 0.05))])
@@ -125,13 +138,7 @@ def test_worker_final_image_is_the_renderers(empty_scene):
     lit_test_scene(empty_scene)
     exported = export()[0]
     job = small_job(exported, samples=6)
-    worker = worker_module().ProgressiveWorker()
-    try:
-        worker.restart(job)
-        wait_for(lambda: not worker.busy, "the job")
-        frame = worker.latest
-    finally:
-        assert worker.stop()
+    frame = run_to_the_end(job)
     assert frame.error is None and frame.scale == 1 and frame.samples == 6
     r = sphrect.Renderer(job.scene, techniques=list(job.techniques), **job.options)
     r.render(6)
@@ -144,15 +151,8 @@ def test_worker_honours_the_viewport_pixel_size(empty_scene):
     lit_test_scene(empty_scene)
     exported = export()[0]
     job = small_job(exported, samples=4)._replace(pixel_size=2)
-    worker = worker_module().ProgressiveWorker()
     seen = []
-    worker._on_frame = lambda: seen.append(worker.latest)
-    try:
-        worker.restart(job)
-        wait_for(lambda: not worker.busy, "the job")
-        frame = worker.latest
-    finally:
-        assert worker.stop()
+    frame = run_to_the_end(job, seen)
     assert frame.error is None and not frame.preview and frame.scale == 0.5 and frame.samples == 4
     assert frame.images[0].shape == (18, 24, 4)
     previews = [f for f in seen if f.preview]
