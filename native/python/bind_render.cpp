@@ -233,6 +233,15 @@ void BindRender(py::module_& m) {
         py::arg("pixels"), py::arg("srgb"), py::arg("alpha_output"),
         "Mean over an image's texels ([H, W, C] uint8 or float32) of the scalar a material input reads there (the "
         "decoded colour's Rec.709 luminance, or the alpha), each clamped to [0, 1] as a Mix factor is.");
+    m.def(
+        "texture_color_mean",
+        [](const py::array& pixels, bool srgb) {
+            const Spectrum c = render::ImageColorMean(ImageOfArray("pixels", pixels, srgb));
+            return py::make_tuple(c.x, c.y, c.z);
+        },
+        py::arg("pixels"), py::arg("srgb"),
+        "Mean over an image's texels ([H, W, C] uint8 or float32) of the decoded colour (r, g, b), as a material's "
+        "Color input reads it.");
     m.attr("textured_inputs") = names(render::kTexturedInputNames);
     m.attr("texture_interpolations") = names(render::kTextureInterpolationNames);
     m.attr("texture_extensions") = names(render::kTextureExtensionNames);

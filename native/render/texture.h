@@ -175,6 +175,18 @@ inline float TextureScalar(const Rgba& c) { return Luminance(c.rgb()); }
 
 // The mean over the image's texels of what a scalar input reads there (its Color output's luminance, or its
 // Alpha), each clamped to [0, 1] as a Mix factor is: the constant the exporter puts where a factor cannot vary.
+// The mean decoded colour of an image's texels (the constant an emitter takes of an image on its colour).
+inline Spectrum ImageColorMean(const Image& im) {
+    double sum[3] = {0, 0, 0};
+    for (int y = 0; y < im.height; ++y)
+        for (int x = 0; x < im.width; ++x) {
+            const Spectrum c = TextureColor(DecodeTexel(im, im.Texel(x, y)));
+            sum[0] += c.x, sum[1] += c.y, sum[2] += c.z;
+        }
+    const double n = double(im.width) * im.height;
+    return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)};
+}
+
 inline double ImageScalarMean(const Image& im, bool alpha_output) {
     double sum = 0;
     for (int y = 0; y < im.height; ++y)

@@ -320,3 +320,10 @@ def test_texture_scalar_mean_is_the_mean_of_decoded_clamped_texels():
     rgba = np.array([[[1.0, 0.0, 0.0, 0.25], [4.0, 4.0, 4.0, 0.75]]], np.float32)  # luminance 0.2126, 4 -> 1
     assert sphrect.texture_scalar_mean(rgba, False, False) == pytest.approx((0.2126 + 1.0) / 2, rel=1e-6)
     assert sphrect.texture_scalar_mean(rgba, False, True) == pytest.approx(0.5)
+
+
+def test_texture_color_mean_is_the_mean_decoded_colour():
+    srgb = np.array([[[128, 0, 255], [0, 128, 255]]], np.uint8)
+    assert sphrect.texture_color_mean(srgb, True) == pytest.approx((SRGB_128 / 2, SRGB_128 / 2, 1.0), rel=1e-6)
+    floats = np.array([[[4.0, 0.5, 0.0], [0.0, 0.5, 2.0]]], np.float32)  # not clamped: an emitter's colour
+    assert sphrect.texture_color_mean(floats, False) == pytest.approx((2.0, 0.5, 1.0), rel=1e-6)

@@ -172,10 +172,18 @@ def export_material(sphrect, mat, log, textures=None):
     return _shader(sphrect, node, textures, log, name)
 
 
-def _emission(node, color_input, strength_input, weight, log, owner):
+def _emission(node, color_input, strength_input, weight, log, owner, textures=None):
     """weight x colour x strength (Cycles' emission closure weight); a negative strength is logged and
-    read as 0 (Cycles 3.4 does not clamp it: its emission would be negative)."""
-    color = np.asarray(_value(node, color_input, log, owner)[:3], dtype=float)
+    read as 0 (Cycles 3.4 does not clamp it: its emission would be negative).  A colour an Image Texture drives
+    takes the image's mean (an emitter's radiance is constant over it here), warned."""
+    socket = node.inputs.get(color_input)
+    source = image_texture_source(socket) if textures is not None and socket is not None and socket.is_linked else None
+    if source is not None:
+        log.unsupported_feature(f"'{color_input}' of an emitter from an Image Texture (the image's mean colour used)",
+                                owner)
+        color = np.asarray(textures.color_mean(textures.lookup(*source, owner)), dtype=float)
+    else:
+        color = np.asarray(_value(node, color_input, log, owner)[:3], dtype=float)
     strength = _value(node, strength_input, log, owner)
     if strength < 0:
         log.unsupported_feature("negative emission strength (0 used)", owner)
@@ -274,7 +282,8 @@ def _shader(sphrect, node, textures, log, name):
         elif leaf.bl_idname == "ShaderNodeEmission":
             if factors:
                 log.unsupported_feature(constant_emission, name)
-            emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name)
+            emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name,
+                                  textures)
         elif leaf.bl_idname == "ShaderNodeHoldout":  # black, and a hole in the film's alpha (1 - its weight)
             if factors:  # the film's alpha is made at the camera hit from the material's constant holdout
                 log.unsupported_feature("Holdout under a texture-driven Mix Shader factor (the factor's image mean "
@@ -493,7 +502,7 @@ def _principled(sphrect, node, inputs, textures, log, name):
     if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
         log.unsupported_feature("linked 'Clearcoat Normal' input", name)
     values.update(_anisotropy(node, inputs, "Anisotropic", "Anisotropic Rotation", log, name))
-    emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name)
+    emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name, textures)
     _unmodelled_alpha(node, log, name)
     return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission,
                             textures=inputs.textures, **_normal_map(node, textures, log, name), **values)
@@ -539,7 +548,7 @@ def _principled_glass(sphrect, node, inputs, textures, log, name):
     _unmodelled_alpha(node, log, name)
     return sphrect.Material(name=name, kind="glass", base_color=(1.0, 1.0, 1.0), roughness=roughness,
                             ior=float(inputs.value("IOR")),
-                            emission=_emission(node, "Emission", "Emission Strength", 1.0, log, name),
+                            emission=_emission(node, "Emission", "Emission Strength", 1.0, log, name, textures),
                             textures={k: v for k, v in inputs.textures.items() if k == "roughness"}, **normal_map)
 
 

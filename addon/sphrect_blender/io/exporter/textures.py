@@ -157,6 +157,20 @@ class TextureExport:
             result *= 1.0 - mean if f.complement else mean
         return result
 
+    def color_mean(self, lookup):
+        """Mean over its image of what a lookup reads, as an RGB colour (the alpha as grey), decoded by the
+        renderer's own texel decoding (texture.h ImageColorMean): the constant colour of an emitter whose Color an
+        image drives."""
+        if lookup.output == "alpha":
+            return (self._scalar_mean(lookup.texture, "alpha"),) * 3
+        texture = self.list[lookup.texture]
+        if texture is None or texture.pixels is None:
+            return (0.5, 0.5, 0.5)
+        key = (lookup.texture, "rgb")
+        if key not in self._means:
+            self._means[key] = tuple(self.sphrect.texture_color_mean(texture.pixels, texture.colorspace == "srgb"))
+        return self._means[key]
+
     def _scalar_mean(self, index, output):
         """Mean of a texture's scalar (its alpha, or its colour's luminance, decoded, clamped to [0, 1] as a Mix
         factor is) over its pixels."""
