@@ -307,7 +307,13 @@ void RenderScene::SetMaterialTexture(int material, TexturedInput input, const Te
     if (r.kind == MaterialKind::kMix) Fail("a mix's textures are its layers'");
     if (r.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no textures (use 'principled')");
     r.textures[int(input)] = lookup;
-    materials[size_t(material)].textured = true;
+    Material& m = materials[size_t(material)];
+    m.textured = true;
+    if (r.kind == MaterialKind::kTransparent && input == TexturedInput::kBaseColor) {
+        // May let rays through wherever its image is not black: the hit evaluates it (integrator/transparency.h).
+        m.transparency = {1, 1, 1};
+        m.has_transparency = true;
+    }
 }
 
 void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]) {

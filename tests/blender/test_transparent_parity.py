@@ -74,8 +74,17 @@ def principled_alpha_texture():
     return t.surface(p)
 
 
+def textured_transparent():
+    """A stained-glass sheet: the Transparent BSDF's Color from an image (per hit, camera and shadow rays alike)."""
+    t = Tree("textured_transparent")
+    node = t.node("ShaderNodeBsdfTransparent")
+    image = t.image(new_image("Stain", alpha_checks(seed=4)), interpolation="Closest")
+    t.link(image.outputs["Color"], node.inputs["Color"])
+    return t.surface(node)
+
+
 CASES = {f.__name__: f for f in (coloured_transparent, mix_transparent_diffuse, principled_alpha,
-                                 principled_alpha_texture)}
+                                 principled_alpha_texture, textured_transparent)}
 
 
 @pytest.mark.parametrize("case", sorted(CASES))

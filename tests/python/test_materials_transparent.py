@@ -151,3 +151,21 @@ def test_transparent_material_with_emission_is_refused():
     s = scene(sphrect.Material(kind="transparent", emission=(1.0, 1.0, 1.0)))
     with pytest.raises(ValueError, match="no emission"):
         sphrect.Renderer(s)
+
+
+def test_a_textured_transparent_colour_lets_rays_through_its_image():
+    """Transparent BSDF Color from an image: its own (unlinked) colour black, the image white on the left half and
+    black on the right; the left quarter sees and lights the floor as if the sheet were not there."""
+    pixels = np.array([[[1.0, 1.0, 1.0], [0.0, 0.0, 0.0]]], np.float32)
+    sheet = sphrect.Material(kind="transparent", base_color=(0.0, 0.0, 0.0),
+                             textures={"base_color": sphrect.TextureLookup(0, interpolation="closest")})
+    s = scene(sheet)
+    s.meshes[0].uvs = np.zeros((8, 2), np.float32)
+    s.meshes[0].uvs[4:] = (s.meshes[0].vertices[4:, :2] + 1.5) / 3.0
+    s.textures = [sphrect.Texture(pixels=pixels, colorspace="linear")]
+    img = render(s)[..., 0]
+    floor_only = render(sphrect.Scene(camera=s.camera, materials=s.materials[:1], meshes=[plane_mesh(1.5)],
+                                      lights=[light()]))[..., 0]
+    w = img.shape[1]
+    assert np.all(img[:, w // 2:] == 0)
+    np.testing.assert_allclose(img[:, : w // 4], floor_only[:, : w // 4], rtol=2e-6)

@@ -64,7 +64,8 @@ _TEXTURABLE = {"ShaderNodeBsdfPrincipled": {"base_color", "roughness", "metallic
                "ShaderNodeBsdfGlossy": {"base_color", "roughness"},
                "ShaderNodeBsdfAnisotropic": {"base_color", "roughness"},
                "ShaderNodeBsdfGlass": {"base_color", "roughness"},
-               "ShaderNodeBsdfTranslucent": {"base_color"}}
+               "ShaderNodeBsdfTranslucent": {"base_color"},
+               "ShaderNodeBsdfTransparent": {"base_color"}}
 
 
 def _socket_name(node, field):
@@ -248,12 +249,13 @@ def _has_alpha(node):
     return float(socket.default_value) < 1
 
 
-def _transparent(sphrect, leaf, log, name):
-    """kind 'transparent' of a Transparent BSDF node (its Color; a linked one is not modelled: its value used) or of
-    WHITE_TRANSPARENT."""
+def _transparent(sphrect, leaf, textures, log, name):
+    """kind 'transparent' of a Transparent BSDF node (its Color, or an Image Texture's) or of WHITE_TRANSPARENT."""
     if leaf is WHITE_TRANSPARENT:
         return sphrect.Material(name=name, kind="transparent", base_color=(1.0, 1.0, 1.0))
-    return sphrect.Material(name=name, kind="transparent", base_color=_rgb(_value(leaf, "Color", log, name)[:3]))
+    inputs = _Inputs(sphrect, leaf, textures, log, name)
+    return sphrect.Material(name=name, kind="transparent", base_color=_rgb(inputs.read("base_color")),
+                            textures=inputs.textures)
 
 
 def _is_textured(layer):
@@ -277,8 +279,8 @@ def _shader(sphrect, node, textures, log, name):
     constant_emission = "emission under a texture-driven Mix Shader factor (the factor's image mean used)"
     for weight, leaf, factors in leaves:
         if leaf is WHITE_TRANSPARENT or leaf.bl_idname == "ShaderNodeBsdfTransparent":
-            layers.append(sphrect.MaterialLayer(weight=weight, material=_transparent(sphrect, leaf, log, name),
-                                                factors=factors))
+            transparent = _transparent(sphrect, leaf, textures, log, name)
+            layers.append(sphrect.MaterialLayer(weight=weight, material=transparent, factors=factors))
         elif leaf.bl_idname == "ShaderNodeEmission":
             if factors:
                 log.unsupported_feature(constant_emission, name)
