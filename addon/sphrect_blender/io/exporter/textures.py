@@ -16,6 +16,8 @@ channel count.  What Cycles 3.4 reads and how:
 import mathutils
 import numpy as np
 
+from .node_groups import GroupSocket, resolve, wrap_node
+
 # Cycles' colour for an image it cannot read (kernel/svm/image.h TEX_IMAGE_MISSING_R/G/B/A).
 MISSING_IMAGE_RGBA = (1.0, 0.0, 1.0, 1.0)
 # Blender's colour spaces whose values are used as stored (the rest of the OCIO config is approximated as linear).
@@ -25,16 +27,13 @@ _IMAGE_NODE = "ShaderNodeTexImage"
 
 
 def follow_reroutes(socket):
-    """(node, output socket) feeding `socket` through reroutes, or (None, None) when nothing does."""
-    if socket is None or not socket.is_linked:
+    """(node, output socket) feeding `socket` through reroutes and node groups (node_groups.py: a node inside a group
+    comes wrapped), or (None, None) when nothing does."""
+    found = resolve(socket) if socket is not None else None
+    if found is None:
         return None, None
-    link = socket.links[0]
-    while link.from_node.bl_idname == "NodeReroute":
-        upstream = link.from_node.inputs[0]
-        if not upstream.is_linked:
-            return None, None
-        link = upstream.links[0]
-    return link.from_node, link.from_socket
+    node, out, groups = found
+    return wrap_node(node, groups), (GroupSocket(out, groups) if groups else out)
 
 
 def image_texture_source(socket):
@@ -136,7 +135,8 @@ class TextureExport:
         """Names of the nodes of `tree` the active Material Output reaches through links (Cycles drops the rest)."""
         key = tree.name_full if hasattr(tree, "name_full") else id(tree)
         if key not in self._used:
-            outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+            outputs = ([n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+                       or [n for n in tree.nodes if n.bl_idname == "NodeGroupOutput"])  # a group's tree
             active = [n for n in outputs if getattr(n, "is_active_output", False)] or outputs[:1]
             used, stack = set(), list(active)
             while stack:
