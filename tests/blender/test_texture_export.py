@@ -581,3 +581,26 @@ def test_an_emitters_image_colour_is_its_mean(empty_scene):
                                                                     rel=1e-5)
     assert material_named(scene, "Lost").emission == pytest.approx((3.0, 0.0, 3.0))
     assert "'Color' of an emitter from an Image Texture (the image's mean colour used) (Screen, Lost)" in log.warning_text()
+
+
+def test_a_world_environment_image_is_its_mean_colour(empty_scene):
+    """The world is a constant radiance here: an Environment Texture on its Background gives its image's mean
+    colour x Strength (warned); a missing image Cycles' magenta."""
+    pixels = random_pixels(4, 8)
+    world = bpy.data.worlds.new("Sky")
+    world.use_nodes = True
+    nodes = world.node_tree.nodes
+    env = nodes.new("ShaderNodeTexEnvironment")
+    env.image = new_image("Sky", pixels, colorspace="Non-Color")
+    background = nodes["Background"]
+    background.inputs["Strength"].default_value = 2.0
+    world.node_tree.links.new(env.outputs["Color"], background.inputs["Color"])
+    empty_scene.world = world
+    ground = Tree("Ground")
+    on_plane(ground.surface(ground.node("ShaderNodeBsdfDiffuse")))
+    scene, log = export()
+    stored = np.array(env.image.pixels[:], dtype=np.float64).reshape(4, 8, 4)
+    assert scene.world.background == pytest.approx(tuple(2.0 * stored[..., :3].mean(axis=(0, 1))), rel=1e-5)
+    assert "world Environment Texture (its image's mean colour used" in log.warning_text()
+    env.image = None
+    assert export()[0].world.background == pytest.approx((2.0, 0.0, 2.0))

@@ -600,12 +600,24 @@ def export_world(sphrect, world, log):
     surface = _linked_node(out.inputs["Surface"])
     if surface is not None:
         if surface.bl_idname == "ShaderNodeBackground":
-            color = np.array(_value(surface, "Color", log, world.name)[:3])
+            color = np.array(_world_color(sphrect, surface, log, world.name))
             background = _rgb(color * _value(surface, "Strength", log, world.name))
         else:
             log.unsupported_feature(f"'{surface.bl_label}' world surface (black used)", world.name)
     medium = _export_medium(sphrect, _linked_node(out.inputs["Volume"]), world.name, log)
     return sphrect.World(background=background, medium=medium)
+
+
+def _world_color(sphrect, background, log, owner):
+    """The Background's Color; from an Environment or Image Texture, that image's mean colour (the world is a
+    constant radiance here; a missing image Cycles' magenta), warned."""
+    source, _ = follow_reroutes(background.inputs["Color"])
+    if source is None or source.bl_idname not in {"ShaderNodeTexEnvironment", "ShaderNodeTexImage"}:
+        return _value(background, "Color", log, owner)[:3]
+    log.unsupported_feature(f"world {source.bl_label} (its image's mean colour used: a constant background)", owner)
+    textures = TextureExport(sphrect, log)
+    index = textures.texture_of(source.image, owner)
+    return textures.color_mean(sphrect.TextureLookup(texture=index))
 
 
 def _export_medium(sphrect, node, owner, log):
