@@ -118,15 +118,19 @@ class ViewportSession:
             self._stats(engine, self.error)
             return
         region, region_3d = context.region, context.region_data
+        from ..io.exporter.camera import film_settings
         pixel_size = viewport_pixel_size(depsgraph.scene, context)
-        view = (view_signature(region, region_3d), pixel_size)
+        film = film_settings(depsgraph.scene)
+        pixel_filter = dict(pixel_filter=film["pixel_filter"], filter_width=film["filter_width"])  # F12's
+        view = (view_signature(region, region_3d), pixel_size, tuple(pixel_filter.values()))
         if self.worker is None or not self.worker.alive:  # the first draw, or the timer stopped it
             self.worker, self.changed = viewport_worker.ProgressiveWorker(on_frame=self.frame_ready.set), True
             _sessions.add(self)
             _start_timer()
         if self.scene is not None and (self.changed or view != self.view):
             self.view, self.changed = view, False
-            camera = region_camera(load_sphrect(), region, region_3d, self.scene.camera)
+            camera = dataclasses.replace(region_camera(load_sphrect(), region, region_3d, self.scene.camera),
+                                         **pixel_filter)
             settings = depsgraph.scene.sphrect
             self.worker.restart(viewport_worker.Job(dataclasses.replace(self.scene, camera=camera), self.techniques,
                                                     settings.renderer_options(), settings.viewport_samples,
