@@ -532,14 +532,6 @@ inline float GgxReflectionPDF(const Vec3f& wo, const Vec3f& wi, float alpha) {
 inline Vec3f IntoTangentFrame(const Vec3f& w, float c, float s) { return {c * w.x + s * w.y, c * w.y - s * w.x, w.z}; }
 inline Vec3f OutOfTangentFrame(const Vec3f& w, float c, float s) { return {c * w.x - s * w.y, s * w.x + c * w.y, w.z}; }
 
-// D for unit h in the tangent frame: 1 / (pi ax ay ((hx / ax)^2 + (hy / ay)^2 + hz^2)^2), Walter et al.'s
-// anisotropic form cos^-4 (1 + tan^2 (cos^2 phi / ax^2 + sin^2 phi / ay^2))^-2 / (pi ax ay) multiplied out.
-inline float GgxAnisotropicD(const Vec3f& h, float ax, float ay) {
-    const float sx = h.x / ax, sy = h.y / ay;
-    const float d = sx * sx + sy * sy + h.z * h.z;
-    return 1 / (kPi * ax * ay * d * d);
-}
-
 // Smith G1 with the roughness projected on w's azimuth, alpha^2 = cos^2 phi ax^2 + sin^2 phi ay^2 (Cycles'
 // separable G1: 2 / (1 + sqrt(1 + alpha^2 tan^2))).
 inline float SmithG1GgxAnisotropic(const Vec3f& w, float ax, float ay) {
@@ -588,11 +580,9 @@ inline float BeckmannG1(float cos_theta, float alpha) {
 
 // --- Principled (Cycles 3.4) --------------------------------------------------------------------
 
-// Cycles' interpolate_fresnel_color: cspec0 blended towards white by the dielectric Fresnel's rise
-// above its normal-incidence value.
+// The Principled specular's Fresnel (Cycles' interpolate_fresnel_color of its cspec0 and IOR).
 inline Spectrum PrincipledSpecularFresnel(const Material& m, float cos_ih) {
-    const float rise = (DielectricFresnel(cos_ih, m.specular_ior) - m.specular_f0) / (1 - m.specular_f0);
-    return m.f0 * (1 - rise) + Spectrum(rise, rise, rise);
+    return InterpolatedFresnel(cos_ih, m.specular_ior, m.specular_f0, m.f0);
 }
 
 constexpr float kClearcoatShadowingAlpha = 0.25f;  // Cycles' fixed alpha of the clearcoat's G

@@ -90,11 +90,6 @@ inline Vec3f SampleWalkNormal(const Vec3f& w, float ax, float ay, float u1, floa
     return Normalize(Vec3f(-sx, -sy, 1));
 }
 
-inline float WalkGgxD(const Vec3f& m, float ax, float ay) {
-    const float sx = m.x / ax, sy = m.y / ay, t = m.z * m.z + sx * sx + sy * sy;
-    return 1 / std::max(kPi * t * t * ax * ay, 1e-7f);
-}
-
 // The share of light arriving along w (lambda its Lambda) that a microfacet reflects towards wo.
 inline float WalkReflectionPhase(const Vec3f& w, float lambda, const Vec3f& wo, float ax, float ay) {
     if (w.z > 0.9999f) return 0;
@@ -103,13 +98,7 @@ inline float WalkReflectionPhase(const Vec3f& w, float lambda, const Vec3f& wo, 
     const float projected = w.z < -0.9999f ? 1.0f : lambda * w.z;
     const float cos_wh = -Dot(w, h);
     if (cos_wh < 0) return 0;
-    return cos_wh * 0.25f / std::max(projected * cos_wh, 1e-7f) * WalkGgxD(h, ax, ay);
-}
-
-// Cycles' interpolate_fresnel_color: cspec0 blended towards white by the dielectric Fresnel's rise (eta, f0 = F(1)).
-inline Spectrum BlendedFresnel(const Vec3f& l, const Vec3f& h, float eta, float f0, const Spectrum& cspec0) {
-    const float rise = (DielectricFresnel(Dot(l, h), eta) - f0) / (1 - f0);
-    return cspec0 * (1 - rise) + Spectrum(rise, rise, rise);
+    return cos_wh * 0.25f / std::max(projected * cos_wh, 1e-7f) * GgxAnisotropicD(h, ax, ay);
 }
 
 // A 64-bit hash of two directions' bits: the walk's seed.
@@ -145,8 +134,8 @@ inline Spectrum MultiscatterGgxEval(const Vec3f& wo, const Vec3f& wi, float ax, 
     const Vec3f h = Normalize(start + exit);
     const float f0 = fresnel ? DielectricFresnel(1, eta) : 0.0f;
     // Single scattering, with the height-correlated G2 = 1 / (1 + Lambda(start) + Lambda(exit)); f cos(exit).
-    Spectrum throughput = fresnel ? BlendedFresnel(start, h, eta, f0, cspec0) : Spectrum(1, 1, 1);
-    Spectrum eval = throughput * (WalkGgxD(h, ax, ay) * 0.25f / (start.z * (-lambda_r + exit_lambda)));
+    Spectrum throughput = fresnel ? InterpolatedFresnel(Dot(start, h), eta, f0, cspec0) : Spectrum(1, 1, 1);
+    Spectrum eval = throughput * (GgxAnisotropicD(h, ax, ay) * 0.25f / (start.z * (-lambda_r + exit_lambda)));
     uint64_t state = HashDirections(wo, wi);
     auto uniform = [&] {
         state = state * 6364136223846793005ull + 1442695040888963407ull;
@@ -164,7 +153,7 @@ inline Spectrum MultiscatterGgxEval(const Vec3f& wo, const Vec3f& wi, float ax, 
             eval += throughput * throughput * (phase * HeightMasking(exit, HeightCdf(hr), exit_lambda));
         }
         if (order + 1 < kOrders) {
-            if (fresnel && order > 0) throughput = throughput * BlendedFresnel(-wr, m, eta, f0, cspec0);
+            if (fresnel && order > 0) throughput = throughput * InterpolatedFresnel(Dot(-wr, m), eta, f0, cspec0);
             wr = wr - m * (2 * Dot(wr, m));
             if (!fresnel) throughput = throughput * color;
             lambda_r = WalkLambda(wr, ax, ay);

@@ -30,6 +30,13 @@ inline float DielectricFresnel(float cos_i, float eta) {
     return 0.5f * a * a * (1 + b * b);
 }
 
+// Cycles' interpolate_fresnel_color: cspec0 blended towards white by the rise of the dielectric Fresnel of relative
+// IOR eta at cos_lh (the light's cosine to the microfacet normal) above its normal-incidence value f0 = F(1, eta).
+inline Spectrum InterpolatedFresnel(float cos_lh, float eta, float f0, const Spectrum& cspec0) {
+    const float rise = (DielectricFresnel(cos_lh, eta) - f0) / (1 - f0);
+    return cspec0 * (1 - rise) + Spectrum(rise, rise, rise);
+}
+
 // Burley's diffuse (Disney 2012) split as Cycles 3.4 does (Burley 2015, 2.3): a Lambert-like part
 // (1 - FV/2)(1 - FL/2) and a retro-reflection RR (FL + FV + FL FV (RR - 1)), RR = roughness
 // (1 + wi.wo) = 2 roughness (wi.h)^2.  Returns f / colour (multiply by the diffuse weight x base colour).
@@ -42,6 +49,15 @@ inline float BurleyDiffuse(const Vec3f& wo, const Vec3f& wi, float roughness) {
 
 // Cycles' principled sheen: f = (1 - wi.h)^5 (no 1/pi: Cycles' closure value is that times cos).
 inline float PrincipledSheen(const Vec3f& wo, const Vec3f& wi) { return SchlickWeight(Dot(wi, Normalize(wo + wi))); }
+
+// GGX's D for a unit microfacet normal h with roughness ax along x and ay along y (Walter et al. 2007's anisotropic
+// form, cos^-4 (1 + tan^2 (cos^2 phi / ax^2 + sin^2 phi / ay^2))^-2 / (pi ax ay), multiplied out):
+// 1 / (pi ax ay ((hx / ax)^2 + (hy / ay)^2 + hz^2)^2).
+inline float GgxAnisotropicD(const Vec3f& h, float ax, float ay) {
+    const float sx = h.x / ax, sy = h.y / ay;
+    const float d = sx * sx + sy * sy + h.z * h.z;
+    return 1 / (kPi * ax * ay * d * d);
+}
 
 // Separable Smith masking for GGX, as Cycles 3.4's microfacet closures (G = G1(wo) G1(wi), not the
 // height-correlated form): G1 = 2 / (1 + sqrt(1 + alpha^2 tan^2)).

@@ -17,6 +17,7 @@ constexpr float kInvPi = 0.31830988618379067154f;
 constexpr float kInf = INFINITY;
 
 inline float Luminance(const Spectrum& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+inline float Average(const Spectrum& c) { return (c.x + c.y + c.z) / 3; }  // Cycles' average(): weights, alpha
 inline bool IsBlack(const Spectrum& c) { return c.x == 0 && c.y == 0 && c.z == 0; }
 inline float MaxAbsComponent(const Vec3f& v) { return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z))); }
 

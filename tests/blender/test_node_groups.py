@@ -15,15 +15,21 @@ from test_texture_export import Tree, new_image, random_pixels
 TOLERANCE = 0.01
 
 
+def new_group(name, inputs, output):
+    """A shader node group of `inputs` ((socket type, name), ...) and one shader output: (group, its Group Input
+    node, its Group Output node)."""
+    group = bpy.data.node_groups.new(name, "ShaderNodeTree")
+    for socket_type, socket_name in inputs:
+        group.inputs.new(socket_type, socket_name)
+    group.outputs.new("NodeSocketShader", output)
+    return group, group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+
+
 def principled_group(name="Shiny"):
     """A group: Principled BSDF (metallic 0.3) with Base Color and Roughness from the group's inputs, through a
     reroute, its BSDF the group's output."""
-    group = bpy.data.node_groups.new(name, "ShaderNodeTree")
-    group.inputs.new("NodeSocketColor", "Color")
-    group.inputs.new("NodeSocketFloat", "Roughness")
-    group.outputs.new("NodeSocketShader", "BSDF")
+    group, gin, gout = new_group(name, [("NodeSocketColor", "Color"), ("NodeSocketFloat", "Roughness")], "BSDF")
     nodes, links = group.nodes, group.links
-    gin, gout = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
     bsdf = nodes.new("ShaderNodeBsdfPrincipled")
     bsdf.inputs["Metallic"].default_value = 0.3
     reroute = nodes.new("NodeReroute")
@@ -36,12 +42,8 @@ def principled_group(name="Shiny"):
 
 def nested_group():
     """A group holding principled_group() mixed 0.3 with a Glossy BSDF, the Mix factor from its own input."""
-    group = bpy.data.node_groups.new("Outer", "ShaderNodeTree")
-    group.inputs.new("NodeSocketColor", "Color")
-    group.inputs.new("NodeSocketFloat", "Fac")
-    group.outputs.new("NodeSocketShader", "Shader")
+    group, gin, gout = new_group("Outer", [("NodeSocketColor", "Color"), ("NodeSocketFloat", "Fac")], "Shader")
     nodes, links = group.nodes, group.links
-    gin, gout = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
     inner = nodes.new("ShaderNodeGroup")
     inner.node_tree = principled_group("Inner")
     inner.inputs["Roughness"].default_value = 0.45

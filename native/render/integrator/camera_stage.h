@@ -141,7 +141,7 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
         seen += out.throughput * scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
     if (scene.film_alpha) {
         // 1 - the share of the pixel that is a hole: the holdout at the hit, or the escape through a transparent film.
-        const float through = (out.throughput.x + out.throughput.y + out.throughput.z) / 3;
+        const float through = Average(out.throughput);
         const float hole = out.hit ? std::min(scene.materials[out.surface.material].holdout, 1.0f)
                                    : (scene.film_transparent ? 1.0f : 0.0f);
         out.alpha = 1 - through * hole;

@@ -50,7 +50,7 @@ inline float BeyondHit(float t) { return t + 1e-5f * (t + 1e-3f); }
 // The camera ray's choice at transparent hit h: true (go on, throughput *= transparency / q) or false (stop here,
 // throughput *= 1 / (1 - q)); u uniform in [0, 1).
 static inline bool CameraRayThroughTransparent(const SurfaceTransparency& s, float u, Spectrum& throughput) {
-    const float t = (s.transparency.x + s.transparency.y + s.transparency.z) / 3;
+    const float t = Average(s.transparency);
     if (!(t > 0)) return false;
     const float q = s.opaque_weight > 0 ? t / (t + s.opaque_weight) : 1.0f;
     if (u < q) {

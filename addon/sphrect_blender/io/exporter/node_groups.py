@@ -30,6 +30,20 @@ def _group_output_input(group_node, output_socket):
     return active[0].inputs[index] if active and index < len(active[0].inputs) else None
 
 
+def _through(link, groups):
+    """Where a link from a reroute or a Group Input continues: (the input socket upstream, its groups), or None
+    when it continues nowhere (a Group Input outside any group); False for a link from any other node."""
+    node = link.from_node
+    if node.bl_idname == _REROUTE:
+        return node.inputs[0], groups
+    if node.bl_idname != _GROUP_INPUT:
+        return False
+    if not groups:
+        return None
+    outer, index = groups[-1], list(node.outputs).index(link.from_socket)
+    return (outer.inputs[index], groups[:-1]) if index < len(outer.inputs) else None
+
+
 def resolve(socket):
     """(node, output socket, groups) feeding input `socket` through reroutes and groups, or None; the node is the
     real one, `groups` the chain of Group nodes it sits in."""
@@ -38,21 +52,17 @@ def resolve(socket):
         if real is None or not real.is_linked:
             return None
         link = real.links[0]
-        node, out = link.from_node, link.from_socket
-        if node.bl_idname == _REROUTE:
-            real = node.inputs[0]
-        elif node.bl_idname == _GROUP:
+        upstream = _through(link, groups)
+        if upstream is None:
+            return None
+        if upstream is not False:
+            real, groups = upstream
+        elif link.from_node.bl_idname == _GROUP:
             if len(groups) >= MAX_GROUP_DEPTH:
                 return None
-            real, groups = _group_output_input(node, out), groups + (node,)
-        elif node.bl_idname == _GROUP_INPUT:
-            if not groups:
-                return None
-            outer = groups[-1]
-            index = list(node.outputs).index(out)
-            real, groups = (outer.inputs[index] if index < len(outer.inputs) else None), groups[:-1]
+            real, groups = _group_output_input(link.from_node, link.from_socket), groups + (link.from_node,)
         else:
-            return node, out, groups
+            return link.from_node, link.from_socket, groups
     return None
 
 
@@ -61,18 +71,10 @@ def value_socket(socket):
     to a Group Input (through any depth), else the input itself."""
     real, groups = _unwrap(socket), _context(socket)
     while real is not None and real.is_linked and groups:
-        link = real.links[0]
-        node = link.from_node
-        if node.bl_idname == _REROUTE:
-            real = node.inputs[0]
-            continue
-        if node.bl_idname != _GROUP_INPUT:
+        upstream = _through(real.links[0], groups)
+        if not upstream:  # from another node (its own value is this socket's), or from nowhere
             break
-        index = list(node.outputs).index(link.from_socket)
-        outer = groups[-1]
-        if index >= len(outer.inputs):
-            break
-        real, groups = outer.inputs[index], groups[:-1]
+        real, groups = upstream
     return real
 
 
