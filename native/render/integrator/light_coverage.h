@@ -15,7 +15,7 @@
 // image.  For a box of any width that is the area of the image in the box, exact; for the Gaussian and
 // Blackman-Harris it is estimated, unbiased, from inside-tests at a jittered grid of film points drawn
 // through the same inverse CDF as the camera samples (FilteredCoverage): a test costs a few products and
-// no ray, so the grid is dense and C's noise far below the camera samples' (~16 points per sample).
+// no ray, so the grid is dense (kFilteredCoveragePointsPerSample) and C's noise far below the camera samples'.
 // The control variate stays unbiased with an unbiased estimate of its mean.
 #pragma once
 
