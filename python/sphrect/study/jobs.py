@@ -130,7 +130,7 @@ MAX_SEED = 2 ** 64 - 1                                    # render.Renderer's se
 MAX_SAMPLES = _native.MAX_SAMPLES_PER_CALL                # one job is one render() call
 MAX_LIGHT_SAMPLES = _native.MAX_LIGHT_SAMPLES
 MAX_THREADS = getattr(_native, "MAX_THREADS", 2 ** 31 - 1)  # render threads of one Renderer
-SAMPLE_INDEX_LIMIT = 2 ** 31  # camera samples x light samples of one render (native kSampleIndexLimit)
+SAMPLE_INDEX_LIMIT = _native.SAMPLE_INDEX_LIMIT  # camera samples x light samples of one render
 
 
 def sample_ladder(max_samples: int, min_samples: int = 1) -> List[int]:

@@ -18,6 +18,7 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from . import metrics
+from ..build import build_hash
 from .executors import Executor, LocalProcessPool
 from .jobs import SPHRECT, CostKey, Job, StudyConfig, build_plan, cost_key, equal_time_jobs, fingerprint
 from .metrics import time_of
@@ -45,19 +46,6 @@ def scene_content_hash(path: str) -> str:
             digest.update(name.encode())
             digest.update(np.ascontiguousarray(data[name]).tobytes())
     return digest.hexdigest()[:16]
-
-
-def renderer_build_hash() -> str:
-    """Hash of the native module's file: results measured with another build of the renderer are stale."""
-    try:
-        from .. import _native
-        digest = hashlib.sha256()
-        with open(_native.__file__, "rb") as f:
-            for block in iter(lambda: f.read(1 << 20), b""):
-                digest.update(block)
-        return digest.hexdigest()[:16]
-    except (ImportError, OSError, AttributeError):
-        return "unknown"
 
 
 def prepare_scene(input_path: str, out_dir: str, resolution: Optional[Tuple[int, int]] = None,
@@ -196,7 +184,7 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
                      setting="resolution")  # the scene's own, when not given
     # Runs are redone when the scene, the resolution or the renderer's build changes.
     scene_fp = fingerprint(scene=scene_content_hash(scene_path), width=width, height=height,
-                           renderer=renderer_build_hash())
+                           renderer=build_hash())
     atomic_write_json(os.path.join(out_dir, CONFIG_FILE), {
         "input": os.path.abspath(input_path), "scene_file": scene_path, "blend": blend_path, "width": width,
         "height": height, "study": config.to_dict(), "reference": reference.__dict__, "exporter_warnings": warnings,
