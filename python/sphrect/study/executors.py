@@ -67,6 +67,14 @@ PR_SET_PDEATHSIG = 1  # linux/prctl.h
 PARENT_POLL_SECONDS = 0.5
 
 
+_in_study_pool = False
+
+
+def in_study_pool() -> bool:
+    """Whether this process is a LocalProcessPool worker (of a study running on this machine)."""
+    return _in_study_pool
+
+
 def _end_with_parent(parent: int) -> None:
     """Worker initializer: end this worker when the study's process (`parent`) dies, even by kill -9, which no
     cleanup code of the parent survives. On Linux the kernel sends SIGKILL (prctl PR_SET_PDEATHSIG), which also
@@ -87,6 +95,8 @@ def _end_with_parent(parent: int) -> None:
         os._exit(1)
 
     threading.Thread(target=watch, name="sphrect-parent-watchdog", daemon=True).start()
+    global _in_study_pool
+    _in_study_pool = True
 
 
 class LocalProcessPool(Executor):

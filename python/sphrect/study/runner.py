@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import importlib
 import math
-import multiprocessing
 import os
 import time
 from dataclasses import dataclass, replace
@@ -19,7 +18,9 @@ import numpy as np
 
 from . import metrics
 from .jobs import CYCLES, EQUAL_TIME, SPHRECT, Job
+from .executors import in_study_pool
 from .lock import hold_worker_lock
+from .machines import machine_info, scale_times, slowdown
 from .store import ResultStore
 
 REFERENCE_KIND = "reference"
@@ -93,11 +94,11 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
 
 
 def render_cycles_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
-    from .cycles import render_cycles
+    from .cycles import render_cycles, worker_blender
     if not context.blend_path:
         raise ValueError("Cycles runs need the .blend scene")
     image, timing = render_cycles(context.blend_path, job.samples, context.width, context.height, seed=job.seed,
-                                  threads=job.threads, blender=context.blender,
+                                  threads=job.threads, blender=worker_blender(context.blender),
                                   blender_script=context.blender_script)
     measured = {"build_time": timing.get("build_time"), "call_time": timing.get("operator_time"),
                 "wall_time": timing["wall_time"], "cpu_time": timing.get("cpu_time"), "light_time": None, "shading_time": None, "rays": None,
@@ -132,12 +133,13 @@ def _reference(context: RunContext) -> np.ndarray:
     return _reference_cache[context.reference_name]
 
 
-def run_job(context: RunContext, job: Job) -> Dict:
-    """Render `job`, measure it and write its record (atomically) to the store; returns the record.
-    Reference chunks and equal-time runs also keep their image in the store."""
-    if multiprocessing.parent_process() is not None:  # a worker: claim the folder while this process lives
+def run_job(context: RunContext, job: Job) -> Tuple[Dict, Optional[np.ndarray]]:
+    """Render `job` and measure it (in a worker); returns its record and, for reference chunks and equal-time runs,
+    its image, which the study's own process stores (record_result): workers write nothing, so a worker on another
+    machine, or one that dies, leaves the store as it was. The measured times are scaled by the worker's
+    machines.slowdown(), and the record says where it ran (machines.machine_info)."""
+    if in_study_pool():  # a local pool's worker: claim the folder while this process lives (lock.py)
         hold_worker_lock(context.store_root)
-    store = ResultStore(context.store_root)
     image, measured = _render_function(context)(context, job)
     image = np.asarray(image, dtype=np.float32)
     if image.ndim != 3 or image.shape[0] != context.height or image.shape[1] != context.width:
@@ -145,14 +147,22 @@ def run_job(context: RunContext, job: Job) -> Dict:
                            f"({context.height}, {context.width}, 4)")
     finite = bool(np.all(np.isfinite(image[..., :3])))
     record = {"key": job.key, "fingerprint": context.fingerprint, "job": job.to_dict(), "label": job.label,
-              "finite": finite, **measured}
+              "finite": finite, **scale_times(measured, slowdown()), "machine": machine_info()}
+    kept = None
     if job.kind in (REFERENCE_KIND, EQUAL_TIME):
         record["image"] = job.key
-        store.save_image(job.key, image)
+        kept = image
     if job.kind != REFERENCE_KIND:
         reference = _reference(context)
         record["rmse"] = metrics.rmse(image, reference) if finite else math.inf
         record["relmse"] = metrics.relmse(image, reference) if finite else math.inf
         record["reference"] = context.reference_name
+    return record, kept
+
+
+def record_result(store: ResultStore, record: Dict, image: Optional[np.ndarray]) -> None:
+    """Stores a run_job result: its image first, then its record (each written atomically), so that a record is
+    never there without its image."""
+    if image is not None:
+        store.save_image(record["image"], image)
     store.write_run(record)
-    return record

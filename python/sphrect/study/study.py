@@ -21,12 +21,12 @@ from . import metrics
 from ..build import build_hash
 from .executors import Executor, LocalProcessPool
 from .jobs import SPHRECT, CostKey, Job, StudyConfig, build_plan, cost_key, equal_time_jobs, fingerprint
-from .metrics import time_of
 from .lock import WORKER_EXIT_WAIT, StudyLock
+from .machines import judged_times
 from .preflight import check_resolution, check_workers
 from .progress import ProgressBar
 from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
-from .runner import RunContext, run_job
+from .runner import RunContext, record_result, run_job
 from .store import ResultStore, atomic_write_json
 
 SCENE_FILE = "scene.sphrect.npz"
@@ -84,7 +84,8 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
                     failures.append((job, message))
                     bar.update(1, note=f"FAILED {job.key}")
                 else:
-                    rmse = result.get("rmse")
+                    record_result(store, *result)
+                    rmse = result[0].get("rmse")
                     bar.update(1, note=f"{job.label} n={job.samples}" + (f" rmse={rmse:.3g}" if rmse else ""))
     store.remove_stale_temporaries()  # no worker is writing now; a killed one may have left its temporary
     for job, message in failures:
@@ -96,14 +97,16 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
 
 def seconds_per_sample(records: List[Dict], threads: int) -> Dict[CostKey, float]:
     """jobs.cost_key (engine, technique, mis, light selection, ellipse technique) -> seconds per sample per pixel:
-    each configuration's metrics.cost_per_sample over its ladder, median over patterns."""
+    each configuration's metrics.cost_per_sample over its ladder (on the study's time basis), median over
+    patterns."""
+    judged_times(records, threads)
     ladders: Dict[Tuple[CostKey, str], List[Dict]] = {}
     for r in records:
         ladders.setdefault((cost_key(r["job"]), r["job"]["pattern"]), []).append(r)
     costs: Dict[CostKey, List[float]] = {}
     for (key, _), runs in ladders.items():
         runs.sort(key=lambda r: r["job"]["samples"])
-        cost, _ = metrics.cost_per_sample([time_of(r, threads) for r in runs], [r["job"]["samples"] for r in runs])
+        cost, _ = metrics.cost_per_sample([r["time"] for r in runs], [r["job"]["samples"] for r in runs])
         costs.setdefault(key, []).append(cost)
     return {k: float(np.median(v)) for k, v in costs.items()}
 

@@ -12,8 +12,8 @@ from typing import Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from .. import metrics
 from ..jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, CurveKey, StudyConfig, curve_key
+from ..machines import judged_times
 from ..reference import load_reference_info
 from ..store import ResultStore, atomic_write_bytes, atomic_write_json
 
@@ -33,9 +33,10 @@ class StudyResults:
     store: ResultStore
     reference: Dict         # reference.json: the reference image and its own error
     settings: StudyConfig
-    ladder: List[Dict]      # run records; each has "time", the time it is judged by (metrics.time_of)
+    ladder: List[Dict]      # run records; each has "time", the time it is judged by (machines.judged_times)
     equal_time: List[Dict]
     failures: List[Dict]
+    time_basis: str = ""    # how times are compared (machines.time_basis): as measured, or normalised
 
     @property
     def reference_rmse(self) -> float:
@@ -55,12 +56,11 @@ def load_study(out_dir: str) -> StudyResults:
                              f"--report-only) to recompute it")
     records = list(store.runs(state["run_fingerprint"]))
     settings = StudyConfig.from_dict(config["study"])
-    for r in records:
-        r["time"] = metrics.time_of(r, settings.threads)
+    basis = judged_times(records, settings.threads)
     return StudyResults(config=config, state=state, store=store, reference=reference,
                         settings=settings, ladder=[r for r in records if r["job"]["kind"] == LADDER],
                         equal_time=[r for r in records if r["job"]["kind"] == EQUAL_TIME],
-                        failures=list(store.failures()))
+                        failures=list(store.failures()), time_basis=basis.description)
 
 
 def curves(records: List[Dict]) -> Curves:
