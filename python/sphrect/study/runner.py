@@ -44,13 +44,15 @@ class RunContext:
         return replace(self, reference_name=name, fingerprint=fingerprint)
 
 
-_scene_cache: Dict[Tuple[str, int, int], object] = {}
-_reference_cache: Dict[str, np.ndarray] = {}
+# Per worker process, which may serve several studies in turn (a Dask worker): keyed by what identifies the content.
+_scene_cache: Dict[Tuple, object] = {}
+_reference_cache: Dict[Tuple[str, str, str], np.ndarray] = {}
 
 
 def load_study_scene(path: str, width: int, height: int):
-    """The scene file at the study's resolution (cached per worker process)."""
-    key = (os.path.abspath(path), width, height)
+    """The scene file at the study's resolution (cached per worker process, while the file stays the same)."""
+    info = os.stat(path)
+    key = (os.path.abspath(path), info.st_mtime_ns, info.st_size, width, height)
     if key not in _scene_cache:
         import sphrect
         scene = sphrect.load_scene(path)
@@ -124,13 +126,15 @@ def _render_function(context: RunContext):
 
 
 def _reference(context: RunContext) -> np.ndarray:
-    if context.reference_name not in _reference_cache:
+    """The study's reference image (its fingerprint names the reference's id)."""
+    key = (os.path.abspath(context.store_root), context.reference_name, context.fingerprint)
+    if key not in _reference_cache:
         image = ResultStore(context.store_root).load_image(context.reference_name)
         if image is None:
             raise RuntimeError(f"reference image {context.reference_name!r} is missing")
         _reference_cache.clear()
-        _reference_cache[context.reference_name] = image
-    return _reference_cache[context.reference_name]
+        _reference_cache[key] = image
+    return _reference_cache[key]
 
 
 def run_job(context: RunContext, job: Job) -> Tuple[Dict, Optional[np.ndarray]]:

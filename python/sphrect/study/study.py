@@ -200,6 +200,10 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
         f"{len(config.ellipse_techniques)} ellipse techniques x ladder "
         f"{list(config.ladder)}" + (" + Cycles" if config.cycles else ""))
 
+    dashboard = getattr(executor, "dashboard_link", None)
+    if dashboard:
+        log(f"Dask dashboard: {dashboard}")
+
     # 1. The reference (independent chunks, combined; see reference.py).
     chunk_jobs = reference_jobs(reference, threads=config.threads)
     _, failures = _run_phase(executor, context, store, chunk_jobs, "reference", progress)
