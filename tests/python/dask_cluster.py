@@ -36,6 +36,18 @@ def _end(process: subprocess.Popen) -> None:
         process.wait(timeout=30)
 
 
+def _scheduler_address(scheduler_file: str, scheduler: subprocess.Popen) -> str:
+    """The address the scheduler writes into its file once it listens (read until it is whole)."""
+    deadline = time.monotonic() + START_TIMEOUT
+    while True:
+        assert time.monotonic() < deadline and scheduler.poll() is None, "the scheduler did not start"
+        try:
+            with open(scheduler_file) as f:
+                return json.load(f)["address"]
+        except (OSError, ValueError, KeyError):
+            time.sleep(0.1)
+
+
 @contextlib.contextmanager
 def dask_cluster(tmp_path, worker_envs=({}, {})):
     """Yields (scheduler address, client) of a scheduler and one worker per environment in `worker_envs` (each
@@ -46,14 +58,9 @@ def dask_cluster(tmp_path, worker_envs=({}, {})):
     client = None
     try:
         processes.append(subprocess.Popen(
-            _dask("scheduler", "--host", "127.0.0.1", "--port", "0", *LOCAL_HTTP, "--scheduler-file", scheduler_file), env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-            start_new_session=True))
-        deadline = time.monotonic() + START_TIMEOUT
-        while not os.path.exists(scheduler_file):
-            assert time.monotonic() < deadline and processes[0].poll() is None, "the scheduler did not start"
-            time.sleep(0.1)
-        time.sleep(0.2)  # the file is written whole, but let the scheduler listen
-        address = json.load(open(scheduler_file))["address"]
+            _dask("scheduler", "--host", "127.0.0.1", "--port", "0", *LOCAL_HTTP, "--scheduler-file", scheduler_file),
+            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True))
+        address = _scheduler_address(scheduler_file, processes[0])
         for i, extra in enumerate(worker_envs):
             processes.append(subprocess.Popen(
                 _dask("worker", address, "--host", "127.0.0.1", "--nthreads", "1", "--nworkers", "1",

@@ -19,6 +19,7 @@ from sphrect.study.cli import main as study_main
 from sphrect.study.dask_executor import DaskExecutor
 from sphrect.study.jobs import build_plan
 from sphrect.study.machines import SLOWDOWN_ENV
+from sphrect.study.reference import REFERENCE_IMAGE, SEED_BASE
 from sphrect.study.report.equal_error import ellipse_comparisons, selection_comparisons
 from sphrect.study.report.results import curves, load_study
 from sphrect.study.store import ResultStore
@@ -86,6 +87,14 @@ def test_study_on_the_cluster_gives_the_local_pools_records(cluster, tmp_path):
         assert record["rmse"] == runs["local"][key]["rmse"] and record["relmse"] == runs["local"][key]["relmse"]
         machine = record["machine"]
         assert machine["host"] and machine["cpu_model"] and machine["cores"] >= 1 and machine["calibration"] > 0
+    # The reference's chunks are the sample ranges of one render, rendered on the workers: it is that render (up to
+    # the float32 rounding of the chunks' images).
+    single = sphrect.render(paper_like_scene(), reference.samples, techniques=[reference.technique],
+                            parts=reference.chunks, light_samples=reference.light_samples, pattern=reference.pattern,
+                            mis=reference.mis, seed=SEED_BASE, threads=1)[reference.technique]
+    for name in runs:
+        image = ResultStore(str(tmp_path / name)).load_image(REFERENCE_IMAGE)
+        np.testing.assert_allclose(image, single, rtol=1e-6, atol=1e-7)
 
 
 def test_a_worker_killed_in_the_middle_of_a_study_loses_nothing(cluster, scene_file, tmp_path):
@@ -185,7 +194,7 @@ def test_a_worker_twice_as_slow_changes_no_verdict(scene_file, tmp_path):
     assert "as measured" in single.time_basis and "normalised" in mixed.time_basis
     # Both workers measured runs; the slow one's raw times are twice the fake renderer's, normalised they are not.
     calibrations = sorted({r["machine"]["calibration"] for r in mixed.ladder})
-    assert len(calibrations) == 2 and 1.6 < calibrations[1] / calibrations[0] < 2.5
+    assert len(calibrations) == 2 and 1.4 < calibrations[1] / calibrations[0] < 2.8  # 2, and timing noise
     serial = {r["key"]: r for r in single.ladder}
     for r in mixed.ladder:
         slow = r["machine"]["calibration"] == calibrations[1]

@@ -26,8 +26,8 @@ TIME_FIELDS = ("build_time", "call_time", "wall_time", "cpu_time", "light_time",
 # The calibration render: a ground lit by one rectangle, CALIBRATION_SIDE^2 pixels, one thread, the best of
 # CALIBRATION_REPEATS (the least disturbed by other load).
 CALIBRATION_SIDE = 64
-CALIBRATION_SAMPLES = 32
-CALIBRATION_REPEATS = 3
+CALIBRATION_SAMPLES = 16
+CALIBRATION_REPEATS = 7
 # Calibrations of one kind of machine agree within this factor (they vary a few % from run to run).
 CALIBRATION_SPREAD = 1.3
 
