@@ -41,7 +41,7 @@ def render_distributed(scene, samples: int, client, techniques: Union[str, Itera
         parts = max(1, min(samples, cluster_workers(client)))
     ranges = sample_ranges(samples, _int_argument("parts", parts, 1))
     techniques = [techniques] if isinstance(techniques, str) else list(techniques)
-    scene_data = client.scatter(scene, broadcast=True)
+    scene_data = client.scatter(scene, broadcast=True, hash=False)  # a key of its own: released below
     futures = [client.submit(_render_part, scene_data, r, techniques, options, build_hash(), pure=False)
                for r in ranges]
     try:

@@ -3,6 +3,7 @@
 local render of the same sample ranges; a study gives the records the local pool gives; a worker killed in the middle
 of a study, a job that kills every worker and an interrupted client all leave every record whole and once; a worker
 2x slower than the other changes no verdict; a worker of another build refuses jobs."""
+import json
 import os
 import signal
 import threading
@@ -192,17 +193,32 @@ def test_a_worker_twice_as_slow_changes_no_verdict(scene_file, tmp_path):
     two, mixed = verdicts(tmp_path / "two")
     assert one == two and len(one) == 2 * 2 + 2 * 2
     assert "as measured" in single.time_basis and "normalised" in mixed.time_basis
-    # Both workers measured runs; the slow one's raw times are twice the fake renderer's, normalised they are not.
+    # Both workers measured runs: the slow one's raw times are twice the fake renderer's; normalised, the two workers'
+    # times agree, up to the calibrations' noise (+-30% on this shared machine).
     calibrations = sorted({r["machine"]["calibration"] for r in mixed.ladder})
-    assert len(calibrations) == 2 and 1.4 < calibrations[1] / calibrations[0] < 2.8  # 2, and timing noise
+    assert len(calibrations) == 2 and 1.3 < calibrations[1] / calibrations[0] < 3.0  # 2, and timing noise
     serial = {r["key"]: r for r in single.ladder}
+    ratios = {True: [], False: []}  # slow worker -> time / the single-worker study's time
     for r in mixed.ladder:
         slow = r["machine"]["calibration"] == calibrations[1]
         assert r["wall_time"] == pytest.approx(serial[r["key"]]["wall_time"] * (2 if slow else 1))
-        assert r["time"] == pytest.approx(serial[r["key"]]["time"], rel=0.35)
+        ratios[slow].append(r["time"] / serial[r["key"]]["time"])
+    assert ratios[True] and ratios[False]
+    assert 1 / 1.5 < np.median(ratios[True]) / np.median(ratios[False]) < 1.5
 
 
-def test_command_line_executor_options(scene_file, tmp_path, capsys):
+def test_command_line_runs_the_study_on_a_local_dask_cluster(scene_file, tmp_path, capsys):
+    out = tmp_path / "study"
+    scene_path = str(tmp_path / "paper_like.sphrect.npz")
+    sphrect.save_scene(paper_like_scene(), scene_path)
+    assert study_main([scene_path, "--out", str(out), "--executor", "dask-local", "--workers", "2", "--techniques",
+                       "rectangle", "--mis", "balance", "--patterns", "stratified", "--grid-mis", "balance",
+                       "--max-samples", "2", "--reference-samples", "64", "--reference-chunks", "2", "--equal-time",
+                       "0.005", "--no-sampler-table", "--quiet"]) == 0
+    assert (out / "report.html").is_file()
+    assert json.load(open(out / "config.json"))["executor"] == "DaskExecutor"
+    assert "Time basis: times as measured" in (out / "report.md").read_text()
+    # Contradicting options end the study before it starts, naming the option.
     assert study_main([scene_file, "--out", str(tmp_path / "s"), "--executor", "local", "--scheduler",
                        "tcp://127.0.0.1:1"]) == 2
     assert "--scheduler" in capsys.readouterr().err
