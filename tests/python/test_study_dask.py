@@ -3,6 +3,7 @@
 local render of the same sample ranges; a study gives the records the local pool gives; a worker killed in the middle
 of a study, a job that kills every worker and an interrupted client all leave every record whole and once; a worker
 2x slower than the other changes no verdict; a worker of another build refuses jobs."""
+import csv
 import json
 import os
 import signal
@@ -218,6 +219,10 @@ def test_command_line_runs_the_study_on_a_local_dask_cluster(scene_file, tmp_pat
     assert (out / "report.html").is_file()
     assert json.load(open(out / "config.json"))["executor"] == "DaskExecutor"
     assert "Time basis: times as measured" in (out / "report.md").read_text()
+    with open(out / "runs.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert rows and all(r["host"] and r["cpu_model"] and int(r["cores"]) >= 1 and float(r["calibration"]) > 0
+                        for r in rows)
     # Contradicting options end the study before it starts, naming the option.
     assert study_main([scene_file, "--out", str(tmp_path / "s"), "--executor", "local", "--scheduler",
                        "tcp://127.0.0.1:1"]) == 2

@@ -28,6 +28,8 @@ TIME_FIELDS = ("build_time", "call_time", "wall_time", "cpu_time", "light_time",
 CALIBRATION_SIDE = 64
 CALIBRATION_SAMPLES = 16
 CALIBRATION_REPEATS = 7
+# What a record's "machine" says (machine_info), also runs.csv's columns.
+MACHINE_FIELDS = ("host", "cpu_model", "cores", "calibration")
 # Calibrations of one kind of machine agree within this factor (they vary a few % from run to run).
 CALIBRATION_SPREAD = 1.3
 
@@ -90,8 +92,8 @@ def cpu_model() -> str:
 @functools.lru_cache(maxsize=1)
 def machine_info() -> Dict:
     """Where this worker runs: host, cpu_model, cores, calibration (seconds; see the module docstring)."""
-    return {"host": socket.gethostname(), "cpu_model": cpu_model(), "cores": os.cpu_count() or 1,
-            "calibration": calibration_seconds()}
+    values = (socket.gethostname(), cpu_model(), os.cpu_count() or 1, calibration_seconds())
+    return dict(zip(MACHINE_FIELDS, values))
 
 
 @dataclass(frozen=True)

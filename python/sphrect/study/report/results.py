@@ -13,7 +13,7 @@ from typing import Dict, List, NamedTuple, Optional, Tuple
 import numpy as np
 
 from ..jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, CurveKey, StudyConfig, curve_key
-from ..machines import judged_times
+from ..machines import MACHINE_FIELDS, judged_times
 from ..reference import load_reference_info
 from ..store import ResultStore, atomic_write_bytes, atomic_write_json
 
@@ -23,7 +23,8 @@ Curves = Dict[CurveKey, List[Dict]]
 CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "light_selection", "ellipse_technique",
                "samples", "light_samples",
                "seed", "threads", "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time",
-               "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite")
+               "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite",
+               *MACHINE_FIELDS)
 
 
 @dataclass
@@ -87,8 +88,8 @@ def write_runs(out_dir: str, results: StudyResults) -> None:
     writer.writerow(CSV_COLUMNS)
     for r in sorted(records, key=lambda r: r["key"]):
         key = curve_key(r["job"])  # the light selection and ellipse technique also of runs stored before they were kept
-        row = {**r["job"], **{k: v for k, v in r.items() if k != "job"}, "light_selection": key.light_selection,
-               "ellipse_technique": key.ellipse_technique}
+        row = {**r["job"], **{k: v for k, v in r.items() if k != "job"}, **(r.get("machine") or {}),
+               "light_selection": key.light_selection, "ellipse_technique": key.ellipse_technique}
         writer.writerow(["" if row.get(c) is None else row.get(c) for c in CSV_COLUMNS])
     atomic_write_bytes(os.path.join(out_dir, "runs.csv"), buffer.getvalue().encode("utf-8"))
     atomic_write_json(os.path.join(out_dir, "runs.json"), {"reference": results.reference, "runs": records})
