@@ -1,14 +1,17 @@
 """A render split into sample ranges (sphrect.sample_ranges), on this machine: ranges rendered by fresh renderers and
 merged are bit-identical to one renderer rendering the same ranges, the film's alpha included; bad ranges and late
 start_at calls are refused with clear errors; a worker without Blender fails its Cycles job, naming the worker."""
+import os
 import socket
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 
 import sphrect
 from sphrect.sample_ranges import Accumulation, merge, render_range, sample_ranges
-from sphrect.study.cycles import worker_blender
+from sphrect.study.cycles import _check_worker_blender, worker_blender
 from test_study_render import paper_like_scene
 
 
@@ -65,7 +68,16 @@ def test_start_at_and_merge_refuse_what_cannot_be_a_range():
 def test_a_worker_without_blender_fails_its_cycles_job_naming_it(monkeypatch):
     monkeypatch.delenv("BLENDER", raising=False)
     monkeypatch.setenv("PATH", "/nonexistent")
-    worker_blender.cache_clear()
-    with pytest.raises(RuntimeError, match=f"Blender was not found on worker {socket.gethostname()}"):
-        worker_blender(None)
-    worker_blender.cache_clear()
+    _check_worker_blender.cache_clear()
+    for _ in range(2):  # checked once, the same error for every Cycles job of the worker
+        with pytest.raises(RuntimeError, match=f"Blender was not found on worker {socket.gethostname()}"):
+            worker_blender(None)
+    assert _check_worker_blender.cache_info().misses == 1
+    _check_worker_blender.cache_clear()
+
+
+def test_import_sphrect_does_not_load_dask():
+    code = "import sys, sphrect; print(sorted({'dask', 'distributed'} & set(sys.modules)))"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                            env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    assert result.returncode == 0 and result.stdout.strip() == "[]", result.stderr
