@@ -3,9 +3,9 @@ a local one of worker processes on this machine (``--executor dask-local --worke
 
 Jobs go to workers as they free up and come back as they finish; the study's own process writes each record
 (runner.record_result), so an interrupted study resumes as with the local pool. A worker that dies (killed, out of
-memory, its machine lost) has its jobs run again on other workers by the scheduler; a job that has been running on
-ALLOWED_FAILURES + 1 workers that died is reported as failed (WorkerCrashed), as the local pool reports one that kills
-its worker, and the study goes on. A worker whose sphrect is another build than this process's refuses every job
+memory, its machine lost) has its jobs run again on other workers by the scheduler; a job that has been on
+ALLOWED_FAILURES + 1 workers that died, KILLED_WORKER_ROUNDS times over, is reported as failed (WorkerCrashed), as the
+local pool reports one that kills its worker, and the study goes on. A worker whose sphrect is another build than this process's refuses every job
 (build.BuildMismatch), so results never mix builds. With no worker for NO_WORKERS_TIMEOUT seconds the jobs left fail.
 
 Timing on a cluster: each job still renders with the study's --threads (1), but a worker of the cluster may share
@@ -21,9 +21,13 @@ from typing import Optional
 from ..build import build_hash, check_same_build
 from .executors import Executor, WorkerCrashed
 
-# Worker deaths a job may be present at before it is reported as failed (the local cluster's scheduler setting;
-# an existing cluster's scheduler has its own, distributed.scheduler.allowed-failures, whose default is also 3).
+# Worker deaths a job may be present at before the scheduler fails it (KilledWorker): the local cluster's setting; an
+# existing cluster's scheduler has its own, distributed.scheduler.allowed-failures, whose default is also 3.
 ALLOWED_FAILURES = 3
+# A job failed so is submitted again until it has been this many times in all before it is reported (WorkerCrashed):
+# the scheduler counts every job a dying worker holds, also one queued behind the job that killed it. The local
+# cluster gives a worker one job per thread (worker-saturation 1), so there only the culprit is counted.
+KILLED_WORKER_ROUNDS = 2
 NO_WORKERS_TIMEOUT = 120.0  # seconds without a worker before the jobs left are failed
 POLL_SECONDS = 1.0
 CONNECT_TIMEOUT = 30.0
@@ -66,7 +70,8 @@ class DaskExecutor(Executor):
             self.client = distributed.Client(scheduler, timeout=CONNECT_TIMEOUT)
         else:
             import dask
-            with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES}):
+            with dask.config.set({"distributed.scheduler.allowed-failures": ALLOWED_FAILURES,
+                                  "distributed.scheduler.worker-saturation": 1.0}):
                 self.cluster = distributed.LocalCluster(
                     n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True, host="127.0.0.1",
                     dashboard_address=DASHBOARD_ADDRESS if dashboard_available() else "127.0.0.1:0",
@@ -85,9 +90,15 @@ class DaskExecutor(Executor):
     def run(self, fn, tasks):
         distributed = _import_distributed()
         tasks = list(tasks)
-        futures = {self.client.submit(_run_checked, fn, build_hash(), task, pure=False): index
-                   for index, task in enumerate(tasks)}
-        pending, no_workers_since = set(futures), None
+        futures, rounds = {}, {}  # future -> task index; task index -> times submitted
+
+        def submit(index):
+            rounds[index] = rounds.get(index, 0) + 1
+            future = self.client.submit(_run_checked, fn, build_hash(), tasks[index], pure=False)
+            futures[future] = index
+            return future
+
+        pending, no_workers_since = {submit(i) for i in range(len(tasks))}, None
         try:
             while pending:
                 try:
@@ -95,7 +106,17 @@ class DaskExecutor(Executor):
                 except TimeoutError:  # (distributed's, the builtin)
                     done = set()
                 for future in done:
-                    yield tasks[futures[future]], self._outcome(future, distributed)
+                    index = futures.pop(future)
+                    try:
+                        result = future.result()
+                    except distributed.KilledWorker:
+                        if rounds[index] < KILLED_WORKER_ROUNDS:  # perhaps only queued behind the culprit: again
+                            pending.add(submit(index))
+                            continue
+                        result = WorkerCrashed("every worker that ran this job died while running it")
+                    except Exception as e:  # the job's own error (or a build mismatch), reported for the job
+                        result = e
+                    yield tasks[index], result
                 if done or self.client.scheduler_info().get("workers"):
                     no_workers_since = None
                 elif no_workers_since is None:
@@ -108,15 +129,6 @@ class DaskExecutor(Executor):
         finally:  # interrupted, or the consumer stopped: the jobs left are not run
             if pending:
                 self.client.cancel(list(pending))
-
-    @staticmethod
-    def _outcome(future, distributed):
-        try:
-            return future.result()
-        except distributed.KilledWorker:
-            return WorkerCrashed("every worker that ran this job died while running it")
-        except Exception as e:  # the job's own error (or a build mismatch), reported for the job
-            return e
 
     def close(self) -> None:
         self.client.close()
