@@ -24,6 +24,7 @@ from sphrect.study.machines import SLOWDOWN_ENV
 from sphrect.study.reference import REFERENCE_IMAGE, SEED_BASE
 from sphrect.study.report.equal_error import ellipse_comparisons, selection_comparisons
 from sphrect.study.report.results import curves, load_study
+from sphrect.study.shared_files import local_path
 from sphrect.study.store import ResultStore
 from test_study import assert_store_clean, scene_file, study, tiny_config  # noqa: F401  (scene_file: a fixture)
 from test_study_render import paper_like_scene
@@ -228,3 +229,28 @@ def test_command_line_runs_the_study_on_a_local_dask_cluster(scene_file, tmp_pat
                        "tcp://127.0.0.1:1"]) == 2
     assert "--scheduler" in capsys.readouterr().err
     assert study_main([scene_file, "--out", str(tmp_path / "s"), "--executor", "dask"]) == 2
+
+
+def read_shared_file(path):
+    """A job reading a file of the study (test_a_worker_reads_the_files_sent_to_it)."""
+    with open(local_path(path), "rb") as f:
+        return f.read()
+
+
+def test_a_worker_reads_the_files_sent_to_it(cluster, tmp_path):
+    """A worker that cannot see the study's folder (here: a path that exists nowhere) reads the copy sent to it."""
+    address, _ = cluster
+    absent = str(tmp_path / "elsewhere" / "scene.sphrect.npz")
+    present = tmp_path / "here.bin"
+    present.write_bytes(b"the study's file")
+    with DaskExecutor(scheduler=address) as executor:
+        executor.client.wait_for_workers(2, timeout=60)
+        # The executor reads the study's files where the study runs; stand in for an absent path with another one.
+        executor.client.register_worker_plugin(dask_executor.StudyFiles({absent: b"scene bytes"}),
+                                               name=dask_executor.StudyFiles.name)
+        results = executor.client.gather([executor.client.submit(dask_executor._run_checked, read_shared_file,
+                                                                 sphrect.build_hash(), absent, pure=False)
+                                          for _ in range(4)])
+        assert results == [b"scene bytes"] * 4
+        done = dict(executor.run(read_shared_file, [str(present)], files=[str(present)]))
+        assert done == {str(present): b"the study's file"}

@@ -66,8 +66,8 @@ def parser() -> argparse.ArgumentParser:
                         "(scheduler and --workers worker processes); dask: an existing Dask cluster (--scheduler)")
     p.add_argument("--scheduler", default=None,
                    help="run every job on the Dask cluster of this scheduler, e.g. tcp://HOST:8786 (implies "
-                        "--executor dask); every worker needs the same sphrect build, the scene and the output "
-                        "folder at the same paths")
+                        "--executor dask); every worker needs the same sphrect build (and Blender for Cycles); the "
+                        "scene and the reference are sent to the workers")
     p.add_argument("--threads", type=int, default=_STUDY.threads,
                    help="render threads per job (default 1: one job per core, comparable single-core timings)")
     p.add_argument("--reference-samples", type=int, default=None,

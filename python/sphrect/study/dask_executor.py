@@ -2,7 +2,9 @@
 a local one of worker processes on this machine (``--executor dask-local --workers N``) to try it out.
 
 Jobs go to workers as they free up and come back as they finish; the study's own process writes each record
-(runner.record_result), so an interrupted study resumes as with the local pool. A worker that dies (killed, out of
+(runner.record_result), so an interrupted study resumes as with the local pool. The files jobs read (the scene, the
+reference image, the .blend) are sent to each worker once per phase (StudyFiles, shared_files.py): workers need not
+see the study's folder. A worker that dies (killed, out of
 memory, its machine lost) has its jobs run again on other workers by the scheduler; a job that has been on
 ALLOWED_FAILURES + 1 workers that died, KILLED_WORKER_ROUNDS times over, is reported as failed (WorkerCrashed), as the
 local pool reports one that kills its worker, and the study goes on. A worker whose sphrect is another build than this process's refuses every job
@@ -16,10 +18,11 @@ from __future__ import annotations
 
 import os
 import time
-from typing import Optional
+from typing import Dict, Optional
 
 from ..build import build_hash, check_same_build
 from .executors import Executor, WorkerCrashed
+from .shared_files import read_files, use_copies
 
 # Worker deaths a job may be present at before the scheduler fails it (KilledWorker): the local cluster's setting; an
 # existing cluster's scheduler has its own, distributed.scheduler.allowed-failures, whose default is also 3.
@@ -31,6 +34,7 @@ KILLED_WORKER_ROUNDS = 2
 NO_WORKERS_TIMEOUT = 120.0  # seconds without a worker before the jobs left are failed
 POLL_SECONDS = 1.0
 CONNECT_TIMEOUT = 30.0
+SHARED_FILES_DIR = "sphrect-study-files"
 DASHBOARD_ADDRESS = "127.0.0.1:8787"  # the local cluster binds to this machine only
 
 
@@ -38,6 +42,19 @@ def _run_checked(fn, client_build: str, task):
     """On a worker: refuse a job when this worker runs another build; else run it."""
     check_same_build(client_build)
     return fn(task)
+
+
+class StudyFiles:
+    """A Dask worker plugin giving every worker of the cluster, those that join or restart later included, its copy
+    of the study's files (shared_files.py) in its own directory. A plugin rather than scattered data: data held only
+    by workers is lost when they die, the plugin is the scheduler's."""
+    name = "sphrect-study-files"
+
+    def __init__(self, files: Dict[str, bytes]):
+        self.files = files
+
+    def setup(self, worker) -> None:
+        use_copies(self.files, os.path.join(worker.local_directory, SHARED_FILES_DIR))
 
 
 def _import_distributed():
@@ -87,10 +104,12 @@ class DaskExecutor(Executor):
     def dashboard_link(self) -> Optional[str]:
         return self.client.dashboard_link if dashboard_available() else None
 
-    def run(self, fn, tasks):
+    def run(self, fn, tasks, files=()):
         distributed = _import_distributed()
         tasks = list(tasks)
         futures, rounds = {}, {}  # future -> task index; task index -> times submitted
+        if files:  # to every worker once, not with every job
+            self.client.register_worker_plugin(StudyFiles(read_files(files)), name=StudyFiles.name)
 
         def submit(index):
             rounds[index] = rounds.get(index, 0) + 1

@@ -25,19 +25,22 @@ import threading
 import time
 from abc import ABC, abstractmethod
 from concurrent.futures.process import BrokenProcessPool
-from typing import Any, Callable, Iterable, Iterator, Tuple
+from typing import Any, Callable, Iterable, Iterator, Sequence, Tuple
 
 
 class Executor(ABC):
     @abstractmethod
-    def run(self, fn: Callable[[Any], Any], tasks: Iterable[Any]) -> Iterator[Tuple[Any, Any]]:
-        """Run fn(task) for every task; yield (task, result) or (task, exception) as each finishes."""
+    def run(self, fn: Callable[[Any], Any], tasks: Iterable[Any], files: Sequence[str] = ()
+            ) -> Iterator[Tuple[Any, Any]]:
+        """Run fn(task) for every task; yield (task, result) or (task, exception) as each finishes. `files` are the
+        paths the tasks read: an executor whose workers may not see them sends them (shared_files.py); those on
+        this machine ignore them."""
 
 
 class SerialExecutor(Executor):
     """Runs the tasks one after the other in this process (debugging; tests with monkeypatched runners)."""
 
-    def run(self, fn, tasks):
+    def run(self, fn, tasks, files=()):
         for task in tasks:
             try:
                 result = fn(task)
@@ -108,7 +111,7 @@ class LocalProcessPool(Executor):
     def __init__(self, workers: int | None = None):
         self.workers = max(1, workers or os.cpu_count() or 1)
 
-    def run(self, fn, tasks):
+    def run(self, fn, tasks, files=()):
         pending = dict(enumerate(tasks))
         context = multiprocessing.get_context("spawn")
         with tempfile.TemporaryDirectory(prefix="sphrect-pool-") as marker_dir:

@@ -21,6 +21,7 @@ from .jobs import CYCLES, EQUAL_TIME, SPHRECT, Job
 from .executors import in_study_pool
 from .lock import hold_worker_lock
 from .machines import machine_info, scale_times, slowdown
+from .shared_files import local_path
 from .store import ResultStore
 
 REFERENCE_KIND = "reference"
@@ -68,7 +69,7 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     thread, the render's own compute time, insensitive to other load on the machine);
     wall_time/light_time/shading_time/rays: the renderer's own stats."""
     import sphrect
-    scene = load_study_scene(context.scene_path, context.width, context.height)
+    scene = load_study_scene(local_path(context.scene_path), context.width, context.height)
     t0 = time.perf_counter()
     renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
                                 pattern=job.pattern, mis=job.mis, light_selection=job.light_selection,
@@ -101,7 +102,7 @@ def render_cycles_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     from .cycles import render_cycles, worker_blender
     if not context.blend_path:
         raise ValueError("Cycles runs need the .blend scene")
-    image, timing = render_cycles(context.blend_path, job.samples, context.width, context.height, seed=job.seed,
+    image, timing = render_cycles(local_path(context.blend_path), job.samples, context.width, context.height, seed=job.seed,
                                   threads=job.threads, blender=worker_blender(context.blender),
                                   blender_script=context.blender_script)
     measured = {"build_time": timing.get("build_time"), "call_time": timing.get("operator_time"),
@@ -131,7 +132,10 @@ def _reference(context: RunContext) -> np.ndarray:
     """The study's reference image (its fingerprint names the reference's id)."""
     key = (os.path.abspath(context.store_root), context.reference_name, context.fingerprint)
     if key not in _reference_cache:
-        image = ResultStore(context.store_root).load_image(context.reference_name)
+        store = ResultStore(context.store_root)
+        path = local_path(store.image_path(context.reference_name))
+        image = store.load_image(context.reference_name) if path == store.image_path(context.reference_name) \
+            else np.load(path, allow_pickle=False)  # a copy sent to this worker (shared_files.py)
         if image is None:
             raise RuntimeError(f"reference image {context.reference_name!r} is missing")
         _reference_cache.clear()
@@ -172,3 +176,14 @@ def record_result(store: ResultStore, record: Dict, image: Optional[np.ndarray])
     if image is not None:
         store.save_image(record["image"], image)
     store.write_run(record)
+
+
+def job_files(context: RunContext, jobs) -> list:
+    """The files `jobs` read (Executor.run's `files`): the scene, the reference image once there is one, the .blend
+    for Cycles jobs."""
+    files = [context.scene_path]
+    if context.reference_name:
+        files.append(ResultStore(context.store_root).image_path(context.reference_name))
+    if context.blend_path and any(job.engine == CYCLES for job in jobs):
+        files.append(context.blend_path)
+    return files

@@ -26,7 +26,7 @@ from .machines import judged_times
 from .preflight import check_resolution, check_workers
 from .progress import ProgressBar
 from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
-from .runner import RunContext, record_result, run_job
+from .runner import RunContext, job_files, record_result, run_job
 from .store import ResultStore, atomic_write_json
 
 SCENE_FILE = "scene.sphrect.npz"
@@ -77,7 +77,7 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
         if done:
             log(f"{label}: {done} of {len(phase_jobs)} runs already measured, {len(todo)} to go")
         with ProgressBar(len(todo), label, enabled=show_progress) as bar:
-            for job, result in executor.run(functools.partial(run_job, context), todo):
+            for job, result in executor.run(functools.partial(run_job, context), todo, job_files(context, todo)):
                 if isinstance(result, BaseException):
                     message = f"{type(result).__name__}: {result}"
                     store.write_failure(job.key, message)
