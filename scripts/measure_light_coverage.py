@@ -4,6 +4,7 @@ per scene file, RMSE at equal samples with and without it against one reference 
 and the CPU time per render (one thread; the machine's noise applies).
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_coverage.py out/many_lights/*/scene.sphrect.npz
+    ... --pixel-filter blackman_harris:1.5     # the scenes' camera with another pixel filter (name:width)
 
 (The study writes each scene's scene.sphrect.npz into its output folder.)"""
 import argparse
@@ -20,9 +21,13 @@ def main():
     ap.add_argument("--samples", type=int, default=16)
     ap.add_argument("--seeds", type=int, default=6)
     ap.add_argument("--reference-samples", type=int, default=1024)
+    ap.add_argument("--pixel-filter", metavar="NAME:WIDTH", help=f"one of {', '.join(sphrect.pixel_filters)}")
     a = ap.parse_args()
     for path in a.scenes:
         scene = sphrect.load_scene(path)
+        if a.pixel_filter:
+            name, _, width = a.pixel_filter.partition(":")
+            scene.camera.pixel_filter, scene.camera.filter_width = name, float(width or 1)
         ref = sphrect.Renderer(scene, seed=999, threads=0, analytic_light_coverage=False)
         ref.render(a.reference_samples)
         reference = ref.image()[..., :3].astype(np.float64)

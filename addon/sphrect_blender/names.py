@@ -59,8 +59,9 @@ ELLIPSE_TECHNIQUE_LABELS = {
 # Cycles' Film > Pixel Filter (render/pixel_filter.h): where in and around its pixel a camera sample looks.
 PIXEL_FILTER_LABELS = {
     "box": ("Box", "Every sample counts alike over the pixel's own square: the sharpest edges, the most aliasing "
-                   "(Cycles renders every box 1 pixel wide, and so does SPHRECT from Blender). The only filter "
-                   "with Exact Light Edges: far less noise where the edges of visible lights cross pixels"),
+                   "(Cycles renders every box 1 pixel wide, and so does SPHRECT from Blender). With Exact Light "
+                   "Edges the least noise where the edges of visible lights cross pixels (computed exactly; for the "
+                   "other filters estimated)"),
     "gaussian": ("Gaussian", "Samples spread around the pixel centre as a Gaussian of standard deviation Width / 4 "
                              "(cut at 1.5 Widths): smooth edges, some blur"),
     "blackman_harris": ("Blackman-Harris", "Samples spread around the pixel centre as a Blackman-Harris window "

@@ -41,7 +41,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
         name="Exact Light Edges", default=True,
         description="For rectangle and disk lights seen by the camera, compute exactly how much of each pixel they "
                     "cover instead of estimating it from the samples (unbiased; removes the noise of their edges "
-                    "where nothing hides them; not in a volume, with depth of field or a pixel filter other than Box)")
+                    "where nothing hides them; with Gaussian and Blackman-Harris filters the filter's share is estimated from cheap "
+                    "inside-tests, nearly as good; not in a volume or with depth of field)")
     bsdf_samples_on_diffuse: BoolProperty(
         name="MIS on Diffuse", default=False,
         description="Also draw BSDF samples (MIS) at purely diffuse surfaces. Off, they take light samples alone "
@@ -51,8 +52,7 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     pixel_filter: EnumProperty(name="Pixel Filter", items=enum_items(PIXEL_FILTERS, PIXEL_FILTER_LABELS),
                                default=identifier(DEFAULT_PIXEL_FILTER),
                                description="How a pixel weighs what its camera samples see, as Cycles' Film > Pixel "
-                                           "Filter (the Cycles comparisons use the same). Other than Box, it turns "
-                                           "Exact Light Edges off")
+                                           "Filter (the Cycles comparisons use the same)")
     filter_width: FloatProperty(name="Width", default=DEFAULT_FILTER_WIDTH, min=FILTER_WIDTH_RANGE[0],
                                 max=FILTER_WIDTH_RANGE[1], subtype="PIXEL",
                                 description="Width of the pixel filter: lower is crisper, higher softer with less "

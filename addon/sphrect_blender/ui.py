@@ -56,9 +56,7 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         sub.prop(s, "bsdf_samples_on_diffuse")
         col.prop(s, "light_selection")
         col.prop(s, "ellipse_technique")
-        sub = col.column()
-        sub.active = s.pixel_filter == "BOX"  # the coverage is the 1-px box's
-        sub.prop(s, "analytic_light_coverage")
+        col.prop(s, "analytic_light_coverage")
         col.prop(s, "seed")
         col.separator()
         col.prop(s, "passes")

@@ -121,10 +121,10 @@ render::TextureLookup MakeLookup(int image, bool alpha_output, bool generated, c
     return t;
 }
 
-void SetCamera(RenderScene& s, int width, int height, const py::object& to_world, bool orthographic,
-               float half_width, float half_height, float offset_x, float offset_y, float aperture_radius,
-               float focus_distance, float clip_start, float clip_end, const std::string& pixel_filter,
-               float filter_width) {
+render::CameraModel MakeCameraModel(int width, int height, const py::object& to_world, bool orthographic,
+                                    float half_width, float half_height, float offset_x, float offset_y,
+                                    float aperture_radius, float focus_distance, float clip_start, float clip_end,
+                                    const std::string& pixel_filter, float filter_width) {
     const auto mat = CArray<double>::ensure(to_world);
     if (!mat || mat.ndim() != 2 || mat.shape(0) != 4 || mat.shape(1) != 4)
         throw py::value_error("camera to_world must be a 4x4 matrix");
@@ -148,7 +148,19 @@ void SetCamera(RenderScene& s, int width, int height, const py::object& to_world
                                   .cast<std::string>());
     c.filter = render::MakePixelFilter(
         EnumNamed<render::PixelFilterType>(pixel_filter, render::kPixelFilterNames, "camera pixel_filter"), filter_width);
-    s.SetCamera(c);
+    return c;
+}
+
+// set_camera(**camera) of the scene and of the renderer: the same arguments (sphrect/render.py camera_arguments).
+template <class Target>
+void SetCamera(Target& target, int width, int height, const py::object& to_world, bool orthographic, float half_width,
+               float half_height, float offset_x, float offset_y, float aperture_radius, float focus_distance,
+               float clip_start, float clip_end, const std::string& pixel_filter, float filter_width) {
+    const render::CameraModel c =
+        MakeCameraModel(width, height, to_world, orthographic, half_width, half_height, offset_x, offset_y,
+                        aperture_radius, focus_distance, clip_start, clip_end, pixel_filter, filter_width);
+    py::gil_scoped_release release;  // the renderer's screen lights of many lights take a while
+    target.SetCamera(c);
 }
 
 std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const std::vector<std::string>& techniques,
@@ -239,6 +251,13 @@ py::dict Stats(const Renderer& r, int k) {
 
 }  // namespace
 
+// The camera's keyword arguments, the same for the scene's and the renderer's set_camera.
+#define CAMERA_ARGS                                                                                                \
+    py::arg("width"), py::arg("height"), py::arg("to_world"), py::arg("orthographic"), py::arg("half_width"),      \
+        py::arg("half_height"), py::arg("offset_x"), py::arg("offset_y"), py::arg("aperture_radius"),              \
+        py::arg("focus_distance"), py::arg("clip_start"), py::arg("clip_end"), py::arg("pixel_filter") = "box",  \
+        py::arg("filter_width") = 1.0f
+
 void BindRender(py::module_& m) {
     py::class_<render::TextureLookup>(m, "_TextureLookup", "An image lookup bound to a material input (sphrect.TextureLookup)")
         .def(py::init(&MakeLookup), py::arg("image"), py::arg("alpha_output"), py::arg("generated"), py::arg("transform"),
@@ -274,10 +293,7 @@ void BindRender(py::module_& m) {
     py::class_<RenderScene, std::shared_ptr<RenderScene>>(m, "_Scene",
                                                            "Native scene; built by sphrect.Renderer from a sphrect.Scene")
         .def(py::init<>())
-        .def("set_camera", &SetCamera, py::arg("width"), py::arg("height"), py::arg("to_world"),
-             py::arg("orthographic"), py::arg("half_width"), py::arg("half_height"), py::arg("offset_x"),
-             py::arg("offset_y"), py::arg("aperture_radius"), py::arg("focus_distance"), py::arg("clip_start"),
-             py::arg("clip_end"), py::arg("pixel_filter") = "box", py::arg("filter_width") = 1.0f)
+        .def("set_camera", &SetCamera<RenderScene>, CAMERA_ARGS)
         .def("set_background", [](RenderScene& s, V3 c) { s.SetBackground(ToVec(c)); })
         .def("set_medium", [](RenderScene& s, V3 ss, V3 sa, float g) { s.SetMedium(ToVec(ss), ToVec(sa), g); })
         .def(
@@ -414,6 +430,7 @@ void BindRender(py::module_& m) {
              py::arg("memory_limit"))
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
         .def("cancel", &Renderer::Cancel)
+        .def("set_camera", &SetCamera<Renderer>, CAMERA_ARGS)
         .def("image", &Image)
         .def("stats", &Stats)
         .def("start_at", &Renderer::StartAt, py::arg("first_sample"), py::arg("pass_index"))
@@ -460,5 +477,7 @@ void BindRender(py::module_& m) {
     m.attr("medium_samplings") = NameTuple(render::kAllMediumSamplings, render::MediumSamplingName);
     m.attr("light_selections") = NameTuple(render::kAllLightSelections, render::LightSelectionName);
 }
+
+#undef CAMERA_ARGS
 
 }  // namespace sphrect::python

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "options.h"
+#include "camera_view.h"
 #include "scene.h"
 
 namespace sphrect::render {
@@ -66,6 +67,7 @@ struct TileTally {
 
 struct KernelParams {
     const RenderScene* scene;
+    const CameraView* view;  // the camera rendered from (camera_view.h)
     const RenderOptions* options;
     int samples;             // camera samples per pixel in this pass
     uint32_t first_sample;   // global index of the pass's first sample

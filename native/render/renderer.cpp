@@ -17,17 +17,40 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
     : scene_(std::move(scene)), options_(std::move(options)) {
     if (!scene_ || !scene_->committed()) throw std::invalid_argument("the renderer needs a committed scene");
     ValidateOptions(options_);
-    CheckRenderMemory(options_, width(), height());  // before the tree and the images are allocated
+    CheckRenderMemory(options_, scene_->camera.width, scene_->camera.height);  // before the tree and the images
     if (options_.light_selection == LightSelection::Tree) scene_->BuildLightTree();
     threads_ = options_.threads > 0 ? options_.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    view_ = MakeCameraView(*scene_, scene_->camera);
+    ClearImages();
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::ClearImages() {
     const size_t pixels = size_t(width()) * height();
     sums_.assign(options_.techniques.size(), std::vector<double>(3 * pixels, 0.0));
     counts_.assign(pixels, 0);
     alpha_sums_.assign(pixels, 0.0);
+    std::lock_guard<std::mutex> s(stats_mutex_);
     stats_.assign(options_.techniques.size(), TechniqueStats{});
 }
 
-Renderer::~Renderer() = default;
+void Renderer::SetCamera(const CameraModel& camera) {
+    std::unique_lock<std::mutex> lock(render_mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) throw std::logic_error("this Renderer is rendering: set its camera between renders");
+    ValidateCamera(camera);
+    CheckRenderMemory(options_, camera.width, camera.height);
+    view_ = MakeCameraView(*scene_, camera);
+    ClearImages();
+    next_sample_ = pass_ = 0;
+}
+
+std::vector<std::string> Renderer::Features() const {
+    SceneFeatures f = scene_->features();  // the scene's, with the view's camera
+    f.dof = view_.dof;
+    f.orthographic = view_.camera.orthographic;
+    return f.Names();
+}
 
 bool Renderer::Render(int samples, double time_budget, const std::function<void(int, int)>& progress) {
     ValidateRenderCall(options_, samples);
@@ -77,11 +100,11 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
     const std::vector<TileRect> tiles = CutIntoTiles(width(), height(), options_.tile_size);
     std::vector<double*> sums(sums_.size());
     for (size_t k = 0; k < sums_.size(); ++k) sums[k] = sums_[k].data();
-    const KernelParams params{&scene,      &options_,      samples, next_sample_, pass_, sums.data(), counts_.data(),
-                              alpha_sums_.data()};
+    const KernelParams params{&scene,      &view_,         &options_,      samples,
+                              next_sample_, pass_, sums.data(), counts_.data(), alpha_sums_.data()};
     const SceneFeatures& f = scene.features();
     const bool all = options_.force_all_features;
-    const TileKernel kernel = SelectTileKernel(f.dof || all, f.glossy || all, f.medium || all);
+    const TileKernel kernel = SelectTileKernel(view_.dof || all, f.glossy || all, f.medium || all);
 
     const uint64_t ticks0 = ReadTicks();
     const auto time0 = std::chrono::steady_clock::now();

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "camera_view.h"
 #include "options.h"
 #include "scene.h"
 
@@ -53,11 +54,16 @@ class Renderer {
     // Stops the render in progress at its next tile, or, when none is, the next Render() call
     // before it renders anything (each cancel stops one render).
     void Cancel() { cancel_.store(true); }
+    // Renders from now on from `camera` (the scene's own at first), with the same scene: the images start
+    // again, empty, at the camera's resolution, as in a new Renderer (sample indices, passes and stats too),
+    // without the scene's build.  Throws std::invalid_argument for a camera the scene could not take or images
+    // over the memory limit (nothing changed then), std::logic_error while rendering.
+    void SetCamera(const CameraModel& camera);
 
-    int width() const { return scene_->camera.width; }
-    int height() const { return scene_->camera.height; }
+    int width() const { return view_.camera.width; }
+    int height() const { return view_.camera.height; }
     const RenderOptions& options() const { return options_; }
-    std::vector<std::string> Features() const { return scene_->features().Names(); }
+    std::vector<std::string> Features() const;  // the scene's features, with the view's camera (dof, orthographic)
     // RGBA float32 [height][width][4], row 0 at the top; mean of the samples so far.
     void Image(int technique_index, float* out) const;
     TechniqueStats Stats(int technique_index) const;
@@ -71,8 +77,11 @@ class Renderer {
   private:
     bool RenderPass(int samples, const std::function<void(int, int)>& progress);
 
+    void ClearImages();  // sized for the view's resolution
+
     std::shared_ptr<const RenderScene> scene_;
     RenderOptions options_;
+    CameraView view_;
     int threads_ = 1;
     std::vector<std::vector<double>> sums_;  // per technique, RGB per pixel
     std::vector<uint32_t> counts_;           // camera samples per pixel

@@ -111,8 +111,7 @@ void RenderScene::RequireNotCommitted() const {
     if (committed_) Fail("the scene is already committed");
 }
 
-void RenderScene::SetCamera(const CameraModel& c) {
-    RequireNotCommitted();
+void ValidateCamera(const CameraModel& c) {
     if (c.width <= 0 || c.height <= 0 || c.width > kMaxImageSide || c.height > kMaxImageSide ||
         int64_t(c.width) * c.height > kMaxImagePixels)
         Fail("camera resolution " + std::to_string(c.width) + " x " + std::to_string(c.height) +
@@ -130,6 +129,11 @@ void RenderScene::SetCamera(const CameraModel& c) {
     if (c.aperture_radius > 0 && !(c.focus_distance > 0 && std::isfinite(c.focus_distance)))
         Fail("focus_distance must be positive when aperture_radius > 0");
     if (!(c.clip_start >= 0) || !(c.clip_end > c.clip_start)) Fail("camera clipping needs 0 <= clip_start < clip_end");
+}
+
+void RenderScene::SetCamera(const CameraModel& c) {
+    RequireNotCommitted();
+    ValidateCamera(c);
     camera = c;
     camera_set_ = true;
 }
@@ -505,7 +509,6 @@ void RenderScene::Commit() {
     rtcCommitScene(rtc_scene);
     AddMeshLights();
     analytic_light_finder.Build(device_, area_lights, num_analytic_lights);
-    screen_lights = BuildScreenLights(camera, area_lights, num_analytic_lights);
     std::vector<double> powers;
     for (const AreaLight& l : area_lights) {
         powers.push_back(AreaLightPower(l));

@@ -13,7 +13,6 @@
 #include "area_light_finder.h"
 #include "bsdf.h"
 #include "camera.h"
-#include "screen_lights.h"
 #include "light_tree.h"
 #include "lights.h"
 #include "medium.h"
@@ -64,6 +63,10 @@ struct SceneFeatures {
     bool textures = false, normal_maps = false, transparency = false;
     std::vector<std::string> Names() const;
 };
+
+// std::invalid_argument unless the camera can render: resolution within the limits, a finite, non-singular
+// matrix, a positive image plane, a valid lens and clipping range.
+void ValidateCamera(const CameraModel& camera);
 
 class RenderScene {
   public:
@@ -151,7 +154,6 @@ class RenderScene {
     std::vector<AreaLight> area_lights;
     size_t num_analytic_lights = 0;
     AreaLightFinder analytic_light_finder;  // of lights [0, num_analytic_lights): which a ray crosses
-    std::vector<ScreenLight> screen_lights;  // of those, the camera's view of the ones it sees whole
     LightSelector light_selector;            // over area_lights, by power
     bool has_mesh_lights = false;            // some area light is on_mesh
     bool has_transparency = false;           // Commit(): some triangle's material may let rays through

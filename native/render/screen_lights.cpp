@@ -261,13 +261,13 @@ std::vector<ScreenLight> BuildScreenLights(const CameraModel& camera, const std:
     return out;
 }
 
-double PixelCoverage(const ScreenLight& s, int px, int py) {
-    const double x0 = px, y0 = py, x1 = px + 1.0, y1 = py + 1.0;
+double BoxCoverage(const ScreenLight& s, double x0, double y0, double x1, double y1) {
     if (s.x1 <= x0 || s.x0 >= x1 || s.y1 <= y0 || s.y0 >= y1) return 0;
     if (InsideScreenLight(s, x0, y0) && InsideScreenLight(s, x1, y0) && InsideScreenLight(s, x0, y1) &&
         InsideScreenLight(s, x1, y1))
         return 1;  // a convex image holding the square's corners holds the square
-    if (!s.ellipse) return std::min(ConvexPolygonBoxArea(s.qx, s.qy, 4, x0, y0, x1, y1), 1.0);
+    const double box_area = (x1 - x0) * (y1 - y0);
+    if (!s.ellipse) return std::min(ConvexPolygonBoxArea(s.qx, s.qy, 4, x0, y0, x1, y1) / box_area, 1.0);
     // The pixel's corners in the disk's frame z = L (p - c), where the area scales by det L.
     double zx[4], zy[4];
     const double cx[4] = {x0, x1, x1, x0}, cy[4] = {y0, y0, y1, y1};
@@ -277,7 +277,9 @@ double PixelCoverage(const ScreenLight& s, int px, int py) {
         zy[k] = s.l11 * dy;
     }
     const double area = std::abs(UnitDiskPolygonArea(zx, zy, 4)) / (s.l00 * s.l11);
-    return std::clamp(area, 0.0, 1.0);
+    return std::clamp(area / box_area, 0.0, 1.0);
 }
+
+double PixelCoverage(const ScreenLight& s, int px, int py) { return BoxCoverage(s, px, py, px + 1.0, py + 1.0); }
 
 }  // namespace sphrect::render

@@ -54,6 +54,8 @@ inline bool InsideScreenLight(const ScreenLight& s, double x, double y) {
     return true;
 }
 
+// Fraction of the box [x0, x1) x [y0, y1) inside s's image, in [0, 1].
+double BoxCoverage(const ScreenLight& s, double x0, double y0, double x1, double y1);
 // Fraction of the pixel [px, px + 1) x [py, py + 1) inside s's image, in [0, 1].
 double PixelCoverage(const ScreenLight& s, int px, int py);
 

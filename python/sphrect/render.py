@@ -109,6 +109,7 @@ def _int_array(a, what: str, upper: Optional[int] = None) -> np.ndarray:
 
 
 def _set_camera(native, cam: Camera) -> None:
+    """The camera to the native scene or renderer (their set_camera takes the same arguments)."""
     for name in ("width", "height"):
         v = getattr(cam, name)
         if not isinstance(v, numbers.Integral) or not 1 <= int(v) <= _MAX_SIDE:
@@ -341,10 +342,12 @@ class Renderer:
         for msg in skipped:
             warnings.warn(msg, RuntimeWarning, stacklevel=2)
         self._scene = native
+        self._film_transparent = bool(scene.camera.film_transparent)
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
                                     str(light_selection), str(ellipse_technique), seed, threads, tile_size,
                                     bool(analytic_light_coverage), bool(bsdf_samples_on_diffuse), memory_limit)
         self._techniques = techniques
+        self._memory_limit = memory_limit
 
     @property
     def techniques(self):
@@ -398,6 +401,19 @@ class Renderer:
         from .sample_ranges import Accumulation
         return Accumulation({t: self._r.sums(k) for k, t in enumerate(self._techniques)}, self._r.counts(),
                             self._r.alpha_sums(), bool(self._r.film_alpha))
+
+    def set_camera(self, camera: Camera) -> None:
+        """Render from `camera` from now on, with the same scene (its BVH, lights and light tree are kept: a view
+        change costs only the lights' images on the new film).  The images start again, empty, at the camera's
+        resolution, as a new Renderer's would: samples, stats and the sample sequence too, so the images equal a
+        new Renderer's of the scene with this camera, bit for bit.  ValueError for a camera the scene could not
+        take (as Renderer(scene) would say) or whose film_transparent differs from the scene's (a property of the
+        scene: build a new Renderer); RuntimeError while render() runs."""
+        if bool(camera.film_transparent) != self._film_transparent:
+            raise ValueError("camera film_transparent differs from the scene's: it is the scene's setting, "
+                             "so a new Renderer is needed to change it")
+        _native.check_render_memory(len(self._techniques), int(camera.width), int(camera.height), self._memory_limit)
+        _set_camera(self._r, camera)
 
     def cancel(self) -> None:
         """Stop the render() in progress at its next tile, or, if none is, the next render() call before it

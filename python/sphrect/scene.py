@@ -328,7 +328,7 @@ class Camera:
     # Cycles' Film > Pixel Filter: one of PIXEL_FILTERS, of filter_width pixels (box: its side; gaussian: 4 sigma,
     # cut at 6 sigma; blackman_harris: its support is 2 x the width).  Camera samples land around their pixel
     # centre as the filter is distributed (filter importance sampling, weight 1).  Blender's default: Blackman-Harris
-    # 1.5; this default, the 1-px box, is the renderer's before filters (and keeps Exact Light Edges).
+    # 1.5; this default, the 1-px box, is the renderer's before filters.
     pixel_filter: str = "box"
     filter_width: float = 1.0        # pixels, in [MIN_PIXEL_FILTER_WIDTH, MAX_PIXEL_FILTER_WIDTH]
 

@@ -3,6 +3,7 @@ it reaches the renderer: on a scene whose disks are in view, F12 with it on diff
 pixels the disks' images partly cover, and there it is closer to a high-sample render."""
 import bpy
 import numpy as np
+import pytest
 
 from conftest import addon_module, ensure_addon, open_blend
 
@@ -16,11 +17,12 @@ def test_default_and_options():
         assert s.renderer_options()["analytic_light_coverage"] is value
 
 
-def test_setting_changes_the_disk_edges_in_an_f12_render():
+@pytest.mark.parametrize("pixel_filter", ["BOX", "BLACKMAN_HARRIS"])  # exact, and Blender's default (estimated)
+def test_setting_changes_the_disk_edges_in_an_f12_render(pixel_filter):
     scene = open_blend("08_disk_room", 48, 36)
     s = scene.sphrect
     s.technique, s.passes = "RECTANGLE", 1
-    s.pixel_filter = "BOX"  # Exact Light Edges is the 1-px box's (other filters estimate the edges)
+    s.pixel_filter, s.filter_width = pixel_filter, 1.5
     engine = addon_module("engine.render_engine")
     images = {}
     for value, samples in ((True, 4), (False, 4), (False, 512)):

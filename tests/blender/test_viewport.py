@@ -169,6 +169,37 @@ def test_worker_honours_the_viewport_pixel_size(empty_scene):
     assert viewport.viewport_pixel_size(empty_scene, bpy.context) == max(1, round(bpy.context.preferences.system.pixel_size))
 
 
+def test_worker_keeps_its_renderer_while_only_the_camera_changes(empty_scene):
+    """Jobs of the same scene version (the view moved; the previews' resolutions) reuse one renderer with its
+    camera set, no new native scene: one renderer for two jobs with previews, and the final image is a new
+    renderer's of the moved view; a new scene version builds a new one."""
+    import dataclasses
+    lit_test_scene(empty_scene)
+    exported = export()[0]
+    first = small_job(exported, samples=3)._replace(scene_version=1)
+    moved = dataclasses.replace(first.scene.camera, to_world=(np.array(first.scene.camera.to_world) +
+                                                              np.array([[0, 0, 0, 0.3]] + [[0] * 4] * 3)).tolist())
+    second = first._replace(scene=dataclasses.replace(first.scene, camera=moved))
+    worker = worker_module().ProgressiveWorker()
+    seen = []
+    worker._on_frame = lambda: seen.append(worker.latest)
+    try:
+        for job in (first, second):
+            worker.restart(job)
+            wait_for(lambda: not worker.busy, "the job")
+        assert worker.renderers_built == 1
+        assert sum(f.preview for f in seen) >= 2  # the previews were rendered by it too
+        frame = worker.latest
+        r = sphrect.Renderer(second.scene, techniques=list(second.techniques), **second.options)
+        r.render(3)
+        assert frame.samples == 3 and np.allclose(frame.images[0], r.image("rectangle"), rtol=1e-5, atol=1e-6)
+        worker.restart(second._replace(scene_version=2))
+        wait_for(lambda: not worker.busy, "the job")
+        assert worker.renderers_built == 2
+    finally:
+        assert worker.stop()
+
+
 def test_worker_previews_first_then_restarts_and_stops(empty_scene):
     """The first image is a reduced-resolution one; restart() drops the running job for the new one (its
     frames carry the new generation); stop() ends the thread in the middle of a long job."""

@@ -48,16 +48,25 @@ def replicates(scene, coverage, reps, samples, seed0=0, **kw):
     return np.array(out)
 
 
-@pytest.mark.parametrize("camera_type, through_wall",
-                         [("perspective", False), ("orthographic", False), ("perspective", True)])
-def test_unbiased_against_the_sampled_estimate(camera_type, through_wall):
+# Pixel filters other than the 1-px box (render/pixel_filter.h): the control variate's mean is the image's share
+# of the filter, exact for a box of any width, estimated for the others (light_coverage.h, FilteredCoverage).
+FILTERS = {"box2": dict(pixel_filter="box", filter_width=2.0),
+           "blackman_harris": dict(pixel_filter="blackman_harris", filter_width=1.5),
+           "gaussian": dict(pixel_filter="gaussian", filter_width=1.0)}
+
+
+@pytest.mark.parametrize("camera_type, through_wall, pixel_filter",
+                         [("perspective", False, None), ("orthographic", False, None), ("perspective", True, None),
+                          ("perspective", False, "blackman_harris"), ("orthographic", False, "gaussian"),
+                          ("perspective", True, "blackman_harris"), ("perspective", False, "box2")])
+def test_unbiased_against_the_sampled_estimate(camera_type, through_wall, pixel_filter):
     """Welch's t-test of 32 replicates with the control variate against 32 without (independent
     seeds), on each image row's sum and on the whole image's, per channel; family-wise
     false-failure rate 1e-3 (Sidak).  (Not per pixel: where a light's image misses a sliver of a
     pixel, its offset is a rare event -- almost every sample lands inside -- whose replicate means
     are far from normal, so a per-pixel t-test would fail for want of samples, not for a bias.  That
     a pixel's coverage is the probability of landing inside is test_screen_lights.cpp's.)"""
-    scene = seen_lights_scene(camera_type, through_wall=through_wall)
+    scene = seen_lights_scene(camera_type, through_wall=through_wall, **FILTERS.get(pixel_filter, {}))
     with_cv = replicates(scene, True, 32, 8)
     without = replicates(scene, False, 32, 8, seed0=100)
     rows_cv, rows = with_cv.sum(axis=2), without.sum(axis=2)          # [reps, H, 3]
@@ -70,10 +79,13 @@ def test_unbiased_against_the_sampled_estimate(camera_type, through_wall):
     assert abs(totals_cv.mean() - totals.mean()) < 4 * totals.std(ddof=1) / np.sqrt(len(totals))
 
 
-def test_edges_of_unoccluded_lights_lose_their_noise():
+@pytest.mark.parametrize("pixel_filter", [None, "blackman_harris", "gaussian", "box2"])
+def test_edges_of_unoccluded_lights_lose_their_noise(pixel_filter):
     """At equal samples the error of the pixels seeing the lights' edges falls by far more than 20x
-    (deterministic: fixed seeds)."""
-    scene = seen_lights_scene(occluder=False)
+    (deterministic: fixed seeds).  Measured: 339x with the 1-px box, 254x with the 2-px box, 118x with
+    Blackman-Harris 1.5 and 98x with a Gaussian 1.5, whose coverage is estimated (28-34x with 16 inside-tests
+    per camera sample instead of 64)."""
+    scene = seen_lights_scene(occluder=False, **FILTERS.get(pixel_filter, {}))
     ref = replicates(scene, False, 1, 4096, seed0=999)[0]
     with_cv, without = replicates(scene, True, 4, 16), replicates(scene, False, 4, 16)
     err_cv = ((with_cv - ref) ** 2).mean(axis=(0, 3))
@@ -83,21 +95,30 @@ def test_edges_of_unoccluded_lights_lose_their_noise():
     assert err_cv[edges].sum() < err[edges].sum() / 20
 
 
-@pytest.mark.parametrize("through_wall", [False, True])
-def test_occluded_edges_lose_most_of_their_noise(through_wall):
+@pytest.mark.parametrize("through_wall, pixel_filter", [(False, None), (True, None), (False, "blackman_harris")])
+def test_occluded_edges_lose_most_of_their_noise(through_wall, pixel_filter):
     """A plane in front of part of the rectangle (and a light crossing the wall): the pixels where
     something hides part of a light replace what their camera samples see of it by the grid's
     estimate, so at equal samples their error falls several times, and no pixel the option
-    changes is much worse (fixed seeds)."""
-    scene = seen_lights_scene(occluder=True, through_wall=through_wall)
+    changes is much worse (fixed seeds).  With Blackman-Harris 1.5 measured 21x (4.7x while the probes
+    stayed within the filter's 5%-95% quantiles and missed occluders in its outer ring)."""
+    scene = seen_lights_scene(occluder=True, through_wall=through_wall, **FILTERS.get(pixel_filter, {}))
     ref = replicates(scene, False, 1, 4096, seed0=999)[0]
-    with_cv, without = replicates(scene, True, 4, 16), replicates(scene, False, 4, 16)
+    # (16 replicates with the filter: a few pixels see the light only in the filter's outer ring, where the
+    # sampled estimate is a rare event that 4 replicates may all miss; 16 show its variance.)
+    reps = 4 if pixel_filter is None else 16
+    with_cv, without = replicates(scene, True, reps, 16), replicates(scene, False, reps, 16)
     err_cv = ((with_cv - ref) ** 2).mean(axis=(0, 3))
     err = ((without - ref) ** 2).mean(axis=(0, 3))
     assert err_cv.sum() < err.sum() / 8  # measured: 22x (15x with the wall's light); 3.1x before the grid
     changed = np.any(with_cv[0] != without[0], axis=-1)
-    # No pixel the option changes is much worse (the reference's own noise allows a little).
-    assert np.all(err_cv[changed] <= 1.5 * err[changed] + 1e-4)
+    # No pixel the option changes is much worse (the reference's own noise allows a little).  With the filter,
+    # one is (measured: 1 of the changed pixels): behind the occluder, it sees the light only through the
+    # filter's outer ring, which its 16 camera samples miss in every replicate (mean 0.0086 against the
+    # reference's 0.0155: a small error that is all bias at this count); the grid finds the light (mean 0.0168)
+    # with some noise.  So with a filter at most 1% of the changed pixels may be.
+    worse = err_cv[changed] > 1.5 * err[changed] + 1e-4
+    assert worse.sum() <= (0 if pixel_filter is None else 0.01 * changed.sum())
 
 
 @pytest.mark.parametrize("change", ["medium", "depth_of_field", "light_hidden"])

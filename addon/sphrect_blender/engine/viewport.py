@@ -52,6 +52,7 @@ class ViewportSession:
         self.scene = None          # sphrect.Scene as exported (camera: the scene camera)
         self.settings = None
         self.contents = None       # viewport_updates.contents_signature of the exported scene
+        self.scene_version = 0     # counts the exports that changed more than the scene camera (Job.scene_version)
         self.techniques = ()
         self.view = None           # view_signature of the running job
         self.changed = True        # restart the worker at the next draw
@@ -96,6 +97,7 @@ class ViewportSession:
         if EVERYTHING in kinds:
             self.scene, log = scene_from_depsgraph(depsgraph)
             self.contents = contents_signature(depsgraph)
+            self.scene_version += 1
         else:
             if LIGHTS in kinds:
                 lights = (export_light(sphrect, i.object, i.matrix_world, i.object.name, log)
@@ -103,6 +105,8 @@ class ViewportSession:
                 self.scene = dataclasses.replace(self.scene, lights=[l for l in lights if l is not None])
             if WORLD in kinds:
                 self.scene = dataclasses.replace(self.scene, world=export_world(sphrect, bl_scene.world, log))
+            if kinds & {LIGHTS, WORLD}:
+                self.scene_version += 1  # (the scene camera's alone keeps the native scene: the view replaces it)
             if CAMERA in kinds:
                 cam = bl_scene.camera.evaluated_get(depsgraph) if bl_scene.camera is not None else None
                 self.scene = dataclasses.replace(self.scene, camera=export_camera(sphrect, bl_scene, cam, log))
@@ -134,7 +138,7 @@ class ViewportSession:
             settings = depsgraph.scene.sphrect
             self.worker.restart(viewport_worker.Job(dataclasses.replace(self.scene, camera=camera), self.techniques,
                                                     settings.renderer_options(), settings.viewport_samples,
-                                                    pixel_size))
+                                                    pixel_size, self.scene_version))
         frame = self.worker.latest
         if frame is None:
             self._stats(engine, "SPHRECT | Starting")

@@ -2,7 +2,9 @@
 (a sphrect.Scene whose camera is the view, the techniques and the renderer options) first at reduced
 resolution, then at full resolution in growing sample batches, and publishes each step's images.
 
-A new job (the view or the scene changed) or stop() cancels the renderer call in progress at its next tile
+A job whose scene differs from the last one's only in its camera (the view moved, a preview's or the full
+resolution: the same `scene_version`) reuses the last renderer with the camera set (Renderer.set_camera): the
+native scene, its BVH and light tree are not built again. A new job (the view or the scene changed) or stop() cancels the renderer call in progress at its next tile
 (the native renderer releases the GIL while it renders and checks its cancel flag between tiles), so a
 restart costs at most a tile. pause_all() holds every worker while an F12 render runs, so that the viewport
 never takes CPU from it. Nothing here touches bpy: the thread only sees sphrect objects."""
@@ -23,7 +25,7 @@ PREVIEW_DIVISORS = (4, 2)
 # uploading them to the GPU) stay small, short enough that the image refreshes several times a second.
 TARGET_CALL_SECONDS = 0.25
 PAUSE_POLL_SECONDS = 0.1  # how often a paused worker looks whether it should stop instead
-SLOW_BUILD_SECONDS = 0.1  # a renderer that took longer to build: no further preview (a million triangles: 0.5 s)
+SLOW_BUILD_SECONDS = 0.1  # a renderer that took longer to make ready: no further preview
 THREAD_NAME = "SPHRECT viewport"  # every viewport thread's name (tests look for it)
 VIEWPORT_NICENESS = 10            # the worker's threads' nice value (Linux: per thread, inherited)
 
@@ -35,12 +37,14 @@ _not_paused.set()
 class Job(NamedTuple):
     """What a viewport shows: `scene` (camera = the view at full resolution), rendered with `techniques`
     (one, or two for the split view) to `samples` per pixel, at the view's resolution divided by `pixel_size`
-    (Blender's Viewport > Pixel Size: one rendered pixel per pixel_size^2 screen pixels)."""
+    (Blender's Viewport > Pixel Size: one rendered pixel per pixel_size^2 screen pixels).  Jobs with the same
+    `scene_version` (not None) have the same scene but for the camera: the worker keeps their renderer."""
     scene: object
     techniques: Tuple[str, ...]
     options: dict
     samples: int
     pixel_size: int = 1
+    scene_version: Optional[int] = None
 
 
 class Frame(NamedTuple):
@@ -92,6 +96,8 @@ class ProgressiveWorker:
         self._generation = 0
         self._stopping = False
         self._renderer = None             # the one inside a render() call, for cancel()
+        self._kept = None                 # (key, renderer): the last renderer made, for jobs of the same scene
+        self.renderers_built = 0          # how many sphrect.Renderer this worker made (the tests read it)
         self.latest: Optional[Frame] = None
         self.first_scale: Optional[float] = None  # the scale of the current job's first frame
         self.busy = False                 # a job is not finished yet
@@ -159,11 +165,23 @@ class ProgressiveWorker:
         return not self._stopping and generation == self._generation
 
     def _make_renderer(self, sphrect, job, divisor, caught):
+        """A renderer of the job's scene at 1/divisor of its resolution: the kept one with the camera set when the
+        job's scene is the kept one's but for the camera, else a new one (which is kept)."""
+        scene = scaled_scene(job.scene, divisor)
+        key = (job.scene_version, job.techniques, tuple(sorted(job.options.items())))
+        if job.scene_version is not None and self._kept is not None and self._kept[0] == key:
+            try:
+                self._kept[1].set_camera(scene.camera)
+                return self._kept[1]
+            except ValueError:  # a camera the renderer cannot take (e.g. the film's transparency): a new one
+                pass
+        self._kept = None  # let the old one's images go before the new one's are allocated
         with warnings.catch_warnings(record=True) as new:
             warnings.simplefilter("always")
-            renderer = sphrect.Renderer(scaled_scene(job.scene, divisor), techniques=list(job.techniques),
-                                        **job.options)
+            renderer = sphrect.Renderer(scene, techniques=list(job.techniques), **job.options)
         caught.extend(str(w.message) for w in new if str(w.message) not in caught)
+        self.renderers_built += 1
+        self._kept = (key, renderer)
         return renderer
 
     def _render_call(self, renderer, samples, generation):
@@ -199,7 +217,7 @@ class ProgressiveWorker:
                 continue
             built = time.perf_counter()
             renderer = self._make_renderer(sphrect, job, divisor, caught)
-            # Each preview builds the native scene again (its BVH): for big scenes one preview only.
+            # A new renderer builds the native scene (its BVH): for big scenes one preview only.
             slow_build = time.perf_counter() - built > SLOW_BUILD_SECONDS
             if not self._render_call(renderer, 1, generation):
                 return False

@@ -43,10 +43,10 @@ struct PrimaryHit {
 template <bool kDof>
 static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk& chunk, bool sample_bsdf,
                                          ThreadScratch& scratch) {
-    const CameraModel& camera = p.scene->camera;
+    const CameraModel& camera = p.view->camera;
     const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
-    const bool coverage = !kDof && UsesLightCoverage(*p.scene, *p.options);
-    if (coverage) ScreenLightsOverTile(*p.scene, chunk.tile, scratch.tile_screen_lights);
+    const bool coverage = !kDof && UsesLightCoverage(*p.scene, *p.view, *p.options);
+    if (coverage) ScreenLightsOverTile(*p.view, chunk.tile, scratch.tile_screen_lights);
     for (int c = 0; c < chunk.count; ++c) {
         const int x = chunk.X(c), y = chunk.Y(c);
         const uint64_t pixel_seed = PixelSeed(p.options->seed, chunk.PixelIndex(c, camera.width));
@@ -58,7 +58,7 @@ static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk&
         auto& partial = scratch.partial_coverages;
         partial.clear();
         if (coverage)
-            PartialCoverages(*p.scene, scratch.tile_screen_lights, x, y, p.samples,
+            PartialCoverages(*p.scene, *p.view, scratch.tile_screen_lights, x, y, p.samples,
                              MixBits(DimensionSeed(pixel_seed, kDimLightEdge) ^ p.first_sample), partial);
         const int light_seen_by_estimate = LightSeenByEstimate(partial);
         for (uint32_t i = 0; i < n; ++i) {

@@ -37,7 +37,7 @@ static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk
     const size_t techniques = p.options->techniques.size();
     const uint32_t n = uint32_t(p.samples);
     for (int c = 0; c < chunk.count; ++c) {
-        const uint64_t pixel = chunk.PixelIndex(c, p.scene->camera.width);
+        const uint64_t pixel = chunk.PixelIndex(c, p.view->camera.width);
         if (p.scene->film_alpha) {
             double alpha = 0;
             for (uint32_t i = 0; i < n; ++i) alpha += hits[size_t(c) * n + i].alpha;

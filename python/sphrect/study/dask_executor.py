@@ -4,11 +4,11 @@ a local one of worker processes on this machine (``--executor dask-local --worke
 Jobs go to workers as they free up and come back as they finish; the study's own process writes each record
 (runner.record_result), so an interrupted study resumes as with the local pool. The files jobs read (the scene, the
 reference image, the .blend) are sent to each worker once per phase (StudyFiles, shared_files.py): workers need not
-see the study's folder. A worker that dies (killed, out of
-memory, its machine lost) has its jobs run again on other workers by the scheduler; a job that has been on
-ALLOWED_FAILURES + 1 workers that died, KILLED_WORKER_ROUNDS times over, is reported as failed (WorkerCrashed), as the
-local pool reports one that kills its worker, and the study goes on. A worker whose sphrect is another build than this process's refuses every job
-(build.BuildMismatch), so results never mix builds. With no worker for NO_WORKERS_TIMEOUT seconds the jobs left fail.
+see the study's folder. A worker that dies (killed, out of memory, its machine lost) has its jobs run again on other
+workers by the scheduler; a job that has been on ALLOWED_FAILURES + 1 workers that died, KILLED_WORKER_ROUNDS times
+over, is reported as failed (WorkerCrashed), as the local pool reports one that kills its worker, and the study goes
+on. A worker whose sphrect is another build than this process's refuses every job (build.BuildMismatch), so results
+never mix builds. With no worker for NO_WORKERS_TIMEOUT seconds the jobs left fail.
 
 Timing on a cluster: each job still renders with the study's --threads (1), but a worker of the cluster may share
 its machine with others, and machines differ: records carry their machine and calibration (machines.py) and the
