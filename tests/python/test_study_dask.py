@@ -20,7 +20,7 @@ from sphrect.study import dask_executor, study as study_module
 from sphrect.study.cli import main as study_main
 from sphrect.study.dask_executor import DaskExecutor
 from sphrect.study.jobs import build_plan
-from sphrect.study.machines import SLOWDOWN_ENV
+from sphrect.study.machines import SLOWDOWN_ENV, judged_times
 from sphrect.study.reference import REFERENCE_IMAGE, SEED_BASE
 from sphrect.study.report.equal_error import ellipse_comparisons, selection_comparisons
 from sphrect.study.report.results import curves, load_study
@@ -197,16 +197,36 @@ def test_a_worker_twice_as_slow_changes_no_verdict(scene_file, tmp_path):
     assert "as measured" in single.time_basis and "normalised" in mixed.time_basis
     # Both workers measured runs: the slow one's raw times are twice the fake renderer's; normalised, the two workers'
     # times agree, up to the calibrations' noise (+-30% on this shared machine).
-    calibrations = sorted({r["machine"]["calibration"] for r in mixed.ladder})
-    assert len(calibrations) == 2 and 1.3 < calibrations[1] / calibrations[0] < 3.0  # 2, and timing noise
+    calibration = {bool(r["machine"].get("slowdown")): r["machine"]["calibration"] for r in mixed.ladder}
+    assert 1.3 < calibration[True] / calibration[False] < 3.0  # 2, and timing noise
     serial = {r["key"]: r for r in single.ladder}
     ratios = {True: [], False: []}  # slow worker -> time / the single-worker study's time
     for r in mixed.ladder:
-        slow = r["machine"]["calibration"] == calibrations[1]
+        slow = bool(r["machine"].get("slowdown"))
         assert r["wall_time"] == pytest.approx(serial[r["key"]]["wall_time"] * (2 if slow else 1))
         ratios[slow].append(r["time"] / serial[r["key"]]["time"])
     assert ratios[True] and ratios[False]
     assert 1 / 1.5 < np.median(ratios[True]) / np.median(ratios[False]) < 1.5
+
+
+def test_time_basis_is_one_kind_of_machine_or_normalised():
+    def run(cpu, calibration, seconds, **extra):
+        return {"cpu_time": seconds, "wall_time": seconds,
+                "machine": {"host": "h", "cpu_model": cpu, "cores": 8, "calibration": calibration, **extra}}
+
+    # One kind of machine: times as measured, whatever the noise of its workers' calibrations.
+    runs = [run("A", 1.0, 3.0), run("A", 1.4, 5.0)]
+    basis = judged_times(runs, threads=1)
+    assert not basis.normalised and "one kind of machine" in basis.description
+    assert [r["time"] for r in runs] == [3.0, 5.0]
+    # Two kinds: normalised to the kind with the most runs by each kind's median calibration.
+    runs = [run("A", 1.0, 3.0), run("A", 1.2, 3.0), run("A", 1.1, 3.0), run("B", 2.0, 6.0),
+            run("A", 1.1, 3.0, slowdown=2)]
+    basis = judged_times(runs, threads=1)
+    assert basis.normalised and "2 kinds" not in basis.description and "3 kinds of machine" in basis.description
+    assert [r["time"] for r in runs] == pytest.approx([3.0, 3.0, 3.0, 3.3, 3.0 * 1.1 / 1.1])
+    # Runs recorded before runs said where: as measured.
+    assert not judged_times([run("A", 1.0, 3.0), {"cpu_time": 2.0, "wall_time": 2.0}], threads=1).normalised
 
 
 def test_command_line_runs_the_study_on_a_local_dask_cluster(scene_file, tmp_path, capsys):

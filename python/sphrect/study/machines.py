@@ -2,12 +2,13 @@
 
 Each record carries its worker's machine (host name, CPU model, core count) and a *calibration*: the CPU seconds
 a short fixed render takes on that worker (CALIBRATION_*, measured once per worker process and cached). Machines
-differ in speed, so times measured on different kinds of machine are not comparable as they are; the report
-(report/results.py) judges runs by their times as measured when every run comes from one kind of machine, and
-otherwise by their times normalised by the calibration (see :func:`time_basis`), and says which.
+differ in speed, so times measured on different kinds of machine (CPU model and core count) are not comparable as they
+are; the report (report/results.py) judges runs by their times as measured when every run comes from one kind of
+machine, and otherwise by their times normalised by the calibration (see :func:`time_basis`), and says which.
 
 SLOWDOWN_ENV (a factor, for tests and demonstrations): a worker whose environment sets it reports every time it
-measures, the calibration included, multiplied by it -- a worker that many times slower, consistently.
+measures, the calibration included, multiplied by it -- a worker that many times slower, consistently, and a kind of
+machine of its own.
 """
 from __future__ import annotations
 
@@ -30,8 +31,6 @@ CALIBRATION_SAMPLES = 16
 CALIBRATION_REPEATS = 7
 # What a record's "machine" says (machine_info), also runs.csv's columns.
 MACHINE_FIELDS = ("host", "cpu_model", "cores", "calibration")
-# Calibrations of one kind of machine agree within this factor (they vary a few % from run to run).
-CALIBRATION_SPREAD = 1.3
 
 
 def slowdown() -> float:
@@ -93,53 +92,62 @@ def cpu_model() -> str:
 def machine_info() -> Dict:
     """Where this worker runs: host, cpu_model, cores, calibration (seconds; see the module docstring)."""
     values = (socket.gethostname(), cpu_model(), os.cpu_count() or 1, calibration_seconds())
-    return dict(zip(MACHINE_FIELDS, values))
+    info = dict(zip(MACHINE_FIELDS, values))
+    if slowdown() != 1:
+        info["slowdown"] = slowdown()  # a kind of machine of its own (machine_kind)
+    return info
+
+
+def machine_kind(machine: Dict) -> tuple:
+    """What makes two workers one kind of machine: the CPU model, the core count and, for a worker made slower on
+    purpose, its slowdown."""
+    return machine.get("cpu_model"), machine.get("cores"), machine.get("slowdown", 1.0)
 
 
 @dataclass(frozen=True)
 class TimeBasis:
-    """How runs' times are compared: as measured (`normalised` False), or each x reference_calibration / its own
-    calibration, i.e. in seconds of a machine whose calibration is reference_calibration."""
-    normalised: bool
-    reference_calibration: Optional[float]
+    """How runs' times are compared: as measured (`calibrations` None), or each x reference_calibration / its kind of
+    machine's calibration (the median of its workers'), i.e. in seconds of the reference kind of machine."""
     description: str
+    calibrations: Optional[Dict[tuple, float]] = None  # machine_kind -> calibration (s)
+    reference_calibration: Optional[float] = None
+
+    @property
+    def normalised(self) -> bool:
+        return self.calibrations is not None
 
     def time(self, record: Dict, measured: float) -> float:
         if not self.normalised:
             return measured
-        return measured * self.reference_calibration / record["machine"]["calibration"]
-
-
-def _kind(machine: Dict) -> tuple:
-    return machine.get("cpu_model"), machine.get("cores")
+        return measured * self.reference_calibration / self.calibrations[machine_kind(record["machine"])]
 
 
 def time_basis(records: Sequence[Dict]) -> TimeBasis:
-    """Times as measured when every record was measured on one kind of machine (the same CPU model and core count,
-    calibrations within CALIBRATION_SPREAD) or records carry no machine (measured before they did); otherwise times
-    normalised by the calibration to the kind of machine that measured the most runs."""
+    """Times as measured when every record was measured on one kind of machine (machine_kind), or the records do not
+    say where (measured before they did); otherwise times normalised by the calibration to the kind of machine that
+    measured the most runs. Within a kind the median calibration of its workers stands for all of them: one worker's
+    calibration moves by +-30% with the load on its machine, which the kind's own times do not share."""
     machines = [r["machine"] for r in records if r.get("machine") and r["machine"].get("calibration")]
-    if not machines:
-        return TimeBasis(False, None, "times as measured (the runs do not say on which machine)")
-    calibrations = np.array([m["calibration"] for m in machines])
-    kinds = {_kind(m) for m in machines}
-    hosts = sorted({m.get("host", "?") for m in machines})
-    if len(kinds) == 1 and calibrations.max() <= CALIBRATION_SPREAD * calibrations.min():
-        (cpu, cores), = kinds
-        return TimeBasis(False, None, f"times as measured, every run on one kind of machine ({cpu}, {cores} cores; "
-                                      f"{len(hosts)} host{'s' if len(hosts) > 1 else ''})")
-    # The reference: the calibration measuring the most runs (its median, should a kind's workers differ a little).
-    groups: Dict[tuple, List[float]] = {}
+    if len(machines) < len(records) or not machines:
+        return TimeBasis("times as measured (not every run says on which machine)" if machines else
+                         "times as measured (the runs do not say on which machine)")
+    by_kind: Dict[tuple, List[float]] = {}
     for m in machines:
-        key = (_kind(m), round(float(np.log(m["calibration"]) / np.log(CALIBRATION_SPREAD))))
-        groups.setdefault(key, []).append(m["calibration"])
-    largest = max(groups.values(), key=len)
-    reference = float(np.median(largest))
-    return TimeBasis(True, reference,
-                     f"times normalised by each worker's calibration (a fixed {CALIBRATION_SIDE}x{CALIBRATION_SIDE}, "
-                     f"{CALIBRATION_SAMPLES}-spp render) to a machine calibrated at {reference:.4g} s: the runs "
-                     f"come from {len(kinds)} kind(s) of machine, calibrations {calibrations.min():.4g} .. "
-                     f"{calibrations.max():.4g} s")
+        by_kind.setdefault(machine_kind(m), []).append(m["calibration"])
+    hosts = len({m.get("host") for m in machines})
+    if len(by_kind) == 1:
+        (cpu, cores, _), = by_kind
+        return TimeBasis(f"times as measured, every run on one kind of machine ({cpu}, {cores} cores; {hosts} "
+                         f"host{'s' if hosts > 1 else ''})")
+    calibrations = {kind: float(np.median(values)) for kind, values in by_kind.items()}
+    reference_kind = max(by_kind, key=lambda kind: len(by_kind[kind]))
+    kinds = "; ".join(f"{cpu}, {cores} cores" + (f", slowed down {slow:g}x" if slow != 1 else "") +
+                      f": {len(by_kind[(cpu, cores, slow)])} runs, calibration {calibrations[(cpu, cores, slow)]:.4g} s"
+                      for cpu, cores, slow in sorted(by_kind, key=str))
+    return TimeBasis(f"times normalised by the calibration (a fixed {CALIBRATION_SIDE}x{CALIBRATION_SIDE}, "
+                     f"{CALIBRATION_SAMPLES}-spp render) to the kind of machine that measured the most runs: the runs "
+                     f"come from {len(by_kind)} kinds of machine ({kinds})",
+                     calibrations, calibrations[reference_kind])
 
 
 def judged_times(records: Sequence[Dict], threads: int) -> TimeBasis:

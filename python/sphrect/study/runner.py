@@ -102,8 +102,8 @@ def render_cycles_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     from .cycles import render_cycles, worker_blender
     if not context.blend_path:
         raise ValueError("Cycles runs need the .blend scene")
-    image, timing = render_cycles(local_path(context.blend_path), job.samples, context.width, context.height, seed=job.seed,
-                                  threads=job.threads, blender=worker_blender(context.blender),
+    image, timing = render_cycles(local_path(context.blend_path), job.samples, context.width, context.height,
+                                  seed=job.seed, threads=job.threads, blender=worker_blender(context.blender),
                                   blender_script=context.blender_script)
     measured = {"build_time": timing.get("build_time"), "call_time": timing.get("operator_time"),
                 "wall_time": timing["wall_time"], "cpu_time": timing.get("cpu_time"), "light_time": None, "shading_time": None, "rays": None,
