@@ -67,7 +67,7 @@ def _import_distributed():
 
 
 def dashboard_available() -> bool:
-    """Whether the Dask dashboard can be served (it needs bokeh, Debian's python3-bokeh)."""
+    """Whether the Dask dashboard can be served: it needs bokeh, which Debian 12 does not package (README)."""
     try:
         import bokeh  # noqa: F401
         return True
