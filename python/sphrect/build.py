@@ -7,7 +7,7 @@ import hashlib
 
 @functools.lru_cache(maxsize=1)
 def build_hash() -> str:
-    """A hash of the native module's file (16 hex digits): identical builds of the renderer have the same one.
+    """A hash of the native module's file (16 hex digits): the same binary, the same hash.
     'unknown' when the module's file cannot be read."""
     try:
         from . import _native
