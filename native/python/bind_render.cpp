@@ -4,6 +4,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <stdexcept>
@@ -212,6 +213,28 @@ py::array_t<float> Image(const Renderer& r, int k) {
     return a;
 }
 
+// A copy of an accumulation buffer as an array of `shape`.
+template <typename T>
+py::array_t<T> BufferArray(const std::vector<T>& buffer, std::vector<py::ssize_t> shape) {
+    py::array_t<T> a(shape);
+    std::copy(buffer.begin(), buffer.end(), a.mutable_data());
+    return a;
+}
+
+py::array_t<float> ResolveImageArray(const py::array_t<double, py::array::c_style | py::array::forcecast>& sums,
+                                     const py::array_t<uint32_t, py::array::c_style | py::array::forcecast>& counts,
+                                     const py::array_t<double, py::array::c_style | py::array::forcecast>& alpha_sums,
+                                     bool film_alpha) {
+    if (counts.ndim() != 2 || sums.ndim() != 3 || sums.shape(2) != 3 || alpha_sums.ndim() != 2 ||
+        sums.shape(0) != counts.shape(0) || sums.shape(1) != counts.shape(1) ||
+        alpha_sums.shape(0) != counts.shape(0) || alpha_sums.shape(1) != counts.shape(1))
+        throw py::value_error("resolve_image needs sums [H, W, 3], counts [H, W] and alpha_sums [H, W]");
+    py::array_t<float> out({counts.shape(0), counts.shape(1), py::ssize_t(4)});
+    render::ResolveImage(sums.data(), counts.data(), alpha_sums.data(), film_alpha, size_t(counts.size()),
+                         out.mutable_data());
+    return out;
+}
+
 py::dict Stats(const Renderer& r, int k) {
     const render::TechniqueStats s = r.Stats(k);
     py::dict d;
@@ -410,9 +433,18 @@ void BindRender(py::module_& m) {
         .def("set_camera", &SetCamera<Renderer>, CAMERA_ARGS)
         .def("image", &Image)
         .def("stats", &Stats)
+        .def("start_at", &Renderer::StartAt, py::arg("first_sample"), py::arg("pass_index"))
+        .def("sums", [](const Renderer& r, int k) { return BufferArray(r.Sums(k), {r.height(), r.width(), 3}); })
+        .def("counts", [](const Renderer& r) { return BufferArray(r.Counts(), {r.height(), r.width()}); })
+        .def("alpha_sums", [](const Renderer& r) { return BufferArray(r.AlphaSums(), {r.height(), r.width()}); })
+        .def_property_readonly("film_alpha", &Renderer::FilmAlpha)
         .def_property_readonly("features", &Renderer::Features)
         .def_property_readonly("width", &Renderer::width)
         .def_property_readonly("height", &Renderer::height);
+    m.def("resolve_image", &ResolveImageArray, py::arg("sums"), py::arg("counts"), py::arg("alpha_sums"),
+          py::arg("film_alpha"),
+          "RGBA float32 [H, W, 4] from accumulation buffers, exactly as a Renderer's image()");
+    m.attr("SAMPLE_INDEX_LIMIT") = render::kSampleIndexLimit;
     m.attr("MAX_LIGHT_SAMPLES") = render::kMaxLightSamples;
     m.attr("MAX_THREADS") = render::kMaxThreads;
     m.def("default_memory_limit", &render::DefaultMemoryLimit,

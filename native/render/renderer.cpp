@@ -137,17 +137,35 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
     return complete;
 }
 
-void Renderer::Image(int k, float* out) const {
-    if (k < 0 || size_t(k) >= sums_.size()) throw std::out_of_range("technique index out of range");
-    const size_t pixels = counts_.size();
-    const double* s = sums_[k].data();
+void ResolveImage(const double* sums, const uint32_t* counts, const double* alpha_sums, bool film_alpha,
+                  size_t pixels, float* out) {
     for (size_t i = 0; i < pixels; ++i) {
-        const double inv = counts_[i] > 0 ? 1.0 / counts_[i] : 0.0;
-        out[4 * i + 0] = float(s[3 * i + 0] * inv);
-        out[4 * i + 1] = float(s[3 * i + 1] * inv);
-        out[4 * i + 2] = float(s[3 * i + 2] * inv);
-        out[4 * i + 3] = scene_->film_alpha && counts_[i] > 0 ? float(alpha_sums_[i] * inv) : 1.0f;
+        const double inv = counts[i] > 0 ? 1.0 / counts[i] : 0.0;
+        out[4 * i + 0] = float(sums[3 * i + 0] * inv);
+        out[4 * i + 1] = float(sums[3 * i + 1] * inv);
+        out[4 * i + 2] = float(sums[3 * i + 2] * inv);
+        out[4 * i + 3] = film_alpha && counts[i] > 0 ? float(alpha_sums[i] * inv) : 1.0f;
     }
+}
+
+void Renderer::Image(int k, float* out) const {
+    ResolveImage(Sums(k).data(), counts_.data(), alpha_sums_.data(), scene_->film_alpha, counts_.size(), out);
+}
+
+const std::vector<double>& Renderer::Sums(int k) const {
+    if (k < 0 || size_t(k) >= sums_.size()) throw std::out_of_range("technique index out of range");
+    return sums_[k];
+}
+
+void Renderer::StartAt(uint32_t first_sample, uint32_t pass) {
+    std::unique_lock<std::mutex> lock(render_mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) throw std::logic_error("this Renderer is already rendering");
+    if (next_sample_ != 0 || pass_ != 0)
+        throw std::logic_error("a renderer starts at a sample range only before it renders anything");
+    if (uint64_t(first_sample) * uint64_t(options_.light_samples) >= kSampleIndexLimit)
+        throw std::invalid_argument("the first sample x light samples is more than a render takes");
+    next_sample_ = first_sample;
+    pass_ = pass;
 }
 
 TechniqueStats Renderer::Stats(int k) const {

@@ -27,6 +27,11 @@ struct TechniqueStats {
     uint64_t dropped_samples = 0;  // non-finite camera samples left out of the image (expected 0)
 };
 
+// RGBA float32 [pixels][4] from accumulation buffers: the mean of each pixel's samples (black where
+// none), alpha the film's when film_alpha, else 1.
+void ResolveImage(const double* sums, const uint32_t* counts, const double* alpha_sums, bool film_alpha,
+                  size_t pixels, float* out);
+
 class Renderer {
   public:
     // Throws std::invalid_argument on bad options, an uncommitted scene, or images that would take
@@ -40,6 +45,12 @@ class Renderer {
     // Throws std::logic_error if this renderer is already rendering (one Render() at a time).
     bool Render(int samples, double time_budget = 0,
                 const std::function<void(int, int)>& progress = nullptr);
+    // Makes this renderer render a sample range of a longer render: its next Render() call renders
+    // camera samples [first_sample, first_sample + samples) as pass `pass` of that render, exactly as
+    // the longer render's own pass `pass` does (the patterns depend on the sample indices and the pass
+    // number, nothing else).  Only before anything is rendered (std::logic_error otherwise);
+    // std::invalid_argument when first_sample x light_samples reaches kSampleIndexLimit.
+    void StartAt(uint32_t first_sample, uint32_t pass);
     // Stops the render in progress at its next tile, or, when none is, the next Render() call
     // before it renders anything (each cancel stops one render).
     void Cancel() { cancel_.store(true); }
@@ -56,6 +67,12 @@ class Renderer {
     // RGBA float32 [height][width][4], row 0 at the top; mean of the samples so far.
     void Image(int technique_index, float* out) const;
     TechniqueStats Stats(int technique_index) const;
+    // The accumulation buffers the image is the mean of (ResolveImage): adding two renderers' buffers
+    // merges disjoint sample ranges of one render.
+    const std::vector<double>& Sums(int technique_index) const;  // RGB per pixel
+    const std::vector<uint32_t>& Counts() const { return counts_; }
+    const std::vector<double>& AlphaSums() const { return alpha_sums_; }
+    bool FilmAlpha() const { return scene_->film_alpha; }
 
   private:
     bool RenderPass(int samples, const std::function<void(int, int)>& progress);

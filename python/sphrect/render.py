@@ -387,6 +387,21 @@ class Renderer:
                 raise ValueError(f"time_budget must be a positive number of seconds, got {time_budget!r}")
         return self._r.render(samples, budget, progress)
 
+    def start_at(self, first_sample: int, pass_index: int) -> None:
+        """Make the next render() call render camera samples [first_sample, first_sample + samples) as pass
+        `pass_index` of a longer render, exactly as that render's own pass does (sample_ranges.py). Only
+        before anything is rendered (RuntimeError otherwise)."""
+        first_sample = _int_argument("first_sample", first_sample, 0, _native.SAMPLE_INDEX_LIMIT - 1)
+        pass_index = _int_argument("pass_index", pass_index, 0, 2 ** 32 - 1)
+        self._r.start_at(first_sample, pass_index)
+
+    def accumulation(self):
+        """The buffers the images are the means of (a sample_ranges.Accumulation): merging several renderers'
+        disjoint sample ranges of one render gives exactly that render's image."""
+        from .sample_ranges import Accumulation
+        return Accumulation({t: self._r.sums(k) for k, t in enumerate(self._techniques)}, self._r.counts(),
+                            self._r.alpha_sums(), bool(self._r.film_alpha))
+
     def set_camera(self, camera: Camera) -> None:
         """Render from `camera` from now on, with the same scene (its BVH, lights and light tree are kept: a view
         change costs only the lights' images on the new film).  The images start again, empty, at the camera's
@@ -417,9 +432,13 @@ class Renderer:
         return dict(self._r.stats(self._index(technique)))
 
 
-def render(scene: Scene, samples: int = 16, techniques: Union[str, Iterable[str]] = ("rectangle",),
+def render(scene: Scene, samples: int = 16, techniques: Union[str, Iterable[str]] = ("rectangle",), parts: int = 1,
            **kw) -> Dict[str, np.ndarray]:
-    """Render `scene` with each technique; {technique: float32 [H, W, 4]}."""
+    """Render `scene` with each technique; {technique: float32 [H, W, 4]}. `parts` > 1 renders the samples as
+    that many passes (sample_ranges.sample_ranges), as sphrect.render_distributed does on a cluster."""
+    from .sample_ranges import sample_ranges
+    ranges = sample_ranges(_int_argument("samples", samples, 1), _int_argument("parts", parts, 1))
     r = Renderer(scene, techniques=techniques, **kw)
-    r.render(samples)
+    for sample_range in ranges:
+        r.render(sample_range.samples)
     return {t: r.image(t) for t in r.techniques}

@@ -6,6 +6,8 @@ import csv
 import json
 import math
 import os
+import zlib
+from time import sleep
 
 import numpy as np
 import pytest
@@ -46,7 +48,8 @@ def fake_render(context, job):
     Side effects for the tests, by environment variable: STUDY_FAKE_LOG (append each rendered key),
     STUDY_FAKE_INTERRUPT_AFTER (raise KeyboardInterrupt once that many renders are logged),
     STUDY_FAKE_CRASH (kill the worker process on jobs whose key contains it), STUDY_FAKE_NAN (NaN pixels in
-    the renders of that technique)."""
+    the renders of that technique), STUDY_FAKE_SLEEP (seconds each render takes). Its noise depends on the job
+    alone, in every process (no salted hash()), so that runs on different workers compare."""
     log = os.environ.get("STUDY_FAKE_LOG")
     crash = os.environ.get("STUDY_FAKE_CRASH")
     if crash and crash in job.key:
@@ -57,8 +60,9 @@ def fake_render(context, job):
             raise KeyboardInterrupt
         with open(log, "a") as f:
             f.write(job.key + "\n")
+    sleep(float(os.environ.get("STUDY_FAKE_SLEEP", "0")))
     samples = job.samples
-    rng = np.random.default_rng(abs(hash((job.key, job.seed))) % (1 << 32))
+    rng = np.random.default_rng(zlib.crc32(f"{job.key}/{job.seed}".encode()))
     power, area_disks = job.light_selection == "power", job.ellipse_technique == "area"
     sigma = NOISE.get(job.technique, 0.15) / math.sqrt(samples) * (POWER_NOISE if power else 1.0) \
         * (AREA_DISK_NOISE if area_disks else 1.0)

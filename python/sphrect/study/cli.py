@@ -58,7 +58,16 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--resolution", type=_resolution, default=None,
                    help="WxH render resolution (default: the scene's); small keeps the study quick")
     p.add_argument("--seed", type=int, default=_STUDY.seed)
-    p.add_argument("--workers", type=int, default=None, help="parallel jobs (default: number of cores)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="parallel jobs on this machine (default: number of cores); with --executor dask-local, the "
+                        "local cluster's worker processes")
+    p.add_argument("--executor", choices=EXECUTORS, default=None,
+                   help="local: a pool of processes on this machine (the default); dask-local: a local Dask cluster "
+                        "(scheduler and --workers worker processes); dask: an existing Dask cluster (--scheduler)")
+    p.add_argument("--scheduler", default=None,
+                   help="run every job on the Dask cluster of this scheduler, e.g. tcp://HOST:8786 (implies "
+                        "--executor dask); every worker needs the same sphrect build (and Blender for Cycles); the "
+                        "scene and the reference are sent to the workers")
     p.add_argument("--threads", type=int, default=_STUDY.threads,
                    help="render threads per job (default 1: one job per core, comparable single-core timings)")
     p.add_argument("--reference-samples", type=int, default=None,
@@ -86,6 +95,22 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--report-only", action="store_true", help="only (re)write the report from stored results")
     p.add_argument("--quiet", action="store_true", help="no progress bars")
     return p
+
+
+EXECUTORS = ("local", "dask-local", "dask")
+
+
+def make_executor(name: Optional[str], scheduler: Optional[str], workers: Optional[int]):
+    """The executor the options choose (None: run_study's default, the local pool); SettingError when they
+    contradict each other."""
+    name = name or ("dask" if scheduler else "local")
+    if (name == "dask") != bool(scheduler):
+        raise SettingError("scheduler", "--executor dask needs --scheduler tcp://HOST:PORT, and --scheduler goes "
+                                        "with --executor dask only")
+    if name == "local":
+        return None
+    from .dask_executor import DaskExecutor
+    return DaskExecutor(scheduler=scheduler, workers=None if scheduler else workers)
 
 
 def _option(setting: str) -> str:
@@ -132,14 +157,19 @@ def main(argv: Optional[List[str]] = None) -> int:
             if not args.scene.endswith(".blend") or find_blender(args.blender) is None:
                 raise SettingError("cycles", "--cycles on needs a .blend scene and Blender")
         from .study import run_study
-        summary = run_study(args.scene, args.out, config, reference, workers=args.workers,
-                            resolution=args.resolution, blender=args.blender, blender_script=args.blender_script,
-                            progress=not args.quiet, report=False)
+        executor = make_executor(args.executor, args.scheduler, args.workers)
+        try:
+            summary = run_study(args.scene, args.out, config, reference, workers=args.workers,
+                                resolution=args.resolution, blender=args.blender, blender_script=args.blender_script,
+                                progress=not args.quiet, report=False, executor=executor)
+        finally:
+            if executor is not None:
+                executor.close()
         path = write_report(args.out, sampler_table=not args.no_sampler_table, target_rmse=args.target_rmse)
     except SettingError as e:  # named by its option (the settings' fields are the options' names)
         print(f"error: {_option(e.setting)}: {e}", file=sys.stderr)
         return 2
-    except (ValueError, StudyBusy) as e:  # an unreadable scene, an output folder in use, ...
+    except (ValueError, StudyBusy, OSError) as e:  # an unreadable scene, an output folder in use, no scheduler...
         print(f"error: {e}", file=sys.stderr)
         return 2
     print(f"report: {os.path.abspath(path)} (and report.html)")

@@ -11,10 +11,12 @@ here.
 """
 from __future__ import annotations
 
+import functools
 import json
 import os
 import re
 import shutil
+import socket
 import subprocess
 import tempfile
 from typing import Dict, Optional, Tuple
@@ -32,6 +34,30 @@ def find_blender(explicit: Optional[str] = None) -> Optional[str]:
             if path:
                 return path
     return None
+
+
+@functools.lru_cache(maxsize=None)
+def _check_worker_blender(explicit: Optional[str]) -> Tuple[Optional[str], Optional[str]]:
+    """(Blender executable, None) when Blender starts on this worker, else (None, why not)."""
+    host = socket.gethostname()
+    exe = find_blender(explicit)
+    if exe is None:
+        return None, (f"Blender was not found on worker {host} (install Debian's blender there, or set $BLENDER in "
+                      f"the worker's environment): its Cycles jobs cannot run")
+    try:
+        subprocess.run([exe, "--version"], capture_output=True, timeout=120, check=True)
+    except (OSError, subprocess.SubprocessError) as e:
+        return None, f"Blender {exe} does not start on worker {host}: {e}"
+    return exe, None
+
+
+def worker_blender(explicit: Optional[str] = None) -> str:
+    """The Blender executable on this worker, checked once per worker process (it starts and says its version);
+    RuntimeError naming the worker when it has none, which fails the Cycles job there, not the study."""
+    exe, error = _check_worker_blender(explicit)
+    if error:
+        raise RuntimeError(error)
+    return exe
 
 
 def find_blender_script(explicit: Optional[str] = None) -> str:

@@ -25,19 +25,22 @@ import threading
 import time
 from abc import ABC, abstractmethod
 from concurrent.futures.process import BrokenProcessPool
-from typing import Any, Callable, Iterable, Iterator, Tuple
+from typing import Any, Callable, Iterable, Iterator, Sequence, Tuple
 
 
 class Executor(ABC):
     @abstractmethod
-    def run(self, fn: Callable[[Any], Any], tasks: Iterable[Any]) -> Iterator[Tuple[Any, Any]]:
-        """Run fn(task) for every task; yield (task, result) or (task, exception) as each finishes."""
+    def run(self, fn: Callable[[Any], Any], tasks: Iterable[Any], files: Sequence[str] = ()
+            ) -> Iterator[Tuple[Any, Any]]:
+        """Run fn(task) for every task; yield (task, result) or (task, exception) as each finishes. `files` are the
+        paths the tasks read: an executor whose workers may not see them sends them (shared_files.py); those on
+        this machine ignore them."""
 
 
 class SerialExecutor(Executor):
     """Runs the tasks one after the other in this process (debugging; tests with monkeypatched runners)."""
 
-    def run(self, fn, tasks):
+    def run(self, fn, tasks, files=()):
         for task in tasks:
             try:
                 result = fn(task)
@@ -67,6 +70,14 @@ PR_SET_PDEATHSIG = 1  # linux/prctl.h
 PARENT_POLL_SECONDS = 0.5
 
 
+_in_study_pool = False
+
+
+def in_study_pool() -> bool:
+    """Whether this process is a LocalProcessPool worker (of a study running on this machine)."""
+    return _in_study_pool
+
+
 def _end_with_parent(parent: int) -> None:
     """Worker initializer: end this worker when the study's process (`parent`) dies, even by kill -9, which no
     cleanup code of the parent survives. On Linux the kernel sends SIGKILL (prctl PR_SET_PDEATHSIG), which also
@@ -87,6 +98,8 @@ def _end_with_parent(parent: int) -> None:
         os._exit(1)
 
     threading.Thread(target=watch, name="sphrect-parent-watchdog", daemon=True).start()
+    global _in_study_pool
+    _in_study_pool = True
 
 
 class LocalProcessPool(Executor):
@@ -98,7 +111,7 @@ class LocalProcessPool(Executor):
     def __init__(self, workers: int | None = None):
         self.workers = max(1, workers or os.cpu_count() or 1)
 
-    def run(self, fn, tasks):
+    def run(self, fn, tasks, files=()):
         pending = dict(enumerate(tasks))
         context = multiprocessing.get_context("spawn")
         with tempfile.TemporaryDirectory(prefix="sphrect-pool-") as marker_dir:

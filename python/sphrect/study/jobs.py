@@ -91,6 +91,9 @@ class Job:
     time_budget: Optional[float] = None  # seconds, for equal-time jobs
     light_selection: str = DEFAULT_LIGHT_SELECTION  # one of LIGHT_SELECTIONS (ours; Cycles' jobs keep the default)
     ellipse_technique: str = DEFAULT_ELLIPSE_TECHNIQUE  # one of ELLIPSE_TECHNIQUES (ours; Cycles' keep the default)
+    # A sample range of a longer render (the reference's chunks, sample_ranges.py): its first sample and its pass.
+    first_sample: Optional[int] = None
+    pass_index: Optional[int] = None
 
     @property
     def key(self) -> str:
@@ -103,6 +106,8 @@ class Job:
                  f"n{self.samples:06d}", f"l{self.light_samples}", f"s{self.seed}"]
         if self.time_budget is not None:
             parts.append(f"t{self.time_budget:.6g}")
+        if self.first_sample is not None:
+            parts.append(f"f{self.first_sample}p{self.pass_index or 0}")
         return re.sub(r"[^A-Za-z0-9_.-]", "_", "-".join(parts))
 
     @property
@@ -130,7 +135,7 @@ MAX_SEED = 2 ** 64 - 1                                    # render.Renderer's se
 MAX_SAMPLES = _native.MAX_SAMPLES_PER_CALL                # one job is one render() call
 MAX_LIGHT_SAMPLES = _native.MAX_LIGHT_SAMPLES
 MAX_THREADS = getattr(_native, "MAX_THREADS", 2 ** 31 - 1)  # render threads of one Renderer
-SAMPLE_INDEX_LIMIT = 2 ** 31  # camera samples x light samples of one render (native kSampleIndexLimit)
+SAMPLE_INDEX_LIMIT = _native.SAMPLE_INDEX_LIMIT  # camera samples x light samples of one render
 
 
 def sample_ladder(max_samples: int, min_samples: int = 1) -> List[int]:

@@ -1,8 +1,12 @@
 """The reference image and its own error estimate.
 
-How it is made: the reference is the mean of M independent renders ("chunks", M = 8 by default) of the
-same configuration 
-each with its own seed and S/M samples per pixel, S the reference's total. The default configuration is
+How it is made: the reference is one render of S samples per pixel split into M sample ranges ("chunks", M = 8
+by default), each rendered as a job of its own -- on as many workers as there are chunks at once -- and rendered as
+its pass of that render (sample_ranges.py, the path sphrect.render_distributed takes), so the reference is
+``sphrect.render(scene, S, parts=M)`` up to the float32 rounding of the chunks' images. Each pass draws its own
+pattern points (the patterns are seeded per pass) and its own random numbers (seeded per sample index), so the
+chunks are M independent renders; with the 'sobol' pattern, whose passes continue one sequence and so are not
+independent, each chunk has a seed of its own instead. The default configuration is
 `rectangle` with balance-heuristic MIS and the jittered `stratified` pattern, the lowest-variance
 configuration measured on the paper's scene (the renderer's `sobol` pattern converged worse than
 `independent` beyond ~100 samples per pixel there). Independent seeds make the chunks
@@ -30,6 +34,7 @@ from typing import Dict, List
 import numpy as np
 
 from ..render import MIS_MODES, PATTERNS, TECHNIQUES
+from ..sample_ranges import sample_ranges
 from .jobs import MAX_LIGHT_SAMPLES, MAX_SAMPLES, SAMPLE_INDEX_LIMIT, SPHRECT, Job, SettingError, check_int, check_names
 from .metrics import RELMSE_EPSILON, colour
 from .runner import REFERENCE_KIND
@@ -58,16 +63,21 @@ class ReferenceSettings:
         (self.technique,) = check_names("reference_technique", "technique", (self.technique,), TECHNIQUES)
         (self.mis,) = check_names("reference_mis", "MIS mode", (self.mis,), MIS_MODES)
         (self.pattern,) = check_names("reference_pattern", "sample pattern", (self.pattern,), PATTERNS)
-        if self.samples // self.chunks * self.light_samples >= SAMPLE_INDEX_LIMIT:
-            raise SettingError("reference_samples", f"{self.samples // self.chunks} samples per chunk x "
-                                                    f"{self.light_samples} light samples is more than a render "
-                                                    f"takes (< {SAMPLE_INDEX_LIMIT})")
+        if self.samples * self.light_samples >= SAMPLE_INDEX_LIMIT:  # the chunks' sample indices run over the whole
+            raise SettingError("reference_samples", f"{self.samples} samples x {self.light_samples} light samples "
+                                                    f"is more than a render takes (< {SAMPLE_INDEX_LIMIT})")
+
+
+SEQUENCE_PATTERN = "sobol"  # its passes continue one sequence: chunks need seeds of their own to be independent
 
 
 def reference_jobs(settings: ReferenceSettings, threads: int = 1) -> List[Job]:
-    per_chunk = settings.samples // settings.chunks
-    return [Job(SPHRECT, settings.technique, settings.mis, settings.pattern, per_chunk, settings.light_samples,
-                SEED_BASE + i, threads, REFERENCE_KIND) for i in range(settings.chunks)]
+    """The chunks: the sample ranges of the reference's render (see the module docstring)."""
+    own_seeds = settings.pattern == SEQUENCE_PATTERN
+    return [Job(SPHRECT, settings.technique, settings.mis, settings.pattern, r.samples, settings.light_samples,
+                SEED_BASE + (r.pass_index if own_seeds else 0), threads, REFERENCE_KIND,
+                first_sample=r.first, pass_index=r.pass_index)
+            for r in sample_ranges(settings.samples, settings.chunks)]
 
 
 def estimate_error(chunks: np.ndarray) -> Dict[str, float]:
@@ -100,7 +110,8 @@ def combine_reference(store: ResultStore, settings: ReferenceSettings, jobs: Lis
     if all(np.array_equal(stack[0], s) for s in stack[1:]):
         raise RuntimeError("the reference chunks are identical: the renderer ignores the seed, so the "
                            "reference's error cannot be estimated")
-    reference = stack.mean(axis=0).astype(np.float32)
+    samples = np.array([job.samples for job in jobs], dtype=np.float64)
+    reference = np.tensordot(samples / samples.sum(), stack, axes=1).astype(np.float32)  # the mean of all samples
     estimate = estimate_error(stack)
     digest = hashlib.sha256((scene_fingerprint + "".join(j.key for j in jobs)).encode()).hexdigest()[:16]
     info = {"id": digest, "image": REFERENCE_IMAGE, "settings": asdict(settings), "chunk_keys": [j.key for j in jobs],

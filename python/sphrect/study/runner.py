@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import importlib
 import math
-import multiprocessing
 import os
 import time
 from dataclasses import dataclass, replace
@@ -19,7 +18,10 @@ import numpy as np
 
 from . import metrics
 from .jobs import CYCLES, EQUAL_TIME, SPHRECT, Job
+from .executors import in_study_pool
 from .lock import hold_worker_lock
+from .machines import machine_info, scale_times, slowdown
+from .shared_files import local_path
 from .store import ResultStore
 
 REFERENCE_KIND = "reference"
@@ -43,13 +45,15 @@ class RunContext:
         return replace(self, reference_name=name, fingerprint=fingerprint)
 
 
-_scene_cache: Dict[Tuple[str, int, int], object] = {}
-_reference_cache: Dict[str, np.ndarray] = {}
+# Per worker process, which may serve several studies in turn (a Dask worker): keyed by what identifies the content.
+_scene_cache: Dict[Tuple, object] = {}
+_reference_cache: Dict[Tuple[str, str, str], np.ndarray] = {}
 
 
 def load_study_scene(path: str, width: int, height: int):
-    """The scene file at the study's resolution (cached per worker process)."""
-    key = (os.path.abspath(path), width, height)
+    """The scene file at the study's resolution (cached per worker process, while the file stays the same)."""
+    info = os.stat(path)
+    key = (os.path.abspath(path), info.st_mtime_ns, info.st_size, width, height)
     if key not in _scene_cache:
         import sphrect
         scene = sphrect.load_scene(path)
@@ -65,11 +69,13 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     thread, the render's own compute time, insensitive to other load on the machine);
     wall_time/light_time/shading_time/rays: the renderer's own stats."""
     import sphrect
-    scene = load_study_scene(context.scene_path, context.width, context.height)
+    scene = load_study_scene(local_path(context.scene_path), context.width, context.height)
     t0 = time.perf_counter()
     renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
                                 pattern=job.pattern, mis=job.mis, light_selection=job.light_selection,
                                 ellipse_technique=job.ellipse_technique, seed=job.seed, threads=job.threads)
+    if job.first_sample is not None:  # a range of a longer render (a reference chunk)
+        renderer.start_at(job.first_sample, job.pass_index or 0)
     t1 = time.perf_counter()
     c1 = time.process_time()
     renderer.render(job.samples)
@@ -93,11 +99,11 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
 
 
 def render_cycles_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
-    from .cycles import render_cycles
+    from .cycles import render_cycles, worker_blender
     if not context.blend_path:
         raise ValueError("Cycles runs need the .blend scene")
-    image, timing = render_cycles(context.blend_path, job.samples, context.width, context.height, seed=job.seed,
-                                  threads=job.threads, blender=context.blender,
+    image, timing = render_cycles(local_path(context.blend_path), job.samples, context.width, context.height,
+                                  seed=job.seed, threads=job.threads, blender=worker_blender(context.blender),
                                   blender_script=context.blender_script)
     measured = {"build_time": timing.get("build_time"), "call_time": timing.get("operator_time"),
                 "wall_time": timing["wall_time"], "cpu_time": timing.get("cpu_time"), "light_time": None, "shading_time": None, "rays": None,
@@ -123,21 +129,27 @@ def _render_function(context: RunContext):
 
 
 def _reference(context: RunContext) -> np.ndarray:
-    if context.reference_name not in _reference_cache:
-        image = ResultStore(context.store_root).load_image(context.reference_name)
+    """The study's reference image (its fingerprint names the reference's id)."""
+    key = (os.path.abspath(context.store_root), context.reference_name, context.fingerprint)
+    if key not in _reference_cache:
+        store = ResultStore(context.store_root)
+        path = local_path(store.image_path(context.reference_name))
+        image = store.load_image(context.reference_name) if path == store.image_path(context.reference_name) \
+            else np.load(path, allow_pickle=False)  # a copy sent to this worker (shared_files.py)
         if image is None:
             raise RuntimeError(f"reference image {context.reference_name!r} is missing")
         _reference_cache.clear()
-        _reference_cache[context.reference_name] = image
-    return _reference_cache[context.reference_name]
+        _reference_cache[key] = image
+    return _reference_cache[key]
 
 
-def run_job(context: RunContext, job: Job) -> Dict:
-    """Render `job`, measure it and write its record (atomically) to the store; returns the record.
-    Reference chunks and equal-time runs also keep their image in the store."""
-    if multiprocessing.parent_process() is not None:  # a worker: claim the folder while this process lives
+def run_job(context: RunContext, job: Job) -> Tuple[Dict, Optional[np.ndarray]]:
+    """Render `job` and measure it (in a worker); returns its record and, for reference chunks and equal-time runs,
+    its image, which the study's own process stores (record_result): workers write nothing, so a worker on another
+    machine, or one that dies, leaves the store as it was. The measured times are scaled by the worker's
+    machines.slowdown(), and the record says where it ran (machines.machine_info)."""
+    if in_study_pool():  # a local pool's worker: claim the folder while this process lives (lock.py)
         hold_worker_lock(context.store_root)
-    store = ResultStore(context.store_root)
     image, measured = _render_function(context)(context, job)
     image = np.asarray(image, dtype=np.float32)
     if image.ndim != 3 or image.shape[0] != context.height or image.shape[1] != context.width:
@@ -145,14 +157,33 @@ def run_job(context: RunContext, job: Job) -> Dict:
                            f"({context.height}, {context.width}, 4)")
     finite = bool(np.all(np.isfinite(image[..., :3])))
     record = {"key": job.key, "fingerprint": context.fingerprint, "job": job.to_dict(), "label": job.label,
-              "finite": finite, **measured}
+              "finite": finite, **scale_times(measured, slowdown()), "machine": machine_info()}
+    kept = None
     if job.kind in (REFERENCE_KIND, EQUAL_TIME):
         record["image"] = job.key
-        store.save_image(job.key, image)
+        kept = image
     if job.kind != REFERENCE_KIND:
         reference = _reference(context)
         record["rmse"] = metrics.rmse(image, reference) if finite else math.inf
         record["relmse"] = metrics.relmse(image, reference) if finite else math.inf
         record["reference"] = context.reference_name
+    return record, kept
+
+
+def record_result(store: ResultStore, record: Dict, image: Optional[np.ndarray]) -> None:
+    """Stores a run_job result: its image first, then its record (each written atomically), so that a record is
+    never there without its image."""
+    if image is not None:
+        store.save_image(record["image"], image)
     store.write_run(record)
-    return record
+
+
+def job_files(context: RunContext, jobs) -> list:
+    """The files `jobs` read (Executor.run's `files`): the scene, the reference image once there is one, the .blend
+    for Cycles jobs."""
+    files = [context.scene_path]
+    if context.reference_name:
+        files.append(ResultStore(context.store_root).image_path(context.reference_name))
+    if context.blend_path and any(job.engine == CYCLES for job in jobs):
+        files.append(context.blend_path)
+    return files

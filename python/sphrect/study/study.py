@@ -18,14 +18,15 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from . import metrics
+from ..build import build_hash
 from .executors import Executor, LocalProcessPool
 from .jobs import SPHRECT, CostKey, Job, StudyConfig, build_plan, cost_key, equal_time_jobs, fingerprint
-from .metrics import time_of
 from .lock import WORKER_EXIT_WAIT, StudyLock
+from .machines import judged_times
 from .preflight import check_resolution, check_workers
 from .progress import ProgressBar
 from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
-from .runner import RunContext, run_job
+from .runner import RunContext, job_files, record_result, run_job
 from .store import ResultStore, atomic_write_json
 
 SCENE_FILE = "scene.sphrect.npz"
@@ -45,19 +46,6 @@ def scene_content_hash(path: str) -> str:
             digest.update(name.encode())
             digest.update(np.ascontiguousarray(data[name]).tobytes())
     return digest.hexdigest()[:16]
-
-
-def renderer_build_hash() -> str:
-    """Hash of the native module's file: results measured with another build of the renderer are stale."""
-    try:
-        from .. import _native
-        digest = hashlib.sha256()
-        with open(_native.__file__, "rb") as f:
-            for block in iter(lambda: f.read(1 << 20), b""):
-                digest.update(block)
-        return digest.hexdigest()[:16]
-    except (ImportError, OSError, AttributeError):
-        return "unknown"
 
 
 def prepare_scene(input_path: str, out_dir: str, resolution: Optional[Tuple[int, int]] = None,
@@ -89,14 +77,15 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
         if done:
             log(f"{label}: {done} of {len(phase_jobs)} runs already measured, {len(todo)} to go")
         with ProgressBar(len(todo), label, enabled=show_progress) as bar:
-            for job, result in executor.run(functools.partial(run_job, context), todo):
+            for job, result in executor.run(functools.partial(run_job, context), todo, job_files(context, todo)):
                 if isinstance(result, BaseException):
                     message = f"{type(result).__name__}: {result}"
                     store.write_failure(job.key, message)
                     failures.append((job, message))
                     bar.update(1, note=f"FAILED {job.key}")
                 else:
-                    rmse = result.get("rmse")
+                    record_result(store, *result)
+                    rmse = result[0].get("rmse")
                     bar.update(1, note=f"{job.label} n={job.samples}" + (f" rmse={rmse:.3g}" if rmse else ""))
     store.remove_stale_temporaries()  # no worker is writing now; a killed one may have left its temporary
     for job, message in failures:
@@ -108,14 +97,16 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
 
 def seconds_per_sample(records: List[Dict], threads: int) -> Dict[CostKey, float]:
     """jobs.cost_key (engine, technique, mis, light selection, ellipse technique) -> seconds per sample per pixel:
-    each configuration's metrics.cost_per_sample over its ladder, median over patterns."""
+    each configuration's metrics.cost_per_sample over its ladder (on the study's time basis), median over
+    patterns."""
+    judged_times(records, threads)
     ladders: Dict[Tuple[CostKey, str], List[Dict]] = {}
     for r in records:
         ladders.setdefault((cost_key(r["job"]), r["job"]["pattern"]), []).append(r)
     costs: Dict[CostKey, List[float]] = {}
     for (key, _), runs in ladders.items():
         runs.sort(key=lambda r: r["job"]["samples"])
-        cost, _ = metrics.cost_per_sample([time_of(r, threads) for r in runs], [r["job"]["samples"] for r in runs])
+        cost, _ = metrics.cost_per_sample([r["time"] for r in runs], [r["job"]["samples"] for r in runs])
         costs.setdefault(key, []).append(cost)
     return {k: float(np.median(v)) for k, v in costs.items()}
 
@@ -196,7 +187,7 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
                      setting="resolution")  # the scene's own, when not given
     # Runs are redone when the scene, the resolution or the renderer's build changes.
     scene_fp = fingerprint(scene=scene_content_hash(scene_path), width=width, height=height,
-                           renderer=renderer_build_hash())
+                           renderer=build_hash())
     atomic_write_json(os.path.join(out_dir, CONFIG_FILE), {
         "input": os.path.abspath(input_path), "scene_file": scene_path, "blend": blend_path, "width": width,
         "height": height, "study": config.to_dict(), "reference": reference.__dict__, "exporter_warnings": warnings,
@@ -208,6 +199,10 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
         f"{len(config.patterns)} patterns x {len(config.light_selections)} light selections x "
         f"{len(config.ellipse_techniques)} ellipse techniques x ladder "
         f"{list(config.ladder)}" + (" + Cycles" if config.cycles else ""))
+
+    dashboard = getattr(executor, "dashboard_link", None)
+    if dashboard:
+        log(f"Dask dashboard: {dashboard}")
 
     # 1. The reference (independent chunks, combined; see reference.py).
     chunk_jobs = reference_jobs(reference, threads=config.threads)

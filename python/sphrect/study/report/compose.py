@@ -85,6 +85,7 @@ def scene_section(report: Report) -> None:
              + ("Times are the CPU time of each single-threaded render (excluding the scene/BVH build): unlike "
                 "wall time they do not grow when other processes compete for the cores. "
                 if cfg.threads == 1 else "Times are render wall times (excluding the scene/BVH build). ")
+             + f"Time basis: {results.time_basis}. "
              + "runs.csv also has wall_time, build_time, light_time and rays of every run.")
     if results.failures:
         doc.para(f"**{len(results.failures)} runs failed** and are missing from the plots: " +

@@ -12,8 +12,8 @@ from typing import Dict, List, NamedTuple, Optional, Tuple
 
 import numpy as np
 
-from .. import metrics
 from ..jobs import CYCLES, EQUAL_TIME, LADDER, SPHRECT, CurveKey, StudyConfig, curve_key
+from ..machines import MACHINE_FIELDS, judged_times
 from ..reference import load_reference_info
 from ..store import ResultStore, atomic_write_bytes, atomic_write_json
 
@@ -23,7 +23,8 @@ Curves = Dict[CurveKey, List[Dict]]
 CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "light_selection", "ellipse_technique",
                "samples", "light_samples",
                "seed", "threads", "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time",
-               "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite")
+               "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite",
+               *MACHINE_FIELDS)
 
 
 @dataclass
@@ -33,9 +34,10 @@ class StudyResults:
     store: ResultStore
     reference: Dict         # reference.json: the reference image and its own error
     settings: StudyConfig
-    ladder: List[Dict]      # run records; each has "time", the time it is judged by (metrics.time_of)
+    ladder: List[Dict]      # run records; each has "time", the time it is judged by (machines.judged_times)
     equal_time: List[Dict]
     failures: List[Dict]
+    time_basis: str = ""    # how times are compared (machines.time_basis): as measured, or normalised
 
     @property
     def reference_rmse(self) -> float:
@@ -55,12 +57,11 @@ def load_study(out_dir: str) -> StudyResults:
                              f"--report-only) to recompute it")
     records = list(store.runs(state["run_fingerprint"]))
     settings = StudyConfig.from_dict(config["study"])
-    for r in records:
-        r["time"] = metrics.time_of(r, settings.threads)
+    basis = judged_times(records, settings.threads)
     return StudyResults(config=config, state=state, store=store, reference=reference,
                         settings=settings, ladder=[r for r in records if r["job"]["kind"] == LADDER],
                         equal_time=[r for r in records if r["job"]["kind"] == EQUAL_TIME],
-                        failures=list(store.failures()))
+                        failures=list(store.failures()), time_basis=basis.description)
 
 
 def curves(records: List[Dict]) -> Curves:
@@ -87,8 +88,8 @@ def write_runs(out_dir: str, results: StudyResults) -> None:
     writer.writerow(CSV_COLUMNS)
     for r in sorted(records, key=lambda r: r["key"]):
         key = curve_key(r["job"])  # the light selection and ellipse technique also of runs stored before they were kept
-        row = {**r["job"], **{k: v for k, v in r.items() if k != "job"}, "light_selection": key.light_selection,
-               "ellipse_technique": key.ellipse_technique}
+        row = {**r["job"], **{k: v for k, v in r.items() if k != "job"}, **(r.get("machine") or {}),
+               "light_selection": key.light_selection, "ellipse_technique": key.ellipse_technique}
         writer.writerow(["" if row.get(c) is None else row.get(c) for c in CSV_COLUMNS])
     atomic_write_bytes(os.path.join(out_dir, "runs.csv"), buffer.getvalue().encode("utf-8"))
     atomic_write_json(os.path.join(out_dir, "runs.json"), {"reference": results.reference, "runs": records})
