@@ -273,7 +273,8 @@ inline double PieceArea(const ProjectedPiece& pc, const ProjectedArc& F, const P
 template <class T>
 RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, const Vec3<T>& normal,
                                                        const RectLightFrame<T>& frame) {
-    RectangleProjectedSetup<T> s{MakeRectangleSetup(origin, frame)};
+    RectangleProjectedSetup<T> s;
+    s.rect = MakeRectangleSetup(origin, frame);
     if (!s.rect.valid) return s;
     const LocalRect<T>& p = s.rect.plane;
     const Vec3d n(normal);
@@ -310,11 +311,17 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
         gamma[k] = poly.gamma[ei];
     }
     projected_detail::BuildPieces(s, w, g, gamma, m);
-    // The sweep's error: ~eps in each arc angle of unit vectors, times the sweep rates, against E.
+    // The sweep's error against E: ~eps in each arc angle (unit vectors in the shading frame) times
+    // its rate k, plus each rate's own rounding (that of the dot product g . n, eps times the sum
+    // of its terms' magnitudes) times the arc's length, plus the rounding of Lambert's sum.
     constexpr double eps = std::numeric_limits<double>::epsilon();
-    double rates = 0;
-    for (int k = 0; k < s.num_arcs; ++k) rates += s.arcs[k].k + s.arcs[k].gamma;
-    s.error_estimate = 8 * eps * (rates + abs_sum) / s.E;
+    double err = abs_sum;
+    for (int k = 0; k < m; ++k) {
+        const Vec3d& gk = poly.g[k];
+        const double dot_terms = std::abs(gk.x * s.nl.x) + std::abs(gk.y * s.nl.y) + std::abs(gk.z * s.nl.z);
+        err += 0.5 * std::abs(Dot(gk, s.nl)) + poly.gamma[k] * dot_terms;
+    }
+    s.error_estimate = 8 * eps * err / s.E;
     s.use_rectangle = !(s.error_estimate <= kProjectedMaxError) || !(s.swept > 0) || s.num_pieces == 0;
     s.valid = true;
     return s;
@@ -326,13 +333,19 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
     return MakeRectangleProjectedSetup(origin, normal, MakeRectLightFrame(light));
 }
 
-// Solid-angle pdf at the local in-plane point (X, Y): cos / E (0 at or below the horizon).
+// Solid-angle pdf at the local in-plane point (X, Y): cos / E, and 0 where cos < kProjectedMinCos.
+// Points that close to the horizon carry no resolvable cosine (the direction's own rounding is
+// larger), so such a sample is returned invalid rather than with a ratio of rounding noise; the
+// samples dropped so have probability ~kProjectedMinCos^2 (the density is proportional to cos on
+// a band of width ~cos), a bias far below any test's resolution.
+constexpr double kProjectedMinCos = 1e-7;
+
 template <class T>
 T RectangleProjectedPDFLocal(const RectangleProjectedSetup<T>& s, double X, double Y) {
     const Vec3d v(X, Y, s.rect.plane.h);
     const double c = Dot(v, s.nl) / Length(v);
     const T pdf = T(c / s.E);
-    return c > 0 && std::isfinite(pdf) ? pdf : T(0);
+    return c >= kProjectedMinCos && std::isfinite(pdf) ? pdf : T(0);
 }
 
 // The map (u, v) -> unit direction in the shading frame (valid setups without the switch).
