@@ -79,7 +79,7 @@ struct ProjectedPiece {
 
 template <class T>
 struct RectangleProjectedSetup {
-    RectangleSetup<T> rect;      // the switch target, and the plane (rect.plane)
+    RectangleSetup<T> rect;      // the plane (rect.plane); the whole `rectangle` setup where it switches
     bool valid = false;
     bool use_rectangle = false;  // the switch (see above)
     Vec3d nl, tl, bl;            // shading frame (n, and the tangents) in the light's local frame
@@ -274,15 +274,19 @@ template <class T>
 RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, const Vec3<T>& normal,
                                                        const RectLightFrame<T>& frame) {
     RectangleProjectedSetup<T> s;
-    s.rect = MakeRectangleSetup(origin, frame);
-    if (!s.rect.valid) return s;
+    // The plane alone; the `rectangle` setup is built only where the setup switches to it.
+    s.rect.plane = MakeLocalRect(origin, frame);
     const LocalRect<T>& p = s.rect.plane;
+    if (!p.valid) return s;
+    auto switch_to_rectangle = [&] {
+        s.rect = MakeRectangleSetup(origin, frame);
+        s.use_rectangle = true;
+        s.valid = s.rect.valid;
+        return s;
+    };
     const Vec3d n(normal);
     const double ln = Length(n);
-    if (!(ln > 0) || !std::isfinite(ln)) {  // no usable normal: the switch
-        s.use_rectangle = s.valid = true;
-        return s;
-    }
+    if (!(ln > 0) || !std::isfinite(ln)) return switch_to_rectangle();  // no usable normal
     s.nl = Vec3d(Dot(n, p.exh), Dot(n, p.eyh), Dot(n, p.az)) / ln;
     // A tangent frame (Duff et al.'s branchless orthonormal basis).
     {
@@ -322,7 +326,7 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
         err += 0.5 * std::abs(Dot(gk, s.nl)) + poly.gamma[k] * dot_terms;
     }
     s.error_estimate = 8 * eps * err / s.E;
-    s.use_rectangle = !(s.error_estimate <= kProjectedMaxError) || !(s.swept > 0) || s.num_pieces == 0;
+    if (!(s.error_estimate <= kProjectedMaxError) || !(s.swept > 0) || s.num_pieces == 0) return switch_to_rectangle();
     s.valid = true;
     return s;
 }

@@ -23,7 +23,8 @@ template <Technique K, class T>
 double SamplerSolidAngle(const LightSampler<K, T>& s) {
     if constexpr (K == Technique::Rectangle) return s.r.solid_angle;
     else if constexpr (K == Technique::Triangles) return T(s.r.omega);
-    else if constexpr (K == Technique::RectangleCosine || K == Technique::RectangleProjected) return s.r.rect.solid_angle;
+    else if constexpr (K == Technique::RectangleCosine) return s.r.rect.solid_angle;
+    else if constexpr (K == Technique::RectangleProjected) return s.r.use_rectangle ? s.r.rect.solid_angle : -1;
     else return -1;  // area: no solid angle
 }
 
