@@ -156,6 +156,17 @@ inline double DistanceToLight(const Vec3<T>& p, const RectLight<T>& L) {
     return double(std::sqrt(rx * rx + ry * ry + rz * rz));
 }
 
+// The suite's 9 x 9 grid of (u, v) (core/hard_cases.h) and random_count uniform points from mt19937(seed).
+inline std::vector<Point2<float>> GridAndRandomUVs(uint32_t seed, int random_count) {
+    std::vector<Point2<float>> uvs;
+    for (float u : HardCaseUV())
+        for (float v : HardCaseUV()) uvs.push_back({u, v});
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> U(0, 1);
+    for (int i = 0; i < random_count; ++i) uvs.push_back({U(rng), U(rng)});
+    return uvs;
+}
+
 // ---------------------------------------------------------------- switches
 
 // Bisection (in log space) of the parameter where `fallback(p)` switches.

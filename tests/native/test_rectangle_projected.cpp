@@ -20,15 +20,7 @@ using namespace sphrect_test;
 
 namespace {
 
-std::vector<Point2<float>> GridAndRandomUVs() {
-    std::vector<Point2<float>> uvs;
-    for (float u : HardCaseUV())
-        for (float v : HardCaseUV()) uvs.push_back({u, v});
-    std::mt19937 rng(13);
-    std::uniform_real_distribution<float> U(0, 1);
-    for (int i = 0; i < 40; ++i) uvs.push_back({U(rng), U(rng)});
-    return uvs;
-}
+std::vector<Point2<float>> SuiteUVs() { return GridAndRandomUVs(13, 40); }
 
 // The horizon cases: a unit light below a shading point whose tangent plane cuts it -- through
 // a corner exactly, or leaving a sliver of it above (or below) the horizon -- and normals almost
@@ -103,7 +95,7 @@ void CheckZeroVariance(const HardCase& hc, ZeroVarianceStats* st, bool allow_swi
     // reference, built from its corners, sees).
     EXPECT_LE(std::abs(s.r.swept - ref), (s.r.error_estimate + 1e-8) * ref) << "swept " << s.r.swept << " E " << ref;
     double lo = INFINITY, hi = -INFINITY;
-    for (const Point2<float>& uv : GridAndRandomUVs()) {
+    for (const Point2<float>& uv : SuiteUVs()) {
         const LightSample<T> ls = s.Sample({T(uv.u), T(uv.v)});
         ++st->samples;
         ASSERT_TRUE(IsFinite(ls.point) && IsFinite(ls.dir) && std::isfinite(ls.pdf) && std::isfinite(ls.dist));
@@ -178,7 +170,7 @@ TEST(RectangleProjected, SwitchIsFollowedEverywhere) {
         ++switched;
         SCOPED_TRACE(hc.name);
         const LightSampler<Technique::Rectangle, float> r(hc.origin, hc.normal, hc.light);
-        for (const Point2<float>& uv : GridAndRandomUVs()) {
+        for (const Point2<float>& uv : SuiteUVs()) {
             const LightSample<float> a = s.Sample(uv), b = r.Sample(uv);
             EXPECT_EQ(a.point.x, b.point.x);
             EXPECT_EQ(a.point.y, b.point.y);
@@ -191,7 +183,7 @@ TEST(RectangleProjected, SwitchIsFollowedEverywhere) {
         }
         // Where it switches, cos / pdf under `rectangle` is still E to 1e-4 (the light spans a tiny angle).
         const double ref = ReferenceProjectedSolidAngle(hc.origin, Normalize(Vec3d(hc.normal)), hc.light);
-        for (const Point2<float>& uv : GridAndRandomUVs()) {
+        for (const Point2<float>& uv : SuiteUVs()) {
             const LightSample<float> a = s.Sample(uv);
             if (a.pdf > 0) {
                 EXPECT_LE(std::abs(double(Dot(Vec3d(a.dir), Normalize(Vec3d(hc.normal)))) / a.pdf - ref), 1e-4 * ref);
@@ -230,7 +222,7 @@ TEST(RectangleProjected, InverseRoundTrip) {
             max_radius = std::max(max_radius, std::hypot(sd.pieces[j].from.x, sd.pieces[j].from.y));
         const bool thin = sd.star && !sd.use_rectangle && 2 * min_rate < 1e-6 * max_radius;
         bool thin_failed = false;
-        for (const Point2<float>& uv : GridAndRandomUVs()) {
+        for (const Point2<float>& uv : SuiteUVs()) {
             const LightSample<double> ld = SampleRectangleProjected(sd, Point2<double>{uv.u, uv.v});
             if (!(ld.pdf > 0)) continue;  // on the horizon
             ++n;
