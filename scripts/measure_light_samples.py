@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Light samples per camera sample at equal light-sample budget: MSE against a reference, CPU time and MSE x time for
 1, 2 and 4 light samples (budget / light_samples camera samples, so each run shades ~budget light samples per pixel),
-rectangle technique, tree selection (--selections to add power) and power-heuristic MIS (--mis to add others; and
+rectangle technique (--technique for another), tree selection (--selections to add power) and power-heuristic MIS (--mis to add others; and
 --bsdf-on-diffuse false,true for Renderer(bsdf_samples_on_diffuse=...)) at the Renderer's other defaults.  Then, over all the scenes given, the geometric mean and the worst of each configuration's
 MSE x time relative to the best configuration of its scene.
 
@@ -50,11 +50,15 @@ def main():
     ap.add_argument("--selections", default="tree", help=f"comma list of {','.join(sphrect.light_selections)}")
     ap.add_argument("--mis", default="power", help=f"comma list of {','.join(sphrect.mis_modes)}")
     ap.add_argument("--bsdf-on-diffuse", default="false", help="comma list of false, true")
+    ap.add_argument("--technique", default="rectangle", help=f"one of {','.join(sphrect.techniques)}")
+    ap.add_argument("--light-samples", default=",".join(map(str, LIGHT_SAMPLE_COUNTS)),
+                    help="comma list of light samples per camera sample")
     a = ap.parse_args()
+    counts = [int(v) for v in a.light_samples.split(",")]
     flags = [{"false": False, "true": True}[v.strip().lower()] for v in a.bsdf_on_diffuse.split(",")]
     configs = [(s, m, b) for s in a.selections.split(",") for m in a.mis.split(",") for b in flags
                if m != "none" or b == flags[0]]  # without MIS the flag changes nothing
-    relative = {(s, m, b, n): [] for s, m, b in configs for n in LIGHT_SAMPLE_COUNTS}
+    relative = {(s, m, b, n): [] for s, m, b in configs for n in counts}
     for source in a.sources:
         print(f"== {source}")
         scene, ref = load(source, a.reference_spp)
@@ -62,18 +66,18 @@ def main():
               f"{'MSE x time':>11}")
         products = {}
         for selection, mis, on_diffuse in configs:
-            for light_samples in LIGHT_SAMPLE_COUNTS:
+            for light_samples in counts:
                 spp = max(1, a.budget // light_samples)
                 mses, times = [], []
                 for seed in range(max(2, a.repeats)):
-                    r = sphrect.Renderer(scene, techniques=["rectangle"], light_samples=light_samples,
+                    r = sphrect.Renderer(scene, techniques=[a.technique], light_samples=light_samples,
                                          light_selection=selection, mis=mis, bsdf_samples_on_diffuse=on_diffuse,
                                          seed=11 + seed, threads=1)
                     start = time.process_time()
                     r.render(spp)
                     times.append(time.process_time() - start)
                     if seed < 2:
-                        mses.append(float(((r.image("rectangle")[..., :3] - ref) ** 2).mean()))
+                        mses.append(float(((r.image(a.technique)[..., :3] - ref) ** 2).mean()))
                 m, t = float(np.mean(mses)), min(times)
                 products[selection, mis, on_diffuse, light_samples] = m * t
                 print(f"{light_samples:>13} {selection:9} {mis:6} {'bsdf' if on_diffuse else 'alone':7} {spp:>4} "

@@ -24,9 +24,9 @@ import numpy as np
 import sphrect
 from sphrect.study.metrics import rmse, tonemap
 
-TECHNIQUES = sphrect.techniques  # area, triangles, rectangle, rectangle_cosine
+TECHNIQUES = sphrect.techniques  # area, triangles, rectangle, rectangle_cosine, rectangle_projected
 LABELS = {"area": "area", "triangles": "solid angle (two triangles)", "rectangle": "solid angle (rectangle)",
-          "rectangle_cosine": "rectangle + cosine warp"}
+          "rectangle_cosine": "rectangle + cosine warp", "rectangle_projected": "projected solid angle (exact cosine)"}
 
 
 def box(center, size, rotation_z=0.0):

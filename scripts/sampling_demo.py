@@ -29,7 +29,7 @@ except ImportError:  # run from the repository without PYTHONPATH: use the defau
     sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "python"))
     import sphrect
 
-TECHNIQUES = sphrect.techniques  # area, triangles, rectangle, rectangle_cosine
+TECHNIQUES = sphrect.techniques  # area, triangles, rectangle, rectangle_cosine, rectangle_projected
 
 # One shading point (the origin) under a 3 x 2 light in the plane z = 0.5 that starts just beside
 # it: the near edge subtends far more solid angle than the far one, so the techniques differ.
@@ -37,7 +37,7 @@ ORIGIN = np.array([0.0, 0.0, 0.0])
 CORNER = np.array([-1.5, 0.3, 0.5])
 EDGE_X = np.array([3.0, 0.0, 0.0])
 EDGE_Y = np.array([0.0, 2.0, 0.0])
-NORMAL = np.array([0.3, 0.2, 1.0]) / np.linalg.norm([0.3, 0.2, 1.0])   # for rectangle_cosine
+NORMAL = np.array([0.3, 0.2, 1.0]) / np.linalg.norm([0.3, 0.2, 1.0])   # for rectangle_cosine and _projected
 ISO_LINES = 9     # u = 0, 1/8, ..., 1 and the same for v
 
 

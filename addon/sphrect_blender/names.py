@@ -29,6 +29,10 @@ TECHNIQUE_LABELS = {
     "rectangle_cosine": ("Solid angle + cosine",
                          "Rectangle lights: the spherical rectangle warped to follow the cosine at the shaded point, "
                          "so more points land where the light shines more directly"),
+    "rectangle_projected": ("Projected solid angle (exact cosine)",
+                            "Rectangle lights: points spread in proportion to the cosine at the shaded point, exactly "
+                            "(Peters 2021), over the part of the light above its horizon: on a diffuse surface an "
+                            "unshadowed light is noise-free"),
 }
 PATTERN_LABELS = {
     "independent": ("Independent", "Independent uniform random numbers"),

@@ -10,6 +10,7 @@
 //   SetupFromFrame  the same with the light's frame precomputed, as in the renderer
 //   Sample          one Sample(u, v) on a prepared sampler, (u, v) cycling through 1024
 //                   precomputed uniform points
+//   SampleOffAxis   the same with a normal pointing beside the light (cos varies over it)
 //   SampleEdgeOn    the same in a nearly edge-on setup, where `rectangle` refines its x-step
 //   Pdf             Pdf(point) (for MIS; rectangle_cosine's needs the inverse map)
 // plus the textbook single-precision map (textbook_rectangle.h) as the baseline.
@@ -83,6 +84,15 @@ auto PdfStage() {
     return [s, pts](size_t i) { return s.Pdf(pts[i & 1023]); };
 }
 
+// The Sample stage's setup with a tilted normal (1, 0, 0.2): n points beside the light, so the
+// cosine varies over it and `rectangle_projected` inverts its near/far sweep by Newton steps
+// (with n = (0, 0, 1), the Sample stage's, n points into the light: the closed-form star case).
+template <Technique K>
+auto SampleOffAxisStage() {
+    const LightSampler<K, float> s(Vec3f(0.2f, -0.1f, 0.5f), Normalize(Vec3f(1, 0, 0.2f)), Light<float>());
+    return [s](size_t i) { return s.Sample(UVs<float>()[i & 1023]); };
+}
+
 // A nearly edge-on setup (shading point 2 sizes beside the light at height 1e-6).
 template <Technique K>
 auto SampleEdgeOnStage() {
@@ -119,6 +129,7 @@ void ForEachStage(F&& f) {
             f("SetupFromFrame/" + name + "/float", SetupFromFrameStage<K, float>());
             f("Sample/" + name + "/float", SampleStage<K, float>());
             f("Sample/" + name + "/double", SampleStage<K, double>());
+            f("SampleOffAxis/" + name + "/float", SampleOffAxisStage<K>());
             f("Pdf/" + name + "/float", PdfStage<K, float>());
             f("Pdf/" + name + "/double", PdfStage<K, double>());
         });

@@ -9,7 +9,7 @@
 //   s.Pdf(point_on_light) -> solid-angle pdf of choosing that point (for MIS)
 //
 // Each technique's setup, sample, pdf (and inverse) sit in the header named after it: area.h,
-// triangles.h, rectangle.h, rectangle_cosine.h.
+// triangles.h, rectangle.h, rectangle_cosine.h, rectangle_projected.h.
 #pragma once
 
 #include <array>
@@ -19,14 +19,15 @@
 #include "enum_names.h"
 #include "rectangle.h"
 #include "rectangle_cosine.h"
+#include "rectangle_projected.h"
 #include "triangles.h"
 
 namespace sphrect {
 
-enum class Technique { Area, Triangles, Rectangle, RectangleCosine };
+enum class Technique { Area, Triangles, Rectangle, RectangleCosine, RectangleProjected };
 
-constexpr std::array<Technique, 4> kAllTechniques = {Technique::Area, Technique::Triangles, Technique::Rectangle,
-                                                     Technique::RectangleCosine};
+constexpr std::array<Technique, 5> kAllTechniques = {Technique::Area, Technique::Triangles, Technique::Rectangle,
+                                                     Technique::RectangleCosine, Technique::RectangleProjected};
 
 inline const char* TechniqueName(Technique t) {
     switch (t) {
@@ -34,6 +35,7 @@ inline const char* TechniqueName(Technique t) {
         case Technique::Triangles: return "triangles";
         case Technique::Rectangle: return "rectangle";
         case Technique::RectangleCosine: return "rectangle_cosine";
+        case Technique::RectangleProjected: return "rectangle_projected";
     }
     return "?";
 }
@@ -89,6 +91,18 @@ struct LightSampler<Technique::RectangleCosine, T> {
     T Pdf(const Vec3<T>& p) const { return RectangleCosinePDF(r, p); }
 };
 
+template <class T>
+struct LightSampler<Technique::RectangleProjected, T> {
+    RectangleProjectedSetup<T> r;
+    LightSampler(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light)
+        : r(MakeRectangleProjectedSetup(origin, normal, light)) {}
+    LightSampler(const Vec3<T>& origin, const Vec3<T>& normal, const RectLightFrame<T>& frame)
+        : r(MakeRectangleProjectedSetup(origin, normal, frame)) {}
+    bool Valid() const { return r.valid; }
+    LightSample<T> Sample(Point2<T> uv) const { return SampleRectangleProjected(r, uv); }
+    T Pdf(const Vec3<T>& p) const { return RectangleProjectedPDF(r, p); }
+};
+
 // Calls f(std::integral_constant-like tag) with the technique as a compile-time value.
 template <class F>
 decltype(auto) DispatchTechnique(Technique t, F&& f) {
@@ -96,9 +110,10 @@ decltype(auto) DispatchTechnique(Technique t, F&& f) {
         case Technique::Area: return f(std::integral_constant<Technique, Technique::Area>{});
         case Technique::Triangles: return f(std::integral_constant<Technique, Technique::Triangles>{});
         case Technique::Rectangle: return f(std::integral_constant<Technique, Technique::Rectangle>{});
-        case Technique::RectangleCosine: break;
+        case Technique::RectangleCosine: return f(std::integral_constant<Technique, Technique::RectangleCosine>{});
+        case Technique::RectangleProjected: break;
     }
-    return f(std::integral_constant<Technique, Technique::RectangleCosine>{});
+    return f(std::integral_constant<Technique, Technique::RectangleProjected>{});
 }
 
 }  // namespace sphrect

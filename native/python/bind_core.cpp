@@ -206,13 +206,14 @@ py::array_t<T> NewArray(size_t n, size_t width) {
     return py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), py::ssize_t(width)});
 }
 
-// Shading normals: required by rectangle_cosine; unit length is enforced here (the renderer
+// Shading normals: required by rectangle_cosine and rectangle_projected; unit length is enforced here (the renderer
 // passes unit normals, so the core may assume them).
 template <class T>
 std::vector<Vec3<T>> ReadNormals(Technique technique, const py::object& normal) {
     if (normal.is_none()) {
-        if (technique == Technique::RectangleCosine)
-            throw py::value_error("technique 'rectangle_cosine' needs normal= (the shading normal, shape (3,) or (N, 3))");
+        if (technique == Technique::RectangleCosine || technique == Technique::RectangleProjected)
+            throw py::value_error("technique '" + std::string(TechniqueName(technique)) +
+                                  "' needs normal= (the shading normal, shape (3,) or (N, 3))");
         return {Vec3<T>(0, 0, 0)};
     }
     std::vector<Vec3<T>> n = ReadVec3s<T>(normal, "normal", true);
@@ -390,6 +391,44 @@ py::array InvertImpl(const py::object& origin, const py::object& corner, const p
         [](const RectangleSetup<T>& r, const Vec3<T>& p) { return InvertRectangle(r, p); });
 }
 
+// The inverse of rectangle_projected: like InvertRows, with the normals (one or one per row).
+template <class T>
+py::array InvertProjectedImpl(const py::object& origin, const py::object& corner, const py::object& ex,
+                              const py::object& ey, const py::object& points_obj, const py::object& normal,
+                              bool two_sided) {
+    const Setup<T> s = ReadSetup<T>(Technique::RectangleProjected, origin, corner, ex, ey, normal, two_sided);
+    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
+    const size_t n = pts.size();
+    CheckRows(n, "points", s.origins.size(), "origin");
+    CheckRows(n, "points", s.normals.size(), "normal");
+    py::array_t<T> uv = NewArray<T>(n, 2);
+    T* U = uv.mutable_data();
+    {
+        py::gil_scoped_release release;
+        const RectLightFrame<T> frame = MakeRectLightFrame(s.light);
+        for (size_t i = 0; i < n; ++i) {
+            const RectangleProjectedSetup<T> r = MakeRectangleProjectedSetup(s.Origin(i), s.Normal(i), frame);
+            Point2<double> q{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+            const Vec3<T> p(pts[i][0], pts[i][1], pts[i][2]);
+            if (r.valid && OnLight(s.light, p)) q = InvertRectangleProjected(r, p);
+            U[2 * i] = T(q.u);
+            U[2 * i + 1] = T(q.v);
+        }
+    }
+    return uv;
+}
+
+template <class T>
+py::object ProjectedSolidAngleImpl(const py::object& origin, const py::object& corner, const py::object& ex,
+                                   const py::object& ey, const py::object& normal, bool two_sided) {
+    const Setup<T> s = ReadSetup<T>(Technique::RectangleProjected, origin, corner, ex, ey, normal, two_sided);
+    if (s.normals.size() != 1)
+        throw py::value_error("projected_solid_angle takes one normal, shape (3,)");
+    return SolidAngleRows<T>(origin, [&](const Vec3<T>& o) {
+        return RectangleProjectedSolidAngle(o, s.normals[0], s.light);
+    });
+}
+
 template <class T>
 py::object SolidAngleImpl(const py::object& origin, const py::object& corner, const py::object& ex,
                           const py::object& ey, bool two_sided) {
@@ -525,7 +564,7 @@ an origin in the light's plane, or behind a one-sided (two_sided=False) light.)d
 
 Returns (points [N, 3], pdf [N]); pdf is with respect to solid angle at origin, 0 for an
 invalid sample.  origin (and normal) may be (3,) or (N, 3).  technique is one of
-sphrect.techniques; 'rectangle_cosine' needs the shading normal.  dtype 'float32' runs the
+sphrect.techniques; 'rectangle_cosine' and 'rectangle_projected' need the shading normal.  dtype 'float32' runs the
 renderer's single-precision code, 'float64' the double-precision one.)doc");
     m.def("sample_directions", sample(true), arg("technique"), arg("origin"), arg("corner"), arg("edge_x"),
           arg("edge_y"), arg("uv"), arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
@@ -551,19 +590,42 @@ coordinate from its plane or beyond its edges -- gets pdf 0.)doc");
     m.def(
         "invert",
         [](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
-           const py::object& points, const py::object& dtype, bool two_sided) -> py::array {
-            if (ToPrecision(dtype) == Precision::Float64)
-                return InvertImpl<double>(origin, corner, ex, ey, points, two_sided);
-            return InvertImpl<float>(origin, corner, ex, ey, points, two_sided);
+           const py::object& points, const py::object& dtype, bool two_sided, const std::string& technique,
+           const py::object& normal) -> py::array {
+            const Technique t = ToTechnique(technique);
+            const bool f64 = ToPrecision(dtype) == Precision::Float64;
+            if (t == Technique::RectangleProjected)
+                return f64 ? InvertProjectedImpl<double>(origin, corner, ex, ey, points, normal, two_sided)
+                           : InvertProjectedImpl<float>(origin, corner, ex, ey, points, normal, two_sided);
+            if (t != Technique::Rectangle)
+                throw py::value_error("invert supports technique 'rectangle' or 'rectangle_projected', got '" +
+                                      technique + "'");
+            return f64 ? InvertImpl<double>(origin, corner, ex, ey, points, two_sided)
+                       : InvertImpl<float>(origin, corner, ex, ey, points, two_sided);
         },
         arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("points"), arg("dtype") = "float32",
-        arg("two_sided") = true,
-        R"doc(Inverse of the 'rectangle' map: points [N, 3] on the light -> uv [N, 2].
+        arg("two_sided") = true, arg("technique") = "rectangle", arg("normal") = py::none(),
+        R"doc(Inverse of a technique's map (technique 'rectangle', the default, or 'rectangle_projected',
+which needs normal=): points [N, 3] on the light -> uv [N, 2].
 
-Where the map switches to area sampling for an extreme configuration (as sample() does), the
+Where the map switches formulation for an extreme configuration (as sample() does), the
 inverse of that.  Rows whose configuration the map does not cover (degenerate light, origin in
 the light's plane or behind a one-sided light) are NaN, and so are points off the light (the
 tolerance of pdf()).)doc");
+
+    m.def(
+        "projected_solid_angle",
+        [](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+           const py::object& normal, const py::object& dtype, bool two_sided) -> py::object {
+            if (ToPrecision(dtype) == Precision::Float64)
+                return ProjectedSolidAngleImpl<double>(origin, corner, ex, ey, normal, two_sided);
+            return ProjectedSolidAngleImpl<float>(origin, corner, ex, ey, normal, two_sided);
+        },
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("normal"), arg("dtype") = "float32",
+        arg("two_sided") = true,
+        R"doc(Projected solid angle (integral of cos theta over the light's solid angle, the part above the
+horizon of normal) of the rectangle seen from origin: the irradiance of a unit-radiance light,
+Lambert's polygon formula.  origin (3,) -> float (computed in double), (N, 3) -> array [N].)doc");
 
     m.attr("ellipse_techniques") = NameTuple(kAllEllipseTechniques, EllipseTechniqueName);
     m.def(

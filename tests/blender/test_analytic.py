@@ -38,7 +38,7 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize("technique", ["RECTANGLE", "RECTANGLE_COSINE"])
+@pytest.mark.parametrize("technique", ["RECTANGLE", "RECTANGLE_COSINE", "RECTANGLE_PROJECTED"])
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_ground_radiance_matches_polygon_formula(empty_scene, case, technique):
     builders.mesh_object("Ground", "plane", builders.material("Ground", (ALBEDO,) * 3), size=200)

@@ -15,7 +15,7 @@ def test_engine_and_settings_registered(empty_scene):
     for name in ("technique", "samples", "light_samples", "pattern", "mis", "seed", "compare"):
         assert hasattr(s, name), name
     items = lambda prop: {i.identifier for i in s.bl_rna.properties[prop].enum_items}
-    assert items("technique") == {"AREA", "TRIANGLES", "RECTANGLE", "RECTANGLE_COSINE"}
+    assert items("technique") == {"AREA", "TRIANGLES", "RECTANGLE", "RECTANGLE_COSINE", "RECTANGLE_PROJECTED"}
     assert items("mis") == {"NONE", "BALANCE", "POWER"}
     assert items("pattern") == {"INDEPENDENT", "STRATIFIED", "LATIN", "HAMMERSLEY", "SOBOL"}
     assert hasattr(bpy.types.Light, "sphrect")
@@ -57,7 +57,8 @@ def test_compare_mode_declares_a_pass_per_technique(empty_scene):
     empty_scene.use_nodes = True  # the Render Layers node lists the passes the engine declares
     layer_node = empty_scene.node_tree.nodes["Render Layers"]
     outputs = {o.name for o in layer_node.outputs if o.enabled}
-    expected = {engine_module().technique_pass_name(t) for t in ("triangles", "rectangle", "rectangle_cosine")}
+    expected = {engine_module().technique_pass_name(t) for t in ("triangles", "rectangle", "rectangle_cosine",
+                                                                 "rectangle_projected")}
     assert expected <= outputs, outputs
     assert engine_module().technique_pass_name("area") not in outputs
 

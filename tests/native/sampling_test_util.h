@@ -91,6 +91,39 @@ inline double ReferenceIrradiance(const Vec3<T>& o, const Vec3d& n, const RectLi
     return double(fabsq(sum) / 2);
 }
 
+// Projected solid angle of the light above the horizon of n (any n): the polygon clipped by
+// n . w >= 0 in __float128, then Lambert's formula.  The irradiance at unit radiance.
+template <class T>
+inline double ReferenceProjectedSolidAngle(const Vec3<T>& o, const Vec3d& n, const RectLight<T>& L) {
+    Vec3q c[4];
+    CornersQ(o, L, c);
+    if (DotQ(c[0], CrossQ(c[1], c[2])) == 0) return 0;  // o in the light's plane (or a zero edge)
+    const Vec3q nq = ToQ(n.x, n.y, n.z);
+    Vec3q poly[5];
+    int m = 0;
+    for (int i = 0; i < 4; ++i) {
+        const Vec3q& a = c[i];
+        const Vec3q& b = c[(i + 1) % 4];
+        const Q za = DotQ(nq, a), zb = DotQ(nq, b);
+        if (za >= 0) poly[m++] = a;
+        if ((za >= 0) != (zb >= 0)) {
+            const Q f = za / (za - zb);
+            poly[m++] = {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y), a.z + f * (b.z - a.z)};
+        }
+    }
+    if (m < 3) return 0;
+    Q sum = 0;
+    for (int i = 0; i < m; ++i) {
+        const Vec3q& a = poly[i];
+        const Vec3q& b = poly[(i + 1) % m];
+        const Vec3q cr = CrossQ(a, b);
+        const Q len = LenQ(cr);
+        if (len == 0) continue;
+        sum += atan2q(len, DotQ(a, b)) * DotQ(nq, cr) / len;
+    }
+    return double(fabsq(sum) / (2 * LenQ(nq)));
+}
+
 // Irradiance estimate of technique K with N independent samples (uniform doubles rounded to T,
 // from mt19937_64(seed)): (mean of cos / pdf, its standard error).
 template <Technique K, class T>
@@ -121,6 +154,17 @@ inline double DistanceToLight(const Vec3<T>& p, const RectLight<T>& L) {
     const R ac = std::min(std::max(a, R(0)), R(1)), bc = std::min(std::max(b, R(0)), R(1));
     const R rx = dx - ac * exx - bc * eyx, ry = dy - ac * exy - bc * eyy, rz = dz - ac * exz - bc * eyz;
     return double(std::sqrt(rx * rx + ry * ry + rz * rz));
+}
+
+// The suite's 9 x 9 grid of (u, v) (core/hard_cases.h) and random_count uniform points from mt19937(seed).
+inline std::vector<Point2<float>> GridAndRandomUVs(uint32_t seed, int random_count) {
+    std::vector<Point2<float>> uvs;
+    for (float u : HardCaseUV())
+        for (float v : HardCaseUV()) uvs.push_back({u, v});
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> U(0, 1);
+    for (int i = 0; i < random_count; ++i) uvs.push_back({U(rng), U(rng)});
+    return uvs;
 }
 
 // ---------------------------------------------------------------- switches

@@ -68,3 +68,5 @@ TEST(FormFactor, RectangleFloat) { CheckAll<Technique::Rectangle, float>(); }
 TEST(FormFactor, RectangleDouble) { CheckAll<Technique::Rectangle, double>(); }
 TEST(FormFactor, RectangleCosineFloat) { CheckAll<Technique::RectangleCosine, float>(); }
 TEST(FormFactor, RectangleCosineDouble) { CheckAll<Technique::RectangleCosine, double>(); }
+TEST(FormFactor, RectangleProjectedFloat) { CheckAll<Technique::RectangleProjected, float>(); }
+TEST(FormFactor, RectangleProjectedDouble) { CheckAll<Technique::RectangleProjected, double>(); }

@@ -24,6 +24,7 @@ double SamplerSolidAngle(const LightSampler<K, T>& s) {
     if constexpr (K == Technique::Rectangle) return s.r.solid_angle;
     else if constexpr (K == Technique::Triangles) return T(s.r.omega);
     else if constexpr (K == Technique::RectangleCosine) return s.r.rect.solid_angle;
+    else if constexpr (K == Technique::RectangleProjected) return s.r.use_rectangle ? s.r.rect.solid_angle : -1;
     else return -1;  // area: no solid angle
 }
 
@@ -77,8 +78,9 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
         const LightSample<T> ls = s.Sample(uv);
         ++st->samples;
         ASSERT_TRUE(Finite(ls)) << "u " << uv.u << " v " << uv.v;
-        if (K == Technique::RectangleCosine && ls.pdf == 0) {
-            // Only allowed where the density is 0: a corner below the horizon, whose weight is 0.
+        if ((K == Technique::RectangleCosine || K == Technique::RectangleProjected) && ls.pdf == 0) {
+            // Only allowed where the density is 0: a corner below the horizon, whose weight is 0
+            // (rectangle_cosine), a point on the horizon (rectangle_projected).
             EXPECT_LE(double(Dot(ls.dir, n)) / double(Length(n)), 1e-6) << "u " << uv.u << " v " << uv.v;
             continue;
         }
@@ -97,6 +99,15 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
         // where the factor is ~0 (corners at the horizon) compare against that scale.
         double scale = 0;
         if constexpr (K == Technique::RectangleCosine) scale = 4 * double(RectanglePDF(s.r.rect, ls.point));
+        // rectangle_projected: pdf = cos / E at the point, and the point's own rounding (eps_T times
+        // the light's coordinates) moves cos by that over the distance: near the horizon and near o
+        // a relative change of that over cos.  The allowance 1e-7 * scale is 8 times that change.
+        if constexpr (K == Technique::RectangleProjected) {
+            const double c = double(Dot(ls.dir, n)) / double(Length(n));
+            const double coords = double(Length(L.corner) + Length(L.ex) + Length(L.ey));
+            scale = 1e7 * double(ls.pdf) * 8 * double(std::numeric_limits<T>::epsilon()) * coords /
+                    (double(ls.dist) * std::max(c, 1e-300));
+        }
         bool constant_pdf = false;
         if constexpr (K == Technique::Rectangle) constant_pdf = !s.r.area_fallback;
         if constexpr (K == Technique::Triangles) constant_pdf = true;
@@ -141,6 +152,8 @@ TEST(HardCases, RectangleFloat) { RunSuite<Technique::Rectangle, float>(); }
 TEST(HardCases, RectangleDouble) { RunSuite<Technique::Rectangle, double>(); }
 TEST(HardCases, RectangleCosineFloat) { RunSuite<Technique::RectangleCosine, float>(); }
 TEST(HardCases, RectangleCosineDouble) { RunSuite<Technique::RectangleCosine, double>(); }
+TEST(HardCases, RectangleProjectedFloat) { RunSuite<Technique::RectangleProjected, float>(); }
+TEST(HardCases, RectangleProjectedDouble) { RunSuite<Technique::RectangleProjected, double>(); }
 
 // ---------------------------------------------------------------- degenerate input
 
@@ -169,6 +182,7 @@ void DegenerateForAll() {
         ExpectInvalid<Technique::Triangles>(o, n, L, what);
         ExpectInvalid<Technique::Rectangle>(o, n, L, what);
         ExpectInvalid<Technique::RectangleCosine>(o, n, L, what);
+        ExpectInvalid<Technique::RectangleProjected>(o, n, L, what);
     };
     RectLight<T> zero_x = ok;
     zero_x.ex = {0, 0, 0};
@@ -185,6 +199,7 @@ void DegenerateForAll() {
     all(Vec3<T>(std::numeric_limits<T>::infinity(), 0, 1), -up, ok, "infinite origin");
     // rectangle_cosine only: the light wholly below the shading point's horizon.
     ExpectInvalid<Technique::RectangleCosine>(above, up, ok, "light below the horizon");
+    ExpectInvalid<Technique::RectangleProjected>(above, up, ok, "light below the horizon");
     // Two-sided: the back side is valid.
     RectLight<T> two = ok;
     two.two_sided = true;

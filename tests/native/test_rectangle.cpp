@@ -16,15 +16,7 @@ RectLight<double> ToDouble(const RectLight<float>& L) {
     return {Vec3d(L.corner), Vec3d(L.ex), Vec3d(L.ey), L.two_sided};
 }
 
-std::vector<Point2<float>> SuiteUVs() {
-    std::vector<Point2<float>> uvs;
-    for (float u : HardCaseUV())
-        for (float v : HardCaseUV()) uvs.push_back({u, v});
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> U(0, 1);
-    for (int i = 0; i < 40; ++i) uvs.push_back({U(rng), U(rng)});
-    return uvs;
-}
+std::vector<Point2<float>> SuiteUVs() { return GridAndRandomUVs(11, 40); }
 
 }  // namespace
 

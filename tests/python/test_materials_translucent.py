@@ -41,7 +41,8 @@ def test_light_behind_a_translucent_surface_shows_through(light_selection):
     # The light above reflects nothing but must not take the light below's share: the light tree may not cull
     # lights below the surface's horizon here.
     s = scene(sphrect.Material(kind="translucent", base_color=COLOR), above=True)
-    techniques = ["area", "rectangle", "rectangle_cosine"]
+    # (rectangle_projected: a translucent hit has no horizon, so the technique samples like rectangle there.)
+    techniques = ["area", "rectangle", "rectangle_cosine", "rectangle_projected"]
     reps = replicate_images(s, techniques, replicates=6, samples=16, light_selection=light_selection)
     expected = expected_translucent()
     for t in techniques:
@@ -67,3 +68,12 @@ def test_mix_of_diffuse_and_translucent_adds_both_sides():
         images[name] = r.image("rectangle")[..., 0]
     # Lit from behind only, the mix shows half the translucent lobe (the diffuse side gets nothing).
     np.testing.assert_allclose(images["mix"].mean(), 0.5 * images["translucent"].mean(), rtol=0.03)
+
+
+def test_projected_light_samples_reach_behind_a_translucent_surface():
+    """Without MIS only light samples light the surface: rectangle_projected, whose horizon would drop the light
+    behind it, samples like rectangle at translucent hits (no normal), so the image is still the closed form."""
+    s = scene(sphrect.Material(kind="translucent", base_color=COLOR))
+    reps = replicate_images(s, ["rectangle_projected"], replicates=6, samples=16, mis="none")
+    ok, p, alpha = pixel_t_test(reps["rectangle_projected"], expected_translucent(), 1e-4)
+    assert ok, f"worst p {p:.2e} < {alpha:.2e}"

@@ -7,12 +7,12 @@ Where two of those settings render the same image bit for bit (see image_tested_
 once and the other setting's first replicate is checked to be identical.
 
 False-failure rate: each image is one family of pixel tests with family-wise rate 1e-4 (Sidak
-correction); there are 4 x (4 + 2 x (1 + 3)) + 3 x 2 x 2 + 1 + 1 + 2 + 4 x 2 + 4 = 76 image tests (rectangles x
-(no MIS: every technique; two heuristics x (area, whose image is the same with either setting, and the three
+correction); there are 4 x (5 + 2 x (1 + 4)) + 3 x 2 x 2 + 1 + 1 + 2 + 4 x 2 + 4 = 88 image tests (rectangles x
+(no MIS: every technique; two heuristics x (area, whose image is the same with either setting, and the four
 solid-angle techniques with BSDF samples on the diffuse plane: without, theirs is the image without MIS)), discs
 x ellipse techniques x MIS, the ellipse techniques against each other in fog, delta lights, the power check's
 correct images, several light samples, two lights), so a correct renderer fails this file with probability
-< 0.8 % (seeds are fixed, so the outcome is deterministic).  The last test shows the test has power: a 3 %
+< 0.9 % (seeds are fixed, so the outcome is deterministic).  The last test shows the test has power: a 3 %
 error in the expected image is rejected."""
 import math
 

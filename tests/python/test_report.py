@@ -114,6 +114,30 @@ def test_tree_against_power_at_equal_error():
     assert [r[0] for r in wording.target_rows(target)] == ["rectangle / mis=none / sobol"] * 2
 
 
+def test_projected_finding_compares_with_rectangle_and_cosine():
+    """rectangle_projected against rectangle and rectangle_cosine: one comparison per (setting, technique it is
+    compared with), the equal-time RMSE ratio from the costs, and a summary line per technique."""
+    cfg = StudyConfig(techniques=("rectangle", "rectangle_cosine", "rectangle_projected"), mis=("none",),
+                      patterns=("sobol",))
+    curves = {key("rectangle", "none", "sobol"): _curve(lambda n: 1.0 / n, seconds_per_sample=0.01),
+              key("rectangle_cosine", "none", "sobol"): _curve(lambda n: 0.5 / n, seconds_per_sample=0.012),
+              key("rectangle_projected", "none", "sobol"): _curve(lambda n: 0.04 / n, seconds_per_sample=0.03)}
+    against_rectangle, against_cosine = findings.projected_comparisons(cfg, curves)
+    assert (against_rectangle.against, against_cosine.against) == ("rectangle", "rectangle_cosine")
+    assert against_rectangle.rmse_ratio == pytest.approx(0.2) and against_rectangle.cost_ratio == pytest.approx(3)
+    assert against_rectangle.equal_time_rmse_ratio == pytest.approx(0.2 * math.sqrt(3))
+    assert against_rectangle.efficiency == pytest.approx(1 / (0.04 * 3))
+    assert against_rectangle.verdict == "better than rectangle"
+    # 0.08x the MSE at 2.5x the cost: 5x as efficient as rectangle_cosine.
+    assert against_cosine.efficiency == pytest.approx(5) and against_cosine.verdict == "better than rectangle_cosine"
+    assert "RMSE ratio at equal time 0.346" in wording.cosine_line(against_rectangle)
+    lines = wording.projected_summary_lines([against_rectangle, against_cosine])
+    assert lines[1].startswith("- rectangle_projected is more efficient (1 / (MSE x time)) than rectangle_cosine in 1 of 1")
+    # Not in the study: no finding.
+    assert findings.projected_comparisons(StudyConfig(techniques=("rectangle",), mis=("none",),
+                                                      patterns=("sobol",)), curves) is None
+
+
 def test_non_finite_and_missing_numbers_print_a_placeholder():
     """An infinite RMSE (a run with NaN pixels), a slope that cannot be fitted (too few points) and a study
     without Cycles: every finding still computes, and what is no number prints as the placeholder."""
@@ -141,7 +165,7 @@ def test_non_finite_and_missing_numbers_print_a_placeholder():
     assert math.isnan(slopes.table[key("rectangle_cosine", "none", "sobol")]) and slopes.cycles is None
     slope_table = wording.slope_rows(slopes, cfg)
     assert slope_table[0] == ["area", "none", PLACEHOLDER, PLACEHOLDER]  # infinite errors: no fit
-    assert slope_table[3][2:] == [PLACEHOLDER, PLACEHOLDER] and len(slope_table) == 4  # no Cycles row
+    assert slope_table[3][2:] == [PLACEHOLDER, PLACEHOLDER] and len(slope_table) == len(cfg.techniques)  # no Cycles row
     assert slopes.comparisons == []  # area's slope is no number: no stratification verdict
     (cosine_independent, _) = cosine_comparisons(cfg, curves)
     assert cosine_independent.samples == 4 and cosine_independent.verdict == "within the timing noise"

@@ -10,7 +10,10 @@ import pytest
 import sphrect
 from chi2 import LightConfig, chi2_test
 
-TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine")
+TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine", "rectangle_projected")
+# rectangle_projected's chi-square tests are in test_rectangle_projected.py (a selection of these
+# configurations plus horizon-crossing ones, to keep the suite's time).
+CHI2_TECHNIQUES = tuple(t for t in TECHNIQUES if t != "rectangle_projected")
 DTYPES = ("float32", "float64")
 
 
@@ -82,12 +85,12 @@ def _call_args(c):
 # False failures: 4 techniques x 27 configurations x 2 dtypes = 216 chi-square tests at a
 # Sidak-corrected level each, so that a correct implementation fails one of them with
 # probability 1e-3 overall (the seeds are fixed: a pass or a failure is reproducible).
-CHI2_TESTS = len(TECHNIQUES) * len(CHI2_CONFIGS) * len(DTYPES)
+CHI2_TESTS = len(CHI2_TECHNIQUES) * len(CHI2_CONFIGS) * len(DTYPES)
 
 
 @pytest.mark.parametrize("dtype", DTYPES)
 @pytest.mark.parametrize("config", CHI2_CONFIGS, ids=str)
-@pytest.mark.parametrize("technique", TECHNIQUES)
+@pytest.mark.parametrize("technique", CHI2_TECHNIQUES)
 def test_chi2_technique_matches_its_pdf(technique, config, dtype):
     r = chi2_test(technique, config, dtype=dtype, sample_count=1_000_000, significance=1e-3, test_count=CHI2_TESTS)
     assert r.off_light_samples == 0, str(r)
@@ -210,7 +213,9 @@ def test_rectangle_is_uniform_in_solid_angle(config, dtype):
         np.testing.assert_allclose(pdf, 1.0 / omega, rtol=1e-4)
 
 
-@pytest.mark.parametrize("technique", TECHNIQUES)
+# (rectangle_projected samples only the part of the light above the horizon, where E[1/pdf] is
+# that part's solid angle; its estimator is tested in test_rectangle_projected.py.)
+@pytest.mark.parametrize("technique", CHI2_TECHNIQUES)
 @pytest.mark.parametrize("config", ORDINARY + HARD[:3], ids=str)
 def test_mean_inverse_pdf_is_the_solid_angle(technique, config):
     """E[1/pdf] = Omega for every technique (1/pdf is the estimator of the solid angle).
@@ -404,6 +409,13 @@ UV = np.array([[0.25, 0.5], [0.75, 0.125]])
     (lambda: sphrect.sample("rectangle_cosine", *ARGS, UV), "needs normal="),
     (lambda: sphrect.pdf("rectangle_cosine", *ARGS, np.zeros((1, 3))), "needs normal="),
     (lambda: sphrect.sample("rectangle_cosine", *ARGS, UV, normal=(0, 0, 0)), "normal must be a non-zero"),
+    (lambda: sphrect.sample("rectangle_projected", *ARGS, UV), "needs normal="),
+    (lambda: sphrect.pdf("rectangle_projected", *ARGS, np.zeros((1, 3))), "needs normal="),
+    (lambda: sphrect.invert(*ARGS, np.zeros((1, 3)), technique="rectangle_projected"), "needs normal="),
+    (lambda: sphrect.invert(*ARGS, np.zeros((1, 3)), technique="rectangle_cosine"), "invert supports technique"),
+    (lambda: sphrect.invert(*ARGS, np.zeros((1, 3)), technique="foo"), "unknown technique 'foo'"),
+    (lambda: sphrect.projected_solid_angle(*ARGS, (0, 0, 0)), "normal must be a non-zero"),
+    (lambda: sphrect.projected_solid_angle(*ARGS, np.ones((2, 3))), "takes one normal"),
     (lambda: sphrect.sample("area", ARGS[0], ARGS[1], (1, 0, 0), (1, 1, 0), UV), "must be orthogonal"),
     (lambda: sphrect.solid_angle(ARGS[0], ARGS[1], (1, 0, 0), (0.1, 1, 0)), "must be orthogonal"),
     (lambda: sphrect.invert(ARGS[0], ARGS[1], (1, 0, 0), (1, 1, 0), np.zeros((1, 3))), "must be orthogonal"),

@@ -24,6 +24,8 @@ from sphrect.study.store import ResultStore
 HOOK = "test_study:fake_render"
 W, H = 16, 12
 NOISE = {"area": 0.4, "triangles": 0.2, "rectangle": 0.1, "rectangle_cosine": 0.08}
+STUDY_TECHNIQUES = tuple(NOISE)
+assert set(STUDY_TECHNIQUES) <= set(sphrect.techniques)
 # Light selection 'power' (of the fake renderer): 1.5x the noise at 1/1.2 of the cost per sample, so to reach the
 # same error the tree takes 1.2 / 1.5^2 = 0.533x power's time.
 POWER_NOISE, POWER_COST = 1.5, 1 / 1.2
@@ -85,7 +87,9 @@ def scene_file(tmp_path):
 
 
 def tiny_config(**kw):
-    args = dict(techniques=tuple(sphrect.techniques), mis=("none", "balance"),
+    # Four techniques: the counts below are 4 (techniques) x 2 (MIS) x 2 (patterns) x 4 (ladder) and so on; the
+    # machinery does not depend on which (every name is validated by StudyConfig, test_plan_and_keys).
+    args = dict(techniques=STUDY_TECHNIQUES, mis=("none", "balance"),
                 patterns=("independent", "sobol"), ladder=(1, 2, 4, 8), equal_time=0.004)
     args.update(kw)
     return StudyConfig(**args)

@@ -143,7 +143,8 @@ static inline const Material& MaterialAtHit(const RenderScene& scene, const Surf
 // Whether a hit on material m takes light samples alone (no MIS partner): a purely diffuse
 // material with the lights sampled by solid angle (not `area`, for rectangles nor for the scene's
 // ellipses), unless RenderOptions::bsdf_samples_on_diffuse (ShadeContext).  There the light sample's density already follows
-// the integrand but for the cosine, so the BSDF sample's share of MIS is small where it is not
+// the integrand but for the cosine (`rectangle_projected`: including the cosine, so that an
+// unoccluded light's estimate has no variance and a BSDF sample could only add noise), so the BSDF sample's share of MIS is small where it is not
 // noise, and its ray, light finding and light pdf cost a quarter of the render: measured over the
 // twelve blend_scenes (scripts/measure_light_samples.py --mis), MSE x time 0.8 of full MIS's
 // (geometric mean), 0.5-0.6 on the paper scene, the studio and the disks; 1.1-1.3 where
@@ -175,7 +176,11 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     const int n_pairs = (HasChoosableLights(scene, c.light_selection) || c.sample_bsdf) ? c.light_samples : 0;
     // A translucent surface receives light from both sides: no horizon for the light tree.
     const Vec3f tree_normal = kGlossy && sp.material.has_translucent ? Vec3f() : h.ns;
-    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, h.ns, tree_normal, n_pairs,
+    // rectangle_projected samples only the light above the horizon of its normal: a translucent
+    // surface gets none (the technique then switches to `rectangle`, rectangle_projected.h).
+    const Vec3f technique_normal =
+        K == Technique::RectangleProjected && kGlossy && sp.material.has_translucent ? Vec3f() : h.ns;
+    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, technique_normal, tree_normal, n_pairs,
                                            c.ellipse_technique, light_ticks);
     for (int j = 0; j < n_pairs; ++j) {
         const ChosenLight light = light_sampling.Choose(light_points[j]);

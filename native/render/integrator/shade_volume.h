@@ -13,10 +13,11 @@
 
 namespace sphrect::render {
 
-// The medium has no normal: the cosine-weighted technique would drop light behind its
-// made-up horizon, so scattering points use the spherical rectangle instead.
+// The medium has no normal: the cosine-weighted techniques (rectangle_cosine, rectangle_projected)
+// would drop light behind a made-up horizon, so scattering points use the spherical rectangle.
 template <Technique K>
-constexpr Technique kMediumTechnique = K == Technique::RectangleCosine ? Technique::Rectangle : K;
+constexpr Technique kMediumTechnique =
+    K == Technique::RectangleCosine || K == Technique::RectangleProjected ? Technique::Rectangle : K;
 
 // A scattering point x on the camera ray of direction ray_dir.  Phase values and pdfs are
 // w.r.t. wi, the direction towards the light (HenyeyGreenstein(dot(wi, ray_dir), g)).

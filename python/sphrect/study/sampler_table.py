@@ -137,7 +137,8 @@ def pdf_errors() -> Dict[str, Dict]:
 
 # The cost table's stages (timing name prefix -> column title), in the table's order.
 STAGES = {"Setup": "setup", "SetupFromFrame": "setup from the light's frame (renderer)", "Sample": "sample",
-          "SampleEdgeOn": "sample, nearly edge-on setup", "Pdf": "pdf"}
+          "SampleOffAxis": "sample, normal beside the light", "SampleEdgeOn": "sample, nearly edge-on setup",
+          "Pdf": "pdf"}
 
 
 def sampler_costs(min_time: float = 0.2) -> Tuple[Dict[Tuple[str, str], Dict[str, float]], List[Tuple[str, float]]]:

@@ -16,6 +16,7 @@ from .results import Curves
 PAPER_ORDER = ("rectangle", "triangles", "area")  # the paper: RMSE rectangle < triangles < area
 RECTANGLE, TRIANGLES, AREA = PAPER_ORDER
 COSINE = "rectangle_cosine"
+PROJECTED = "rectangle_projected"
 UNSTRATIFIED = "independent"  # the pattern without stratification
 LIGHT_TREE, POWER_SELECTION = "tree", "power"  # the light selections equal_error.selection_comparisons compares
 # The ellipse techniques equal_error.ellipse_comparisons compares: the solid-angle map against area sampling.
@@ -175,8 +176,8 @@ def slopes(cfg: StudyConfig, all_curves: Curves, reference_rmse: float) -> Slope
 
 
 @dataclass(frozen=True)
-class CosineComparison:
-    """rectangle_cosine against rectangle for one (MIS, pattern, light selection, ellipse technique) at the top
+class TechniqueComparison:
+    """One technique against another for one (MIS, pattern, light selection, ellipse technique) at the top
     sample count both measured."""
     mis: str
     pattern: str
@@ -187,23 +188,34 @@ class CosineComparison:
     cost_ratio: float       # per sample (curve_cost)
     efficiency: float       # (1 / (MSE x cost)) ratio
     noise: float            # two standard errors of the costs, relative
+    technique: str = COSINE
+    against: str = RECTANGLE
+
+    @property
+    def equal_time_rmse_ratio(self) -> float:
+        """RMSE ratio at equal time (from the costs per sample: MSE ~ 1 / samples)."""
+        return self.rmse_ratio * math.sqrt(self.cost_ratio)
 
     @property
     def verdict(self) -> str:
-        return noise_verdict(self.efficiency, self.noise, "better than rectangle", "worse than rectangle")
+        return noise_verdict(self.efficiency, self.noise, f"better than {self.against}", f"worse than {self.against}")
 
 
-def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[CosineComparison]]:
-    """rectangle_cosine against rectangle per (MIS, pattern, light selection, ellipse technique): RMSE at the top of
+CosineComparison = TechniqueComparison  # rectangle_cosine against rectangle
+
+
+def technique_comparisons(cfg: StudyConfig, all_curves: Curves, technique: str,
+                          against: str) -> Optional[List[TechniqueComparison]]:
+    """`technique` against `against` per (MIS, pattern, light selection, ellipse technique): RMSE at the top of
     the ladder, cost per sample (curve_cost) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
     cost ratio of 1 is a tie: single runs' times move by more than that between studies.  (The top run's MSE
     has its own noise, which this margin does not count.)  None when the study lacks one of the two."""
-    if COSINE not in cfg.techniques or RECTANGLE not in cfg.techniques:
+    if technique not in cfg.techniques or against not in cfg.techniques:
         return None
     out = []
     for mis, pattern, selection, ellipse in settings(cfg):
-        curve_a = all_curves.get(CurveKey(COSINE, mis, pattern, selection, ellipse), [])
-        curve_b = all_curves.get(CurveKey(RECTANGLE, mis, pattern, selection, ellipse), [])
+        curve_a = all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse), [])
+        curve_b = all_curves.get(CurveKey(against, mis, pattern, selection, ellipse), [])
         a = {r["job"]["samples"]: r["rmse"] for r in curve_a}
         b = {r["job"]["samples"]: r["rmse"] for r in curve_b}
         ns = sorted(set(a) & set(b))
@@ -211,6 +223,19 @@ def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[Co
             continue
         n = ns[-1]
         (cost_a, se_a), (cost_b, se_b) = curve_cost(curve_a), curve_cost(curve_b)
-        out.append(CosineComparison(mis, pattern, selection, ellipse, n, ratio_of(a[n], b[n]), cost_a / cost_b,
-                                    ratio_of(b[n] ** 2 * cost_b, a[n] ** 2 * cost_a), 2 * math.hypot(se_a, se_b)))
+        out.append(TechniqueComparison(mis, pattern, selection, ellipse, n, ratio_of(a[n], b[n]), cost_a / cost_b,
+                                       ratio_of(b[n] ** 2 * cost_b, a[n] ** 2 * cost_a), 2 * math.hypot(se_a, se_b),
+                                       technique, against))
     return out
+
+
+def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[TechniqueComparison]]:
+    """rectangle_cosine against rectangle (technique_comparisons)."""
+    return technique_comparisons(cfg, all_curves, COSINE, RECTANGLE)
+
+
+def projected_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[TechniqueComparison]]:
+    """rectangle_projected against rectangle and against rectangle_cosine (technique_comparisons; the pairs the
+    study has)."""
+    out = [c for against in (RECTANGLE, COSINE) for c in technique_comparisons(cfg, all_curves, PROJECTED, against) or []]
+    return out if PROJECTED in cfg.techniques else None

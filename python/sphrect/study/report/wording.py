@@ -114,11 +114,25 @@ def slope_line(c: SlopeComparison, show_selection: bool = False, show_ellipse: b
 
 
 def cosine_line(c: CosineComparison, show_selection: bool = False, show_ellipse: bool = False) -> str:
+    """One technique comparison (rectangle_cosine against rectangle, or rectangle_projected against either)."""
+    equal_time = (f", RMSE ratio at equal time {fmt(c.equal_time_rmse_ratio)}" if c.technique != COSINE else "")
     return (f"- MIS {c.mis}, {c.pattern}{selection_part(c.light_selection, show_selection, ', ')}"
             f"{ellipse_part(c.ellipse_technique, show_ellipse, ', ')}, {c.samples} spp: "
-            f"RMSE({COSINE})/RMSE({RECTANGLE}) = {fmt(c.rmse_ratio)}, "
-            f"cost ratio {fmt(c.cost_ratio)} (per sample, top {metrics.COST_RUNS} runs), efficiency "
+            f"RMSE({c.technique})/RMSE({c.against}) = {fmt(c.rmse_ratio)}, "
+            f"cost ratio {fmt(c.cost_ratio)} (per sample, top {metrics.COST_RUNS} runs){equal_time}, efficiency "
             f"(1/(MSE x time)) ratio {fmt(c.efficiency)}, timing noise +-{fmt(100 * c.noise, 2)}% ({c.verdict}).")
+
+
+def projected_summary_lines(projected: Optional[List[CosineComparison]], selection_case: str = "") -> List[str]:
+    """Summary: in how many cases rectangle_projected is more efficient than each technique it is compared with."""
+    lines = []
+    for against in dict.fromkeys(c.against for c in projected or []):
+        verdicts = [c.verdict for c in projected if c.against == against]
+        lines.append(f"- rectangle_projected is more efficient (1 / (MSE x time)) than {against} in "
+                     f"{verdicts.count('better than ' + against)} of {len(verdicts)} (MIS, pattern{selection_case}) "
+                     f"cases at the top of the ladder, less in {verdicts.count('worse than ' + against)}, "
+                     f"indistinguishable within the timing noise in the rest.")
+    return lines
 
 
 # ------------------------------------------------------------------------------------------------
@@ -261,7 +275,8 @@ def ellipse_rows(comparisons: Optional[List[EllipseComparison]], show_selection:
 def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[CosineComparison]],
                   cycles: Optional[CyclesComparison], reference_rmse: float, smallest: float,
                   selection: Optional[List[SelectionComparison]] = None, show_selection: bool = False,
-                  ellipse: Optional[List[EllipseComparison]] = None, show_ellipse: bool = False) -> List[str]:
+                  ellipse: Optional[List[EllipseComparison]] = None, show_ellipse: bool = False,
+                  projected: Optional[List[CosineComparison]] = None) -> List[str]:
     """The headline numbers, from the findings the report shows below the summary (`ordering`: its lines)."""
     selection_case = setting_names(show_selection, show_ellipse, first="")
     lines = []
@@ -286,6 +301,7 @@ def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[Cos
                      f"{verdicts.count('better than rectangle')} of {len(cosine)} (MIS, pattern{selection_case}) cases "
                      f"at the top of the ladder, less in {verdicts.count('worse than rectangle')}, indistinguishable "
                      f"within the timing noise in the rest.")
+    lines += projected_summary_lines(projected, selection_case)
     if selection is not None:
         lines += selection_lines(selection)
     if ellipse is not None:
