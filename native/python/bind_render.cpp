@@ -151,7 +151,7 @@ render::CameraModel MakeCameraModel(int width, int height, const py::object& to_
     return c;
 }
 
-// set_camera(**camera) of the scene and of the renderer: the same arguments (sphrect/render.py camera_arguments).
+// set_camera of the scene and of the renderer: the same arguments (sphrect/render.py _set_camera).
 template <class Target>
 void SetCamera(Target& target, int width, int height, const py::object& to_world, bool orthographic, float half_width,
                float half_height, float offset_x, float offset_y, float aperture_radius, float focus_distance,

@@ -167,12 +167,13 @@ static inline double FilteredCoverage(const ScreenLight& s, const PixelFilter& f
 }
 
 // An unbiased estimate of the share of pixel (x, y) where the camera sees light s unoccluded, from
-// a jittered grid of film points and their rays to the light.  Where the probes find the light
-// mostly seen, the coverage c less the grid's share of blocked points, so only the occluder's edge
+// a jittered grid of film points and their rays to the light.  `box` is the exact share of the
+// pixel's footprint the image covers (the filter's share c for a box filter).  Where the probes find
+// the light mostly seen and c is exact, c less the grid's share of blocked points, so only the occluder's edge
 // is left to the grid; where mostly hidden, the grid's share of points that see it, which is never
 // negative.
 static inline float EstimateSeenCoverage(const RenderScene& scene, const CameraView& view, const ScreenLight& s, int x,
-                                         int y, double c, ProbeCounts probes, int grid, uint64_t seed) {
+                                         int y, double box, ProbeCounts probes, int grid, uint64_t seed) {
     constexpr int kBatch = 64;
     PCG32 rng(seed);
     const int total = grid * grid;
@@ -189,7 +190,7 @@ static inline float EstimateSeenCoverage(const RenderScene& scene, const CameraV
     // (Only a box filter's c is exact: another filter's is an estimate of its own, and the grid's share of
     // points that reach the light, from the same points as the blocked ones, is the better one then.)
     const bool exact_c = view.camera.filter.type == PixelFilterType::Box;
-    if (exact_c && 2 * probes.blocked <= probes.reached) return float(c - double(blocked) / total);
+    if (exact_c && 2 * probes.blocked <= probes.reached) return float(box - double(blocked) / total);
     return float(reached - blocked) / total;
 }
 
@@ -206,16 +207,22 @@ static inline void PartialCoverages(const RenderScene& scene, const CameraView& 
     for (int i : candidates) {
         const ScreenLight& s = view.screen_lights[i];
         if (s.x1 <= b.x0 || s.x0 >= b.x1 || s.y1 <= b.y0 || s.y0 >= b.y1) continue;
-        // The exact share of the footprint decides where g is constant (0 or 1); c is the filter's share.
+        // The exact share of the footprint decides where g is constant (0 or 1); c is the filter's share,
+        // estimated only where it is used (EstimateSeenCoverage takes the box share, which is c for a box filter).
         const double box = filter.IsUnitBox() ? PixelCoverage(s, x, y) : BoxCoverage(s, b.x0, b.y0, b.x1, b.y1);
         if (!(box > 0)) continue;
-        const double c = FilteredCoverage(s, filter, x, y, box, CoverageGrid(samples, kFilteredCoveragePointsPerSample),
-                                          MixBits(seed ^ (uint64_t(i + 1) * 0x9e3779b97f4a7c15ull)));
+        auto filtered_coverage = [&] {
+            return FilteredCoverage(s, filter, x, y, box, CoverageGrid(samples, kFilteredCoveragePointsPerSample),
+                                    MixBits(seed ^ (uint64_t(i + 1) * 0x9e3779b97f4a7c15ull)));
+        };
         const ProbeCounts probes = ProbeLightInPixel(scene, view, s, x, y);
         if (probes.blocked == 0) {
-            if (box < 1) out.push_back({&s, float(c), false});  // wholly covered: g is constant
+            if (box < 1) out.push_back({&s, float(filtered_coverage()), false});  // wholly covered: g is constant
         } else if (!estimated) {
-            out.push_back({&s, EstimateSeenCoverage(scene, view, s, x, y, c, probes, CoverageGrid(samples, kSeenCoverageRaysPerSample), seed), true});
+            out.push_back({&s,
+                           EstimateSeenCoverage(scene, view, s, x, y, box, probes,
+                                                CoverageGrid(samples, kSeenCoverageRaysPerSample), seed),
+                           true});
             estimated = true;
         }
     }
