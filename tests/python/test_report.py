@@ -1,5 +1,6 @@
 """The study's report (sphrect.study.report): its findings computed as numbers and worded once, on hand-made
-curves; and a whole report over runs with non-finite errors, which prints placeholders instead of crashing.
+curves; a whole report over runs with non-finite errors, which prints placeholders instead of crashing; and a
+report that names its scene relative to the directory the study ran from.
 The study machinery and its fake renderer are in test_study.py."""
 import math
 import os
@@ -197,6 +198,18 @@ def test_report_of_runs_with_nan_pixels(scene_file, tmp_path, monkeypatch):  # n
     assert "| area / mis=none / sobol | – | unreachable | – |" in report
     assert os.path.getsize(out / "plots" / "equal_time_grid.png") > 5000
     assert (out / "report.html").read_text().count("<img") >= 5
+
+
+def test_report_names_no_absolute_path_of_the_run_directory(scene_file, tmp_path, monkeypatch):  # noqa: F811
+    """The report shows the scene relative to the directory the study ran from, so a report copied into the
+    repository names no path of the machine that wrote it."""
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "study"
+    study(scene_file, out)
+    for name in ("report.md", "report.html"):
+        text = (out / name).read_text()
+        assert str(tmp_path) not in text, name
+        assert "`tiny.sphrect.npz`" in text or "<code>tiny.sphrect.npz</code>" in text, name
 
 
 def test_the_names_the_findings_are_about_are_the_renderers():

@@ -188,8 +188,10 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
     # Runs are redone when the scene, the resolution or the renderer's build changes.
     scene_fp = fingerprint(scene=scene_content_hash(scene_path), width=width, height=height,
                            renderer=build_hash())
+    # The input as the report shows it: relative to the directory the study runs from, so that a report
+    # names no path of the machine that wrote it.
     atomic_write_json(os.path.join(out_dir, CONFIG_FILE), {
-        "input": os.path.abspath(input_path), "scene_file": scene_path, "blend": blend_path, "width": width,
+        "input": os.path.relpath(input_path), "scene_file": scene_path, "blend": blend_path, "width": width,
         "height": height, "study": config.to_dict(), "reference": reference.__dict__, "exporter_warnings": warnings,
         "workers": getattr(executor, "workers", None), "executor": type(executor).__name__})
     context = RunContext(store_root=store.root, scene_path=scene_path, width=width, height=height,

@@ -69,6 +69,12 @@ def headline_pattern(cfg: StudyConfig) -> str:
     return next((p for p in cfg.patterns if p != findings.UNSTRATIFIED), cfg.patterns[0])
 
 
+def shown_path(path: str) -> str:
+    """A path as the report shows it: relative, never the machine's absolute path. The study records its input
+    relative to the directory it ran from; a study recorded before that shows it relative to the current one."""
+    return os.path.relpath(path) if os.path.isabs(path) else path
+
+
 def scene_section(report: Report) -> None:
     doc, results, cfg, c = report.doc, report.results, report.results.settings, report.results.config
     doc.heading("What accuracy costs in time: light-sampling study", 1)
@@ -78,7 +84,7 @@ def scene_section(report: Report) -> None:
     # Likewise the ellipse technique (disk and ellipse lights).
     selections += "" if cfg.ellipse_techniques == (DEFAULT_ELLIPSE_TECHNIQUE,) else \
         f"disk and ellipse lights sampled by {', '.join(cfg.ellipse_techniques)}; "
-    doc.para(f"Scene: `{c['input']}`, {c['width']}x{c['height']} pixels. Techniques {', '.join(cfg.techniques)}; "
+    doc.para(f"Scene: `{shown_path(c['input'])}`, {c['width']}x{c['height']} pixels. Techniques {', '.join(cfg.techniques)}; "
              f"MIS {', '.join(cfg.mis)}; patterns {', '.join(cfg.patterns)}; {selections}sample ladder "
              f"{', '.join(map(str, cfg.ladder))} camera samples per pixel, {cfg.light_samples} light sample(s) each. "
              f"{len(results.ladder)} ladder runs and {len(results.equal_time)} equal-time runs measured. "
