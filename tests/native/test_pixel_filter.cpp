@@ -1,5 +1,8 @@
 // Pixel filters (render/pixel_filter.h): the table's samples follow the filter, and the 1-px box is the
 // renderer's jitter unchanged.
+// Settings: chi-square of 400,000 table samples over 64 equal-probability bins of each filter, false-failure
+// rate 1e-3 per case; the same test fails Blackman-Harris against a Gaussian of the same width and a Gaussian
+// 3% too wide (so it can tell the filters apart); the 1-px box maps u to u - 0.5 exactly.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,6 +1,10 @@
 """Pixel filters (Camera.pixel_filter, filter_width; render/pixel_filter.h): the image of a sharp corner is its
 convolution with the separable filter, the 1-px box is the renderer's image before filters, bad settings are
-refused and the settings survive the scene file."""
+refused and the settings survive the scene file.
+
+Settings: an emissive corner and a rectangle light's corner under an orthographic camera against their
+convolution with box 1 and 2, Gaussian 0.7 and 1.5, Blackman-Harris 1.5 and 3, per pixel: t-test over 16
+replicates x 256 spp, Sidak family-wise false-failure rate 1e-3 per case, allowing the table's 2/1023."""
 import dataclasses
 import json
 

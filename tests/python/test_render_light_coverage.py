@@ -1,6 +1,11 @@
 """The control variate of lights seen by the camera (Renderer(analytic_light_coverage=True), the
 default): unbiased against the sampled estimate, much less noisy at the lights' edges, and off
-(the same image bit for bit) where it does not apply."""
+(the same image bit for bit) where it does not apply.
+
+Settings: unbiased by a per-pixel t-test with Sidak family-wise false-failure rate 1e-3, also for a light crossing
+a wall and with Blackman-Harris, Gaussian and 2-px box filters; the error summed over the pixels at the lights'
+edges must fall more than 20x for every filter, and over the whole image more than 8x where something hides
+part of the light."""
 import numpy as np
 import pytest
 from scipy import stats
