@@ -67,7 +67,7 @@ def _import_distributed():
 
 
 def dashboard_available() -> bool:
-    """Whether the Dask dashboard can be served: it needs bokeh, which Debian 12 does not package (README)."""
+    """Whether the Dask dashboard can be served: it needs bokeh, which Debian 12 does not package (docs/study.md)."""
     try:
         import bokeh  # noqa: F401
         return True
