@@ -128,7 +128,8 @@ def main(argv=None):
                              threads=args.threads)
     ref_r.render(args.reference_samples)
     ref = ref_r.image("rectangle")
-    print(f"reference: {args.reference_samples} spp (rectangle, the renderer's defaults otherwise) in {time.perf_counter() - t0:.1f} s",
+    print(f"reference: {args.reference_samples} spp (rectangle, the renderer's defaults otherwise) in "
+          f"{time.perf_counter() - t0:.1f} s",
           flush=True)
     lum = ref[:, :, :3] @ np.array([0.2126, 0.7152, 0.0722])
     exposure = 0.9 / max(float(np.percentile(lum, 98)), 1e-8)

@@ -84,7 +84,8 @@ def scene_section(report: Report) -> None:
     # Likewise the ellipse technique (disk and ellipse lights).
     selections += "" if cfg.ellipse_techniques == (DEFAULT_ELLIPSE_TECHNIQUE,) else \
         f"disk and ellipse lights sampled by {', '.join(cfg.ellipse_techniques)}; "
-    doc.para(f"Scene: `{shown_path(c['input'])}`, {c['width']}x{c['height']} pixels. Techniques {', '.join(cfg.techniques)}; "
+    doc.para(f"Scene: `{shown_path(c['input'])}`, {c['width']}x{c['height']} pixels. "
+             f"Techniques {', '.join(cfg.techniques)}; "
              f"MIS {', '.join(cfg.mis)}; patterns {', '.join(cfg.patterns)}; {selections}sample ladder "
              f"{', '.join(map(str, cfg.ladder))} camera samples per pixel, {cfg.light_samples} light sample(s) each. "
              f"{len(results.ladder)} ladder runs and {len(results.equal_time)} equal-time runs measured. "
