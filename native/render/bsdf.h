@@ -1,9 +1,9 @@
 // Surface scattering: Lambert; the "glossy" model (Lambert diffuse weighted by 1 - metallic, plus
 // a GGX / Trowbridge-Reitz specular lobe with alpha = roughness^2, F0 = mix(0.08 * specular, base
 // colour, metallic), Schlick Fresnel, height-correlated Smith masking-shadowing: scene files'
-// kind 'glossy'); Blender's Principled BSDF as Cycles 3.4 evaluates it (MakePrincipledMaterial,
-// lobes in principled_lobes.h); Glass and Glossy BSDF as microfacet lobes (MakeGlassMaterial,
-// MakeGlossyBsdfMaterial); Mix / Add Shader as the weighted sum of those (MixIntoMaterial), all evaluated
+// kind 'glossy'); Blender's Principled BSDF as Cycles 3.4 evaluates it (MakePrincipledBsdf,
+// lobes in principled_lobes.h); Glass and Glossy BSDF as microfacet lobes (MakeGlassBsdf,
+// MakeGlossyBsdf); Mix / Add Shader as the weighted sum of those (MixIntoBsdf), all evaluated
 // by EvalPrincipled.  All functions work in the shading frame where the normal is +z and
 // wo is on the +z side (the caller flips the normal to the viewer's side).
 #pragma once
@@ -44,7 +44,9 @@ struct MicrofacetLobe {
 // Lobes one material holds: enough for a Mix / Add of glossy and glass shaders at distinct roughnesses.
 constexpr int kMaxMicrofacetLobes = 4;
 
-struct Material {
+// A material's scattering as the integrator evaluates it: its lobes and their weights (made from a Material,
+// material.h, by the Make*Bsdf functions below).
+struct Bsdf {
     Spectrum diffuse;      // reflectance of the Lambert lobe (albedo): f = diffuse / pi; Principled:
                            // the Burley lobe's weight x base colour
     Spectrum f0;           // specular reflectance at normal incidence (0: no specular lobe);
@@ -53,7 +55,7 @@ struct Material {
     float specular_probability = 0;  // chance of sampling the specular lobe in SampleBsdf
     bool glossy = false;   // anything beyond Lambert: needs the kGlossy kernel
     Spectrum emission;     // radiance emitted from both sides (emissive meshes); 0: none
-    bool textured = false;     // images drive its inputs: a hit evaluates its recipe (textured_material.h)
+    bool textured = false;     // images drive its inputs: a hit evaluates its Material (material.h)
     bool normal_mapped = false;  // RenderScene::normal_maps holds its map
 
     // Principled BSDF (Cycles 3.4).  Sheen and clearcoat cost only a flag test when absent.
@@ -79,7 +81,7 @@ struct Material {
     bool multiscatter = false;
 
     // Microfacet reflection lobes of their own (Glossy BSDF, a Glass BSDF's reflection), each
-    // sampled with its own probability; Mix / Add Shader sums them (MixIntoMaterial).
+    // sampled with its own probability; Mix / Add Shader sums them (MixIntoBsdf).
     int num_lobes = 0;
     MicrofacetLobe lobes[kMaxMicrofacetLobes];
     // Mixes only: a Lambert lobe beside the Burley one (a Diffuse BSDF mixed with other shaders), and the
@@ -97,7 +99,7 @@ struct Material {
     bool bump_shadowing = false;
     Vec3f unmapped_normal;
     // Some lobe has a dielectric Fresnel (fresnel_ior > 0: glass): a hit on a back face uses 1 / ior, as Cycles'
-    // glass closures do for SD_BACKFACING (MaterialAtHit).
+    // glass closures do for SD_BACKFACING (BsdfAtHit).
     bool has_dielectric = false;
     // Holdout (Cycles' CLOSURE_HOLDOUT_ID): the share of the surface that is a hole in the image, black and of alpha
     // 0 where the camera sees it (the film's alpha is 1 - holdout there); its light reflection is the rest's.
@@ -147,7 +149,7 @@ struct PrincipledInputs {
 // Lobe choice roughly by albedo (the sheen's is at most ~0.1 of its weight, the clearcoat's
 // Fresnel starts at 0.04, a glass lobe's Fresnel at F0 or 0.04), each present lobe at least 10% of the samples;
 // the cosine (Lambert, Burley, sheen) takes the rest.  Sets specular_, clearcoat_ and each lobe's probability.
-inline void ChooseLobeProbabilities(Material& m) {
+inline void ChooseLobeProbabilities(Bsdf& m) {
     float w_cos = Luminance(m.lambert) + Luminance(m.diffuse) + 0.1f * Luminance(m.sheen);
     float w_trans = m.has_translucent ? std::max(Luminance(m.translucent), 1e-6f) : 0.0f;
     float w_spec = m.has_specular ? std::max(Luminance(m.f0), 0.04f) * m.specular_weight : 0.0f;
@@ -180,16 +182,16 @@ inline void ChooseLobeProbabilities(Material& m) {
     for (int i = 0; i < m.num_lobes; ++i) m.lobes[i].probability = w_lobe[i] / sum;
 }
 
-// Blender material parameters -> Material.  Roughness is clamped to 0.03 (alpha ~ 1e-3): a
+// Blender material parameters -> Bsdf.  Roughness is clamped to 0.03 (alpha ~ 1e-3): a
 // perfect mirror is a delta lobe that direct lighting from area lights cannot sample by lights.
-inline Material MakeDiffuseMaterial(const Spectrum& base) {
-    Material m;
+inline Bsdf MakeDiffuseBsdf(const Spectrum& base) {
+    Bsdf m;
     m.diffuse = base;
     return m;
 }
 
-inline Material MakeGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular) {
-    Material m;
+inline Bsdf MakeLambertGgxBsdf(const Spectrum& base, float roughness, float metallic, float specular) {
+    Bsdf m;
     m.glossy = true;
     metallic = std::clamp(metallic, 0.0f, 1.0f);
     const float r = std::clamp(roughness, 0.03f, 1.0f);
@@ -223,10 +225,10 @@ inline bool MakeMicrofacetLobe(const Spectrum& color, float roughness, float fre
 // mix(1, tint', specular_tint), base colour, metallic) (tint' normalised by 0.3 r + 0.6 g + 0.1 b) towards
 // white by the dielectric Fresnel of IOR 2 / (1 - sqrt(0.08 specular)) - 1, and a clearcoat: GTR1 of
 // alpha = clearcoat_roughness^2 with G at alpha 0.25, Fresnel of IOR 1.5, weight 0.25 clearcoat.
-// Roughnesses are clamped to 0.03 as in MakeGlossyMaterial.
-inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
+// Roughnesses are clamped to 0.03 as in MakeLambertGgxBsdf.
+inline Bsdf MakePrincipledBsdf(const PrincipledInputs& in) {
     constexpr float kCutoff = 1e-5f;  // Cycles' CLOSURE_WEIGHT_CUTOFF: lobes below it are not made
-    Material m;
+    Bsdf m;
     m.glossy = m.principled = true;
     const Spectrum base = in.base_color;
     const float metallic = std::clamp(in.metallic, 0.0f, 1.0f);
@@ -288,8 +290,8 @@ inline Material MakePrincipledMaterial(const PrincipledInputs& in) {
 
 // Cycles 3.4's Translucent BSDF: Lambertian transmission, f = colour / pi towards the other side of the surface
 // (bsdf_translucent_eval), what a zero-bounce render shows of a thin surface lit from behind.
-inline Material MakeTranslucentMaterial(const Spectrum& color) {
-    Material m;
+inline Bsdf MakeTranslucentBsdf(const Spectrum& color) {
+    Bsdf m;
     m.glossy = m.principled = true;
     m.translucent = color;
     m.has_translucent = !IsBlack(color);
@@ -298,32 +300,32 @@ inline Material MakeTranslucentMaterial(const Spectrum& color) {
 }
 
 // Blender's Holdout shader: black, and the camera sees a hole (alpha 0) where it is.
-inline Material MakeHoldoutMaterial() {
-    Material m;
+inline Bsdf MakeHoldoutBsdf() {
+    Bsdf m;
     m.holdout = 1;
     return m;
 }
 
 // Blender's Transparent BSDF: nothing reflected; camera and shadow rays go on through it, filtered by `color`.
-inline Material MakeTransparentMaterial(const Spectrum& color) {
-    Material m;
+inline Bsdf MakeTransparentBsdf(const Spectrum& color) {
+    Bsdf m;
     m.transparency = color;
     m.has_transparency = !IsBlack(color);
     m.opaque_weight = 0;
     return m;
 }
 
-// The material a Mix / Add Shader starts from, before MixIntoMaterial adds its parts: black, opaque only where a
+// The material a Mix / Add Shader starts from, before MixIntoBsdf adds its parts: black, opaque only where a
 // part is.
-inline Material MakeEmptyMixMaterial() {
-    Material m = MakeDiffuseMaterial({});
+inline Bsdf MakeEmptyMixBsdf() {
+    Bsdf m = MakeDiffuseBsdf({});
     m.opaque_weight = 0;
     return m;
 }
 
 // A material of microfacet lobes only (Glass, Glossy BSDF): one lobe or none (black).
-inline Material MakeSingleLobeMaterial(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann) {
-    Material m;
+inline Bsdf MakeSingleLobeBsdf(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann) {
+    Bsdf m;
     m.glossy = m.principled = true;
     if (MakeMicrofacetLobe(color, roughness, fresnel_ior, beckmann, m.lobes[0])) m.num_lobes = 1;
     m.has_dielectric = m.num_lobes > 0 && fresnel_ior > 0;
@@ -336,11 +338,11 @@ inline Material MakeSingleLobeMaterial(const Spectrum& color, float roughness, f
 // (fresnel_dielectric_cos of the view), GGX of alpha = roughness^2 with separable Smith G and no
 // micro-Fresnel; the refraction closure (colour x (1 - F)) needs a second bounce or a light behind an
 // open surface, neither modelled here (black).  A sharp glass is black (MakeMicrofacetLobe).  ior is the
-// front side's: a back face takes 1 / ior at the hit (MaterialAtHit), as in Cycles.
+// front side's: a back face takes 1 / ior at the hit (BsdfAtHit), as in Cycles.
 // beckmann: Cycles' Beckmann distribution (the node's default), evaluated with its D and rational G1, sampled
 // by GGX visible normals of the same alpha (the pdf is that of the sampling: unbiased).
-inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann = false) {
-    return MakeSingleLobeMaterial(color, roughness, std::max(ior, 1e-5f), beckmann);  // Cycles' fmaxf(ior, 1e-5)
+inline Bsdf MakeGlassBsdf(const Spectrum& color, float roughness, float ior, bool beckmann = false) {
+    return MakeSingleLobeBsdf(color, roughness, std::max(ior, 1e-5f), beckmann);  // Cycles' fmaxf(ior, 1e-5)
 }
 
 // Cycles 3.4's Glossy BSDF (CLOSURE_BSDF_MICROFACET_{GGX,BECKMANN}_ID): colour x the microfacet reflection
@@ -349,9 +351,9 @@ inline Material MakeGlassMaterial(const Spectrum& color, float roughness, float 
 // stretched along the tangent by 1 / (1 - a) across and (1 - a) along it for a >= 0 (a clamped to +-0.99; negative
 // swaps them), the tangent turned by `rotation` turns.  GGX only (Beckmann stays isotropic: the exporter warns).
 // multiscatter: the distribution Multiscatter GGX (GGX's lobe shape from its random walk: MicrofacetLobe).
-inline Material MakeGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false,
+inline Bsdf MakeGlossyBsdf(const Spectrum& color, float roughness, bool beckmann = false,
                                        float anisotropy = 0, float rotation = 0, bool multiscatter = false) {
-    Material m = MakeSingleLobeMaterial(color, roughness, 0, beckmann);
+    Bsdf m = MakeSingleLobeBsdf(color, roughness, 0, beckmann);
     if (m.num_lobes == 0 || beckmann) return m;
     MicrofacetLobe& l = m.lobes[0];
     if (multiscatter) {  // bsdf_microfacet_multi_ggx_common_setup: the colour saturated, alpha >= 1e-4
@@ -369,7 +371,7 @@ inline Material MakeGlossyBsdfMaterial(const Spectrum& color, float roughness, b
 
 // A hit's tangent (unit, in the shading frame: z = 0) given to the material's anisotropic lobes, each turned by
 // its rotation about the normal (Cycles' rotate_around_axis(T, N, rotation 2 pi)).
-inline void SetHitTangent(Material& m, const Vec3f& tangent) {
+inline void SetHitTangent(Bsdf& m, const Vec3f& tangent) {
     const float base = std::atan2(tangent.y, tangent.x);
     auto turned = [&](float rotation, float& c, float& s) {
         const float angle = base + 2 * kPi * rotation;
@@ -382,8 +384,8 @@ inline void SetHitTangent(Material& m, const Vec3f& tangent) {
         if (m.lobes[i].anisotropic()) turned(m.lobes[i].rotation, m.lobes[i].tangent_cos, m.lobes[i].tangent_sin);
 }
 
-// What MixIntoMaterial does with a part the mix cannot hold: throw std::invalid_argument (building a scene), or, at
-// a textured hit (whose recipe was checked with kThrow on its untextured values, so this is the rare case of
+// What MixIntoBsdf does with a part the mix cannot hold: throw std::invalid_argument (building a scene), or, at
+// a textured hit (whose Material was checked with kThrow on its untextured values, so this is the rare case of
 // textures making lobes that merged there distinct), keep what fits: the part's Principled lobes dropped, an
 // extra microfacet lobe added to the last one.  Never throws.
 enum class MixOverflow { kThrow, kLenient };
@@ -394,7 +396,7 @@ enum class MixOverflow { kThrow, kLenient };
 // lobes (equal ones merged); what does not fit, and the former 'glossy' model, are kPolicy's.
 // Emission is the caller's (RenderScene::PushMaterial).
 template <MixOverflow kPolicy = MixOverflow::kThrow>
-inline void MixIntoMaterial(Material& mix, const Material& part, float weight) {
+inline void MixIntoBsdf(Bsdf& mix, const Bsdf& part, float weight) {
     constexpr bool kThrows = kPolicy == MixOverflow::kThrow;
     if constexpr (kThrows) {
         if (!(weight >= 0) || !std::isfinite(weight)) throw std::invalid_argument("a mix layer's weight must be >= 0");
@@ -581,7 +583,7 @@ inline float BeckmannG1(float cos_theta, float alpha) {
 // --- Principled (Cycles 3.4) --------------------------------------------------------------------
 
 // The Principled specular's Fresnel (Cycles' interpolate_fresnel_color of its cspec0 and IOR).
-inline Spectrum PrincipledSpecularFresnel(const Material& m, float cos_ih) {
+inline Spectrum PrincipledSpecularFresnel(const Bsdf& m, float cos_ih) {
     return InterpolatedFresnel(cos_ih, m.specular_ior, m.specular_f0, m.f0);
 }
 
@@ -621,7 +623,7 @@ inline Spectrum EvalMicrofacetLobe(const MicrofacetLobe& l, const Vec3f& wo, con
 // wo.z, wi.z > 0.
 // sampled: wi is the BSDF's own sample (its multiple-scattering walk then starts from the view, as Cycles' sampling
 // walk does: multiscatter_ggx.h).
-inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& wi, bool sampled = false) {
+inline Spectrum EvalPrincipled(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, bool sampled = false) {
     Spectrum f = m.diffuse * BurleyDiffuse(wo, wi, m.burley_roughness) + m.lambert * kInvPi;
     const Vec3f h = Normalize(wo + wi);
     const float cos_ih = Dot(wi, h), inv_4cos = 1 / (4 * wo.z * wi.z);
@@ -651,7 +653,7 @@ inline Spectrum EvalPrincipled(const Material& m, const Vec3f& wo, const Vec3f& 
 }
 
 // wo.z > 0; wi.z > 0, or < 0 for the translucent lobe.
-inline float PrincipledPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+inline float PrincipledPDF(const Bsdf& m, const Vec3f& wo, const Vec3f& wi) {
     if (wi.z < 0) return m.translucent_probability * CosineHemispherePDF(-wi.z);
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
     float p_cos = 1 - ps - pc - m.translucent_probability;
@@ -682,7 +684,7 @@ inline Vec3f ReflectAbove(const Vec3f& wo, const Vec3f& h) {
 // One uniform number picks the lobe (GGX visible normals of the specular, GTR1 normals, each microfacet
 // lobe's GGX visible normals, else the cosine for diffuse and sheen) and is rescaled to [0,1) for the
 // lobe's own warp.
-inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point2<float> u) {
+inline Vec3f SamplePrincipledDirection(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
     if (u.u < ps) {
         u.u = std::min(u.u / ps, kOneMinusEpsilonF);
@@ -724,7 +726,7 @@ inline Vec3f SamplePrincipledDirection(const Material& m, const Vec3f& wo, Point
 
 // wi below the surface (wi.z < 0) only reaches the translucent lobe.
 template <bool kGlossy>
-inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi, bool sampled = false) {
+inline Spectrum EvalBsdf(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, bool sampled = false) {
     if constexpr (kGlossy) {
         if (m.has_translucent && wi.z < 0 && wo.z > 0) {
             // Transmission: Cycles' term about the flipped normals, i.e. the mirrored direction here.
@@ -748,7 +750,7 @@ inline Spectrum EvalBsdf(const Material& m, const Vec3f& wo, const Vec3f& wi, bo
 }
 
 template <bool kGlossy>
-inline float BsdfPDF(const Material& m, const Vec3f& wo, const Vec3f& wi) {
+inline float BsdfPDF(const Bsdf& m, const Vec3f& wo, const Vec3f& wi) {
     if constexpr (kGlossy) {
         if (m.has_translucent && wi.z < 0 && wo.z > 0) return PrincipledPDF(m, wo, wi);
     }
@@ -770,7 +772,7 @@ struct BsdfSample {
 };
 
 template <bool kGlossy>
-inline BsdfSample SampleBsdf(const Material& m, const Vec3f& wo, Point2<float> u) {
+inline BsdfSample SampleBsdf(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
     BsdfSample s;
     if (wo.z <= 0) return s;
     if constexpr (kGlossy) {

@@ -163,18 +163,18 @@ void RenderScene::CheckMaterialColors(const Spectrum& base, const Spectrum& emis
     CheckColor("material emission", emission);
 }
 
-int RenderScene::PushMaterial(const Material& m, const Spectrum& emission, const MaterialRecipe& recipe) {
-    materials.push_back(m);
-    materials.back().emission = emission;
-    material_recipes.push_back(recipe);
+int RenderScene::PushMaterial(const Bsdf& m, const Spectrum& emission, const Material& material) {
+    bsdfs.push_back(m);
+    bsdfs.back().emission = emission;
+    materials.push_back(material);
     normal_maps.emplace_back();
-    return int(materials.size()) - 1;
+    return int(bsdfs.size()) - 1;
 }
 
 namespace {
-MaterialRecipe Recipe(MaterialKind kind, const Spectrum& base, float roughness = 0.5f, float metallic = 0,
+Material MakeMaterial(MaterialKind kind, const Spectrum& base, float roughness = 0.5f, float metallic = 0,
                       float specular = 0.5f) {
-    MaterialRecipe r;
+    Material r;
     r.kind = kind;
     r.inputs.base_color = base;
     r.inputs.roughness = roughness;
@@ -186,7 +186,7 @@ MaterialRecipe Recipe(MaterialKind kind, const Spectrum& base, float roughness =
 
 int RenderScene::AddDiffuseMaterial(const Spectrum& base, const Spectrum& emission) {
     CheckMaterialColors(base, emission);
-    return PushMaterial(MakeDiffuseMaterial(base), emission, Recipe(MaterialKind::kDiffuse, base));
+    return PushMaterial(MakeDiffuseBsdf(base), emission, MakeMaterial(MaterialKind::kDiffuse, base));
 }
 
 int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular,
@@ -194,8 +194,8 @@ int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float 
     CheckMaterialColors(base, emission);
     if (!std::isfinite(roughness) || !std::isfinite(metallic) || !std::isfinite(specular))
         Fail("material roughness, metallic and specular must be finite");
-    return PushMaterial(MakeGlossyMaterial(base, roughness, metallic, specular), emission,
-                        Recipe(MaterialKind::kGlossy, base, roughness, metallic, specular));
+    return PushMaterial(MakeLambertGgxBsdf(base, roughness, metallic, specular), emission,
+                        MakeMaterial(MaterialKind::kGlossy, base, roughness, metallic, specular));
 }
 
 int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectrum& emission) {
@@ -203,20 +203,20 @@ int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectru
     for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
                     in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation, in.transmission, in.ior})
         if (!std::isfinite(v)) Fail("material Principled inputs must be finite");
-    MaterialRecipe r;
+    Material r;
     r.kind = MaterialKind::kPrincipled;
     r.inputs = in;
-    return PushMaterial(MakePrincipledMaterial(in), emission, r);
+    return PushMaterial(MakePrincipledBsdf(in), emission, r);
 }
 
 int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann,
                                   const Spectrum& emission) {
     CheckMaterialColors(color, emission);
     if (!std::isfinite(roughness) || !std::isfinite(ior)) Fail("material roughness and ior must be finite");
-    MaterialRecipe r = Recipe(MaterialKind::kGlass, color, roughness);
+    Material r = MakeMaterial(MaterialKind::kGlass, color, roughness);
     r.ior = ior;
     r.beckmann = beckmann;
-    return PushMaterial(MakeGlassMaterial(color, roughness, ior, beckmann), emission, r);
+    return PushMaterial(MakeGlassBsdf(color, roughness, ior, beckmann), emission, r);
 }
 
 int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann,
@@ -224,28 +224,28 @@ int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, b
     CheckMaterialColors(color, emission);
     if (!std::isfinite(roughness) || !std::isfinite(anisotropy) || !std::isfinite(rotation))
         Fail("material roughness, anisotropy and rotation must be finite");
-    MaterialRecipe r = Recipe(MaterialKind::kGlossyBsdf, color, roughness);
+    Material r = MakeMaterial(MaterialKind::kGlossyBsdf, color, roughness);
     r.beckmann = beckmann;
     r.inputs.anisotropic = anisotropy;
     r.inputs.anisotropic_rotation = rotation;
     r.inputs.multiscatter = multiscatter;
-    return PushMaterial(MakeGlossyBsdfMaterial(color, roughness, beckmann, anisotropy, rotation, multiscatter), emission,
+    return PushMaterial(MakeGlossyBsdf(color, roughness, beckmann, anisotropy, rotation, multiscatter), emission,
                         r);
 }
 
 int RenderScene::AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission) {
     CheckMaterialColors(color, emission);
-    return PushMaterial(MakeTranslucentMaterial(color), emission, Recipe(MaterialKind::kTranslucent, color));
+    return PushMaterial(MakeTranslucentBsdf(color), emission, MakeMaterial(MaterialKind::kTranslucent, color));
 }
 
 int RenderScene::AddTransparentMaterial(const Spectrum& color) {
     CheckMaterialColors(color, {});
-    return PushMaterial(MakeTransparentMaterial(color), {}, Recipe(MaterialKind::kTransparent, color));
+    return PushMaterial(MakeTransparentBsdf(color), {}, MakeMaterial(MaterialKind::kTransparent, color));
 }
 
 int RenderScene::AddHoldoutMaterial() {
     RequireNotCommitted();
-    return PushMaterial(MakeHoldoutMaterial(), {}, Recipe(MaterialKind::kHoldout, {}));
+    return PushMaterial(MakeHoldoutBsdf(), {}, MakeMaterial(MaterialKind::kHoldout, {}));
 }
 
 void RenderScene::SetFilmTransparent(bool transparent) {
@@ -255,29 +255,29 @@ void RenderScene::SetFilmTransparent(bool transparent) {
 
 int RenderScene::AddMixMaterial(const Spectrum& emission) {
     CheckMaterialColors({}, emission);
-    return PushMaterial(MakeEmptyMixMaterial(), emission, Recipe(MaterialKind::kMix, {}));
+    return PushMaterial(MakeEmptyMixBsdf(), emission, MakeMaterial(MaterialKind::kMix, {}));
 }
 
 void RenderScene::MixLastMaterialInto(int target, float weight, const std::vector<MixFactorLookup>& factors) {
     RequireNotCommitted();
-    if (target < 0 || size_t(target) + 1 >= materials.size())
+    if (target < 0 || size_t(target) + 1 >= bsdfs.size())
         Fail("mix target must be a material added before the last one");
-    if (material_recipes[size_t(target)].kind != MaterialKind::kMix) Fail("mix target must be a mix material");
+    if (materials[size_t(target)].kind != MaterialKind::kMix) Fail("mix target must be a mix material");
     if (!(weight >= 0) || !std::isfinite(weight)) Fail("mix weight must be finite and >= 0");
     for (const MixFactorLookup& f : factors) CheckLookup(f.lookup);
-    const Material part = materials.back();
+    const Bsdf part = bsdfs.back();
     if (!factors.empty() && !IsBlack(part.emission))
         Fail("an emitting mix layer cannot have texture-driven factors (mesh lights need a constant emission)");
     if (normal_maps.back().lookup.bound()) Fail("a mix layer cannot have a normal map of its own (the mix's has)");
-    Material mix = materials[size_t(target)];
+    Bsdf mix = bsdfs[size_t(target)];
     // The untextured values stand for the textured ones (a factor as 1/2): the structure a hit rebuilds.
-    MixIntoMaterial(mix, part, factors.empty() ? weight : weight * 0.5f);  // throws (the scene unchanged) if it cannot hold it
+    MixIntoBsdf(mix, part, factors.empty() ? weight : weight * 0.5f);  // throws (the scene unchanged) if it cannot hold it
     mix.emission += part.emission * weight;
     mix.textured = mix.textured || part.textured || !factors.empty();
-    material_recipes[size_t(target)].layers.push_back({weight, factors, material_recipes.back()});
-    materials[size_t(target)] = mix;
+    materials[size_t(target)].layers.push_back({weight, factors, materials.back()});
+    bsdfs[size_t(target)] = mix;
+    bsdfs.pop_back();
     materials.pop_back();
-    material_recipes.pop_back();
     normal_maps.pop_back();
 }
 
@@ -304,14 +304,14 @@ int RenderScene::AddImage(Image image) {
 
 void RenderScene::SetMaterialTexture(int material, TexturedInput input, const TextureLookup& lookup) {
     CheckLookup(lookup);
-    if (material < 0 || size_t(material) >= materials.size()) Fail("texture of material " + std::to_string(material) +
+    if (material < 0 || size_t(material) >= bsdfs.size()) Fail("texture of material " + std::to_string(material) +
                                                                    " but the scene has " +
-                                                                   std::to_string(materials.size()));
-    MaterialRecipe& r = material_recipes[size_t(material)];
+                                                                   std::to_string(bsdfs.size()));
+    Material& r = materials[size_t(material)];
     if (r.kind == MaterialKind::kMix) Fail("a mix's textures are its layers'");
     if (r.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no textures (use 'principled')");
     r.textures[int(input)] = lookup;
-    Material& m = materials[size_t(material)];
+    Bsdf& m = bsdfs[size_t(material)];
     m.textured = true;
     if (r.kind == MaterialKind::kTransparent && input == TexturedInput::kBaseColor) {
         // May let rays through wherever its image is not black: the hit evaluates it (integrator/transparency.h).
@@ -335,12 +335,12 @@ void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float 
 
 void RenderScene::SetMaterialNormalMap(int material, const TextureLookup& lookup, float strength) {
     CheckLookup(lookup);
-    if (material < 0 || size_t(material) >= materials.size()) Fail("normal map of a material that does not exist");
+    if (material < 0 || size_t(material) >= bsdfs.size()) Fail("normal map of a material that does not exist");
     if (!std::isfinite(strength)) Fail("normal map strength must be finite");
-    if (material_recipes[size_t(material)].kind == MaterialKind::kGlossy)
+    if (materials[size_t(material)].kind == MaterialKind::kGlossy)
         Fail("the 'glossy' model takes no normal map (use 'principled')");
     normal_maps[size_t(material)] = {lookup, std::max(strength, 0.0f)};  // Cycles: max(strength, 0)
-    materials[size_t(material)].normal_mapped = true;
+    bsdfs[size_t(material)].normal_mapped = true;
 }
 
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
@@ -498,12 +498,12 @@ void RenderScene::Commit() {
     if (!camera_set_) Fail("the scene has no camera");
     if (NumTriangles() == 0 && area_lights.empty() && delta_lights.empty())
         Fail("empty scene: no triangles and no lights");
-    if (materials.empty()) AddDiffuseMaterial({0.8f, 0.8f, 0.8f});
+    if (bsdfs.empty()) AddDiffuseMaterial({0.8f, 0.8f, 0.8f});
     for (const auto& m : meshes)
         for (size_t i = 0; i < m.material_ids.size(); ++i)
-            if (size_t(m.material_ids[i]) >= materials.size())
+            if (size_t(m.material_ids[i]) >= bsdfs.size())
                 Fail("mesh '" + m.name + "': triangle " + std::to_string(i) + " uses material " +
-                     std::to_string(m.material_ids[i]) + " but the scene has " + std::to_string(materials.size()) +
+                     std::to_string(m.material_ids[i]) + " but the scene has " + std::to_string(bsdfs.size()) +
                      " materials");
     LetRaysThroughTransparentMeshes();
     rtcCommitScene(rtc_scene);
@@ -527,19 +527,19 @@ void RenderScene::Commit() {
     features_ = {};
     film_alpha = film_transparent;
     // A glossy material only matters when some triangle uses it.
-    std::vector<bool> used(materials.size(), false);
+    std::vector<bool> used(bsdfs.size(), false);
     for (const auto& m : meshes) {
         if (m.num_triangles == 0) continue;
         if (m.material_ids.empty()) used[0] = true;
         for (int32_t id : m.material_ids) used[id] = true;
     }
-    for (size_t i = 0; i < materials.size(); ++i) {
-        features_.glossy |= used[i] && materials[i].glossy;
-        features_.textures |= used[i] && materials[i].textured;
-        features_.normal_maps |= used[i] && materials[i].normal_mapped;
-        // Textures, normal maps (their bump shadowing) and back faces of dielectrics: the glossy kernel's (MaterialAtHit).
-        features_.glossy |= used[i] && (materials[i].textured || materials[i].normal_mapped);
-        film_alpha |= used[i] && materials[i].holdout > 0;
+    for (size_t i = 0; i < bsdfs.size(); ++i) {
+        features_.glossy |= used[i] && bsdfs[i].glossy;
+        features_.textures |= used[i] && bsdfs[i].textured;
+        features_.normal_maps |= used[i] && bsdfs[i].normal_mapped;
+        // Textures, normal maps (their bump shadowing) and back faces of dielectrics: the glossy kernel's (BsdfAtHit).
+        features_.glossy |= used[i] && (bsdfs[i].textured || bsdfs[i].normal_mapped);
+        film_alpha |= used[i] && bsdfs[i].holdout > 0;
     }
     CheckTextureCoordinates();
     features_.medium = has_medium;
@@ -591,18 +591,18 @@ void RenderScene::LetRaysThroughTransparentMeshes() {
 
 void RenderScene::CheckTextureCoordinates() {
     for (const MeshData& m : meshes) {
-        std::vector<bool> seen(materials.size(), false);
+        std::vector<bool> seen(bsdfs.size(), false);
         auto check = [&](int32_t id) {
             if (seen[size_t(id)]) return;
             seen[size_t(id)] = true;
-            const MaterialRecipe& r = material_recipes[size_t(id)];
+            const Material& r = materials[size_t(id)];
             const NormalMap& nm = normal_maps[size_t(id)];
             // A normal map's tangents come from the UVs, whichever coordinates its image reads.
             const bool wants_uv = r.ReadsCoordinates(false) || nm.lookup.bound();
             if (wants_uv && m.uvs.empty())
                 warnings.push_back("mesh '" + m.name + "': material " + std::to_string(id) +
                                    " reads UV coordinates the mesh does not have (0, 0 used, as Cycles does)");
-            if (materials[size_t(id)].anisotropic && m.generated.empty())
+            if (bsdfs[size_t(id)].anisotropic && m.generated.empty())
                 warnings.push_back("mesh '" + m.name + "': material " + std::to_string(id) +
                                    " is anisotropic but the mesh has no generated coordinates for its radial tangent "
                                    "(an arbitrary tangent used)");
@@ -633,13 +633,13 @@ void RenderScene::AddMeshLights() {
     size_t emissive = 0;  // at most one light each: reserved once (a million lights are ~300 MB)
     for (const MeshData& m : meshes)
         for (size_t i = 0; i < m.num_triangles; ++i)
-            emissive += !IsBlack(materials[m.material_ids.empty() ? 0 : m.material_ids[i]].emission);
+            emissive += !IsBlack(bsdfs[m.material_ids.empty() ? 0 : m.material_ids[i]].emission);
     area_lights.reserve(area_lights.size() + emissive);
     size_t skipped = 0;
     for (MeshData& m : meshes) {
         auto material_of = [&](size_t i) { return m.material_ids.empty() ? 0 : m.material_ids[i]; };
         bool emits = false;
-        for (size_t i = 0; i < m.num_triangles && !emits; ++i) emits = !IsBlack(materials[material_of(i)].emission);
+        for (size_t i = 0; i < m.num_triangles && !emits; ++i) emits = !IsBlack(bsdfs[material_of(i)].emission);
         if (!emits) continue;
         auto triangle = [&](size_t i) {
             Triangle t;
@@ -651,7 +651,7 @@ void RenderScene::AddMeshLights() {
         };
         m.triangle_light.assign(m.num_triangles, -1);
         for (size_t i = 0; i < m.num_triangles; ++i) {
-            const Spectrum& le = materials[material_of(i)].emission;
+            const Spectrum& le = bsdfs[material_of(i)].emission;
             if (IsBlack(le)) continue;
             const Triangle t = triangle(i);
             const int index = int(area_lights.size());

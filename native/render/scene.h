@@ -17,7 +17,7 @@
 #include "lights.h"
 #include "medium.h"
 #include "texture.h"
-#include "textured_material.h"
+#include "material.h"
 
 namespace sphrect::render {
 
@@ -89,13 +89,13 @@ class RenderScene {
     int AddPrincipledMaterial(const PrincipledInputs& inputs, const Spectrum& emission = {});
     int AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann = false,
                          const Spectrum& emission = {});
-    // anisotropy, rotation: the Anisotropic BSDF's (MakeGlossyBsdfMaterial); 0 for a Glossy BSDF.
+    // anisotropy, rotation: the Anisotropic BSDF's (MakeGlossyBsdf); 0 for a Glossy BSDF.
     int AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false,
                               const Spectrum& emission = {}, float anisotropy = 0, float rotation = 0,
                               bool multiscatter = false);
     // Mix / Add Shader: AddMixMaterial makes an empty (black) material; each MixLastMaterialInto then
     // takes the material added last (any Add*Material above, added for this), removes it from the list
-    // and adds its lobes and emission, scaled by weight, to the mix `target` (bsdf.h MixIntoMaterial,
+    // and adds its lobes and emission, scaled by weight, to the mix `target` (bsdf.h MixIntoBsdf,
     // which says what a mix can hold; std::invalid_argument beyond that).
     int AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission = {});
     int AddHoldoutMaterial();
@@ -143,9 +143,9 @@ class RenderScene {
     bool film_alpha = false;  // Commit(): the film's alpha can differ from 1 (transparent film, or a holdout used)
     bool has_medium = false;
     HomogeneousMedium medium;
+    std::vector<Bsdf> bsdfs;
+    // Per material: what it is made of, which a hit on a textured one (Bsdf::textured) evaluates; bsdfs holds its lobes.
     std::vector<Material> materials;
-    // Per material: what it was made from, which a hit on a textured one (Material::textured) evaluates.
-    std::vector<MaterialRecipe> material_recipes;
     std::vector<NormalMap> normal_maps;  // per material; lookup unbound: none
     std::vector<Image> images;
     std::vector<MeshData> meshes;  // index = Embree geometry id (meshes without triangles are not kept)
@@ -160,7 +160,7 @@ class RenderScene {
     // Whether triangle `prim` of `mesh` has a material that may let rays through (integrator/transparency.h).
     bool MayBeTransparent(const MeshData& mesh, uint32_t prim) const {
         const int32_t material = mesh.material_ids.empty() ? 0 : mesh.material_ids[prim];
-        return materials[size_t(material)].has_transparency;
+        return bsdfs[size_t(material)].has_transparency;
     }
     std::vector<std::string> warnings;       // Commit()'s, e.g. skipped degenerate emissive triangles
     // Centres for equi-angular sampling in the medium: area lights' centres and point/spot
@@ -182,8 +182,8 @@ class RenderScene {
 
   private:
     void CheckMaterialColors(const Spectrum& base, const Spectrum& emission) const;
-    // With its emission and the recipe it was made from; returns its index.
-    int PushMaterial(const Material& m, const Spectrum& emission, const MaterialRecipe& recipe);
+    // With its emission and the Material it was made from; returns its index.
+    int PushMaterial(const Bsdf& m, const Spectrum& emission, const Material& material);
     void CheckLookup(const TextureLookup& lookup) const;
     void CheckTextureCoordinates();  // Commit(): warns of meshes a textured material reads without their coordinates
     mutable std::once_flag light_tree_once_;

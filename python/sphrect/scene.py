@@ -76,7 +76,7 @@ PIXEL_FILTERS = tuple(_native.pixel_filters)  # ("box", "gaussian", "blackman_ha
 # to linear after filtering, as Cycles does for byte images; 'linear': used as stored, Blender's Non-Color and
 # Linear), the node's interpolation and extension, and the coordinates it reads.
 TEXTURE_COLORSPACES = ("srgb", "linear")
-TEXTURE_INTERPOLATIONS = tuple(_native.texture_interpolations)  # ("linear", "closest"): render/textured_material.h
+TEXTURE_INTERPOLATIONS = tuple(_native.texture_interpolations)  # ("linear", "closest"): render/material.h
 TEXTURE_EXTENSIONS = tuple(_native.texture_extensions)          # ("repeat", "extend", "clip")
 TEXTURE_COORDINATES = ("uv", "generated")
 TEXTURE_OUTPUTS = ("color", "alpha")

@@ -20,17 +20,17 @@ namespace {
 
 struct NamedMaterial {
     std::string name;
-    Material m;
+    Bsdf m;
 };
 
-Material Mix(std::initializer_list<std::pair<Material, float>> parts) {
-    Material mix = MakeDiffuseMaterial({});
-    for (const auto& [part, weight] : parts) MixIntoMaterial(mix, part, weight);
+Bsdf Mix(std::initializer_list<std::pair<Bsdf, float>> parts) {
+    Bsdf mix = MakeDiffuseBsdf({});
+    for (const auto& [part, weight] : parts) MixIntoBsdf(mix, part, weight);
     return mix;
 }
 
 // An anisotropic material with the hit's tangent at `angle` radians in the shading frame (SetHitTangent).
-Material WithTangent(Material m, float angle) {
+Bsdf WithTangent(Bsdf m, float angle) {
     SetHitTangent(m, {std::cos(angle), std::sin(angle), 0});
     return m;
 }
@@ -52,24 +52,24 @@ std::vector<NamedMaterial> Materials() {
     principled.clearcoat = 0.5f;
     principled.clearcoat_roughness = 0.3f;  // the default 0.03 is too sharp for the cells' midpoint integration
     return {
-        {"glass r=0.2 ior=1.5", MakeGlassMaterial({1, 1, 1}, 0.2f, 1.5f)},
-        {"glass beckmann r=0.5", MakeGlassMaterial({0.9f, 0.9f, 1}, 0.5f, 1.45f, true)},
-        {"glossy r=0.3", MakeGlossyBsdfMaterial({0.8f, 0.8f, 0.8f}, 0.3f)},
-        {"translucent", MakeTranslucentMaterial({0.6f, 0.8f, 0.5f})},
-        {"diffuse + glossy", Mix({{MakeDiffuseMaterial({0.5f, 0.5f, 0.5f}), 0.6f},
-                                  {MakeGlossyBsdfMaterial({1, 1, 1}, 0.25f), 0.4f}})},
-        {"principled + glass + translucent", Mix({{MakePrincipledMaterial(principled), 0.5f},
-                                                  {MakeGlassMaterial({1, 1, 1}, 0.3f, 1.5f), 0.3f},
-                                                  {MakeTranslucentMaterial({0.9f, 0.9f, 0.9f}), 0.2f}})},
-        {"anisotropic glossy a=0.6", WithTangent(MakeGlossyBsdfMaterial({0.9f, 0.9f, 0.9f}, 0.4f, false, 0.6f, 0.15f), 0.5f)},
-        {"principled anisotropic 0.8", WithTangent(MakePrincipledMaterial(AnisotropicPrincipled()), -1.0f)},
-        {"diffuse + anisotropic glossy a=-0.5", WithTangent(Mix({{MakeDiffuseMaterial({0.4f, 0.4f, 0.4f}), 0.5f},
-                                                                 {MakeGlossyBsdfMaterial({1, 1, 1}, 0.3f, false, -0.5f), 0.5f}}),
+        {"glass r=0.2 ior=1.5", MakeGlassBsdf({1, 1, 1}, 0.2f, 1.5f)},
+        {"glass beckmann r=0.5", MakeGlassBsdf({0.9f, 0.9f, 1}, 0.5f, 1.45f, true)},
+        {"glossy r=0.3", MakeGlossyBsdf({0.8f, 0.8f, 0.8f}, 0.3f)},
+        {"translucent", MakeTranslucentBsdf({0.6f, 0.8f, 0.5f})},
+        {"diffuse + glossy", Mix({{MakeDiffuseBsdf({0.5f, 0.5f, 0.5f}), 0.6f},
+                                  {MakeGlossyBsdf({1, 1, 1}, 0.25f), 0.4f}})},
+        {"principled + glass + translucent", Mix({{MakePrincipledBsdf(principled), 0.5f},
+                                                  {MakeGlassBsdf({1, 1, 1}, 0.3f, 1.5f), 0.3f},
+                                                  {MakeTranslucentBsdf({0.9f, 0.9f, 0.9f}), 0.2f}})},
+        {"anisotropic glossy a=0.6", WithTangent(MakeGlossyBsdf({0.9f, 0.9f, 0.9f}, 0.4f, false, 0.6f, 0.15f), 0.5f)},
+        {"principled anisotropic 0.8", WithTangent(MakePrincipledBsdf(AnisotropicPrincipled()), -1.0f)},
+        {"diffuse + anisotropic glossy a=-0.5", WithTangent(Mix({{MakeDiffuseBsdf({0.4f, 0.4f, 0.4f}), 0.5f},
+                                                                 {MakeGlossyBsdf({1, 1, 1}, 0.3f, false, -0.5f), 0.5f}}),
                                                             2.0f)},
-        {"two glossy + translucent + diffuse", Mix({{MakeGlossyBsdfMaterial({1, 1, 1}, 0.2f), 0.3f},
-                                                    {MakeGlossyBsdfMaterial({1, 0.5f, 0.5f}, 0.6f), 0.3f},
-                                                    {MakeTranslucentMaterial({0.5f, 0.5f, 0.5f}), 0.2f},
-                                                    {MakeDiffuseMaterial({0.3f, 0.6f, 0.3f}), 0.2f}})},
+        {"two glossy + translucent + diffuse", Mix({{MakeGlossyBsdf({1, 1, 1}, 0.2f), 0.3f},
+                                                    {MakeGlossyBsdf({1, 0.5f, 0.5f}, 0.6f), 0.3f},
+                                                    {MakeTranslucentBsdf({0.5f, 0.5f, 0.5f}), 0.2f},
+                                                    {MakeDiffuseBsdf({0.3f, 0.6f, 0.3f}), 0.2f}})},
     };
 }
 
@@ -107,7 +107,7 @@ TEST(BsdfLobes, SamplingEstimatesTheAlbedoOverTheSphere) {
 
 TEST(BsdfLobes, TranslucentIsLambertianTransmissionAndConservesEnergy) {
     const Spectrum color{0.6f, 0.8f, 0.5f};
-    const Material m = MakeTranslucentMaterial(color);
+    const Bsdf m = MakeTranslucentBsdf(color);
     const Vec3f wo = SphericalDirection(0.4f, 0.3f);
     // Nothing reflected; colour / pi transmitted; the transmitted albedo is the colour.
     EXPECT_EQ(EvalBsdf<true>(m, wo, SphericalDirection(0.5f, 1.0f)).y, 0.0f);
@@ -153,12 +153,12 @@ TEST(BsdfLobes, AnisotropicGgxReducesToIsotropicAndTurnsWithItsTangent) {
     EXPECT_NEAR(quarter, a, 1e-4f * a);
     EXPECT_NEAR(half, a, 1e-4f * a);
     // The Anisotropic BSDF's rotation input turns the lobe as its tangent does.
-    const Material turned = WithTangent(MakeGlossyBsdfMaterial({1, 1, 1}, 0.4f, false, 0.6f, 0.25f), 0.3f);
-    const Material tangent_turned = WithTangent(MakeGlossyBsdfMaterial({1, 1, 1}, 0.4f, false, 0.6f, 0.0f),
+    const Bsdf turned = WithTangent(MakeGlossyBsdf({1, 1, 1}, 0.4f, false, 0.6f, 0.25f), 0.3f);
+    const Bsdf tangent_turned = WithTangent(MakeGlossyBsdf({1, 1, 1}, 0.4f, false, 0.6f, 0.0f),
                                                 0.3f + kPi / 2);
     EXPECT_NEAR(EvalBsdf<true>(turned, wo, wi).y, EvalBsdf<true>(tangent_turned, wo, wi).y, 1e-5f);
     // Anisotropy changes the lobe (the test above can fail).
-    const Material iso = MakeGlossyBsdfMaterial({1, 1, 1}, 0.4f);
+    const Bsdf iso = MakeGlossyBsdf({1, 1, 1}, 0.4f);
     EXPECT_GT(std::abs(EvalBsdf<true>(turned, wo, wi).y - EvalBsdf<true>(iso, wo, wi).y),
               0.05f * EvalBsdf<true>(iso, wo, wi).y);
 }
@@ -166,15 +166,15 @@ TEST(BsdfLobes, AnisotropicGgxReducesToIsotropicAndTurnsWithItsTangent) {
 TEST(BsdfLobes, AnisotropyFollowsCyclesRoughnessMapping) {
     // svm_node_closure_bsdf: Principled aspect = sqrt(1 - 0.9 a), alpha_x = r^2 / aspect, alpha_y = r^2 aspect;
     // Anisotropic BSDF a >= 0: alpha_x = r^2 (1 - a), alpha_y = r^2 / (1 - a).
-    const Material p = MakePrincipledMaterial(AnisotropicPrincipled());
+    const Bsdf p = MakePrincipledBsdf(AnisotropicPrincipled());
     const float r2 = 0.35f * 0.35f, aspect = std::sqrt(1 - 0.9f * 0.8f);
     EXPECT_FLOAT_EQ(p.alpha, r2 / aspect);
     EXPECT_FLOAT_EQ(p.specular_alpha_y, r2 * aspect);
     EXPECT_TRUE(p.anisotropic);
-    const Material g = MakeGlossyBsdfMaterial({1, 1, 1}, 0.5f, false, 0.6f);
+    const Bsdf g = MakeGlossyBsdf({1, 1, 1}, 0.5f, false, 0.6f);
     EXPECT_FLOAT_EQ(g.lobes[0].alpha, 0.25f * 0.4f);
     EXPECT_FLOAT_EQ(g.lobes[0].alpha_y, 0.25f / 0.4f);
-    EXPECT_FALSE(MakeGlossyBsdfMaterial({1, 1, 1}, 0.5f, true, 0.6f).anisotropic);  // Beckmann: isotropic
+    EXPECT_FALSE(MakeGlossyBsdf({1, 1, 1}, 0.5f, true, 0.6f).anisotropic);  // Beckmann: isotropic
 }
 
 // Albedo of the multiple-scattering GGX with a white Fresnel (cspec0 = 1), the walk from the view or Cycles' shallower
@@ -212,12 +212,12 @@ TEST(BsdfLobes, PrincipledMultiscatterAboveCyclesRoughnessSwitch) {
     in.metallic = 1;
     in.multiscatter = true;
     in.roughness = 0.07f;
-    EXPECT_FALSE(MakePrincipledMaterial(in).multiscatter);  // Cycles: single-scatter GGX at roughness <= 0.075
+    EXPECT_FALSE(MakePrincipledBsdf(in).multiscatter);  // Cycles: single-scatter GGX at roughness <= 0.075
     in.roughness = 0.6f;
-    const Material m = MakePrincipledMaterial(in);
+    const Bsdf m = MakePrincipledBsdf(in);
     ASSERT_TRUE(m.multiscatter);
     in.multiscatter = false;
-    const Material single = MakePrincipledMaterial(in);
+    const Bsdf single = MakePrincipledBsdf(in);
     // Brighter than single scattering at a rough metal, and one evaluation is a fixed function of the directions.
     const Vec3f wo = SphericalDirection(0.6f, 0.2f), wi = SphericalDirection(0.5f, 2.9f);
     EXPECT_EQ(EvalBsdf<true>(m, wo, wi).y, EvalBsdf<true>(m, wo, wi).y);

@@ -1,4 +1,4 @@
-// The Principled BSDF (Cycles 3.4, render/bsdf.h MakePrincipledMaterial): its lobes against
+// The Principled BSDF (Cycles 3.4, render/bsdf.h MakePrincipledBsdf): its lobes against
 // independent forms of Cycles' formulas, reciprocity, energy (white-furnace style) per lobe, and
 // its sampling against its pdf (Pearson chi-square per lobe and for all lobes together).
 // Statistical checks use fixed seeds; each chi-square bound is the 1 - 1e-6 quantile, each mean a
@@ -66,7 +66,7 @@ TEST(PrincipledBsdf, BurleyDiffuseIsThe2012FormWithFd90) {
 
 TEST(PrincipledBsdf, MaterialHasCyclesWeights) {
     // Roughness 1, specular 0: the diffuse alone; at normal view and light FL = FV = 0, so f = base / pi.
-    const Material d = MakePrincipledMaterial(With(0, 0, 1));
+    const Bsdf d = MakePrincipledBsdf(With(0, 0, 1));
     EXPECT_FALSE(d.has_specular || d.has_sheen || d.has_clearcoat);
     const Vec3f n{0, 0, 1};
     EXPECT_NEAR(EvalBsdf<true>(d, n, n).x, 0.8f / kPi, 1e-6f);
@@ -74,25 +74,25 @@ TEST(PrincipledBsdf, MaterialHasCyclesWeights) {
     const Vec3f g = SphericalDirection(0.0001f, 0);
     EXPECT_NEAR(EvalBsdf<true>(d, g, g).x / (0.8f / kPi), 2.5f * 2.5f, 0.01f);
     // Specular 0.5 -> IOR 1.5 (F0 = 0.04), metallic 1 -> no diffuse, cspec0 = base colour.
-    const Material s = MakePrincipledMaterial(With(0, 0.5f, 0.5f));
+    const Bsdf s = MakePrincipledBsdf(With(0, 0.5f, 0.5f));
     EXPECT_NEAR(s.specular_ior, 1.5f, 1e-5f);
     EXPECT_NEAR(s.specular_f0, 0.04f, 1e-6f);
-    const Material metal = MakePrincipledMaterial(With(1, 0.5f, 0.5f));
+    const Bsdf metal = MakePrincipledBsdf(With(1, 0.5f, 0.5f));
     EXPECT_TRUE(IsBlack(metal.diffuse));
     EXPECT_FLOAT_EQ(metal.f0.y, 0.5f);
     // Specular tint 1: F0 = 0.08 specular x base colour / (0.3 r + 0.6 g + 0.1 b).
-    const Material tinted = MakePrincipledMaterial(With(0, 1, 0.5f, 0, 0, 0.3f, 1));
+    const Bsdf tinted = MakePrincipledBsdf(With(0, 1, 0.5f, 0, 0, 0.3f, 1));
     EXPECT_NEAR(tinted.f0.x, 0.08f * 0.8f / (0.3f * 0.8f + 0.6f * 0.5f + 0.1f * 0.3f), 1e-6f);
     // Sheen tint 0.5 (default): sheen x (0.5 + 0.5 base / luminance) x (1 - metallic).
-    const Material sh = MakePrincipledMaterial(With(0.5f, 0, 0.5f, 0.8f));
+    const Bsdf sh = MakePrincipledBsdf(With(0.5f, 0, 0.5f, 0.8f));
     const float lum = Luminance({0.8f, 0.5f, 0.3f});
     EXPECT_NEAR(sh.sheen.z, 0.8f * 0.5f * (0.5f + 0.5f * 0.3f / lum), 1e-6f);
-    EXPECT_NEAR(MakePrincipledMaterial(With(0, 0, 0.5f, 0, 0.6f)).clearcoat, 0.15f, 1e-7f);
+    EXPECT_NEAR(MakePrincipledBsdf(With(0, 0, 0.5f, 0, 0.6f)).clearcoat, 0.15f, 1e-7f);
 }
 
 TEST(PrincipledBsdf, IsReciprocal) {
     for (const NamedInputs& c : Lobes()) {
-        const Material m = MakePrincipledMaterial(c.in);
+        const Bsdf m = MakePrincipledBsdf(c.in);
         for (float co : {0.2f, 0.7f})
             for (float ci : {0.1f, 0.5f, 0.9f}) {
                 const Vec3f wo = SphericalDirection(co, 0.4f), wi = SphericalDirection(ci, 3.0f);
@@ -106,7 +106,7 @@ TEST(PrincipledBsdf, IsReciprocal) {
 // Directional albedo integral f cos dwi (channel x), by importance sampling (the quadrature misses
 // lobes as sharp as alpha = 0.01; the sampling is checked against the pdf below): 200k samples
 // leave a relative standard error < 0.3% for these lobes.
-double Albedo(const Material& m, const Vec3f& wo) {
+double Albedo(const Bsdf& m, const Vec3f& wo) {
     PCG32 rng(99);
     const int n = 200000;
     double sum = 0;
@@ -124,29 +124,29 @@ TEST(PrincipledBsdf, WhiteFurnacePerLobe) {
         // A white metal's single-scatter GGX loses energy to the missing multiple scattering, never gains;
         // measured: 1.00 / 0.83-0.91 / 0.31-0.51 at roughness 0.1 / 0.5 / 1 (Cycles' separable G).
         for (float r : {0.1f, 0.5f, 1.0f}) {
-            const double a = Albedo(MakePrincipledMaterial(With(1, 0.5f, r, 0, 0, 0.3f, 0, white)), wo);
+            const double a = Albedo(MakePrincipledBsdf(With(1, 0.5f, r, 0, 0, 0.3f, 0, white)), wo);
             EXPECT_LE(a, 1.005) << "metal r " << r << " cos " << co;
             EXPECT_GT(a, r <= 0.1f ? 0.99 : (r <= 0.5f ? 0.8 : 0.3)) << "metal r " << r << " cos " << co;
         }
         // Burley at roughness 0 keeps below Lambert's 1 (the (1 - F/2) factors only darken).
-        const double smooth = Albedo(MakePrincipledMaterial(With(0, 0, 0, 0, 0, 0.3f, 0, white)), wo);
+        const double smooth = Albedo(MakePrincipledBsdf(With(0, 0, 0, 0, 0, 0.3f, 0, white)), wo);
         EXPECT_LE(smooth, 1.0) << co;
         EXPECT_GT(smooth, 0.75) << co;
         // Clearcoat: Fresnel of IOR 1.5 under weight 0.25: albedo within [0.25 * 0.04 * 0.5, 0.25].
-        const double coat = Albedo(MakePrincipledMaterial(With(0, 0, 0.5f, 0, 1, 0.3f, 0, {0, 0, 0})), wo);
+        const double coat = Albedo(MakePrincipledBsdf(With(0, 0, 0.5f, 0, 1, 0.3f, 0, {0, 0, 0})), wo);
         EXPECT_LE(coat, 0.25) << co;
         EXPECT_GT(coat, 0.005) << co;
         // Sheen of weight 1 (black base: the tint is white): (1 - wi.h)^5 is large only where wi and wo are
         // nearly opposite, both grazing; albedo < 0.5.
-        const double sheen = Albedo(MakePrincipledMaterial(With(0, 0, 0.5f, 1, 0, 0.3f, 0, {0, 0, 0})), wo);
+        const double sheen = Albedo(MakePrincipledBsdf(With(0, 0, 0.5f, 1, 0, 0.3f, 0, {0, 0, 0})), wo);
         EXPECT_LE(sheen, 0.5) << co;
         EXPECT_GT(sheen, 0.0) << co;
     }
     // Burley's retro-reflection at roughness 1 adds light at grazing angles: as in Cycles its albedo
     // exceeds the smooth one there (what the 7% was).
     const Vec3f grazing = SphericalDirection(0.2f, 0);
-    EXPECT_GT(Albedo(MakePrincipledMaterial(With(0, 0, 1, 0, 0, 0.3f, 0, white)), grazing),
-              Albedo(MakePrincipledMaterial(With(0, 0, 0, 0, 0, 0.3f, 0, white)), grazing) + 0.1);
+    EXPECT_GT(Albedo(MakePrincipledBsdf(With(0, 0, 1, 0, 0, 0.3f, 0, white)), grazing),
+              Albedo(MakePrincipledBsdf(With(0, 0, 0, 0, 0, 0.3f, 0, white)), grazing) + 0.1);
 }
 
 TEST(PrincipledBsdf, SamplesReportTheirPdfAndValue) {
@@ -154,7 +154,7 @@ TEST(PrincipledBsdf, SamplesReportTheirPdfAndValue) {
     std::vector<NamedInputs> cases = Lobes();
     cases.push_back({"sharp clearcoat (Blender's default 0.03)", With(0, 0.5f, 0.5f, 0, 1, 0.03f)});
     for (const NamedInputs& c : cases) {
-        const Material m = MakePrincipledMaterial(c.in);
+        const Bsdf m = MakePrincipledBsdf(c.in);
         for (float co : {0.9f, 0.4f, 0.1f}) {
             const Vec3f wo = SphericalDirection(co, 0.3f);
             for (int i = 0; i < 5000; ++i) {
@@ -174,7 +174,7 @@ TEST(PrincipledBsdf, SamplingMatchesThePdfChiSquare) {
     // pdf's missing mass.
     PCG32 rng(2024);
     for (const NamedInputs& c : Lobes()) {
-        const Material m = MakePrincipledMaterial(c.in);
+        const Bsdf m = MakePrincipledBsdf(c.in);
         for (float co : {0.85f, 0.3f}) {
             const ChiSquare chi2 = BsdfSamplingChiSquare(m, SphericalDirection(co, 0.7f), rng, 0, 24, 48, 8, 400000);
             ASSERT_GT(chi2.cells, 20) << c.name;
@@ -187,7 +187,7 @@ TEST(PrincipledBsdf, SamplingMatchesThePdfChiSquare) {
 TEST(PrincipledBsdf, SamplingEstimatesTheAlbedo) {
     PCG32 rng(17);
     for (const NamedInputs& c : Lobes()) {
-        const Material m = MakePrincipledMaterial(c.in);
+        const Bsdf m = MakePrincipledBsdf(c.in);
         const Vec3f wo = SphericalDirection(0.6f, 1.0f);
         const double reference = IntegrateHemisphere([&](const Vec3f& wi) { return EvalBsdf<true>(m, wo, wi).y * wi.z; });
         const int n = 200000;

@@ -25,17 +25,17 @@
 namespace sphrect::render {
 namespace {
 
-std::vector<Material> TestMaterials() {
-    return {MakeDiffuseMaterial({0.7f, 0.5f, 0.3f}), MakeGlossyMaterial({0.8f, 0.6f, 0.4f}, 0.5f, 0.0f, 0.5f),
-            MakeGlossyMaterial({0.9f, 0.7f, 0.3f}, 0.25f, 1.0f, 0.5f),
-            MakeGlossyMaterial({0.2f, 0.2f, 0.8f}, 0.8f, 0.3f, 1.0f)};
+std::vector<Bsdf> TestMaterials() {
+    return {MakeDiffuseBsdf({0.7f, 0.5f, 0.3f}), MakeLambertGgxBsdf({0.8f, 0.6f, 0.4f}, 0.5f, 0.0f, 0.5f),
+            MakeLambertGgxBsdf({0.9f, 0.7f, 0.3f}, 0.25f, 1.0f, 0.5f),
+            MakeLambertGgxBsdf({0.2f, 0.2f, 0.8f}, 0.8f, 0.3f, 1.0f)};
 }
 
 TEST(RenderBsdf, PdfIsTheDensityOfItsSamples) {
     // Visible-normal samples reflected below the horizon are rejected (pdf 0), so the pdf over
     // the upper hemisphere integrates to the fraction of accepted samples, not to 1.
     PCG32 rng(7);
-    for (const Material& m : TestMaterials()) {
+    for (const Bsdf& m : TestMaterials()) {
         for (float cos_o : {0.9f, 0.5f, 0.15f}) {
             const Vec3f wo = SphericalDirection(cos_o, 0.3f);
             const double total = IntegrateSphere([&](const Vec3f& wi) { return BsdfPDF<true>(m, wo, wi); }, 800, 400);
@@ -64,7 +64,7 @@ TEST(RenderBsdf, PdfIsTheDensityOfItsSamples) {
 TEST(RenderBsdf, SamplingEstimatesTheAlbedoOfTheQuadrature) {
     // integral f cos over the hemisphere: by quadrature, and by importance sampling f cos / pdf.
     PCG32 rng(11);
-    for (const Material& m : TestMaterials()) {
+    for (const Bsdf& m : TestMaterials()) {
         const Vec3f wo = SphericalDirection(0.6f, 1.0f);
         const double reference = IntegrateSphere(
             [&](const Vec3f& wi) { return wi.z > 0 ? EvalBsdf<true>(m, wo, wi).x * wi.z : 0.0f; }, 800, 400);
@@ -82,7 +82,7 @@ TEST(RenderBsdf, SamplingEstimatesTheAlbedoOfTheQuadrature) {
 }
 
 TEST(RenderBsdf, DiffuseKernelIgnoresTheGlossyLobe) {
-    const Material m = MakeGlossyMaterial({0.5f, 0.5f, 0.5f}, 0.3f, 0.0f, 0.5f);
+    const Bsdf m = MakeLambertGgxBsdf({0.5f, 0.5f, 0.5f}, 0.3f, 0.0f, 0.5f);
     const Vec3f wo = SphericalDirection(0.8f, 0), wi = SphericalDirection(0.8f, kPi);
     EXPECT_FLOAT_EQ(EvalBsdf<false>(m, wo, wi).x, m.diffuse.x * kInvPi);
     EXPECT_GT(EvalBsdf<true>(m, wo, wi).x, EvalBsdf<false>(m, wo, wi).x);  // mirror direction: a highlight

@@ -1,11 +1,11 @@
-// Image lookups (texture.h) against hand-computed texels, and textured materials (textured_material.h):
+// Image lookups (texture.h) against hand-computed texels, and textured materials (material.h):
 // a recipe evaluated with its lookups at constant images equals the material made from those constants.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "render/texture.h"
-#include "render/textured_material.h"
+#include "render/material.h"
 
 namespace sphrect::render {
 namespace {
@@ -112,7 +112,7 @@ Image Constant(float r, float g, float b) {
     return im;
 }
 
-void ExpectSameMaterial(const Material& a, const Material& b) {
+void ExpectSameMaterial(const Bsdf& a, const Bsdf& b) {
     // What EvalPrincipled reads: compare by evaluating both at a few direction pairs.
     const Vec3f wo = Normalize(Vec3f(0.3f, -0.2f, 0.9f));
     for (const Vec3f& wi : {Vec3f(0, 0, 1), Normalize(Vec3f(-0.5f, 0.4f, 0.6f)), Normalize(Vec3f(0.7f, 0.1f, 0.2f))}) {
@@ -126,7 +126,7 @@ void ExpectSameMaterial(const Material& a, const Material& b) {
 
 TEST(TexturedMaterial, PrincipledInputsFromImagesEqualTheConstants) {
     const std::vector<Image> images = {Constant(0.2f, 0.5f, 0.7f), Constant(0.4f, 0.4f, 0.4f)};
-    MaterialRecipe r;
+    Material r;
     r.kind = MaterialKind::kPrincipled;
     r.inputs.clearcoat = 0.3f;
     r.textures[int(TexturedInput::kBaseColor)].image = 0;
@@ -135,12 +135,12 @@ TEST(TexturedMaterial, PrincipledInputsFromImagesEqualTheConstants) {
     PrincipledInputs in = r.inputs;
     in.base_color = {0.2f, 0.5f, 0.7f};
     in.roughness = in.metallic = 0.4f;
-    ExpectSameMaterial(EvaluateTexturedMaterial(r, images, {}), MakePrincipledMaterial(in));
+    ExpectSameMaterial(EvaluateTexturedBsdf(r, images, {}), MakePrincipledBsdf(in));
 }
 
 TEST(TexturedMaterial, MixFactorsWeightTheLayers) {
     const std::vector<Image> images = {Constant(0.3f, 0.3f, 0.3f)};
-    MaterialRecipe diffuse, glossy, mix;
+    Material diffuse, glossy, mix;
     diffuse.inputs.base_color = {0.8f, 0.2f, 0.1f};
     glossy.kind = MaterialKind::kGlossyBsdf;
     glossy.inputs.base_color = {0.9f, 0.9f, 0.9f};
@@ -152,27 +152,27 @@ TEST(TexturedMaterial, MixFactorsWeightTheLayers) {
     mix.layers.push_back({1.0f, {fac}, diffuse});
     fac.complement = false;
     mix.layers.push_back({1.0f, {fac}, glossy});
-    Material expected = MakeDiffuseMaterial({});
-    MixIntoMaterial(expected, MakeDiffuseMaterial(diffuse.inputs.base_color), 0.7f);
-    MixIntoMaterial(expected, MakeGlossyBsdfMaterial(glossy.inputs.base_color, 0.3f), 0.3f);
-    ExpectSameMaterial(EvaluateTexturedMaterial(mix, images, {}), expected);
+    Bsdf expected = MakeDiffuseBsdf({});
+    MixIntoBsdf(expected, MakeDiffuseBsdf(diffuse.inputs.base_color), 0.7f);
+    MixIntoBsdf(expected, MakeGlossyBsdf(glossy.inputs.base_color, 0.3f), 0.3f);
+    ExpectSameMaterial(EvaluateTexturedBsdf(mix, images, {}), expected);
 }
 
 TEST(TexturedMaterial, LenientMixNeverThrows) {
     // Two Principled BSDFs: the scene's construction refuses them, a hit keeps the first.
-    Material mix = MakeDiffuseMaterial({});
+    Bsdf mix = MakeDiffuseBsdf({});
     PrincipledInputs in;
-    MixIntoMaterial(mix, MakePrincipledMaterial(in), 0.5f);
-    EXPECT_THROW(MixIntoMaterial(mix, MakePrincipledMaterial(in), 0.5f), std::invalid_argument);
-    Material kept = mix;
-    MixIntoMaterial<MixOverflow::kLenient>(kept, MakePrincipledMaterial(in), 0.5f);
+    MixIntoBsdf(mix, MakePrincipledBsdf(in), 0.5f);
+    EXPECT_THROW(MixIntoBsdf(mix, MakePrincipledBsdf(in), 0.5f), std::invalid_argument);
+    Bsdf kept = mix;
+    MixIntoBsdf<MixOverflow::kLenient>(kept, MakePrincipledBsdf(in), 0.5f);
     EXPECT_EQ(kept.diffuse.x, mix.diffuse.x);
     // Microfacet lobes beyond the limit add to the last one.
-    Material lobes = MakeDiffuseMaterial({});
+    Bsdf lobes = MakeDiffuseBsdf({});
     for (int i = 0; i < kMaxMicrofacetLobes; ++i)
-        MixIntoMaterial(lobes, MakeGlossyBsdfMaterial({1, 1, 1}, 0.2f + 0.1f * i), 0.1f);
-    EXPECT_THROW(MixIntoMaterial(lobes, MakeGlossyBsdfMaterial({1, 1, 1}, 0.9f), 0.1f), std::invalid_argument);
-    MixIntoMaterial<MixOverflow::kLenient>(lobes, MakeGlossyBsdfMaterial({1, 1, 1}, 0.9f), 0.1f);
+        MixIntoBsdf(lobes, MakeGlossyBsdf({1, 1, 1}, 0.2f + 0.1f * i), 0.1f);
+    EXPECT_THROW(MixIntoBsdf(lobes, MakeGlossyBsdf({1, 1, 1}, 0.9f), 0.1f), std::invalid_argument);
+    MixIntoBsdf<MixOverflow::kLenient>(lobes, MakeGlossyBsdf({1, 1, 1}, 0.9f), 0.1f);
     EXPECT_EQ(lobes.num_lobes, kMaxMicrofacetLobes);
     EXPECT_FLOAT_EQ(lobes.lobes[kMaxMicrofacetLobes - 1].color.x, 0.2f);
 }

@@ -90,7 +90,7 @@ static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHi
     // Emissive meshes are seen at their hit (two-sided, like their lights); the loop below covers
     // only the analytic lights, so they are not counted twice.
     if (out.hit && scene.has_mesh_lights) {
-        const Spectrum& le = scene.materials[out.surface.material].emission;
+        const Spectrum& le = scene.bsdfs[out.surface.material].emission;
         if (!IsBlack(le)) seen += weighted(le * SegmentTransmittance<kMedium>(scene.medium, out.t_end));
     }
     scene.analytic_light_finder.ForEachCrossing(
@@ -142,7 +142,7 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     if (scene.film_alpha) {
         // 1 - the share of the pixel that is a hole: the holdout at the hit, or the escape through a transparent film.
         const float through = Average(out.throughput);
-        const float hole = out.hit ? std::min(scene.materials[out.surface.material].holdout, 1.0f)
+        const float hole = out.hit ? std::min(scene.bsdfs[out.surface.material].holdout, 1.0f)
                                    : (scene.film_transparent ? 1.0f : 0.0f);
         out.alpha = 1 - through * hole;
     }

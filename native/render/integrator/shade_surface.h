@@ -17,7 +17,7 @@ namespace sphrect::render {
 // towards the camera in it, and where its occlusion rays start (off the surface, on the camera's side).
 struct SurfaceShadingPoint {
     const SurfaceHit& hit;
-    const Material& material;
+    const Bsdf& material;
     Frame frame;
     Vec3f wo;
     Vec3f origin;
@@ -98,24 +98,24 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
     });
 }
 
-// The hit's material: the scene's, or for a textured one its recipe evaluated at the hit's texture coordinates
+// The hit's material: the scene's, or for a textured one its Material evaluated at the hit's texture coordinates
 // into `storage` (its emission the material's own: emission is not textured); a normal-mapped one in the
-// Principled form (MixIntoMaterial of weight 1: a Lambert lobe as `lambert`) with its bump shadowing; a glass
+// Principled form (MixIntoBsdf of weight 1: a Lambert lobe as `lambert`) with its bump shadowing; a glass
 // lobe seen from its back face with the inverse IOR.
 // Out of line and cold: inlined into the shading loop, its material construction cost every scene ~3% of its
 // instructions (callgrind, 02_room and 07_studio), textured or not.
-[[gnu::noinline, gnu::cold]] static Material HitSpecificMaterial(const RenderScene& scene, const SurfaceHit& h,
+[[gnu::noinline, gnu::cold]] static Bsdf HitSpecificBsdf(const RenderScene& scene, const SurfaceHit& h,
                                                                  const Frame& frame) {
-    const Material& m = scene.materials[size_t(h.material)];
-    Material out = m;
+    const Bsdf& m = scene.bsdfs[size_t(h.material)];
+    Bsdf out = m;
     if (m.textured) {
-        out = EvaluateTexturedMaterial(scene.material_recipes[size_t(h.material)], scene.images, h.tc);
+        out = EvaluateTexturedBsdf(scene.materials[size_t(h.material)], scene.images, h.tc);
         out.emission = m.emission;
     }
     if (m.normal_mapped) {
         if (!out.principled) {
-            Material principled = MakeEmptyMixMaterial();
-            MixIntoMaterial<MixOverflow::kLenient>(principled, out, 1);
+            Bsdf principled = MakeEmptyMixBsdf();
+            MixIntoBsdf<MixOverflow::kLenient>(principled, out, 1);
             principled.emission = out.emission;
             out = principled;
         }
@@ -131,12 +131,12 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 }
 
 template <bool kGlossy>
-static inline const Material& MaterialAtHit(const RenderScene& scene, const SurfaceHit& h, const Frame& frame,
-                                            std::optional<Material>& storage) {
-    const Material& m = scene.materials[size_t(h.material)];
+static inline const Bsdf& BsdfAtHit(const RenderScene& scene, const SurfaceHit& h, const Frame& frame,
+                                            std::optional<Bsdf>& storage) {
+    const Bsdf& m = scene.bsdfs[size_t(h.material)];
     if constexpr (!kGlossy) return m;  // Commit() sends scenes with any of these to the glossy kernel
     if (!m.textured && !m.normal_mapped && !m.anisotropic && !(m.has_dielectric && h.backfacing)) return m;
-    storage.emplace(HitSpecificMaterial(scene, h, frame));
+    storage.emplace(HitSpecificBsdf(scene, h, frame));
     return *storage;
 }
 
@@ -151,7 +151,7 @@ static inline const Material& MaterialAtHit(const RenderScene& scene, const Surf
 // the light technique is weak (the hard cases' degenerate lights, the night street's windows).
 // Each hit's choice depends only on the hit, so the image stays unbiased.
 template <Technique K>
-static inline bool LightSamplesAlone(const ShadeContext& c, const Material& m) {
+static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
     return c.diffuse_light_samples_alone && !m.glossy && K != Technique::Area;
 }
 
@@ -165,8 +165,8 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
                                 const ShadowSink& sink, uint64_t& light_ticks) {
     const RenderScene& scene = c_scene.scene;
     const Frame frame = Frame::FromZ(h.ns);
-    std::optional<Material> textured;  // a textured material's inputs at this hit (not constructed otherwise)
-    const SurfaceShadingPoint sp{h, MaterialAtHit<kGlossy>(scene, h, frame, textured), frame, frame.ToLocal(wo_world),
+    std::optional<Bsdf> textured;  // a textured material's inputs at this hit (not constructed otherwise)
+    const SurfaceShadingPoint sp{h, BsdfAtHit<kGlossy>(scene, h, frame, textured), frame, frame.ToLocal(wo_world),
                                  OffsetOrigin(h.p, h.ng)};
     if (sp.wo.z <= 0) return;
     const ShadeContext without_mis = WithoutMis(c_scene);

@@ -98,7 +98,7 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
 
 // What a textured, normal-mapped or dielectric material needs of the hit (out of line: cold for most scenes):
 // texture coordinates, the normal map applied to ns, and which side of the triangle the ray hit.
-[[gnu::noinline]] static void AddHitExtras(const RenderScene& scene, const MeshData& m, const Material& material,
+[[gnu::noinline]] static void AddHitExtras(const RenderScene& scene, const MeshData& m, const Bsdf& material,
                                            const uint32_t (&i)[3], const Vec3f (&p)[3], float b0, float b1, float b2,
                                            const Ray& ray, const Vec3f& ng, Vec3f& ns, SurfaceHit& s) {
     // The side Blender's winding gives (Embree's Ng may point the other way).
@@ -128,9 +128,9 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
     const float len = Length(ng);
     ng = len > 0 ? ng / len : -ray.d;
     Vec3f ns = ng;
-    const Material* extras = nullptr;  // the material, when it needs AddHitExtras
+    const Bsdf* extras = nullptr;  // the material, when it needs AddHitExtras
     if constexpr (kGlossy) {
-        const Material& material = scene.materials[size_t(s.material)];
+        const Bsdf& material = scene.bsdfs[size_t(s.material)];
         if (material.textured || material.normal_mapped || material.has_dielectric || material.anisotropic)
             extras = &material;
     }

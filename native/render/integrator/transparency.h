@@ -27,17 +27,17 @@ struct SurfaceTransparency {
     float opaque_weight = 1;
 };
 
-// A textured material's transparency at texture coordinates tc: its recipe evaluated there (mix factors from
+// A textured material's transparency at texture coordinates tc: its Material evaluated there (mix factors from
 // alpha textures).  Out of line: untextured scenes never come here.
 [[gnu::noinline, gnu::cold]] static SurfaceTransparency TexturedTransparency(const RenderScene& scene, int material,
                                                                              const TextureCoordinates& tc) {
-    const Material m = EvaluateTexturedMaterial(scene.material_recipes[size_t(material)], scene.images, tc);
+    const Bsdf m = EvaluateTexturedBsdf(scene.materials[size_t(material)], scene.images, tc);
     return {m.transparency, m.opaque_weight};
 }
 
 // The transparency at hit h (h.tc set: a textured material's hit comes from MakeSurfaceHit<true>).
 static inline SurfaceTransparency TransparencyAt(const RenderScene& scene, const SurfaceHit& h) {
-    const Material& m = scene.materials[size_t(h.material)];
+    const Bsdf& m = scene.bsdfs[size_t(h.material)];
     if (!m.has_transparency) return {};
     if (m.textured) return TexturedTransparency(scene, h.material, h.tc);
     return {m.transparency, m.opaque_weight};

@@ -1,8 +1,8 @@
-// Materials whose inputs images drive: each material keeps the recipe it was made from (its kind,
-// its inputs, the lookups bound to them, a mix's layers), and a hit on a textured one rebuilds its
-// Material from the recipe with the looked-up values (EvaluateTexturedMaterial).  Untextured
-// materials never come here: the integrator reads RenderScene::materials as before, and a scene
-// without textures pays one flag test per hit (BM_DiffuseKernel vs BM_TexturedKernel).
+// A Material is what a surface is made of: its kind, its inputs, the image lookups bound to them, a mix's layers.
+// The scene turns each into a Bsdf (bsdf.h: the lobes it evaluates) once; a hit on a textured one rebuilds its
+// Bsdf from the Material with the looked-up values (EvaluateTexturedBsdf).  Untextured materials never come
+// here: the integrator reads RenderScene::bsdfs, and a scene without textures pays one flag test
+// per hit (BM_DiffuseKernel vs BM_TexturedKernel).
 #pragma once
 
 #include <vector>
@@ -29,29 +29,29 @@ struct MixFactorLookup {
     bool complement = false;
 };
 
-struct MaterialRecipeLayer;
+struct MaterialLayer;
 
-struct MaterialRecipe {
+struct Material {
     MaterialKind kind = MaterialKind::kDiffuse;
     PrincipledInputs inputs;  // base_color, roughness, metallic, specular used by every kind that has them
     float ior = 1.45f;        // glass
     bool beckmann = false;    // glass, glossy BSDF
     TextureLookup textures[kNumTexturedInputs];
-    std::vector<MaterialRecipeLayer> layers;  // kMix
+    std::vector<MaterialLayer> layers;  // kMix
 
     bool ReadsCoordinates(bool generated) const;  // some lookup reads 'generated' (true) or 'uv' (false)
 };
 
-struct MaterialRecipeLayer {
+struct MaterialLayer {
     float weight = 1;
     std::vector<MixFactorLookup> factors;
-    MaterialRecipe material;
+    Material material;
 };
 
-inline bool MaterialRecipe::ReadsCoordinates(bool generated) const {
+inline bool Material::ReadsCoordinates(bool generated) const {
     for (const TextureLookup& t : textures)
         if (t.bound() && t.generated == generated) return true;
-    for (const MaterialRecipeLayer& l : layers) {
+    for (const MaterialLayer& l : layers) {
         for (const MixFactorLookup& f : l.factors)
             if (f.lookup.generated == generated) return true;
         if (l.material.ReadsCoordinates(generated)) return true;
@@ -69,39 +69,39 @@ inline Rgba EvalTextureAt(const std::vector<Image>& images, const TextureLookup&
     return EvalTextureLookup(images, t, t.generated ? tc.generated : tc.uv);
 }
 
-// The material of a recipe that is not a mix, with these inputs.
-inline Material MakeMaterialFromInputs(const MaterialRecipe& r, const PrincipledInputs& in) {
+// The Bsdf of a Material that is not a mix, with these inputs.
+inline Bsdf MakeBsdfFromInputs(const Material& r, const PrincipledInputs& in) {
     switch (r.kind) {
-        case MaterialKind::kDiffuse: return MakeDiffuseMaterial(in.base_color);
-        case MaterialKind::kGlossy: return MakeGlossyMaterial(in.base_color, in.roughness, in.metallic, in.specular);
-        case MaterialKind::kPrincipled: return MakePrincipledMaterial(in);
-        case MaterialKind::kGlass: return MakeGlassMaterial(in.base_color, in.roughness, r.ior, r.beckmann);
+        case MaterialKind::kDiffuse: return MakeDiffuseBsdf(in.base_color);
+        case MaterialKind::kGlossy: return MakeLambertGgxBsdf(in.base_color, in.roughness, in.metallic, in.specular);
+        case MaterialKind::kPrincipled: return MakePrincipledBsdf(in);
+        case MaterialKind::kGlass: return MakeGlassBsdf(in.base_color, in.roughness, r.ior, r.beckmann);
         case MaterialKind::kGlossyBsdf:
-            return MakeGlossyBsdfMaterial(in.base_color, in.roughness, r.beckmann, in.anisotropic,
+            return MakeGlossyBsdf(in.base_color, in.roughness, r.beckmann, in.anisotropic,
                                           in.anisotropic_rotation, in.multiscatter);
-        case MaterialKind::kTranslucent: return MakeTranslucentMaterial(in.base_color);
-        case MaterialKind::kHoldout: return MakeHoldoutMaterial();
-        case MaterialKind::kTransparent: return MakeTransparentMaterial(in.base_color);
+        case MaterialKind::kTranslucent: return MakeTranslucentBsdf(in.base_color);
+        case MaterialKind::kHoldout: return MakeHoldoutBsdf();
+        case MaterialKind::kTransparent: return MakeTransparentBsdf(in.base_color);
         case MaterialKind::kMix: break;
     }
-    return MakeDiffuseMaterial({});  // a mix's layers are the caller's
+    return MakeDiffuseBsdf({});  // a mix's layers are the caller's
 }
 
-// The recipe's material at texture coordinates tc: each bound input replaced by its lookup (colours as
-// RGB, scalars as luminance; Cycles' closure setup clamps them as the Make*Material functions do), a mix
+// The Material's Bsdf at texture coordinates tc: each bound input replaced by its lookup (colours as
+// RGB, scalars as luminance; Cycles' closure setup clamps them as the Make*Bsdf functions do), a mix
 // rebuilt from its layers with the factors' weights (clamped to [0, 1], as svm_node_mix_closure does).
 // Emission is not textured: the caller keeps the material's own.
-inline Material EvaluateTexturedMaterial(const MaterialRecipe& r, const std::vector<Image>& images,
+inline Bsdf EvaluateTexturedBsdf(const Material& r, const std::vector<Image>& images,
                                          const TextureCoordinates& tc) {
     if (r.kind == MaterialKind::kMix) {
-        Material mix = MakeEmptyMixMaterial();
-        for (const MaterialRecipeLayer& l : r.layers) {
+        Bsdf mix = MakeEmptyMixBsdf();
+        for (const MaterialLayer& l : r.layers) {
             float w = l.weight;
             for (const MixFactorLookup& f : l.factors) {
                 const float fac = std::clamp(TextureScalar(EvalTextureAt(images, f.lookup, tc)), 0.0f, 1.0f);
                 w *= f.complement ? 1 - fac : fac;
             }
-            MixIntoMaterial<MixOverflow::kLenient>(mix, EvaluateTexturedMaterial(l.material, images, tc), w);
+            MixIntoBsdf<MixOverflow::kLenient>(mix, EvaluateTexturedBsdf(l.material, images, tc), w);
         }
         return mix;
     }
@@ -117,7 +117,7 @@ inline Material EvaluateTexturedMaterial(const MaterialRecipe& r, const std::vec
     scalar(TexturedInput::kRoughness, in.roughness);
     scalar(TexturedInput::kMetallic, in.metallic);
     scalar(TexturedInput::kSpecular, in.specular);
-    return MakeMaterialFromInputs(r, in);
+    return MakeBsdfFromInputs(r, in);
 }
 
 }  // namespace sphrect::render
