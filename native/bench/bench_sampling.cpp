@@ -45,12 +45,12 @@ auto EllipseSampleStage(Vec3<T> origin = Vec3<T>(T(0.2), T(-0.1), T(0.5))) {
 }
 
 template <EllipseTechnique K, class T>
-auto EllipsePdfStage() {
+auto EllipsePDFStage() {
     const EllipseLight<T> L = Ellipse<T>();
     const EllipseSampler<K, T> s(Vec3<T>(T(0.2), T(-0.1), T(0.5)), Vec3<T>(0, 0, 1), L);
     std::vector<Vec3<T>> pts;
     for (const Point2<T>& uv : UVs<T>()) pts.push_back(L.center + L.axis_u * (uv.u - T(0.5)) + L.axis_v * (uv.v - T(0.5)));
-    return [s, pts](size_t i) { return s.Pdf(pts[i & 1023]); };
+    return [s, pts](size_t i) { return s.PDF(pts[i & 1023]); };
 }
 
 template <class F>
@@ -67,7 +67,7 @@ void ForEachEllipseStage(F&& f) {
             // Nearly a hemisphere (1e-3 above the interior) and nearly edge-on (1e-4 beside).
             f("EllipseSampleClose/" + name + "/float", EllipseSampleStage<K, float>(Vec3f(0.1f, 0.2f, 2.001f)));
             f("EllipseSampleEdgeOn/" + name + "/float", EllipseSampleStage<K, float>(Vec3f(1.5f, 0.1f, 2.0001f)));
-            f("EllipsePdf/" + name + "/float", EllipsePdfStage<K, float>());
+            f("EllipsePdf/" + name + "/float", EllipsePDFStage<K, float>());
         });
 }
 

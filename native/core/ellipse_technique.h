@@ -2,7 +2,7 @@
 // rectangles (a separate enum: the rectangle techniques' names are the renderer's options).
 //
 //   EllipseSampler<K, T> s(origin, normal, light);   // or (origin, normal, MakeEllipseLightFrame(light))
-//   s.Valid(), s.Sample({u, v}) -> LightSample<T>, s.Pdf(point_on_light)
+//   s.Valid(), s.Sample({u, v}) -> LightSample<T>, s.PDF(point_on_light)
 #pragma once
 
 #include <array>
@@ -38,7 +38,7 @@ struct EllipseSampler<EllipseTechnique::Area, T> {
         : r(MakeLocalEllipse(origin, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleEllipseArea(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return EllipseAreaPDF(r, p); }
+    T PDF(const Vec3<T>& p) const { return EllipseAreaPDF(r, p); }
 };
 
 template <class T>
@@ -50,7 +50,7 @@ struct EllipseSampler<EllipseTechnique::SphericalEllipse, T> {
         : r(MakeSphericalEllipseSetup(origin, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleSphericalEllipse(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return SphericalEllipsePDF(r, p); }
+    T PDF(const Vec3<T>& p) const { return SphericalEllipsePDF(r, p); }
 };
 
 // Calls f(tag) with the technique as a compile-time value (tag::value).

@@ -65,8 +65,8 @@ struct RectangleSetup {
     double sx = 1, sy = 1;
     double x0 = 0, x1 = 0, y0 = 0, y1 = 0, h = 0;  // (1) [x0, x1, y0, y1, h = -z0]
     double wx = 0, wy = 0;  // x1 - x0 and y1 - y0 (exact: the edge lengths)
-    // (7), (9): T0 [k - pi], b0 [-b0], b1 [b1]; db = b1 - b0, pb = b1 + b0; s_i = sin(theta) at x_i.
-    double T0 = 0, b0 = 0, b1 = 0, db = 0, pb = 0, s0 = 0, s1 = 0;
+    // (7), (9) in the paper's b0, b1: T0 [k - pi], neg_b0 = -b0, b1, b1_plus_b0, b1_minus_b0; s_i = sin(theta) at x_i.
+    double T0 = 0, neg_b0 = 0, b1 = 0, b1_plus_b0 = 0, b1_minus_b0 = 0, s0 = 0, s1 = 0;
     bool y_beside = false;  // y0 > 0: the y-step interpolates 1 - hy, (16)
     bool polish_x = false;  // refine the x-step by Newton steps (nearly edge-on setups), (20)
     double error_estimate = 0;  // first-order rounding error of the map in (u, v) space, (19)
@@ -110,10 +110,10 @@ RectangleSetup<T> MakeRectangleSetup(const Vec3<T>& origin, const RectLightFrame
     const double h2 = h * h;
     const double rc0 = std::sqrt(c0 * c0 + h2), rc1 = std::sqrt(c1 * c1 + h2);  // |(0, y_i, h)|
     const double ra0 = std::sqrt(a0 * a0 + h2), ra1 = std::sqrt(a1 * a1 + h2);  // |(x_i, 0, h)|
-    sr.b0 = c0 / rc0;  // (7)
+    sr.neg_b0 = c0 / rc0;  // (7)
     sr.b1 = c1 / rc1;
-    sr.db = DiffB(c0, c1, rc0, rc1, h2, wc);  // (15) at d = h
-    sr.pb = c0 < 0 ? DiffB(-c0, c1, rc0, rc1, h2, c1 + c0) : sr.b1 + sr.b0;  // b(y1) - b(-y0) by (15)
+    sr.b1_plus_b0 = DiffB(c0, c1, rc0, rc1, h2, wc);  // (15) at d = h
+    sr.b1_minus_b0 = c0 < 0 ? DiffB(-c0, c1, rc0, rc1, h2, c1 + c0) : sr.b1 + sr.neg_b0;  // b(y1) - b(-y0) by (15)
     sr.s0 = a0 / ra0;  // (9)
     sr.s1 = a1 / ra1;
     sr.y_beside = c0 > 0;
@@ -121,12 +121,13 @@ RectangleSetup<T> MakeRectangleSetup(const Vec3<T>& origin, const RectLightFrame
     // First-order rounding error of the map in (u, v) space, (19).
     constexpr double eps = std::numeric_limits<double>::epsilon();
     const double e0 = h2 / (h2 + c0 * c0), e1 = h2 / (h2 + c1 * c1);  // 1 - b_i^2
-    // |F'(s) s| at x, s = x / |(x, 0, h)|; F'(s) = b1/q1 - b0/q0, cancellation-free when b0 >= 0.
+    // |F'(s) s| at x, s = x / |(x, 0, h)|; F'(s) = b1/q1 + b0/q0, cancellation-free when b0 <= 0.
     auto slope = [&](double x, double s) {
         const double oms2 = h2 / (x * x + h2);  // 1 - s^2
-        const double q0 = std::sqrt(e0 + sr.b0 * sr.b0 * oms2), q1 = std::sqrt(e1 + sr.b1 * sr.b1 * oms2);
-        const double fp = sr.b0 >= 0 ? sr.db * (sr.b1 + sr.b0) / (q0 * q1 * (sr.b1 * q0 + sr.b0 * q1))
-                                     : sr.b1 / q1 - sr.b0 / q0;
+        const double q0 = std::sqrt(e0 + sr.neg_b0 * sr.neg_b0 * oms2), q1 = std::sqrt(e1 + sr.b1 * sr.b1 * oms2);
+        const double fp = sr.neg_b0 >= 0
+                              ? sr.b1_plus_b0 * (sr.b1 + sr.neg_b0) / (q0 * q1 * (sr.b1 * q0 + sr.neg_b0 * q1))
+                              : sr.b1 / q1 - sr.neg_b0 / q0;
         return std::abs(fp * s);
     };
     const double ex = eps * (std::abs(sr.T0) + sr.omega + std::max(slope(a0, sr.s0), slope(a1, sr.s1))) / sr.omega;
@@ -164,13 +165,13 @@ inline void RectangleMapLocal(const RectangleSetup<T>& sr, double u, double v, d
     const double Tu = sr.T0 + u * sr.omega;  // T [au - pi]
     const double sT = std::sin(Tu), cT = std::cos(Tu);
     const double omc = cT > 0 ? sT * sT / (1 + cT) : 1 - cT;  // 1 - cos T, (11)
-    // |b1 - b0 e^{iT}|^2 as a sum of positive terms, (11).
+    // |b1 + b0 e^{iT}|^2 as a sum of positive terms, (11).
     double R2;
-    if (sr.b0 >= 0) {  // light beside o in y: b1 - b0 > 0 small, 1 - cos T
-        R2 = sr.db * sr.db + 2 * sr.b0 * sr.b1 * omc;
-    } else {  // b0 < 0 < b1: b1 + b0 (stable, may be ~0) and 1 + cos T (~0 as |T| nears pi: grazing)
+    if (sr.neg_b0 >= 0) {  // light beside o in y (b0 <= 0): b1 + b0 > 0 small, 1 - cos T
+        R2 = sr.b1_plus_b0 * sr.b1_plus_b0 + 2 * sr.neg_b0 * sr.b1 * omc;
+    } else {  // b0, b1 > 0: b1 - b0 (stable, may be ~0) and 1 + cos T (~0 as |T| nears pi: grazing)
         const double opc = cT < 0 ? sT * sT / (1 - cT) : 1 + cT;
-        R2 = sr.pb * sr.pb - 2 * sr.b0 * sr.b1 * opc;
+        R2 = sr.b1_minus_b0 * sr.b1_minus_b0 - 2 * sr.neg_b0 * sr.b1 * opc;
     }
     const double s = ClampNaN(sT / std::sqrt(R2), sr.s0, sr.s1);  // (10) [cu]
     double x = ClampNaN(sr.h * s / std::sqrt((1 - s) * (1 + s)), sr.x0, sr.x1);  // (12) [xu]

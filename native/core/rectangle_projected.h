@@ -32,7 +32,7 @@
 // (~eps absolute in the arc angles) is not small against E when the light covers a tiny
 // projected solid angle (far, thin or grazing lights).  Where the estimated relative error of
 // the sweep exceeds kProjectedMaxError the setup switches to `rectangle` (rectangle.h), which
-// Sample, Pdf and Invert all follow; so does a zero or non-finite normal.  There the light's
+// Sample, PDF and Invert all follow; so does a zero or non-finite normal.  There the light's
 // extent in angle is tiny, so cos is nearly constant over it and `rectangle` nearly as good.
 // A light wholly below the horizon is invalid.
 #pragma once
@@ -50,10 +50,10 @@ constexpr double kProjectedMaxError = 1e-7;
 
 // A great-circle arc directed so that it sweeps counter-clockwise about n (shading frame).
 struct ProjectedArc {
-    Vec3d a;         // start (unit)
-    Vec3d t;         // unit tangent at a, g x a
-    double gamma = 0;  // arc length
-    double k = 0;      // sweep rate |g_z| / 2 (area per unit arc angle)
+    Vec3d a;                // start (unit)
+    Vec3d t;                // unit tangent at a, g x a
+    double arc_length = 0;  // gamma above (not the paper's gamma_i, the rectangle's angles)
+    double sweep_rate = 0;  // |g_z| / 2, k above (area per unit arc angle)
 };
 
 // Point of the arc at arc angle s.
@@ -63,7 +63,7 @@ inline Vec3d ArcPoint(const ProjectedArc& arc, double s) { return arc.a * std::c
 // w(s) . m = 0 with m = (-py, px, 0) perpendicular to it, clamped to the arc.
 inline double ArcAngleAtAzimuth(const ProjectedArc& arc, double px, double py) {
     const double am = -arc.a.x * py + arc.a.y * px, tm = -arc.t.x * py + arc.t.y * px;
-    return ClampNaN(std::atan2(-am, tm), 0, arc.gamma);
+    return ClampNaN(std::atan2(-am, tm), 0, arc.arc_length);
 }
 
 // One piece of the sweep: the area between the arcs `outer` (far) and `inner` (near, absent in
@@ -99,7 +99,7 @@ struct RectangleProjectedSetup {
 struct ProjectedPolygon {
     Vec3d v[5];
     Vec3d g[5];
-    double gamma[5] = {};
+    double arc_length[5] = {};
     int n = 0;
 };
 
@@ -141,7 +141,7 @@ inline ProjectedPolygon ClipToHorizon(double x0, double y0, double wx, double wy
             axb = Cross(a, b);
         }
         const double s = Length(axb);
-        p.gamma[i] = std::atan2(s, Dot(a, b));
+        p.arc_length[i] = std::atan2(s, Dot(a, b));
         if (e >= 0) {
             const Vec3d g = Cross(a, dir[e]);
             p.g[i] = g / Length(g);
@@ -157,7 +157,7 @@ inline ProjectedPolygon ClipToHorizon(double x0, double y0, double wx, double wy
 inline double LambertSum(const ProjectedPolygon& p, const Vec3d& nl, double* abs_sum = nullptr) {
     double e = 0, a = 0;
     for (int i = 0; i < p.n; ++i) {
-        const double term = 0.5 * p.gamma[i] * Dot(p.g[i], nl);
+        const double term = 0.5 * p.arc_length[i] * Dot(p.g[i], nl);
         e += term;
         a += std::abs(term);
     }
@@ -173,7 +173,7 @@ inline double Cross2(const Vec3d& a, const Vec3d& b) { return a.x * b.y - a.y * 
 // Builds the star-case or the near/far pieces.  `w` are the unit vertices and `g` the edge
 // normals in the shading frame, oriented counter-clockwise about n.
 template <class T>
-void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, const double* gamma, int n) {
+void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, const double* arc_length, int n) {
     s.star = true;
     for (int i = 0; i < n; ++i) s.star = s.star && g[i].z >= 0;
     auto make_arc = [&](int i, bool reversed) {
@@ -181,21 +181,21 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
         const Vec3d gi = reversed ? -g[i] : g[i];
         arc.a = reversed ? w[(i + 1) % n] : w[i];
         arc.t = Normalize(Cross(gi, arc.a));
-        arc.gamma = gamma[i];
-        arc.k = 0.5 * std::abs(g[i].z);
+        arc.arc_length = arc_length[i];
+        arc.sweep_rate = 0.5 * std::abs(g[i].z);
         return arc;
     };
     double cdf = 0;
     if (s.star) {
         for (int i = 0; i < n; ++i) {
-            if (!(g[i].z > 0) || !(gamma[i] > 0)) continue;
+            if (!(g[i].z > 0) || !(arc_length[i] > 0)) continue;
             const int ai = s.num_arcs++;
             s.arcs[ai] = make_arc(i, false);
             ProjectedPiece& pc = s.pieces[s.num_pieces++];
             pc.outer = ai;
             pc.s0 = 0;
-            pc.s1 = gamma[i];
-            pc.area = s.arcs[ai].k * gamma[i];
+            pc.s1 = arc_length[i];
+            pc.area = s.arcs[ai].sweep_rate * arc_length[i];
             pc.cdf = cdf;
             pc.from = w[i];
             pc.to = w[(i + 1) % n];
@@ -230,7 +230,7 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
     while (fi < nf && ni < nn && s.num_pieces < 5) {
         const ProjectedArc& F = s.arcs[fi];
         const ProjectedArc& N = s.arcs[nf + ni];
-        const Vec3d fend = ArcPoint(F, F.gamma), nend = ArcPoint(N, N.gamma);
+        const Vec3d fend = ArcPoint(F, F.arc_length), nend = ArcPoint(N, N.arc_length);
         const double c = Cross2(fend, nend);  // > 0: the far arc ends first
         const Vec3d to = fi == nf - 1 && ni == nn - 1 ? fend : (c >= 0 ? fend : nend);
         ProjectedPiece pc;
@@ -238,10 +238,10 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
         pc.inner = nf + ni;
         pc.s0 = ArcAngleAtAzimuth(F, from.x, from.y);
         pc.s1 = ArcAngleAtAzimuth(F, to.x, to.y);
-        if (fi == nf - 1 && ni == nn - 1) pc.s1 = F.gamma;
+        if (fi == nf - 1 && ni == nn - 1) pc.s1 = F.arc_length;
         pc.r0 = ArcAngleAtAzimuth(N, from.x, from.y);
-        const double r1 = ni == nn - 1 && fi == nf - 1 ? N.gamma : ArcAngleAtAzimuth(N, to.x, to.y);
-        pc.area = std::max(0.0, F.k * (pc.s1 - pc.s0) - N.k * (r1 - pc.r0));
+        const double r1 = ni == nn - 1 && fi == nf - 1 ? N.arc_length : ArcAngleAtAzimuth(N, to.x, to.y);
+        pc.area = std::max(0.0, F.sweep_rate * (pc.s1 - pc.s0) - N.sweep_rate * (r1 - pc.r0));
         pc.from = from;
         pc.to = to;
         if (pc.s1 > pc.s0) {
@@ -265,7 +265,7 @@ inline double PieceArea(const ProjectedPiece& pc, const ProjectedArc& F, const P
     *wf = ArcPoint(F, sf);
     const double r = ArcAngleAtAzimuth(N, wf->x, wf->y);
     *wn = ArcPoint(N, r);
-    return F.k * (sf - pc.s0) - N.k * (r - pc.r0);
+    return F.sweep_rate * (sf - pc.s0) - N.sweep_rate * (r - pc.r0);
 }
 
 }  // namespace projected_detail
@@ -303,7 +303,7 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
     if (!(s.E > 0) || !std::isfinite(s.E)) return s;
     // To the shading frame, oriented counter-clockwise about n.
     Vec3d w[5], g[5];
-    double gamma[5];
+    double arc_length[5];
     const int m = poly.n;
     const bool flip = signed_e < 0;
     auto to_shading = [&](const Vec3d& v) { return Vec3d(Dot(v, s.tl), Dot(v, s.bl), Dot(v, s.nl)); };
@@ -312,18 +312,18 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
         const int vi = flip ? m - 1 - k : k, ei = flip ? (2 * m - 2 - k) % m : k;
         w[k] = Normalize(to_shading(poly.v[vi]));
         g[k] = to_shading(flip ? -poly.g[ei] : poly.g[ei]);
-        gamma[k] = poly.gamma[ei];
+        arc_length[k] = poly.arc_length[ei];
     }
-    projected_detail::BuildPieces(s, w, g, gamma, m);
+    projected_detail::BuildPieces(s, w, g, arc_length, m);
     // The sweep's error against E: ~eps in each arc angle (unit vectors in the shading frame) times
-    // its rate k, plus each rate's own rounding (that of the dot product g . n, eps times the sum
+    // its sweep_rate, plus each rate's own rounding (that of the dot product g . n, eps times the sum
     // of its terms' magnitudes) times the arc's length, plus the rounding of Lambert's sum.
     constexpr double eps = std::numeric_limits<double>::epsilon();
     double err = abs_sum;
     for (int k = 0; k < m; ++k) {
         const Vec3d& gk = poly.g[k];
         const double dot_terms = std::abs(gk.x * s.nl.x) + std::abs(gk.y * s.nl.y) + std::abs(gk.z * s.nl.z);
-        err += 0.5 * std::abs(Dot(gk, s.nl)) + poly.gamma[k] * dot_terms;
+        err += 0.5 * std::abs(Dot(gk, s.nl)) + poly.arc_length[k] * dot_terms;
     }
     s.error_estimate = 8 * eps * err / s.E;
     if (!(s.error_estimate <= kProjectedMaxError) || !(s.swept > 0) || s.num_pieces == 0) return switch_to_rectangle();
@@ -381,7 +381,7 @@ Vec3d RectangleProjectedDirection(const RectangleProjectedSetup<T>& s, double u,
         (g < 0 ? lo : hi) = sf;
         // d(area)/d(sf) = k_F (1 - r_N^2 / r_F^2), with r_F^2 - r_N^2 = z_N^2 - z_F^2.
         const double rf2 = wf.x * wf.x + wf.y * wf.y;
-        const double dg = F.k * (wn.z * wn.z - wf.z * wf.z) / rf2;
+        const double dg = F.sweep_rate * (wn.z * wn.z - wf.z * wf.z) / rf2;
         double next = sf - g / dg;
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
         const bool done = std::abs(next - sf) <= 1e-15 * (pc.s1 - pc.s0) || hi - lo <= 1e-16 * (pc.s1 - pc.s0);
@@ -458,7 +458,7 @@ Point2<double> InvertRectangleProjected(const RectangleProjectedSetup<T>& s, con
     double area, v;
     const double dz2 = d.z * d.z;
     if (pc.inner < 0) {
-        area = F.k * (sf - pc.s0);
+        area = F.sweep_rate * (sf - pc.s0);
         v = (d.x * d.x + d.y * d.y) / (wf.x * wf.x + wf.y * wf.y);
     } else {
         const ProjectedArc& N = s.arcs[pc.inner];

@@ -12,7 +12,7 @@
 //                   precomputed uniform points
 //   SampleOffAxis   the same with a normal pointing beside the light (cos varies over it)
 //   SampleEdgeOn    the same in a nearly edge-on setup, where `rectangle` refines its x-step
-//   Pdf             Pdf(point) (for MIS; rectangle_cosine's needs the inverse map)
+//   Pdf             PDF(point) (for MIS; rectangle_cosine's needs the inverse map)
 // plus the textbook single-precision map (textbook_rectangle.h) as the baseline.
 #pragma once
 
@@ -76,12 +76,12 @@ auto SampleStage() {
 }
 
 template <Technique K, class T>
-auto PdfStage() {
+auto PDFStage() {
     const RectLight<T> L = Light<T>();
     const LightSampler<K, T> s(Vec3<T>(T(0.2), T(-0.1), T(0.5)), Vec3<T>(0, 0, 1), L);
     std::vector<Vec3<T>> pts;
     for (const Point2<T>& uv : UVs<T>()) pts.push_back(L.corner + L.ex * uv.u + L.ey * uv.v);
-    return [s, pts](size_t i) { return s.Pdf(pts[i & 1023]); };
+    return [s, pts](size_t i) { return s.PDF(pts[i & 1023]); };
 }
 
 // The Sample stage's setup with a tilted normal (1, 0, 0.2): n points beside the light, so the
@@ -130,8 +130,8 @@ void ForEachStage(F&& f) {
             f("Sample/" + name + "/float", SampleStage<K, float>());
             f("Sample/" + name + "/double", SampleStage<K, double>());
             f("SampleOffAxis/" + name + "/float", SampleOffAxisStage<K>());
-            f("Pdf/" + name + "/float", PdfStage<K, float>());
-            f("Pdf/" + name + "/double", PdfStage<K, double>());
+            f("Pdf/" + name + "/float", PDFStage<K, float>());
+            f("Pdf/" + name + "/double", PDFStage<K, double>());
         });
 }
 

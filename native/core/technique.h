@@ -6,7 +6,7 @@
 //                                                  // computed once per light
 //   s.Valid()                                      // false: every sample has pdf 0
 //   s.Sample({u, v}) -> LightSample<T>
-//   s.Pdf(point_on_light) -> solid-angle pdf of choosing that point (for MIS)
+//   s.PDF(point_on_light) -> solid-angle pdf of choosing that point (for MIS)
 //
 // Each technique's setup, sample, pdf (and inverse) sit in the header named after it: area.h,
 // triangles.h, rectangle.h, rectangle_cosine.h, rectangle_projected.h.
@@ -52,7 +52,7 @@ struct LightSampler<Technique::Area, T> {
         : r(MakeLocalRect(origin, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleArea(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return AreaPDF(r, p); }
+    T PDF(const Vec3<T>& p) const { return AreaPDF(r, p); }
 };
 
 template <class T>
@@ -64,7 +64,7 @@ struct LightSampler<Technique::Triangles, T> {
         : r(MakeTrianglesSetup(origin, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleTriangles(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return TrianglesPDF(r, p); }
+    T PDF(const Vec3<T>& p) const { return TrianglesPDF(r, p); }
 };
 
 template <class T>
@@ -76,7 +76,7 @@ struct LightSampler<Technique::Rectangle, T> {
         : r(MakeRectangleSetup(origin, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleRectangle(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return RectanglePDF(r, p); }
+    T PDF(const Vec3<T>& p) const { return RectanglePDF(r, p); }
 };
 
 template <class T>
@@ -88,7 +88,7 @@ struct LightSampler<Technique::RectangleCosine, T> {
         : r(MakeRectangleCosineSetup(origin, normal, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleRectangleCosine(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return RectangleCosinePDF(r, p); }
+    T PDF(const Vec3<T>& p) const { return RectangleCosinePDF(r, p); }
 };
 
 template <class T>
@@ -100,7 +100,7 @@ struct LightSampler<Technique::RectangleProjected, T> {
         : r(MakeRectangleProjectedSetup(origin, normal, frame)) {}
     bool Valid() const { return r.valid; }
     LightSample<T> Sample(Point2<T> uv) const { return SampleRectangleProjected(r, uv); }
-    T Pdf(const Vec3<T>& p) const { return RectangleProjectedPDF(r, p); }
+    T PDF(const Vec3<T>& p) const { return RectangleProjectedPDF(r, p); }
 };
 
 // Calls f(std::integral_constant-like tag) with the technique as a compile-time value.

@@ -304,7 +304,7 @@ py::tuple SampleRows(const C& s, const py::object& uv_obj, bool with_directions,
 }
 
 template <class T, class C, class ForEach>
-py::array PdfRows(const C& s, const py::object& points_obj, ForEach&& for_each) {
+py::array PDFRows(const C& s, const py::object& points_obj, ForEach&& for_each) {
     const auto pts = ReadRows<T, 3>(points_obj, "points", false);
     const size_t n = pts.size();
     CheckRows(n, "points", s.origins.size(), "origin");
@@ -313,7 +313,7 @@ py::array PdfRows(const C& s, const py::object& points_obj, ForEach&& for_each) 
     T* Q = pdf.mutable_data();
     for_each(n, [&](size_t i, const auto& sampler) {
         const Vec3<T> p(pts[i][0], pts[i][1], pts[i][2]);
-        Q[i] = OnLight(s.light, p) ? sampler.Pdf(p) : T(0);
+        Q[i] = OnLight(s.light, p) ? sampler.PDF(p) : T(0);
     });
     return pdf;
 }
@@ -376,10 +376,10 @@ py::tuple SampleImpl(Technique technique, const py::object& origin, const py::ob
 }
 
 template <class T>
-py::array PdfImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
+py::array PDFImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
                   const py::object& ey, const py::object& points_obj, const py::object& normal, bool two_sided) {
     const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
-    return PdfRows<T>(s, points_obj, [&](size_t n, auto&& per) { ForEachRow(technique, s, n, per); });
+    return PDFRows<T>(s, points_obj, [&](size_t n, auto&& per) { ForEachRow(technique, s, n, per); });
 }
 
 template <class T>
@@ -485,11 +485,11 @@ py::tuple SampleEllipseImpl(EllipseTechnique technique, const py::object& origin
 }
 
 template <class T>
-py::array EllipsePdfImpl(EllipseTechnique technique, const py::object& origin, const py::object& center,
+py::array EllipsePDFImpl(EllipseTechnique technique, const py::object& origin, const py::object& center,
                          const py::object& au, const py::object& av, const py::object& points_obj,
                          const py::object& normal, bool two_sided) {
     const EllipseCall<T> s = ReadEllipseCall<T>(origin, center, au, av, normal, two_sided);
-    return PdfRows<T>(s, points_obj, [&](size_t n, auto&& per) { ForEachEllipseRow(technique, s, n, per); });
+    return PDFRows<T>(s, points_obj, [&](size_t n, auto&& per) { ForEachEllipseRow(technique, s, n, per); });
 }
 
 template <class T>
@@ -577,8 +577,8 @@ renderer's single-precision code, 'float64' the double-precision one.)doc");
            bool two_sided) -> py::array {
             const Technique t = ToTechnique(technique);
             if (ToPrecision(dtype) == Precision::Float64)
-                return PdfImpl<double>(t, origin, corner, ex, ey, points, normal, two_sided);
-            return PdfImpl<float>(t, origin, corner, ex, ey, points, normal, two_sided);
+                return PDFImpl<double>(t, origin, corner, ex, ey, points, normal, two_sided);
+            return PDFImpl<float>(t, origin, corner, ex, ey, points, normal, two_sided);
         },
         arg("technique"), arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("points"),
         arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
@@ -667,8 +667,8 @@ single-precision code, 'float64' the double-precision one.)doc");
            bool two_sided) -> py::array {
             const EllipseTechnique t = ToEllipseTechnique(technique);
             if (ToPrecision(dtype) == Precision::Float64)
-                return EllipsePdfImpl<double>(t, origin, center, au, av, points, normal, two_sided);
-            return EllipsePdfImpl<float>(t, origin, center, au, av, points, normal, two_sided);
+                return EllipsePDFImpl<double>(t, origin, center, au, av, points, normal, two_sided);
+            return EllipsePDFImpl<float>(t, origin, center, au, av, points, normal, two_sided);
         },
         arg("technique"), arg("origin"), arg("center"), arg("axis_u"), arg("axis_v"), arg("points"),
         arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,

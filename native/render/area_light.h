@@ -7,6 +7,7 @@
 // `area` technique.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/ellipse_light.h"
@@ -15,6 +16,7 @@
 #include "core/solid_angle.h"
 #include "core/spherical_triangle.h"
 #include "core/triangles.h"  // kTrianglesStableAreaAbove
+#include "light_bounds.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -228,6 +230,49 @@ inline LightSample<float> SampleTriangleSolidAngle(const TriangleSolidAngleSetup
 // Emitted flux up to the common factor pi: luminance(L) * area * sides.
 inline double AreaLightPower(const AreaLight& l) {
     return double(Luminance(l.radiance)) * l.area * (l.two_sided ? 2 : 1);
+}
+
+// The light tree's bounds of an emissive triangle of luminance `luminance` (a planar light: cone around its normal).
+inline LightBounds TriangleLightBounds(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, float luminance,
+                                       bool two_sided) {
+    LightBounds b;
+    b.lo = {std::min({p0.x, p1.x, p2.x}), std::min({p0.y, p1.y, p2.y}), std::min({p0.z, p1.z, p2.z})};
+    b.hi = {std::max({p0.x, p1.x, p2.x}), std::max({p0.y, p1.y, p2.y}), std::max({p0.z, p1.z, p2.z})};
+    const Vec3f c = Cross(p1 - p0, p2 - p0);
+    const float twice_area = Length(c);
+    b.power = twice_area > 0 ? luminance * 0.5f * twice_area : 0.0f;  // a degenerate triangle emits nothing
+    b.axis = twice_area > 0 ? c / twice_area : Vec3f(0, 0, 1);
+    b.cos_theta_o = 1;
+    b.cos_theta_e = 0;
+    b.two_sided = two_sided;
+    return b;
+}
+
+// The light tree's bounds of an area light: its box, a cone around its normal, L*A.
+inline LightBounds AreaLightBounds(const AreaLight& l) {
+    if (l.shape == AreaShape::Triangle)
+        return TriangleLightBounds(l.v0, l.v0 + l.e1, l.v0 + l.e2, Luminance(l.radiance), l.two_sided);
+    LightBounds b;
+    // Box of a rectangle: its corners; of an ellipse c + ax cos t + ay sin t: c +- sqrt(ax_i^2 + ay_i^2).
+    if (l.shape == AreaShape::Rectangle) {
+        const RectLight<float>& r = l.frame.light;
+        const Vec3f corners[4] = {r.corner, r.corner + r.ex, r.corner + r.ey, r.corner + r.ex + r.ey};
+        b.lo = b.hi = corners[0];
+        for (const Vec3f& c : corners) {
+            b.lo = {std::min(b.lo.x, c.x), std::min(b.lo.y, c.y), std::min(b.lo.z, c.z)};
+            b.hi = {std::max(b.hi.x, c.x), std::max(b.hi.y, c.y), std::max(b.hi.z, c.z)};
+        }
+    } else {
+        const Vec3f half = {std::hypot(l.ax.x, l.ay.x), std::hypot(l.ax.y, l.ay.y), std::hypot(l.ax.z, l.ay.z)};
+        b.lo = l.center - half;
+        b.hi = l.center + half;
+    }
+    b.power = Luminance(l.radiance) * l.area;  // intensity along the normal, per side
+    b.axis = l.n;
+    b.cos_theta_o = 1;
+    b.cos_theta_e = 0;  // cosine falloff to pi/2
+    b.two_sided = l.two_sided;
+    return b;
 }
 
 }  // namespace sphrect::render

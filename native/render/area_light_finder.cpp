@@ -26,7 +26,7 @@ void Extend(RTCBounds& b, const Vec3f& p) {
 
 // The light's box, padded so that the traversal's float slab tests never cull a crossing the
 // exact test finds (an axis-aligned light's box is flat: without padding a ray could slip past it).
-void LightBounds(const RTCBoundsFunctionArguments* args) {
+void EmbreeBoundsOfLight(const RTCBoundsFunctionArguments* args) {
     const auto& lights = *static_cast<const std::vector<AreaLight>*>(args->geometryUserPtr);
     const AreaLight& l = lights[args->primID];
     RTCBounds b{kInf, kInf, kInf, 0, -kInf, -kInf, -kInf, 0};
@@ -81,7 +81,7 @@ void AreaLightFinder::Build(RTCDevice device, const std::vector<AreaLight>& ligh
     rtcSetGeometryUserPrimitiveCount(g, unsigned(n));
     void* user = const_cast<std::vector<AreaLight>*>(&lights);
     rtcSetGeometryUserData(g, user);
-    rtcSetGeometryBoundsFunction(g, LightBounds, user);
+    rtcSetGeometryBoundsFunction(g, EmbreeBoundsOfLight, user);
     rtcSetGeometryIntersectFunction(g, RecordCrossing);
     rtcSetGeometryOccludedFunction(g, NeverOccludes);
     rtcCommitGeometry(g);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "light_bounds.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -58,6 +59,25 @@ inline DeltaIllumination IlluminateFromDelta(const DeltaLight& l, const Vec3f& p
     if (l.kind == DeltaKind::Spot) att *= SpotAttenuation(l, -r.wi);
     r.li = l.power * att;
     return r;
+}
+
+// The light tree's bounds of a point or spot light; a sun has no finite bounds and is not a tree emitter
+// (returns false).
+inline bool DeltaLightBounds(const DeltaLight& l, LightBounds* out) {
+    if (l.kind == DeltaKind::Sun) return false;
+    LightBounds b;
+    b.lo = b.hi = l.position;
+    b.power = Luminance(l.power);
+    if (l.kind == DeltaKind::Spot) {
+        b.axis = l.axis;
+        b.cos_theta_o = std::clamp(l.cos_half_angle, -1.0f, 1.0f);  // SpotAttenuation: zero outside
+        b.cos_theta_e = 1;
+    } else {
+        b.cos_theta_o = -1;  // the whole sphere
+        b.cos_theta_e = 0;
+    }
+    *out = b;
+    return true;
 }
 
 }  // namespace sphrect::render

@@ -1,4 +1,4 @@
-// Building the light tree (light_tree.h): emitters' bounds, validation, and a binned
+// Building the light tree (light_tree.h): the scene's emitters, validation, and a binned
 // surface-area-orientation-heuristic (SAOH) split per node, top-down; the nodes' bounds and
 // cones are then the exact unions of their children's, bottom-up.
 #include "light_tree.h"
@@ -14,64 +14,7 @@
 
 namespace sphrect::render {
 
-// ---- Emitters' bounds ----
-
-LightBounds AreaLightBounds(const AreaLight& l) {
-    if (l.shape == AreaShape::Triangle)
-        return TriangleLightBounds(l.v0, l.v0 + l.e1, l.v0 + l.e2, Luminance(l.radiance), l.two_sided);
-    LightBounds b;
-    // Box of a rectangle: its corners; of an ellipse c + ax cos t + ay sin t: c +- sqrt(ax_i^2 + ay_i^2).
-    if (l.shape == AreaShape::Rectangle) {
-        const RectLight<float>& r = l.frame.light;
-        const Vec3f corners[4] = {r.corner, r.corner + r.ex, r.corner + r.ey, r.corner + r.ex + r.ey};
-        b.lo = b.hi = corners[0];
-        for (const Vec3f& c : corners) {
-            b.lo = {std::min(b.lo.x, c.x), std::min(b.lo.y, c.y), std::min(b.lo.z, c.z)};
-            b.hi = {std::max(b.hi.x, c.x), std::max(b.hi.y, c.y), std::max(b.hi.z, c.z)};
-        }
-    } else {
-        const Vec3f half = {std::hypot(l.ax.x, l.ay.x), std::hypot(l.ax.y, l.ay.y), std::hypot(l.ax.z, l.ay.z)};
-        b.lo = l.center - half;
-        b.hi = l.center + half;
-    }
-    b.power = Luminance(l.radiance) * l.area;  // intensity along the normal, per side
-    b.axis = l.n;
-    b.cos_theta_o = 1;
-    b.cos_theta_e = 0;  // cosine falloff to pi/2
-    b.two_sided = l.two_sided;
-    return b;
-}
-
-LightBounds TriangleLightBounds(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, float luminance, bool two_sided) {
-    LightBounds b;
-    b.lo = {std::min({p0.x, p1.x, p2.x}), std::min({p0.y, p1.y, p2.y}), std::min({p0.z, p1.z, p2.z})};
-    b.hi = {std::max({p0.x, p1.x, p2.x}), std::max({p0.y, p1.y, p2.y}), std::max({p0.z, p1.z, p2.z})};
-    const Vec3f c = Cross(p1 - p0, p2 - p0);
-    const float twice_area = Length(c);
-    b.power = twice_area > 0 ? luminance * 0.5f * twice_area : 0.0f;  // a degenerate triangle emits nothing
-    b.axis = twice_area > 0 ? c / twice_area : Vec3f(0, 0, 1);
-    b.cos_theta_o = 1;
-    b.cos_theta_e = 0;
-    b.two_sided = two_sided;
-    return b;
-}
-
-bool DeltaLightBounds(const DeltaLight& l, LightBounds* out) {
-    if (l.kind == DeltaKind::Sun) return false;
-    LightBounds b;
-    b.lo = b.hi = l.position;
-    b.power = Luminance(l.power);
-    if (l.kind == DeltaKind::Spot) {
-        b.axis = l.axis;
-        b.cos_theta_o = std::clamp(l.cos_half_angle, -1.0f, 1.0f);  // SpotAttenuation: zero outside
-        b.cos_theta_e = 1;
-    } else {
-        b.cos_theta_o = -1;  // the whole sphere
-        b.cos_theta_e = 0;
-    }
-    *out = b;
-    return true;
-}
+// ---- The scene's emitters, each bounding itself (area_light.h, delta_light.h) ----
 
 TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
                                  const std::vector<DeltaLight>& delta_lights) {

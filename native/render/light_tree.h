@@ -11,6 +11,8 @@
 //   LightTreeAt    the same Sample(u) and Pmf(emitter) at one receiver, each node's child
 //                  probabilities computed once for all of that point's calls.
 //
+// Each emitter gives its own LightBounds (light_bounds.h): AreaLightBounds and TriangleLightBounds in
+// area_light.h, DeltaLightBounds in delta_light.h.
 // Emitter indices are positions in the vector given to Build; CollectTreeEmitters numbers the
 // scene's area lights first, then its point and spot lights (suns stay outside: no finite bounds).
 // Derivation of the importance and the build's cost: docs/light_tree.md.
@@ -23,31 +25,10 @@
 #include "area_light.h"
 #include "core/rng.h"
 #include "delta_light.h"
+#include "light_bounds.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
-
-// One emitter as the tree sees it.  The orientation cone (Conty Estevez & Kulla, sec. 4.1):
-// every direction of emission lies within theta_o of `axis`, and the emission falls to zero
-// within a further theta_e (cosine falloff over it); two_sided: also the mirrored cone around
-// -axis.  A one-sided planar light: (n, cos_theta_o = 1, cos_theta_e = 0); a point light
-// covers the sphere (cos_theta_o = -1); a spot light its cone (cos_theta_o = cos(half angle),
-// cos_theta_e = 1: nothing outside it).
-struct LightBounds {
-    Vec3f lo, hi;                // world bounds (lo <= hi; a point light has lo == hi)
-    float power = 0;             // its largest radiant intensity (luminance): L*A for an area light (per
-                                 // side), I for a point or spot; power * cos / d^2 estimates irradiance
-    Vec3f axis{0, 0, 1};         // unit; ignored when cos_theta_o <= -1
-    float cos_theta_o = 1;
-    float cos_theta_e = 0;
-    bool two_sided = false;
-};
-
-LightBounds AreaLightBounds(const AreaLight& l);
-// Emissive triangle of luminance `luminance` (a planar light: cone around its normal).
-LightBounds TriangleLightBounds(const Vec3f& p0, const Vec3f& p1, const Vec3f& p2, float luminance, bool two_sided);
-// Point and spot lights; a sun has no finite bounds and is not a tree emitter (returns false).
-bool DeltaLightBounds(const DeltaLight& l, LightBounds* out);
 
 // Which scene light a tree emitter is.
 enum class TreeEmitterKind : uint8_t { Area, Delta };

@@ -19,7 +19,7 @@ namespace sphrect::render {
 struct TechniqueStats {
     uint64_t samples = 0;       // camera samples per pixel accumulated (pixels of cancelled tiles may have fewer)
     double wall_time = 0;       // seconds of Render() calls (shared by all techniques of the renderer)
-    double light_time = 0;      // thread-seconds in this technique's light sampling (setup, Sample, Pdf)
+    double light_time = 0;      // thread-seconds in this technique's light sampling (setup, Sample, PDF)
     double shading_time = 0;    // thread-seconds in the rest of its direct lighting: BSDF, MIS, shadow rays
     double camera_time = 0;     // thread-seconds of camera rays and first hits (shared)
     uint64_t rays = 0;          // shadow and BSDF/phase rays cast for this technique

@@ -5,7 +5,7 @@
 
 using namespace sphrect;
 
-TEST(Bilinear, SampleInvertRoundTripAndPdfIsTheJacobian) {
+TEST(Bilinear, SampleInvertRoundTripAndPDFIsTheJacobian) {
     const BilinearWeights ws[] = {{1, 2, 3, 4}, {0, 1, 1, 1}, {0, 0, 1, 1}, {0.5, 0, 0, 0.5}, {1, 1, 1, 1}};
     for (const BilinearWeights& w : ws) {
         for (double u = 0.05; u < 1; u += 0.1)

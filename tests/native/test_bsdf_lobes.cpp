@@ -73,7 +73,7 @@ std::vector<NamedMaterial> Materials() {
     };
 }
 
-TEST(BsdfLobes, SamplingMatchesThePdfOverTheSphereChiSquare) {
+TEST(BsdfLobes, SamplingMatchesThePDFOverTheSphereChiSquare) {
     // Over the whole sphere (bsdf_chi_square.h), so the translucent lobe's lower hemisphere is binned too.
     PCG32 rng(77);
     for (const NamedMaterial& c : Materials()) {

@@ -149,7 +149,7 @@ TEST(PrincipledBsdf, WhiteFurnacePerLobe) {
               Albedo(MakePrincipledBsdf(With(0, 0, 0, 0, 0, 0.3f, 0, white)), grazing) + 0.1);
 }
 
-TEST(PrincipledBsdf, SamplesReportTheirPdfAndValue) {
+TEST(PrincipledBsdf, SamplesReportTheirPDFAndValue) {
     PCG32 rng(5);
     std::vector<NamedInputs> cases = Lobes();
     cases.push_back({"sharp clearcoat (Blender's default 0.03)", With(0, 0.5f, 0.5f, 0, 1, 0.03f)});
@@ -169,7 +169,7 @@ TEST(PrincipledBsdf, SamplesReportTheirPdfAndValue) {
     }
 }
 
-TEST(PrincipledBsdf, SamplingMatchesThePdfChiSquare) {
+TEST(PrincipledBsdf, SamplingMatchesThePDFChiSquare) {
     // Over the upper hemisphere (bsdf_chi_square.h); rejected samples (reflected below the horizon) are the
     // pdf's missing mass.
     PCG32 rng(2024);

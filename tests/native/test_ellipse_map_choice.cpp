@@ -105,7 +105,7 @@ TEST(EllipseMapChoice, SwitchesWhereTheBoundCrossesTheThreshold) {
 // EllipseSamplingAt under spherical_ellipse at shading points straddling the switch: each light is
 // sampled and its pdf answered by the technique the choice names (bit for bit a fresh area sampler or
 // spherical ellipse setup), and the pdf of the returned point is the sample's.
-TEST(EllipseMapChoice, SampleAndPdfFollowTheChoiceOnBothSides) {
+TEST(EllipseMapChoice, SampleAndPDFFollowTheChoiceOnBothSides) {
     const float r = 0.5f;
     // (one-sided, facing down: cross(axis_u, axis_v) = -z)
     const AreaLight disk = MakeEllipseAreaLight({0, 0, 2}, {0, r, 0}, {r, 0, 0}, {1, 1, 1}, false, false);

@@ -4,7 +4,7 @@
 //  - sample points on the light within 1e-5 of its size;
 //  - Omega within 1e-5 relative error of a __float128 reference;
 // (the suite is core/hard_cases.h, which the study's accuracy table measures too);
-//  - the pdf returned with a sample equals Pdf(point);
+//  - the pdf returned with a sample equals PDF(point);
 //  - `triangles` returns 1 / Omega everywhere, `rectangle` wherever it does not fall back to
 //    area sampling (thin lights 1e4 sizes away and more: counted and printed).
 // And the degenerate inputs: pdf 0, invalid, no NaN.
@@ -43,7 +43,7 @@ struct SuiteStats {
 // Relative tolerance of pdf = 1 / Omega for `triangles` (everywhere) and `rectangle` (where it
 // does not fall back to area sampling): Omega's own rounding (the suite's worst is 6e-8 in
 // float) and the float rounding of the pdf.
-constexpr double kUniformPdfTolerance = 2e-7;
+constexpr double kUniformPDFTolerance = 2e-7;
 
 template <Technique K, class T>
 void RunHardCase(const HardCase& hc, SuiteStats* st) {
@@ -88,12 +88,12 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
         ASSERT_GT(ls.dist, 0);
         EXPECT_NEAR(double(Length(ls.dir)), 1.0, 1e-5);
         EXPECT_LE(DistanceToLight(ls.point, L), 1e-5 * hc.size) << "u " << uv.u << " v " << uv.v;
-        const T pdf = s.Pdf(ls.point);
+        const T pdf = s.PDF(ls.point);
         ASSERT_TRUE(std::isfinite(pdf));
         if (uniform && !fallback) {
             const double err = std::abs(double(ls.pdf) * ref - 1);
             st->max_uniform_err = std::max(st->max_uniform_err, err);
-            EXPECT_LE(err, kUniformPdfTolerance) << "pdf " << ls.pdf << " 1/Omega " << 1 / ref << " u " << uv.u << " v " << uv.v;
+            EXPECT_LE(err, kUniformPDFTolerance) << "pdf " << ls.pdf << " 1/Omega " << 1 / ref << " u " << uv.u << " v " << uv.v;
         }
         // rectangle_cosine: the pdf is a bilinear factor in [0, 4] times the rectangle's pdf;
         // where the factor is ~0 (corners at the horizon) compare against that scale.
@@ -121,7 +121,7 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
             // A varying pdf at a float point: compare where rounding the point to float
             // does not itself change the true density (checked with the double path).
             const Vec3d pd = Vec3d(sd.Sample({double(uv.u), double(uv.v)}).point);
-            const double exact = sd.Pdf(pd), rounded = sd.Pdf(Vec3d(ls.point));
+            const double exact = sd.PDF(pd), rounded = sd.PDF(Vec3d(ls.point));
             if (std::abs(exact - rounded) <= 1e-5 * exact) {
                 EXPECT_NEAR(double(pdf), double(ls.pdf), 2e-4 * double(ls.pdf) + 1e-6 * scale) << "u " << uv.u << " v " << uv.v;
                 ++st->pdf_checked;
@@ -170,7 +170,7 @@ void ExpectInvalid(const Vec3<T>& o, const Vec3<T>& n, const RectLight<T>& L, co
             EXPECT_FALSE(std::isnan(ls.pdf));
             EXPECT_TRUE(std::isfinite(ls.dist));
         }
-    EXPECT_EQ(s.Pdf(L.corner + L.ex * T(0.5)), 0);
+    EXPECT_EQ(s.PDF(L.corner + L.ex * T(0.5)), 0);
 }
 
 template <class T>
@@ -239,7 +239,7 @@ TEST(Fuzz, NoNaNOrInfForAnyFiniteInput) {
                 for (float u : {0.f, 0.3f, std::nextafter(1.f, 0.f), 1.f})
                     for (float v : {0.f, 0.7f, 1.f}) {
                         const LightSample<float> ls = s.Sample({u, v});
-                        const float p = s.Pdf(ls.point);
+                        const float p = s.PDF(ls.point);
                         ASSERT_TRUE(std::isfinite(ls.pdf) && ls.pdf >= 0) << TechniqueName(t) << " it " << it;
                         ASSERT_TRUE(std::isfinite(p) && p >= 0) << TechniqueName(t) << " it " << it;
                         if (ls.pdf > 0) {

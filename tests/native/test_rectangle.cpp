@@ -121,7 +121,7 @@ TEST(Rectangle, FallbackSwitchIsUnbiasedOnBothSides) {
         for (float u : HardCaseUV())
             for (float v : HardCaseUV()) {
                 const LightSample<float> ls = s.Sample({u, v});
-                EXPECT_NEAR(s.Pdf(ls.point), ls.pdf, 1e-4f * ls.pdf);
+                EXPECT_NEAR(s.PDF(ls.point), ls.pdf, 1e-4f * ls.pdf);
             }
     }
 }

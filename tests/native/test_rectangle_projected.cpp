@@ -6,7 +6,7 @@
 //  - the zero-variance property: every single sample's cos / pdf equals the reference E within
 //    1e-5 (so their spread is below 1e-4), in the float path;
 //  - the inverse round trip within 1e-4;
-//  - the switch to `rectangle` (where the sweep cannot be resolved) is followed by Pdf and Invert.
+//  - the switch to `rectangle` (where the sweep cannot be resolved) is followed by PDF and Invert.
 // Its distribution is checked by the chi-square harness (tests/python/test_rectangle_projected.py).
 #include <gtest/gtest.h>
 
@@ -121,18 +121,18 @@ void CheckZeroVariance(const HardCase& hc, ZeroVarianceStats* st, bool allow_swi
         } else {
             ++st->near_horizon;
         }
-        // Pdf of the returned point: the same formula at the point rounded to T; compared where
+        // PDF of the returned point: the same formula at the point rounded to T; compared where
         // that rounding does not itself change the density (checked with the double path).
         // Beyond that, close to o the point's own rounding (eps_T |p|, against its distance)
         // moves cos by up to that ratio: the allowance, relative to cos.
         const Vec3d pd = Vec3d(sd.Sample({double(uv.u), double(uv.v)}).point);
-        const double exact = sd.Pdf(pd), rounded = sd.Pdf(Vec3d(ls.point));
+        const double exact = sd.PDF(pd), rounded = sd.PDF(Vec3d(ls.point));
         const double p_max = std::max({std::abs(double(ls.point.x)), std::abs(double(ls.point.y)),
                                        std::abs(double(ls.point.z))});
         const double moved = 4 * double(std::numeric_limits<T>::epsilon()) * p_max / double(ls.dist) /
                              std::max(cos_theta, 1e-300);
         if (std::abs(exact - rounded) <= 1e-5 * exact) {
-            EXPECT_NEAR(double(s.Pdf(ls.point)), double(ls.pdf), (2e-4 + moved) * double(ls.pdf))
+            EXPECT_NEAR(double(s.PDF(ls.point)), double(ls.pdf), (2e-4 + moved) * double(ls.pdf))
                 << "u " << uv.u << " v " << uv.v;
         }
     }
@@ -160,7 +160,7 @@ TEST(RectangleProjected, ZeroVarianceOverHorizonCasesFloat) { ZeroVarianceOver<f
 TEST(RectangleProjected, ZeroVarianceOverHorizonCasesDouble) { ZeroVarianceOver<double>(HorizonCases(), "horizon", true); }
 
 // The switch: where it happens the light's projected solid angle is tiny against the sweep's
-// rounding, i.e. the light spans a tiny angle; `rectangle` is followed by Sample, Pdf and Invert,
+// rounding, i.e. the light spans a tiny angle; `rectangle` is followed by Sample, PDF and Invert,
 // and its cos / pdf is then E within the light's angular extent.
 TEST(RectangleProjected, SwitchIsFollowedEverywhere) {
     int switched = 0;
@@ -176,7 +176,7 @@ TEST(RectangleProjected, SwitchIsFollowedEverywhere) {
             EXPECT_EQ(a.point.y, b.point.y);
             EXPECT_EQ(a.point.z, b.point.z);
             EXPECT_EQ(a.pdf, b.pdf);
-            EXPECT_EQ(s.Pdf(a.point), r.Pdf(a.point));
+            EXPECT_EQ(s.PDF(a.point), r.PDF(a.point));
             const Point2<double> ia = InvertRectangleProjected(s.r, a.point), ib = InvertRectangle(r.r, a.point);
             EXPECT_EQ(ia.u, ib.u);
             EXPECT_EQ(ia.v, ib.v);
@@ -217,7 +217,7 @@ TEST(RectangleProjected, InverseRoundTrip) {
         // plane, E ~ 1e-10 ... 1e-15).  There a failed round trip is counted apart (and the
         // direction Sample(Invert(p)) checked instead; in float not at all).
         double min_rate = INFINITY, max_radius = 0;
-        for (int k = 0; k < sd.num_arcs; ++k) min_rate = std::min(min_rate, sd.arcs[k].k);
+        for (int k = 0; k < sd.num_arcs; ++k) min_rate = std::min(min_rate, sd.arcs[k].sweep_rate);
         for (int j = 0; j < sd.num_pieces; ++j)
             max_radius = std::max(max_radius, std::hypot(sd.pieces[j].from.x, sd.pieces[j].from.y));
         const bool thin = sd.star && !sd.use_rectangle && 2 * min_rate < 1e-6 * max_radius;

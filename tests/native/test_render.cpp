@@ -31,7 +31,7 @@ std::vector<Bsdf> TestMaterials() {
             MakeLambertGgxBsdf({0.2f, 0.2f, 0.8f}, 0.8f, 0.3f, 1.0f)};
 }
 
-TEST(RenderBsdf, PdfIsTheDensityOfItsSamples) {
+TEST(RenderBsdf, PDFIsTheDensityOfItsSamples) {
     // Visible-normal samples reflected below the horizon are rejected (pdf 0), so the pdf over
     // the upper hemisphere integrates to the fraction of accepted samples, not to 1.
     PCG32 rng(7);
@@ -100,7 +100,7 @@ TEST(RenderMedium, HenyeyGreensteinIsNormalisedAndSampledWithMeanCosineG) {
     }
 }
 
-TEST(RenderMedium, EquiAngularPdfIsNormalisedAndMatchesItsSamples) {
+TEST(RenderMedium, EquiAngularPDFIsNormalisedAndMatchesItsSamples) {
     const Vec3f o(0, 0, 0), d(1, 0, 0), c(2.0f, 0.7f, -0.2f);
     for (float tmax : {1.0f, 5.0f, kInf}) {
         const EquiAngular e = MakeEquiAngular(o, d, tmax, c);
@@ -493,8 +493,8 @@ void ExpectKeptSamplersMatchFreshOnes() {
         const LightSampler<K, float> fresh_j(p, n, s.area_lights[j].frame);
         const RectLight<float>& r = s.area_lights[j].frame.light;
         const Vec3f q = r.corner + r.ex * rng.NextFloat() + r.ey * rng.NextFloat();
-        EXPECT_EQ(at.PDF(j, q), fresh_j.Valid() ? s.light_selector.pmf[j] * fresh_j.Pdf(q) : 0.0f) << "light " << j;
-        EXPECT_EQ(at.PDF(i, b.point), s.light_selector.pmf[i] * fresh.Pdf(b.point));
+        EXPECT_EQ(at.PDF(j, q), fresh_j.Valid() ? s.light_selector.pmf[j] * fresh_j.PDF(q) : 0.0f) << "light " << j;
+        EXPECT_EQ(at.PDF(i, b.point), s.light_selector.pmf[i] * fresh.PDF(b.point));
     }
     EXPECT_GT(valid, 60);  // the even lights are one-sided, facing away: invalid samplers, pdf 0
 }
@@ -549,7 +549,7 @@ void ExpectEllipseSamplingMatchesFreshSamplers() {
             EXPECT_EQ(a.point.y, b.point.y);
             EXPECT_EQ(a.point.z, b.point.z);
             if (b.pdf > 0) {
-                EXPECT_EQ(at.PDF(i, b.point), pmf * f.Pdf(b.point)) << "light " << i;
+                EXPECT_EQ(at.PDF(i, b.point), pmf * f.PDF(b.point)) << "light " << i;
             }
         } else {  // the renderer's area sampling (the former one, bit-identical images)
             const LightSample<float> b = SampleEllipseArea(s.area_lights[i], p, u);
@@ -566,7 +566,7 @@ void ExpectEllipseSamplingMatchesFreshSamplers() {
         const float r = std::sqrt(rng.NextFloat()), phi = 6.2831853f * rng.NextFloat();
         const Vec3f q = l.center + l.ax * (r * std::cos(phi)) + l.ay * (r * std::sin(phi));
         const auto fj = fresh(j);
-        const float expected = by_area(j) ? EllipseAreaPDF(l, p, q) : fj.Valid() ? fj.Pdf(q) : 0.0f;
+        const float expected = by_area(j) ? EllipseAreaPDF(l, p, q) : fj.Valid() ? fj.PDF(q) : 0.0f;
         EXPECT_EQ(at.PDF(j, q), s.light_selector.pmf[j] * expected) << "light " << j;
     }
     EXPECT_GT(valid, 100);

@@ -48,7 +48,7 @@ TEST(SphericalEllipse, CarlsonRJMatchesBoost) {
     EXPECT_LT(worst, 2e-15);
 }
 
-TEST(SphericalEllipse, FloatSamplesCarryThePdfOfTheirPoint) {
+TEST(SphericalEllipse, FloatSamplesCarryThePDFOfTheirPoint) {
     std::mt19937 rng(3);
     std::uniform_real_distribution<float> U(0, 1);
     for (const Vec3f& o : HardOrigins()) {
@@ -59,7 +59,7 @@ TEST(SphericalEllipse, FloatSamplesCarryThePdfOfTheirPoint) {
                 for (int i = 0; i < 256; ++i) {
                     const LightSample<float> ls = s.Sample({U(rng), U(rng)});
                     ASSERT_TRUE(IsFinite(ls.point) && IsFinite(ls.dir) && std::isfinite(ls.pdf) && ls.pdf > 0);
-                    EXPECT_EQ(s.Pdf(ls.point), ls.pdf) << EllipseTechniqueName(t) << " o.z " << o.z;
+                    EXPECT_EQ(s.PDF(ls.point), ls.pdf) << EllipseTechniqueName(t) << " o.z " << o.z;
                     const float p = ls.point.x, q = ls.point.y / 0.4f;
                     EXPECT_LE(p * p + q * q, 1 + 1e-5f);
                     EXPECT_EQ(ls.point.z, 0.f);
@@ -68,7 +68,7 @@ TEST(SphericalEllipse, FloatSamplesCarryThePdfOfTheirPoint) {
     }
 }
 
-TEST(SphericalEllipse, FallbackIsFollowedBySamplePdfAndInvert) {
+TEST(SphericalEllipse, FallbackIsFollowedBySamplePDFAndInvert) {
     // Beside the ellipse at h = 1e-9 (a sliver too thin for the map) and far away: area sampling.
     const EllipseLight<double> light{{0, 0, 0}, {1, 0, 0}, {0, 0.4, 0}, true};
     const SphericalEllipseSetup<double> se = MakeSphericalEllipseSetup(Vec3d(1.5, 0.2, 1e-9), light);

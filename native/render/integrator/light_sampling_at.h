@@ -125,7 +125,7 @@ class LightSamplingAt {
             return TriangleSolidAnglePDF(MakeTriangleSolidAngleSetup(l, origin_), l, origin_, p);
         }
         const LightSampler<K, float>& s = RectangleSampler(index);
-        return s.Valid() ? s.Pdf(p) : 0.0f;
+        return s.Valid() ? s.PDF(p) : 0.0f;
     }
 
     // Rectangle light `index`'s sampler at this point: a kept one, or set up in the oldest slot.

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sampling_util.h"
+#include "render/sampling_util.h"
 
 namespace sphrect::render {
 

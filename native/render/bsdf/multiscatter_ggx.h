@@ -15,7 +15,7 @@
 #include <cstring>
 
 #include "principled_lobes.h"
-#include "sampling_util.h"
+#include "render/sampling_util.h"
 
 namespace sphrect::render {
 
