@@ -5,10 +5,9 @@
 // for x, y, z >= 0 (at most one 0) and p > 0: all that spherical_ellipse.h needs.
 //
 // Why not Boost.Math's ellint_rj (which the tests use as the reference): this one skips Boost's
-// argument checks, reordering and p < 0 branch; measured 144 ns vs 224 ns (Boost with
-// promote_double<false>) per call at the map's typical arguments and 217 vs 337 ns at widely spread
-// ones, agreeing to 8.3e-16 relative over the map's argument range (tests/native/
-// test_spherical_ellipse.cpp).  Every term of the algorithm is positive for these arguments
+// argument checks, reordering and p < 0 branch, so it is faster and agrees with Boost to rounding over
+// the map's argument range (tests/native/test_spherical_ellipse.cpp; the timings and the agreement:
+// docs/ellipse_map.md section 5).  Every term of the algorithm is positive for these arguments
 // except R_C's, which is computed without cancellation.
 #pragma once
 

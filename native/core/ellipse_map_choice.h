@@ -1,6 +1,6 @@
 // The renderer's choice between the spherical ellipse map and area sampling for one (shading point,
 // ellipse light), under ellipse_technique = spherical_ellipse (integrator/ellipse_sampling_at.h).
-// The map is uniform in solid angle but costs ~10x area sampling per sample plus a setup
+// The map is uniform in solid angle but costs many times area sampling per sample plus a setup
 // (docs/ellipse_map.md, section 9); where area sampling's solid-angle density is already nearly
 // uniform, the map cannot lower the error enough to pay for that, so such setups are sampled by area.
 // (pbrt-v4 samples spherical triangles by area below a solid-angle threshold, kMinSphericalSampleArea,

@@ -12,13 +12,11 @@
 // the concentric one is continuous but inherits the square-to-disk kinks along the diagonals), and
 // a grid of strata stays a grid of cells shaped like the ellipse.  Cost: the polar and concentric
 // maps invert an incomplete elliptic integral (Booth's sector area) for their angle just as this
-// one does, so none is cheaper; this one's second step is closed form.  Measured (variance of the
-// jittered 16..256-sample irradiance estimate over 6 configurations, docs/ellipse_map.md section 9):
-// polar is 1.7-7x lower than the others for a receiver facing a disk (its rings follow the cosine)
-// but 2-3x higher beside the light or for a tilted receiver, so it is out; parallel and concentric
-// are within 0.8-1.2x of each other in 14 of 18 cases, concentric up to 1.9x lower for a thin
-// ellipse and a tilted receiver at 256 samples.  Parallel is kept for the rectangle's structure
-// (the same robust steps, fallback and inverse) rather than for a variance margin it does not have.
+// one does, so none is cheaper; this one's second step is closed form.  Polar is out: its variance is
+// lower only facing a disk and higher beside the light or for a tilted receiver; parallel and
+// concentric are on par (the measured variances: docs/ellipse_map.md section 9).  Parallel is kept
+// for the rectangle's structure (the same robust steps, fallback and inverse) rather than for a
+// variance margin it does not have.
 //
 // The derivation, with the equation numbers the comments cite, is docs/ellipse_map.md.  In short:
 // setup and map in double from the (float) inputs, rounded to T once.  The cone over the ellipse

@@ -1,7 +1,7 @@
 // Finding the analytic area lights (rectangles, ellipses) a camera or BSDF ray crosses.
 //
 // Lights do not occlude: a ray collects every light it crosses, not only the first, so they are
-// not part of the scene's Embree geometry.  Few lights are tested in turn (a test is ~10 ns);
+// not part of the scene's Embree geometry.  Few lights are tested in turn (a test is cheap);
 // above kLinearLightSearchMax they are one Embree user geometry in a scene of their own, whose
 // BVH visits only the lights whose bounds the ray meets.  Its intersect callback records each
 // crossing in the query's buffer and never reports a hit, so the traversal goes on to the end of
@@ -20,9 +20,8 @@
 
 namespace sphrect::render {
 
-// Up to this many analytic lights, a ray tests each in turn.  bench_many_lights, rectangles, with the
-// BVH forced on: +120 ns per camera sample at 1 light (a camera and a BSDF query), a tie or a gain
-// at 10.
+// Up to this many analytic lights, a ray tests each in turn: below it the BVH costs more than it saves
+// (bench_many_lights; docs/architecture.md, measured choices).
 constexpr size_t kLinearLightSearchMax = 8;
 
 struct LightCrossing {

@@ -33,8 +33,8 @@ inline RTCRayHit MakeRTCRayHit(const Vec3f& o, const Vec3f& d, float tnear, floa
 }
 
 // Traces n camera rays (in place) as one coherent stream: a chunk's camera rays leave one point
-// (a small lens; or are parallel) and cover one tile, so Embree's packet traversal is ~40%
-// faster on them than ray by ray.
+// (a small lens; or are parallel) and cover one tile, so Embree's packet traversal is faster on
+// them than ray by ray (docs/architecture.md, measured choices).
 inline void IntersectCameraRays(RTCScene scene, RTCRayHit* rays, size_t n) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -51,8 +51,8 @@ struct ShadowRayContext {
 };
 
 // Traces n occlusion rays (in place; `stride` bytes apart, so a payload may follow each) as one
-// incoherent stream: renders 6-29% faster than with a call per ray, most with several light
-// samples.  (Flagged coherent, the same stream was 2x slower: the rays start all over a tile.)
+// incoherent stream: faster than a call per ray, and than the same stream flagged coherent (the
+// rays start all over a tile; docs/architecture.md, measured choices).
 // A blocked ray's tfar becomes -inf.
 inline void OccludeShadowRays(RTCScene scene, RTCRay* rays, size_t n, size_t stride,
                               uint8_t* crossed_transparent = nullptr) {

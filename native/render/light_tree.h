@@ -96,9 +96,9 @@ inline constexpr float kSmallestImportance = 1.4e-45f;   // what an underflowed 
 // theta'_i = max(0, theta_i - theta_b) the smallest angle of incidence at a receiver with normal n
 // (0 beyond pi/2: the box is behind the surface).  Inside the sphere every direction is possible
 // and d is clamped to half its radius (Cycles' clamp; clamping to the radius, pbrt's choice,
-// made the light choice's second moment on 10,000 lights over a plane 29.8 instead of 5.1:
-// bench_light_tree's BM_LightTreeSelectionMoment).  Zero only when no emitter of the node can
-// light p.
+// made the light choice's second moment on many lights over a plane several times larger:
+// bench_light_tree's BM_LightTreeSelectionMoment, docs/light_tree.md).  Zero only when no emitter
+// of the node can light p.
 [[gnu::always_inline]] inline float NodeImportance(const LightTreeNode& node, const Vec3f& p, const Vec3f& n,
                                                    bool has_normal) {
     if (!(node.power > 0)) return 0;
@@ -261,12 +261,11 @@ class LightTree {
 
 // The tree seen from one receiver: Sample and Pmf exactly as LightTree's (the same floats),
 // with the root's test and, when `memoize`, each inner node's left-child probability computed
-// once -- a shading point's light samples and its BSDF rays' pmfs all descend from the same root
-// (on the studio's 4-light tree, 4 light samples: 7 node importances instead of 20).  With one
-// light sample per point the memo costs more than it saves (+0.3% to +2.6% instructions per
-// camera sample on the studio, disk room and hall), so it is only asked for with several.  The memo is direct-mapped
-// on the node index: a small tree fits whole, a large one keeps the nodes last visited; a bit
-// mask says which slots are filled, so a receiver starts it with one store.
+// once -- a shading point's light samples and its BSDF rays' pmfs all descend from the same root.
+// With one light sample per point the memo costs more than it saves (docs/light_tree.md), so it is
+// only asked for with several.  The memo is direct-mapped on the node index: a small tree fits
+// whole, a large one keeps the nodes last visited; a bit mask says which slots are filled, so a
+// receiver starts it with one store.
 class LightTreeAt {
   public:
     LightTreeAt(const LightTree& tree, const Vec3f& p, const Vec3f& n, bool memoize)

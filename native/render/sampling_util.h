@@ -23,7 +23,7 @@ inline float MaxAbsComponent(const Vec3f& v) { return std::max(std::abs(v.x), st
 
 // Orthonormal basis around a unit vector n (Duff et al., "Building an Orthonormal Basis, Revisited", 2017).
 // The changes of basis are always inlined: called out of line from the shading steps, their
-// calls cost ~2% of a render.
+// calls cost a measurable share of a render (docs/architecture.md, measured choices).
 struct Frame {
     Vec3f s, t, n;
     static Frame FromZ(const Vec3f& n) {

@@ -59,14 +59,4 @@ double BoxCoverage(const ScreenLight& s, double x0, double y0, double x1, double
 // Fraction of the pixel [px, px + 1) x [py, py + 1) inside s's image, in [0, 1].
 double PixelCoverage(const ScreenLight& s, int px, int py);
 
-// ---- The geometry, exposed for the tests. ----
-
-// Area of the convex polygon (x[i], y[i]), i < n <= 8, either orientation, inside the box
-// [bx0, bx1] x [by0, by1] (Sutherland-Hodgman against the box's four sides, then the shoelace).
-double ConvexPolygonBoxArea(const double* x, const double* y, int n, double bx0, double by0, double bx1, double by1);
-
-// Signed area of the unit disk inside the polygon (x[i], y[i]) (positive counter-clockwise): the sum
-// over its edges of the disk's part of the triangle (origin, edge), each a triangle and sectors.
-double UnitDiskPolygonArea(const double* x, const double* y, int n);
-
 }  // namespace sphrect::render

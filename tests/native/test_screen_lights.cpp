@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <random>
 
+#include "render/overlap_area.h"
 #include "render/screen_lights.h"
 
 namespace sphrect::render {

@@ -10,14 +10,8 @@
 // The technique is a run-time branch on the ellipse path only, not a kernel template parameter (which
 // would double the kernels compiled): a scene without ellipse lights never reaches this code (it pays
 // two stores per shading point, the technique and the kept count), and a disk scene's branch is one
-// well-predicted compare next to a spherical ellipse setup and map of thousands of instructions.
-// Measured (callgrind, instructions per camera sample, 96x72, 4 spp, rectangle, tree, 1 / 4 light
-// samples): studio (rectangles only) 5146 -> 5130 / 14015 -> 13991 (code layout; images bit-identical);
-// disk room under `area` 3148 -> 3163 / 7957 -> 8058; under `spherical_ellipse` 6385 / 17618.  (The
-// spherical path out of line: disk room `area` +0.3% / +0.6% instead, the studio +0.1% / +0.2%.)
-// With the choice (callgrind, 96x72, 16 spp, rectangle, tree, 1 light sample; area / spherical_ellipse):
-// disk room 3116 / 3182, 12_disk_ceiling 2664 / 2731 (the choice's test on every call, and a few
-// points by the map), 11_paper_disk 1761 / 2253.
+// well-predicted compare next to a spherical ellipse setup and map of thousands of instructions
+// (the instruction counts: docs/ellipse_map.md section 10).
 //
 // A spherical ellipse's setup is made once per (point, light) -- by the first sample of that light or
 // the first pdf a BSDF/phase ray needs of it -- and kept for the following samples and pdfs, like

@@ -155,7 +155,7 @@ class LightSamplingAt {
     EllipseSamplingAt ellipse_;
     static constexpr int kKeptSamplers = 4;
     // A sampler's storage, left uninitialised until it is set up (std::optional's slots were
-    // zeroed with every LightSamplingAt: ~190 instructions per shading point).
+    // zeroed with every LightSamplingAt: docs/architecture.md, measured choices).
     union SamplerSlot {
         SamplerSlot() {}
         LightSampler<K, float> sampler;

@@ -102,8 +102,8 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 // into `storage` (its emission the material's own: emission is not textured); a normal-mapped one in the
 // Principled form (MixIntoBsdf of weight 1: a Lambert lobe as `lambert`) with its bump shadowing; a glass
 // lobe seen from its back face with the inverse IOR.
-// Out of line and cold: inlined into the shading loop, its material construction cost every scene ~3% of its
-// instructions (callgrind, 02_room and 07_studio), textured or not.
+// Out of line and cold: inlined into the shading loop, its material construction cost every scene instructions,
+// textured or not (docs/architecture.md, measured choices).
 [[gnu::noinline, gnu::cold]] static Bsdf HitSpecificBsdf(const RenderScene& scene, const SurfaceHit& h,
                                                                  const Frame& frame) {
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
@@ -145,10 +145,8 @@ static inline const Bsdf& BsdfAtHit(const RenderScene& scene, const SurfaceHit& 
 // ellipses), unless RenderOptions::bsdf_samples_on_diffuse (ShadeContext).  There the light sample's density already follows
 // the integrand but for the cosine (`rectangle_projected`: including the cosine, so that an
 // unoccluded light's estimate has no variance and a BSDF sample could only add noise), so the BSDF sample's share of MIS is small where it is not
-// noise, and its ray, light finding and light pdf cost a quarter of the render: measured over the
-// twelve blend_scenes (scripts/measure_light_samples.py --mis), MSE x time 0.8 of full MIS's
-// (geometric mean), 0.5-0.6 on the paper scene, the studio and the disks; 1.1-1.3 where
-// the light technique is weak (the hard cases' degenerate lights, the night street's windows).
+// noise, and its ray, light finding and light pdf cost a quarter of the render: over the blend_scenes
+// dropping it lowers MSE x time except where the light technique is weak (docs/architecture.md, measured choices).
 // Each hit's choice depends only on the hit, so the image stays unbiased.
 template <Technique K>
 static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
