@@ -7,7 +7,7 @@
 //                          time: large subtrees build in parallel).  Counters: bytes_per_emitter
 //                          (nodes + bit trails, LightTree::MemoryBytes() / N), depth.
 //  BM_LightTreeSample/<N>  one Sample(p, n, u) per iteration (receivers and u cycled from tables).
-//  BM_LightTreePmf/<N>     one Pmf(p, n, emitter) per iteration (the emitter a Sample chose).
+//  BM_LightTreePMF/<N>     one PMF(p, n, emitter) per iteration (the emitter a Sample chose).
 //  BM_LightTreeSelectionMoment/<N>  not a timing: the relative second moment of the light
 //                          choice, tree against power (see below; 1 is the ideal).
 //
@@ -108,7 +108,7 @@ void BM_LightTreeSample(benchmark::State& state) {
     }
 }
 
-void BM_LightTreePmf(benchmark::State& state) {
+void BM_LightTreePMF(benchmark::State& state) {
     const int n = int(state.range(0));
     const LightTree& tree = Tree(n);
     const std::vector<Query> q = Queries(n);
@@ -118,7 +118,7 @@ void BM_LightTreePmf(benchmark::State& state) {
     size_t k = 0;
     for (auto _ : state) {
         const size_t i = k++ & 4095;
-        benchmark::DoNotOptimize(tree.Pmf(q[i].p, up, chosen[i]));
+        benchmark::DoNotOptimize(tree.PMF(q[i].p, up, chosen[i]));
     }
 }
 
@@ -157,7 +157,7 @@ void BM_LightTreeSelectionMoment(benchmark::State& state) {
                 const double f = ProxyContribution(lights[e], q[r].p, up);
                 if (f == 0) continue;
                 sum += f;
-                tree_sq += f * f / tree.Pmf(q[r].p, up, e);
+                tree_sq += f * f / tree.PMF(q[r].p, up, e);
                 power_sq += f * f / (lights[e].power / total_power);
             }
             if (!(sum > 0)) continue;
@@ -175,7 +175,7 @@ BENCHMARK(BM_LightTreeBuild)
     ->UseRealTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LightTreeSample)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
-BENCHMARK(BM_LightTreePmf)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
+BENCHMARK(BM_LightTreePMF)->RangeMultiplier(10)->Range(10, 1000000)->Unit(benchmark::kNanosecond);
 BENCHMARK(BM_LightTreeSelectionMoment)->RangeMultiplier(10)->Range(10, 10000)->Iterations(1);
 
 }  // namespace

@@ -5,10 +5,10 @@
 //
 //   LightBounds    what the tree knows of one emitter: world box, power, orientation cone.
 //   LightTree      Build(bounds) once per scene; then per shading point, allocation-free and in
-//                  float, Sample(p, n, u) -> (emitter, pmf, u rescaled) and Pmf(p, n, emitter),
+//                  float, Sample(p, n, u) -> (emitter, pmf, u rescaled) and PMF(p, n, emitter),
 //                  the probability that Sample picks that emitter (the MIS pdf of an emitter a
 //                  BSDF ray found).  n = (0,0,0): no normal (a point in a medium).
-//   LightTreeAt    the same Sample(u) and Pmf(emitter) at one receiver, each node's child
+//   LightTreeAt    the same Sample(u) and PMF(emitter) at one receiver, each node's child
 //                  probabilities computed once for all of that point's calls.
 //
 // Each emitter gives its own LightBounds (light_bounds.h): AreaLightBounds and TriangleLightBounds in
@@ -160,7 +160,7 @@ class LightTree {
   public:
     // Throws std::invalid_argument naming the emitter for NaN/infinite bounds, power or cone,
     // negative power, lo > hi, a zero axis of a cone narrower than the sphere, or too many.
-    // Emitters with zero power stay outside the tree (Pmf 0, never sampled).  Large subtrees are
+    // Emitters with zero power stay outside the tree (PMF 0, never sampled).  Large subtrees are
     // built on up to `threads` threads (0: the hardware's); the tree is the same for any count.
     void Build(const std::vector<LightBounds>& emitters, int threads = 0);
 
@@ -183,14 +183,14 @@ class LightTree {
 
     // The probability that Sample(p, n, .) returns `emitter`: the same products along the
     // emitter's root-to-leaf path (its bit trail: bit k = right child at depth k).
-    float Pmf(const Vec3f& p, const Vec3f& n, int emitter) const {
+    float PMF(const Vec3f& p, const Vec3f& n, int emitter) const {
         if (!InTree(emitter)) return 0;
         const LightTreeReceiver r(p, n);
         if (!CanLight(r)) return 0;
-        return PathPmf(emitter, [&](uint32_t left) { return LeftProbability(left, r); });
+        return PathPMF(emitter, [&](uint32_t left) { return LeftProbability(left, r); });
     }
 
-    // ---- The pieces of Sample and Pmf, for LightTreeAt (which memoises p_left per node). ----
+    // ---- The pieces of Sample and PMF, for LightTreeAt (which memoises p_left per node). ----
 
     // Whether anything in the tree can light r: the root's importance > 0.
     bool CanLight(const LightTreeReceiver& r) const {
@@ -231,9 +231,9 @@ class LightTree {
         s.u = u;
         return s;
     }
-    // Pmf's product along the path of `emitter` (InTree and CanLight hold).
+    // PMF's product along the path of `emitter` (InTree and CanLight hold).
     template <class PLeft>
-    float PathPmf(int emitter, PLeft&& p_left_of) const {
+    float PathPMF(int emitter, PLeft&& p_left_of) const {
         const uint64_t trail = trails_[emitter];
         uint32_t i = 0;
         float pmf = 1;
@@ -259,7 +259,7 @@ class LightTree {
     int depth_ = 0;
 };
 
-// The tree seen from one receiver: Sample and Pmf exactly as LightTree's (the same floats),
+// The tree seen from one receiver: Sample and PMF exactly as LightTree's (the same floats),
 // with the root's test and, when `memoize`, each inner node's left-child probability computed
 // once -- a shading point's light samples and its BSDF rays' pmfs all descend from the same root.
 // With one light sample per point the memo costs more than it saves (docs/light_tree.md), so it is
@@ -276,9 +276,9 @@ class LightTreeAt {
         return tree_.Descend(u, [this](uint32_t left) { return LeftProbability(left); });
     }
 
-    float Pmf(int emitter) {
+    float PMF(int emitter) {
         if (!tree_.InTree(emitter) || !CanLight()) return 0;
-        return tree_.PathPmf(emitter, [this](uint32_t left) { return LeftProbability(left); });
+        return tree_.PathPMF(emitter, [this](uint32_t left) { return LeftProbability(left); });
     }
 
   private:

@@ -1,6 +1,6 @@
-// Light tree (render/light_tree.h): pmfs sum to 1, sampling frequencies match Pmf (chi-square),
-// LightTreeAt's memoised Sample and Pmf equal the tree's bit for bit,
-// Pmf > 0 for every emitter that can light the point, and degenerate input.
+// Light tree (render/light_tree.h): pmfs sum to 1, sampling frequencies match PMF (chi-square),
+// LightTreeAt's memoised Sample and PMF equal the tree's bit for bit,
+// PMF > 0 for every emitter that can light the point, and degenerate input.
 //
 // Statistics: fixed seeds.  The chi-square tests share a suite-wide false-failure rate of 1e-4,
 // Sidak-corrected over the kChi2Tests configurations (per test alpha = 1 - (1 - 1e-4)^(1/m)), with
@@ -113,9 +113,9 @@ std::vector<Receiver> RandomReceivers(int count, uint32_t seed, bool with_normal
     return r;
 }
 
-double PmfSum(const LightTree& tree, const Receiver& r) {
+double PMFSum(const LightTree& tree, const Receiver& r) {
     double sum = 0;
-    for (int i = 0; i < tree.NumEmitters(); ++i) sum += tree.Pmf(r.p, r.n, i);
+    for (int i = 0; i < tree.NumEmitters(); ++i) sum += tree.PMF(r.p, r.n, i);
     return sum;
 }
 
@@ -131,10 +131,10 @@ TEST(LightTree, SameTreeOnAnyNumberOfThreads) {
     EXPECT_EQ(one.Depth(), many.Depth());
     EXPECT_EQ(0, std::memcmp(one.Nodes().data(), many.Nodes().data(), one.Nodes().size() * sizeof(LightTreeNode)));
     for (const Receiver& r : RandomReceivers(50, 5, true))
-        for (int i = 0; i < one.NumEmitters(); i += 997) EXPECT_EQ(one.Pmf(r.p, r.n, i), many.Pmf(r.p, r.n, i));
+        for (int i = 0; i < one.NumEmitters(); i += 997) EXPECT_EQ(one.PMF(r.p, r.n, i), many.PMF(r.p, r.n, i));
 }
 
-TEST(LightTree, PmfsSumToOneWithAndWithoutNormal) {
+TEST(LightTree, PMFsSumToOneWithAndWithoutNormal) {
     const Emitters e = MixedScene(300, 1);
     LightTree tree;
     tree.Build(e.tree.bounds);
@@ -142,7 +142,7 @@ TEST(LightTree, PmfsSumToOneWithAndWithoutNormal) {
     EXPECT_LE(tree.Depth(), kLightTreeMaxDepth);
     for (const bool with_normal : {true, false})
         for (const Receiver& r : RandomReceivers(200, 2, with_normal)) {
-            const double sum = PmfSum(tree, r);
+            const double sum = PMFSum(tree, r);
             // Nothing can light p only when the root's importance is 0: then every pmf is 0.
             if (tree.Sample(r.p, r.n, 0.5f).emitter < 0)
                 EXPECT_EQ(sum, 0);
@@ -151,7 +151,7 @@ TEST(LightTree, PmfsSumToOneWithAndWithoutNormal) {
         }
 }
 
-TEST(LightTree, SampledPmfIsPmfAndURescaled) {
+TEST(LightTree, SampledPMFIsPMFAndURescaled) {
     const Emitters e = MixedScene(300, 3);
     LightTree tree;
     tree.Build(e.tree.bounds);
@@ -161,7 +161,7 @@ TEST(LightTree, SampledPmfIsPmfAndURescaled) {
             const LightTreeSample s = tree.Sample(r.p, r.n, BitsToUnitFloat(rng.NextU32()));
             if (s.emitter < 0) continue;
             EXPECT_GT(s.pmf, 0);
-            EXPECT_EQ(s.pmf, tree.Pmf(r.p, r.n, s.emitter));
+            EXPECT_EQ(s.pmf, tree.PMF(r.p, r.n, s.emitter));
             EXPECT_GE(s.u, 0);
             EXPECT_LT(s.u, 1);
         }
@@ -203,7 +203,7 @@ double Chi2Threshold(int k, double alpha) {
 
 constexpr int kChi2Tests = 12;
 
-// LightTreeAt memoises each node's child probability per receiver: its Sample and Pmf must be
+// LightTreeAt memoises each node's child probability per receiver: its Sample and PMF must be
 // LightTree's, bit for bit, whatever the order of the calls, on trees that fit its memo (4
 // emitters) and that overflow it (300: nodes share slots), with and without a normal.
 TEST(LightTree, AtReceiverMatchesTreeExactly) {
@@ -225,14 +225,14 @@ TEST(LightTree, AtReceiverMatchesTreeExactly) {
                         EXPECT_EQ(a.u, b.u);
                         sampled += a.emitter >= 0;
                         const int emitter = int(rng.NextU32() % uint32_t(n + 1)) - (k == 0);  // -1 and n too
-                        EXPECT_EQ(at.Pmf(emitter), tree.Pmf(r.p, r.n, emitter)) << "emitter " << emitter;
+                        EXPECT_EQ(at.PMF(emitter), tree.PMF(r.p, r.n, emitter)) << "emitter " << emitter;
                     }
                 }
         EXPECT_GT(sampled, 0) << n << " emitters";
     }
 }
 
-TEST(LightTree, PickFrequenciesMatchPmf) {
+TEST(LightTree, PickFrequenciesMatchPMF) {
     const Emitters e = MixedScene(120, 6);
     LightTree tree;
     tree.Build(e.tree.bounds);
@@ -252,9 +252,9 @@ TEST(LightTree, PickFrequenciesMatchPmf) {
         double chi2 = 0, pooled_expected = 0, pooled_observed = 0;
         int cells = 0;
         for (int i = 0; i < tree.NumEmitters(); ++i) {
-            const double expected = kDraws * double(tree.Pmf(r.p, r.n, i));
+            const double expected = kDraws * double(tree.PMF(r.p, r.n, i));
             if (expected == 0) {
-                EXPECT_EQ(counts[i], 0) << "emitter " << i << " picked with Pmf 0";
+                EXPECT_EQ(counts[i], 0) << "emitter " << i << " picked with PMF 0";
                 continue;
             }
             if (expected < 5) {
@@ -275,7 +275,7 @@ TEST(LightTree, PickFrequenciesMatchPmf) {
     }
 }
 
-TEST(LightTree, PmfPositiveForEveryEmitterThatCanLight) {
+TEST(LightTree, PMFPositiveForEveryEmitterThatCanLight) {
     const Emitters e = MixedScene(200, 12);
     LightTree tree;
     tree.Build(e.tree.bounds);
@@ -285,7 +285,7 @@ TEST(LightTree, PmfPositiveForEveryEmitterThatCanLight) {
             for (int i = 0; i < tree.NumEmitters(); ++i)
                 if (CanLight(e, i, r.p, r.n)) {
                     ++lit;
-                    EXPECT_GT(tree.Pmf(r.p, r.n, i), 0) << "emitter " << i;
+                    EXPECT_GT(tree.PMF(r.p, r.n, i), 0) << "emitter " << i;
                 }
     EXPECT_GT(lit, 1000);
     // Near field: receivers within 0.3 m of an emitter's centre (inside node bounding spheres).
@@ -298,7 +298,7 @@ TEST(LightTree, PmfPositiveForEveryEmitterThatCanLight) {
         for (int i = 0; i < tree.NumEmitters(); ++i)
             if (CanLight(e, i, r.p, r.n)) {
                 ++near_lit;
-                EXPECT_GT(tree.Pmf(r.p, r.n, i), 0) << "emitter " << i << " near " << k;
+                EXPECT_GT(tree.PMF(r.p, r.n, i), 0) << "emitter " << i << " near " << k;
             }
     }
     EXPECT_GT(near_lit, 1000);
@@ -309,15 +309,15 @@ TEST(LightTree, ZeroOnlyWhereNothingCanLight) {
     const AreaLight l = MakeRectAreaLight({-1, -1, 0}, {2, 0, 0}, {0, 2, 0}, {1, 1, 1}, false, true);
     LightTree tree;
     tree.Build({AreaLightBounds(l)});
-    EXPECT_EQ(tree.Pmf({0, 0, 1}, {0, 0, -1}, 0), 1.0f);
+    EXPECT_EQ(tree.PMF({0, 0, 1}, {0, 0, -1}, 0), 1.0f);
     EXPECT_EQ(tree.Sample({0, 0, 1}, {0, 0, -1}, 0.3f).pmf, 1.0f);
-    EXPECT_EQ(tree.Pmf({0, 0, -2}, {0, 0, 1}, 0), 0.0f);             // behind the light
+    EXPECT_EQ(tree.PMF({0, 0, -2}, {0, 0, 1}, 0), 0.0f);             // behind the light
     EXPECT_EQ(tree.Sample({0, 0, -2}, {0, 0, 1}, 0.3f).emitter, -1);
     // Within the node's bounding sphere (radius sqrt 2) every direction counts as possible:
     // conservative, so even just behind the light the pmf stays 1.
-    EXPECT_EQ(tree.Pmf({0, 0, -1}, {0, 0, 1}, 0), 1.0f);
-    EXPECT_EQ(tree.Pmf({0, 0, 3}, {0, 0, 1}, 0), 0.0f);              // light below the horizon
-    EXPECT_EQ(tree.Pmf({5, 0, 0.01f}, {0, 0, 0}, 0), 1.0f);          // grazing, in a medium
+    EXPECT_EQ(tree.PMF({0, 0, -1}, {0, 0, 1}, 0), 1.0f);
+    EXPECT_EQ(tree.PMF({0, 0, 3}, {0, 0, 1}, 0), 0.0f);              // light below the horizon
+    EXPECT_EQ(tree.PMF({5, 0, 0.01f}, {0, 0, 0}, 0), 1.0f);          // grazing, in a medium
     // A spot's cone: lit inside, not outside.
     DeltaLight spot;
     spot.kind = DeltaKind::Spot;
@@ -328,8 +328,8 @@ TEST(LightTree, ZeroOnlyWhereNothingCanLight) {
     LightBounds b;
     ASSERT_TRUE(DeltaLightBounds(spot, &b));
     tree.Build({b});
-    EXPECT_EQ(tree.Pmf({0.2f, 0, -1}, {0, 0, 1}, 0), 1.0f);
-    EXPECT_EQ(tree.Pmf({2, 0, -1}, {0, 0, 1}, 0), 0.0f);
+    EXPECT_EQ(tree.PMF({0.2f, 0, -1}, {0, 0, 1}, 0), 1.0f);
+    EXPECT_EQ(tree.PMF({2, 0, -1}, {0, 0, 1}, 0), 0.0f);
 }
 
 TEST(LightTree, SingleEmitterOfEachKind) {
@@ -341,7 +341,7 @@ TEST(LightTree, SingleEmitterOfEachKind) {
         for (const Receiver& r : RandomReceivers(20, 15, true)) {
             const LightTreeSample s = tree.Sample(r.p, r.n, 0.7f);
             if (s.emitter < 0) {
-                EXPECT_EQ(tree.Pmf(r.p, r.n, 0), 0);
+                EXPECT_EQ(tree.PMF(r.p, r.n, 0), 0);
                 continue;
             }
             EXPECT_EQ(s.emitter, 0);
@@ -357,14 +357,14 @@ TEST(LightTree, ZeroPowerEmittersStayOut) {
     LightTree tree;
     tree.Build(e.tree.bounds);
     for (const Receiver& r : RandomReceivers(30, 17, false)) {
-        for (size_t i = 0; i < e.tree.bounds.size(); i += 3) EXPECT_EQ(tree.Pmf(r.p, r.n, int(i)), 0);
-        EXPECT_NEAR(PmfSum(tree, r), 1.0, 1e-4);
+        for (size_t i = 0; i < e.tree.bounds.size(); i += 3) EXPECT_EQ(tree.PMF(r.p, r.n, int(i)), 0);
+        EXPECT_NEAR(PMFSum(tree, r), 1.0, 1e-4);
     }
     for (LightBounds& b : e.tree.bounds) b.power = 0;
     tree.Build(e.tree.bounds);
     EXPECT_TRUE(tree.Empty());
     EXPECT_EQ(tree.Sample({0, 0, 0}, {0, 0, 1}, 0.5f).emitter, -1);
-    EXPECT_EQ(tree.Pmf({0, 0, 0}, {0, 0, 1}, 0), 0);
+    EXPECT_EQ(tree.PMF({0, 0, 0}, {0, 0, 1}, 0), 0);
     tree.Build({});
     EXPECT_TRUE(tree.Empty());
 }
@@ -383,11 +383,11 @@ TEST(LightTree, CoincidentEmittersShareEqually) {
         tree.Build(same);
         EXPECT_LE(tree.Depth(), 10);
         for (const Receiver& r : RandomReceivers(10, 18, false)) {
-            EXPECT_NEAR(PmfSum(tree, r), 1.0, 1e-4);
-            EXPECT_NEAR(tree.Pmf(r.p, r.n, 123), 1e-3, 1e-6);
+            EXPECT_NEAR(PMFSum(tree, r), 1.0, 1e-4);
+            EXPECT_NEAR(tree.PMF(r.p, r.n, 123), 1e-3, 1e-6);
         }
         // The receiver at the point lights' position itself.
-        EXPECT_NEAR(PmfSum(tree, {one.lo, {0, 0, 1}}), 1.0, 1e-4);
+        EXPECT_NEAR(PMFSum(tree, {one.lo, {0, 0, 1}}), 1.0, 1e-4);
     }
 }
 
@@ -405,7 +405,7 @@ TEST(LightTree, LightsOnALineStayShallow) {
     LightTree tree;
     tree.Build(line);
     EXPECT_LE(tree.Depth(), 40);
-    EXPECT_NEAR(PmfSum(tree, {{20, 1, 0}, {0, 0, 0}}), 1.0, 1e-4);
+    EXPECT_NEAR(PMFSum(tree, {{20, 1, 0}, {0, 0, 0}}), 1.0, 1e-4);
 }
 
 TEST(LightTree, RejectsBadInputWithItsIndex) {
@@ -459,7 +459,7 @@ TEST(LightTree, ChoiceFollowsContributionsBetterThanPower) {
             const double cos2 = double(d.z) * d.z / Dot(d, d);  // cos at the light times cos at p
             const double f = lights[e].power * cos2 / Dot(d, d);
             sum += f;
-            tree_sq += f * f / tree.Pmf(p, up, e);
+            tree_sq += f * f / tree.PMF(p, up, e);
             power_sq += f * f / (lights[e].power / total_power);
         }
         tree_moment += tree_sq / (sum * sum) / 32;
@@ -485,8 +485,8 @@ TEST(LightTree, TriangleLightBounds) {
     EXPECT_EQ(d.power, 0);
     LightTree tree;
     tree.Build({d, b});
-    EXPECT_EQ(tree.Pmf({0.5f, 0.3f, 0}, {0, 0, 0}, 0), 0);
-    EXPECT_EQ(tree.Pmf({0.5f, 0.3f, 0}, {0, 0, 0}, 1), 1);
+    EXPECT_EQ(tree.PMF({0.5f, 0.3f, 0}, {0, 0, 0}, 0), 0);
+    EXPECT_EQ(tree.PMF({0.5f, 0.3f, 0}, {0, 0, 0}, 1), 1);
 }
 
 TEST(LightTree, SunIsNoTreeEmitter) {

@@ -442,14 +442,14 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
     std::vector<int> count(5, 0);
     constexpr int kN = 20000;
     double pmf_sum = 0;
-    for (int i = 0; i < 5; ++i) pmf_sum += s.light_tree().Pmf(p, n, i);
+    for (int i = 0; i < 5; ++i) pmf_sum += s.light_tree().PMF(p, n, i);
     EXPECT_NEAR(pmf_sum, 1.0, 1e-5);
     for (int k = 0; k < kN; ++k) {
         const ChosenLight c = at.Choose({0.5f, (k + 0.5f) / kN});
         ASSERT_TRUE(c.pmf > 0);
         ASSERT_NE(c.index >= 0, c.delta >= 0);  // one of the two
         const int emitter = c.index >= 0 ? c.index : (c.delta == 0 ? 3 : 4);
-        EXPECT_EQ(c.pmf, s.light_tree().Pmf(p, n, emitter));
+        EXPECT_EQ(c.pmf, s.light_tree().PMF(p, n, emitter));
         ++count[emitter];
         if (c.index >= 0) {  // PDF of the sampled point = tree pmf x its point pdf
             const LightSample<float> ls = at.Sample(c.index, c.u);
@@ -457,7 +457,7 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
         }
     }
     // A stratified v: each emitter's count is its pmf x kN up to the traversal's rounding.
-    for (int i = 0; i < 5; ++i) EXPECT_NEAR(count[i], s.light_tree().Pmf(p, n, i) * kN, 2.0) << i;
+    for (int i = 0; i < 5; ++i) EXPECT_NEAR(count[i], s.light_tree().PMF(p, n, i) * kN, 2.0) << i;
 }
 
 // LightSamplingAt keeps the samplers of the last kKeptSamplers (4) rectangle lights it set up, for

@@ -110,7 +110,7 @@ class LightSamplingAt {
     // point p on it: pmf(index) * pdf(p) (the tree's pmf at this receiver: area light i is tree
     // emitter i).
     float PDF(int index, const Vec3f& p) {
-        const float pmf = selection_ == LightSelection::Tree ? tree_.Pmf(index) : scene_.light_selector.pmf[index];
+        const float pmf = selection_ == LightSelection::Tree ? tree_.PMF(index) : scene_.light_selector.pmf[index];
         if (!(pmf > 0)) return 0;
         return pmf * PointPDF(index, p);
     }
