@@ -1,4 +1,4 @@
-// The Principled BSDF (Cycles 3.4, render/bsdf.h MakePrincipledBsdf): its lobes against
+// The Principled BSDF (Cycles 3.4, render/bsdf/make_bsdf.h MakePrincipledBsdf): its lobes against
 // independent forms of Cycles' formulas, reciprocity, energy (white-furnace style) per lobe, and
 // its sampling against its pdf (Pearson chi-square per lobe and for all lobes together).
 // Statistical checks use fixed seeds; each chi-square bound is the 1 - 1e-6 quantile, each mean a

@@ -2,7 +2,7 @@
 // set of film points whose camera ray crosses it (checked against IntersectAreaLight on random
 // film points), and a pixel's coverage is the exact area of its overlap (checked against dense
 // counting, and summed over the film against the image's closed-form area); the disk-polygon and
-// box-polygon areas against known values.
+// box-polygon areas (render/overlap_area.h) against known values.
 // Settings: 200,000 random film points per light; coverage within 2e-4 of counting on a 2^17-point lattice,
 // summing over the film to the image's area within 1e-9 (relative).
 #include <gtest/gtest.h>

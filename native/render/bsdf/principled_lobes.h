@@ -2,7 +2,7 @@
 // bsdf_principled_diffuse.h, bsdf_principled_sheen.h, bsdf_microfacet.h, svm/closure.h), as pure
 // functions of the shading-frame directions (normal +z, wo and wi above it).  Each returns the
 // BRDF value f (Cycles' closures return f cos(wi); the integrator here multiplies by cos itself).
-// bsdf.h combines them into the material.
+// principled.h evaluates a Bsdf's lobes with them.
 #pragma once
 
 #include <algorithm>
