@@ -1,5 +1,5 @@
 """The Principled BSDF's Multiscatter GGX as Cycles 3.4 shows it at max_bounces 0: the specular's multiple
-scattering between microfacets (Heitz et al. 2016's random walk, render/multiscatter_ggx.h) brightens rough metals
+scattering between microfacets (Heitz et al. 2016's random walk, render/bsdf/multiscatter_ggx.h) brightens rough metals
 and dielectrics' specular.  The glass test's sphere, against Cycles (test_cycles_parity's renders; the whole image
 and ours / Cycles over the highlight's blocks), and the single-scattering GGX rendered instead is measurably off."""
 import bpy
