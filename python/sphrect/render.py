@@ -57,6 +57,8 @@ from typing import Callable, Dict, Iterable, Optional, Sequence, Union
 import numpy as np
 
 from . import _native
+from .arguments import int_argument, one_of, rgb
+from .sample_ranges import Accumulation, sample_ranges
 from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, GLOSSY_DISTRIBUTIONS, MATERIAL_KINDS, PIXEL_FILTERS, PRINCIPLED_DISTRIBUTIONS,
                     SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_COORDINATES, TEXTURE_EXTENSIONS, TEXTURE_INTERPOLATIONS,
                     TEXTURE_OUTPUTS, TEXTURED_INPUTS, Camera, EllipseLight, MaterialLayer, MixFactor, PointLight, RectLight, Scene, SpotLight, SunLight,
@@ -70,29 +72,6 @@ LIGHT_SELECTIONS = tuple(_native.light_selections)
 ELLIPSE_TECHNIQUES = tuple(_native.ellipse_techniques)
 
 _MAX_SIDE = _native.MAX_IMAGE_SIDE
-
-
-def _rgb(value, what: str):
-    try:
-        c = tuple(float(x) for x in value)
-    except TypeError:
-        raise ValueError(f"{what} must be three numbers, got {value!r}") from None
-    if len(c) != 3:
-        raise ValueError(f"{what} must be three numbers, got {value!r}")
-    return c
-
-
-def _one_of(names: Sequence[str], quote: bool = True) -> str:
-    """'a', 'b' or 'c': the allowed values, for error messages."""
-    shown = [repr(n) if quote else n for n in names]
-    return " or ".join([", ".join(shown[:-1]), shown[-1]] if len(shown) > 1 else shown)
-
-
-def _int_argument(name: str, value, lo: int, hi: int = 2 ** 31 - 1) -> int:
-    """An integer argument in lo..hi (by default: one the native side's int holds), else ValueError."""
-    if not isinstance(value, numbers.Integral) or isinstance(value, bool) or not lo <= value <= hi:
-        raise ValueError(f"{name} must be an integer in {lo}..{hi}, got {value!r}")
-    return int(value)
 
 
 def _int_array(a, what: str, upper: Optional[int] = None) -> np.ndarray:
@@ -115,16 +94,16 @@ def _set_camera(native, cam: Camera) -> None:
         if not isinstance(v, numbers.Integral) or not 1 <= int(v) <= _MAX_SIDE:
             raise ValueError(f"camera {name} must be an integer in 1..{_MAX_SIDE}, got {v!r}")
     if cam.type not in CAMERA_TYPES:
-        raise ValueError(f"camera type must be {_one_of(CAMERA_TYPES)}, got {cam.type!r}")
+        raise ValueError(f"camera type must be {one_of(CAMERA_TYPES)}, got {cam.type!r}")
     if cam.sensor_fit not in SENSOR_FITS:
-        raise ValueError(f"camera sensor_fit must be {_one_of(SENSOR_FITS, quote=False)}, got {cam.sensor_fit!r}")
+        raise ValueError(f"camera sensor_fit must be {one_of(SENSOR_FITS, quote=False)}, got {cam.sensor_fit!r}")
     if cam.type == "perspective" and not cam.lens > 0:
         raise ValueError("camera lens (focal length) must be positive")
     m = np.asarray(cam.to_world, dtype=np.float64)
     if m.shape != (4, 4):
         raise ValueError(f"camera to_world must be 4x4, got shape {m.shape}")
     if cam.pixel_filter not in PIXEL_FILTERS:
-        raise ValueError(f"camera pixel_filter must be {_one_of(PIXEL_FILTERS)}, got {cam.pixel_filter!r}")
+        raise ValueError(f"camera pixel_filter must be {one_of(PIXEL_FILTERS)}, got {cam.pixel_filter!r}")
     lo, hi = _native.MIN_PIXEL_FILTER_WIDTH, _native.MAX_PIXEL_FILTER_WIDTH
     if (isinstance(cam.filter_width, bool) or not isinstance(cam.filter_width, numbers.Real)
             or not lo <= float(cam.filter_width) <= hi):
@@ -142,7 +121,7 @@ def _add_textures(native, scene: Scene) -> None:
         if not isinstance(t, Texture):
             raise ValueError(f"scene.textures[{i}] is not a sphrect.Texture")
         if t.colorspace not in TEXTURE_COLORSPACES:
-            raise ValueError(f"texture '{t.name}': colorspace must be {_one_of(TEXTURE_COLORSPACES)}, "
+            raise ValueError(f"texture '{t.name}': colorspace must be {one_of(TEXTURE_COLORSPACES)}, "
                              f"got {t.colorspace!r}")
         srgb = t.colorspace == "srgb"
         if t.pixels is None:
@@ -169,7 +148,7 @@ def _native_lookup(lookup, n_textures: int, what: str):
     for name, allowed in (("output", TEXTURE_OUTPUTS), ("coordinates", TEXTURE_COORDINATES),
                           ("interpolation", TEXTURE_INTERPOLATIONS), ("extension", TEXTURE_EXTENSIONS)):
         if getattr(lookup, name) not in allowed:
-            raise ValueError(f"{what}: {name} must be {_one_of(allowed)}, got {getattr(lookup, name)!r}")
+            raise ValueError(f"{what}: {name} must be {one_of(allowed)}, got {getattr(lookup, name)!r}")
     transform = np.asarray(lookup.transform, dtype=np.float64)
     if transform.shape != (3, 4) or not np.all(np.isfinite(transform)):
         raise ValueError(f"{what}: transform must be a finite 3x4 matrix")
@@ -185,7 +164,7 @@ def _bind_textures(native, index: int, mat, n_textures: int) -> None:
     try:
         for name, lookup in mat.textures.items():
             if name not in TEXTURED_INPUTS:
-                raise ValueError(f"no input {name!r} takes a texture (expected {_one_of(TEXTURED_INPUTS)})")
+                raise ValueError(f"no input {name!r} takes a texture (expected {one_of(TEXTURED_INPUTS)})")
             native.set_material_texture(index, name, _native_lookup(lookup, n_textures, f"texture '{name}'"))
         if mat.normal_map is not None:
             native.set_material_normal_map(index, _native_lookup(mat.normal_map, n_textures, "normal_map"),
@@ -203,15 +182,15 @@ def _add_material(native, mat, n_textures: int = 0):
 
 
 def _add_untextured_material(native, mat, n_textures: int):
-    emission = _rgb(mat.emission, f"material '{mat.name}' emission")
-    base_color = lambda: _rgb(mat.base_color, f"material '{mat.name}' base_color")
+    emission = rgb(mat.emission, f"material '{mat.name}' emission")
+    base_color = lambda: rgb(mat.base_color, f"material '{mat.name}' base_color")
     if mat.layers and mat.kind != "mix":
         raise ValueError(f"material '{mat.name}': only kind 'mix' has layers (kind {mat.kind!r})")
     distributions = {"glass": GLASS_DISTRIBUTIONS, "glossy_bsdf": GLOSSY_DISTRIBUTIONS,
                      "principled": PRINCIPLED_DISTRIBUTIONS}.get(mat.kind)
     if distributions is not None and mat.distribution not in distributions:
         raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} for kind {mat.kind!r} "
-                         f"(expected {_one_of(distributions)})")
+                         f"(expected {one_of(distributions)})")
     if mat.kind == "diffuse":
         return native.add_diffuse_material(base_color(), emission)
     if mat.kind == "glossy":
@@ -255,7 +234,7 @@ def _add_untextured_material(native, mat, n_textures: int):
             except ValueError as e:
                 raise ValueError(f"material '{mat.name}' layer {i} ('{layer.material.name}'): {e}") from None
         return target
-    raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {_one_of(MATERIAL_KINDS)})")
+    raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {one_of(MATERIAL_KINDS)})")
 
 
 def build_native_scene(scene: Scene):
@@ -265,11 +244,11 @@ def build_native_scene(scene: Scene):
     native = _native._Scene()
     skipped = []
     _set_camera(native, scene.camera)
-    native.set_background(_rgb(scene.world.background, "world background"))
+    native.set_background(rgb(scene.world.background, "world background"))
     native.set_film_transparent(bool(scene.camera.film_transparent))
     med = scene.world.medium
     if med is not None:
-        native.set_medium(_rgb(med.sigma_s, "medium sigma_s"), _rgb(med.sigma_a, "medium sigma_a"), float(med.g))
+        native.set_medium(rgb(med.sigma_s, "medium sigma_s"), rgb(med.sigma_a, "medium sigma_a"), float(med.g))
     _add_textures(native, scene)
     for mat in scene.materials:
         _add_material(native, mat, len(scene.textures))
@@ -293,20 +272,20 @@ def build_native_scene(scene: Scene):
     for light in scene.lights:
         msg = ""
         if isinstance(light, RectLight):
-            msg = native.add_rect_light(_rgb(light.corner, "corner"), _rgb(light.edge_x, "edge_x"),
-                                        _rgb(light.edge_y, "edge_y"), _rgb(light.radiance, "radiance"),
+            msg = native.add_rect_light(rgb(light.corner, "corner"), rgb(light.edge_x, "edge_x"),
+                                        rgb(light.edge_y, "edge_y"), rgb(light.radiance, "radiance"),
                                         bool(light.two_sided), bool(light.visible))
         elif isinstance(light, EllipseLight):
-            msg = native.add_ellipse_light(_rgb(light.center, "center"), _rgb(light.axis_x, "axis_x"),
-                                           _rgb(light.axis_y, "axis_y"), _rgb(light.radiance, "radiance"),
+            msg = native.add_ellipse_light(rgb(light.center, "center"), rgb(light.axis_x, "axis_x"),
+                                           rgb(light.axis_y, "axis_y"), rgb(light.radiance, "radiance"),
                                            bool(light.two_sided), bool(light.visible))
         elif isinstance(light, PointLight):
-            native.add_point_light(_rgb(light.position, "position"), _rgb(light.intensity, "intensity"))
+            native.add_point_light(rgb(light.position, "position"), rgb(light.intensity, "intensity"))
         elif isinstance(light, SpotLight):
-            native.add_spot_light(_rgb(light.position, "position"), _rgb(light.direction, "direction"),
-                                  _rgb(light.intensity, "intensity"), float(light.spot_size), float(light.spot_blend))
+            native.add_spot_light(rgb(light.position, "position"), rgb(light.direction, "direction"),
+                                  rgb(light.intensity, "intensity"), float(light.spot_size), float(light.spot_blend))
         elif isinstance(light, SunLight):
-            native.add_sun_light(_rgb(light.direction, "direction"), _rgb(light.irradiance, "irradiance"))
+            native.add_sun_light(rgb(light.direction, "direction"), rgb(light.irradiance, "irradiance"))
         else:
             raise ValueError(f"unknown light type {type(light).__name__}")
         if msg:
@@ -330,11 +309,11 @@ class Renderer:
         techniques = list(techniques)
         if not techniques:
             raise ValueError("at least one technique is needed")
-        light_samples = _int_argument("light_samples", light_samples, 1, _native.MAX_LIGHT_SAMPLES)
-        threads = _int_argument("threads", threads, 0, _native.MAX_THREADS)
-        tile_size = _int_argument("tile_size", tile_size, 1)
-        seed = _int_argument("seed", seed, 0, 2 ** 64 - 1)
-        memory_limit = 0 if memory_limit is None else _int_argument("memory_limit", memory_limit, 1, 2 ** 64 - 1)
+        light_samples = int_argument("light_samples", light_samples, 1, _native.MAX_LIGHT_SAMPLES)
+        threads = int_argument("threads", threads, 0, _native.MAX_THREADS)
+        tile_size = int_argument("tile_size", tile_size, 1)
+        seed = int_argument("seed", seed, 0, 2 ** 64 - 1)
+        memory_limit = 0 if memory_limit is None else int_argument("memory_limit", memory_limit, 1, 2 ** 64 - 1)
         # Before the scene is built (its BVH can take long): the images must fit the memory limit.
         _native.check_render_memory(len(techniques), int(scene.camera.width), int(scene.camera.height),
                                     memory_limit)
@@ -379,7 +358,7 @@ class Renderer:
                progress: Optional[Callable[[int, int], None]] = None) -> bool:
         """Add `samples` camera samples per pixel (or passes of them until `time_budget` seconds
         are spent).  progress(done_tiles, total_tiles) runs on this thread.  False if cancelled."""
-        samples = _int_argument("samples", samples, 1, _native.MAX_SAMPLES_PER_CALL)
+        samples = int_argument("samples", samples, 1, _native.MAX_SAMPLES_PER_CALL)
         budget = 0.0
         if time_budget is not None:
             budget = float(time_budget)
@@ -391,14 +370,13 @@ class Renderer:
         """Make the next render() call render camera samples [first_sample, first_sample + samples) as pass
         `pass_index` of a longer render, exactly as that render's own pass does (sample_ranges.py). Only
         before anything is rendered (RuntimeError otherwise)."""
-        first_sample = _int_argument("first_sample", first_sample, 0, _native.SAMPLE_INDEX_LIMIT - 1)
-        pass_index = _int_argument("pass_index", pass_index, 0, 2 ** 32 - 1)
+        first_sample = int_argument("first_sample", first_sample, 0, _native.SAMPLE_INDEX_LIMIT - 1)
+        pass_index = int_argument("pass_index", pass_index, 0, 2 ** 32 - 1)
         self._r.start_at(first_sample, pass_index)
 
     def accumulation(self):
         """The buffers the images are the means of (a sample_ranges.Accumulation): merging several renderers'
         disjoint sample ranges of one render gives exactly that render's image."""
-        from .sample_ranges import Accumulation
         return Accumulation({t: self._r.sums(k) for k, t in enumerate(self._techniques)}, self._r.counts(),
                             self._r.alpha_sums(), bool(self._r.film_alpha))
 
@@ -436,8 +414,7 @@ def render(scene: Scene, samples: int = 16, techniques: Union[str, Iterable[str]
            **kw) -> Dict[str, np.ndarray]:
     """Render `scene` with each technique; {technique: float32 [H, W, 4]}. `parts` > 1 renders the samples as
     that many passes (sample_ranges.sample_ranges), as sphrect.render_distributed does on a cluster."""
-    from .sample_ranges import sample_ranges
-    ranges = sample_ranges(_int_argument("samples", samples, 1), _int_argument("parts", parts, 1))
+    ranges = sample_ranges(int_argument("samples", samples, 1), int_argument("parts", parts, 1))
     r = Renderer(scene, techniques=techniques, **kw)
     for sample_range in ranges:
         r.render(sample_range.samples)

@@ -14,7 +14,7 @@ other patterns lay out their points per pass, so parts change which (equally goo
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Dict, List, Sequence, Tuple
+from typing import Dict, List, Sequence
 
 import numpy as np
 
@@ -83,13 +83,3 @@ def merge(parts: Sequence[Accumulation]) -> Accumulation:
     for part in parts:
         total.add(part)
     return total
-
-
-def render_range(scene, sample_range: SampleRange, techniques, options: Dict) -> Tuple[Accumulation, Dict]:
-    """Renders one range of a split render of `scene` (Renderer options `options`); (its buffers, the
-    first technique's stats)."""
-    from .render import Renderer
-    renderer = Renderer(scene, techniques=techniques, **options)
-    renderer.start_at(sample_range.first, sample_range.pass_index)
-    renderer.render(sample_range.samples)
-    return renderer.accumulation(), renderer.stats()

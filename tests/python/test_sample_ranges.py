@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 import sphrect
-from sphrect.sample_ranges import Accumulation, merge, render_range, sample_ranges
+from sphrect.distributed import render_range
+from sphrect.sample_ranges import Accumulation, merge, sample_ranges
 from sphrect.study.cycles import _check_worker_blender, worker_blender
 from test_study_render import paper_like_scene
 
