@@ -5,8 +5,8 @@ process with one thread, and whether the images are bit-identical to the local r
 
     scripts/measure_distributed_render.py --samples 1024 --side 128 --workers 1,2
 
-Wall times include sending the scene and merging the buffers (not starting the workers); on a machine whose cores other processes share they
-scatter. Uses the package built in build/python.
+Wall times include sending the scene and merging the buffers (not starting the workers); on a machine whose cores
+other processes share they scatter. Uses the package built in build/python.
 """
 import argparse
 import os

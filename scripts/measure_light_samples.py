@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Light samples per camera sample at equal light-sample budget: MSE against a reference, CPU time and MSE x time for
 1, 2 and 4 light samples (budget / light_samples camera samples, so each run shades ~budget light samples per pixel),
-rectangle technique (--technique for another), tree selection (--selections to add power) and power-heuristic MIS (--mis to add others; and
---bsdf-on-diffuse false,true for Renderer(bsdf_samples_on_diffuse=...)) at the Renderer's other defaults.  Then, over all the scenes given, the geometric mean and the worst of each configuration's
+rectangle technique (--technique for another), tree selection (--selections to add power) and power-heuristic MIS
+(--mis to add others; and --bsdf-on-diffuse false,true for Renderer(bsdf_samples_on_diffuse=...)) at the Renderer's
+other defaults.  Then, over all the scenes given, the geometric mean and the worst of each configuration's
 MSE x time relative to the best configuration of its scene.
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_samples.py out/many_lights/08_disk_room

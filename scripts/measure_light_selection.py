@@ -15,8 +15,9 @@ Variance: two renders of different seeds a, b at the same samples; Var = mean ov
 (a - b)^2 / 2 (each pixel's variance, unbiased, no reference needed), divided by the mean of ((a + b) / 2)^2:
 the relative variance, comparable between renderers whose images agree (Cycles and sphrect to ~1 %) and
 between scenes.  Seeds 1 and 2 in both renderers.  Lights are hidden from the camera (blend_file), and the
-scenes are exported once (cached in OUT/scenes) so every build renders the same scene files.  The light-samples table is at equal time: variance
-x CPU time per pixel (the technique's shading and light time plus its share of the camera rays)."""
+scenes are exported once (cached in OUT/scenes) so every build renders the same scene files.  The light-samples
+table is at equal time: variance x CPU time per pixel (the technique's shading and light time plus its share of the
+camera rays)."""
 import argparse
 import glob
 import itertools

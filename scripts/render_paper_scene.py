@@ -83,7 +83,8 @@ def paper_scene(width, height):
     meshes = [sphrect.Mesh(vertices=np.array([[-30, -30, 0], [30, -30, 0], [30, 30, 0], [-30, 30, 0]], np.float32),
                            triangles=np.array([[0, 1, 2], [0, 2, 3]], np.int32), material_ids=np.zeros(2, np.int32),
                            name="ground")]
-    for (center, size, rot, mat) in [((-1.7, 0.6, 0.5), (0.8, 0.8, 1.0), 0.4, 1), ((1.6, 0.1, 0.35), (0.7, 0.7, 0.7), -0.3, 2),
+    for (center, size, rot, mat) in [((-1.7, 0.6, 0.5), (0.8, 0.8, 1.0), 0.4, 1),
+                                     ((1.6, 0.1, 0.35), (0.7, 0.7, 0.7), -0.3, 2),
                                      ((0.9, 2.2, 0.6), (0.5, 0.5, 1.2), 0.1, 3)]:
         v, t = box(center, size, rot)
         meshes.append(sphrect.Mesh(vertices=v, triangles=t, material_ids=np.full(len(t), mat, np.int32), name="box"))
@@ -124,8 +125,8 @@ def main(argv=None):
     print(f"scene: {n_tris} triangles, {args.width}x{args.height}", flush=True)
 
     t0 = time.perf_counter()
-    ref_r = sphrect.Renderer(scene, techniques=["rectangle"], mis="power", pattern=args.pattern, seed=10_000 + args.seed,
-                             threads=args.threads)
+    ref_r = sphrect.Renderer(scene, techniques=["rectangle"], mis="power", pattern=args.pattern,
+                             seed=10_000 + args.seed, threads=args.threads)
     ref_r.render(args.reference_samples)
     ref = ref_r.image("rectangle")
     print(f"reference: {args.reference_samples} spp (rectangle, the renderer's defaults otherwise) in "

@@ -4,7 +4,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(cmake g++ make pkg-config blender libembree-dev libtbb-dev pybind11-dev python3-dev python3-numpy python3-pytest
-          python3-matplotlib python3-scipy python3-mpmath python3-distributed python3-dask libboost-math-dev libopenimageio-dev libgtest-dev libbenchmark-dev xvfb xauth)
+          python3-matplotlib python3-scipy python3-mpmath python3-distributed python3-dask libboost-math-dev libopenimageio-dev libgtest-dev libbenchmark-dev xvfb xauth
+          clang-format python3-flake8)
 missing=()
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -27,7 +27,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
                                           "done, keeping the samples rendered (0: no limit; checked between the "
                                           "renderer's calls, at most 262,144 camera samples each)")
     light_samples: IntProperty(name="Light Samples", default=2, min=1, soft_max=64,
-                               description="Light samples per camera sample, each choosing one light and paired with a BSDF sample")
+                               description="Light samples per camera sample, each choosing one light and paired "
+                                           "with a BSDF sample")
     pattern: EnumProperty(name="Pattern", items=enum_items(PATTERNS, PATTERN_LABELS), default="SOBOL",
                           description="Sample pattern of the light samples")
     mis: EnumProperty(name="MIS", items=enum_items(MIS_MODES, MIS_LABELS), default="POWER",
@@ -41,8 +42,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
         name="Exact Light Edges", default=True,
         description="For rectangle and disk lights seen by the camera, compute exactly how much of each pixel they "
                     "cover instead of estimating it from the samples (unbiased; removes the noise of their edges "
-                    "where nothing hides them; with Gaussian and Blackman-Harris filters the filter's share is estimated from cheap "
-                    "inside-tests, nearly as good; not in a volume or with depth of field)")
+                    "where nothing hides them; with Gaussian and Blackman-Harris filters the filter's share is "
+                    "estimated from cheap inside-tests, nearly as good; not in a volume or with depth of field)")
     bsdf_samples_on_diffuse: BoolProperty(
         name="MIS on Diffuse", default=False,
         description="Also draw BSDF samples (MIS) at purely diffuse surfaces. Off, they take light samples alone "

@@ -101,7 +101,7 @@ std::shared_ptr<RenderScene> ManyLightsScene(LightKind kind, int n) {
     const float m[3][4] = {{1, 0, 0, 0}, {0, 0.8f, -0.6f, -9}, {0, 0.6f, 0.8f, 8}};
     std::copy(&m[0][0], &m[0][0] + 12, &c.to_world[0][0]);
     s->SetCamera(c);
-    s->AddDiffuseMaterial({0.6f, 0.6f, 0.6f});
+    s->AddMaterial(DiffuseMaterial({0.6f, 0.6f, 0.6f}));
     const float ground[] = {-kGroundHalf, -kGroundHalf, 0, kGroundHalf, -kGroundHalf, 0,
                             kGroundHalf,  kGroundHalf,  0, -kGroundHalf, kGroundHalf, 0};
     const int32_t gt[] = {0, 1, 2, 0, 2, 3};

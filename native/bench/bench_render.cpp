@@ -117,13 +117,13 @@ std::shared_ptr<RenderScene> BenchScene(bool textured = false) {
     const float m[3][4] = {{1, 0, 0, 0}, {0, 0.8f, -0.6f, -6}, {0, 0.6f, 0.8f, 4.5f}};
     std::copy(&m[0][0], &m[0][0] + 12, &c.to_world[0][0]);
     s->SetCamera(c);
-    s->AddDiffuseMaterial({0.6f, 0.6f, 0.6f});
+    Material ground = DiffuseMaterial({0.6f, 0.6f, 0.6f});
     if (textured) {
         const float grey[3] = {0.6f, 0.6f, 0.6f};
-        TextureLookup lookup;
+        TextureLookup& lookup = ground.textures[int(TexturedInput::kBaseColor)];
         lookup.image = s->AddImage("grey", 1, 1, 3, nullptr, grey, false);
-        s->SetMaterialTexture(0, TexturedInput::kBaseColor, lookup);
     }
+    s->AddMaterial(ground);
     const bool dense = DenseScene();
     if (dense) {
         AddBumpyGround(*s, 6.0f, 190, 0.04f);  // 72.2k triangles

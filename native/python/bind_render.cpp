@@ -20,6 +20,9 @@ namespace py = pybind11;
 
 namespace sphrect::python {
 
+// bind_material.cpp: a sphrect.Material (its dataclasses.asdict fields) as the renderer takes it.
+render::Material MaterialFromFields(const py::handle& fields);
+
 namespace {
 
 using render::RenderScene;
@@ -102,23 +105,6 @@ Enum EnumNamed(const std::string& name, const char* const (&names)[N], const cha
     std::string allowed;
     for (size_t i = 0; i < N; ++i) allowed += (i ? ", '" : "'") + std::string(names[i]) + "'";
     throw py::value_error(std::string(what) + " must be one of " + allowed + ", got '" + name + "'");
-}
-
-render::TextureLookup MakeLookup(int image, bool alpha_output, bool generated, const py::object& transform,
-                                 const std::string& interpolation, const std::string& extension) {
-    render::TextureLookup t;
-    t.image = image;
-    t.alpha_output = alpha_output;
-    t.generated = generated;
-    const auto m = CArray<double>::ensure(transform);
-    if (!m || m.ndim() != 2 || m.shape(0) != 3 || m.shape(1) != 4)
-        throw py::value_error("texture transform must be a 3x4 matrix");
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) t.transform[r][c] = float(m.at(r, c));
-    t.interpolation = EnumNamed<render::TextureInterpolation>(interpolation, render::kTextureInterpolationNames,
-                                                              "texture interpolation");
-    t.extension = EnumNamed<render::TextureExtension>(extension, render::kTextureExtensionNames, "texture extension");
-    return t;
 }
 
 render::CameraModel MakeCameraModel(int width, int height, const py::object& to_world, bool orthographic,
@@ -259,9 +245,6 @@ py::dict Stats(const Renderer& r, int k) {
         py::arg("filter_width") = 1.0f
 
 void BindRender(py::module_& m) {
-    py::class_<render::TextureLookup>(m, "_TextureLookup", "An image lookup bound to a material input (sphrect.TextureLookup)")
-        .def(py::init(&MakeLookup), py::arg("image"), py::arg("alpha_output"), py::arg("generated"), py::arg("transform"),
-             py::arg("interpolation"), py::arg("extension"));
     auto names = [](const auto& list) {
         py::tuple t(std::size(list));
         for (size_t i = 0; i < std::size(list); ++i) t[i] = list[i];
@@ -297,80 +280,13 @@ void BindRender(py::module_& m) {
         .def("set_background", [](RenderScene& s, V3 c) { s.SetBackground(ToVec(c)); })
         .def("set_medium", [](RenderScene& s, V3 ss, V3 sa, float g) { s.SetMedium(ToVec(ss), ToVec(sa), g); })
         .def(
-            "add_diffuse_material",
-            [](RenderScene& s, V3 c, V3 emission) { return s.AddDiffuseMaterial(ToVec(c), ToVec(emission)); },
-            py::arg("base_color"), py::arg("emission") = V3{0, 0, 0})
-        .def(
-            "add_glossy_material",
-            [](RenderScene& s, V3 c, float roughness, float metallic, float specular, V3 emission) {
-                return s.AddGlossyMaterial(ToVec(c), roughness, metallic, specular, ToVec(emission));
-            },
-            py::arg("base_color"), py::arg("roughness"), py::arg("metallic"), py::arg("specular"),
-            py::arg("emission") = V3{0, 0, 0})
-        .def(
-            "add_principled_material",
-            [](RenderScene& s, V3 c, float metallic, float specular, float specular_tint, float roughness, float sheen,
-               float sheen_tint, float clearcoat, float clearcoat_roughness, V3 emission, float anisotropic,
-               float anisotropic_rotation, bool multiscatter, float transmission, float ior) {
-                render::PrincipledInputs in;
-                in.base_color = ToVec(c);
-                in.metallic = metallic;
-                in.specular = specular;
-                in.specular_tint = specular_tint;
-                in.roughness = roughness;
-                in.sheen = sheen;
-                in.sheen_tint = sheen_tint;
-                in.clearcoat = clearcoat;
-                in.clearcoat_roughness = clearcoat_roughness;
-                in.anisotropic = anisotropic;
-                in.anisotropic_rotation = anisotropic_rotation;
-                in.multiscatter = multiscatter;
-                in.transmission = transmission;
-                in.ior = ior;
-                return s.AddPrincipledMaterial(in, ToVec(emission));
-            },
-            py::arg("base_color"), py::arg("metallic"), py::arg("specular"), py::arg("specular_tint"),
-            py::arg("roughness"), py::arg("sheen"), py::arg("sheen_tint"), py::arg("clearcoat"),
-            py::arg("clearcoat_roughness"), py::arg("emission") = V3{0, 0, 0}, py::arg("anisotropic") = 0.0f,
-            py::arg("anisotropic_rotation") = 0.0f, py::arg("multiscatter") = false, py::arg("transmission") = 0.0f,
-            py::arg("ior") = 1.45f)
-        .def(
-            "add_glass_material",
-            [](RenderScene& s, V3 c, float roughness, float ior, bool beckmann, V3 emission) {
-                return s.AddGlassMaterial(ToVec(c), roughness, ior, beckmann, ToVec(emission));
-            },
-            py::arg("base_color"), py::arg("roughness"), py::arg("ior"), py::arg("beckmann") = false,
-            py::arg("emission") = V3{0, 0, 0})
-        .def(
-            "add_glossy_bsdf_material",
-            [](RenderScene& s, V3 c, float roughness, bool beckmann, V3 emission, float anisotropy, float rotation,
-               bool multiscatter) {
-                return s.AddGlossyBsdfMaterial(ToVec(c), roughness, beckmann, ToVec(emission), anisotropy, rotation,
-                                               multiscatter);
-            },
-            py::arg("base_color"), py::arg("roughness"), py::arg("beckmann") = false,
-            py::arg("emission") = V3{0, 0, 0}, py::arg("anisotropy") = 0.0f, py::arg("rotation") = 0.0f,
-            py::arg("multiscatter") = false)
-        .def(
-            "add_translucent_material",
-            [](RenderScene& s, V3 c, V3 emission) { return s.AddTranslucentMaterial(ToVec(c), ToVec(emission)); },
-            py::arg("base_color"), py::arg("emission") = V3{0, 0, 0})
-        .def("add_holdout_material", &RenderScene::AddHoldoutMaterial)
-        .def(
-            "add_transparent_material", [](RenderScene& s, V3 c) { return s.AddTransparentMaterial(ToVec(c)); },
-            py::arg("base_color"))
+            "add_material",
+            [](RenderScene& s, const py::handle& fields) { return s.AddMaterial(MaterialFromFields(fields)); },
+            py::arg("fields"), "Adds a sphrect.Material given as dataclasses.asdict(material); returns its index")
         .def("set_film_transparent", &RenderScene::SetFilmTransparent, py::arg("transparent"))
-        .def(
-            "add_mix_material", [](RenderScene& s, V3 emission) { return s.AddMixMaterial(ToVec(emission)); },
-            py::arg("emission") = V3{0, 0, 0})
-        .def(
-            "mix_last_material_into",
-            [](RenderScene& s, int target, float weight, const std::vector<std::pair<render::TextureLookup, bool>>& f) {
-                std::vector<render::MixFactorLookup> factors;
-                for (const auto& [lookup, complement] : f) factors.push_back({lookup, complement});
-                s.MixLastMaterialInto(target, weight, factors);
-            },
-            py::arg("target"), py::arg("weight"), py::arg("factors") = std::vector<std::pair<render::TextureLookup, bool>>{})
+        .def("add_image", &AddImage, py::arg("name"), py::arg("pixels"), py::arg("srgb"))
+        .def("load_image", &RenderScene::LoadImage, py::arg("name"), py::arg("path"), py::arg("srgb"),
+             py::call_guard<py::gil_scoped_release>())
         .def(
             "set_last_mesh_object_linear",
             [](RenderScene& s, const py::object& linear, const py::object& inverse) {
@@ -385,19 +301,7 @@ void BindRender(py::module_& m) {
                 s.SetLastMeshObjectLinear(l, li);
             },
             py::arg("linear"), py::arg("inverse"))
-        .def("add_image", &AddImage, py::arg("name"), py::arg("pixels"), py::arg("srgb"))
-        .def("load_image", &RenderScene::LoadImage, py::arg("name"), py::arg("path"), py::arg("srgb"),
-             py::call_guard<py::gil_scoped_release>())
-        .def(
-            "set_material_texture",
-            [](RenderScene& s, int material, const std::string& input, const render::TextureLookup& lookup) {
-                s.SetMaterialTexture(material,
-                                     EnumNamed<render::TexturedInput>(input, render::kTexturedInputNames, "textured input"),
-                                     lookup);
-            },
-            py::arg("material"), py::arg("input"), py::arg("lookup"))
-        .def("set_material_normal_map", &RenderScene::SetMaterialNormalMap, py::arg("material"), py::arg("lookup"),
-             py::arg("strength"))
+
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none(), py::arg("uvs") = py::none(),
              py::arg("generated") = py::none())

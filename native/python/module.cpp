@@ -5,6 +5,7 @@
 namespace sphrect::python {
 void BindCore(pybind11::module_& m);    // bind_core.cpp: techniques, patterns
 void BindRender(pybind11::module_& m);  // bind_render.cpp: the renderer
+void BindMaterial(pybind11::module_& m);  // bind_material.cpp: materials
 void BindStudy(pybind11::module_& m);   // bind_study.cpp: baselines for the study's accuracy table
 }  // namespace sphrect::python
 
@@ -12,5 +13,6 @@ PYBIND11_MODULE(_native, m) {
     m.doc() = "sphrect native core: spherical-rectangle sampling and the Embree renderer";
     sphrect::python::BindCore(m);
     sphrect::python::BindRender(m);
+    sphrect::python::BindMaterial(m);
     sphrect::python::BindStudy(m);
 }

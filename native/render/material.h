@@ -5,6 +5,7 @@
 // per hit (BM_DiffuseKernel vs BM_TexturedKernel).
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "bsdf.h"
@@ -15,6 +16,13 @@ namespace sphrect::render {
 enum class MaterialKind {
     kDiffuse, kGlossy, kPrincipled, kGlass, kGlossyBsdf, kTranslucent, kHoldout, kTransparent, kMix
 };
+// The scene format's names of the kinds (MATERIAL_KINDS, in MaterialKind's order; bindings export them), and of the
+// microfacet distributions the kinds that have one take.
+constexpr const char* kMaterialKindNames[] = {"diffuse",     "glossy",  "principled",  "glass", "glossy_bsdf",
+                                              "translucent", "holdout", "transparent", "mix"};
+constexpr const char* kGlassDistributionNames[] = {"ggx", "beckmann"};
+constexpr const char* kPrincipledDistributionNames[] = {"ggx", "multiscatter_ggx"};
+constexpr const char* kGlossyDistributionNames[] = {"ggx", "beckmann", "multiscatter_ggx"};
 
 // The inputs a lookup can drive (the scene format's TEXTURED_INPUTS, in order; bindings export the names).
 enum class TexturedInput { kBaseColor, kRoughness, kMetallic, kSpecular, kCount };
@@ -22,6 +30,8 @@ constexpr int kNumTexturedInputs = int(TexturedInput::kCount);
 constexpr const char* kTexturedInputNames[kNumTexturedInputs] = {"base_color", "roughness", "metallic", "specular"};
 constexpr const char* kTextureInterpolationNames[] = {"linear", "closest"};  // TextureInterpolation's order
 constexpr const char* kTextureExtensionNames[] = {"repeat", "extend", "clip"};  // TextureExtension's order
+constexpr const char* kTextureOutputNames[] = {"color", "alpha"};               // TextureLookup::alpha_output
+constexpr const char* kTextureCoordinateNames[] = {"uv", "generated"};          // TextureLookup::generated
 
 // A Mix Shader factor from a texture: the layer's weight times fac, or 1 - fac (the node's first shader).
 struct MixFactorLookup {
@@ -29,14 +39,25 @@ struct MixFactorLookup {
     bool complement = false;
 };
 
+// A material's Normal Map node (tangent space): its image lookup, strength, read in the frame of the
+// mesh's UV tangent, bitangent and shading normal (ApplyNormalMap).
+struct NormalMap {
+    TextureLookup lookup;
+    float strength = 1;
+};
+
 struct MaterialLayer;
 
+// sphrect.Material's fields (python/sphrect/scene.py documents them), as RenderScene::AddMaterial takes them.
 struct Material {
+    std::string name = "default";
     MaterialKind kind = MaterialKind::kDiffuse;
     PrincipledInputs inputs;  // base_color, roughness, metallic, specular used by every kind that has them
     float ior = 1.45f;        // glass
     bool beckmann = false;    // glass, glossy BSDF
+    Spectrum emission;        // radiance from both sides; a mix adds its layers' (each times its weight)
     TextureLookup textures[kNumTexturedInputs];
+    NormalMap normal_map;               // lookup unbound: none
     std::vector<MaterialLayer> layers;  // kMix
 
     bool ReadsCoordinates(bool generated) const;  // some lookup reads 'generated' (true) or 'uv' (false)
@@ -47,6 +68,14 @@ struct MaterialLayer {
     std::vector<MixFactorLookup> factors;
     Material material;
 };
+
+// A Diffuse BSDF (kind 'diffuse') of this colour and emission.
+inline Material DiffuseMaterial(const Spectrum& color, const Spectrum& emission = {}) {
+    Material m;
+    m.inputs.base_color = color;
+    m.emission = emission;
+    return m;
+}
 
 inline bool Material::ReadsCoordinates(bool generated) const {
     for (const TextureLookup& t : textures)
@@ -85,6 +114,25 @@ inline Bsdf MakeBsdfFromInputs(const Material& r, const PrincipledInputs& in) {
         case MaterialKind::kMix: break;
     }
     return MakeDiffuseBsdf({});  // a mix's layers are the caller's
+}
+
+// For materials mixed together: the index of the distinct microfacet lobe each one's (first) lobe takes in the
+// mix, equal ones sharing one as MixIntoBsdf merges them; -1 for one without (the Blender exporter asks, to keep the
+// heaviest kMaxMicrofacetLobes).
+inline std::vector<int> MixLobeSlots(const std::vector<Material>& parts) {
+    std::vector<MicrofacetLobe> distinct;
+    std::vector<int> slots;
+    for (const Material& m : parts) {
+        int slot = -1;
+        const Bsdf bsdf = m.kind == MaterialKind::kMix ? MakeEmptyMixBsdf() : MakeBsdfFromInputs(m, m.inputs);
+        if (bsdf.num_lobes > 0) {
+            slot = 0;
+            while (slot < int(distinct.size()) && !SameMicrofacetLobe(distinct[size_t(slot)], bsdf.lobes[0])) ++slot;
+            if (slot == int(distinct.size())) distinct.push_back(bsdf.lobes[0]);
+        }
+        slots.push_back(slot);
+    }
+    return slots;
 }
 
 // The Material's Bsdf at texture coordinates tc: each bound input replaced by its lookup (colours as

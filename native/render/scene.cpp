@@ -1,6 +1,7 @@
 #include "scene.h"
 
 #include "embree_rays.h"
+#include "scene_checks.h"
 
 #include <cmath>
 #include <algorithm>
@@ -12,18 +13,6 @@
 namespace sphrect::render {
 
 namespace {
-
-[[noreturn]] void Fail(const std::string& what) { throw std::invalid_argument(what); }
-
-bool NonNegative(const Spectrum& c) { return c.x >= 0 && c.y >= 0 && c.z >= 0; }
-
-void CheckColor(const std::string& what, const Spectrum& c) {
-    if (!IsFinite(c) || !NonNegative(c)) Fail(what + " must be finite and non-negative");
-}
-
-void CheckVector(const std::string& what, const Vec3f& v) {
-    if (!IsFinite(v)) Fail(what + " must be finite");
-}
 
 // Why an area light of this area is skipped ("" if it is not).
 std::string SkippedForArea(const std::string& what, float area) {
@@ -156,139 +145,9 @@ void RenderScene::SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, fl
     has_medium = medium.sigma_sampling > 0;
 }
 
-// What every Add*Material checks first: not committed, and its colours.
-void RenderScene::CheckMaterialColors(const Spectrum& base, const Spectrum& emission) const {
-    RequireNotCommitted();
-    CheckColor("material base_color", base);
-    CheckColor("material emission", emission);
-}
-
-int RenderScene::PushMaterial(const Bsdf& m, const Spectrum& emission, const Material& material) {
-    bsdfs.push_back(m);
-    bsdfs.back().emission = emission;
-    materials.push_back(material);
-    normal_maps.emplace_back();
-    return int(bsdfs.size()) - 1;
-}
-
-namespace {
-Material MakeMaterial(MaterialKind kind, const Spectrum& base, float roughness = 0.5f, float metallic = 0,
-                      float specular = 0.5f) {
-    Material r;
-    r.kind = kind;
-    r.inputs.base_color = base;
-    r.inputs.roughness = roughness;
-    r.inputs.metallic = metallic;
-    r.inputs.specular = specular;
-    return r;
-}
-}  // namespace
-
-int RenderScene::AddDiffuseMaterial(const Spectrum& base, const Spectrum& emission) {
-    CheckMaterialColors(base, emission);
-    return PushMaterial(MakeDiffuseBsdf(base), emission, MakeMaterial(MaterialKind::kDiffuse, base));
-}
-
-int RenderScene::AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular,
-                                   const Spectrum& emission) {
-    CheckMaterialColors(base, emission);
-    if (!std::isfinite(roughness) || !std::isfinite(metallic) || !std::isfinite(specular))
-        Fail("material roughness, metallic and specular must be finite");
-    return PushMaterial(MakeLambertGgxBsdf(base, roughness, metallic, specular), emission,
-                        MakeMaterial(MaterialKind::kGlossy, base, roughness, metallic, specular));
-}
-
-int RenderScene::AddPrincipledMaterial(const PrincipledInputs& in, const Spectrum& emission) {
-    CheckMaterialColors(in.base_color, emission);
-    for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
-                    in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation, in.transmission, in.ior})
-        if (!std::isfinite(v)) Fail("material Principled inputs must be finite");
-    Material r;
-    r.kind = MaterialKind::kPrincipled;
-    r.inputs = in;
-    return PushMaterial(MakePrincipledBsdf(in), emission, r);
-}
-
-int RenderScene::AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann,
-                                  const Spectrum& emission) {
-    CheckMaterialColors(color, emission);
-    if (!std::isfinite(roughness) || !std::isfinite(ior)) Fail("material roughness and ior must be finite");
-    Material r = MakeMaterial(MaterialKind::kGlass, color, roughness);
-    r.ior = ior;
-    r.beckmann = beckmann;
-    return PushMaterial(MakeGlassBsdf(color, roughness, ior, beckmann), emission, r);
-}
-
-int RenderScene::AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann,
-                                       const Spectrum& emission, float anisotropy, float rotation, bool multiscatter) {
-    CheckMaterialColors(color, emission);
-    if (!std::isfinite(roughness) || !std::isfinite(anisotropy) || !std::isfinite(rotation))
-        Fail("material roughness, anisotropy and rotation must be finite");
-    Material r = MakeMaterial(MaterialKind::kGlossyBsdf, color, roughness);
-    r.beckmann = beckmann;
-    r.inputs.anisotropic = anisotropy;
-    r.inputs.anisotropic_rotation = rotation;
-    r.inputs.multiscatter = multiscatter;
-    return PushMaterial(MakeGlossyBsdf(color, roughness, beckmann, anisotropy, rotation, multiscatter), emission,
-                        r);
-}
-
-int RenderScene::AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission) {
-    CheckMaterialColors(color, emission);
-    return PushMaterial(MakeTranslucentBsdf(color), emission, MakeMaterial(MaterialKind::kTranslucent, color));
-}
-
-int RenderScene::AddTransparentMaterial(const Spectrum& color) {
-    CheckMaterialColors(color, {});
-    return PushMaterial(MakeTransparentBsdf(color), {}, MakeMaterial(MaterialKind::kTransparent, color));
-}
-
-int RenderScene::AddHoldoutMaterial() {
-    RequireNotCommitted();
-    return PushMaterial(MakeHoldoutBsdf(), {}, MakeMaterial(MaterialKind::kHoldout, {}));
-}
-
 void RenderScene::SetFilmTransparent(bool transparent) {
     RequireNotCommitted();
     film_transparent = transparent;
-}
-
-int RenderScene::AddMixMaterial(const Spectrum& emission) {
-    CheckMaterialColors({}, emission);
-    return PushMaterial(MakeEmptyMixBsdf(), emission, MakeMaterial(MaterialKind::kMix, {}));
-}
-
-void RenderScene::MixLastMaterialInto(int target, float weight, const std::vector<MixFactorLookup>& factors) {
-    RequireNotCommitted();
-    if (target < 0 || size_t(target) + 1 >= bsdfs.size())
-        Fail("mix target must be a material added before the last one");
-    if (materials[size_t(target)].kind != MaterialKind::kMix) Fail("mix target must be a mix material");
-    if (!(weight >= 0) || !std::isfinite(weight)) Fail("mix weight must be finite and >= 0");
-    for (const MixFactorLookup& f : factors) CheckLookup(f.lookup);
-    const Bsdf part = bsdfs.back();
-    if (!factors.empty() && !IsBlack(part.emission))
-        Fail("an emitting mix layer cannot have texture-driven factors (mesh lights need a constant emission)");
-    if (normal_maps.back().lookup.bound()) Fail("a mix layer cannot have a normal map of its own (the mix's has)");
-    Bsdf mix = bsdfs[size_t(target)];
-    // The untextured values stand for the textured ones (a factor as 1/2): the structure a hit rebuilds.
-    MixIntoBsdf(mix, part, factors.empty() ? weight : weight * 0.5f);  // throws (the scene unchanged) if it cannot hold it
-    mix.emission += part.emission * weight;
-    mix.textured = mix.textured || part.textured || !factors.empty();
-    materials[size_t(target)].layers.push_back({weight, factors, materials.back()});
-    bsdfs[size_t(target)] = mix;
-    bsdfs.pop_back();
-    materials.pop_back();
-    normal_maps.pop_back();
-}
-
-void RenderScene::CheckLookup(const TextureLookup& lookup) const {
-    RequireNotCommitted();
-    if (lookup.image < 0 || size_t(lookup.image) >= images.size())
-        Fail("texture lookup of image " + std::to_string(lookup.image) + " but the scene has " +
-             std::to_string(images.size()) + " images");
-    for (const auto& row : lookup.transform)
-        for (float v : row)
-            if (!std::isfinite(v)) Fail("texture transform must be finite");
 }
 
 int RenderScene::AddImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
@@ -302,24 +161,6 @@ int RenderScene::AddImage(Image image) {
     return int(images.size()) - 1;
 }
 
-void RenderScene::SetMaterialTexture(int material, TexturedInput input, const TextureLookup& lookup) {
-    CheckLookup(lookup);
-    if (material < 0 || size_t(material) >= bsdfs.size()) Fail("texture of material " + std::to_string(material) +
-                                                                   " but the scene has " +
-                                                                   std::to_string(bsdfs.size()));
-    Material& r = materials[size_t(material)];
-    if (r.kind == MaterialKind::kMix) Fail("a mix's textures are its layers'");
-    if (r.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no textures (use 'principled')");
-    r.textures[int(input)] = lookup;
-    Bsdf& m = bsdfs[size_t(material)];
-    m.textured = true;
-    if (r.kind == MaterialKind::kTransparent && input == TexturedInput::kBaseColor) {
-        // May let rays through wherever its image is not black: the hit evaluates it (integrator/transparency.h).
-        m.transparency = {1, 1, 1};
-        m.has_transparency = true;
-    }
-}
-
 void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]) {
     RequireNotCommitted();
     if (meshes.empty()) return;
@@ -331,16 +172,6 @@ void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float 
             m.object_linear_inverse[r][c] = inverse[r][c];
         }
     m.has_object_linear = true;
-}
-
-void RenderScene::SetMaterialNormalMap(int material, const TextureLookup& lookup, float strength) {
-    CheckLookup(lookup);
-    if (material < 0 || size_t(material) >= bsdfs.size()) Fail("normal map of a material that does not exist");
-    if (!std::isfinite(strength)) Fail("normal map strength must be finite");
-    if (materials[size_t(material)].kind == MaterialKind::kGlossy)
-        Fail("the 'glossy' model takes no normal map (use 'principled')");
-    normal_maps[size_t(material)] = {lookup, std::max(strength, 0.0f)};  // Cycles: max(strength, 0)
-    bsdfs[size_t(material)].normal_mapped = true;
 }
 
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
@@ -498,7 +329,7 @@ void RenderScene::Commit() {
     if (!camera_set_) Fail("the scene has no camera");
     if (NumTriangles() == 0 && area_lights.empty() && delta_lights.empty())
         Fail("empty scene: no triangles and no lights");
-    if (bsdfs.empty()) AddDiffuseMaterial({0.8f, 0.8f, 0.8f});
+    if (bsdfs.empty()) AddMaterial(Material{});
     for (const auto& m : meshes)
         for (size_t i = 0; i < m.material_ids.size(); ++i)
             if (size_t(m.material_ids[i]) >= bsdfs.size())

@@ -48,13 +48,6 @@ struct MeshData {
     float object_linear[3][3], object_linear_inverse[3][3];
 };
 
-// A material's Normal Map node (tangent space): its image lookup, strength, read in the frame of the
-// mesh's UV tangent, bitangent and shading normal (ApplyNormalMap).
-struct NormalMap {
-    TextureLookup lookup;
-    float strength = 1;
-};
-
 // What a scene asks of the integrator; each flag selects a specialised kernel or a feature name.
 struct SceneFeatures {
     bool glossy = false, medium = false, dof = false;
@@ -81,38 +74,15 @@ class RenderScene {
     // lights the scene).
     void SetFilmTransparent(bool transparent);
     void SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
-    // emission: radiance of the surfaces using the material (both sides); each emissive triangle
-    // becomes an area light at Commit().
-    int AddDiffuseMaterial(const Spectrum& base, const Spectrum& emission = {});
-    int AddGlossyMaterial(const Spectrum& base, float roughness, float metallic, float specular,
-                          const Spectrum& emission = {});
-    int AddPrincipledMaterial(const PrincipledInputs& inputs, const Spectrum& emission = {});
-    int AddGlassMaterial(const Spectrum& color, float roughness, float ior, bool beckmann = false,
-                         const Spectrum& emission = {});
-    // anisotropy, rotation: the Anisotropic BSDF's (MakeGlossyBsdf); 0 for a Glossy BSDF.
-    int AddGlossyBsdfMaterial(const Spectrum& color, float roughness, bool beckmann = false,
-                              const Spectrum& emission = {}, float anisotropy = 0, float rotation = 0,
-                              bool multiscatter = false);
-    // Mix / Add Shader: AddMixMaterial makes an empty (black) material; each MixLastMaterialInto then
-    // takes the material added last (any Add*Material above, added for this), removes it from the list
-    // and adds its lobes and emission, scaled by weight, to the mix `target` (bsdf.h MixIntoBsdf,
-    // which says what a mix can hold; std::invalid_argument beyond that).
-    int AddTranslucentMaterial(const Spectrum& color, const Spectrum& emission = {});
-    int AddHoldoutMaterial();
-    int AddTransparentMaterial(const Spectrum& color);  // Transparent BSDF (integrator/transparency.h)
-    int AddMixMaterial(const Spectrum& emission = {});
-    // factors: Mix Shader factors from textures above the layer (its weight times each; an emitting layer cannot
-    // have any: mesh lights need a constant emission).
-    void MixLastMaterialInto(int target, float weight, const std::vector<MixFactorLookup>& factors = {});
-    // Images, then lookups of them bound to a material's inputs (before it is mixed into another) and its
-    // normal map.  AddImage copies width x height x channels bytes or floats (rows bottom to top); LoadImage
+    // Checks the material (std::invalid_argument naming it and the field) and adds it with its Bsdf; returns its
+    // index.  Emissive triangles of its meshes become area lights at Commit().
+    int AddMaterial(const Material& material);
+    // Images, which materials' lookups name by index.  AddImage copies width x height x channels bytes or floats (rows bottom to top); LoadImage
     // reads a file with OpenImageIO, or on failure makes Cycles' magenta missing image and a warning.
     int AddImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
                  const float* floats, bool srgb);
     int AddImage(Image image);  // made by MakeImage (texture.h)
     int LoadImage(const std::string& name, const std::string& path, bool srgb);
-    void SetMaterialTexture(int material, TexturedInput input, const TextureLookup& lookup);
-    void SetMaterialNormalMap(int material, const TextureLookup& lookup, float strength);
     // The mesh added last: its object's linear map and inverse (meshes without triangles are not kept: ignored).
     void SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids / uvs / generated may be
@@ -181,9 +151,7 @@ class RenderScene {
     const std::vector<TreeEmitterRef>& light_tree_refs() const { return light_tree_refs_; }
 
   private:
-    void CheckMaterialColors(const Spectrum& base, const Spectrum& emission) const;
-    // With its emission and the Material it was made from; returns its index.
-    int PushMaterial(const Bsdf& m, const Spectrum& emission, const Material& material);
+    Bsdf MakeMaterialBsdf(const Material& material) const;  // checks it; a mix's layers recursively
     void CheckLookup(const TextureLookup& lookup) const;
     void CheckTextureCoordinates();  // Commit(): warns of meshes a textured material reads without their coordinates
     mutable std::once_flag light_tree_once_;

@@ -33,8 +33,8 @@ diffuse (Lambert) material takes light samples alone, and BSDF samples only to f
 glossy and Principled hits keep both.  True gives diffuse hits their BSDF samples too.
 
 Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=2: best at equal time over
-the blend_scenes, the lights in view and their edges' coverage exact) on the blend_scenes (scripts/measure_light_selection.py, scripts/measure_light_samples.py;
-README, "Light selection and defaults").
+the blend_scenes, the lights in view and their edges' coverage exact): docs/renderer.md, "Light selection and
+defaults".
 
 Resources: the images (per technique RGB sums in double and the RGBA float image a caller copies out) must fit
 memory_limit bytes (default None: sphrect.default_memory_limit(), half the physical memory), else ValueError
@@ -49,20 +49,19 @@ for any thread count and tile size (samples are seeded by seed, pixel and sample
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import numbers
 import warnings
-from typing import Callable, Dict, Iterable, Optional, Sequence, Union
+from typing import Callable, Dict, Iterable, List, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _native
 from .arguments import int_argument, one_of, rgb
 from .sample_ranges import Accumulation, sample_ranges
-from .scene import (CAMERA_TYPES, GLASS_DISTRIBUTIONS, GLOSSY_DISTRIBUTIONS, MATERIAL_KINDS, PIXEL_FILTERS, PRINCIPLED_DISTRIBUTIONS,
-                    SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_COORDINATES, TEXTURE_EXTENSIONS, TEXTURE_INTERPOLATIONS,
-                    TEXTURE_OUTPUTS, TEXTURED_INPUTS, Camera, EllipseLight, MaterialLayer, MixFactor, PointLight, RectLight, Scene, SpotLight, SunLight,
-                    Texture, TextureLookup)
+from .scene import (CAMERA_TYPES, PIXEL_FILTERS, SENSOR_FITS, TEXTURE_COLORSPACES, Camera, EllipseLight, Material,
+                    PointLight, RectLight, Scene, SpotLight, SunLight, Texture)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -139,102 +138,18 @@ def _add_textures(native, scene: Scene) -> None:
         native.add_image(t.name, np.ascontiguousarray(pixels), srgb)
 
 
-def _native_lookup(lookup, n_textures: int, what: str):
-    if not isinstance(lookup, TextureLookup):
-        raise ValueError(f"{what} must be a sphrect.TextureLookup, got {type(lookup).__name__}")
-    if isinstance(lookup.texture, bool) or not isinstance(lookup.texture, numbers.Integral) \
-            or not 0 <= lookup.texture < n_textures:
-        raise ValueError(f"{what}: texture {lookup.texture!r} is not an index into the scene's {n_textures} textures")
-    for name, allowed in (("output", TEXTURE_OUTPUTS), ("coordinates", TEXTURE_COORDINATES),
-                          ("interpolation", TEXTURE_INTERPOLATIONS), ("extension", TEXTURE_EXTENSIONS)):
-        if getattr(lookup, name) not in allowed:
-            raise ValueError(f"{what}: {name} must be {one_of(allowed)}, got {getattr(lookup, name)!r}")
-    transform = np.asarray(lookup.transform, dtype=np.float64)
-    if transform.shape != (3, 4) or not np.all(np.isfinite(transform)):
-        raise ValueError(f"{what}: transform must be a finite 3x4 matrix")
-    return _native._TextureLookup(int(lookup.texture), lookup.output == "alpha", lookup.coordinates == "generated",
-                                  transform, lookup.interpolation, lookup.extension)
+def _add_material(native, mat, index: int) -> None:
+    """scene.materials[index] to the native scene: its fields, read and checked there (render/material.h)."""
+    if not isinstance(mat, Material):
+        raise ValueError(f"scene.materials[{index}] is not a sphrect.Material (got {type(mat).__name__})")
+    native.add_material(dataclasses.asdict(mat))
 
 
-def _bind_textures(native, index: int, mat, n_textures: int) -> None:
-    """Material `index`'s image lookups (Material.textures) and normal map."""
-    if not isinstance(mat.textures, dict):
-        raise ValueError(f"material '{mat.name}': textures must be a dict of input name -> sphrect.TextureLookup, "
-                         f"got {type(mat.textures).__name__}")
-    try:
-        for name, lookup in mat.textures.items():
-            if name not in TEXTURED_INPUTS:
-                raise ValueError(f"no input {name!r} takes a texture (expected {one_of(TEXTURED_INPUTS)})")
-            native.set_material_texture(index, name, _native_lookup(lookup, n_textures, f"texture '{name}'"))
-        if mat.normal_map is not None:
-            native.set_material_normal_map(index, _native_lookup(mat.normal_map, n_textures, "normal_map"),
-                                           float(mat.normal_map_strength))
-    except ValueError as e:
-        raise ValueError(f"material '{mat.name}': {e}") from None
-
-
-def _add_material(native, mat, n_textures: int = 0):
-    """Adds `mat` to the native scene (a 'mix' as its layers, each added and mixed in) with its textures; returns its
-    index."""
-    index = _add_untextured_material(native, mat, n_textures)
-    _bind_textures(native, index, mat, n_textures)
-    return index
-
-
-def _add_untextured_material(native, mat, n_textures: int):
-    emission = rgb(mat.emission, f"material '{mat.name}' emission")
-    base_color = lambda: rgb(mat.base_color, f"material '{mat.name}' base_color")
-    if mat.layers and mat.kind != "mix":
-        raise ValueError(f"material '{mat.name}': only kind 'mix' has layers (kind {mat.kind!r})")
-    distributions = {"glass": GLASS_DISTRIBUTIONS, "glossy_bsdf": GLOSSY_DISTRIBUTIONS,
-                     "principled": PRINCIPLED_DISTRIBUTIONS}.get(mat.kind)
-    if distributions is not None and mat.distribution not in distributions:
-        raise ValueError(f"material '{mat.name}': unknown distribution {mat.distribution!r} for kind {mat.kind!r} "
-                         f"(expected {one_of(distributions)})")
-    if mat.kind == "diffuse":
-        return native.add_diffuse_material(base_color(), emission)
-    if mat.kind == "glossy":
-        return native.add_glossy_material(base_color(), float(mat.roughness), float(mat.metallic),
-                                          float(mat.specular), emission)
-    if mat.kind == "principled":
-        return native.add_principled_material(
-            base_color(), float(mat.metallic), float(mat.specular), float(mat.specular_tint), float(mat.roughness),
-            float(mat.sheen), float(mat.sheen_tint), float(mat.clearcoat), float(mat.clearcoat_roughness), emission,
-            float(mat.anisotropic), float(mat.anisotropic_rotation), mat.distribution == "multiscatter_ggx",
-            float(mat.transmission), float(mat.ior))
-    if mat.kind == "glass":
-        return native.add_glass_material(base_color(), float(mat.roughness), float(mat.ior),
-                                         mat.distribution == "beckmann", emission)
-    if mat.kind == "glossy_bsdf":
-        return native.add_glossy_bsdf_material(base_color(), float(mat.roughness), mat.distribution == "beckmann",
-                                               emission, float(mat.anisotropic), float(mat.anisotropic_rotation),
-                                               mat.distribution == "multiscatter_ggx")
-    if mat.kind == "holdout":
-        return native.add_holdout_material()
-    if mat.kind == "translucent":
-        return native.add_translucent_material(base_color(), emission)
-    if mat.kind == "transparent":
-        if any(mat.emission):
-            raise ValueError(f"material '{mat.name}': a 'transparent' material has no emission (mix in one instead)")
-        return native.add_transparent_material(base_color())
-    if mat.kind == "mix":
-        target = native.add_mix_material(emission)
-        for i, layer in enumerate(mat.layers):
-            if not isinstance(layer, MaterialLayer):
-                raise ValueError(f"material '{mat.name}': layer {i} is not a sphrect.MaterialLayer")
-            _add_material(native, layer.material, n_textures)
-            factors = []
-            for j, f in enumerate(layer.factors):
-                if not isinstance(f, MixFactor):
-                    raise ValueError(f"material '{mat.name}' layer {i}: factor {j} is not a sphrect.MixFactor")
-                factors.append((_native_lookup(f.lookup, n_textures, f"material '{mat.name}' layer {i} factor {j}"),
-                                bool(f.complement)))
-            try:
-                native.mix_last_material_into(target, float(layer.weight), factors)
-            except ValueError as e:
-                raise ValueError(f"material '{mat.name}' layer {i} ('{layer.material.name}'): {e}") from None
-        return target
-    raise ValueError(f"material '{mat.name}': unknown kind {mat.kind!r} (expected {one_of(MATERIAL_KINDS)})")
+def mix_lobe_slots(materials: Sequence[Material]) -> List[int]:
+    """For materials mixed together (a 'mix' material's layers): the index of the distinct microfacet lobe each one's
+    glossy or glass lobe takes in the mix, equal lobes sharing one as the renderer merges them, or -1 for one without
+    such a lobe.  A mix holds MAX_MIX_GLOSSY_LOBES distinct lobes (the Blender exporter keeps the heaviest)."""
+    return list(_native._mix_lobe_slots([dataclasses.asdict(m) for m in materials]))
 
 
 def build_native_scene(scene: Scene):
@@ -250,8 +165,8 @@ def build_native_scene(scene: Scene):
     if med is not None:
         native.set_medium(rgb(med.sigma_s, "medium sigma_s"), rgb(med.sigma_a, "medium sigma_a"), float(med.g))
     _add_textures(native, scene)
-    for mat in scene.materials:
-        _add_material(native, mat, len(scene.textures))
+    for i, mat in enumerate(scene.materials):
+        _add_material(native, mat, i)
     n_materials = max(1, len(scene.materials))
     for mesh in scene.meshes:
         v = np.asarray(mesh.vertices)

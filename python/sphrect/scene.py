@@ -27,7 +27,6 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-import zipfile
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
@@ -61,15 +60,14 @@ FORMAT_VERSION = 9
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
 
-# The values the format's name fields take.
-MATERIAL_KINDS = ("diffuse", "glossy", "principled", "glass", "glossy_bsdf", "translucent", "holdout", "transparent",
-                  "mix")
-# Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate.
-GLASS_DISTRIBUTIONS = ("ggx", "beckmann")
+# The values the format's name fields take (the renderer's lists: native/render/material.h).
+MATERIAL_KINDS = tuple(_native.material_kinds)  # ("diffuse", "glossy", "principled", ..., "mix")
+# Cycles' microfacet distributions the 'glass' and 'glossy_bsdf' kinds evaluate (ggx, beckmann).
+GLASS_DISTRIBUTIONS = tuple(_native.glass_distributions)
 # The Principled BSDF's: GGX, or Cycles' multiple-scattering GGX (Heitz et al. 2016) above roughness 0.075; the
 # Glossy BSDF's (kind 'glossy_bsdf') adds it to the glass ones.
-PRINCIPLED_DISTRIBUTIONS = ("ggx", "multiscatter_ggx")
-GLOSSY_DISTRIBUTIONS = GLASS_DISTRIBUTIONS + ("multiscatter_ggx",)
+PRINCIPLED_DISTRIBUTIONS = tuple(_native.principled_distributions)
+GLOSSY_DISTRIBUTIONS = tuple(_native.glossy_distributions)
 CAMERA_TYPES = ("perspective", "orthographic")
 PIXEL_FILTERS = tuple(_native.pixel_filters)  # ("box", "gaussian", "blackman_harris"): render/pixel_filter.h
 # Image Texture nodes (Cycles 3.4's image lookups): the colour space of a texture's stored values ('srgb': decoded
@@ -78,8 +76,8 @@ PIXEL_FILTERS = tuple(_native.pixel_filters)  # ("box", "gaussian", "blackman_ha
 TEXTURE_COLORSPACES = ("srgb", "linear")
 TEXTURE_INTERPOLATIONS = tuple(_native.texture_interpolations)  # ("linear", "closest"): render/material.h
 TEXTURE_EXTENSIONS = tuple(_native.texture_extensions)          # ("repeat", "extend", "clip")
-TEXTURE_COORDINATES = ("uv", "generated")
-TEXTURE_OUTPUTS = ("color", "alpha")
+TEXTURE_COORDINATES = tuple(_native.texture_coordinates)  # ("uv", "generated")
+TEXTURE_OUTPUTS = tuple(_native.texture_outputs)  # ("color", "alpha")
 # The material inputs a texture can drive (Material.textures' keys): 'base_color' is a colour (its Color output
 # as is, Alpha as grey), the others scalars (Color as its luminance, Cycles' rgb_to_gray, or Alpha).
 TEXTURED_INPUTS = tuple(_native.textured_inputs)  # ("base_color", "roughness", "metallic", "specular")
@@ -119,7 +117,8 @@ class Material:
     lit through the surface from the side opposite the viewer; 'holdout': Blender's Holdout, black and of alpha 0
     in the image (in a mix, alpha 1 - its weight); 'transparent': Blender's Transparent BSDF (base_color = its
     Color), which camera and shadow rays go straight through, filtered by the colour (a Principled BSDF's Alpha a is
-    a 'mix' of it, white, weighted 1 - a and of the Principled weighted a, as Cycles expands it); 'mix': Mix / Add Shader, the sum of `layers`' materials each scaled by its weight (Cycles
+    a 'mix' of it, white, weighted 1 - a and of the Principled weighted a, as Cycles expands it); 'mix': Mix / Add
+    Shader, the sum of `layers`' materials each scaled by its weight (Cycles
     scales each side's closures: (1 - fac) and fac for Mix, 1 and 1 for Add).  A mix holds any number of
     'diffuse' layers, one 'principled' (or a mix holding one), and at most MAX_MIX_GLOSSY_LOBES distinct
     'glass' / 'glossy_bsdf' lobes (equal roughness, distribution and IOR merge); not 'glossy'.  Its own
@@ -144,10 +143,12 @@ class Material:
     # 'principled': Transmission; its glass part (weight transmission x (1 - metallic)) shows the reflection of the
     # lights a Glass BSDF of `ior` and `roughness` shows at zero bounces, the refracted part black.
     transmission: float = 0.0
-    distribution: str = "ggx"        # 'glass': one of GLASS_DISTRIBUTIONS, 'glossy_bsdf' GLOSSY_..., 'principled' PRINCIPLED_...
+    # 'glass': one of GLASS_DISTRIBUTIONS, 'glossy_bsdf' GLOSSY_DISTRIBUTIONS, 'principled' PRINCIPLED_DISTRIBUTIONS
+    distribution: str = "ggx"
     layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only
-    emission: RGB = (0.0, 0.0, 0.0)  # radiance (W/m^2/sr) from both sides, Cycles' colour x strength;
-                                     # every emissive triangle is a light (files without it load as 0)
+    # Radiance (W/m^2/sr) from both sides, Cycles' colour x strength; every emissive triangle is a light (files
+    # without it load as 0).
+    emission: RGB = (0.0, 0.0, 0.0)
     # Image textures driving inputs (keys from TEXTURED_INPUTS; the value replaces the field of that name), and a
     # Normal Map node's tangent-space map (its Color read as 2 c - 1 in the frame of the UVs' tangent, the
     # bitangent and the shading normal; strength as the node's); none of a mix's layers has its own normal map.

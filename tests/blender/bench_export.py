@@ -12,7 +12,8 @@ import bpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
-sys.path[:0] = [os.path.join(REPO, "addon"), os.environ.get("SPHRECT_PYTHON_PATH", os.path.join(REPO, "build", "python"))]
+sys.path[:0] = [os.path.join(REPO, "addon"),
+                os.environ.get("SPHRECT_PYTHON_PATH", os.path.join(REPO, "build", "python"))]
 import addon_utils  # noqa: E402
 
 addon_utils.enable("sphrect_blender", default_set=True, handle_error=None)

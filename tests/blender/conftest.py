@@ -9,12 +9,16 @@ import pytest
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BLEND_DIR = os.path.join(REPO, "blend_scenes")
 SCENES = sorted(f[:-len(".blend")] for f in os.listdir(BLEND_DIR) if f.endswith(".blend"))
-if BLEND_DIR not in sys.path:
-    sys.path.insert(0, BLEND_DIR)
+for _path in (BLEND_DIR, os.path.join(REPO, "tests")):
+    if _path not in sys.path:
+        sys.path.insert(0, _path)
 
 import make_scenes as builders  # noqa: E402  (the scene generator's object/light/material helpers)
-import sphrect  # noqa: E402
+import tier_markers  # noqa: E402  (tests/tier_markers.py: the markers both suites register)
 
+
+def pytest_configure(config):
+    tier_markers.register(config)
 
 
 def ensure_addon():

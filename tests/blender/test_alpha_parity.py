@@ -9,6 +9,8 @@ from test_cycles_parity import difference_to_cycles
 from test_glass_parity import shader_material, sphere_scene
 from test_mix_parity import combine, node, shader_tree
 
+pytestmark = pytest.mark.slow
+
 TOLERANCE = 0.01
 ALPHA_TOLERANCE = 0.01
 

@@ -11,6 +11,8 @@ from conftest import export
 from test_cycles_parity import difference_to_cycles
 from test_glass_parity import highlight_ratio, shader_material, sphere_scene
 
+pytestmark = pytest.mark.slow
+
 TOLERANCE = 0.01
 HIGHLIGHT_TOLERANCE = 0.05  # the highlight's own blocks, as in test_glass_parity
 

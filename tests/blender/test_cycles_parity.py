@@ -10,7 +10,9 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import addon_module, engine_module, lit_test_scene, open_blend, render, set_resolution
+from conftest import addon_module, lit_test_scene, open_blend, render, set_resolution
+
+pytestmark = pytest.mark.slow
 
 WIDTH, HEIGHT, BLOCK = 48, 36, 4
 

@@ -10,6 +10,8 @@ import pytest
 from conftest import builders, export, set_resolution
 from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles
 
+pytestmark = pytest.mark.slow
+
 
 def emission_material(name, color=(1.0, 0.9, 0.8), strength=5.0):
     mat = bpy.data.materials.new(name)

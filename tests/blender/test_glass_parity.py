@@ -11,6 +11,8 @@ import pytest
 from conftest import builders, export, render, set_resolution
 from test_cycles_parity import HEIGHT, WIDTH, blocks, difference_to_cycles, mean_relative_difference, render_cycles
 
+pytestmark = pytest.mark.slow
+
 TOLERANCE = 0.01
 # The highlight's blocks alone (a few dozen pixels, so noisier): measured when written 0.99-1.01 for GGX and
 # Beckmann, 1.036 for IOR 1.2 (F0 0.8%: a faint highlight over the plane's noise); the default Beckmann rendered

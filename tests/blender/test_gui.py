@@ -7,6 +7,8 @@ import subprocess
 import bpy
 import pytest
 
+pytestmark = pytest.mark.gui
+
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

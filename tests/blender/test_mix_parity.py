@@ -9,6 +9,8 @@ from conftest import builders, export, render
 from test_cycles_parity import difference_to_cycles, mean_relative_difference
 from test_glass_parity import COLOR, highlight_ratio, shader_material, sphere_scene
 
+pytestmark = pytest.mark.slow
+
 TOLERANCE = 0.01
 HIGHLIGHT_TOLERANCE = 0.05  # the highlight's own blocks, as in test_glass_parity
 GLOSSY_CASES = [("GGX", 0.3), ("GGX", 0.6), ("BECKMANN", 0.4)]

@@ -11,6 +11,8 @@ import pytest
 from conftest import open_blend
 from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles
 
+pytestmark = pytest.mark.slow
+
 
 # Cycles' image of each scene, rendered once for both light selections (a setting of ours Cycles ignores).
 CYCLES_IMAGES = {}

@@ -2,12 +2,13 @@
 scattering between microfacets (Heitz et al. 2016's random walk, render/bsdf/multiscatter_ggx.h) brightens rough metals
 and dielectrics' specular.  The glass test's sphere, against Cycles (test_cycles_parity's renders; the whole image
 and ours / Cycles over the highlight's blocks), and the single-scattering GGX rendered instead is measurably off."""
-import bpy
 import pytest
 
 from conftest import export
 from test_cycles_parity import difference_to_cycles
 from test_glass_parity import highlight_ratio, shader_material, sphere_scene
+
+pytestmark = pytest.mark.slow
 
 TOLERANCE = 0.01
 HIGHLIGHT_TOLERANCE = 0.05  # the highlight's own blocks, as in test_glass_parity

@@ -3,13 +3,14 @@ renders and mean relative difference over 4x4 blocks): each lobe alone and all t
 specular, specular tint, metallic, sheen and clearcoat values, on a smooth sphere over a plane of the same
 material, back-lit by a rectangle so grazing angles (sheen, retro-reflection, Fresnel) are in view. Also the
 exporter: every modelled input reaches sphrect.Material, and what is not modelled is named in a warning."""
-import math
 
 import bpy
 import pytest
 
 from conftest import builders, export, set_resolution
 from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles
+
+pytestmark = pytest.mark.slow
 
 BASE = (0.8, 0.45, 0.25)
 # Inputs per case (the rest at Blender's defaults: specular 0.5, roughness 0.5, sheen tint 0.5, ...).

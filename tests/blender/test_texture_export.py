@@ -580,7 +580,8 @@ def test_an_emitters_image_colour_is_its_mean(empty_scene):
     assert material_named(scene, "Screen").emission == pytest.approx(tuple(3.0 * stored[..., :3].mean(axis=(0, 1))),
                                                                     rel=1e-5)
     assert material_named(scene, "Lost").emission == pytest.approx((3.0, 0.0, 3.0))
-    assert "'Color' of an emitter from an Image Texture (the image's mean colour used) (Screen, Lost)" in log.warning_text()
+    assert ("'Color' of an emitter from an Image Texture (the image's mean colour used) (Screen, Lost)"
+            in log.warning_text())
 
 
 def test_a_world_environment_image_is_its_mean_colour(empty_scene):

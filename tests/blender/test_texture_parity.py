@@ -25,6 +25,8 @@ from conftest import addon_module, builders, export, render, set_resolution
 from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles, mean_relative_difference, render_cycles
 from test_texture_export import Tree, new_image
 
+pytestmark = pytest.mark.slow
+
 # The models agree exactly here (the lookups, filters and colour decoding are Cycles'), so the bound is the
 # other parity tests' for exact models: what is left is the two renders' noise.
 TOLERANCE = 0.01

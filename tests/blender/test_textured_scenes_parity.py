@@ -9,6 +9,8 @@ import pytest
 from conftest import engine_module, open_blend, render
 from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles, mean_relative_difference
 
+pytestmark = pytest.mark.slow
+
 # Measured when written (Cycles' seeds 0 and 1 differ by 0.24% on the room, 0.50% on the still life):
 # - still life 0.41%, at the two renders' noise: the other parity tests' bound for models that agree exactly.
 # - textured room 1.52%, systematic, all of it on the normal-mapped left wall, a plane of object scale

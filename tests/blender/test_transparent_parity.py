@@ -12,6 +12,8 @@ from test_cycles_parity import difference_to_cycles, mean_relative_difference
 from test_texture_export import Tree, new_image
 from test_texture_parity import plane_scene
 
+pytestmark = pytest.mark.slow
+
 TOLERANCE = 0.01
 
 

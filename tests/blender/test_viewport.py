@@ -94,7 +94,7 @@ def test_session_update_reexports_what_changed(empty_scene):
     """ViewportSession.update on the depsgraph's real updates (given to the update handler as to view_update):
     a moved or edited light re-exports the lights only, a hidden object or a material edit everything."""
     viewport = addon_module("engine.viewport")
-    scene = lit_test_scene(empty_scene)
+    lit_test_scene(empty_scene)
     session = viewport.ViewportSession()
     session.update(bpy.context.evaluated_depsgraph_get())
     assert session.last_update[0] == ["everything"] and len(session.scene.meshes) == 2
@@ -166,7 +166,8 @@ def test_worker_honours_the_viewport_pixel_size(empty_scene):
     empty_scene.render.preview_pixel_size = "4"
     assert viewport.viewport_pixel_size(empty_scene, bpy.context) == 4
     empty_scene.render.preview_pixel_size = "AUTO"
-    assert viewport.viewport_pixel_size(empty_scene, bpy.context) == max(1, round(bpy.context.preferences.system.pixel_size))
+    pixel_size = bpy.context.preferences.system.pixel_size
+    assert viewport.viewport_pixel_size(empty_scene, bpy.context) == max(1, round(pixel_size))
 
 
 def test_worker_keeps_its_renderer_while_only_the_camera_changes(empty_scene):
@@ -303,6 +304,7 @@ def test_viewport_settings_and_panel(empty_scene):
 
 
 # -------------------------------------------------------------------- in a real window
+@pytest.mark.gui
 @pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt install xvfb)")
 def test_rendered_viewport_in_a_window(tmp_path):
     run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", bpy.app.binary_path, "--factory-startup",

@@ -5,8 +5,9 @@ under pytest it only defines the helpers below.
 Phases, driven by a timer: switch the largest 3D view of the paper scene to Rendered shading through the
 camera (overlays off) and wait for the viewport's samples; screenshot; F12 the same view and keep its
 colour-managed PNG; move the light and screenshot a second later; turn the viewport compare on and
-screenshot the split view; switch to Solid shading and back, then the engine to EEVEE, listing the threads. Prints VP_RESULT <json>;
-the measurements are the test's to judge. The screenshots go to $SPHRECT_VIEWPORT_OUT (default /tmp)."""
+screenshot the split view; switch to Solid shading and back, then the engine to EEVEE, listing the threads.
+Prints VP_RESULT <json>; the measurements are the test's to judge. The screenshots go to $SPHRECT_VIEWPORT_OUT
+(default /tmp)."""
 import json
 import os
 import sys

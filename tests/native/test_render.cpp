@@ -207,8 +207,8 @@ TEST(RenderLights, EmissiveMeshesBecomeAreaLights) {
         camera.width = camera.height = 4;
         camera.half_width = camera.half_height = 0.4f;
         s->SetCamera(camera);
-        s->AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
-        s->AddDiffuseMaterial({0, 0, 0}, {3, 3, 3});
+        s->AddMaterial(DiffuseMaterial({0.5f, 0.5f, 0.5f}));
+        s->AddMaterial(DiffuseMaterial({0, 0, 0}, {3, 3, 3}));
         const std::vector<int32_t> ids(t.size() / 3, 1);
         s->AddMesh("m", v.data(), v.size() / 3, t.data(), t.size() / 3, nullptr, ids.data());
         s->Commit();
@@ -277,7 +277,7 @@ std::shared_ptr<RenderScene> TestScene(int w, int h, bool medium) {
     const float m[3][4] = {{1, 0, 0, 0}, {0, 0.8f, -0.6f, -4}, {0, 0.6f, 0.8f, 3}};
     std::copy(&m[0][0], &m[0][0] + 12, &c.to_world[0][0]);
     s->SetCamera(c);
-    s->AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+    s->AddMaterial(DiffuseMaterial({0.5f, 0.5f, 0.5f}));
     const float v[] = {-5, -5, 0, 5, -5, 0, 5, 5, 0, -5, 5, 0, -.3f, -.3f, 0, .3f, -.3f, 0, 0, .3f, 0, 0, 0, 0.6f};
     const int32_t t[] = {0, 1, 2, 0, 2, 3, 4, 5, 7, 5, 6, 7, 6, 4, 7};
     s->AddMesh("scene", v, 8, t, 5, nullptr, nullptr);
@@ -415,7 +415,7 @@ void SetTinyCameraAndGreyMaterial(RenderScene& s) {
     CameraModel camera;
     camera.width = camera.height = 4;
     s.SetCamera(camera);
-    s.AddDiffuseMaterial({0.5f, 0.5f, 0.5f});
+    s.AddMaterial(DiffuseMaterial({0.5f, 0.5f, 0.5f}));
 }
 
 TEST(RenderLights, LightTreeOverTheScenesEmitters) {

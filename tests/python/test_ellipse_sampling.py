@@ -67,6 +67,7 @@ CHI2_CASES = [(t, c, d) for c in CONFIGS for t, d in
 CHI2_TESTS = len(CHI2_CASES) + 1
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("technique, config, dtype", CHI2_CASES, ids=lambda x: str(x))
 def test_chi2_technique_matches_its_pdf(technique, config, dtype):
     r = ellipse_chi2_test(technique, config, dtype=dtype, sample_count=200_000, significance=1e-3,
@@ -214,6 +215,7 @@ def _solid_angle_configs():
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("dtype", DTYPES)
 def test_solid_angle_matches_mpmath(dtype):
     """Within 1e-6 relative, for the inputs as the dtype holds them (the float32 path computes in

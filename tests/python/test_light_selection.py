@@ -59,6 +59,7 @@ FOUR_LIGHTS = [facing_down((-0.6, -0.5, 0.6), 0.3, 10.0), facing_down((0.5, 0.4,
                facing_down((0.3, -0.6, 0.5), 0.2, 67.5), facing_down((-0.4, 0.7, 1.5), 1.0, 5.4)]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pattern", PATTERNS)
 @pytest.mark.parametrize("mis", ["none", "power"])
 def test_stratified_choice_is_unbiased(pattern, mis):

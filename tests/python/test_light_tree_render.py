@@ -63,7 +63,8 @@ def mixed_scene():
     ground.material_ids = np.zeros(2, np.int32)
     emitter = sphrect.Mesh(vertices=TRIANGLE.astype(np.float32), triangles=np.array([[0, 1, 2]], np.int32),
                            name="triangle", material_ids=np.ones(1, np.int32))
-    return sphrect.Scene(camera=top_camera(height_above=0.5), meshes=[ground, emitter], lights=RECTS + POINTS + [SPOT, SUN],
+    return sphrect.Scene(camera=top_camera(height_above=0.5), meshes=[ground, emitter],
+                         lights=RECTS + POINTS + [SPOT, SUN],
                          materials=[sphrect.Material(name="ground", base_color=(ALBEDO,) * 3),
                                     sphrect.Material(name="emitter", base_color=(0, 0, 0),
                                                      emission=(TRIANGLE_RADIANCE,) * 3)])
@@ -132,6 +133,7 @@ def test_tree_mis_agrees_with_light_sampling_alone(mis):
     assert ok, f"tree/{mis} vs none: worst p = {p_min:.3g} < {alpha:.3g}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mis", ["none", "power"])
 def test_tree_in_a_medium_matches_quadrature(mis):
     """test_render_medium's rectangle + point light in fog, both chosen by the tree at the scattering point

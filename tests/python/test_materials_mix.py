@@ -111,7 +111,8 @@ def test_mix_emission_adds_the_layers_weighted():
 
 
 def test_what_a_mix_cannot_hold_is_refused():
-    two_principled = sphrect.Material(name="pp", kind="mix", layers=[layer(0.5, **PRINCIPLED), layer(0.5, **PRINCIPLED)])
+    two_principled = sphrect.Material(name="pp", kind="mix",
+                                      layers=[layer(0.5, **PRINCIPLED), layer(0.5, **PRINCIPLED)])
     with pytest.raises(ValueError, match="'pp'.*at most one Principled"):
         sunlit_image(two_principled, np.array([0.0, 0.0, 1.0]))
     n = sphrect.MAX_MIX_GLOSSY_LOBES
@@ -181,3 +182,18 @@ def test_bsdf_sampling_of_a_mix_matches_its_albedo():
     np.testing.assert_allclose(image.reshape(-1, 3).mean(axis=0), expected, rtol=0.01)
     # The glossy lobes' share is several times the tolerance (the check sees them).
     assert np.all(0.4 * ggx_lobe_albedo((0.9, 0.9, 0.6), 0.5, WO) > 0.1 * expected)
+
+
+def test_mix_lobe_slots_follow_the_renderers_merging():
+    # Equal glossy lobes share a slot (the renderer merges them), another roughness, distribution or IOR takes a new
+    # one, a diffuse layer none: what the Blender exporter asks before it drops lobes beyond MAX_MIX_GLOSSY_LOBES.
+    glossy = sphrect.Material(kind="glossy_bsdf", roughness=0.3)
+    slots = sphrect.mix_lobe_slots([glossy, sphrect.Material(kind="diffuse"), glossy,
+                                    sphrect.Material(kind="glossy_bsdf", roughness=0.5),
+                                    sphrect.Material(kind="glossy_bsdf", roughness=0.3, distribution="beckmann"),
+                                    sphrect.Material(kind="glass", roughness=0.3, ior=1.5),
+                                    sphrect.Material(kind="glass", roughness=0.3, ior=1.5, base_color=(1, 0, 0))])
+    assert slots == [0, -1, 0, 1, 2, 3, 3]
+    n = sphrect.MAX_MIX_GLOSSY_LOBES
+    many = [sphrect.Material(kind="glossy_bsdf", roughness=0.2 + 0.1 * i) for i in range(n + 1)]
+    assert sphrect.mix_lobe_slots(many) == list(range(n + 1))

@@ -60,7 +60,8 @@ def test_light_on_the_viewers_side_is_not_reflected():
 def test_mix_of_diffuse_and_translucent_adds_both_sides():
     diffuse = sphrect.Material(base_color=(0.5, 0.5, 0.5))
     translucent = sphrect.Material(kind="translucent", base_color=COLOR)
-    mix = sphrect.Material(kind="mix", layers=[sphrect.MaterialLayer(0.5, diffuse), sphrect.MaterialLayer(0.5, translucent)])
+    mix = sphrect.Material(kind="mix",
+                           layers=[sphrect.MaterialLayer(0.5, diffuse), sphrect.MaterialLayer(0.5, translucent)])
     images = {}
     for name, m in (("mix", mix), ("translucent", translucent)):
         r = sphrect.Renderer(scene(m), techniques="rectangle", seed=4)

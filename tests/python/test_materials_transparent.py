@@ -80,7 +80,8 @@ def test_principled_alpha_mix_shows_both_the_sheet_and_the_floor():
     principled = sphrect.Material(kind="principled", base_color=(0.5, 0.5, 0.5), roughness=1.0, specular=0.0)
     diffuse = sphrect.Material(base_color=(0.5, 0.5, 0.5))
     clear = sphrect.Material(kind="transparent", base_color=(1.0, 1.0, 1.0))
-    sheet = sphrect.Material(kind="mix", layers=[sphrect.MaterialLayer(1 - a, clear), sphrect.MaterialLayer(a, diffuse)])
+    sheet = sphrect.Material(kind="mix",
+                             layers=[sphrect.MaterialLayer(1 - a, clear), sphrect.MaterialLayer(a, diffuse)])
     s = scene(sheet)
     cam = s.camera
     expected = a * 0.5 * sheet_irradiance_image(cam) + (1 - a) * (1 - a) * floor_image(cam)
@@ -143,7 +144,8 @@ def test_transparent_kind_round_trips_through_the_scene_file(tmp_path):
     s = scene(sphrect.Material(name="sheet", kind="transparent", base_color=(0.5, 0.25, 0.9)))
     sphrect.save_scene(s, path)
     loaded = sphrect.load_scene(path)
-    assert loaded.materials[1].kind == "transparent" and loaded.materials[1].base_color == pytest.approx((0.5, 0.25, 0.9))
+    assert loaded.materials[1].kind == "transparent"
+    assert loaded.materials[1].base_color == pytest.approx((0.5, 0.25, 0.9))
     np.testing.assert_array_equal(render(loaded), render(s))
 
 

@@ -91,6 +91,7 @@ def agrees_with(reps, expected, family_alpha=1e-3):
 @pytest.mark.parametrize("emitter", ["mesh", "rect_light"])
 @pytest.mark.parametrize("pixel_filter,width", [("blackman_harris", 1.5), ("gaussian", 1.5), ("box", 1.0),
                                                 ("box", 2.0), ("blackman_harris", 3.0), ("gaussian", 0.7)])
+@pytest.mark.slow
 def test_corner_is_its_convolution_with_the_filter(emitter, pixel_filter, width):
     # 16 replicates x 256 samples; false failure rate 1e-3 per case.  The rectangle light checks that Exact Light
     # Edges (the 1-px box's coverage) is off for other filters.

@@ -38,6 +38,7 @@ CHI2_CASES = [(c, "float32") for c in ORDINARY + HARD + CHI2_HORIZON] + \
 CHI2_TESTS = len(CHI2_CASES)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("config, dtype", CHI2_CASES, ids=lambda x: str(x))
 def test_chi2_density_proportional_to_cos(config, dtype):
     """The harness tests the samples against the technique's own pdf; that pdf is cos / E
@@ -59,6 +60,7 @@ def test_chi2_detects_rectangle_cosine_density():
     assert not r.passed, str(r)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("config", [c for c in HORIZON if c.name in ("horizon-sliver", "horizon-corner")], ids=str)
 def test_marginals_where_the_light_crosses_the_horizon(config):
     """Marginal distributions of the sample's light coordinates (s along edge_x, t along edge_y) in

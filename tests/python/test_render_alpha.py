@@ -48,7 +48,8 @@ def test_holdout_in_a_mix_leaves_alpha_one_minus_its_weight():
 
 def test_transparent_film_shows_no_background_and_keeps_its_light():
     # A perspective camera above the small square only: around it the rays escape.
-    cam = sphrect.Camera(width=12, height=12, lens=20.0, to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]])
+    cam = sphrect.Camera(width=12, height=12, lens=20.0,
+                         to_world=[[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 3], [0, 0, 0, 1]])
     scene = sphrect.Scene(camera=cam, materials=[sphrect.Material(base_color=(0.5, 0.5, 0.5))],
                           meshes=[dataclasses.replace(square(0.5, 0.0, "square"), material_ids=None)])
     scene.world.background = (0.2, 0.3, 0.4)  # lights the square too

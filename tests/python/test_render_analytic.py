@@ -80,6 +80,7 @@ def image_tested_as(technique, mis, bsdf_on_diffuse):
     return ("none", False) if not bsdf_on_diffuse else (mis, True)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mis, bsdf_on_diffuse", MIS_ON_DIFFUSE)
 @pytest.mark.parametrize("name", list(RECT_SCENES))
 def test_rectangle_light_on_plane(name, mis, bsdf_on_diffuse):
@@ -147,6 +148,7 @@ def test_disc_light_on_plane(name, ellipse_technique):
         assert ok, f"disc {name}/{ellipse_technique}/{mis}: worst p = {p_min:.3g} < {alpha:.3g} (max rel. {rel:.3g})"
 
 
+@pytest.mark.slow
 def test_ellipse_techniques_agree_in_a_medium():
     """In fog (single scattering: light samples and phase rays whose MIS pdf is the ellipse technique's) and on
     the plane below, a tilted one-sided disc renders the same expected image with either ellipse technique:
@@ -188,7 +190,8 @@ def test_delta_lights_on_plane():
         cos_half = math.cos(spot.spot_size / 2)
         smooth = (1 - cos_half) * spot.spot_blend
         t = np.clip((cos_axis - cos_half) / smooth, 0, 1)
-        att = np.where(cos_axis > cos_half, cos_axis * np.where(cos_axis - cos_half < smooth, t * t * (3 - 2 * t), 1), 0)
+        blend = np.where(cos_axis - cos_half < smooth, t * t * (3 - 2 * t), 1)
+        att = np.where(cos_axis > cos_half, cos_axis * blend, 0)
         e += 2 * att * (d[..., 2] / dist) / dist ** 2
         e += 0.9 * -sun_dir[2]
         return e

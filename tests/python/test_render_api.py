@@ -1,6 +1,5 @@
 """The renderer's Python API: determinism, progressive rendering, progress and cancellation,
 time budgets, features, and clear errors for bad input."""
-import math
 import threading
 import time
 import warnings
@@ -9,7 +8,7 @@ import numpy as np
 import pytest
 
 import sphrect
-from render_testing import ALL_TECHNIQUES, plane_mesh, top_camera
+from render_testing import plane_mesh
 
 
 def box_mesh(center, size, name="box"):
@@ -195,7 +194,8 @@ def test_ellipse_technique_changes_only_ellipse_lights(medium):
 
     rect = images(s)
     assert np.array_equal(rect["area"], rect["spherical_ellipse"])
-    s.lights = [sphrect.EllipseLight(center=(-0.8, 0, 0.25), axis_x=(0, 0.3, 0), axis_y=(0.5, 0, 0), radiance=(4, 4, 4))]
+    s.lights = [sphrect.EllipseLight(center=(-0.8, 0, 0.25), axis_x=(0, 0.3, 0), axis_y=(0.5, 0, 0),
+                                     radiance=(4, 4, 4))]
     disc = images(s)
     assert all(np.all(np.isfinite(i)) and i[..., :3].mean() > 0.01 for i in disc.values())
     assert not np.array_equal(disc["area"], disc["spherical_ellipse"])

@@ -32,10 +32,12 @@ def seen_lights_scene(camera_type="perspective", occluder=True, through_wall=Fal
         meshes.append(quad([[-1.6, -2, -3], [-1.1, -2, -3], [-1.1, 0.0, -3], [-1.6, 0.0, -3]], "occluder"))
     lights = [
         sphrect.RectLight(corner=(-2.4, -1.2, -4), edge_x=(1.3, 0.3, 0.0), edge_y=(-0.3, 1.3, 0.4), radiance=(5, 5, 5)),
-        sphrect.EllipseLight(center=(1.3, 0.4, -4), axis_x=(0.8, 0.2, 0.0), axis_y=(-0.1, 0.4, 0.2), radiance=(3, 2, 1)),
+        sphrect.EllipseLight(center=(1.3, 0.4, -4), axis_x=(0.8, 0.2, 0.0), axis_y=(-0.1, 0.4, 0.2),
+                             radiance=(3, 2, 1)),
         sphrect.RectLight(corner=(-6.0, 1.2, -4.5), edge_x=(3.0, 0, 0), edge_y=(0, 0.8, 0), radiance=(2, 2, 2)),
         sphrect.RectLight(corner=(0.0, -2.0, -4.2), edge_x=(0, 0.8, 0), edge_y=(1.0, 0, 0), radiance=(4, 4, 4)),  # back
-        sphrect.RectLight(corner=(4.0, -3.0, -2.0), edge_x=(0, 2, 0), edge_y=(0, 0, -2), radiance=(6, 6, 6)),  # lights the wall
+        # lights the wall
+        sphrect.RectLight(corner=(4.0, -3.0, -2.0), edge_x=(0, 2, 0), edge_y=(0, 0, -2), radiance=(6, 6, 6)),
     ]
     if through_wall:
         lights.append(sphrect.RectLight(corner=(-1.0, 1.0, -5.97), edge_x=(2.0, 0, -0.06), edge_y=(0, 1.2, 0),
@@ -64,6 +66,7 @@ FILTERS = {"box2": dict(pixel_filter="box", filter_width=2.0),
                          [("perspective", False, None), ("orthographic", False, None), ("perspective", True, None),
                           ("perspective", False, "blackman_harris"), ("orthographic", False, "gaussian"),
                           ("perspective", True, "blackman_harris"), ("perspective", False, "box2")])
+@pytest.mark.slow
 def test_unbiased_against_the_sampled_estimate(camera_type, through_wall, pixel_filter):
     """Welch's t-test of 32 replicates with the control variate against 32 without (independent
     seeds), on each image row's sum and on the whole image's, per channel; family-wise
@@ -84,6 +87,7 @@ def test_unbiased_against_the_sampled_estimate(camera_type, through_wall, pixel_
     assert abs(totals_cv.mean() - totals.mean()) < 4 * totals.std(ddof=1) / np.sqrt(len(totals))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("pixel_filter", [None, "blackman_harris", "gaussian", "box2"])
 def test_edges_of_unoccluded_lights_lose_their_noise(pixel_filter):
     """At equal samples the error of the pixels seeing the lights' edges falls by far more than 20x
@@ -100,6 +104,7 @@ def test_edges_of_unoccluded_lights_lose_their_noise(pixel_filter):
     assert err_cv[edges].sum() < err[edges].sum() / 20
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("through_wall, pixel_filter", [(False, None), (True, None), (False, "blackman_harris")])
 def test_occluded_edges_lose_most_of_their_noise(through_wall, pixel_filter):
     """A plane in front of part of the rectangle (and a light crossing the wall): the pixels where

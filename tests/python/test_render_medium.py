@@ -71,7 +71,8 @@ def expected_image():
                     rect = f @ wY                                             # [Nt]
                     wp = np.asarray(POINT["position"]) - X
                     rp = np.linalg.norm(wp, axis=-1)
-                    point = henyey_greenstein((wp @ d) / rp, G) * POINT["intensity"][0] * np.exp(-sigma_t * rp) / rp ** 2
+                    point = (henyey_greenstein((wp @ d) / rp, G) * POINT["intensity"][0] * np.exp(-sigma_t * rp)
+                             / rp ** 2)
                     total += wa * wb * np.sum(wt * SIGMA_S * np.exp(-sigma_t * t) * (rect + point))
             img[row, col] = total
     return img
@@ -89,6 +90,7 @@ def replicates_with_mis(medium_sampling):
     return replicate_images(medium_scene(), ALL_TECHNIQUES, 16, 1024, medium_sampling=medium_sampling, mis="balance")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("medium_sampling", ["distance", "equiangular", "mis"])
 def test_single_scattering_matches_quadrature(expected, medium_sampling):
     assert expected.min() > 1e-3

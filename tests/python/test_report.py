@@ -17,6 +17,8 @@ from sphrect.study.report.findings import cosine_comparisons
 
 from test_study import scene_file, study  # noqa: F401  (scene_file is a fixture)
 
+pytestmark = pytest.mark.study
+
 PLACEHOLDER = wording.PLACEHOLDER
 
 
@@ -133,7 +135,8 @@ def test_projected_finding_compares_with_rectangle_and_cosine():
     assert against_cosine.efficiency == pytest.approx(5) and against_cosine.verdict == "better than rectangle_cosine"
     assert "RMSE ratio at equal time 0.346" in wording.cosine_line(against_rectangle)
     lines = wording.projected_summary_lines([against_rectangle, against_cosine])
-    assert lines[1].startswith("- rectangle_projected is more efficient (1 / (MSE x time)) than rectangle_cosine in 1 of 1")
+    assert lines[1].startswith("- rectangle_projected is more efficient (1 / (MSE x time)) than rectangle_cosine "
+                               "in 1 of 1")
     # Not in the study: no finding.
     assert findings.projected_comparisons(StudyConfig(techniques=("rectangle",), mis=("none",),
                                                       patterns=("sobol",)), curves) is None

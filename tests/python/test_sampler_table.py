@@ -15,7 +15,8 @@ def test_the_suite_is_the_tests_suite():
     assert len(names) == len(set(names)) == len(sphrect._native._study_hard_cases())
     # Every kind of configuration the tests check, and the study's former own ones.
     for kind in ("unit/above_center_d1e+06", "unit/above_center_d100", "unit/above_center_d10000",
-                 "unit/beside_h1e-06", "aspect1e5/interior_h1e-09", "rotated/diagonal_d1e-06", "long1e5/above_center_h1"):
+                 "unit/beside_h1e-06", "aspect1e5/interior_h1e-09", "rotated/diagonal_d1e-06",
+                 "long1e5/above_center_h1"):
         assert kind in names, kind
     for _, origin, corner, ex, ey in cases:  # float32 values, as the float path sees them
         for v in (origin, corner, ex, ey):

@@ -88,6 +88,7 @@ def _call_args(c):
 CHI2_TESTS = len(CHI2_TECHNIQUES) * len(CHI2_CONFIGS) * len(DTYPES)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("dtype", DTYPES)
 @pytest.mark.parametrize("config", CHI2_CONFIGS, ids=str)
 @pytest.mark.parametrize("technique", CHI2_TECHNIQUES)
@@ -117,6 +118,7 @@ def test_chi2_detects_a_pdf_off_by_three_percent():
     assert not r.passed, str(r)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("config", ORDINARY, ids=str)
 @pytest.mark.parametrize("technique, against", [("triangles", "rectangle"), ("rectangle", "triangles")])
 def test_solid_angle_uniform_techniques_agree(technique, against, config):
@@ -150,6 +152,7 @@ UNIFORM_TRIANGLES = [
 UNIFORM_CHI2_TESTS = 2 * len(UNIFORM_TRIANGLES) * len(DTYPES)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("dtype", DTYPES)
 @pytest.mark.parametrize("config", UNIFORM_TRIANGLES, ids=str)
 @pytest.mark.parametrize("against", [None, "rectangle"])

@@ -21,6 +21,8 @@ from sphrect.study.report import results as report_results
 from sphrect.study.reference import estimate_error
 from sphrect.study.store import ResultStore
 
+pytestmark = pytest.mark.study
+
 HOOK = "test_study:fake_render"
 W, H = 16, 12
 NOISE = {"area": 0.4, "triangles": 0.2, "rectangle": 0.1, "rectangle_cosine": 0.08}

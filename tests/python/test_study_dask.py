@@ -29,6 +29,8 @@ from sphrect.study.store import ResultStore
 from test_study import assert_store_clean, scene_file, study, tiny_config  # noqa: F401  (scene_file: a fixture)
 from test_study_render import paper_like_scene
 
+pytestmark = [pytest.mark.study, pytest.mark.cluster]
+
 FAKE_SLEEP = "0.05"  # seconds per fake render on the shared cluster's workers: a study lasts long enough to kill one
 
 

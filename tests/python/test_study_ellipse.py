@@ -19,6 +19,8 @@ from sphrect.study.runner import RunContext, render_sphrect
 from test_study import AREA_DISK_COST, AREA_DISK_NOISE, scene_file, study, tiny_config  # noqa: F401 (fixture)
 from test_study_render import paper_like_scene
 
+pytestmark = pytest.mark.study
+
 BOTH = ("area", "spherical_ellipse")
 
 

@@ -21,6 +21,8 @@ from sphrect.study.lock import STUDY_LOCK, WORKERS_LOCK, StudyBusy, StudyLock
 from test_study import H, W, fake_render, scene_file, study  # noqa: F401 (fixture; the hook's module)
 from test_study_render import paper_like_scene
 
+pytestmark = pytest.mark.study
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 

@@ -13,6 +13,8 @@ import pytest
 import sphrect
 from sphrect.study import LocalProcessPool, ReferenceSettings, StudyConfig, run_study
 
+pytestmark = pytest.mark.study
+
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PAPER_BLEND = os.path.join(ROOT, "blend_scenes", "01_paper.blend")
 BLENDER_SCRIPT = os.path.join(ROOT, "addon", "sphrect_blender", "headless.py")  # the add-on's headless entry

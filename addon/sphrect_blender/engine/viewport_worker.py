@@ -4,10 +4,11 @@ resolution, then at full resolution in growing sample batches, and publishes eac
 
 A job whose scene differs from the last one's only in its camera (the view moved, a preview's or the full
 resolution: the same `scene_version`) reuses the last renderer with the camera set (Renderer.set_camera): the
-native scene, its BVH and light tree are not built again. A new job (the view or the scene changed) or stop() cancels the renderer call in progress at its next tile
-(the native renderer releases the GIL while it renders and checks its cancel flag between tiles), so a
-restart costs at most a tile. pause_all() holds every worker while an F12 render runs, so that the viewport
-never takes CPU from it. Nothing here touches bpy: the thread only sees sphrect objects."""
+native scene, its BVH and light tree are not built again. A new job (the view or the scene changed) or stop()
+cancels the renderer call in progress at its next tile (the native renderer releases the GIL while it renders and
+checks its cancel flag between tiles), so a restart costs at most a tile. pause_all() holds every worker while an
+F12 render runs, so that the viewport never takes CPU from it. Nothing here touches bpy: the thread only sees
+sphrect objects."""
 import dataclasses
 import os
 import threading

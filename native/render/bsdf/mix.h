@@ -8,6 +8,16 @@
 
 namespace sphrect::render {
 
+// Whether a mix holds two microfacet lobes as one (their colours summed): the same shape, Fresnel and distribution
+// (a multiple-scattering one also the same colour, which tints each bounce).
+inline bool SameMicrofacetLobe(const MicrofacetLobe& a, const MicrofacetLobe& b) {
+    return a.alpha == b.alpha && a.alpha_y == b.alpha_y && a.rotation == b.rotation && a.fresnel_ior == b.fresnel_ior &&
+           a.beckmann == b.beckmann && a.multiscatter == b.multiscatter &&
+           (!b.multiscatter ||
+            (a.bounce_color.x == b.bounce_color.x && a.bounce_color.y == b.bounce_color.y &&
+             a.bounce_color.z == b.bounce_color.z));
+}
+
 // What MixIntoBsdf does with a part the mix cannot hold: throw std::invalid_argument (building a scene), or, at
 // a textured hit (whose Material was checked with kThrow on its untextured values, so this is the rare case of
 // textures making lobes that merged there distinct), keep what fits: the part's Principled lobes dropped, an
@@ -18,7 +28,7 @@ enum class MixOverflow { kThrow, kLenient };
 // Add: 1 and 1): `part`'s lobes scaled by `weight` and added to `mix`.  A mix holds Lambert lobes (summed),
 // at most one Principled BSDF's lobes (Burley, sheen, specular, clearcoat) and kMaxMicrofacetLobes microfacet
 // lobes (equal ones merged); what does not fit, and the former 'glossy' model, are kPolicy's.
-// Emission is the caller's (RenderScene::PushMaterial).
+// Emission is the caller's (RenderScene::MakeMaterialBsdf).
 template <MixOverflow kPolicy = MixOverflow::kThrow>
 inline void MixIntoBsdf(Bsdf& mix, const Bsdf& part, float weight) {
     constexpr bool kThrows = kPolicy == MixOverflow::kThrow;
@@ -74,15 +84,7 @@ inline void MixIntoBsdf(Bsdf& mix, const Bsdf& part, float weight) {
         MicrofacetLobe lobe = part.lobes[i];
         lobe.color = lobe.color * weight;
         int j = 0;
-        const auto same = [&](const MicrofacetLobe& o) {
-            return o.alpha == lobe.alpha && o.alpha_y == lobe.alpha_y && o.rotation == lobe.rotation &&
-                   o.fresnel_ior == lobe.fresnel_ior && o.beckmann == lobe.beckmann &&
-                   o.multiscatter == lobe.multiscatter &&
-                   (!lobe.multiscatter || (o.bounce_color.x == lobe.bounce_color.x &&
-                                           o.bounce_color.y == lobe.bounce_color.y &&
-                                           o.bounce_color.z == lobe.bounce_color.z));
-        };
-        while (j < mix.num_lobes && !same(mix.lobes[j])) ++j;
+        while (j < mix.num_lobes && !SameMicrofacetLobe(mix.lobes[j], lobe)) ++j;
         if (j < mix.num_lobes) {
             mix.lobes[j].color += lobe.color;
         } else if (mix.num_lobes < kMaxMicrofacetLobes) {

@@ -187,7 +187,6 @@ def check_names(setting: str, kind: str, names: Sequence[str], allowed: Sequence
     return names
 
 
-
 @dataclass
 class StudyConfig:
     """Everything that defines a study (saved as config.json in its output directory)."""

@@ -106,7 +106,8 @@ def render_cycles_job(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
                                   seed=job.seed, threads=job.threads, blender=worker_blender(context.blender),
                                   blender_script=context.blender_script)
     measured = {"build_time": timing.get("build_time"), "call_time": timing.get("operator_time"),
-                "wall_time": timing["wall_time"], "cpu_time": timing.get("cpu_time"), "light_time": None, "shading_time": None, "rays": None,
+                "wall_time": timing["wall_time"], "cpu_time": timing.get("cpu_time"), "light_time": None,
+                "shading_time": None, "rays": None,
                 "samples_done": timing.get("samples_done"), "timing_source": timing.get("timing_source"),
                 "blender_version": timing.get("blender_version"),
                 "cycles_sampling_pattern": timing.get("sampling_pattern")}

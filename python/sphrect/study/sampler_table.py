@@ -174,8 +174,8 @@ def sampler_tables():
             rows.append([name, f"{100 * e['omega']:.3g}%", e["omega_case"], f"{100 * e['pdf']:.3g}%", e["pdf_case"],
                          f"{e['invalid']}/{e['samples']}", str(e["area_fallback_cases"])])
     tables = [("Accuracy of the `rectangle` map over the hard-case suite (worst relative errors)",
-               ["variant", "solid angle error (textbook: its own; robust: solid_angle())", "where", "pdf error", "where", "invalid samples",
-                "setups switched to area sampling"], rows)]
+               ["variant", "solid angle error (textbook: its own; robust: solid_angle())", "where", "pdf error",
+                "where", "invalid samples", "setups switched to area sampling"], rows)]
     in_plane = sum(exact_solid_angle(*case[1:]) == 0 for case in hard_cases())
     notes = [f"{len(hard_cases()) - in_plane} hard cases x {len(uv_grid())} (u, v) points (the C++ tests' suite, "
              "native/core/hard_cases.h: distances 1e-6..1e6, grazing heights 1e-9..1e-1, corners, edges, aspect "

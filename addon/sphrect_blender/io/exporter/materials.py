@@ -327,13 +327,6 @@ def _mix_normal_map(layers, log, name):
     return {"normal_map": used[0][0], "normal_map_strength": used[0][1]}
 
 
-def _lobe_key(mat):
-    """What makes two glossy / glass layers one lobe in the renderer (bsdf.h MixIntoMaterial)."""
-    return (mat.roughness, mat.distribution, mat.ior if mat.kind == "glass" else 0.0,
-            repr(mat.textures.get("roughness")), mat.anisotropic, mat.anisotropic_rotation,
-            mat.base_color if mat.distribution == "multiscatter_ggx" else None)  # its colour tints each bounce
-
-
 def _average_principled(sphrect, principled, weights=None):
     """One layer for several Principled BSDF layers: their total weight, weight-averaged inputs and colour
     (`weights`: the layers' own by default)."""
@@ -381,17 +374,19 @@ def _fit_mix(sphrect, layers, textures, log, name):
                                                   normal_map=textured.material.normal_map,
                                                   normal_map_strength=textured.material.normal_map_strength)
         layers = [l for l in layers if l.material.kind != "principled"] + [merged]
+    # The renderer says which glossy / glass layers share a lobe; a textured roughness keeps a layer's lobe apart
+    # (at a hit its roughness is the image's).
+    glossy = [l for l in layers if l.material.kind in ("glass", "glossy_bsdf")]
+    keys = {id(l): (slot, repr(l.material.textures.get("roughness")))
+            for l, slot in zip(glossy, sphrect.mix_lobe_slots([l.material for l in glossy]))}
     lobes = {}
-    for l in layers:
-        if l.material.kind in ("glass", "glossy_bsdf"):
-            key = _lobe_key(l.material)
-            lobes[key] = lobes.get(key, 0.0) + l.weight
+    for l in glossy:
+        lobes[keys[id(l)]] = lobes.get(keys[id(l)], 0.0) + l.weight
     if len(lobes) > sphrect.MAX_MIX_GLOSSY_LOBES:
         kept = set(sorted(lobes, key=lobes.get, reverse=True)[:sphrect.MAX_MIX_GLOSSY_LOBES])
         log.unsupported_feature(f"a mix of {len(lobes)} glossy / glass shaders of different roughness or IOR "
                                 f"(the {sphrect.MAX_MIX_GLOSSY_LOBES} heaviest kept)", name)
-        layers = [l for l in layers if l.material.kind not in ("glass", "glossy_bsdf")
-                  or _lobe_key(l.material) in kept]
+        layers = [l for l in layers if id(l) not in keys or keys[id(l)] in kept]
     return layers
 
 

@@ -207,9 +207,10 @@ CosineComparison = TechniqueComparison  # rectangle_cosine against rectangle
 def technique_comparisons(cfg: StudyConfig, all_curves: Curves, technique: str,
                           against: str) -> Optional[List[TechniqueComparison]]:
     """`technique` against `against` per (MIS, pattern, light selection, ellipse technique): RMSE at the top of
-    the ladder, cost per sample (curve_cost) and efficiency 1 / (MSE x cost).  An efficiency ratio within two standard errors of the
-    cost ratio of 1 is a tie: single runs' times move by more than that between studies.  (The top run's MSE
-    has its own noise, which this margin does not count.)  None when the study lacks one of the two."""
+    the ladder, cost per sample (curve_cost) and efficiency 1 / (MSE x cost).  An efficiency ratio within two
+    standard errors of the cost ratio of 1 is a tie: single runs' times move by more than that between studies.
+    (The top run's MSE has its own noise, which this margin does not count.)  None when the study lacks one of the
+    two."""
     if technique not in cfg.techniques or against not in cfg.techniques:
         return None
     out = []
@@ -237,5 +238,6 @@ def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[Te
 def projected_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[TechniqueComparison]]:
     """rectangle_projected against rectangle and against rectangle_cosine (technique_comparisons; the pairs the
     study has)."""
-    out = [c for against in (RECTANGLE, COSINE) for c in technique_comparisons(cfg, all_curves, PROJECTED, against) or []]
+    out = [c for against in (RECTANGLE, COSINE)
+           for c in technique_comparisons(cfg, all_curves, PROJECTED, against) or []]
     return out if PROJECTED in cfg.techniques else None

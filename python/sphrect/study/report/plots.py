@@ -83,7 +83,8 @@ def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x:
                                 f"{fmt(fitted_slope(curve, x, ref_rmse), 2)})")
         if cycles:
             ax.loglog([curve_x(r, x) for r in cycles], [r["rmse"] for r in cycles], "s--",
-                      color=technique_colour(CYCLES), ms=3, label=f"{CYCLES_NAME} (slope {fmt(fitted_slope(cycles, x, ref_rmse), 2)})")
+                      color=technique_colour(CYCLES), ms=3,
+                      label=f"{CYCLES_NAME} (slope {fmt(fitted_slope(cycles, x, ref_rmse), 2)})")
         ax.axhline(ref_rmse, color="grey", ls=":", lw=1, label="reference's own RMSE")
         ax.set_title(f"MIS: {mis}, pattern: {pattern}")
         ax.set_xlabel("samples per pixel" if x == "samples" else time_label(cfg.threads))
@@ -117,9 +118,9 @@ def plot_slopes(results: StudyResults, slopes: Slopes, path: str) -> None:
 
 
 def plot_equal_time_grid(results: StudyResults, grid: EqualTimeGrid, path: str) -> None:
-    """A pair of rows per MIS mode, light selection and ellipse technique: the equal-time renders (one white point, the reference's)
-    and below each its error heat map, all maps on one colour scale (the largest 99th percentile of their finite
-    values)."""
+    """A pair of rows per MIS mode, light selection and ellipse technique: the equal-time renders (one white point,
+    the reference's) and below each its error heat map, all maps on one colour scale (the largest 99th percentile of
+    their finite values)."""
     plt = _plt()
     reference = grid.reference
     white = metrics.white_point(reference)

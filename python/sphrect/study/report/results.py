@@ -23,8 +23,8 @@ Curves = Dict[CurveKey, List[Dict]]
 CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "light_selection", "ellipse_technique",
                "samples", "light_samples",
                "seed", "threads", "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time",
-               "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse", "finite",
-               *MACHINE_FIELDS)
+               "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse",
+               "finite", *MACHINE_FIELDS)
 
 
 @dataclass

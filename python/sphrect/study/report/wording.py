@@ -216,14 +216,16 @@ def selection_lines(comparisons: Optional[List[SelectionComparison]]) -> List[st
     low, high = finite_span(ratios)
     return [f"- Light selection: to reach the same RMSE, {LIGHT_TREE} takes **{fmt(float(np.median(ratios)))}x** the "
             f"time of {POWER_SELECTION} (median over {len(comparisons)} (technique, MIS, pattern) configurations, "
-            f"range {fmt(low)} ... {fmt(high)}): faster in {verdicts.count('faster')}, slower in {verdicts.count('slower')}, "
+            f"range {fmt(low)} ... {fmt(high)}): faster in {verdicts.count('faster')}, "
+            f"slower in {verdicts.count('slower')}, "
             f"indistinguishable within the timing noise in the rest."]
 
 
 def selection_rows(comparisons: Optional[List[SelectionComparison]], show_ellipse: bool = False
                    ) -> List[List[str]]:
-    return [[c.technique, c.mis, c.pattern] + ([c.ellipse_technique] if show_ellipse else []) + [fmt(c.rmse), fmt(c.power.time), fmt(c.tree.time), fmt(c.ratio),
-             f"{c.verdict} (+-{fmt(100 * c.noise, 2)}%)"] for c in comparisons or []]
+    return [[c.technique, c.mis, c.pattern] + ([c.ellipse_technique] if show_ellipse else [])
+            + [fmt(c.rmse), fmt(c.power.time), fmt(c.tree.time), fmt(c.ratio),
+               f"{c.verdict} (+-{fmt(100 * c.noise, 2)}%)"] for c in comparisons or []]
 
 
 def ellipse_lines(comparisons: Optional[List[EllipseComparison]], show_selection: bool = False) -> List[str]:
@@ -282,8 +284,8 @@ def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[Cos
     lines = []
     ratio = cycles.top_ratio if cycles else None
     if ratio is not None:
-        lines.append(f"- Goal (our best configuration needs at most 1/3 of Cycles 3.4's time for Cycles' RMSE at the "
-                     f"top of the ladder, or the highest count whose error our runs reach): measured ratio "
+        lines.append("- Goal (our best configuration needs at most 1/3 of Cycles 3.4's time for Cycles' RMSE at the "
+                     "top of the ladder, or the highest count whose error our runs reach): measured ratio "
                      + ("at most " if cycles.reached[-1].reach.how == BELOW_FEWEST else "")
                      + f"**{fmt(ratio)}** -> " + ("**met**." if cycles.meets_goal else "**not met**."))
     else:

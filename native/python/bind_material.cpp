@@ -1,0 +1,225 @@
+// sphrect.Material into the renderer: the dataclass as dataclasses.asdict gives it (python/sphrect/render.py),
+// read here once into a render::Material, whose values RenderScene::AddMaterial checks; and the mix's lobe slots
+// the Blender exporter asks for instead of keeping its own copy of MixIntoBsdf's rule.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "render/material.h"
+
+namespace py = pybind11;
+
+namespace sphrect::python {
+
+namespace {
+
+using render::Material;
+using render::MaterialKind;
+using render::Spectrum;
+
+// 'a', 'b' or 'c': the allowed values, for messages (as sphrect.arguments.one_of).
+template <size_t N>
+std::string OneOf(const char* const (&names)[N]) {
+    std::string s;
+    for (size_t i = 0; i < N; ++i) s += (i ? (i + 1 == N ? " or '" : ", '") : "'") + std::string(names[i]) + "'";
+    return s;
+}
+
+std::string Repr(const py::handle& h) { return py::repr(h).cast<std::string>(); }
+
+template <size_t N>
+int IndexOf(const py::handle& value, const char* const (&names)[N], const std::string& what) {
+    if (py::isinstance<py::str>(value)) {
+        const std::string s = value.cast<std::string>();
+        for (size_t i = 0; i < N; ++i)
+            if (s == names[i]) return int(i);
+    }
+    throw py::value_error(what + " must be " + OneOf(names) + ", got " + Repr(value));
+}
+
+float Number(const py::dict& d, const char* field) {
+    const py::handle v = d[field];
+    if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v) ||
+                                          py::hasattr(v, "__float__")))
+        throw py::value_error(std::string(field) + " must be a number, got " + Repr(v));
+    return float(v.cast<double>());
+}
+
+Spectrum Rgb(const py::handle& v, const std::string& what) {
+    try {
+        const auto c = v.cast<std::vector<double>>();
+        if (c.size() == 3) return {float(c[0]), float(c[1]), float(c[2])};
+    } catch (const py::cast_error&) {
+    }
+    throw py::value_error(what + " must be three numbers, got " + Repr(v));
+}
+
+py::dict Fields(const py::handle& v, const std::string& what) {
+    if (!py::isinstance<py::dict>(v)) throw py::value_error(what);
+    return py::reinterpret_borrow<py::dict>(v);
+}
+
+// The microfacet distribution of a kind that has one (its names: `names`).
+template <size_t N>
+std::string Distribution(const py::dict& d, const char* const (&names)[N], const std::string& kind) {
+    const py::handle v = d["distribution"];
+    if (py::isinstance<py::str>(v))
+        for (const char* name : names)
+            if (v.cast<std::string>() == name) return name;
+    throw py::value_error("unknown distribution " + Repr(v) + " for kind '" + kind + "' (expected " + OneOf(names) +
+                          ")");
+}
+
+render::TextureLookup Lookup(const py::handle& value, const std::string& what) {
+    const py::dict d = Fields(value, what + " must be a sphrect.TextureLookup, got " +
+                                         std::string(py::str(value.get_type().attr("__name__"))));
+    render::TextureLookup t;
+    const py::handle index = d["texture"];
+    if (py::isinstance<py::bool_>(index) || !py::isinstance<py::int_>(index) || index.cast<long long>() < 0 ||
+        index.cast<long long>() > (1LL << 31) - 1)
+        throw py::value_error(what + ": texture " + Repr(index) + " is not an index into the scene's textures");
+    t.image = index.cast<int>();
+    t.alpha_output = IndexOf(d["output"], render::kTextureOutputNames, what + ": output") == 1;
+    t.generated = IndexOf(d["coordinates"], render::kTextureCoordinateNames, what + ": coordinates") == 1;
+    t.interpolation = render::TextureInterpolation(
+        IndexOf(d["interpolation"], render::kTextureInterpolationNames, what + ": interpolation"));
+    t.extension =
+        render::TextureExtension(IndexOf(d["extension"], render::kTextureExtensionNames, what + ": extension"));
+    std::vector<std::vector<double>> m;
+    try {
+        m = py::module_::import("numpy").attr("asarray")(d["transform"], "float64").attr("tolist")()
+                .cast<std::vector<std::vector<double>>>();
+    } catch (const std::exception&) {
+    }
+    if (m.size() != 3 || m[0].size() != 4 || m[1].size() != 4 || m[2].size() != 4)
+        throw py::value_error(what + ": transform must be a finite 3x4 matrix");
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) {
+            if (!std::isfinite(m[r][c])) throw py::value_error(what + ": transform must be a finite 3x4 matrix");
+            t.transform[r][c] = float(m[r][c]);
+        }
+    return t;
+}
+
+Material ReadMaterial(const py::dict& d);
+
+Material ReadMaterialNamed(const py::dict& d) {
+    const std::string name = py::str(d["name"]);
+    try {
+        Material m = ReadMaterial(d);
+        m.name = name;
+        return m;
+    } catch (const py::error_already_set&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw py::value_error("material '" + name + "': " + e.what());
+    }
+}
+
+Material ReadMaterial(const py::dict& d) {
+    Material m;
+    const py::handle kind_name = d["kind"];
+    int kind_index = -1;
+    for (int i = 0; i < int(std::size(render::kMaterialKindNames)); ++i)
+        if (py::isinstance<py::str>(kind_name) && kind_name.cast<std::string>() == render::kMaterialKindNames[i])
+            kind_index = i;
+    if (kind_index < 0)
+        throw py::value_error("unknown kind " + Repr(kind_name) + " (expected " + OneOf(render::kMaterialKindNames) +
+                              ")");
+    m.kind = MaterialKind(kind_index);
+    m.emission = Rgb(d["emission"], "emission");
+    render::PrincipledInputs& in = m.inputs;
+    in.base_color = Rgb(d["base_color"], "base_color");
+    in.roughness = Number(d, "roughness");
+    in.metallic = Number(d, "metallic");
+    in.specular = Number(d, "specular");
+    in.specular_tint = Number(d, "specular_tint");
+    in.sheen = Number(d, "sheen");
+    in.sheen_tint = Number(d, "sheen_tint");
+    in.clearcoat = Number(d, "clearcoat");
+    in.clearcoat_roughness = Number(d, "clearcoat_roughness");
+    in.anisotropic = Number(d, "anisotropic");
+    in.anisotropic_rotation = Number(d, "anisotropic_rotation");
+    in.transmission = Number(d, "transmission");
+    in.ior = m.ior = Number(d, "ior");
+    const std::string kind = render::kMaterialKindNames[int(m.kind)];
+    std::string distribution;
+    if (m.kind == MaterialKind::kGlass) distribution = Distribution(d, render::kGlassDistributionNames, kind);
+    if (m.kind == MaterialKind::kGlossyBsdf) distribution = Distribution(d, render::kGlossyDistributionNames, kind);
+    if (m.kind == MaterialKind::kPrincipled)
+        distribution = Distribution(d, render::kPrincipledDistributionNames, kind);
+    m.beckmann = distribution == "beckmann";
+    in.multiscatter = distribution == "multiscatter_ggx";
+    const py::handle textures = d["textures"];
+    const py::dict texture_fields = Fields(
+        textures, "textures must be a dict of input name -> sphrect.TextureLookup, got " +
+                      std::string(py::str(textures.get_type().attr("__name__"))));
+    for (const auto& [key, lookup] : texture_fields) {
+        int input = -1;
+        for (int i = 0; i < render::kNumTexturedInputs; ++i)
+            if (py::isinstance<py::str>(key) && key.cast<std::string>() == render::kTexturedInputNames[i]) input = i;
+        if (input < 0)
+            throw py::value_error("no input " + Repr(key) + " takes a texture (expected " +
+                                  OneOf(render::kTexturedInputNames) + ")");
+        m.textures[input] = Lookup(lookup, "texture '" + std::string(render::kTexturedInputNames[input]) + "'");
+    }
+    if (!d["normal_map"].is_none()) {
+        m.normal_map.lookup = Lookup(d["normal_map"], "normal_map");
+        m.normal_map.strength = Number(d, "normal_map_strength");
+    }
+    const py::handle layers = d["layers"];
+    if (!py::isinstance<py::list>(layers) && !py::isinstance<py::tuple>(layers))
+        throw py::value_error("layers must be a list of sphrect.MaterialLayer, got " + Repr(layers));
+    size_t i = 0;
+    for (const py::handle layer : layers) {
+        const std::string what = "layer " + std::to_string(i);
+        const py::dict l = Fields(layer, what + " is not a sphrect.MaterialLayer");
+        render::MaterialLayer out;
+        out.weight = Number(l, "weight");
+        out.material = ReadMaterialNamed(Fields(l["material"], what + ": material is not a sphrect.Material"));
+        size_t j = 0;
+        for (const py::handle factor : l["factors"]) {
+            const std::string fwhat = what + " factor " + std::to_string(j++);
+            const py::dict f = Fields(factor, fwhat + " is not a sphrect.MixFactor");
+            out.factors.push_back({Lookup(f["lookup"], fwhat), py::bool_(f["complement"]).cast<bool>()});
+        }
+        m.layers.push_back(std::move(out));
+        ++i;
+    }
+    return m;
+}
+
+}  // namespace
+
+Material MaterialFromFields(const py::handle& fields) {
+    return ReadMaterialNamed(Fields(fields, "a material must be a sphrect.Material"));
+}
+
+void BindMaterial(py::module_& m) {
+    auto names = [](const auto& list) {
+        py::tuple t(std::size(list));
+        for (size_t i = 0; i < std::size(list); ++i) t[i] = list[i];
+        return t;
+    };
+    m.attr("material_kinds") = names(render::kMaterialKindNames);
+    m.attr("glass_distributions") = names(render::kGlassDistributionNames);
+    m.attr("principled_distributions") = names(render::kPrincipledDistributionNames);
+    m.attr("glossy_distributions") = names(render::kGlossyDistributionNames);
+    m.attr("texture_outputs") = names(render::kTextureOutputNames);
+    m.attr("texture_coordinates") = names(render::kTextureCoordinateNames);
+    m.def(
+        "_mix_lobe_slots",
+        [](const py::list& materials) {
+            std::vector<Material> parts;
+            for (const py::handle h : materials) parts.push_back(MaterialFromFields(h));
+            return render::MixLobeSlots(parts);
+        },
+        py::arg("materials"),
+        "sphrect.mix_lobe_slots of the materials' dataclasses.asdict fields");
+}
+
+}  // namespace sphrect::python

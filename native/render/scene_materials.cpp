@@ -1,0 +1,135 @@
+// Materials into the scene (Cycles: scene/shader.cpp): a Material is checked once, here, and turned into the Bsdf
+// the integrator evaluates; a mix is made from its layers' Bsdfs by MixIntoBsdf, which says what a mix can hold.
+#include <cmath>
+#include <string>
+
+#include "scene.h"
+#include "scene_checks.h"
+
+namespace sphrect::render {
+
+namespace {
+
+std::string KindName(MaterialKind kind) { return kMaterialKindNames[int(kind)]; }
+
+// The inputs each kind reads must be finite (the Make*Bsdf functions clamp their ranges, as Cycles does).
+void CheckInputsFinite(const Material& m) {
+    const PrincipledInputs& in = m.inputs;
+    switch (m.kind) {
+        case MaterialKind::kGlossy:
+            if (!std::isfinite(in.roughness) || !std::isfinite(in.metallic) || !std::isfinite(in.specular))
+                Fail("roughness, metallic and specular must be finite");
+            break;
+        case MaterialKind::kPrincipled:
+            for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint,
+                            in.clearcoat, in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation,
+                            in.transmission, in.ior})
+                if (!std::isfinite(v)) Fail("Principled inputs must be finite");
+            break;
+        case MaterialKind::kGlass:
+            if (!std::isfinite(in.roughness) || !std::isfinite(m.ior)) Fail("roughness and ior must be finite");
+            break;
+        case MaterialKind::kGlossyBsdf:
+            if (!std::isfinite(in.roughness) || !std::isfinite(in.anisotropic) ||
+                !std::isfinite(in.anisotropic_rotation))
+                Fail("roughness, anisotropy and rotation must be finite");
+            break;
+        default: break;
+    }
+}
+
+}  // namespace
+
+void RenderScene::CheckLookup(const TextureLookup& lookup) const {
+    if (lookup.image < 0 || size_t(lookup.image) >= images.size())
+        Fail("texture " + std::to_string(lookup.image) + " is not an index into the scene's " +
+             std::to_string(images.size()) + " textures");
+    for (const auto& row : lookup.transform)
+        for (float v : row)
+            if (!std::isfinite(v)) Fail("transform must be a finite 3x4 matrix");
+}
+
+Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
+    if (m.kind != MaterialKind::kMix && !m.layers.empty())
+        Fail("only kind 'mix' has layers (kind '" + KindName(m.kind) + "')");
+    if (m.kind == MaterialKind::kTransparent && !IsBlack(m.emission))
+        Fail("a 'transparent' material has no emission (mix in one instead)");
+    if (m.kind != MaterialKind::kHoldout) {
+        CheckColor("base_color", m.inputs.base_color);
+        CheckColor("emission", m.emission);
+        CheckInputsFinite(m);
+    }
+    Bsdf bsdf;
+    if (m.kind == MaterialKind::kHoldout) {
+        bsdf = MakeHoldoutBsdf();  // black: its colour and emission are not drawn
+    } else if (m.kind == MaterialKind::kMix) {
+        bsdf = MakeEmptyMixBsdf();
+        bsdf.emission = m.emission;
+        for (size_t i = 0; i < m.layers.size(); ++i) {
+            const MaterialLayer& layer = m.layers[i];
+            try {
+                if (!(layer.weight >= 0) || !std::isfinite(layer.weight)) Fail("mix weight must be finite and >= 0");
+                for (const MixFactorLookup& f : layer.factors) CheckLookup(f.lookup);
+                if (layer.material.normal_map.lookup.bound())
+                    Fail("a mix layer cannot have a normal map of its own (the mix's has)");
+                const Bsdf part = MakeMaterialBsdf(layer.material);
+                if (!layer.factors.empty() && !IsBlack(part.emission))
+                    Fail("an emitting mix layer cannot have texture-driven factors (mesh lights need a constant "
+                         "emission)");
+                // The untextured values stand for the textured ones (a factor as 1/2): the structure a hit rebuilds.
+                MixIntoBsdf(bsdf, part, layer.factors.empty() ? layer.weight : layer.weight * 0.5f);
+                bsdf.emission += part.emission * layer.weight;
+                bsdf.textured = bsdf.textured || part.textured || !layer.factors.empty();
+            } catch (const std::invalid_argument& e) {
+                Fail("layer " + std::to_string(i) + " ('" + layer.material.name + "'): " + e.what());
+            }
+        }
+    } else {
+        bsdf = MakeBsdfFromInputs(m, m.inputs);
+        bsdf.emission = m.emission;
+    }
+    for (int i = 0; i < kNumTexturedInputs; ++i) {
+        const TextureLookup& lookup = m.textures[i];
+        if (!lookup.bound()) continue;
+        try {
+            CheckLookup(lookup);
+        } catch (const std::invalid_argument& e) {
+            Fail("texture '" + std::string(kTexturedInputNames[i]) + "': " + e.what());
+        }
+        if (m.kind == MaterialKind::kMix) Fail("a mix's textures are its layers'");
+        if (m.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no textures (use 'principled')");
+        bsdf.textured = true;
+        if (m.kind == MaterialKind::kTransparent && TexturedInput(i) == TexturedInput::kBaseColor) {
+            // May let rays through wherever its image is not black: the hit evaluates it (integrator/transparency.h).
+            bsdf.transparency = {1, 1, 1};
+            bsdf.has_transparency = true;
+        }
+    }
+    if (m.normal_map.lookup.bound()) {
+        try {
+            CheckLookup(m.normal_map.lookup);
+        } catch (const std::invalid_argument& e) {
+            Fail(std::string("normal_map: ") + e.what());
+        }
+        if (!std::isfinite(m.normal_map.strength)) Fail("normal map strength must be finite");
+        if (m.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no normal map (use 'principled')");
+        bsdf.normal_mapped = true;
+    }
+    return bsdf;
+}
+
+int RenderScene::AddMaterial(const Material& material) {
+    RequireNotCommitted();
+    try {
+        bsdfs.push_back(MakeMaterialBsdf(material));
+    } catch (const std::invalid_argument& e) {
+        Fail("material '" + material.name + "': " + e.what());
+    }
+    materials.push_back(material);
+    NormalMap normal_map = material.normal_map;
+    normal_map.strength = std::max(normal_map.strength, 0.0f);  // Cycles: max(strength, 0)
+    normal_maps.push_back(normal_map);
+    return int(bsdfs.size()) - 1;
+}
+
+}  // namespace sphrect::render
