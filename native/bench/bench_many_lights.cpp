@@ -43,9 +43,9 @@ namespace {
 
 enum class LightKind { Rectangle = 0, Point = 1 };
 
-constexpr float kGroundHalf = 10;      // the lights spread over [-10, 10]^2
-constexpr float kLightSide = 0.04f;    // rectangle lights: squares of this side
-constexpr float kTotalPower = 400;     // W, shared by all the lights
+constexpr float kGroundHalf = 10;    // the lights spread over [-10, 10]^2
+constexpr float kLightSide = 0.04f;  // rectangle lights: squares of this side
+constexpr float kTotalPower = 400;   // W, shared by all the lights
 
 struct ImageSize {
     int width, height, samples;
@@ -64,8 +64,7 @@ double MinOf(const std::vector<double>& v) { return v.empty() ? 0.0 : *std::min_
 // An axis-aligned box, 12 triangles.
 void AddBox(RenderScene& s, const Vec3f& lo, const Vec3f& hi) {
     std::vector<float> v;
-    for (int k = 0; k < 8; ++k)
-        v.insert(v.end(), {k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
+    for (int k = 0; k < 8; ++k) v.insert(v.end(), {k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z});
     const int32_t t[] = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
                          2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
     s.AddMesh("box", v.data(), 8, t, 12, nullptr, nullptr);
@@ -102,8 +101,8 @@ std::shared_ptr<RenderScene> ManyLightsScene(LightKind kind, int n) {
     std::copy(&m[0][0], &m[0][0] + 12, &c.to_world[0][0]);
     s->SetCamera(c);
     s->AddMaterial(DiffuseMaterial({0.6f, 0.6f, 0.6f}));
-    const float ground[] = {-kGroundHalf, -kGroundHalf, 0, kGroundHalf, -kGroundHalf, 0,
-                            kGroundHalf,  kGroundHalf,  0, -kGroundHalf, kGroundHalf, 0};
+    const float ground[] = {-kGroundHalf, -kGroundHalf, 0, kGroundHalf,  -kGroundHalf, 0,
+                            kGroundHalf,  kGroundHalf,  0, -kGroundHalf, kGroundHalf,  0};
     const int32_t gt[] = {0, 1, 2, 0, 2, 3};
     s->AddMesh("ground", ground, 4, gt, 2, nullptr, nullptr);
     AddBox(*s, {-3, -2, 0}, {-2, -1, 1});

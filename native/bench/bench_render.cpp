@@ -4,8 +4,8 @@
 //                                one technique per renderer, 1 thread, on a ~100k-triangle scene
 //                                (ground + four tessellated spheres, one rectangle light standing
 //                                on the ground; SPHRECT_BENCH_SCENE=dense: a 72k-triangle bumpy
-//                                ground and coarser spheres, so that rays cost more).  Counters: rays/s (camera + shadow + BSDF rays),
-//                                CPU seconds per camera sample, light_frac = share of the
+//                                ground and coarser spheres, so that rays cost more).  Counters: rays/s (camera +
+//                                shadow + BSDF rays), CPU seconds per camera sample, light_frac = share of the
 //                                technique's light sampling in its thread time.
 //  BM_RawEmbree/<technique>/<mis>/<light samples>
 //                                the ray-casting floor of the same render: the same number of
@@ -177,23 +177,35 @@ void BM_Render(benchmark::State& state) {
     state.SetLabel(std::string(TechniqueName(o.techniques[0])) + (o.mis == MisMode::None ? "/no-mis/" : "/balance/") +
                    PatternName(o.pattern) + "/ls=" + std::to_string(o.light_samples));
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-    state.counters["s/sample"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate |
-                                                                          benchmark::Counter::kInvert);
+    state.counters["s/sample"] =
+        benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
     state.counters["light_frac"] = benchmark::Counter(light / total);
     state.counters["triangles"] = benchmark::Counter(double(Scene()->NumTriangles()));
 }
 // Sobol' (the default pattern) for every technique; the area technique also with independent
 // samples, to show what the pattern costs; and 4 light samples per camera sample.
-BENCHMARK(BM_Render)->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}, {1}})->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
-BENCHMARK(BM_Render)->Args({0, 0, 0, 1})->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
-BENCHMARK(BM_Render)->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}, {4}})->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_Render)
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_Render)
+    ->Args({0, 0, 0, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_Render)
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}, {4}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
 
 // The rays of one render, generated once (untimed) and traced by BM_RawEmbree.
 struct RawRays {
-    std::vector<RTCRayHit> camera;       // one per camera sample, ready to trace
-    std::vector<uint32_t> tile_first;    // camera samples of tile t: [tile_first[t], tile_first[t + 1])
-    std::vector<RTCRay> shadow;          // occlusion rays (light and BSDF samples), tile by tile
-    std::vector<uint32_t> tile_shadow;   // their ranges per tile, as tile_first
+    std::vector<RTCRayHit> camera;      // one per camera sample, ready to trace
+    std::vector<uint32_t> tile_first;   // camera samples of tile t: [tile_first[t], tile_first[t + 1])
+    std::vector<RTCRay> shadow;         // occlusion rays (light and BSDF samples), tile by tile
+    std::vector<uint32_t> tile_shadow;  // their ranges per tile, as tile_first
     // What the shadow rays were drawn from, for BM_RaysAndSampler (without MIS): per camera sample
     // that hit, its point, unit geometric normal (facing the camera) and shadow-ray origin; per
     // light sample its (u, v).
@@ -201,8 +213,8 @@ struct RawRays {
         Vec3f p, n, origin;
     };
     std::vector<ShadingPoint> points;
-    std::vector<uint32_t> tile_points;   // shading points of tile t: [tile_points[t], tile_points[t + 1])
-    std::vector<Point2<float>> light_uv; // light_samples per shading point
+    std::vector<uint32_t> tile_points;    // shading points of tile t: [tile_points[t], tile_points[t + 1])
+    std::vector<Point2<float>> light_uv;  // light_samples per shading point
 };
 
 // Queues the occlusion ray a light sample casts from a shading point (unit normal n, ray origin
@@ -308,11 +320,15 @@ void BM_RawEmbree(benchmark::State& state) {
     state.SetLabel(std::string(TechniqueName(kAllTechniques[state.range(0)])) + (mis ? "/balance" : "/no-mis") +
                    "/ls=" + std::to_string(light_samples));
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-    state.counters["s/sample"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate |
-                                                                          benchmark::Counter::kInvert);
+    state.counters["s/sample"] =
+        benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
     state.counters["secondary/sample"] = benchmark::Counter(double(secondary) / rays_in.camera.size());
 }
-BENCHMARK(BM_RawEmbree)->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {1, 4}})->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_RawEmbree)
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {1, 4}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
 
 // One tile of BM_RaysAndSampler: the camera stream, then per shading point the technique's
 // setup and its light samples, queued as shadow rays, then the queue traced as one stream.
@@ -342,9 +358,8 @@ void BM_RaysAndSampler(benchmark::State& state) {
     const RenderScene& s = *Scene();
     const Technique technique = kAllTechniques[state.range(0)];
     const int light_samples = int(state.range(1));
-    const RawRays rays_in = DispatchTechnique(technique, [&](auto tag) {
-        return MakeRawRays<decltype(tag)::value>(s, false, light_samples);
-    });
+    const RawRays rays_in = DispatchTechnique(
+        technique, [&](auto tag) { return MakeRawRays<decltype(tag)::value>(s, false, light_samples); });
     uint64_t rays = 0, samples = 0, shadow_rays = 0;
     std::vector<RTCRayHit> camera;
     std::vector<RTCRay> queue;
@@ -355,7 +370,8 @@ void BM_RaysAndSampler(benchmark::State& state) {
         uint64_t blocked = 0;
         DispatchTechnique(technique, [&](auto tag) {
             for (size_t t = 0; t + 1 < rays_in.tile_first.size(); ++t) {
-                blocked += TraceTileWithSampler<decltype(tag)::value>(s, rays_in, light_samples, t, camera.data(), queue);
+                blocked +=
+                    TraceTileWithSampler<decltype(tag)::value>(s, rays_in, light_samples, t, camera.data(), queue);
                 shadow_rays += queue.size();
             }
         });
@@ -367,10 +383,14 @@ void BM_RaysAndSampler(benchmark::State& state) {
     if (shadow_rays != rays_in.shadow.size()) state.SkipWithError("shadow rays differ from BM_RawEmbree's");
     state.SetLabel(std::string(TechniqueName(technique)) + "/no-mis/ls=" + std::to_string(light_samples));
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-    state.counters["s/sample"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate |
-                                                                          benchmark::Counter::kInvert);
+    state.counters["s/sample"] =
+        benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_RaysAndSampler)->ArgsProduct({{0, 1, 2, 3}, {1, 4}})->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_RaysAndSampler)
+    ->ArgsProduct({{0, 1, 2, 3}, {1, 4}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
 
 void BM_DiffuseKernel(benchmark::State& state) {
     RenderOptions o;
@@ -383,11 +403,17 @@ void BM_DiffuseKernel(benchmark::State& state) {
         r.Render(kSamples);
         state.SetIterationTime(ProcessCpuSeconds() - t0);
     }
-    state.SetLabel(o.force_all_features ? "generic kernel: medium+glossy+dof compiled in, off at run time" : "specialised diffuse kernel");
+    state.SetLabel(o.force_all_features ? "generic kernel: medium+glossy+dof compiled in, off at run time"
+                                        : "specialised diffuse kernel");
     state.counters["s/sample"] = benchmark::Counter(double(kWidth) * kHeight * kSamples * state.iterations(),
-                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_DiffuseKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_DiffuseKernel)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
 
 // The diffuse scene (0) and the same scene with its base colour from a texture (1): what a texture costs
 // where it is used.  That a scene without textures pays nothing for them is the A/B of BM_DiffuseKernel/0
@@ -405,9 +431,14 @@ void BM_TexturedKernel(benchmark::State& state) {
     }
     state.SetLabel(state.range(0) ? "base colour from a texture" : "constant base colour");
     state.counters["s/sample"] = benchmark::Counter(double(kWidth) * kHeight * kSamples * state.iterations(),
-                                                     benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_TexturedKernel)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseManualTime()->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_TexturedKernel)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
 
 }  // namespace
 }  // namespace sphrect::render

@@ -49,7 +49,8 @@ auto EllipsePDFStage() {
     const EllipseLight<T> L = Ellipse<T>();
     const EllipseSampler<K, T> s(Vec3<T>(T(0.2), T(-0.1), T(0.5)), Vec3<T>(0, 0, 1), L);
     std::vector<Vec3<T>> pts;
-    for (const Point2<T>& uv : UVs<T>()) pts.push_back(L.center + L.axis_u * (uv.u - T(0.5)) + L.axis_v * (uv.v - T(0.5)));
+    for (const Point2<T>& uv : UVs<T>())
+        pts.push_back(L.center + L.axis_u * (uv.u - T(0.5)) + L.axis_v * (uv.v - T(0.5)));
     return [s, pts](size_t i) { return s.PDF(pts[i & 1023]); };
 }
 

@@ -95,8 +95,12 @@ LocalEllipse<T> MakeLocalEllipse(const Vec3<T>& origin, const EllipseLightFrame<
     }
     const Vec3d d = f.center - o;
     const double z = Dot(d, f.n);  // < 0: o is on the emitting side of a one-sided light
-    return LocalEllipse<T>{f.light, o, f.center, f.uh, f.vh, z < 0 ? -f.n : f.n, Dot(d, f.uh), Dot(d, f.vh),
-                           f.a, f.b, std::abs(z), z != 0 && (f.light.two_sided || z < 0)};
+    return LocalEllipse<T>{f.light,      o,
+                           f.center,     f.uh,
+                           f.vh,         z < 0 ? -f.n : f.n,
+                           Dot(d, f.uh), Dot(d, f.vh),
+                           f.a,          f.b,
+                           std::abs(z),  z != 0 && (f.light.two_sided || z < 0)};
 }
 
 template <class T>
@@ -115,7 +119,10 @@ T EllipseAreaPDFLocal(const LocalEllipse<T>& r, double x, double y) {
 
 // (p, q) scaled onto the closed unit disk (NaN -> the centre).
 inline void ClampToUnitDisk(double& p, double& q) {
-    if (!std::isfinite(p) || !std::isfinite(q)) { p = q = 0; return; }
+    if (!std::isfinite(p) || !std::isfinite(q)) {
+        p = q = 0;
+        return;
+    }
     const double r2 = p * p + q * q;
     if (r2 > 1) {
         const double s = 1 / std::sqrt(r2);

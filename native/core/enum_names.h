@@ -10,7 +10,10 @@ namespace sphrect {
 template <class Values, class E, class NameOf>
 bool ParseEnumName(const std::string& name, const Values& values, NameOf name_of, E* out) {
     for (E v : values)
-        if (name == name_of(v)) { *out = v; return true; }
+        if (name == name_of(v)) {
+            *out = v;
+            return true;
+        }
     return false;
 }
 

@@ -25,8 +25,8 @@ struct HardCase {
     std::string name;
     RectLight<float> light;  // near the world origin (see above)
     Vec3f origin;
-    Vec3f normal;            // a shading normal facing the light (for rectangle_cosine)
-    double size;             // the light's larger edge
+    Vec3f normal;  // a shading normal facing the light (for rectangle_cosine)
+    double size;   // the light's larger edge
 };
 
 // Distances (in light sizes) of the shading point, and heights (in sizes) above the plane.

@@ -18,12 +18,12 @@ namespace sphrect {
 template <class T>
 struct LocalRect {
     RectLight<T> light;
-    Vec3d o;              // shading point (double)
-    Vec3d exh, eyh, az;   // unit edge directions; az: from the shading point towards the light's plane
+    Vec3d o;                // shading point (double)
+    Vec3d exh, eyh, az;     // unit edge directions; az: from the shading point towards the light's plane
     double x0 = 0, y0 = 0;  // the corner in the (exh, eyh) frame centred at o
     double wx = 0, wy = 0;  // edge lengths
-    double h = 0;         // distance from o to the light's plane (> 0 when valid)
-    bool valid = false;   // false: degenerate light, or origin behind a one-sided light / in its plane
+    double h = 0;           // distance from o to the light's plane (> 0 when valid)
+    bool valid = false;     // false: degenerate light, or origin behind a one-sided light / in its plane
 };
 
 // The frame around `origin` from the light's precomputed frame.  (Built as one aggregate from
@@ -42,8 +42,17 @@ LocalRect<T> MakeLocalRect(const Vec3<T>& origin, const RectLightFrame<T>& f) {
     }
     const Vec3d d = f.corner - o;
     const double z = Dot(d, f.n);  // < 0: o is on the emitting side of a one-sided light
-    return LocalRect<T>{f.light, o, f.exh, f.eyh, z < 0 ? -f.n : f.n, Dot(d, f.exh), Dot(d, f.eyh), f.wx, f.wy,
-                        std::abs(z), z != 0 && (f.light.two_sided || z < 0)};
+    return LocalRect<T>{f.light,
+                        o,
+                        f.exh,
+                        f.eyh,
+                        z < 0 ? -f.n : f.n,
+                        Dot(d, f.exh),
+                        Dot(d, f.eyh),
+                        f.wx,
+                        f.wy,
+                        std::abs(z),
+                        z != 0 && (f.light.two_sided || z < 0)};
 }
 
 template <class T>
@@ -74,8 +83,7 @@ T AreaPDFLocal(const LocalRect<T>& r, double x, double y) {
 // stay exact when o is nearly in the light's plane.  `dist`, when known (> 0), is
 // |(X, Y, h)|.
 template <class T>
-LightSample<T> LightSampleAt(const LocalRect<T>& r, double a, double b, double X, double Y, T pdf,
-                             double dist = 0) {
+LightSample<T> LightSampleAt(const LocalRect<T>& r, double a, double b, double X, double Y, T pdf, double dist = 0) {
     LightSample<T> s;
     s.point = Vec3<T>(Vec3d(r.light.corner) + Vec3d(r.light.ex) * a + Vec3d(r.light.ey) * b);
     const Vec3d d = LocalVector(r, X, Y);

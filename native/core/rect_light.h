@@ -26,8 +26,7 @@ struct RectLight {
 // every technique answers with pdf 0 (the renderer skips such lights).
 template <class T>
 std::string ValidateRectLight(const RectLight<T>& r) {
-    if (!IsFinite(r.corner) || !IsFinite(r.ex) || !IsFinite(r.ey))
-        return "rectangle corner and edges must be finite";
+    if (!IsFinite(r.corner) || !IsFinite(r.ex) || !IsFinite(r.ey)) return "rectangle corner and edges must be finite";
     const double lx = std::sqrt(double(Dot(r.ex, r.ex))), ly = std::sqrt(double(Dot(r.ey, r.ey)));
     if (lx > 0 && ly > 0 && std::abs(double(Dot(r.ex, r.ey))) > 1e-4 * lx * ly)
         return "rectangle edges edge_x and edge_y must be orthogonal (|cos angle| = " +
@@ -41,10 +40,10 @@ std::string ValidateRectLight(const RectLight<T>& r) {
 template <class T>
 struct RectLightFrame {
     RectLight<T> light;
-    Vec3d corner;          // the corner in double
-    Vec3d exh, eyh, n;     // unit edge directions; n along cross(ex, ey): the emitting side
-    double wx = 0, wy = 0; // edge lengths
-    bool valid = false;    // false: degenerate (zero or non-finite edges, non-finite corner)
+    Vec3d corner;           // the corner in double
+    Vec3d exh, eyh, n;      // unit edge directions; n along cross(ex, ey): the emitting side
+    double wx = 0, wy = 0;  // edge lengths
+    bool valid = false;     // false: degenerate (zero or non-finite edges, non-finite corner)
 };
 
 template <class T>

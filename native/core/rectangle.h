@@ -53,22 +53,22 @@ inline double OneMinusB(double y, double r, double d2) { return d2 / (r * (r + y
 // the paper's names in brackets).
 template <class T>
 struct RectangleSetup {
-    LocalRect<T> plane;     // the light's frame around o; also the area map of the fallback
-    bool valid = false;     // false: every sample has pdf 0
+    LocalRect<T> plane;          // the light's frame around o; also the area map of the fallback
+    bool valid = false;          // false: every sample has pdf 0
     bool area_fallback = false;  // (21)
-    double omega = 0;       // solid angle (double)
-    T solid_angle = 0;      // Omega [S]
-    T pdf = 0;              // 1 / Omega, (2)
+    double omega = 0;            // solid angle (double)
+    T solid_angle = 0;           // Omega [S]
+    T pdf = 0;                   // 1 / Omega, (2)
     // The map's frame (13): local x = sx * (swap ? Y : X), y = sy * (swap ? X : Y), where
     // (X, Y) are the coordinates along the light's edges ex, ey.
     bool swap = false;
     double sx = 1, sy = 1;
     double x0 = 0, x1 = 0, y0 = 0, y1 = 0, h = 0;  // (1) [x0, x1, y0, y1, h = -z0]
-    double wx = 0, wy = 0;  // x1 - x0 and y1 - y0 (exact: the edge lengths)
+    double wx = 0, wy = 0;                         // x1 - x0 and y1 - y0 (exact: the edge lengths)
     // (7), (9) in the paper's b0, b1: T0 [k - pi], neg_b0 = -b0, b1, b1_plus_b0, b1_minus_b0; s_i = sin(theta) at x_i.
     double T0 = 0, neg_b0 = 0, b1 = 0, b1_plus_b0 = 0, b1_minus_b0 = 0, s0 = 0, s1 = 0;
-    bool y_beside = false;  // y0 > 0: the y-step interpolates 1 - hy, (16)
-    bool polish_x = false;  // refine the x-step by Newton steps (nearly edge-on setups), (20)
+    bool y_beside = false;      // y0 > 0: the y-step interpolates 1 - hy, (16)
+    bool polish_x = false;      // refine the x-step by Newton steps (nearly edge-on setups), (20)
     double error_estimate = 0;  // first-order rounding error of the map in (u, v) space, (19)
 };
 
@@ -83,9 +83,22 @@ RectangleSetup<T> MakeRectangleSetup(const Vec3<T>& origin, const RectLightFrame
     sr.swap = std::max({0.0, Y0, -Y1}) * p.wx < std::max({0.0, X0, -X1}) * p.wy;
     double a0 = sr.swap ? Y0 : X0, a1 = sr.swap ? Y1 : X1;
     double c0 = sr.swap ? X0 : Y0, c1 = sr.swap ? X1 : Y1;
-    if (a1 < 0) { sr.sx = -1; std::swap(a0, a1); a0 = -a0; a1 = -a1; }  // near edge first
-    if (c1 < 0) { sr.sy = -1; std::swap(c0, c1); c0 = -c0; c1 = -c1; }  // y1 > 0
-    sr.x0 = a0; sr.x1 = a1; sr.y0 = c0; sr.y1 = c1;
+    if (a1 < 0) {
+        sr.sx = -1;
+        std::swap(a0, a1);
+        a0 = -a0;
+        a1 = -a1;
+    }  // near edge first
+    if (c1 < 0) {
+        sr.sy = -1;
+        std::swap(c0, c1);
+        c0 = -c0;
+        c1 = -c1;
+    }  // y1 > 0
+    sr.x0 = a0;
+    sr.x1 = a1;
+    sr.y0 = c0;
+    sr.y1 = c1;
     const double wa = sr.wx = sr.swap ? p.wy : p.wx, wc = sr.wy = sr.swap ? p.wx : p.wy;
     const double h = sr.h = p.h;
 
@@ -110,11 +123,11 @@ RectangleSetup<T> MakeRectangleSetup(const Vec3<T>& origin, const RectLightFrame
     const double h2 = h * h;
     const double rc0 = std::sqrt(c0 * c0 + h2), rc1 = std::sqrt(c1 * c1 + h2);  // |(0, y_i, h)|
     const double ra0 = std::sqrt(a0 * a0 + h2), ra1 = std::sqrt(a1 * a1 + h2);  // |(x_i, 0, h)|
-    sr.neg_b0 = c0 / rc0;  // (7)
+    sr.neg_b0 = c0 / rc0;                                                       // (7)
     sr.b1 = c1 / rc1;
-    sr.b1_plus_b0 = DiffB(c0, c1, rc0, rc1, h2, wc);  // (15) at d = h
+    sr.b1_plus_b0 = DiffB(c0, c1, rc0, rc1, h2, wc);                                      // (15) at d = h
     sr.b1_minus_b0 = c0 < 0 ? DiffB(-c0, c1, rc0, rc1, h2, c1 + c0) : sr.b1 + sr.neg_b0;  // b(y1) - b(-y0) by (15)
-    sr.s0 = a0 / ra0;  // (9)
+    sr.s0 = a0 / ra0;                                                                     // (9)
     sr.s1 = a1 / ra1;
     sr.y_beside = c0 > 0;
 
@@ -173,7 +186,7 @@ inline void RectangleMapLocal(const RectangleSetup<T>& sr, double u, double v, d
         const double opc = cT < 0 ? sT * sT / (1 - cT) : 1 + cT;
         R2 = sr.b1_minus_b0 * sr.b1_minus_b0 - 2 * sr.neg_b0 * sr.b1 * opc;
     }
-    const double s = ClampNaN(sT / std::sqrt(R2), sr.s0, sr.s1);  // (10) [cu]
+    const double s = ClampNaN(sT / std::sqrt(R2), sr.s0, sr.s1);                 // (10) [cu]
     double x = ClampNaN(sr.h * s / std::sqrt((1 - s) * (1 + s)), sr.x0, sr.x1);  // (12) [xu]
     if (sr.polish_x) {
         // Nearly edge-on: x(s) loses precision where |s| -> 1.  Newton on the stable
@@ -200,7 +213,7 @@ inline void RectangleMapLocal(const RectangleSetup<T>& sr, double u, double v, d
     // y-step: linear in hy = y / sqrt(y^2 + d^2), d^2 = x^2 + h^2, (14).
     const double d2 = x * x + sr.h * sr.h, d = std::sqrt(d2);
     const double r0 = std::sqrt(sr.y0 * sr.y0 + d2), r1 = std::sqrt(sr.y1 * sr.y1 + d2);
-    double hy, omh;  // hy and 1 - hy [hv, 1 - hv]
+    double hy, omh;     // hy and 1 - hy [hv, 1 - hv]
     if (sr.y_beside) {  // interpolate 1 - hy = (1 - hy0) - v (hy1 - hy0), (16) and (15)
         omh = OneMinusB(sr.y0, r0, d2) - v * DiffB(sr.y0, sr.y1, r0, r1, d2, sr.wy);
         hy = 1 - omh;
@@ -210,7 +223,7 @@ inline void RectangleMapLocal(const RectangleSetup<T>& sr, double u, double v, d
         omh = 1 - hy;
     }
     const double c = std::sqrt(omh * (1 + hy));  // sqrt(1 - hy^2) = d / r
-    const double y = hy * d / c;  // (14) [yv]
+    const double y = hy * d / c;                 // (14) [yv]
     *px = x;
     *py = ClampNaN(y, sr.y0, sr.y1);
     if (dist) *dist = *py == y ? d / c : std::sqrt(d2 + *py * *py);  // |(x, y, h)|, (17)

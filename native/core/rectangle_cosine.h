@@ -66,8 +66,7 @@ LightSample<T> SampleRectangleCosine(const RectangleCosineSetup<T>& r, Point2<T>
 template <class T>
 T RectangleCosinePDF(const RectangleCosineSetup<T>& r, const Vec3<T>& p) {
     if (!r.valid) return 0;
-    const T pdf = T(BilinearPDF(InvertRectangle(r.rect, p), r.w) *
-                    double(RectanglePDF(r.rect, p)));
+    const T pdf = T(BilinearPDF(InvertRectangle(r.rect, p), r.w) * double(RectanglePDF(r.rect, p)));
     return std::isfinite(pdf) ? pdf : T(0);
 }
 

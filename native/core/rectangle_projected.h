@@ -72,14 +72,14 @@ inline double ArcAngleAtAzimuth(const ProjectedArc& arc, double px, double py) {
 struct ProjectedPiece {
     int outer = 0, inner = -1;  // indices into the setup's arcs
     double s0 = 0, s1 = 0, r0 = 0;
-    double cdf = 0;   // area of the pieces before this one
+    double cdf = 0;  // area of the pieces before this one
     double area = 0;
-    Vec3d from, to;   // unit directions (shading frame) at the range's two ends (for Invert)
+    Vec3d from, to;  // unit directions (shading frame) at the range's two ends (for Invert)
 };
 
 template <class T>
 struct RectangleProjectedSetup {
-    RectangleSetup<T> rect;      // the plane (rect.plane); the whole `rectangle` setup where it switches
+    RectangleSetup<T> rect;  // the plane (rect.plane); the whole `rectangle` setup where it switches
     bool valid = false;
     bool use_rectangle = false;  // the switch (see above)
     Vec3d nl, tl, bl;            // shading frame (n, and the tangents) in the light's local frame
@@ -250,18 +250,22 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
             s.pieces[s.num_pieces++] = pc;
         }
         if (fi == nf - 1 && ni == nn - 1) break;
-        if (c >= 0 && fi < nf - 1) ++fi;
-        else if (c <= 0 && ni < nn - 1) ++ni;
-        else if (fi < nf - 1) ++fi;
-        else ++ni;
+        if (c >= 0 && fi < nf - 1)
+            ++fi;
+        else if (c <= 0 && ni < nn - 1)
+            ++ni;
+        else if (fi < nf - 1)
+            ++fi;
+        else
+            ++ni;
         from = to;
     }
     s.swept = cdf;
 }
 
 // Area of piece pc swept up to the outer arc angle sf, and the inner arc's point there.
-inline double PieceArea(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double sf,
-                        Vec3d* wf, Vec3d* wn) {
+inline double PieceArea(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double sf, Vec3d* wf,
+                        Vec3d* wn) {
     *wf = ArcPoint(F, sf);
     const double r = ArcAngleAtAzimuth(N, wf->x, wf->y);
     *wn = ArcPoint(N, r);

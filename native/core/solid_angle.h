@@ -84,8 +84,14 @@ inline void AddQuadrantRectSolidAngle(const Interval& X, const Interval& Y, doub
 inline void AddRectSolidAngleLocal(const Interval& X, const Interval& Y, double h, HalfAngleSum& sum) {
     Interval xs[2], ys[2];
     auto pieces = [](const Interval& I, Interval* out) {
-        if (I.a0 >= 0) { out[0] = I; return 1; }
-        if (I.a1 <= 0) { out[0] = {-I.a1, -I.a0, I.w}; return 1; }
+        if (I.a0 >= 0) {
+            out[0] = I;
+            return 1;
+        }
+        if (I.a1 <= 0) {
+            out[0] = {-I.a1, -I.a0, I.w};
+            return 1;
+        }
         out[0] = {0, -I.a0, -I.a0};
         out[1] = {0, I.a1, I.a1};
         return 2;

@@ -24,9 +24,9 @@
 // in sums of positive terms; the solid angle and the cumulative solid angle of the map's first
 // step are one Carlson integral R_J each (10) (ellipse_carlson.h; no cancellation anywhere in [0, 1]);
 // the first step is solved by safeguarded Halley steps on Omega_left (on Omega_left^(2/3) near the
-// ends) (11), the second is closed form (12).  The few setups whose spherical ellipse is too thin for double directions to resolve
-// (u, v) (15) switch to area sampling (16), which Sample, PDF and Invert all follow, so the pdf
-// returned is always the pdf of the point returned.
+// ends) (11), the second is closed form (12).  The few setups whose spherical ellipse is too thin for double directions
+// to resolve (u, v) (15) switch to area sampling (16), which Sample, PDF and Invert all follow, so the pdf returned is
+// always the pdf of the point returned.
 #pragma once
 
 #include <algorithm>
@@ -74,7 +74,7 @@ struct SphericalEllipseSetup {
 inline double SphericalEllipseAxisRoot(double cx, double cy, double h, double a2, double b2) {
     const double cx2 = cx * cx, cy2 = cy * cy, h2 = h * h, c2 = cx2 + cy2 + h2;
     auto G = [&](double m) { return m - cx2 * m / (a2 + m) - cy2 * m / (b2 + m) - h2; };
-    double m = c2;  // G(|C|^2) >= 0
+    double m = c2;                         // G(|C|^2) >= 0
     const double mid = h * std::sqrt(c2);  // nearer the root when o is close to the plane
     if (G(mid) >= 0) m = mid;
     for (int it = 0; it < 200; ++it) {

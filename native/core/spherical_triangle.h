@@ -27,15 +27,15 @@
 namespace sphrect {
 
 struct SphericalTriangle {
-    Vec3d A, B, C;              // unit vertices
-    Vec3d a, eb, ec;            // the planar triangle: vertex a, edges b - a, c - a
-    double la = 0, lb = 0;      // |a|, |b|
-    double area = 0;            // solid angle
-    double area_error = 0;      // first-order bound of its rounding error (absolute)
+    Vec3d A, B, C;                        // unit vertices
+    Vec3d a, eb, ec;                      // the planar triangle: vertex a, edges b - a, c - a
+    double la = 0, lb = 0;                // |a|, |b|
+    double area = 0;                      // solid angle
+    double area_error = 0;                // first-order bound of its rounding error (absolute)
     double cos_alpha = 1, sin_alpha = 0;  // angle at A
-    double tan_half_c = 0;      // tan(|AB| / 2)
+    double tan_half_c = 0;                // tan(|AB| / 2)
     double a_cross_ec = 0, a_dot_ec = 0;  // |a x (c - a)|, a . (c - a): the edge ac seen from o
-    double tan_half_b = 0;      // tan(|AC| / 2): the largest tan(b'/2)
+    double tan_half_b = 0;                // tan(|AC| / 2): the largest tan(b'/2)
 };
 
 // tan(w/2) of the angle w between two vectors from |x cross y|, x . y and |x||y|, in the form
@@ -99,7 +99,7 @@ inline Point2<double> SampleSphericalTriangleBarycentrics(const SphericalTriangl
     // X = tan(b'/2) tan(c/2), i.e. X = sin(A'/2) / sin(alpha - A'/2), where alpha > A'/2.
     const double half = 0.5 * u * t.area, sh = std::sin(half), ch = std::cos(half);
     const double sin_rest = t.sin_alpha * ch - t.cos_alpha * sh;  // sin(alpha - A'/2)
-    const double tb = sh / (sin_rest * t.tan_half_c);  // tan(b'/2)
+    const double tb = sh / (sin_rest * t.tan_half_c);             // tan(b'/2)
     // (T2) C' = a + tc (c - a): in the planar triangle (o, a, c') the angle at o is b' and at
     // c' is psi - b' (psi the angle between a and c - a), so tc |c - a| / sin b' = |a| / sin(psi - b').
     // Near u = 1, alpha - A'/2 can be within the area's rounding of 0 (a triangle seen edge-on

@@ -30,11 +30,11 @@ constexpr double kTrianglesStableAreaAbove = 1e-12;
 
 template <class T>
 struct TrianglesSetup {
-    LocalRect<T> plane;  // frame around o
+    LocalRect<T> plane;             // frame around o
     SphericalTriangle tri[2] = {};  // (00, 10, 11) and (00, 11, 01) in light fractions (a, b), local frame
-    double p1 = 0;      // probability of the first triangle
-    double omega = 0;   // solid angle of the rectangle (stable)
-    T pdf = 0;          // 1 / (Omega_0 + Omega_1)
+    double p1 = 0;                  // probability of the first triangle
+    double omega = 0;               // solid angle of the rectangle (stable)
+    T pdf = 0;                      // 1 / (Omega_0 + Omega_1)
     bool valid = false;
 };
 

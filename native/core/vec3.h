@@ -26,19 +26,48 @@ struct Vec3 {
     constexpr Vec3 operator*(T s) const { return {x * s, y * s, z * s}; }
     constexpr Vec3 operator/(T s) const { return {x / s, y / s, z / s}; }
     constexpr Vec3 operator*(const Vec3& o) const { return {x * o.x, y * o.y, z * o.z}; }
-    Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
-    Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
-    Vec3& operator*=(T s) { x *= s; y *= s; z *= s; return *this; }
+    Vec3& operator+=(const Vec3& o) {
+        x += o.x;
+        y += o.y;
+        z += o.z;
+        return *this;
+    }
+    Vec3& operator-=(const Vec3& o) {
+        x -= o.x;
+        y -= o.y;
+        z -= o.z;
+        return *this;
+    }
+    Vec3& operator*=(T s) {
+        x *= s;
+        y *= s;
+        z *= s;
+        return *this;
+    }
 };
 
-template <class T> constexpr Vec3<T> operator*(T s, const Vec3<T>& v) { return v * s; }
-template <class T> constexpr T Dot(const Vec3<T>& a, const Vec3<T>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-template <class T> constexpr Vec3<T> Cross(const Vec3<T>& a, const Vec3<T>& b) {
+template <class T>
+constexpr Vec3<T> operator*(T s, const Vec3<T>& v) {
+    return v * s;
+}
+template <class T>
+constexpr T Dot(const Vec3<T>& a, const Vec3<T>& b) {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+template <class T>
+constexpr Vec3<T> Cross(const Vec3<T>& a, const Vec3<T>& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-template <class T> inline T Length(const Vec3<T>& v) { return std::sqrt(Dot(v, v)); }
-template <class T> inline Vec3<T> Normalize(const Vec3<T>& v) { return v / Length(v); }
-template <class T> inline bool IsFinite(const Vec3<T>& v) {
+template <class T>
+inline T Length(const Vec3<T>& v) {
+    return std::sqrt(Dot(v, v));
+}
+template <class T>
+inline Vec3<T> Normalize(const Vec3<T>& v) {
+    return v / Length(v);
+}
+template <class T>
+inline bool IsFinite(const Vec3<T>& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 

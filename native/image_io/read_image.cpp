@@ -36,8 +36,8 @@ extern "C" int sphrect_read_image(const char* path, SphrectImagePixels* out, cha
     // OpenImageIO's rows run top to bottom, Blender's (and ours) bottom to top: read with a negative y stride
     // from the last row.
     char* last_row = static_cast<char*>(pixels) + row * size_t(h - 1);
-    if (!in->read_image(0, 0, 0, c, bytes ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT, last_row,
-                        OIIO::AutoStride, -OIIO::stride_t(row), OIIO::AutoStride)) {
+    if (!in->read_image(0, 0, 0, c, bytes ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT, last_row, OIIO::AutoStride,
+                        -OIIO::stride_t(row), OIIO::AutoStride)) {
         std::free(pixels);
         return Fail("could not be decoded (" + in->geterror() + ")", error, error_size);
     }

@@ -18,6 +18,7 @@ struct SphrectImagePixels {
 // 1 on success; 0 with a message in error[0 .. error_size) otherwise.
 typedef int (*SphrectReadImageFn)(const char* path, SphrectImagePixels* out, char* error, size_t error_size);
 typedef void (*SphrectFreeImagePixelsFn)(void* pixels);
-__attribute__((visibility("default"))) int sphrect_read_image(const char* path, SphrectImagePixels* out, char* error, size_t error_size);
+__attribute__((visibility("default"))) int sphrect_read_image(const char* path, SphrectImagePixels* out, char* error,
+                                                              size_t error_size);
 __attribute__((visibility("default"))) void sphrect_free_image_pixels(void* pixels);
 }

@@ -129,7 +129,8 @@ void CheckFloat32Range(const Vec3<T>& v, const char* name, bool is_edge) {
     if constexpr (std::is_same_v<T, float>) {
         const double largest = LargestCoordinate(Vec3d(v)), length = Length(Vec3d(v));
         if (largest > kFloat32Largest || (is_edge && length > 0 && length < kFloat32SmallestEdge))
-            throw py::value_error(std::string(name) + " is beyond what float32 computes (coordinates up to 1.8e19, "
+            throw py::value_error(std::string(name) +
+                                  " is beyond what float32 computes (coordinates up to 1.8e19, "
                                   "edges from 1.1e-19): use dtype='float64', or rescale the scene");
     }
 }
@@ -174,15 +175,18 @@ struct LightPlanePoint {
 inline LightPlanePoint ToLightPlane(const Vec3d& p, const Vec3d& origin, const Vec3d& a, const Vec3d& b) {
     const double len_a = Length(a), len_b = Length(b);
     const Vec3d d = p - origin;
-    return {Dot(d, Normalize(Cross(a, b))), Dot(d, a) / len_a, Dot(d, b) / len_b, len_a, len_b,
+    return {Dot(d, Normalize(Cross(a, b))),
+            Dot(d, a) / len_a,
+            Dot(d, b) / len_b,
+            len_a,
+            len_b,
             kOffLightTolerance * std::max(len_a, len_b) + kCoordinateTolerance * LargestCoordinate(p)};
 }
 
 template <class T>
 bool OnLight(const RectLight<T>& l, const Vec3<T>& point) {
     const LightPlanePoint q = ToLightPlane(Vec3d(point), Vec3d(l.corner), Vec3d(l.ex), Vec3d(l.ey));
-    return std::abs(q.h) <= q.tol && q.x >= -q.tol && q.x <= q.len_a + q.tol && q.y >= -q.tol &&
-           q.y <= q.len_b + q.tol;
+    return std::abs(q.h) <= q.tol && q.x >= -q.tol && q.x <= q.len_a + q.tol && q.y >= -q.tol && q.y <= q.len_b + q.tol;
 }
 
 template <class T>
@@ -195,9 +199,8 @@ bool OnLight(const EllipseLight<T>& l, const Vec3<T>& point) {
 // A per-row input (origin, normal) must have one row (shared) or as many rows as the batch.
 void CheckRows(size_t batch, const char* batch_name, size_t rows, const char* name) {
     if (rows == 1 || rows == batch) return;
-    throw py::value_error(std::string(batch_name) + " has " + std::to_string(batch) + " rows but " + name +
-                          " has " + std::to_string(rows) + "; they must match (or " + name +
-                          " be a single (3,) vector)");
+    throw py::value_error(std::string(batch_name) + " has " + std::to_string(batch) + " rows but " + name + " has " +
+                          std::to_string(rows) + "; they must match (or " + name + " be a single (3,) vector)");
 }
 
 template <class T>
@@ -321,8 +324,8 @@ py::array PDFRows(const C& s, const py::object& points_obj, ForEach&& for_each) 
 // uv [N, 2] of the points of `light` through a map's inverse: make_setup(origin) -> setup with
 // .valid, invert(setup, point) -> Point2<double>.
 template <class T, class Light, class MakeSetup, class Invert>
-py::array InvertRows(const Light& light, const py::object& origin, const py::object& points_obj,
-                     MakeSetup&& make_setup, Invert&& invert_point) {
+py::array InvertRows(const Light& light, const py::object& origin, const py::object& points_obj, MakeSetup&& make_setup,
+                     Invert&& invert_point) {
     const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
     const auto pts = ReadRows<T, 3>(points_obj, "points", false);
     const size_t n = pts.size();
@@ -422,11 +425,9 @@ template <class T>
 py::object ProjectedSolidAngleImpl(const py::object& origin, const py::object& corner, const py::object& ex,
                                    const py::object& ey, const py::object& normal, bool two_sided) {
     const Setup<T> s = ReadSetup<T>(Technique::RectangleProjected, origin, corner, ex, ey, normal, two_sided);
-    if (s.normals.size() != 1)
-        throw py::value_error("projected_solid_angle takes one normal, shape (3,)");
-    return SolidAngleRows<T>(origin, [&](const Vec3<T>& o) {
-        return RectangleProjectedSolidAngle(o, s.normals[0], s.light);
-    });
+    if (s.normals.size() != 1) throw py::value_error("projected_solid_angle takes one normal, shape (3,)");
+    return SolidAngleRows<T>(origin,
+                             [&](const Vec3<T>& o) { return RectangleProjectedSolidAngle(o, s.normals[0], s.light); });
 }
 
 template <class T>
@@ -441,8 +442,8 @@ py::object SolidAngleImpl(const py::object& origin, const py::object& corner, co
 
 EllipseTechnique ToEllipseTechnique(const std::string& name) {
     EllipseTechnique t;
-    ParseEnumNameOrThrow("ellipse technique", "ellipse techniques", name, kAllEllipseTechniques,
-                         EllipseTechniqueName, &t);
+    ParseEnumNameOrThrow("ellipse technique", "ellipse techniques", name, kAllEllipseTechniques, EllipseTechniqueName,
+                         &t);
     return t;
 }
 
@@ -525,7 +526,6 @@ py::array PatternImpl(const std::string& name, const py::object& n_obj, const py
     return std::move(out);
 }
 
-
 }  // namespace
 
 void BindCore(py::module_& m) {
@@ -541,8 +541,7 @@ void BindCore(py::module_& m) {
                 return SolidAngleImpl<double>(origin, corner, ex, ey, two_sided);
             return SolidAngleImpl<float>(origin, corner, ex, ey, two_sided);
         },
-        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("dtype") = "float32",
-        arg("two_sided") = true,
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("dtype") = "float32", arg("two_sided") = true,
         R"doc(Solid angle subtended by the rectangle (corner, edge_x, edge_y) seen from origin.
 
 origin: shape (3,) -> float; shape (N, 3) -> array [N] of dtype.  0 for a degenerate light,

@@ -43,8 +43,8 @@ int IndexOf(const py::handle& value, const char* const (&names)[N], const std::s
 
 float Number(const py::dict& d, const char* field) {
     const py::handle v = d[field];
-    if (py::isinstance<py::bool_>(v) || !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v) ||
-                                          py::hasattr(v, "__float__")))
+    if (py::isinstance<py::bool_>(v) ||
+        !(py::isinstance<py::float_>(v) || py::isinstance<py::int_>(v) || py::hasattr(v, "__float__")))
         throw py::value_error(std::string(field) + " must be a number, got " + Repr(v));
     return float(v.cast<double>());
 }
@@ -91,7 +91,9 @@ render::TextureLookup Lookup(const py::handle& value, const std::string& what) {
         render::TextureExtension(IndexOf(d["extension"], render::kTextureExtensionNames, what + ": extension"));
     std::vector<std::vector<double>> m;
     try {
-        m = py::module_::import("numpy").attr("asarray")(d["transform"], "float64").attr("tolist")()
+        m = py::module_::import("numpy")
+                .attr("asarray")(d["transform"], "float64")
+                .attr("tolist")()
                 .cast<std::vector<std::vector<double>>>();
     } catch (const std::exception&) {
     }
@@ -150,14 +152,13 @@ Material ReadMaterial(const py::dict& d) {
     std::string distribution;
     if (m.kind == MaterialKind::kGlass) distribution = Distribution(d, render::kGlassDistributionNames, kind);
     if (m.kind == MaterialKind::kGlossyBsdf) distribution = Distribution(d, render::kGlossyDistributionNames, kind);
-    if (m.kind == MaterialKind::kPrincipled)
-        distribution = Distribution(d, render::kPrincipledDistributionNames, kind);
+    if (m.kind == MaterialKind::kPrincipled) distribution = Distribution(d, render::kPrincipledDistributionNames, kind);
     m.beckmann = distribution == "beckmann";
     in.multiscatter = distribution == "multiscatter_ggx";
     const py::handle textures = d["textures"];
-    const py::dict texture_fields = Fields(
-        textures, "textures must be a dict of input name -> sphrect.TextureLookup, got " +
-                      std::string(py::str(textures.get_type().attr("__name__"))));
+    const py::dict texture_fields =
+        Fields(textures, "textures must be a dict of input name -> sphrect.TextureLookup, got " +
+                             std::string(py::str(textures.get_type().attr("__name__"))));
     for (const auto& [key, lookup] : texture_fields) {
         int input = -1;
         for (int i = 0; i < render::kNumTexturedInputs; ++i)
@@ -218,8 +219,7 @@ void BindMaterial(py::module_& m) {
             for (const py::handle h : materials) parts.push_back(MaterialFromFields(h));
             return render::MixLobeSlots(parts);
         },
-        py::arg("materials"),
-        "sphrect.mix_lobe_slots of the materials' dataclasses.asdict fields");
+        py::arg("materials"), "sphrect.mix_lobe_slots of the materials' dataclasses.asdict fields");
 }
 
 }  // namespace sphrect::python

@@ -25,8 +25,8 @@ render::Material MaterialFromFields(const py::handle& fields);
 
 namespace {
 
-using render::RenderScene;
 using render::Renderer;
+using render::RenderScene;
 using render::Spectrum;
 using V3 = std::array<float, 3>;
 
@@ -40,13 +40,13 @@ template <class T>
 CArray<T> RowsOf3(const py::handle& obj, const char* what) {
     CArray<T> a = CArray<T>::ensure(obj);
     if (!a) throw py::value_error(std::string(what) + " must be an array of numbers");
-    if (a.ndim() != 2 || a.shape(1) != 3)
-        throw py::value_error(std::string(what) + " must have shape [n, 3]");
+    if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error(std::string(what) + " must have shape [n, 3]");
     return a;
 }
 
 // [n, columns] float32 per-vertex attribute of a mesh (one row per vertex), or an empty array for None.
-CArray<float> VertexAttribute(const py::object& obj, py::ssize_t columns, py::ssize_t vertices, const std::string& what) {
+CArray<float> VertexAttribute(const py::object& obj, py::ssize_t columns, py::ssize_t vertices,
+                              const std::string& what) {
     if (obj.is_none()) return {};
     CArray<float> a = CArray<float>::ensure(obj);
     if (!a || a.ndim() != 2 || a.shape(1) != columns || a.shape(0) != vertices)
@@ -83,7 +83,8 @@ render::Image ImageOfArray(const std::string& name, const py::array& pixels, boo
     if (pixels.ndim() != 3 || pixels.shape(2) < 1 || pixels.shape(2) > 4 || pixels.shape(0) < 1 || pixels.shape(1) < 1)
         throw py::value_error("image '" + name + "': pixels must have shape [H, W, 1..4]");
     if (pixels.shape(0) > render::kMaxImageSide || pixels.shape(1) > render::kMaxImageSide)
-        throw py::value_error("image '" + name + "': at most " + std::to_string(render::kMaxImageSide) + " pixels a side");
+        throw py::value_error("image '" + name + "': at most " + std::to_string(render::kMaxImageSide) +
+                              " pixels a side");
     const int h = int(pixels.shape(0)), w = int(pixels.shape(1)), c = int(pixels.shape(2));
     if (py::isinstance<py::array_t<uint8_t>>(pixels)) {
         const auto a = CArray<uint8_t>::ensure(pixels);
@@ -133,7 +134,8 @@ render::CameraModel MakeCameraModel(int width, int height, const py::object& to_
                                   .format(render::kMinPixelFilterWidth, render::kMaxPixelFilterWidth, filter_width)
                                   .cast<std::string>());
     c.filter = render::MakePixelFilter(
-        EnumNamed<render::PixelFilterType>(pixel_filter, render::kPixelFilterNames, "camera pixel_filter"), filter_width);
+        EnumNamed<render::PixelFilterType>(pixel_filter, render::kPixelFilterNames, "camera pixel_filter"),
+        filter_width);
     return c;
 }
 
@@ -152,9 +154,9 @@ void SetCamera(Target& target, int width, int height, const py::object& to_world
 std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const std::vector<std::string>& techniques,
                                        int light_samples, const std::string& pattern, const std::string& mis,
                                        const std::string& medium_sampling, const std::string& light_selection,
-                                       const std::string& ellipse_technique, uint64_t seed, int threads,
-                                       int tile_size, bool analytic_light_coverage,
-                                       bool bsdf_samples_on_diffuse, uint64_t memory_limit) {
+                                       const std::string& ellipse_technique, uint64_t seed, int threads, int tile_size,
+                                       bool analytic_light_coverage, bool bsdf_samples_on_diffuse,
+                                       uint64_t memory_limit) {
     if (!scene->committed()) throw py::value_error("the scene must be committed before rendering");
     render::RenderOptions o;
     o.techniques.clear();
@@ -238,11 +240,11 @@ py::dict Stats(const Renderer& r, int k) {
 }  // namespace
 
 // The camera's keyword arguments, the same for the scene's and the renderer's set_camera.
-#define CAMERA_ARGS                                                                                                \
-    py::arg("width"), py::arg("height"), py::arg("to_world"), py::arg("orthographic"), py::arg("half_width"),      \
-        py::arg("half_height"), py::arg("offset_x"), py::arg("offset_y"), py::arg("aperture_radius"),              \
-        py::arg("focus_distance"), py::arg("clip_start"), py::arg("clip_end"), py::arg("pixel_filter") = "box",  \
-        py::arg("filter_width") = 1.0f
+#define CAMERA_ARGS                                                                                             \
+    py::arg("width"), py::arg("height"), py::arg("to_world"), py::arg("orthographic"), py::arg("half_width"),   \
+        py::arg("half_height"), py::arg("offset_x"), py::arg("offset_y"), py::arg("aperture_radius"),           \
+        py::arg("focus_distance"), py::arg("clip_start"), py::arg("clip_end"), py::arg("pixel_filter") = "box", \
+                                                                               py::arg("filter_width") = 1.0f
 
 void BindRender(py::module_& m) {
     auto names = [](const auto& list) {
@@ -273,8 +275,8 @@ void BindRender(py::module_& m) {
     m.attr("pixel_filters") = names(render::kPixelFilterNames);
     m.attr("MIN_PIXEL_FILTER_WIDTH") = render::kMinPixelFilterWidth;
     m.attr("MAX_PIXEL_FILTER_WIDTH") = render::kMaxPixelFilterWidth;
-    py::class_<RenderScene, std::shared_ptr<RenderScene>>(m, "_Scene",
-                                                           "Native scene; built by sphrect.Renderer from a sphrect.Scene")
+    py::class_<RenderScene, std::shared_ptr<RenderScene>>(
+        m, "_Scene", "Native scene; built by sphrect.Renderer from a sphrect.Scene")
         .def(py::init<>())
         .def("set_camera", &SetCamera<RenderScene>, CAMERA_ARGS)
         .def("set_background", [](RenderScene& s, V3 c) { s.SetBackground(ToVec(c)); })
@@ -314,10 +316,8 @@ void BindRender(py::module_& m) {
                  return s.AddEllipseLight(ToVec(center), ToVec(ax), ToVec(ay), ToVec(radiance), two_sided, visible);
              })
         .def("add_point_light", [](RenderScene& s, V3 p, V3 i) { s.AddPointLight(ToVec(p), ToVec(i)); })
-        .def("add_spot_light",
-             [](RenderScene& s, V3 p, V3 d, V3 i, float size, float blend) {
-                 s.AddSpotLight(ToVec(p), ToVec(d), ToVec(i), size, blend);
-             })
+        .def("add_spot_light", [](RenderScene& s, V3 p, V3 d, V3 i, float size,
+                                  float blend) { s.AddSpotLight(ToVec(p), ToVec(d), ToVec(i), size, blend); })
         .def("add_sun_light", [](RenderScene& s, V3 d, V3 e) { s.AddSunLight(ToVec(d), ToVec(e)); })
         .def("commit", &RenderScene::Commit, py::call_guard<py::gil_scoped_release>())
         .def_property_readonly("features", [](const RenderScene& s) { return s.features().Names(); })
@@ -328,26 +328,32 @@ void BindRender(py::module_& m) {
     py::class_<Renderer>(m, "_Renderer", "Native renderer; use sphrect.Renderer")
         .def(py::init(&MakeRenderer), py::arg("scene"), py::arg("techniques"), py::arg("light_samples"),
              py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("light_selection"),
-             py::arg("ellipse_technique"), py::arg("seed"),
-             py::arg("threads"),
-             py::arg("tile_size"), py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"),
-             py::arg("memory_limit"))
+             py::arg("ellipse_technique"), py::arg("seed"), py::arg("threads"), py::arg("tile_size"),
+             py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"), py::arg("memory_limit"))
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
         .def("cancel", &Renderer::Cancel)
         .def("set_camera", &SetCamera<Renderer>, CAMERA_ARGS)
         .def("image", &Image)
         .def("stats", &Stats)
         .def("start_at", &Renderer::StartAt, py::arg("first_sample"), py::arg("pass_index"))
-        .def("sums", [](const Renderer& r, int k) { return BufferArray(r.Sums(k), {r.height(), r.width(), 3}); })
-        .def("counts", [](const Renderer& r) { return BufferArray(r.Counts(), {r.height(), r.width()}); })
-        .def("alpha_sums", [](const Renderer& r) { return BufferArray(r.AlphaSums(), {r.height(), r.width()}); })
+        .def("sums",
+             [](const Renderer& r, int k) {
+                 return BufferArray(r.Sums(k), {r.height(), r.width(), 3});
+             })
+        .def("counts",
+             [](const Renderer& r) {
+                 return BufferArray(r.Counts(), {r.height(), r.width()});
+             })
+        .def("alpha_sums",
+             [](const Renderer& r) {
+                 return BufferArray(r.AlphaSums(), {r.height(), r.width()});
+             })
         .def_property_readonly("film_alpha", &Renderer::FilmAlpha)
         .def_property_readonly("features", &Renderer::Features)
         .def_property_readonly("width", &Renderer::width)
         .def_property_readonly("height", &Renderer::height);
     m.def("resolve_image", &ResolveImageArray, py::arg("sums"), py::arg("counts"), py::arg("alpha_sums"),
-          py::arg("film_alpha"),
-          "RGBA float32 [H, W, 4] from accumulation buffers, exactly as a Renderer's image()");
+          py::arg("film_alpha"), "RGBA float32 [H, W, 4] from accumulation buffers, exactly as a Renderer's image()");
     m.attr("SAMPLE_INDEX_LIMIT") = render::kSampleIndexLimit;
     m.attr("MAX_LIGHT_SAMPLES") = render::kMaxLightSamples;
     m.attr("MAX_THREADS") = render::kMaxThreads;

@@ -3,10 +3,10 @@
 #include <pybind11/pybind11.h>
 
 namespace sphrect::python {
-void BindCore(pybind11::module_& m);    // bind_core.cpp: techniques, patterns
-void BindRender(pybind11::module_& m);  // bind_render.cpp: the renderer
+void BindCore(pybind11::module_& m);      // bind_core.cpp: techniques, patterns
+void BindRender(pybind11::module_& m);    // bind_render.cpp: the renderer
 void BindMaterial(pybind11::module_& m);  // bind_material.cpp: materials
-void BindStudy(pybind11::module_& m);   // bind_study.cpp: baselines for the study's accuracy table
+void BindStudy(pybind11::module_& m);     // bind_study.cpp: baselines for the study's accuracy table
 }  // namespace sphrect::python
 
 PYBIND11_MODULE(_native, m) {

@@ -30,15 +30,15 @@ struct AreaLight {
     RectLightFrame<float> frame;
     // Ellipse: what the spherical ellipse's setups need of it (invalid for the other shapes).
     EllipseLightFrame<float> ellipse_frame;
-    Vec3f center;           // centre
-    Vec3f ax, ay;           // Ellipse: semi-axes
-    Vec3f v0, e1, e2;       // Triangle: vertex v0 and edges v1 - v0, v2 - v0
-    Vec3f n;                // unit normal, cross(ex, ey) direction: the emitting side
-    Vec3f inv_x, inv_y;     // ex / |ex|^2, ey / |ey|^2 (resp. the ellipse's semi-axes): plane coordinates
+    Vec3f center;        // centre
+    Vec3f ax, ay;        // Ellipse: semi-axes
+    Vec3f v0, e1, e2;    // Triangle: vertex v0 and edges v1 - v0, v2 - v0
+    Vec3f n;             // unit normal, cross(ex, ey) direction: the emitting side
+    Vec3f inv_x, inv_y;  // ex / |ex|^2, ey / |ey|^2 (resp. the ellipse's semi-axes): plane coordinates
     Spectrum radiance;
     float area = 0;
     bool two_sided = false;
-    bool visible = true;    // seen by camera rays
+    bool visible = true;  // seen by camera rays
     // Part of an emissive mesh (a triangle, or a rectangle made of two): Embree geometry, so
     // camera and BSDF rays find it through their hit, not through IntersectAreaLight.
     bool on_mesh = false;
@@ -109,7 +109,7 @@ inline Spectrum EmittedRadiance(const AreaLight& l, const Vec3f& toward) {
 inline float IntersectAreaLight(const AreaLight& l, const Vec3f& o, const Vec3f& d, float tmax) {
     const float denom = Dot(l.n, d);
     if (denom == 0) return kInf;
-    const Vec3f origin = l.shape == AreaShape::Rectangle ? l.frame.light.corner
+    const Vec3f origin = l.shape == AreaShape::Rectangle  ? l.frame.light.corner
                          : l.shape == AreaShape::Triangle ? l.v0
                                                           : l.center;
     const float t = Dot(l.n, origin - o) / denom;
@@ -176,10 +176,10 @@ inline LightSample<float> SampleTriangleArea(const AreaLight& l, const Vec3f& or
 // triangle subtends no solid angle, or when anything is not finite.
 struct TriangleSolidAngleSetup {
     SphericalTriangle tri;
-    Vec3d a;          // v0 - origin
-    Vec3d n;          // unit normal (double)
-    double h = 0;     // n . (v0 - origin): signed distance of the plane
-    float pdf = 0;    // 1 / Omega
+    Vec3d a;        // v0 - origin
+    Vec3d n;        // unit normal (double)
+    double h = 0;   // n . (v0 - origin): signed distance of the plane
+    float pdf = 0;  // 1 / Omega
     bool valid = false;
 };
 
@@ -205,8 +205,8 @@ inline TriangleSolidAngleSetup MakeTriangleSolidAngleSetup(const AreaLight& l, c
 }
 
 // Solid-angle pdf of the point p on the triangle: 1 / Omega (the map is uniform in solid angle).
-inline float TriangleSolidAnglePDF(const TriangleSolidAngleSetup& r, const AreaLight& /*l*/,
-                                   const Vec3f& /*origin*/, const Vec3f& /*p*/) {
+inline float TriangleSolidAnglePDF(const TriangleSolidAngleSetup& r, const AreaLight& /*l*/, const Vec3f& /*origin*/,
+                                   const Vec3f& /*p*/) {
     return r.valid ? r.pdf : 0.0f;
 }
 

@@ -88,7 +88,8 @@ void AreaLightFinder::Build(RTCDevice device, const std::vector<AreaLight>& ligh
     rtcAttachGeometry(rtc_scene_, g);
     rtcReleaseGeometry(g);
     rtcCommitScene(rtc_scene_);
-    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the area lights' BVH failed");
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE)
+        throw std::runtime_error("Embree: building the area lights' BVH failed");
 }
 
 int AreaLightFinder::QueryBVH(const Vec3f& o, const Vec3f& d, float tmin, float tmax, LightsSought sought,

@@ -66,9 +66,8 @@ class AreaLightFinder {
             LightCrossing found[kMaxCrossings];
             const int n = QueryBVH(o, d, tmin, tmax, sought, found);
             if (n >= 0) {
-                std::sort(found, found + n, [](const LightCrossing& a, const LightCrossing& b) {
-                    return a.light < b.light;
-                });
+                std::sort(found, found + n,
+                          [](const LightCrossing& a, const LightCrossing& b) { return a.light < b.light; });
                 for (int k = 0; k < n; ++k) f(found[k].light, found[k].t);
                 return;
             }

@@ -14,9 +14,9 @@ enum class DeltaKind { Point, Spot, Sun };
 
 struct DeltaLight {
     DeltaKind kind = DeltaKind::Point;
-    Vec3f position;    // Point, Spot
-    Vec3f axis;        // Spot: unit cone axis;  Sun: unit direction towards the sun
-    Spectrum power;    // Point/Spot: intensity I (W/sr); Sun: irradiance E (W/m^2)
+    Vec3f position;                              // Point, Spot
+    Vec3f axis;                                  // Spot: unit cone axis;  Sun: unit direction towards the sun
+    Spectrum power;                              // Point/Spot: intensity I (W/sr); Sun: irradiance E (W/m^2)
     float cos_half_angle = -1, spot_smooth = 0;  // Spot
 };
 
@@ -37,9 +37,9 @@ inline float SpotAttenuation(const DeltaLight& l, const Vec3f& dir_from_light) {
 }
 
 struct DeltaIllumination {
-    Vec3f wi;         // unit, towards the light
-    float dist = 0;   // kInf for the sun
-    Spectrum li;      // incident radiance times the delta's solid angle (irradiance at normal incidence)
+    Vec3f wi;        // unit, towards the light
+    float dist = 0;  // kInf for the sun
+    Spectrum li;     // incident radiance times the delta's solid angle (irradiance at normal incidence)
 };
 
 inline DeltaIllumination IlluminateFromDelta(const DeltaLight& l, const Vec3f& p) {

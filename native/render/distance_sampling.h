@@ -17,10 +17,10 @@ inline float ExponentialDistancePDF(float sigma, float t) { return sigma * std::
 // --- Equi-angular sampling: t on [0, tmax] with density proportional to 1 / |x(t) - c|^2 -------
 
 struct EquiAngular {
-    float delta = 0;           // t of the point of the ray closest to the centre c
-    float dist = 0;            // distance of c from the ray (D)
+    float delta = 0;  // t of the point of the ray closest to the centre c
+    float dist = 0;   // distance of c from the ray (D)
     float theta_a = 0, theta_b = 0;
-    bool valid = false;        // false when c is on the ray (D = 0) or the segment is empty
+    bool valid = false;  // false when c is on the ray (D = 0) or the segment is empty
 };
 
 inline EquiAngular MakeEquiAngular(const Vec3f& o, const Vec3f& d, float tmax, const Vec3f& c) {

@@ -69,7 +69,8 @@ int RenderScene::LoadImage(const std::string& name, const std::string& path, boo
     if (!reader.read(path.c_str(), &im, error, sizeof error)) return missing(error);
     int id;
     try {
-        id = AddImage(name, im.width, im.height, im.channels, im.bytes ? static_cast<const uint8_t*>(im.pixels) : nullptr,
+        id = AddImage(name, im.width, im.height, im.channels,
+                      im.bytes ? static_cast<const uint8_t*>(im.pixels) : nullptr,
                       im.bytes ? nullptr : static_cast<const float*>(im.pixels), srgb);
     } catch (...) {
         reader.free(im.pixels);

@@ -24,10 +24,10 @@ struct DeferredShadowRay;
 // Per-thread buffers reused across tiles.
 struct ThreadScratch {
     std::vector<PrimaryHit> hits;
-    std::vector<RTCRayHit> camera_hits;              // Embree's answers for `hits`' rays
-    std::vector<Spectrum> sample_values;             // radiance per camera sample of a chunk
-    std::vector<DeferredShadowRay> shadow_rays;      // queued by shading, traced after it
-    std::vector<uint8_t> shadow_crossed;             // per shadow ray: it crossed a transparent surface
+    std::vector<RTCRayHit> camera_hits;          // Embree's answers for `hits`' rays
+    std::vector<Spectrum> sample_values;         // radiance per camera sample of a chunk
+    std::vector<DeferredShadowRay> shadow_rays;  // queued by shading, traced after it
+    std::vector<uint8_t> shadow_crossed;         // per shadow ray: it crossed a transparent surface
     std::vector<Point2<float>> pixel_points, lens_points, light_points, bsdf_points;
     std::vector<Spectrum> pixel_sums;                // per technique, per pixel of a chunk
     std::vector<int> tile_screen_lights;             // light_coverage.h: the lights over the tile,
@@ -37,10 +37,10 @@ struct ThreadScratch {
 };
 
 struct TechniqueTally {
-    uint64_t light_ticks = 0;   // ReadTicks() units (ticks.h), counted by TimedLightSamplingAt
-    double total_seconds = 0;   // whole per-technique pass (light sampling included)
-    uint64_t rays = 0;          // occlusion rays traced (the shadow-ray queue's lengths)
-    uint64_t dropped = 0;       // non-finite samples left out of the image
+    uint64_t light_ticks = 0;  // ReadTicks() units (ticks.h), counted by TimedLightSamplingAt
+    double total_seconds = 0;  // whole per-technique pass (light sampling included)
+    uint64_t rays = 0;         // occlusion rays traced (the shadow-ray queue's lengths)
+    uint64_t dropped = 0;      // non-finite samples left out of the image
 
     TechniqueTally& operator+=(const TechniqueTally& o) {
         light_ticks += o.light_ticks;
@@ -69,12 +69,12 @@ struct KernelParams {
     const RenderScene* scene;
     const CameraView* view;  // the camera rendered from (camera_view.h)
     const RenderOptions* options;
-    int samples;             // camera samples per pixel in this pass
-    uint32_t first_sample;   // global index of the pass's first sample
-    uint32_t pass;           // pass number (seeds the non-progressive patterns)
-    double* const* sums;     // per technique, RGB per pixel
+    int samples;            // camera samples per pixel in this pass
+    uint32_t first_sample;  // global index of the pass's first sample
+    uint32_t pass;          // pass number (seeds the non-progressive patterns)
+    double* const* sums;    // per technique, RGB per pixel
     uint32_t* counts;
-    double* alpha_sums;      // per pixel, shared by the techniques (the camera samples are)
+    double* alpha_sums;  // per pixel, shared by the techniques (the camera samples are)
 };
 
 using TileKernel = void (*)(const KernelParams&, const TileRect&, ThreadScratch&, TileTally&);

@@ -271,8 +271,8 @@ class Builder {
             }
         }
         if (left_thread.joinable()) {
-            right = Build(children + 1, mid, end, right_extent, depth + 1, right_trail, right_free,
-                          threads - threads / 2);
+            right =
+                Build(children + 1, mid, end, right_extent, depth + 1, right_trail, right_free, threads - threads / 2);
             left_thread.join();
             max_depth_ = std::max(max_depth_, left_builder->max_depth_);
         } else {
@@ -295,8 +295,7 @@ class Builder {
     // axis of the centroids (at most kSmallNode items, where the candidates' costs would cost
     // more than the rest of the build; coincident centroids; no plane separating the binned
     // sample; deeper than kLightTreeBinnedDepth).
-    size_t Split(size_t begin, size_t end, const ItemExtent& extent, int depth, ItemExtent& left,
-                 ItemExtent& right) {
+    size_t Split(size_t begin, size_t end, const ItemExtent& extent, int depth, ItemExtent& left, ItemExtent& right) {
         const Vec3f ce = extent.centroids.Extent();
         const Vec3f be = extent.box.Extent();
         const int widest = ce.x >= ce.y && ce.x >= ce.z ? 0 : (ce.y >= ce.z ? 1 : 2);
@@ -308,7 +307,7 @@ class Builder {
             // build, and nodes are mostly small); larger ones all three.
             bool binned[3];
             for (int dim = 0; dim < 3; ++dim) binned[dim] = ce[dim] > 0 && (n > kAllAxesNode || dim == widest);
-            Bucket (&bins)[3][kBuckets] = bins_;  // only the `buckets` used are cleared
+            Bucket(&bins)[3][kBuckets] = bins_;  // only the `buckets` used are cleared
             for (int dim = 0; dim < 3; ++dim) std::fill_n(bins[dim], buckets, Bucket::Empty());
             const size_t stride = n > kBinnedSample ? n / kBinnedSample : 1;
             const Vec3f scale(buckets / ce.x, buckets / ce.y, buckets / ce.z);
@@ -352,10 +351,9 @@ class Builder {
         }
         const size_t mid = begin + n / 2;
         if (ce[widest] > 0)
-            std::nth_element(items_.begin() + begin, items_.begin() + mid, items_.begin() + end,
-                             [&](const BuildItem& a, const BuildItem& b) {
-                                 return a.centroid[widest] < b.centroid[widest];
-                             });
+            std::nth_element(
+                items_.begin() + begin, items_.begin() + mid, items_.begin() + end,
+                [&](const BuildItem& a, const BuildItem& b) { return a.centroid[widest] < b.centroid[widest]; });
         left = ExtentOf(items_, begin, mid);
         right = ExtentOf(items_, mid, end);
         return mid;

@@ -49,12 +49,12 @@ TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
 // a leaf holds one emitter, index child_or_emitter.
 struct LightTreeNode {
     Vec3f center;
-    float radius = 0;      // bounding sphere of the box, padded outwards for rounding
+    float radius = 0;  // bounding sphere of the box, padded outwards for rounding
     Vec3f axis;
     float cos_theta_o = 1, cos_theta_e = 0;  // rounded towards the wider cone
     float power = 0;
     uint32_t child_or_emitter = 0;
-    uint32_t flags = 0;    // kLeaf, kTwoSided
+    uint32_t flags = 0;  // kLeaf, kTwoSided
 
     static constexpr uint32_t kLeaf = 1, kTwoSided = 2;
     bool IsLeaf() const { return flags & kLeaf; }
@@ -64,7 +64,7 @@ static_assert(sizeof(LightTreeNode) == 48, "LightTreeNode layout");
 struct LightTreeSample {
     int emitter = -1;  // -1: the tree is empty or nothing in it can light the point
     float pmf = 0;
-    float u = 0;       // the number given, rescaled at each level: again uniform in [0,1)
+    float u = 0;  // the number given, rescaled at each level: again uniform in [0,1)
 };
 
 // Limits: the bit trail of an emitter's root-to-leaf path is a uint64, so depth <= 63; the
@@ -153,7 +153,8 @@ inline constexpr float kSmallestImportance = 1.4e-45f;   // what an underflowed 
 struct LightTreeReceiver {
     Vec3f p, n;
     bool has_normal;
-    LightTreeReceiver(const Vec3f& p_, const Vec3f& n_) : p(p_), n(n_), has_normal(n_.x != 0 || n_.y != 0 || n_.z != 0) {}
+    LightTreeReceiver(const Vec3f& p_, const Vec3f& n_)
+        : p(p_), n(n_), has_normal(n_.x != 0 || n_.y != 0 || n_.z != 0) {}
 };
 
 class LightTree {
@@ -304,7 +305,7 @@ class LightTreeAt {
     const LightTree& tree_;
     LightTreeReceiver r_;
     bool memoize_;
-    int can_light_ = -1;  // unknown until the first call
+    int can_light_ = -1;     // unknown until the first call
     uint64_t filled_ = 0;    // bit k: slot k holds p_left of left child left_[k]
     uint32_t left_[kSlots];  // (not initialised: read only where filled_ says so)
     float p_left_[kSlots];

@@ -14,7 +14,15 @@
 namespace sphrect::render {
 
 enum class MaterialKind {
-    kDiffuse, kGlossy, kPrincipled, kGlass, kGlossyBsdf, kTranslucent, kHoldout, kTransparent, kMix
+    kDiffuse,
+    kGlossy,
+    kPrincipled,
+    kGlass,
+    kGlossyBsdf,
+    kTranslucent,
+    kHoldout,
+    kTransparent,
+    kMix
 };
 // The scene format's names of the kinds (MATERIAL_KINDS, in MaterialKind's order; bindings export them), and of the
 // microfacet distributions the kinds that have one take.
@@ -28,7 +36,7 @@ constexpr const char* kGlossyDistributionNames[] = {"ggx", "beckmann", "multisca
 enum class TexturedInput { kBaseColor, kRoughness, kMetallic, kSpecular, kCount };
 constexpr int kNumTexturedInputs = int(TexturedInput::kCount);
 constexpr const char* kTexturedInputNames[kNumTexturedInputs] = {"base_color", "roughness", "metallic", "specular"};
-constexpr const char* kTextureInterpolationNames[] = {"linear", "closest"};  // TextureInterpolation's order
+constexpr const char* kTextureInterpolationNames[] = {"linear", "closest"};     // TextureInterpolation's order
 constexpr const char* kTextureExtensionNames[] = {"repeat", "extend", "clip"};  // TextureExtension's order
 constexpr const char* kTextureOutputNames[] = {"color", "alpha"};               // TextureLookup::alpha_output
 constexpr const char* kTextureCoordinateNames[] = {"uv", "generated"};          // TextureLookup::generated
@@ -106,8 +114,8 @@ inline Bsdf MakeBsdfFromInputs(const Material& r, const PrincipledInputs& in) {
         case MaterialKind::kPrincipled: return MakePrincipledBsdf(in);
         case MaterialKind::kGlass: return MakeGlassBsdf(in.base_color, in.roughness, r.ior, r.beckmann);
         case MaterialKind::kGlossyBsdf:
-            return MakeGlossyBsdf(in.base_color, in.roughness, r.beckmann, in.anisotropic,
-                                          in.anisotropic_rotation, in.multiscatter);
+            return MakeGlossyBsdf(in.base_color, in.roughness, r.beckmann, in.anisotropic, in.anisotropic_rotation,
+                                  in.multiscatter);
         case MaterialKind::kTranslucent: return MakeTranslucentBsdf(in.base_color);
         case MaterialKind::kHoldout: return MakeHoldoutBsdf();
         case MaterialKind::kTransparent: return MakeTransparentBsdf(in.base_color);
@@ -139,8 +147,7 @@ inline std::vector<int> MixLobeSlots(const std::vector<Material>& parts) {
 // RGB, scalars as luminance; Cycles' closure setup clamps them as the Make*Bsdf functions do), a mix
 // rebuilt from its layers with the factors' weights (clamped to [0, 1], as svm_node_mix_closure does).
 // Emission is not textured: the caller keeps the material's own.
-inline Bsdf EvaluateTexturedBsdf(const Material& r, const std::vector<Image>& images,
-                                         const TextureCoordinates& tc) {
+inline Bsdf EvaluateTexturedBsdf(const Material& r, const std::vector<Image>& images, const TextureCoordinates& tc) {
     if (r.kind == MaterialKind::kMix) {
         Bsdf mix = MakeEmptyMixBsdf();
         for (const MaterialLayer& l : r.layers) {

@@ -27,13 +27,13 @@ struct RenderOptions {
     std::vector<Technique> techniques = {Technique::Rectangle};
     // How disk and ellipse lights are sampled (every technique's pass alike).
     EllipseTechnique ellipse_technique = EllipseTechnique::SphericalEllipse;
-    int light_samples = 2;               // light samples (and BSDF samples) per camera sample
-    Pattern pattern = Pattern::Sobol;    // drives pixel, lens, light and BSDF sample positions
-    MisMode mis = MisMode::Balance;      // light sampling vs BSDF (or phase) sampling
+    int light_samples = 2;             // light samples (and BSDF samples) per camera sample
+    Pattern pattern = Pattern::Sobol;  // drives pixel, lens, light and BSDF sample positions
+    MisMode mis = MisMode::Balance;    // light sampling vs BSDF (or phase) sampling
     MediumSampling medium_sampling = MediumSampling::Mis;
     LightSelection light_selection = LightSelection::Power;  // (sphrect.Renderer defaults to tree)
     uint64_t seed = 0;
-    int threads = 0;                     // 0: all hardware threads
+    int threads = 0;  // 0: all hardware threads
     int tile_size = 16;
     // The control variate of lights seen by the camera (integrator/light_coverage.h): the exact
     // share of each pixel that a light's image covers, instead of its camera samples' estimate.

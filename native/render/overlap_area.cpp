@@ -25,8 +25,7 @@ double DiskTriangleArea(double px, double py, double qx, double qy) {
 
 }  // namespace
 
-double ConvexPolygonBoxArea(const double* x, const double* y, int n, double bx0, double by0, double bx1,
-                            double by1) {
+double ConvexPolygonBoxArea(const double* x, const double* y, int n, double bx0, double by0, double bx1, double by1) {
     constexpr int kMax = 16;  // n <= 8, plus one vertex per clipping side
     double ax[kMax], ay[kMax], cx[kMax], cy[kMax];
     int m = std::min(n, 8);
@@ -37,13 +36,21 @@ double ConvexPolygonBoxArea(const double* x, const double* y, int n, double bx0,
         int k = 0;
         for (int i = 0; i < m; ++i) {
             const int j = (i + 1) % m;
-            const double pi = sgn * ((axis == 0 ? ax[i] : ay[i]) - bound), pj = sgn * ((axis == 0 ? ax[j] : ay[j]) - bound);
-            if (pi >= 0) { cx[k] = ax[i]; cy[k] = ay[i]; ++k; }
+            const double pi = sgn * ((axis == 0 ? ax[i] : ay[i]) - bound),
+                         pj = sgn * ((axis == 0 ? ax[j] : ay[j]) - bound);
+            if (pi >= 0) {
+                cx[k] = ax[i];
+                cy[k] = ay[i];
+                ++k;
+            }
             if ((pi < 0) != (pj < 0) && pi != 0 && pj != 0) {
                 const double t = pi / (pi - pj);
                 cx[k] = ax[i] + t * (ax[j] - ax[i]);
                 cy[k] = ay[i] + t * (ay[j] - ay[i]);
-                if (axis == 0) cx[k] = bound; else cy[k] = bound;
+                if (axis == 0)
+                    cx[k] = bound;
+                else
+                    cy[k] = bound;
                 ++k;
             }
         }

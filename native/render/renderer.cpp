@@ -77,7 +77,8 @@ bool Renderer::Render(int samples, double time_budget, const std::function<void(
             throw;
         }
         ++passes;
-        const double pass_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
+        const double pass_seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - pass_start).count();
         {
             std::lock_guard<std::mutex> s(stats_mutex_);
             for (auto& st : stats_) st.wall_time += pass_seconds;
@@ -100,8 +101,8 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
     const std::vector<TileRect> tiles = CutIntoTiles(width(), height(), options_.tile_size);
     std::vector<double*> sums(sums_.size());
     for (size_t k = 0; k < sums_.size(); ++k) sums[k] = sums_[k].data();
-    const KernelParams params{&scene,      &view_,         &options_,      samples,
-                              next_sample_, pass_, sums.data(), counts_.data(), alpha_sums_.data()};
+    const KernelParams params{&scene, &view_,      &options_,      samples,           next_sample_,
+                              pass_,  sums.data(), counts_.data(), alpha_sums_.data()};
     const SceneFeatures& f = scene.features();
     const bool all = options_.force_all_features;
     const TileKernel kernel = SelectTileKernel(view_.dof || all, f.glossy || all, f.medium || all);
@@ -137,8 +138,8 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
     return complete;
 }
 
-void ResolveImage(const double* sums, const uint32_t* counts, const double* alpha_sums, bool film_alpha,
-                  size_t pixels, float* out) {
+void ResolveImage(const double* sums, const uint32_t* counts, const double* alpha_sums, bool film_alpha, size_t pixels,
+                  float* out) {
     for (size_t i = 0; i < pixels; ++i) {
         const double inv = counts[i] > 0 ? 1.0 / counts[i] : 0.0;
         out[4 * i + 0] = float(sums[3 * i + 0] * inv);

@@ -17,20 +17,20 @@
 namespace sphrect::render {
 
 struct TechniqueStats {
-    uint64_t samples = 0;       // camera samples per pixel accumulated (pixels of cancelled tiles may have fewer)
-    double wall_time = 0;       // seconds of Render() calls (shared by all techniques of the renderer)
-    double light_time = 0;      // thread-seconds in this technique's light sampling (setup, Sample, PDF)
-    double shading_time = 0;    // thread-seconds in the rest of its direct lighting: BSDF, MIS, shadow rays
-    double camera_time = 0;     // thread-seconds of camera rays and first hits (shared)
-    uint64_t rays = 0;          // shadow and BSDF/phase rays cast for this technique
-    uint64_t camera_rays = 0;   // camera rays (shared)
+    uint64_t samples = 0;          // camera samples per pixel accumulated (pixels of cancelled tiles may have fewer)
+    double wall_time = 0;          // seconds of Render() calls (shared by all techniques of the renderer)
+    double light_time = 0;         // thread-seconds in this technique's light sampling (setup, Sample, PDF)
+    double shading_time = 0;       // thread-seconds in the rest of its direct lighting: BSDF, MIS, shadow rays
+    double camera_time = 0;        // thread-seconds of camera rays and first hits (shared)
+    uint64_t rays = 0;             // shadow and BSDF/phase rays cast for this technique
+    uint64_t camera_rays = 0;      // camera rays (shared)
     uint64_t dropped_samples = 0;  // non-finite camera samples left out of the image (expected 0)
 };
 
 // RGBA float32 [pixels][4] from accumulation buffers: the mean of each pixel's samples (black where
 // none), alpha the film's when film_alpha, else 1.
-void ResolveImage(const double* sums, const uint32_t* counts, const double* alpha_sums, bool film_alpha,
-                  size_t pixels, float* out);
+void ResolveImage(const double* sums, const uint32_t* counts, const double* alpha_sums, bool film_alpha, size_t pixels,
+                  float* out);
 
 class Renderer {
   public:
@@ -43,8 +43,7 @@ class Renderer {
     // `samples` while the budget lasts (at least one pass).  `progress(done_tiles, total_tiles)`
     // is called on the calling thread.  Returns false when cancelled (partial image kept).
     // Throws std::logic_error if this renderer is already rendering (one Render() at a time).
-    bool Render(int samples, double time_budget = 0,
-                const std::function<void(int, int)>& progress = nullptr);
+    bool Render(int samples, double time_budget = 0, const std::function<void(int, int)>& progress = nullptr);
     // Makes this renderer render a sample range of a longer render: its next Render() call renders
     // camera samples [first_sample, first_sample + samples) as pass `pass` of that render, exactly as
     // the longer render's own pass `pass` does (the patterns depend on the sample indices and the pass
@@ -89,7 +88,7 @@ class Renderer {
     std::vector<TechniqueStats> stats_;
     uint32_t next_sample_ = 0, pass_ = 0;
     std::atomic<bool> cancel_{false};
-    std::mutex render_mutex_;                // one Render() at a time
+    std::mutex render_mutex_;  // one Render() at a time
     mutable std::mutex stats_mutex_;
 };
 

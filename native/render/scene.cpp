@@ -32,7 +32,9 @@ struct Triangle {
 std::optional<RectLight<float>> RectangleOfPair(const Triangle& a, const Triangle& b) {
     constexpr float kTolerance = 1e-5f;  // relative; float rounding of transformed vertices is ~1e-7
     auto same = [](const Vec3f& u, const Vec3f& v) { return u.x == v.x && u.y == v.y && u.z == v.z; };
-    auto shared = [&](const Vec3f& v, const Triangle& t) { return same(v, t.v[0]) || same(v, t.v[1]) || same(v, t.v[2]); };
+    auto shared = [&](const Vec3f& v, const Triangle& t) {
+        return same(v, t.v[0]) || same(v, t.v[1]) || same(v, t.v[2]);
+    };
     int pa = -1, pb = -1, na = 0, nb = 0;
     for (int i = 0; i < 3; ++i) {
         if (!shared(a.v[i], b)) pa = i, ++na;
@@ -223,8 +225,7 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
     if (material_ids) {
         m.material_ids.assign(material_ids, material_ids + nt);
         for (size_t i = 0; i < nt; ++i)
-            if (material_ids[i] < 0)
-                Fail(who + ": triangle " + std::to_string(i) + " has a negative material id");
+            if (material_ids[i] < 0) Fail(who + ": triangle " + std::to_string(i) + " has a negative material id");
     }
     if (nt == 0) return;  // nothing to intersect (Embree refuses empty buffers)
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -248,8 +249,8 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
     meshes.push_back(std::move(m));
 }
 
-std::string RenderScene::AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey,
-                                      const Spectrum& radiance, bool two_sided, bool visible) {
+std::string RenderScene::AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
+                                      bool two_sided, bool visible) {
     RequireNotCommitted();
     CheckColor("rectangle light radiance", radiance);
     const std::string problem = ValidateRectLight(RectLight<float>{corner, ex, ey, two_sided});
@@ -382,8 +383,9 @@ void RenderScene::Commit() {
     features_.emissive_meshes = has_mesh_lights;
     features_.transparency = has_transparency;
     if (has_transparency && has_medium)
-        warnings.push_back("transparent surfaces in a medium: a camera ray that goes through one weights its "
-                           "single scattering in front of the surface by the surface's transparency too (approximate)");
+        warnings.push_back(
+            "transparent surfaces in a medium: a camera ray that goes through one weights its "
+            "single scattering in front of the surface by the surface's transparency too (approximate)");
     committed_ = true;
 }
 

@@ -32,7 +32,7 @@ constexpr int64_t kMaxImagePixels = int64_t(1) << kMaxImagePixelsLog2;
 
 struct MeshData {
     std::string name;
-    const float* vertices = nullptr;    // Embree-owned, [3 * num_vertices]
+    const float* vertices = nullptr;      // Embree-owned, [3 * num_vertices]
     const uint32_t* triangles = nullptr;  // Embree-owned, [3 * num_triangles]
     size_t num_vertices = 0, num_triangles = 0;
     std::vector<Vec3f> normals;         // per vertex, or empty (flat shading)
@@ -77,8 +77,9 @@ class RenderScene {
     // Checks the material (std::invalid_argument naming it and the field) and adds it with its Bsdf; returns its
     // index.  Emissive triangles of its meshes become area lights at Commit().
     int AddMaterial(const Material& material);
-    // Images, which materials' lookups name by index.  AddImage copies width x height x channels bytes or floats (rows bottom to top); LoadImage
-    // reads a file with OpenImageIO, or on failure makes Cycles' magenta missing image and a warning.
+    // Images, which materials' lookups name by index.  AddImage copies width x height x channels bytes or floats (rows
+    // bottom to top); LoadImage reads a file with OpenImageIO, or on failure makes Cycles' magenta missing image and a
+    // warning.
     int AddImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
                  const float* floats, bool srgb);
     int AddImage(Image image);  // made by MakeImage (texture.h)
@@ -114,7 +115,8 @@ class RenderScene {
     bool has_medium = false;
     HomogeneousMedium medium;
     std::vector<Bsdf> bsdfs;
-    // Per material: what it is made of, which a hit on a textured one (Bsdf::textured) evaluates; bsdfs holds its lobes.
+    // Per material: what it is made of, which a hit on a textured one (Bsdf::textured) evaluates; bsdfs holds its
+    // lobes.
     std::vector<Material> materials;
     std::vector<NormalMap> normal_maps;  // per material; lookup unbound: none
     std::vector<Image> images;
@@ -124,15 +126,15 @@ class RenderScene {
     std::vector<AreaLight> area_lights;
     size_t num_analytic_lights = 0;
     AreaLightFinder analytic_light_finder;  // of lights [0, num_analytic_lights): which a ray crosses
-    LightSelector light_selector;            // over area_lights, by power
-    bool has_mesh_lights = false;            // some area light is on_mesh
-    bool has_transparency = false;           // Commit(): some triangle's material may let rays through
+    LightSelector light_selector;           // over area_lights, by power
+    bool has_mesh_lights = false;           // some area light is on_mesh
+    bool has_transparency = false;          // Commit(): some triangle's material may let rays through
     // Whether triangle `prim` of `mesh` has a material that may let rays through (integrator/transparency.h).
     bool MayBeTransparent(const MeshData& mesh, uint32_t prim) const {
         const int32_t material = mesh.material_ids.empty() ? 0 : mesh.material_ids[prim];
         return bsdfs[size_t(material)].has_transparency;
     }
-    std::vector<std::string> warnings;       // Commit()'s, e.g. skipped degenerate emissive triangles
+    std::vector<std::string> warnings;  // Commit()'s, e.g. skipped degenerate emissive triangles
     // Centres for equi-angular sampling in the medium: area lights' centres and point/spot
     // lights' positions, picked by power (sun excluded: it is infinitely far).
     std::vector<Vec3f> medium_centres;

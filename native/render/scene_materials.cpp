@@ -21,9 +21,9 @@ void CheckInputsFinite(const Material& m) {
                 Fail("roughness, metallic and specular must be finite");
             break;
         case MaterialKind::kPrincipled:
-            for (float v : {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint,
-                            in.clearcoat, in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation,
-                            in.transmission, in.ior})
+            for (float v :
+                 {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
+                  in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation, in.transmission, in.ior})
                 if (!std::isfinite(v)) Fail("Principled inputs must be finite");
             break;
         case MaterialKind::kGlass:
@@ -74,8 +74,9 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
                     Fail("a mix layer cannot have a normal map of its own (the mix's has)");
                 const Bsdf part = MakeMaterialBsdf(layer.material);
                 if (!layer.factors.empty() && !IsBlack(part.emission))
-                    Fail("an emitting mix layer cannot have texture-driven factors (mesh lights need a constant "
-                         "emission)");
+                    Fail(
+                        "an emitting mix layer cannot have texture-driven factors (mesh lights need a constant "
+                        "emission)");
                 // The untextured values stand for the textured ones (a factor as 1/2): the structure a hit rebuilds.
                 MixIntoBsdf(bsdf, part, layer.factors.empty() ? layer.weight : layer.weight * 0.5f);
                 bsdf.emission += part.emission * layer.weight;

@@ -31,14 +31,21 @@ struct CameraFrame {
                      h = m[2][1], i = m[2][2];
         const double det = a * (e * i - f * h) - b * (d * i - f * g) + cc * (d * h - e * g);
         const double r = 1 / det;
-        inv[0][0] = (e * i - f * h) * r; inv[0][1] = (cc * h - b * i) * r; inv[0][2] = (b * f - cc * e) * r;
-        inv[1][0] = (f * g - d * i) * r; inv[1][1] = (a * i - cc * g) * r; inv[1][2] = (cc * d - a * f) * r;
-        inv[2][0] = (d * h - e * g) * r; inv[2][1] = (b * g - a * h) * r; inv[2][2] = (a * e - b * d) * r;
+        inv[0][0] = (e * i - f * h) * r;
+        inv[0][1] = (cc * h - b * i) * r;
+        inv[0][2] = (b * f - cc * e) * r;
+        inv[1][0] = (f * g - d * i) * r;
+        inv[1][1] = (a * i - cc * g) * r;
+        inv[1][2] = (cc * d - a * f) * r;
+        inv[2][0] = (d * h - e * g) * r;
+        inv[2][1] = (b * g - a * h) * r;
+        inv[2][2] = (a * e - b * d) * r;
         origin = {m[0][3], m[1][3], m[2][3]};
     }
     bool Valid() const { return std::isfinite(inv[0][0] + inv[1][1] + inv[2][2]); }
     V3 VectorToCamera(V3 v) const {
-        return {inv[0][0] * v.x + inv[0][1] * v.y + inv[0][2] * v.z, inv[1][0] * v.x + inv[1][1] * v.y + inv[1][2] * v.z,
+        return {inv[0][0] * v.x + inv[0][1] * v.y + inv[0][2] * v.z,
+                inv[1][0] * v.x + inv[1][1] * v.y + inv[1][2] * v.z,
                 inv[2][0] * v.x + inv[2][1] * v.y + inv[2][2] * v.z};
     }
     V3 PointToCamera(V3 p) const { return VectorToCamera(Sub(p, origin)); }
@@ -47,9 +54,15 @@ struct CameraFrame {
     double FilmY(double sy) const { return (1 - (sy - c->offset_y) / c->half_height) * 0.5 * c->height; }
     // The affine map film (fx, fy, 1) -> view-plane (sx, sy): rows of a 3x3 whose last row is (0, 0, 1).
     void FilmToView(double k[3][3]) const {
-        k[0][0] = 2.0 * c->half_width / c->width; k[0][1] = 0; k[0][2] = c->offset_x - c->half_width;
-        k[1][0] = 0; k[1][1] = -2.0 * c->half_height / c->height; k[1][2] = c->half_height + c->offset_y;
-        k[2][0] = 0; k[2][1] = 0; k[2][2] = 1;
+        k[0][0] = 2.0 * c->half_width / c->width;
+        k[0][1] = 0;
+        k[0][2] = c->offset_x - c->half_width;
+        k[1][0] = 0;
+        k[1][1] = -2.0 * c->half_height / c->height;
+        k[1][2] = c->half_height + c->offset_y;
+        k[2][0] = 0;
+        k[2][1] = 0;
+        k[2][2] = 1;
     }
 };
 
@@ -70,16 +83,20 @@ bool FinishBox(ScreenLight& s, const double* x, const double* y, int n) {
     s.x0 = s.x1 = x[0];
     s.y0 = s.y1 = y[0];
     for (int i = 1; i < n; ++i) {
-        s.x0 = std::min(s.x0, x[i]); s.x1 = std::max(s.x1, x[i]);
-        s.y0 = std::min(s.y0, y[i]); s.y1 = std::max(s.y1, y[i]);
+        s.x0 = std::min(s.x0, x[i]);
+        s.x1 = std::max(s.x1, x[i]);
+        s.y0 = std::min(s.y0, y[i]);
+        s.y1 = std::max(s.y1, y[i]);
     }
     return std::isfinite(s.x0 + s.x1 + s.y0 + s.y1);
 }
 
 bool MakeRectangleImage(const CameraFrame& f, const AreaLight& l, ScreenLight& s) {
     const V3 c0 = D(l.frame.light.corner), ex = D(l.frame.light.ex), ey = D(l.frame.light.ey);
-    const V3 corners[4] = {c0, {c0.x + ex.x, c0.y + ex.y, c0.z + ex.z},
-                           {c0.x + ex.x + ey.x, c0.y + ex.y + ey.y, c0.z + ex.z + ey.z}, {c0.x + ey.x, c0.y + ey.y, c0.z + ey.z}};
+    const V3 corners[4] = {c0,
+                           {c0.x + ex.x, c0.y + ex.y, c0.z + ex.z},
+                           {c0.x + ex.x + ey.x, c0.y + ex.y + ey.y, c0.z + ex.z + ey.z},
+                           {c0.x + ey.x, c0.y + ey.y, c0.z + ey.z}};
     double lo = INFINITY, hi = -INFINITY;
     for (int k = 0; k < 4; ++k) {
         const V3 q = f.PointToCamera(corners[k]);
@@ -136,7 +153,9 @@ bool MakeEllipseImage(const CameraFrame& f, const AreaLight& l, ScreenLight& s) 
         };
         row(A, aa, rows[0]);
         row(B, bb, rows[1]);
-        rows[2][0] = 0; rows[2][1] = 0; rows[2][2] = 1;
+        rows[2][0] = 0;
+        rows[2][1] = 0;
+        rows[2][2] = 1;
     }
     // H = rows . k, then rescaled (the conic does not change) so that its entries are O(1).
     double H[3][3], big = 0;
@@ -195,7 +214,8 @@ std::vector<ScreenLight> BuildScreenLights(const CameraModel& camera, const std:
         s.light = int(i);
         s.radiance = EmittedRadiance(l, toward_f);
         if (IsBlack(s.radiance)) continue;
-        const bool ok = l.shape == AreaShape::Rectangle ? MakeRectangleImage(frame, l, s) : MakeEllipseImage(frame, l, s);
+        const bool ok =
+            l.shape == AreaShape::Rectangle ? MakeRectangleImage(frame, l, s) : MakeEllipseImage(frame, l, s);
         // Lights wholly off the film need nothing.
         if (ok && s.x1 > 0 && s.y1 > 0 && s.x0 < camera.width && s.y0 < camera.height) out.push_back(s);
     }

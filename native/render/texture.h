@@ -36,7 +36,7 @@ struct Image {
     int width = 0, height = 0, channels = 0;  // channels 1..4: grey, grey+alpha, RGB, RGBA
     std::vector<uint8_t> bytes;               // width x height x channels, or empty: floats
     std::vector<float> floats;
-    bool srgb = false;                        // stored values are sRGB-encoded (decoded after filtering)
+    bool srgb = false;  // stored values are sRGB-encoded (decoded after filtering)
 
     // Texel (x, y), both in range, as RGBA in stored units (bytes / 255).
     Rgba Texel(int x, int y) const {
@@ -149,9 +149,9 @@ inline Rgba LookupImage(const Image& im, float u, float v, TextureInterpolation 
 // UVs as (u, v, 0) or its Generated coordinates), mapped by a 3x4 affine transform (the Mapping
 // node), and which output (Color, or Alpha).
 struct TextureLookup {
-    int image = -1;                // into RenderScene::images; -1: no texture
+    int image = -1;  // into RenderScene::images; -1: no texture
     bool alpha_output = false;
-    bool generated = false;        // coordinates 'generated' (MeshData::generated) instead of 'uv'
+    bool generated = false;  // coordinates 'generated' (MeshData::generated) instead of 'uv'
     float transform[3][4] = {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
     TextureInterpolation interpolation = TextureInterpolation::kLinear;
     TextureExtension extension = TextureExtension::kRepeat;

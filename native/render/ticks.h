@@ -16,8 +16,9 @@ inline uint64_t ReadTicks() {
 #if defined(__x86_64__) || defined(__i386__)
     return __rdtsc();
 #else
-    return uint64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(
-                        std::chrono::steady_clock::now().time_since_epoch()).count());
+    return uint64_t(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+            .count());
 #endif
 }
 

@@ -16,10 +16,10 @@ namespace sphrect::render {
 std::vector<TileRect> CutIntoTiles(int width, int height, int tile_size);
 
 struct TileRun {
-    int done = 0;                        // tiles finished
-    TileTally tally;                     // summed over the workers
-    std::exception_ptr worker_error;     // the first exception a worker threw (it cancelled the run)
-    std::exception_ptr progress_error;   // the exception the progress callback threw (it cancelled the run)
+    int done = 0;                       // tiles finished
+    TileTally tally;                    // summed over the workers
+    std::exception_ptr worker_error;    // the first exception a worker threw (it cancelled the run)
+    std::exception_ptr progress_error;  // the exception the progress callback threw (it cancelled the run)
 };
 
 // Runs `kernel` over `tiles` on up to `threads` threads.  `cancel` stops the workers (an error

@@ -25,8 +25,8 @@ inline double ChiSquareQuantile(int k, double z) {
     return k * std::pow(1 - a + z * std::sqrt(a), 3);
 }
 
-inline ChiSquare BsdfSamplingChiSquare(const Bsdf& m, const Vec3f& wo, PCG32& rng, float cos_lo, int n_theta,
-                                       int n_phi, int sub, int samples) {
+inline ChiSquare BsdfSamplingChiSquare(const Bsdf& m, const Vec3f& wo, PCG32& rng, float cos_lo, int n_theta, int n_phi,
+                                       int sub, int samples) {
     std::vector<double> expected(size_t(n_theta) * n_phi, 0.0), observed(expected.size(), 0.0);
     const float cos_range = 1 - cos_lo;
     double expected_total = 0;

@@ -24,8 +24,8 @@ std::vector<LightCrossing> Linear(const std::vector<AreaLight>& lights, const Ve
     return out;
 }
 
-std::vector<LightCrossing> Found(const AreaLightFinder& finder, const Vec3f& o, const Vec3f& d, float tmin,
-                                 float tmax, LightsSought sought) {
+std::vector<LightCrossing> Found(const AreaLightFinder& finder, const Vec3f& o, const Vec3f& d, float tmin, float tmax,
+                                 LightsSought sought) {
     std::vector<LightCrossing> out;
     finder.ForEachCrossing(o, d, tmin, tmax, sought, [&](int i, float t) { out.push_back({i, t}); });
     return out;

@@ -16,7 +16,12 @@ TEST(Bilinear, SampleInvertRoundTripAndPDFIsTheJacobian) {
                 EXPECT_NEAR(back.v, v, 1e-12);
                 // pdf = 1 / |d(sample)/d(u, v)|: the sample's u depends on u only.
                 const double e = 1e-6;
-                const Point2<double> pu = SampleBilinear({u + e, v}, w), pv = SampleBilinear({u, v + e, }, w);
+                const Point2<double> pu = SampleBilinear({u + e, v}, w), pv = SampleBilinear(
+                                                                             {
+                                                                                 u,
+                                                                                 v + e,
+                                                                             },
+                                                                             w);
                 const double jac = (pu.u - p.u) / e * (pv.v - p.v) / e;
                 EXPECT_NEAR(BilinearPDF(p, w) * jac, 1.0, 1e-4);
             }

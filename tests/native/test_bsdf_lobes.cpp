@@ -1,9 +1,9 @@
 // The lobes beyond Principled (render/bsdf.h): Glass, Glossy and Anisotropic BSDF, Principled Anisotropic,
-// Translucent, and Mix / Add Shader materials holding several of them.  For each: sampling against its pdf over the whole sphere (Pearson
-// chi-square, so the translucent lobe's lower hemisphere is checked too), the sampling estimate of the
-// albedo against quadrature, reciprocity, and a Translucent's closed form.
-// Statistical checks use fixed seeds; each chi-square bound is the 1 - 1e-6 quantile, each mean a 6-sigma
-// bound: false-failure rate < 3e-5 for the file (20 chi-square tests, 10 means).
+// Translucent, and Mix / Add Shader materials holding several of them.  For each: sampling against its pdf over the
+// whole sphere (Pearson chi-square, so the translucent lobe's lower hemisphere is checked too), the sampling estimate
+// of the albedo against quadrature, reciprocity, and a Translucent's closed form. Statistical checks use fixed seeds;
+// each chi-square bound is the 1 - 1e-6 quantile, each mean a 6-sigma bound: false-failure rate < 3e-5 for the file (20
+// chi-square tests, 10 means).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -56,16 +56,17 @@ std::vector<NamedMaterial> Materials() {
         {"glass beckmann r=0.5", MakeGlassBsdf({0.9f, 0.9f, 1}, 0.5f, 1.45f, true)},
         {"glossy r=0.3", MakeGlossyBsdf({0.8f, 0.8f, 0.8f}, 0.3f)},
         {"translucent", MakeTranslucentBsdf({0.6f, 0.8f, 0.5f})},
-        {"diffuse + glossy", Mix({{MakeDiffuseBsdf({0.5f, 0.5f, 0.5f}), 0.6f},
-                                  {MakeGlossyBsdf({1, 1, 1}, 0.25f), 0.4f}})},
+        {"diffuse + glossy",
+         Mix({{MakeDiffuseBsdf({0.5f, 0.5f, 0.5f}), 0.6f}, {MakeGlossyBsdf({1, 1, 1}, 0.25f), 0.4f}})},
         {"principled + glass + translucent", Mix({{MakePrincipledBsdf(principled), 0.5f},
                                                   {MakeGlassBsdf({1, 1, 1}, 0.3f, 1.5f), 0.3f},
                                                   {MakeTranslucentBsdf({0.9f, 0.9f, 0.9f}), 0.2f}})},
         {"anisotropic glossy a=0.6", WithTangent(MakeGlossyBsdf({0.9f, 0.9f, 0.9f}, 0.4f, false, 0.6f, 0.15f), 0.5f)},
         {"principled anisotropic 0.8", WithTangent(MakePrincipledBsdf(AnisotropicPrincipled()), -1.0f)},
-        {"diffuse + anisotropic glossy a=-0.5", WithTangent(Mix({{MakeDiffuseBsdf({0.4f, 0.4f, 0.4f}), 0.5f},
-                                                                 {MakeGlossyBsdf({1, 1, 1}, 0.3f, false, -0.5f), 0.5f}}),
-                                                            2.0f)},
+        {"diffuse + anisotropic glossy a=-0.5",
+         WithTangent(
+             Mix({{MakeDiffuseBsdf({0.4f, 0.4f, 0.4f}), 0.5f}, {MakeGlossyBsdf({1, 1, 1}, 0.3f, false, -0.5f), 0.5f}}),
+             2.0f)},
         {"two glossy + translucent + diffuse", Mix({{MakeGlossyBsdf({1, 1, 1}, 0.2f), 0.3f},
                                                     {MakeGlossyBsdf({1, 0.5f, 0.5f}, 0.6f), 0.3f},
                                                     {MakeTranslucentBsdf({0.5f, 0.5f, 0.5f}), 0.2f},
@@ -112,7 +113,8 @@ TEST(BsdfLobes, TranslucentIsLambertianTransmissionAndConservesEnergy) {
     // Nothing reflected; colour / pi transmitted; the transmitted albedo is the colour.
     EXPECT_EQ(EvalBsdf<true>(m, wo, SphericalDirection(0.5f, 1.0f)).y, 0.0f);
     EXPECT_FLOAT_EQ(EvalBsdf<true>(m, wo, SphericalDirection(-0.5f, 1.0f)).y, color.y / kPi);
-    const double albedo = IntegrateSphere([&](const Vec3f& wi) { return EvalBsdf<true>(m, wo, wi).y * std::abs(wi.z); });
+    const double albedo =
+        IntegrateSphere([&](const Vec3f& wi) { return EvalBsdf<true>(m, wo, wi).y * std::abs(wi.z); });
     EXPECT_NEAR(albedo, color.y, 2e-3);
     // Not for the diffuse kernel: kGlossy = false never sees it (a translucent material is 'glossy').
     EXPECT_TRUE(m.glossy);
@@ -154,8 +156,7 @@ TEST(BsdfLobes, AnisotropicGgxReducesToIsotropicAndTurnsWithItsTangent) {
     EXPECT_NEAR(half, a, 1e-4f * a);
     // The Anisotropic BSDF's rotation input turns the lobe as its tangent does.
     const Bsdf turned = WithTangent(MakeGlossyBsdf({1, 1, 1}, 0.4f, false, 0.6f, 0.25f), 0.3f);
-    const Bsdf tangent_turned = WithTangent(MakeGlossyBsdf({1, 1, 1}, 0.4f, false, 0.6f, 0.0f),
-                                                0.3f + kPi / 2);
+    const Bsdf tangent_turned = WithTangent(MakeGlossyBsdf({1, 1, 1}, 0.4f, false, 0.6f, 0.0f), 0.3f + kPi / 2);
     EXPECT_NEAR(EvalBsdf<true>(turned, wo, wi).y, EvalBsdf<true>(tangent_turned, wo, wi).y, 1e-5f);
     // Anisotropy changes the lobe (the test above can fail).
     const Bsdf iso = MakeGlossyBsdf({1, 1, 1}, 0.4f);

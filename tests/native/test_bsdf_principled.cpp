@@ -189,7 +189,8 @@ TEST(PrincipledBsdf, SamplingEstimatesTheAlbedo) {
     for (const NamedInputs& c : Lobes()) {
         const Bsdf m = MakePrincipledBsdf(c.in);
         const Vec3f wo = SphericalDirection(0.6f, 1.0f);
-        const double reference = IntegrateHemisphere([&](const Vec3f& wi) { return EvalBsdf<true>(m, wo, wi).y * wi.z; });
+        const double reference =
+            IntegrateHemisphere([&](const Vec3f& wi) { return EvalBsdf<true>(m, wo, wi).y * wi.z; });
         const int n = 200000;
         double sum = 0, sum2 = 0;
         for (int i = 0; i < n; ++i) {

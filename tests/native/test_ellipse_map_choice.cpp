@@ -41,7 +41,8 @@ double MeasuredSpread(const Vec3d& o, const EllipseLightFrame<float>& f) {
 }
 
 TEST(EllipseMapChoice, SpreadBoundHoldsAndIsExactOnTheAxisOfADisk) {
-    const EllipseLightFrame<float> disk = MakeEllipseLightFrame(EllipseLight<float>{{0, 0, 1}, {0.5f, 0, 0}, {0, 0.5f, 0}});
+    const EllipseLightFrame<float> disk =
+        MakeEllipseLightFrame(EllipseLight<float>{{0, 0, 1}, {0.5f, 0, 0}, {0, 0.5f, 0}});
     const EllipseLightFrame<float> ellipse =
         MakeEllipseLightFrame(EllipseLight<float>{{0.2f, -0.1f, 1.3f}, {0.6f, 0, 0.3f}, {0, 0.2f, 0}});
     PCG32 rng(3);
@@ -60,7 +61,8 @@ TEST(EllipseMapChoice, SpreadBoundHoldsAndIsExactOnTheAxisOfADisk) {
 // The square-root-free test of the core is the direct bound against the threshold, S^(2/3) <= 4.
 TEST(EllipseMapChoice, ChoiceIsTheBoundAgainstTheThreshold) {
     static_assert(EllipseAreaMaxDistanceRatio2(8.0) - 4.0 < 1e-15 && 4.0 - EllipseAreaMaxDistanceRatio2(8.0) < 1e-15);
-    EXPECT_NEAR(EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread), std::cbrt(kEllipseAreaMaxSpread * kEllipseAreaMaxSpread), 1e-15);
+    EXPECT_NEAR(EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread),
+                std::cbrt(kEllipseAreaMaxSpread * kEllipseAreaMaxSpread), 1e-15);
     const double k = EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread);
     const EllipseLightFrame<float> ellipse =
         MakeEllipseLightFrame(EllipseLight<float>{{0.2f, -0.1f, 1.3f}, {0.6f, 0, 0.3f}, {0, 0.2f, 0}, false});
@@ -68,9 +70,13 @@ TEST(EllipseMapChoice, ChoiceIsTheBoundAgainstTheThreshold) {
     int by_area = 0, near_boundary = 0;
     for (int i = 0; i < 100000; ++i) {
         const float s = std::pow(10.0f, 3 * rng.NextFloat() - 1);  // 0.1 .. 100 sizes away
-        const Vec3f o(s * (2 * rng.NextFloat() - 1), s * (2 * rng.NextFloat() - 1), 1.3f + s * (2 * rng.NextFloat() - 1));
+        const Vec3f o(s * (2 * rng.NextFloat() - 1), s * (2 * rng.NextFloat() - 1),
+                      1.3f + s * (2 * rng.NextFloat() - 1));
         const double b = DistanceSpread2(Vec3d(o), ellipse);
-        if (std::abs(b / k - 1) < 1e-9) { ++near_boundary; continue; }
+        if (std::abs(b / k - 1) < 1e-9) {
+            ++near_boundary;
+            continue;
+        }
         const bool area = EllipseAreaSamplingSuffices(o, ellipse);
         EXPECT_EQ(area, b <= k) << o.x << " " << o.y << " " << o.z << " bound " << b;
         by_area += area;
@@ -94,10 +100,11 @@ TEST(EllipseMapChoice, SwitchesWhereTheBoundCrossesTheThreshold) {
     EXPECT_FALSE(EllipseAreaSamplingSuffices(Vec3f(0.5f, 0, 0), disk));
     EXPECT_FALSE(EllipseAreaSamplingSuffices(Vec3f(0.5f, 0, 1e-3f), disk));
     // The largest semi-axis counts: a thin ellipse seen along its major axis.
-    const EllipseLightFrame<float> thin = MakeEllipseLightFrame(EllipseLight<float>{{0, 0, 0}, {0, 0.01f, 0}, {1, 0, 0}});
+    const EllipseLightFrame<float> thin =
+        MakeEllipseLightFrame(EllipseLight<float>{{0, 0, 0}, {0, 0.01f, 0}, {1, 0, 0}});
     EXPECT_FALSE(EllipseAreaSamplingSuffices(Vec3f(1.5f, 0, 0.1f), thin));
-    EXPECT_TRUE(EllipseAreaSamplingSuffices(Vec3f(0, 1.5f, 0.1f), MakeEllipseLightFrame(
-        EllipseLight<float>{{0, 0, 0}, {0, 0.01f, 0}, {0.01f, 0, 0}})));
+    EXPECT_TRUE(EllipseAreaSamplingSuffices(
+        Vec3f(0, 1.5f, 0.1f), MakeEllipseLightFrame(EllipseLight<float>{{0, 0, 0}, {0, 0.01f, 0}, {0.01f, 0, 0}})));
     // Degenerate input: the map's (invalid) setup answers.
     EXPECT_FALSE(EllipseAreaSamplingSuffices(Vec3f(std::nanf(""), 0, 1), disk));
 }
@@ -109,7 +116,8 @@ TEST(EllipseMapChoice, SampleAndPDFFollowTheChoiceOnBothSides) {
     const float r = 0.5f;
     // (one-sided, facing down: cross(axis_u, axis_v) = -z)
     const AreaLight disk = MakeEllipseAreaLight({0, 0, 2}, {0, r, 0}, {r, 0, 0}, {1, 1, 1}, false, false);
-    const AreaLight tilted = MakeEllipseAreaLight({1, 0.5f, 1.5f}, {0.4f, 0, 0.2f}, {0, 0.25f, 0}, {1, 1, 1}, true, false);
+    const AreaLight tilted =
+        MakeEllipseAreaLight({1, 0.5f, 1.5f}, {0.4f, 0, 0.2f}, {0, 0.25f, 0}, {1, 1, 1}, true, false);
     const double h_switch = r / std::sqrt(EllipseAreaMaxDistanceRatio2(kEllipseAreaMaxSpread) - 1);
     int by_area = 0, by_map = 0;
     PCG32 rng(11);

@@ -21,11 +21,16 @@ namespace {
 
 template <Technique K, class T>
 double SamplerSolidAngle(const LightSampler<K, T>& s) {
-    if constexpr (K == Technique::Rectangle) return s.r.solid_angle;
-    else if constexpr (K == Technique::Triangles) return T(s.r.omega);
-    else if constexpr (K == Technique::RectangleCosine) return s.r.rect.solid_angle;
-    else if constexpr (K == Technique::RectangleProjected) return s.r.use_rectangle ? s.r.rect.solid_angle : -1;
-    else return -1;  // area: no solid angle
+    if constexpr (K == Technique::Rectangle)
+        return s.r.solid_angle;
+    else if constexpr (K == Technique::Triangles)
+        return T(s.r.omega);
+    else if constexpr (K == Technique::RectangleCosine)
+        return s.r.rect.solid_angle;
+    else if constexpr (K == Technique::RectangleProjected)
+        return s.r.use_rectangle ? s.r.rect.solid_angle : -1;
+    else
+        return -1;  // area: no solid angle
 }
 
 template <class T>
@@ -51,7 +56,8 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
     const Vec3<T> o(hc.origin), n(hc.normal);
     const double ref = ReferenceSolidAngle(o, L);
     const LightSampler<K, T> s(o, n, L);
-    const LightSampler<K, double> sd(Vec3d(o), Vec3d(n), RectLight<double>{Vec3d(L.corner), Vec3d(L.ex), Vec3d(L.ey), L.two_sided});
+    const LightSampler<K, double> sd(Vec3d(o), Vec3d(n),
+                                     RectLight<double>{Vec3d(L.corner), Vec3d(L.ex), Vec3d(L.ey), L.two_sided});
     SCOPED_TRACE(hc.name + " " + TechniqueName(K) + (sizeof(T) == 4 ? " float" : " double"));
     ++st->cases;
     ASSERT_EQ(s.Valid(), ref > 0) << "reference Omega " << ref;
@@ -93,7 +99,8 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
         if (uniform && !fallback) {
             const double err = std::abs(double(ls.pdf) * ref - 1);
             st->max_uniform_err = std::max(st->max_uniform_err, err);
-            EXPECT_LE(err, kUniformPDFTolerance) << "pdf " << ls.pdf << " 1/Omega " << 1 / ref << " u " << uv.u << " v " << uv.v;
+            EXPECT_LE(err, kUniformPDFTolerance)
+                << "pdf " << ls.pdf << " 1/Omega " << 1 / ref << " u " << uv.u << " v " << uv.v;
         }
         // rectangle_cosine: the pdf is a bilinear factor in [0, 4] times the rectangle's pdf;
         // where the factor is ~0 (corners at the horizon) compare against that scale.
@@ -115,7 +122,8 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
             EXPECT_EQ(pdf, ls.pdf);
             ++st->pdf_checked;
         } else if (sizeof(T) == 8) {
-            EXPECT_NEAR(double(pdf), double(ls.pdf), 1e-6 * double(ls.pdf) + 1e-7 * scale) << "u " << uv.u << " v " << uv.v;
+            EXPECT_NEAR(double(pdf), double(ls.pdf), 1e-6 * double(ls.pdf) + 1e-7 * scale)
+                << "u " << uv.u << " v " << uv.v;
             ++st->pdf_checked;
         } else {
             // A varying pdf at a float point: compare where rounding the point to float
@@ -123,7 +131,8 @@ void RunHardCase(const HardCase& hc, SuiteStats* st) {
             const Vec3d pd = Vec3d(sd.Sample({double(uv.u), double(uv.v)}).point);
             const double exact = sd.PDF(pd), rounded = sd.PDF(Vec3d(ls.point));
             if (std::abs(exact - rounded) <= 1e-5 * exact) {
-                EXPECT_NEAR(double(pdf), double(ls.pdf), 2e-4 * double(ls.pdf) + 1e-6 * scale) << "u " << uv.u << " v " << uv.v;
+                EXPECT_NEAR(double(pdf), double(ls.pdf), 2e-4 * double(ls.pdf) + 1e-6 * scale)
+                    << "u " << uv.u << " v " << uv.v;
                 ++st->pdf_checked;
             }
         }
@@ -137,9 +146,11 @@ void RunSuite() {
         RunHardCase<K, T>(hc, &st);
         if (::testing::Test::HasFatalFailure()) return;
     }
-    std::printf("%-16s %-6s cases %d valid %d samples %d pdf-checked %d max Omega rel. err %.3g fallback setups %d"
-                " max |pdf Omega - 1| %.3g\n", TechniqueName(K), sizeof(T) == 4 ? "float" : "double", st.cases, st.valid,
-                st.samples, st.pdf_checked, st.max_omega_err, st.fallback_setups, st.max_uniform_err);
+    std::printf(
+        "%-16s %-6s cases %d valid %d samples %d pdf-checked %d max Omega rel. err %.3g fallback setups %d"
+        " max |pdf Omega - 1| %.3g\n",
+        TechniqueName(K), sizeof(T) == 4 ? "float" : "double", st.cases, st.valid, st.samples, st.pdf_checked,
+        st.max_omega_err, st.fallback_setups, st.max_uniform_err);
 }
 
 }  // namespace

@@ -108,8 +108,8 @@ std::vector<Receiver> RandomReceivers(int count, uint32_t seed, bool with_normal
     std::uniform_real_distribution<float> u(0, 1);
     std::vector<Receiver> r;
     for (int i = 0; i < count; ++i)
-        r.push_back({Vec3f(24 * u(g) - 12, 24 * u(g) - 12, 24 * u(g) - 12),
-                     with_normal ? RandomUnit(g) : Vec3f(0, 0, 0)});
+        r.push_back(
+            {Vec3f(24 * u(g) - 12, 24 * u(g) - 12, 24 * u(g) - 12), with_normal ? RandomUnit(g) : Vec3f(0, 0, 0)});
     return r;
 }
 
@@ -311,13 +311,13 @@ TEST(LightTree, ZeroOnlyWhereNothingCanLight) {
     tree.Build({AreaLightBounds(l)});
     EXPECT_EQ(tree.PMF({0, 0, 1}, {0, 0, -1}, 0), 1.0f);
     EXPECT_EQ(tree.Sample({0, 0, 1}, {0, 0, -1}, 0.3f).pmf, 1.0f);
-    EXPECT_EQ(tree.PMF({0, 0, -2}, {0, 0, 1}, 0), 0.0f);             // behind the light
+    EXPECT_EQ(tree.PMF({0, 0, -2}, {0, 0, 1}, 0), 0.0f);  // behind the light
     EXPECT_EQ(tree.Sample({0, 0, -2}, {0, 0, 1}, 0.3f).emitter, -1);
     // Within the node's bounding sphere (radius sqrt 2) every direction counts as possible:
     // conservative, so even just behind the light the pmf stays 1.
     EXPECT_EQ(tree.PMF({0, 0, -1}, {0, 0, 1}, 0), 1.0f);
-    EXPECT_EQ(tree.PMF({0, 0, 3}, {0, 0, 1}, 0), 0.0f);              // light below the horizon
-    EXPECT_EQ(tree.PMF({5, 0, 0.01f}, {0, 0, 0}, 0), 1.0f);          // grazing, in a medium
+    EXPECT_EQ(tree.PMF({0, 0, 3}, {0, 0, 1}, 0), 0.0f);      // light below the horizon
+    EXPECT_EQ(tree.PMF({5, 0, 0.01f}, {0, 0, 0}, 0), 1.0f);  // grazing, in a medium
     // A spot's cone: lit inside, not outside.
     DeltaLight spot;
     spot.kind = DeltaKind::Spot;
@@ -426,8 +426,18 @@ TEST(LightTree, RejectsBadInputWithItsIndex) {
     expect_rejected([](LightBounds& b) { b.power = NAN; }, "NaN power");
     expect_rejected([](LightBounds& b) { b.power = -1; }, "negative power");
     expect_rejected([](LightBounds& b) { b.cos_theta_o = NAN; }, "NaN cone");
-    expect_rejected([](LightBounds& b) { b.axis = {0, 0, 0}; b.cos_theta_o = 1; }, "zero axis");
-    expect_rejected([](LightBounds& b) { std::swap(b.lo, b.hi); b.hi.x -= 1; }, "lo > hi");
+    expect_rejected(
+        [](LightBounds& b) {
+            b.axis = {0, 0, 0};
+            b.cos_theta_o = 1;
+        },
+        "zero axis");
+    expect_rejected(
+        [](LightBounds& b) {
+            std::swap(b.lo, b.hi);
+            b.hi.x -= 1;
+        },
+        "lo > hi");
 }
 
 // The tree's point: its choice follows the contributions better than power does.  On 1000 small
@@ -443,8 +453,8 @@ TEST(LightTree, ChoiceFollowsContributionsBetterThanPower) {
     for (int i = 0; i < 1000; ++i) {
         const float s = 0.05f + 0.15f * u(g), power = std::pow(10.0f, 2 * u(g));
         const Vec3f c(32 * u(g) - 16, 32 * u(g) - 16, 1 + 2 * u(g));
-        lights.push_back(AreaLightBounds(MakeRectAreaLight(c, {0, s, 0}, {s, 0, 0}, Spectrum(1, 1, 1) * power, false,
-                                                           true)));
+        lights.push_back(
+            AreaLightBounds(MakeRectAreaLight(c, {0, s, 0}, {s, 0, 0}, Spectrum(1, 1, 1) * power, false, true)));
         total_power += lights.back().power;
     }
     LightTree tree;

@@ -280,11 +280,15 @@ TEST(Patterns, PointIndexIsUniformAcrossConsecutiveSeeds) {
                 double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
                 for (uint32_t s = 0; s + 1 < S; ++s) {
                     const double x = dim ? at[s].v : at[s].u, y = dim ? at[s + 1].v : at[s + 1].u;
-                    sx += x; sy += y; sxx += x * x; syy += y * y; sxy += x * y;
+                    sx += x;
+                    sy += y;
+                    sxx += x * x;
+                    syy += y * y;
+                    sxy += x * y;
                 }
                 const double N = S - 1;
-                const double r = (sxy / N - sx / N * sy / N) /
-                                 std::sqrt((sxx / N - sx / N * sx / N) * (syy / N - sy / N * sy / N));
+                const double r =
+                    (sxy / N - sx / N * sy / N) / std::sqrt((sxx / N - sx / N * sx / N) * (syy / N - sy / N * sy / N));
                 EXPECT_LT(std::abs(r), 4.89 / std::sqrt(N)) << PatternName(p) << " index " << index << " dim " << dim;
             }
         }

@@ -77,8 +77,10 @@ struct FilterCase {
 };
 
 TEST(PixelFilter, SamplesFollowTheFilter) {
-    const FilterCase cases[] = {{PixelFilterType::Gaussian, 1.5f},       {PixelFilterType::Gaussian, 0.5f},
-                                {PixelFilterType::BlackmanHarris, 1.5f}, {PixelFilterType::BlackmanHarris, 4.0f},
+    const FilterCase cases[] = {{PixelFilterType::Gaussian, 1.5f},
+                                {PixelFilterType::Gaussian, 0.5f},
+                                {PixelFilterType::BlackmanHarris, 1.5f},
+                                {PixelFilterType::BlackmanHarris, 4.0f},
                                 {PixelFilterType::Box, 2.5f}};
     const double bound = ChiSquareQuantile(kBins - 1, kZ);
     uint64_t seed = 11;

@@ -32,15 +32,26 @@ TEST(Rectangle, JacobianEqualsSolidAngle) {
     for (const HardCase& hc : HardCaseSuite()) {
         const RectangleSetup<double> sr = MakeRectangleSetup(Vec3d(hc.origin), ToDouble(hc.light));
         if (!sr.valid) continue;
-        if (sr.area_fallback) { ++fallback; continue; }
+        if (sr.area_fallback) {
+            ++fallback;
+            continue;
+        }
         ++checked;
         for (double u : us)
             for (double v : us) {
                 // Central differences with one Richardson step (error O(step^4)); steps of
                 // 1% of the distance to the border keep the rounding noise of the map
                 // (~1e-11 in u for the hardest setups) far below the tolerance.
-                auto xu = [&](double uu) { double x, y; RectangleMapLocal(sr, uu, v, &x, &y); return x; };
-                auto yv = [&](double vv) { double x, y; RectangleMapLocal(sr, u, vv, &x, &y); return y; };
+                auto xu = [&](double uu) {
+                    double x, y;
+                    RectangleMapLocal(sr, uu, v, &x, &y);
+                    return x;
+                };
+                auto yv = [&](double vv) {
+                    double x, y;
+                    RectangleMapLocal(sr, u, vv, &x, &y);
+                    return y;
+                };
                 auto deriv = [](auto f, double t, double step) {
                     const double d1 = (f(t + step) - f(t - step)) / (2 * step);
                     const double d2 = (f(t + step / 2) - f(t - step / 2)) / step;
@@ -52,14 +63,20 @@ TEST(Rectangle, JacobianEqualsSolidAngle) {
                 const double J = deriv(xu, u, 0.01 * std::min(u, 1 - u)) * deriv(yv, v, 0.01 * std::min(v, 1 - v)) *
                                  sr.h / (r2 * std::sqrt(r2));
                 const double err = std::abs(J - sr.omega) / sr.omega;
-                if (err > worst && sr.error_estimate < 1e-12) { worst = err; worst_case = hc.name; }
+                if (err > worst && sr.error_estimate < 1e-12) {
+                    worst = err;
+                    worst_case = hc.name;
+                }
                 // Rounding noise of the map (error_estimate, in u and v) over the step.
                 const double noise = 4 * sr.error_estimate / (0.01 * std::min({u, 1 - u, v, 1 - v}));
-                EXPECT_LE(err, 1e-4 + noise) << hc.name << " u " << u << " v " << v << " J " << J << " Omega " << sr.omega;
+                EXPECT_LE(err, 1e-4 + noise)
+                    << hc.name << " u " << u << " v " << v << " J " << J << " Omega " << sr.omega;
             }
     }
-    std::printf("Jacobian: %d setups checked (%d use the area fallback), worst rel. error where the map's noise is < 1e-12: %.3g (%s)\n", checked,
-                fallback, worst, worst_case.c_str());
+    std::printf(
+        "Jacobian: %d setups checked (%d use the area fallback), worst rel. error where the map's noise is < 1e-12: "
+        "%.3g (%s)\n",
+        checked, fallback, worst, worst_case.c_str());
     EXPECT_GT(checked, 200);
 }
 
@@ -140,4 +157,3 @@ TEST(Rectangle, NewtonRefinedRegimeIsUnbiased) {
         ExpectUnbiasedAcross<Technique::RectangleCosine>("newton", o, o, n, L);
     }
 }
-

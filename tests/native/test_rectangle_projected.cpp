@@ -39,15 +39,18 @@ std::vector<HardCase> HorizonCases() {
         const double a = alpha < 0 ? alpha + M_PI : alpha;
         for (double delta : {-1e-3, -1e-6, 0.0, 1e-6, 1e-3}) {
             const Vec3d n = Normalize(Vec3d(std::sin(a + delta), 0.3 * std::sin(a + delta), -std::cos(a + delta)));
-            cases.push_back({"corner" + std::to_string(k) + "_delta" + HardCaseNumber(delta), L, Vec3f(o), Vec3f(n), 1});
+            cases.push_back(
+                {"corner" + std::to_string(k) + "_delta" + HardCaseNumber(delta), L, Vec3f(o), Vec3f(n), 1});
         }
     }
     for (double eps : {1e-7, 1e-4, 1e-2})  // normal almost in the light's plane
         for (const Vec3d& t : {Vec3d(1, 0, 0), Vec3d(0.6, -0.8, 0)})
-            cases.push_back({"in_plane_normal_" + HardCaseNumber(eps), L, Vec3f(o), Vec3f(Normalize(t + Vec3d(0, 0, -eps))), 1});
+            cases.push_back(
+                {"in_plane_normal_" + HardCaseNumber(eps), L, Vec3f(o), Vec3f(Normalize(t + Vec3d(0, 0, -eps))), 1});
     // Shading points just above the light's plane, the light half above the horizon.
     for (double h : {1e-7, 1e-4})
-        cases.push_back({"low_h" + HardCaseNumber(h), L, Vec3f(0.1f, 0.2f, float(h)), Vec3f(Normalize(Vec3d(1, 0, -0.2))), 1});
+        cases.push_back(
+            {"low_h" + HardCaseNumber(h), L, Vec3f(0.1f, 0.2f, float(h)), Vec3f(Normalize(Vec3d(1, 0, -0.2))), 1});
     return cases;
 }
 
@@ -70,7 +73,7 @@ void CheckZeroVariance(const HardCase& hc, ZeroVarianceStats* st, bool allow_swi
     if (!s.Valid()) {
         // Invalid only where nothing of the light is above the horizon (or the setup is degenerate).
         EXPECT_LE(ref, 1e-12 * RectangleSolidAngle(Vec3d(o), RectLight<double>{Vec3d(L.corner), Vec3d(L.ex),
-                                                                                  Vec3d(L.ey), L.two_sided}));
+                                                                               Vec3d(L.ey), L.two_sided}));
         return;
     }
     ++st->setups;
@@ -79,8 +82,8 @@ void CheckZeroVariance(const HardCase& hc, ZeroVarianceStats* st, bool allow_swi
     // 1e5 seen from 1e6 sizes away, where the terms of the sum are 1e11 times E.
     // (Plus 1e-15 Omega absolute: a light crossing the horizon by a sliver of E ~ 1e-26 is not
     // resolved in double, nor needs to be.)
-    const double omega = RectangleSolidAngle(Vec3d(o), RectLight<double>{Vec3d(L.corner), Vec3d(L.ex), Vec3d(L.ey),
-                                                                        L.two_sided});
+    const double omega =
+        RectangleSolidAngle(Vec3d(o), RectLight<double>{Vec3d(L.corner), Vec3d(L.ex), Vec3d(L.ey), L.two_sided});
     const double E = RectangleProjectedSolidAngle(o, n, L), e_err = std::abs(E - ref) / ref;
     EXPECT_LE(std::abs(E - ref), 1e-5 * ref + 1e-15 * omega) << "E " << E << " reference " << ref;
     if (s.r.use_rectangle) {
@@ -113,7 +116,8 @@ void CheckZeroVariance(const HardCase& hc, ZeroVarianceStats* st, bool allow_swi
         const double estimate = cos_theta / double(ls.pdf);
         const double representable = 2 * double(std::numeric_limits<T>::epsilon()) / std::max(cos_theta, 1e-300);
         const double err = std::abs(estimate - ref) / ref;
-        EXPECT_LE(err, 1e-5 + representable) << "u " << uv.u << " v " << uv.v << " cos/pdf " << estimate << " E " << ref;
+        EXPECT_LE(err, 1e-5 + representable)
+            << "u " << uv.u << " v " << uv.v << " cos/pdf " << estimate << " E " << ref;
         if (representable <= 1e-5) {
             st->max_rel_err = std::max(st->max_rel_err, err);
             lo = std::min(lo, estimate);
@@ -127,10 +131,10 @@ void CheckZeroVariance(const HardCase& hc, ZeroVarianceStats* st, bool allow_swi
         // moves cos by up to that ratio: the allowance, relative to cos.
         const Vec3d pd = Vec3d(sd.Sample({double(uv.u), double(uv.v)}).point);
         const double exact = sd.PDF(pd), rounded = sd.PDF(Vec3d(ls.point));
-        const double p_max = std::max({std::abs(double(ls.point.x)), std::abs(double(ls.point.y)),
-                                       std::abs(double(ls.point.z))});
-        const double moved = 4 * double(std::numeric_limits<T>::epsilon()) * p_max / double(ls.dist) /
-                             std::max(cos_theta, 1e-300);
+        const double p_max =
+            std::max({std::abs(double(ls.point.x)), std::abs(double(ls.point.y)), std::abs(double(ls.point.z))});
+        const double moved =
+            4 * double(std::numeric_limits<T>::epsilon()) * p_max / double(ls.dist) / std::max(cos_theta, 1e-300);
         if (std::abs(exact - rounded) <= 1e-5 * exact) {
             EXPECT_NEAR(double(s.PDF(ls.point)), double(ls.pdf), (2e-4 + moved) * double(ls.pdf))
                 << "u " << uv.u << " v " << uv.v;
@@ -146,18 +150,29 @@ void ZeroVarianceOver(const std::vector<HardCase>& cases, const char* what, bool
         CheckZeroVariance<T>(hc, &st, allow_switch);
         if (::testing::Test::HasFatalFailure()) return;
     }
-    std::printf("%s %s: setups %d switched to rectangle %d samples %d (pdf 0 on the horizon: %d, within the output's rounding of it: %d);"
-                " max |cos/pdf - E| / E %.3g, max spread %.3g; E rel. error %.3g (switched setups %.3g)\n", what, sizeof(T) == 4 ? "float" : "double", st.setups,
-                st.switched, st.samples, st.zero_pdf, st.near_horizon, st.max_rel_err, st.max_spread, st.max_e_err, st.max_e_err_switched);
+    std::printf(
+        "%s %s: setups %d switched to rectangle %d samples %d (pdf 0 on the horizon: %d, within the output's rounding "
+        "of it: %d);"
+        " max |cos/pdf - E| / E %.3g, max spread %.3g; E rel. error %.3g (switched setups %.3g)\n",
+        what, sizeof(T) == 4 ? "float" : "double", st.setups, st.switched, st.samples, st.zero_pdf, st.near_horizon,
+        st.max_rel_err, st.max_spread, st.max_e_err, st.max_e_err_switched);
     EXPECT_LE(st.max_spread, 1e-4);
 }
 
 }  // namespace
 
-TEST(RectangleProjected, ZeroVarianceOverHardCasesFloat) { ZeroVarianceOver<float>(HardCaseSuite(), "hard cases", true); }
-TEST(RectangleProjected, ZeroVarianceOverHardCasesDouble) { ZeroVarianceOver<double>(HardCaseSuite(), "hard cases", true); }
-TEST(RectangleProjected, ZeroVarianceOverHorizonCasesFloat) { ZeroVarianceOver<float>(HorizonCases(), "horizon", true); }
-TEST(RectangleProjected, ZeroVarianceOverHorizonCasesDouble) { ZeroVarianceOver<double>(HorizonCases(), "horizon", true); }
+TEST(RectangleProjected, ZeroVarianceOverHardCasesFloat) {
+    ZeroVarianceOver<float>(HardCaseSuite(), "hard cases", true);
+}
+TEST(RectangleProjected, ZeroVarianceOverHardCasesDouble) {
+    ZeroVarianceOver<double>(HardCaseSuite(), "hard cases", true);
+}
+TEST(RectangleProjected, ZeroVarianceOverHorizonCasesFloat) {
+    ZeroVarianceOver<float>(HorizonCases(), "horizon", true);
+}
+TEST(RectangleProjected, ZeroVarianceOverHorizonCasesDouble) {
+    ZeroVarianceOver<double>(HorizonCases(), "horizon", true);
+}
 
 // The switch: where it happens the light's projected solid angle is tiny against the sweep's
 // rounding, i.e. the light spans a tiny angle; `rectangle` is followed by Sample, PDF and Invert,
@@ -265,8 +280,8 @@ TEST(RectangleProjected, InverseRoundTrip) {
                 }
             }
             worst_d = std::max(worst_d, ed);
-            EXPECT_LE(ed, 1e-4) << "double u " << uv.u << " v " << uv.v << " back " << bd.u << " " << bd.v << " dir moved "
-                                << Length(SampleRectangleProjectedAt(sd, bd.u, bd.v).dir - ld.dir);
+            EXPECT_LE(ed, 1e-4) << "double u " << uv.u << " v " << uv.v << " back " << bd.u << " " << bd.v
+                                << " dir moved " << Length(SampleRectangleProjectedAt(sd, bd.u, bd.v).dir - ld.dir);
             const LightSample<float> lf = SampleRectangleProjected(sf, uv);
             if (!(lf.pdf > 0) || sf.use_rectangle != sd.use_rectangle || thin) continue;
             const Point2<double> bf = InvertRectangleProjected(sf, lf.point);
@@ -278,9 +293,12 @@ TEST(RectangleProjected, InverseRoundTrip) {
         }
         thin_strips += thin_failed;
     }
-    std::printf("round trip: %d (u, v), of which %d where the map is not one-to-one and %d at a sweep's apex; worst"
-                " error double %.3g, float (beyond point rounding) %.3g; %d thin-strip setups missed (u, v), direction moved by up to"
-                " %.3g\n", n, not_one_to_one, at_apex, worst_d, worst_f, thin_strips, worst_strip);
+    std::printf(
+        "round trip: %d (u, v), of which %d where the map is not one-to-one and %d at a sweep's apex; worst"
+        " error double %.3g, float (beyond point rounding) %.3g; %d thin-strip setups missed (u, v), direction moved "
+        "by up to"
+        " %.3g\n",
+        n, not_one_to_one, at_apex, worst_d, worst_f, thin_strips, worst_strip);
     EXPECT_LE(thin_strips, 10);
     EXPECT_LE(worst_strip, 1e-2);
     EXPECT_GT(n, 1000);

@@ -95,7 +95,8 @@ TEST(RenderMedium, HenyeyGreensteinIsNormalisedAndSampledWithMeanCosineG) {
         EXPECT_NEAR(IntegrateSphere([&](const Vec3f& w) { return HenyeyGreenstein(w.z, g); }, 4000, 4), 1.0, 2e-3);
         const int n = 100000;
         double sum = 0;
-        for (int i = 0; i < n; ++i) sum += Dot(SampleHenyeyGreenstein(axis, g, {rng.NextFloat(), rng.NextFloat()}), axis);
+        for (int i = 0; i < n; ++i)
+            sum += Dot(SampleHenyeyGreenstein(axis, g, {rng.NextFloat(), rng.NextFloat()}), axis);
         EXPECT_NEAR(sum / n, g, 6 * 0.58 / std::sqrt(double(n)));  // E[cos] = g, sd(cos) <= 1/sqrt(3)
     }
 }
@@ -156,11 +157,11 @@ TEST(RenderLights, TriangleLightSamplesBySolidAngleInHardCases) {
     };
     const Case cases[] = {
         {"ordinary", {-1, 0.5f, 2}, {1, -0.3f, 2.2f}, {0.2f, 1, 1.8f}, {0.1f, 0.2f, 0}},
-        {"tiny", {0, 0, 1}, {1e-4f, 0, 1}, {0, 1e-4f, 1}, {0.3f, 0, 0}},            // ~5e-9 sr: area fallback
-        {"small", {0, 0, 1}, {1e-3f, 0, 1}, {0, 1e-3f, 1}, {0.3f, 0, 0}},           // ~5e-7 sr: Arvo's map
-        {"distant", {-1, -1, 1e4f}, {1, -0.5f, 1e4f}, {0, 1, 1e4f}, {0, 0, 0}},   // ~1e-8 sr: area fallback
-        {"grazing", {0, -1, 1e-3f}, {0, 1, 1e-3f}, {0, 0, 1}, {1e-3f, 0.1f, 0.2f}},  // origin 1e-3 off its plane
-        {"near", {-1, -1, 1e-3f}, {1, -1, 1e-3f}, {0, 1, 1e-3f}, {0, 0, 0}},         // nearly a hemisphere
+        {"tiny", {0, 0, 1}, {1e-4f, 0, 1}, {0, 1e-4f, 1}, {0.3f, 0, 0}},                // ~5e-9 sr: area fallback
+        {"small", {0, 0, 1}, {1e-3f, 0, 1}, {0, 1e-3f, 1}, {0.3f, 0, 0}},               // ~5e-7 sr: Arvo's map
+        {"distant", {-1, -1, 1e4f}, {1, -0.5f, 1e4f}, {0, 1, 1e4f}, {0, 0, 0}},         // ~1e-8 sr: area fallback
+        {"grazing", {0, -1, 1e-3f}, {0, 1, 1e-3f}, {0, 0, 1}, {1e-3f, 0.1f, 0.2f}},     // origin 1e-3 off its plane
+        {"near", {-1, -1, 1e-3f}, {1, -1, 1e-3f}, {0, 1, 1e-3f}, {0, 0, 0}},            // nearly a hemisphere
         {"edge-on", {-1, -1, 1e-6f}, {1, -1, 1e-6f}, {0, 1, 1e-6f}, {0.1f, -1.2f, 0}},  // beside an edge
         {"edge-on far", {-1, -1, 1e-6f}, {1, -1, 1e-6f}, {0, 1, 1e-6f}, {30, -40, 0}},
         {"under an edge", {-1, -1, 1e-6f}, {1, -1, 1e-6f}, {0, 1, 1e-6f}, {0.1f, -1, 0}},  // ~pi sr
@@ -239,7 +240,7 @@ TEST(RenderLights, SpotFalloffFollowsCycles) {
     s.spot_smooth = (1 - s.cos_half_angle) * 0.2f;
     EXPECT_FLOAT_EQ(SpotAttenuation(s, {0, 0, -1}), 1.0f);
     EXPECT_EQ(SpotAttenuation(s, SphericalDirection(-std::cos(0.55f), 0)), 0.0f);  // outside the cone
-    const float c = std::cos(0.2f);                                               // inside, not blended
+    const float c = std::cos(0.2f);                                                // inside, not blended
     EXPECT_NEAR(SpotAttenuation(s, SphericalDirection(-c, 1)), c, 1e-6f);
     const float edge = SpotAttenuation(s, SphericalDirection(-std::cos(0.49f), 0));
     EXPECT_GT(edge, 0);
@@ -362,7 +363,7 @@ TEST(Renderer, RejectsBadInput) {
     const int32_t bad[] = {0, 1, 3};
     EXPECT_THROW(s.AddMesh("index", ok, 3, bad, 1, nullptr, nullptr), std::invalid_argument);
     EXPECT_NE(s.AddRectLight({0, 0, 1}, {0, 0, 0}, {1, 0, 0}, {1, 1, 1}, false, true), "");  // skipped
-    EXPECT_THROW(s.Commit(), std::invalid_argument);  // empty scene
+    EXPECT_THROW(s.Commit(), std::invalid_argument);                                         // empty scene
     auto scene = TestScene(8, 8, false);
     RenderOptions o;
     o.light_samples = 0;
@@ -453,7 +454,9 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
         ++count[emitter];
         if (c.index >= 0) {  // PDF of the sampled point = tree pmf x its point pdf
             const LightSample<float> ls = at.Sample(c.index, c.u);
-            if (ls.pdf > 0) EXPECT_NEAR(at.PDF(c.index, ls.point) / (c.pmf * ls.pdf), 1.0f, 1e-3f);
+            if (ls.pdf > 0) {
+                EXPECT_NEAR(at.PDF(c.index, ls.point) / (c.pmf * ls.pdf), 1.0f, 1e-3f);
+            }
         }
     }
     // A stratified v: each emitter's count is its pmf x kN up to the traversal's rounding.
@@ -470,7 +473,8 @@ void ExpectKeptSamplersMatchFreshOnes() {
     constexpr int kLights = 6;
     for (int i = 0; i < kLights; ++i)
         EXPECT_EQ(s.AddRectLight({-3.0f + i, -0.5f, 1.0f + 0.3f * i}, {0.4f + 0.1f * i, 0, 0}, {0, 0.7f, 0.1f * i},
-                                 {1, 1, 1}, i % 2 == 1, false), "");
+                                 {1, 1, 1}, i % 2 == 1, false),
+                  "");
     s.Commit();
     const Vec3f p{0.2f, -0.1f, 0}, n = Normalize(Vec3f{0.1f, 0, 1});
     LightSamplingAt<K> at(s, LightSelection::Power, p, n, n, 4);
@@ -517,7 +521,8 @@ void ExpectEllipseSamplingMatchesFreshSamplers() {
     constexpr int kLights = 7;
     for (int i = 0; i < kLights - 3; ++i)  // the odd ones one-sided facing away (pdf 0)
         EXPECT_EQ(s.AddEllipseLight({-2.0f + i, 0.3f * i, 1.0f + 0.5f * i}, {0.3f + 0.1f * i, 0, 0},
-                                    {0, 0.2f, 0.1f * i}, {1, 1, 1}, i % 2 == 0, false), "");
+                                    {0, 0.2f, 0.1f * i}, {1, 1, 1}, i % 2 == 0, false),
+                  "");
     // Two close to the point, where spherical_ellipse takes the map (the four above it samples by area).
     EXPECT_EQ(s.AddEllipseLight({0.3f, 0, 0.15f}, {0.3f, 0, 0}, {0, 0.3f, 0}, {1, 1, 1}, true, false), "");
     EXPECT_EQ(s.AddEllipseLight({-0.1f, -0.3f, 0.2f}, {0, 0.25f, 0}, {0.2f, 0, 0}, {1, 1, 1}, false, false), "");

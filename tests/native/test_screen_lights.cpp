@@ -117,12 +117,12 @@ INSTANTIATE_TEST_SUITE_P(Cameras, ScreenLightsTest, ::testing::Values(false, tru
 TEST(ScreenLights, LeavesOutWhatTheControlVariateCannotUse) {
     CameraModel cam = TestCamera(false);
     auto lights = TestLights();
-    lights[0].visible = false;                   // not seen by the camera
-    lights[1].radiance = {0, 0, 0};              // black
+    lights[0].visible = false;       // not seen by the camera
+    lights[1].radiance = {0, 0, 0};  // black
     lights[2] = MakeRectAreaLight({-1, -1, -4}, {2, 0, 0}, {0, -2, 0}, {1, 1, 1}, false, true);  // back side
     EXPECT_TRUE(BuildScreenLights(cam, lights, lights.size()).empty());
     lights = TestLights();
-    lights.push_back(MakeRectAreaLight({-1, -1, 0.5f}, {2, 0, 0}, {0, 0, -2}, {1, 1, 1}, true, true));  // behind
+    lights.push_back(MakeRectAreaLight({-1, -1, 0.5f}, {2, 0, 0}, {0, 0, -2}, {1, 1, 1}, true, true));   // behind
     lights.push_back(MakeRectAreaLight({-1, -1, -0.05f}, {2, 0, 0}, {0, 2, 0}, {1, 1, 1}, true, true));  // clipped
     EXPECT_EQ(BuildScreenLights(cam, lights, lights.size()).size(), 3u);
     cam.aperture_radius = 0.1f;  // depth of field
@@ -133,7 +133,7 @@ TEST(ScreenLightGeometry, UnitDiskInsidePolygons) {
     const double bx[4] = {-2, 2, 2, -2}, by[4] = {-2, -2, 2, 2};
     EXPECT_NEAR(UnitDiskPolygonArea(bx, by, 4), M_PI, 1e-14);  // the whole disk
     const double qx[4] = {0, 2, 2, 0}, qy[4] = {0, 0, 2, 2};
-    EXPECT_NEAR(UnitDiskPolygonArea(qx, qy, 4), M_PI / 4, 1e-14);  // a quadrant
+    EXPECT_NEAR(UnitDiskPolygonArea(qx, qy, 4), M_PI / 4, 1e-14);   // a quadrant
     const double hx[4] = {-2, 2, 2, -2}, hy[4] = {0.5, 0.5, 2, 2};  // the cap above y = 1/2
     EXPECT_NEAR(UnitDiskPolygonArea(hx, hy, 4), std::acos(0.5) - 0.5 * std::sqrt(0.75), 1e-14);
     const double ix[4] = {-0.1, 0.2, 0.2, -0.1}, iy[4] = {-0.1, -0.1, 0.3, 0.3};  // inside

@@ -15,7 +15,9 @@ TEST(SolidAngle, MatchesTheReferenceOverTheHardCases) {
         // The rotated light's float edges are orthogonal only to ~1e-7 (the reference
         // integrates that parallelogram, the map a rectangle); the others are exact.
         const double tol = hc.name.rfind("rotated", 0) == 0 ? 1e-6 : 1e-13;
-        if (ref > 0) EXPECT_LE(std::abs(w - ref) / ref, tol) << hc.name;
-        else EXPECT_EQ(w, 0) << hc.name;
+        if (ref > 0)
+            EXPECT_LE(std::abs(w - ref) / ref, tol) << hc.name;
+        else
+            EXPECT_EQ(w, 0) << hc.name;
     }
 }

@@ -68,8 +68,9 @@ TEST(SphericalTriangle, MapIsAccurateOnThinTrianglesNearThePlaneAndFar) {
     struct Case {
         double ox, oy, h;
     };
-    const Case cases[] = {{1.5, 1.2, 1e-7}, {2, 2, 1e-7}, {-0.5, -0.3, 1e-9}, {1.5, 1.2, 0.1},
-                          {0.3, 0.6, 3000}, {1732.6, 1732.6, 1732.1}, {0.3, 0.6, 1e6}};
+    const Case cases[] = {{1.5, 1.2, 1e-7}, {2, 2, 1e-7},     {-0.5, -0.3, 1e-9},
+                          {1.5, 1.2, 0.1},  {0.3, 0.6, 3000}, {1732.6, 1732.6, 1732.1},
+                          {0.3, 0.6, 1e6}};
     const double g[] = {0, 1e-7, 0.01, 0.25, 0.5, 0.75, 0.99, 1 - 1e-7, 1};
     for (const Case& k : cases) {
         // Corners of the unit square in z = 0 relative to o: the halves (00, 10, 11), (00, 11, 01).
@@ -90,7 +91,10 @@ TEST(SphericalTriangle, MapIsAccurateOnThinTrianglesNearThePlaneAndFar) {
                     Q uu, vv;
                     InverseQ(a, b, c, p, &uu, &vv);
                     EXPECT_NEAR(double(uu), u, 1e-14) << "o (" << k.ox << ", " << k.oy << ", " << k.h << ") v " << v;
-                    if (u > 0) EXPECT_NEAR(double(vv), v, 1e-14) << "o (" << k.ox << ", " << k.oy << ", " << k.h << ") u " << u;
+                    if (u > 0) {
+                        EXPECT_NEAR(double(vv), v, 1e-14)
+                            << "o (" << k.ox << ", " << k.oy << ", " << k.h << ") u " << u;
+                    }
                     // The unit direction is the point's.
                     const Vec3d d = SampleSphericalTriangle(t, u, v);
                     const Vq P = Unit(p);

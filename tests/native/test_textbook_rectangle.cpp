@@ -45,4 +45,3 @@ TEST(TextbookRectangle, TextbookFloatSolidAngleFailsFarAway) {
         EXPECT_GT(std::abs(textbook - ref) / ref, 1e-3);
     }
 }
-

@@ -169,8 +169,7 @@ TEST(TexturedMaterial, LenientMixNeverThrows) {
     EXPECT_EQ(kept.diffuse.x, mix.diffuse.x);
     // Microfacet lobes beyond the limit add to the last one.
     Bsdf lobes = MakeDiffuseBsdf({});
-    for (int i = 0; i < kMaxMicrofacetLobes; ++i)
-        MixIntoBsdf(lobes, MakeGlossyBsdf({1, 1, 1}, 0.2f + 0.1f * i), 0.1f);
+    for (int i = 0; i < kMaxMicrofacetLobes; ++i) MixIntoBsdf(lobes, MakeGlossyBsdf({1, 1, 1}, 0.2f + 0.1f * i), 0.1f);
     EXPECT_THROW(MixIntoBsdf(lobes, MakeGlossyBsdf({1, 1, 1}, 0.9f), 0.1f), std::invalid_argument);
     MixIntoBsdf<MixOverflow::kLenient>(lobes, MakeGlossyBsdf({1, 1, 1}, 0.9f), 0.1f);
     EXPECT_EQ(lobes.num_lobes, kMaxMicrofacetLobes);

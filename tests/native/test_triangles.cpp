@@ -51,7 +51,7 @@ TEST(Triangles, UniformBesideACornerNearThePlaneAndFar) {
                           Vec3d(0.5 + 3000 / std::sqrt(1.13), 0.5 + 900 / std::sqrt(1.13), 600 / std::sqrt(1.13)),
                           Vec3d(1732.6, 1732.6, 1732.1)}) {
         SCOPED_TRACE("o = (" + std::to_string(o.x) + ", " + std::to_string(o.y) + ", " + std::to_string(o.z) + ")");
-        ExpectUniform(Vec3f(o), Lf, 2e-7);    // float pdf rounding
+        ExpectUniform(Vec3f(o), Lf, 2e-7);  // float pdf rounding
         ExpectUniform(o, Ld, 1e-12);
     }
 }

@@ -16,10 +16,10 @@ namespace sphrect::render {
 // fresnel_ior > 0 (Glass BSDF's reflection at zero bounces); fresnel_ior 0: no Fresnel (Glossy BSDF).
 struct MicrofacetLobe {
     Spectrum color;
-    float alpha = 1;           // roughness^2
+    float alpha = 1;  // roughness^2
     float fresnel_ior = 0;
-    bool beckmann = false;     // Cycles' Beckmann D and rational G1 instead of GGX (sampled by GGX normals)
-    float probability = 0;     // chance of sampling this lobe
+    bool beckmann = false;  // Cycles' Beckmann D and rational G1 instead of GGX (sampled by GGX normals)
+    float probability = 0;  // chance of sampling this lobe
     // Anisotropic GGX (Anisotropic BSDF): alpha along the tangent, alpha_y across it (= alpha: isotropic); the
     // tangent turned about the normal by `rotation` turns, at the hit (cos, sin of its angle in the shading frame:
     // SetHitTangent).
@@ -38,29 +38,29 @@ constexpr int kMaxMicrofacetLobes = 4;
 // A material's scattering as the integrator evaluates it: its lobes and their weights (made from a Material,
 // material.h, by the Make*Bsdf functions below).
 struct Bsdf {
-    Spectrum diffuse;      // reflectance of the Lambert lobe (albedo): f = diffuse / pi; Principled:
-                           // the Burley lobe's weight x base colour
-    Spectrum f0;           // specular reflectance at normal incidence (0: no specular lobe);
-                           // Principled: Cycles' cspec0 (tinted dielectric F0 mixed with metal)
-    float alpha = 1;       // GGX roughness parameter
+    Spectrum diffuse;                // reflectance of the Lambert lobe (albedo): f = diffuse / pi; Principled:
+                                     // the Burley lobe's weight x base colour
+    Spectrum f0;                     // specular reflectance at normal incidence (0: no specular lobe);
+                                     // Principled: Cycles' cspec0 (tinted dielectric F0 mixed with metal)
+    float alpha = 1;                 // GGX roughness parameter
     float specular_probability = 0;  // chance of sampling the specular lobe in SampleBsdf
-    bool glossy = false;   // anything beyond Lambert: needs the kGlossy kernel
-    Spectrum emission;     // radiance emitted from both sides (emissive meshes); 0: none
-    bool textured = false;     // images drive its inputs: a hit evaluates its Material (material.h)
-    bool normal_mapped = false;  // RenderScene::normal_maps holds its map
+    bool glossy = false;             // anything beyond Lambert: needs the kGlossy kernel
+    Spectrum emission;               // radiance emitted from both sides (emissive meshes); 0: none
+    bool textured = false;           // images drive its inputs: a hit evaluates its Material (material.h)
+    bool normal_mapped = false;      // RenderScene::normal_maps holds its map
 
     // Principled BSDF (Cycles 3.4).  Sheen and clearcoat cost only a flag test when absent.
     bool principled = false;
     bool has_specular = false;
     bool has_sheen = false;
     bool has_clearcoat = false;
-    float burley_roughness = 0;      // the retro-reflection's roughness (Blender's, unsquared)
-    float specular_ior = 1;          // the Fresnel blend's IOR, from Specular
-    float specular_f0 = 0;           // its normal-incidence reflectance (0.08 specular)
-    Spectrum sheen;                  // sheen weight x sheen colour (f = sheen (1 - wi.h)^5)
-    float clearcoat = 0;             // 0.25 x Clearcoat, Cycles' weight of the clearcoat lobe
-    float clearcoat_alpha = 1;       // GTR1 alpha = clearcoat roughness^2
-    float clearcoat_probability = 0; // chance of sampling the clearcoat lobe (the rest: cosine)
+    float burley_roughness = 0;       // the retro-reflection's roughness (Blender's, unsquared)
+    float specular_ior = 1;           // the Fresnel blend's IOR, from Specular
+    float specular_f0 = 0;            // its normal-incidence reflectance (0.08 specular)
+    Spectrum sheen;                   // sheen weight x sheen colour (f = sheen (1 - wi.h)^5)
+    float clearcoat = 0;              // 0.25 x Clearcoat, Cycles' weight of the clearcoat lobe
+    float clearcoat_alpha = 1;        // GTR1 alpha = clearcoat roughness^2
+    float clearcoat_probability = 0;  // chance of sampling the clearcoat lobe (the rest: cosine)
     // Principled Anisotropic: the specular's alpha across its tangent (alpha along it), the tangent's rotation in
     // turns (Anisotropic Rotation) and, at the hit, its angle in the shading frame (SetHitTangent).
     float specular_alpha_y = 1;
@@ -95,8 +95,8 @@ struct Bsdf {
     // Holdout (Cycles' CLOSURE_HOLDOUT_ID): the share of the surface that is a hole in the image, black and of alpha
     // 0 where the camera sees it (the film's alpha is 1 - holdout there); its light reflection is the rest's.
     float holdout = 0;
-    // Transparent BSDF (CLOSURE_BSDF_TRANSPARENT_ID), and Principled Alpha < 1 (Cycles expands it into a Mix Shader with
-    // a white Transparent BSDF): the colour that camera and shadow rays keep passing straight through the surface
+    // Transparent BSDF (CLOSURE_BSDF_TRANSPARENT_ID), and Principled Alpha < 1 (Cycles expands it into a Mix Shader
+    // with a white Transparent BSDF): the colour that camera and shadow rays keep passing straight through the surface
     // (integrator/transparency.h).  opaque_weight: the summed mix weights of the other shaders, which a camera ray
     // stopping at the surface shades (0 for a Transparent BSDF alone).
     Spectrum transparency;
@@ -331,14 +331,15 @@ inline Bsdf MakeGlassBsdf(const Spectrum& color, float roughness, float ior, boo
 // stretched along the tangent by 1 / (1 - a) across and (1 - a) along it for a >= 0 (a clamped to +-0.99; negative
 // swaps them), the tangent turned by `rotation` turns.  GGX only (Beckmann stays isotropic: the exporter warns).
 // multiscatter: the distribution Multiscatter GGX (GGX's lobe shape from its random walk: MicrofacetLobe).
-inline Bsdf MakeGlossyBsdf(const Spectrum& color, float roughness, bool beckmann = false,
-                                       float anisotropy = 0, float rotation = 0, bool multiscatter = false) {
+inline Bsdf MakeGlossyBsdf(const Spectrum& color, float roughness, bool beckmann = false, float anisotropy = 0,
+                           float rotation = 0, bool multiscatter = false) {
     Bsdf m = MakeSingleLobeBsdf(color, roughness, 0, beckmann);
     if (m.num_lobes == 0 || beckmann) return m;
     MicrofacetLobe& l = m.lobes[0];
     if (multiscatter) {  // bsdf_microfacet_multi_ggx_common_setup: the colour saturated, alpha >= 1e-4
         l.multiscatter = true;
-        l.bounce_color = {std::clamp(color.x, 0.0f, 1.0f), std::clamp(color.y, 0.0f, 1.0f), std::clamp(color.z, 0.0f, 1.0f)};
+        l.bounce_color = {std::clamp(color.x, 0.0f, 1.0f), std::clamp(color.y, 0.0f, 1.0f),
+                          std::clamp(color.z, 0.0f, 1.0f)};
     }
     if (anisotropy == 0) return m;
     const float a = std::clamp(anisotropy, -0.99f, 0.99f), r2 = l.alpha;

@@ -13,9 +13,8 @@ namespace sphrect::render {
 inline bool SameMicrofacetLobe(const MicrofacetLobe& a, const MicrofacetLobe& b) {
     return a.alpha == b.alpha && a.alpha_y == b.alpha_y && a.rotation == b.rotation && a.fresnel_ior == b.fresnel_ior &&
            a.beckmann == b.beckmann && a.multiscatter == b.multiscatter &&
-           (!b.multiscatter ||
-            (a.bounce_color.x == b.bounce_color.x && a.bounce_color.y == b.bounce_color.y &&
-             a.bounce_color.z == b.bounce_color.z));
+           (!b.multiscatter || (a.bounce_color.x == b.bounce_color.x && a.bounce_color.y == b.bounce_color.y &&
+                                a.bounce_color.z == b.bounce_color.z));
 }
 
 // What MixIntoBsdf does with a part the mix cannot hold: throw std::invalid_argument (building a scene), or, at
@@ -57,8 +56,8 @@ inline void MixIntoBsdf(Bsdf& mix, const Bsdf& part, float weight) {
         mix.translucent += part.translucent * weight;
         mix.has_translucent = true;
     }
-    const bool part_has_principled = !IsBlack(part.diffuse) || part.has_sheen || part.has_specular ||
-                                     part.has_clearcoat;
+    const bool part_has_principled =
+        !IsBlack(part.diffuse) || part.has_sheen || part.has_specular || part.has_clearcoat;
     const bool mix_has_principled = !IsBlack(mix.diffuse) || mix.has_sheen || mix.has_specular || mix.has_clearcoat;
     if (part_has_principled && mix_has_principled && kThrows)
         throw std::invalid_argument("a mix holds at most one Principled BSDF");

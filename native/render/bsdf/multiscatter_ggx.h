@@ -76,7 +76,8 @@ inline Point2<float> SampleVisibleSlopeGgx(float cos_i, float u1, float u2) {
     const float slope_x = (a < 0 || x_plus > 1 / tan_i) ? tan_i * inv - d : x_plus;
     const float s = u2 >= 0.5f ? 1.0f : -1.0f;
     const float v = u2 >= 0.5f ? 2 * (u2 - 0.5f) : 2 * (0.5f - u2);
-    const float z = (v * (v * (v * 0.27385f - 0.73369f) + 0.46341f)) / (v * (v * (v * 0.093073f + 0.309420f) - 1) + 0.597999f);
+    const float z =
+        (v * (v * (v * 0.27385f - 0.73369f) + 0.46341f)) / (v * (v * (v * 0.093073f + 0.309420f) - 1) + 0.597999f);
     return {slope_x, s * z * std::sqrt(1 + slope_x * slope_x)};
 }
 

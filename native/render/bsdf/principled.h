@@ -39,8 +39,9 @@ inline Spectrum EvalMicrofacetLobe(const MicrofacetLobe& l, const Vec3f& wo, con
     if (l.multiscatter) {
         const float c = l.tangent_cos, s = l.tangent_sin;
         const bool iso = !l.anisotropic();
-        return l.color * MultiscatterGgxEval(iso ? wo : IntoTangentFrame(wo, c, s), iso ? wi : IntoTangentFrame(wi, c, s),
-                                             l.alpha, l.alpha_y, 0, {}, sampled, l.bounce_color);
+        return l.color * MultiscatterGgxEval(iso ? wo : IntoTangentFrame(wo, c, s),
+                                             iso ? wi : IntoTangentFrame(wi, c, s), l.alpha, l.alpha_y, 0, {}, sampled,
+                                             l.bounce_color);
     }
     float dg;
     if (l.beckmann) {

@@ -93,13 +93,12 @@ static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHi
         const Spectrum& le = scene.bsdfs[out.surface.material].emission;
         if (!IsBlack(le)) seen += weighted(le * SegmentTransmittance<kMedium>(scene.medium, out.t_end));
     }
-    scene.analytic_light_finder.ForEachCrossing(
-        out.ray.o, out.ray.d, t_begin, std::min(out.t_end, out.ray.tmax), LightsSought::VisibleToCamera,
-        [&](int i, float t) {
-            if (i == out.light_seen_by_estimate) return;
-            seen += weighted(EmittedRadiance(scene.area_lights[i], -out.ray.d) *
-                             SegmentTransmittance<kMedium>(scene.medium, t));
-        });
+    scene.analytic_light_finder.ForEachCrossing(out.ray.o, out.ray.d, t_begin, std::min(out.t_end, out.ray.tmax),
+                                                LightsSought::VisibleToCamera, [&](int i, float t) {
+                                                    if (i == out.light_seen_by_estimate) return;
+                                                    seen += weighted(EmittedRadiance(scene.area_lights[i], -out.ray.d) *
+                                                                     SegmentTransmittance<kMedium>(scene.medium, t));
+                                                });
 }
 
 // The camera ray's first hit, or what lies past it while it is transparent (transparency.h): the hit shading

@@ -58,7 +58,8 @@ class EllipseSamplingAt {
             if (setup_index_[k] == index) return setup_[k].setup;
         const int slot = set_up_++ % kKeptEllipseSetups;
         setup_index_[slot] = index;
-        return *new (&setup_[slot].setup) SphericalEllipseSetup<float>(MakeSphericalEllipseSetup(origin, l.ellipse_frame));
+        return *new (&setup_[slot].setup)
+            SphericalEllipseSetup<float>(MakeSphericalEllipseSetup(origin, l.ellipse_frame));
     }
 
     static constexpr int kKeptEllipseSetups = 2;

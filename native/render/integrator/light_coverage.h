@@ -78,8 +78,7 @@ static inline void ScreenLightsOverTile(const CameraView& view, const TileRect& 
     const double m = FootprintMargin(view.camera.filter);
     for (size_t i = 0; i < view.screen_lights.size(); ++i) {
         const ScreenLight& s = view.screen_lights[i];
-        if (s.x1 > tile.x0 - m && s.x0 < tile.x1 + m && s.y1 > tile.y0 - m && s.y0 < tile.y1 + m)
-            out.push_back(int(i));
+        if (s.x1 > tile.x0 - m && s.x0 < tile.x1 + m && s.y1 > tile.y0 - m && s.y0 < tile.y1 + m) out.push_back(int(i));
     }
 }
 
@@ -198,8 +197,9 @@ static inline float EstimateSeenCoverage(const RenderScene& scene, const CameraV
 // them, the first found hidden in part, gets the estimate of its seen share (a camera sample has
 // one PrimaryHit::light_seen_by_estimate); others hidden in part keep the sampled estimate.
 // `seed` draws the estimates' grids (one per pixel and pass of `samples` camera samples).
-static inline void PartialCoverages(const RenderScene& scene, const CameraView& view, const std::vector<int>& candidates,
-                                    int x, int y, int samples, uint64_t seed, std::vector<PartialCoverage>& out) {
+static inline void PartialCoverages(const RenderScene& scene, const CameraView& view,
+                                    const std::vector<int>& candidates, int x, int y, int samples, uint64_t seed,
+                                    std::vector<PartialCoverage>& out) {
     out.clear();
     bool estimated = false;
     const PixelFilter& filter = view.camera.filter;
@@ -239,8 +239,7 @@ static inline int LightSeenByEstimate(const std::vector<PartialCoverage>& partia
 static inline Spectrum CoverageOffset(const std::vector<PartialCoverage>& partial, float fx, float fy) {
     Spectrum offset;
     for (const PartialCoverage& p : partial)
-        offset += p.light->radiance *
-                  (p.coverage - (!p.occluded && InsideScreenLight(*p.light, fx, fy) ? 1.0f : 0.0f));
+        offset += p.light->radiance * (p.coverage - (!p.occluded && InsideScreenLight(*p.light, fx, fy) ? 1.0f : 0.0f));
     return offset;
 }
 

@@ -86,8 +86,12 @@ class LightSamplingAt {
     LightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin, const Vec3f& normal,
                     const Vec3f& tree_normal, int light_samples,
                     EllipseTechnique ellipse_technique = RenderOptions{}.ellipse_technique)
-        : scene_(scene), selection_(selection), origin_(origin), normal_(normal),
-          tree_(scene.light_tree(), origin, tree_normal, light_samples > 1), ellipse_(ellipse_technique) {}
+        : scene_(scene),
+          selection_(selection),
+          origin_(origin),
+          normal_(normal),
+          tree_(scene.light_tree(), origin, tree_normal, light_samples > 1),
+          ellipse_(ellipse_technique) {}
 
     // The emitter of the light sample with pattern point light_point, at this receiver.
     ChosenLight Choose(Point2<float> light_point) {
@@ -162,9 +166,9 @@ class LightSamplingAt {
     };
     static_assert(std::is_trivially_destructible_v<LightSampler<K, float>>, "slots are never destroyed");
     SamplerSlot sampler_[kKeptSamplers];  // for rectangle light sampler_index_[k]
-    int sampler_index_[kKeptSamplers];  // (slots k < min(set_up_, kKeptSamplers) are set)
-    int set_up_ = 0;  // samplers set up at this point
-    TriangleSolidAngleSetup triangle_;  // set up for triangle light `triangle_index_`
+    int sampler_index_[kKeptSamplers];    // (slots k < min(set_up_, kKeptSamplers) are set)
+    int set_up_ = 0;                      // samplers set up at this point
+    TriangleSolidAngleSetup triangle_;    // set up for triangle light `triangle_index_`
     int triangle_index_ = -1;
 };
 

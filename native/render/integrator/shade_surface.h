@@ -105,7 +105,7 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 // Out of line and cold: inlined into the shading loop, its material construction cost every scene instructions,
 // textured or not (docs/architecture.md, measured choices).
 [[gnu::noinline, gnu::cold]] static Bsdf HitSpecificBsdf(const RenderScene& scene, const SurfaceHit& h,
-                                                                 const Frame& frame) {
+                                                         const Frame& frame) {
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
     Bsdf out = m;
     if (m.textured) {
@@ -132,7 +132,7 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 
 template <bool kGlossy>
 static inline const Bsdf& BsdfAtHit(const RenderScene& scene, const SurfaceHit& h, const Frame& frame,
-                                            std::optional<Bsdf>& storage) {
+                                    std::optional<Bsdf>& storage) {
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
     if constexpr (!kGlossy) return m;  // Commit() sends scenes with any of these to the glossy kernel
     if (!m.textured && !m.normal_mapped && !m.anisotropic && !(m.has_dielectric && h.backfacing)) return m;
@@ -142,12 +142,12 @@ static inline const Bsdf& BsdfAtHit(const RenderScene& scene, const SurfaceHit& 
 
 // Whether a hit on material m takes light samples alone (no MIS partner): a purely diffuse
 // material with the lights sampled by solid angle (not `area`, for rectangles nor for the scene's
-// ellipses), unless RenderOptions::bsdf_samples_on_diffuse (ShadeContext).  There the light sample's density already follows
-// the integrand but for the cosine (`rectangle_projected`: including the cosine, so that an
-// unoccluded light's estimate has no variance and a BSDF sample could only add noise), so the BSDF sample's share of MIS is small where it is not
-// noise, and its ray, light finding and light pdf cost a quarter of the render: over the blend_scenes
-// dropping it lowers MSE x time except where the light technique is weak (docs/architecture.md, measured choices).
-// Each hit's choice depends only on the hit, so the image stays unbiased.
+// ellipses), unless RenderOptions::bsdf_samples_on_diffuse (ShadeContext).  There the light sample's density already
+// follows the integrand but for the cosine (`rectangle_projected`: including the cosine, so that an unoccluded light's
+// estimate has no variance and a BSDF sample could only add noise), so the BSDF sample's share of MIS is small where it
+// is not noise, and its ray, light finding and light pdf cost a quarter of the render: over the blend_scenes dropping
+// it lowers MSE x time except where the light technique is weak (docs/architecture.md, measured choices). Each hit's
+// choice depends only on the hit, so the image stays unbiased.
 template <Technique K>
 static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
     return c.diffuse_light_samples_alone && !m.glossy && K != Technique::Area;

@@ -53,7 +53,8 @@ static inline void QueueMediumDeltaLight(const ShadeContext& c, const Scattering
     const HomogeneousMedium& med = c.scene.medium;
     const DeltaIllumination di = IlluminateFromDelta(d, sp.x);
     if (IsBlack(di.li)) return;
-    sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
+    sink.Add(sp.x, di.wi, di.dist,
+             di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
 }
 
 // The delta lights evaluated once (ForEachDeltaLightEvaluatedOnce).

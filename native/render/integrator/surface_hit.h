@@ -14,8 +14,8 @@ struct SurfaceHit {
     Vec3f ns;     // unit shading normal, flipped with ng
     float t = 0;  // distance along the camera ray
     int material = 0;
-    TextureCoordinates tc;  // set only for a textured or normal-mapped material
-    Vec3f ns_unmapped;      // normal-mapped materials: the shading normal before the map (flipped with ns)
+    TextureCoordinates tc;    // set only for a textured or normal-mapped material
+    Vec3f ns_unmapped;        // normal-mapped materials: the shading normal before the map (flipped with ns)
     bool backfacing = false;  // materials with a dielectric lobe: the ray hit the side its winding faces away from
     Vec3f tangent;            // anisotropic materials: the mesh's radial tangent (RadialTangent; zero without one)
 };
@@ -52,9 +52,10 @@ static inline Vec3f Apply3x3Transposed(const float (&m)[3][3], const Vec3f& v) {
 // give (smoothly curved meshes differ slightly).  Object space: with the object's linear map L, a direction
 // maps by L^-1 and a normal by L^T (and back by L^-T), which matters where L scales non-uniformly.  A triangle
 // with degenerate UVs keeps N.
-[[gnu::noinline, gnu::cold]] static Vec3f ApplyNormalMap(const RenderScene& scene, const MeshData& mesh, const NormalMap& map,
-                                   const Vec3f p[3], const Point2<float> uv[3], const TextureCoordinates& tc,
-                                   const Vec3f& n_world) {
+[[gnu::noinline, gnu::cold]] static Vec3f ApplyNormalMap(const RenderScene& scene, const MeshData& mesh,
+                                                         const NormalMap& map, const Vec3f p[3],
+                                                         const Point2<float> uv[3], const TextureCoordinates& tc,
+                                                         const Vec3f& n_world) {
     const Vec3f e1 = p[1] - p[0], e2 = p[2] - p[0];
     const float du1 = uv[1].u - uv[0].u, dv1 = uv[1].v - uv[0].v, du2 = uv[2].u - uv[0].u, dv2 = uv[2].v - uv[0].v;
     const float det = du1 * dv2 - du2 * dv1;

@@ -13,9 +13,9 @@ namespace sphrect::render {
 template <Technique K>
 class TimedLightSamplingAt {
   public:
-    TimedLightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin,
-                         const Vec3f& normal, const Vec3f& tree_normal, int light_samples,
-                         EllipseTechnique ellipse_technique, uint64_t& ticks)
+    TimedLightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin, const Vec3f& normal,
+                         const Vec3f& tree_normal, int light_samples, EllipseTechnique ellipse_technique,
+                         uint64_t& ticks)
         : sampling_(scene, selection, origin, normal, tree_normal, light_samples, ellipse_technique), ticks_(ticks) {}
 
     ChosenLight Choose(Point2<float> light_point) {

@@ -7,8 +7,9 @@
 //    transparency / q, or stops there and is shaded as an opaque hit weighted by 1 / (1 - q).  Unbiased, one shaded
 //    hit per camera sample (each technique shades the same hits); an alpha texture of 0 or 1 decides with no noise.
 //  - Shadow rays (ResolveShadowRays, shadow_queue.h): Embree's occlusion filter on meshes with transparent
-//    materials (RenderScene::Commit) lets the ray through them and marks it (ShadowRayContext); a marked ray that nothing opaque blocked then multiplies the
-//    transparencies of the surfaces it crosses, found in order (ShadowTransmittance).
+//    materials (RenderScene::Commit) lets the ray through them and marks it (ShadowRayContext); a marked ray that
+//    nothing opaque blocked then multiplies the transparencies of the surfaces it crosses, found in order
+//    (ShadowTransmittance).
 // More than kMaxTransparentHits transparent surfaces block, as Cycles' transparent_max_bounces (default 8) does.
 #pragma once
 
@@ -64,8 +65,10 @@ static inline bool CameraRayThroughTransparent(const SurfaceTransparency& s, flo
 // The light a shadow ray keeps after the transparent surfaces along it, found nearest first; the caller knows that
 // nothing opaque blocks it (the occlusion pass let it through).  0 past kMaxTransparentHits.
 static inline Spectrum ShadowTransmittance(const RenderScene& scene, const RTCRay& shadow) {
-    const Ray ray{{shadow.org_x, shadow.org_y, shadow.org_z}, {shadow.dir_x, shadow.dir_y, shadow.dir_z},
-                  shadow.tnear, shadow.tfar};
+    const Ray ray{{shadow.org_x, shadow.org_y, shadow.org_z},
+                  {shadow.dir_x, shadow.dir_y, shadow.dir_z},
+                  shadow.tnear,
+                  shadow.tfar};
     Spectrum kept(1, 1, 1);
     float tnear = shadow.tnear;
     RTCIntersectContext ctx;
