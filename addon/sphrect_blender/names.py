@@ -117,6 +117,14 @@ def _module_value(attribute, fallback):
         return fallback
 
 
+# The render settings' defaults: the module's (sphrect.RENDER_DEFAULTS, from render/options.h).  Without a module
+# the add-on only registers to say what is missing, so any valid value serves: each list's first, False, 0.
+RENDER_DEFAULTS = _module_value("RENDER_DEFAULTS", {
+    "techniques": TECHNIQUES[:1], "light_samples": 1, "pattern": PATTERNS[0], "mis": MIS_MODES[0], "seed": 0,
+    "threads": 0, "light_selection": LIGHT_SELECTIONS[0], "ellipse_technique": ELLIPSE_TECHNIQUES[0],
+    "analytic_light_coverage": False, "bsdf_samples_on_diffuse": False})
+
+
 # The Filter Width's range, pixels (the module's float32 limits, rounded for the UI; without the module, Blender's).
 FILTER_WIDTH_RANGE = tuple(round(float(_module_value(name, fallback)), 6)
                            for name, fallback in (("MIN_PIXEL_FILTER_WIDTH", 0.01), ("MAX_PIXEL_FILTER_WIDTH", 10.0)))

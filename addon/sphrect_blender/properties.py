@@ -6,7 +6,8 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, P
 from .images import cache_reference_image
 from .names import (DEFAULT_FILTER_WIDTH, DEFAULT_PIXEL_FILTER, ELLIPSE_TECHNIQUE_LABELS, ELLIPSE_TECHNIQUES,
                     FILTER_WIDTH_RANGE, LIGHT_SELECTION_LABELS, LIGHT_SELECTIONS, MIS_LABELS, MIS_MODES, PATTERN_LABELS,
-                    PATTERNS, PIXEL_FILTER_LABELS, PIXEL_FILTERS, TECHNIQUE_LABELS, TECHNIQUES, enum_items, identifier,
+                    PATTERNS, PIXEL_FILTER_LABELS, PIXEL_FILTERS, RENDER_DEFAULTS, TECHNIQUE_LABELS, TECHNIQUES,
+                    enum_items, identifier,
                     label, sphrect_name)
 
 
@@ -19,37 +20,40 @@ def _read_reference(path):
 
 
 class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
-    technique: EnumProperty(name="Technique", items=enum_items(TECHNIQUES, TECHNIQUE_LABELS), default="RECTANGLE",
+    technique: EnumProperty(name="Technique", items=enum_items(TECHNIQUES, TECHNIQUE_LABELS),
+                            default=identifier(RENDER_DEFAULTS["techniques"][0]),
                             description="How points on rectangular lights are chosen")
     samples: IntProperty(name="Samples", default=16, min=1, soft_max=4096, description="Camera samples per pixel")
     time_limit: FloatProperty(name="Time Limit", default=0.0, min=0.0, subtype="TIME_ABSOLUTE", unit="TIME",
                               description="Stop an F12 render after this many seconds even if its samples are not "
                                           "done, keeping the samples rendered (0: no limit; checked between the "
                                           "renderer's calls, at most 262,144 camera samples each)")
-    light_samples: IntProperty(name="Light Samples", default=2, min=1, soft_max=64,
+    light_samples: IntProperty(name="Light Samples", default=RENDER_DEFAULTS["light_samples"], min=1, soft_max=64,
                                description="Light samples per camera sample, each choosing one light and paired "
                                            "with a BSDF sample")
-    pattern: EnumProperty(name="Pattern", items=enum_items(PATTERNS, PATTERN_LABELS), default="SOBOL",
+    pattern: EnumProperty(name="Pattern", items=enum_items(PATTERNS, PATTERN_LABELS),
+                          default=identifier(RENDER_DEFAULTS["pattern"]),
                           description="Sample pattern of the light samples")
-    mis: EnumProperty(name="MIS", items=enum_items(MIS_MODES, MIS_LABELS), default="POWER",
+    mis: EnumProperty(name="MIS", items=enum_items(MIS_MODES, MIS_LABELS), default=identifier(RENDER_DEFAULTS["mis"]),
                       description="Multiple importance sampling heuristic")
     light_selection: EnumProperty(name="Light Selection", items=enum_items(LIGHT_SELECTIONS, LIGHT_SELECTION_LABELS),
-                                  default="TREE", description="How each light sample chooses its light")
+                                  default=identifier(RENDER_DEFAULTS["light_selection"]),
+                                  description="How each light sample chooses its light")
     ellipse_technique: EnumProperty(name="Disk Lights", items=enum_items(ELLIPSE_TECHNIQUES, ELLIPSE_TECHNIQUE_LABELS),
-                                    default="SPHERICAL_ELLIPSE",
+                                    default=identifier(RENDER_DEFAULTS["ellipse_technique"]),
                                     description="How points on disk and ellipse lights are chosen")
     analytic_light_coverage: BoolProperty(
-        name="Exact Light Edges", default=True,
+        name="Exact Light Edges", default=RENDER_DEFAULTS["analytic_light_coverage"],
         description="For rectangle and disk lights seen by the camera, compute exactly how much of each pixel they "
                     "cover instead of estimating it from the samples (unbiased; removes the noise of their edges "
                     "where nothing hides them; with Gaussian and Blackman-Harris filters the filter's share is "
                     "estimated from cheap inside-tests, nearly as good; not in a volume or with depth of field)")
     bsdf_samples_on_diffuse: BoolProperty(
-        name="MIS on Diffuse", default=False,
+        name="MIS on Diffuse", default=RENDER_DEFAULTS["bsdf_samples_on_diffuse"],
         description="Also draw BSDF samples (MIS) at purely diffuse surfaces. Off, they take light samples alone "
                     "where the lights are sampled by solid angle: the same image on average, faster, and less "
                     "noisy in most scenes; glossy surfaces and area sampling keep MIS either way")
-    seed: IntProperty(name="Seed", default=0, min=0)
+    seed: IntProperty(name="Seed", default=RENDER_DEFAULTS["seed"], min=0)
     pixel_filter: EnumProperty(name="Pixel Filter", items=enum_items(PIXEL_FILTERS, PIXEL_FILTER_LABELS),
                                default=identifier(DEFAULT_PIXEL_FILTER),
                                description="How a pixel weighs what its camera samples see, as Cycles' Film > Pixel "
@@ -58,7 +62,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
                                 max=FILTER_WIDTH_RANGE[1], subtype="PIXEL",
                                 description="Width of the pixel filter: lower is crisper, higher softer with less "
                                             "aliasing (Box is always 1 pixel, as in Cycles)")
-    threads: IntProperty(name="Threads", default=0, min=0, description="Render threads (0: all cores)")
+    threads: IntProperty(name="Threads", default=RENDER_DEFAULTS["threads"], min=0,
+                         description="Render threads (0: all cores)")
     passes: IntProperty(name="Progressive Passes", default=4, min=1, max=256,
                         description="The image is updated at least this many times while rendering the samples")
 

@@ -156,6 +156,8 @@ const std::shared_ptr<RenderScene>& Scene() {
 
 void BM_Render(benchmark::State& state) {
     RenderOptions o;
+    o.mis = MisMode::Balance;  // what these measure (not the defaults)
+    o.light_selection = LightSelection::Power;
     o.techniques = {kAllTechniques[state.range(0)]};
     o.mis = state.range(1) ? MisMode::Balance : MisMode::None;
     o.threads = 1;
@@ -394,6 +396,8 @@ BENCHMARK(BM_RaysAndSampler)
 
 void BM_DiffuseKernel(benchmark::State& state) {
     RenderOptions o;
+    o.mis = MisMode::Balance;  // what these measure (not the defaults)
+    o.light_selection = LightSelection::Power;
     o.techniques = {Technique::Rectangle};
     o.threads = 1;
     o.force_all_features = state.range(0) != 0;
@@ -421,6 +425,8 @@ BENCHMARK(BM_DiffuseKernel)
 void BM_TexturedKernel(benchmark::State& state) {
     static const std::shared_ptr<RenderScene> textured = BenchScene(true);
     RenderOptions o;
+    o.mis = MisMode::Balance;  // what these measure (not the defaults)
+    o.light_selection = LightSelection::Power;
     o.techniques = {Technique::Rectangle};
     o.threads = 1;
     for (auto _ : state) {

@@ -246,6 +246,28 @@ py::dict Stats(const Renderer& r, int k) {
         py::arg("focus_distance"), py::arg("clip_start"), py::arg("clip_end"), py::arg("pixel_filter") = "box", \
                                                                                py::arg("filter_width") = 1.0f
 
+// RenderOptions' defaults by the names sphrect.Renderer's keywords have (memory_limit 0: None, the machine's).
+py::dict RenderDefaults() {
+    const render::RenderOptions o;
+    py::list techniques;
+    for (Technique t : o.techniques) techniques.append(TechniqueName(t));
+    py::dict d;
+    d["techniques"] = py::tuple(techniques);
+    d["light_samples"] = o.light_samples;
+    d["pattern"] = PatternName(o.pattern);
+    d["mis"] = render::MisModeName(o.mis);
+    d["seed"] = o.seed;
+    d["threads"] = o.threads;
+    d["medium_sampling"] = render::MediumSamplingName(o.medium_sampling);
+    d["tile_size"] = o.tile_size;
+    d["light_selection"] = render::LightSelectionName(o.light_selection);
+    d["ellipse_technique"] = EllipseTechniqueName(o.ellipse_technique);
+    d["analytic_light_coverage"] = o.analytic_light_coverage;
+    d["bsdf_samples_on_diffuse"] = o.bsdf_samples_on_diffuse;
+    d["memory_limit"] = o.memory_limit ? py::object(py::int_(o.memory_limit)) : py::object(py::none());
+    return d;
+}
+
 void BindRender(py::module_& m) {
     auto names = [](const auto& list) {
         py::tuple t(std::size(list));
@@ -356,6 +378,7 @@ void BindRender(py::module_& m) {
           py::arg("film_alpha"), "RGBA float32 [H, W, 4] from accumulation buffers, exactly as a Renderer's image()");
     m.attr("SAMPLE_INDEX_LIMIT") = render::kSampleIndexLimit;
     m.attr("MAX_LIGHT_SAMPLES") = render::kMaxLightSamples;
+    m.def("_render_defaults", &RenderDefaults, "sphrect.RENDER_DEFAULTS: render/options.h RenderOptions' defaults");
     m.attr("MAX_THREADS") = render::kMaxThreads;
     m.def("default_memory_limit", &render::DefaultMemoryLimit,
           "Bytes a Renderer's images may take by default: half the physical memory");

@@ -23,15 +23,17 @@ constexpr int kMaxPatternPointsPerCallLog2 = 22;
 // Sample indices (camera samples x light samples) must stay within 31 bits.
 constexpr uint64_t kSampleIndexLimit = uint64_t(1) << 31;
 
+// Every default of a render: sphrect.Renderer, the add-on and the study read them (sphrect.RENDER_DEFAULTS); the
+// reasons for the choices are in docs/renderer.md, "Light selection and defaults".
 struct RenderOptions {
     std::vector<Technique> techniques = {Technique::Rectangle};
     // How disk and ellipse lights are sampled (every technique's pass alike).
     EllipseTechnique ellipse_technique = EllipseTechnique::SphericalEllipse;
     int light_samples = 2;             // light samples (and BSDF samples) per camera sample
     Pattern pattern = Pattern::Sobol;  // drives pixel, lens, light and BSDF sample positions
-    MisMode mis = MisMode::Balance;    // light sampling vs BSDF (or phase) sampling
+    MisMode mis = MisMode::Power;      // light sampling vs BSDF (or phase) sampling
     MediumSampling medium_sampling = MediumSampling::Mis;
-    LightSelection light_selection = LightSelection::Power;  // (sphrect.Renderer defaults to tree)
+    LightSelection light_selection = LightSelection::Tree;
     uint64_t seed = 0;
     int threads = 0;  // 0: all hardware threads
     int tile_size = 16;

@@ -71,6 +71,10 @@ LIGHT_SELECTIONS = tuple(_native.light_selections)
 ELLIPSE_TECHNIQUES = tuple(_native.ellipse_techniques)
 
 _MAX_SIDE = _native.MAX_IMAGE_SIDE
+# Every render option's default, by keyword: one place, render/options.h's RenderOptions.  The add-on and the study
+# read them from here too.
+RENDER_DEFAULTS = dict(_native._render_defaults())
+_DEFAULTS = RENDER_DEFAULTS
 
 
 def _int_array(a, what: str, upper: Optional[int] = None) -> np.ndarray:
@@ -214,11 +218,15 @@ class Renderer:
     """Progressive direct-lighting renderer of a :class:`sphrect.Scene` with one or more
     light-sampling techniques sharing camera rays and first hits (see the module docstring)."""
 
-    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = ("rectangle",), light_samples: int = 2,
-                 pattern: str = "sobol", mis: str = "power", seed: int = 0, threads: int = 0,
-                 medium_sampling: str = "mis", tile_size: int = 16, light_selection: str = "tree",
-                 ellipse_technique: str = "spherical_ellipse", analytic_light_coverage: bool = True,
-                 bsdf_samples_on_diffuse: bool = False, memory_limit: Optional[int] = None):
+    def __init__(self, scene: Scene, techniques: Union[str, Sequence[str]] = _DEFAULTS["techniques"],
+                 light_samples: int = _DEFAULTS["light_samples"], pattern: str = _DEFAULTS["pattern"],
+                 mis: str = _DEFAULTS["mis"], seed: int = _DEFAULTS["seed"], threads: int = _DEFAULTS["threads"],
+                 medium_sampling: str = _DEFAULTS["medium_sampling"], tile_size: int = _DEFAULTS["tile_size"],
+                 light_selection: str = _DEFAULTS["light_selection"],
+                 ellipse_technique: str = _DEFAULTS["ellipse_technique"],
+                 analytic_light_coverage: bool = _DEFAULTS["analytic_light_coverage"],
+                 bsdf_samples_on_diffuse: bool = _DEFAULTS["bsdf_samples_on_diffuse"],
+                 memory_limit: Optional[int] = _DEFAULTS["memory_limit"]):
         if isinstance(techniques, str):
             techniques = [techniques]
         techniques = list(techniques)
@@ -325,8 +333,8 @@ class Renderer:
         return dict(self._r.stats(self._index(technique)))
 
 
-def render(scene: Scene, samples: int = 16, techniques: Union[str, Iterable[str]] = ("rectangle",), parts: int = 1,
-           **kw) -> Dict[str, np.ndarray]:
+def render(scene: Scene, samples: int = 16, techniques: Union[str, Iterable[str]] = _DEFAULTS["techniques"],
+           parts: int = 1, **kw) -> Dict[str, np.ndarray]:
     """Render `scene` with each technique; {technique: float32 [H, W, 4]}. `parts` > 1 renders the samples as
     that many passes (sample_ranges.sample_ranges), as sphrect.render_distributed does on a cluster."""
     ranges = sample_ranges(int_argument("samples", samples, 1), int_argument("parts", parts, 1))

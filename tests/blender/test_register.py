@@ -73,3 +73,13 @@ def test_disable_and_enable_again():
     finally:
         addon_utils.enable("sphrect_blender", default_set=True, handle_error=None)
     assert "SPHRECT" in bpy.types.DATA_PT_EEVEE_light.COMPAT_ENGINES
+
+
+def test_settings_default_to_the_renderers_defaults(empty_scene):
+    # A new scene's settings are sphrect.RENDER_DEFAULTS (render/options.h), not a copy of their own.
+    s, d = empty_scene.sphrect, sphrect.RENDER_DEFAULTS
+    assert s.technique == d["techniques"][0].upper()
+    for name in ("pattern", "mis", "light_selection", "ellipse_technique"):
+        assert getattr(s, name) == d[name].upper(), name
+    for name in ("light_samples", "seed", "threads", "analytic_light_coverage", "bsdf_samples_on_diffuse"):
+        assert getattr(s, name) == d[name], name

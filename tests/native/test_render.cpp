@@ -300,6 +300,8 @@ TEST(Renderer, IdenticalForAnyThreadCountAndTileSize) {
     for (bool medium : {false, true}) {
         auto scene = TestScene(40, 30, medium);
         RenderOptions o;
+        o.mis = MisMode::Balance;  // what these measure (not the defaults)
+        o.light_selection = LightSelection::Power;
         o.techniques = {Technique::Triangles};
         o.threads = 1;
         const auto reference = RenderImage(scene, o, 3);
@@ -315,12 +317,16 @@ TEST(Renderer, TechniquesShareCameraSamples) {
     // Rendered together or alone, a technique produces the same image.
     auto scene = TestScene(24, 16, false);
     RenderOptions both;
+    both.mis = MisMode::Balance;  // what these measure (not the defaults)
+    both.light_selection = LightSelection::Power;
     both.techniques = {Technique::Area, Technique::Rectangle};
     Renderer r(scene, both);
     ASSERT_TRUE(r.Render(4));
     std::vector<float> img(24 * 16 * 4);
     r.Image(1, img.data());
     RenderOptions alone;
+    alone.mis = MisMode::Balance;  // what these measure (not the defaults)
+    alone.light_selection = LightSelection::Power;
     alone.techniques = {Technique::Rectangle};
     EXPECT_EQ(RenderImage(scene, alone, 4), img);
 }
@@ -328,6 +334,8 @@ TEST(Renderer, TechniquesShareCameraSamples) {
 TEST(Renderer, CancelFromAnotherThreadReturnsPartialImage) {
     auto scene = TestScene(128, 96, true);
     RenderOptions o;
+    o.mis = MisMode::Balance;  // what these measure (not the defaults)
+    o.light_selection = LightSelection::Power;
     o.threads = 2;
     o.tile_size = 8;
     o.light_samples = 4;
@@ -366,6 +374,8 @@ TEST(Renderer, RejectsBadInput) {
     EXPECT_THROW(s.Commit(), std::invalid_argument);                                         // empty scene
     auto scene = TestScene(8, 8, false);
     RenderOptions o;
+    o.mis = MisMode::Balance;  // what these measure (not the defaults)
+    o.light_selection = LightSelection::Power;
     o.light_samples = 0;
     EXPECT_THROW(Renderer(scene, o), std::invalid_argument);
 }
@@ -380,6 +390,8 @@ TEST(RenderOptions, ValidationNamesTheBadOption) {
         return std::string();
     };
     RenderOptions o;
+    o.mis = MisMode::Balance;  // what these measure (not the defaults)
+    o.light_selection = LightSelection::Power;
     EXPECT_EQ(message(o), "");
     o.techniques = {Technique::Area, Technique::Rectangle, Technique::Area};
     EXPECT_EQ(message(o), "technique 'area' listed twice");
@@ -388,6 +400,8 @@ TEST(RenderOptions, ValidationNamesTheBadOption) {
     EXPECT_EQ(message(o), "tile_size must be positive");
     EXPECT_THROW(ValidateRenderCall(RenderOptions{}, 0), std::invalid_argument);
     RenderOptions many;
+    many.mis = MisMode::Balance;  // what these measure (not the defaults)
+    many.light_selection = LightSelection::Power;
     many.light_samples = kMaxLightSamples;
     EXPECT_NO_THROW(ValidateRenderCall(many, (1 << kMaxPatternPointsPerCallLog2) / kMaxLightSamples));
     EXPECT_THROW(ValidateRenderCall(many, (1 << kMaxPatternPointsPerCallLog2) / kMaxLightSamples + 1),
@@ -584,6 +598,8 @@ TEST(RenderLights, EllipseSamplingMatchesFreshSamplers) {
 
 TEST(RenderOptions, EllipseTechniqueIsValidated) {
     RenderOptions o;
+    o.mis = MisMode::Balance;  // what these measure (not the defaults)
+    o.light_selection = LightSelection::Power;
     EXPECT_EQ(o.ellipse_technique, EllipseTechnique::SphericalEllipse);
     EXPECT_NO_THROW(ValidateOptions(o));
     o.ellipse_technique = EllipseTechnique(7);

@@ -333,3 +333,13 @@ def test_mesh_without_triangles_is_ignored():
     s.meshes.append(sphrect.Mesh(vertices=np.zeros((0, 3), np.float32), triangles=np.zeros((0, 3), np.int32)))
     r = sphrect.Renderer(s)
     assert r.render(1) and np.all(np.isfinite(r.image()))
+
+
+def test_every_render_default_is_render_options():
+    # One place for the defaults (render/options.h's RenderOptions): the Renderer's keywords are its values.
+    import inspect
+    parameters = inspect.signature(sphrect.Renderer).parameters
+    assert set(sphrect.RENDER_DEFAULTS) <= set(parameters)
+    for name, value in sphrect.RENDER_DEFAULTS.items():
+        assert parameters[name].default == value, name
+    assert sphrect.RENDER_DEFAULTS["mis"] == "power" and sphrect.RENDER_DEFAULTS["light_selection"] == "tree"

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-import inspect
 import json
 import math
 import numbers
@@ -18,14 +17,14 @@ from dataclasses import dataclass
 from typing import Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
 from .. import _native
-from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES, Renderer
+from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MIS_MODES, PATTERNS, RENDER_DEFAULTS, TECHNIQUES
 
 SPHRECT = "sphrect"
 CYCLES = "cycles"
 # The Renderer's own default, which runs recorded before light selection was a study axis were made with.
-DEFAULT_LIGHT_SELECTION = inspect.signature(Renderer).parameters["light_selection"].default
+DEFAULT_LIGHT_SELECTION = RENDER_DEFAULTS["light_selection"]
 # Likewise for the ellipse technique (how disk and ellipse lights are sampled): runs recorded before it was an axis.
-DEFAULT_ELLIPSE_TECHNIQUE = inspect.signature(Renderer).parameters["ellipse_technique"].default
+DEFAULT_ELLIPSE_TECHNIQUE = RENDER_DEFAULTS["ellipse_technique"]
 
 
 class CurveKey(NamedTuple):
