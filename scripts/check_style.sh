@@ -10,6 +10,6 @@ if ! clang-format --dry-run --Werror "${cpp[@]}" 2> /tmp/sphrect-clang-format.lo
   echo "fix: clang-format -i \$(git ls-files 'native/*.h' 'native/*.cpp' 'tests/native/*.h' 'tests/native/*.cpp')"
   status=1
 fi
-/usr/bin/python3 -m flake8 python addon tests scripts blend_scenes || status=1
+/usr/bin/python3 -m flake8 setup.py python addon tests scripts blend_scenes experiments || status=1
 if ((status == 0)); then echo "style: clang-format and flake8 clean"; fi
 exit $status
