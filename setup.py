@@ -30,4 +30,5 @@ class NativeDistribution(Distribution):
         return True
 
 
-setup(packages=find_packages("python"), package_dir={"": "python"}, cmdclass={"build_py": BuildWithCMake}, distclass=NativeDistribution)
+setup(packages=find_packages("python"), package_dir={"": "python"}, cmdclass={"build_py": BuildWithCMake},
+      distclass=NativeDistribution)
