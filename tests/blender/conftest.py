@@ -9,7 +9,7 @@ import pytest
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 BLEND_DIR = os.path.join(REPO, "blend_scenes")
 SCENES = sorted(f[:-len(".blend")] for f in os.listdir(BLEND_DIR) if f.endswith(".blend"))
-for _path in (BLEND_DIR, os.path.join(REPO, "tests")):
+for _path in (os.path.join(REPO, "scripts"), os.path.join(REPO, "tests")):
     if _path not in sys.path:
         sys.path.insert(0, _path)
 

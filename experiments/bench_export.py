@@ -1,7 +1,7 @@
 """Exporter speed (a benchmark, not a test): a million-triangle mesh, flat and smooth, and 100 instances of
 a 10k-triangle mesh, through scene_from_depsgraph and save_scene. Run:
 
-    SPHRECT_PYTHON_PATH=build/python blender -b --factory-startup --python tests/blender/bench_export.py
+    SPHRECT_PYTHON_PATH=build/python blender -b --factory-startup --python experiments/bench_export.py
 """
 import os
 import sys
@@ -11,7 +11,7 @@ import time
 import bpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(os.path.dirname(HERE))
+REPO = os.path.dirname(HERE)
 sys.path[:0] = [os.path.join(REPO, "addon"),
                 os.environ.get("SPHRECT_PYTHON_PATH", os.path.join(REPO, "build", "python"))]
 import addon_utils  # noqa: E402

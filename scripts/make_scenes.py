@@ -1,6 +1,6 @@
-"""Build the SPHRECT test scenes headless and save them (compressed) next to this script:
+"""Build the SPHRECT test scenes headless and save them (compressed) in blend_scenes/:
 
-    blender -b --factory-startup --python blend_scenes/make_scenes.py [-- NAME ...]
+    blender -b --factory-startup --python scripts/make_scenes.py [-- NAME ...]
 
 01_paper         the paper's scene: Lambertian objects on a ground plane, a two-sided rectangle light
                  perpendicular to the ground and close to it, invisible to the camera
@@ -38,7 +38,9 @@ import numpy as np
 from mathutils import Matrix, Vector
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ADDON_DIR = os.path.join(HERE, "..", "addon")
+REPO = os.path.dirname(HERE)
+ADDON_DIR = os.path.join(REPO, "addon")
+BLEND_DIR = os.path.join(REPO, "blend_scenes")  # where the scenes are written
 
 
 def enable_addon():
@@ -165,7 +167,7 @@ def room(mat_walls, size=(6, 6, 3)):
 
 
 def save(scene_name):
-    path = os.path.join(HERE, scene_name + ".blend")
+    path = os.path.join(BLEND_DIR, scene_name + ".blend")
     bpy.context.preferences.filepaths.save_version = 0  # no .blend1 backups next to the committed files
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True, check_existing=False)
     print("wrote", path, os.path.getsize(path), "bytes")

@@ -6,8 +6,8 @@ rectangle technique (--technique for another), tree selection (--selections to a
 other defaults.  Then, over all the scenes given, the geometric mean and the worst of each configuration's
 MSE x time relative to the best configuration of its scene.
 
-    PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_samples.py out/many_lights/08_disk_room
-    PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_samples.py scenes/*.sphrect.npz --reference-spp 4096
+    PYTHONPATH=build/python /usr/bin/python3 experiments/measure_light_samples.py out/many_lights/08_disk_room
+    PYTHONPATH=build/python /usr/bin/python3 experiments/measure_light_samples.py DIR/*.sphrect.npz --reference-spp 4096
 
 A directory is a finished study's output (its scene.sphrect.npz and images/reference.npy); a scene file gets a
 reference rendered here (rectangle, mis power, sobol, 1 light sample, --reference-spp camera samples, all threads;

@@ -3,13 +3,13 @@
 Cycles 3.4, for issue 11's stratified light selection and the defaults.
 
     # 1. our renderer (run once per build; --label names the build's results):
-    PYTHONPATH=build-strat/python /usr/bin/python3 scripts/measure_light_selection.py --out out/lightsel --label after
-    PYTHONPATH=/tmp/wt-before/build-before/python /usr/bin/python3 scripts/measure_light_selection.py \\
+    PYTHONPATH=BUILD/python /usr/bin/python3 experiments/measure_light_selection.py --out out/lightsel --label after
+    PYTHONPATH=OLD_BUILD/python /usr/bin/python3 experiments/measure_light_selection.py \\
         --out out/lightsel --label before --scenes 07_studio 08_disk_room --mis balance --patterns sobol
     # 2. Cycles 3.4 (direct light only, as the study's peer):
-    PYTHONPATH=build-strat/python /usr/bin/python3 scripts/measure_light_selection.py --out out/lightsel --cycles
+    PYTHONPATH=BUILD/python /usr/bin/python3 experiments/measure_light_selection.py --out out/lightsel --cycles
     # 3. the tables (reads every <label>.json and cycles.json in --out):
-    PYTHONPATH=build-strat/python /usr/bin/python3 scripts/measure_light_selection.py --out out/lightsel --report
+    PYTHONPATH=BUILD/python /usr/bin/python3 experiments/measure_light_selection.py --out out/lightsel --report
 
 Variance: two renders of different seeds a, b at the same samples; Var = mean over pixels and RGB of
 (a - b)^2 / 2 (each pixel's variance, unbiased, no reference needed), divided by the mean of ((a + b) / 2)^2:

@@ -3,7 +3,7 @@
 Renderer.set_camera on the one it has, and a 1/4-resolution preview (set_camera + one sample), at 1057 x 667.
 Each scene file as it is, and the first one again with a 999,000-triangle sphere added.
 
-    PYTHONPATH=build/python /usr/bin/python3 scripts/measure_view_change.py SCENE.sphrect.npz [...]
+    PYTHONPATH=build/python /usr/bin/python3 experiments/measure_view_change.py SCENE.sphrect.npz [...]
 
 (blender_scenes' files: export them with addon/sphrect_blender/headless.py's `export` command.)"""
 import argparse

@@ -3,7 +3,7 @@
 per scene file, RMSE at equal samples with and without it against one reference rendered without it,
 and the CPU time per render (one thread; the machine's noise applies).
 
-    PYTHONPATH=build/python /usr/bin/python3 scripts/measure_light_coverage.py out/many_lights/*/scene.sphrect.npz
+    PYTHONPATH=build/python /usr/bin/python3 experiments/measure_light_coverage.py out/many_lights/*/scene.sphrect.npz
     ... --pixel-filter blackman_harris:1.5     # the scenes' camera with another pixel filter (name:width)
 
 (The study writes each scene's scene.sphrect.npz into its output folder.)"""

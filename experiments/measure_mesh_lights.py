@@ -2,7 +2,7 @@
 """Cost of emissive meshes against their number of triangles: a ceiling of N small emissive triangles
 (a grid of sheared quads, so no pair is a rectangle: N triangle lights) over a ground plane.
 
-    PYTHONPATH=build/python /usr/bin/python3 scripts/measure_mesh_lights.py [--counts 100 10000 1000000]
+    PYTHONPATH=build/python /usr/bin/python3 experiments/measure_mesh_lights.py [--counts 100 10000 1000000]
 
 Prints per N: the scene's build time (sphrect.Renderer: validation, Embree BVH, N area lights and their
 power CDF) and its memory (growth of the process' peak RSS), and the time per camera sample of a 64 x 64

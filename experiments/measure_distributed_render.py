@@ -3,7 +3,7 @@
 scene on a local cluster of 1, 2, ... worker processes (one render thread each), against sphrect.render in this
 process with one thread, and whether the images are bit-identical to the local render of the same sample ranges.
 
-    scripts/measure_distributed_render.py --samples 1024 --side 128 --workers 1,2
+    experiments/measure_distributed_render.py --samples 1024 --side 128 --workers 1,2
 
 Wall times include sending the scene and merging the buffers (not starting the workers); on a machine whose cores
 other processes share they scatter. Uses the package built in build/python.

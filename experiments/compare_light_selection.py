@@ -1,10 +1,10 @@
 """Power vs light-tree selection on the multi-light blend_scenes, at the Renderer's other defaults
 (rectangle, MIS power, sobol, 4 light samples), lights hidden from the camera, and Cycles 3.4 as the peer
-(direct light only): relative variance at equal samples (two seeds, scripts/measure_light_selection.py's
+(direct light only): relative variance at equal samples (two seeds, experiments/measure_light_selection.py's
 measure), CPU time per render (one thread) and variance x time relative to Cycles (below 1/3: we reach
 Cycles' error in less than a third of its time).
 
-    PYTHONPATH=build/python python3 scripts/compare_light_selection.py --out /tmp/cmp [--scenes 07_studio ...]
+    PYTHONPATH=build/python python3 experiments/compare_light_selection.py --out /tmp/cmp [--scenes 07_studio ...]
 """
 import argparse
 import os
