@@ -1,6 +1,8 @@
 // Names of the enums that users pick by string (techniques, patterns, MIS modes, ...).
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <stdexcept>
 #include <string>
 
@@ -33,6 +35,19 @@ void ParseEnumNameOrThrow(const std::string& what, const std::string& plural, co
     if (!ParseEnumName(name, values, name_of, out))
         throw std::invalid_argument("unknown " + what + " '" + name + "'; valid " + plural + ": " +
                                     EnumNameList(values, name_of));
+}
+
+// ParseEnumNameOrThrow for an enum whose values are 0, 1, ... named by `names` in that order (the renderer's k*Names
+// lists); returns the value.
+template <class Enum, size_t N>
+Enum ParseNameOrThrow(const std::string& what, const std::string& plural, const std::string& name,
+                      const char* const (&names)[N]) {
+    std::array<Enum, N> values;
+    for (size_t i = 0; i < N; ++i) values[i] = Enum(i);
+    Enum out{};
+    ParseEnumNameOrThrow(
+        what, plural, name, values, [&](Enum e) { return names[size_t(e)]; }, &out);
+    return out;
 }
 
 }  // namespace sphrect

@@ -14,6 +14,7 @@
 #include "core/ellipse_technique.h"
 #include "core/patterns.h"
 #include "name_tuple.h"
+#include "numpy_arrays.h"
 #include "core/rect_light.h"
 #include "core/rectangle.h"
 #include "core/technique.h"
@@ -65,23 +66,7 @@ uint64_t ToInteger(const py::object& obj, const char* name, uint64_t hi) {
 // Array inputs.  Everything is read as float64 (any numeric array-like), checked for shape and
 // finiteness, then converted to the working precision T (checked again: 1e300 is not a float).
 
-using ArrayD = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-ArrayD ToArray(const py::handle& obj, const char* name) {
-    if (obj.is_none()) throw py::value_error(std::string(name) + " is required");
-    ArrayD a = ArrayD::ensure(obj);
-    if (!a) {
-        PyErr_Clear();
-        throw py::value_error(std::string(name) + " must be a numeric array-like, got " + std::string(py::repr(obj)));
-    }
-    return a;
-}
-
-std::string ShapeString(const py::array& a) {
-    std::string s = "(";
-    for (py::ssize_t i = 0; i < a.ndim(); ++i) s += (i ? ", " : "") + std::to_string(a.shape(i));
-    return s + (a.ndim() == 1 ? ",)" : ")");
-}
+using ArrayD = CArray<double>;
 
 std::string Num(double x) {
     std::ostringstream s;
@@ -102,14 +87,8 @@ T CheckedValue(double x, const char* name) {
 // Rows of width `width` from an array of shape [width] (one row, when allow_single) or [N, width].
 template <class T, int width>
 std::vector<std::array<T, width>> ReadRows(const py::handle& obj, const char* name, bool allow_single) {
-    const ArrayD a = ToArray(obj, name);
-    const bool single = allow_single && a.ndim() == 1 && a.shape(0) == width;
-    if (!single && !(a.ndim() == 2 && a.shape(1) == width)) {
-        const std::string w = std::to_string(width);
-        throw py::value_error(std::string(name) + " must have shape " + (allow_single ? "(" + w + ",) or " : "") +
-                              "(N, " + w + "), got " + ShapeString(a));
-    }
-    const size_t rows = single ? 1 : size_t(a.shape(0));
+    const ArrayD a = RowsOf<double>(obj, width, name, allow_single);
+    const size_t rows = a.ndim() == 1 ? 1 : size_t(a.shape(0));
     std::vector<std::array<T, width>> out(rows);
     const double* p = a.data();
     for (size_t i = 0; i < rows; ++i)
@@ -139,7 +118,7 @@ template <class T>
 std::vector<Vec3<T>> ReadVec3s(const py::handle& obj, const char* name, bool allow_batch) {
     std::vector<Vec3<T>> v;
     if (!allow_batch) {
-        const ArrayD a = ToArray(obj, name);
+        const ArrayD a = ArrayOf<double>(obj, name);
         if (!(a.ndim() == 1 && a.shape(0) == 3))
             throw py::value_error(std::string(name) + " must have shape (3,), got " + ShapeString(a));
     }
@@ -356,7 +335,7 @@ py::array InvertRows(const Light& light, const py::object& origin, const py::obj
 // solid_angle(origin) (double) for origin (3,) -> float, or (N, 3) -> array [N] of T.
 template <class T, class SolidAngle>
 py::object SolidAngleRows(const py::object& origin, SolidAngle&& solid_angle) {
-    const ArrayD o = ToArray(origin, "origin");
+    const ArrayD o = ArrayOf<double>(origin, "origin");
     const std::vector<Vec3<T>> origins = ReadVec3s<T>(origin, "origin", true);
     if (o.ndim() == 1) return py::float_(solid_angle(origins[0]));
     py::array_t<T> out = NewArray<T>(origins.size(), 0);

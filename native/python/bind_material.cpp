@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "render/material.h"
 
 namespace py = pybind11;
@@ -31,14 +32,12 @@ std::string OneOf(const char* const (&names)[N]) {
 
 std::string Repr(const py::handle& h) { return py::repr(h).cast<std::string>(); }
 
+// The index of a name field's value in `names` (ParseNameOrThrow's message), or ValueError naming `what`.
 template <size_t N>
-int IndexOf(const py::handle& value, const char* const (&names)[N], const std::string& what) {
-    if (py::isinstance<py::str>(value)) {
-        const std::string s = value.cast<std::string>();
-        for (size_t i = 0; i < N; ++i)
-            if (s == names[i]) return int(i);
-    }
-    throw py::value_error(what + " must be " + OneOf(names) + ", got " + Repr(value));
+int IndexOf(const py::handle& value, const char* const (&names)[N], const std::string& what,
+            const std::string& plural) {
+    if (!py::isinstance<py::str>(value)) throw py::value_error(what + " must be a name, got " + Repr(value));
+    return ParseNameOrThrow<int>(what, plural, value.cast<std::string>(), names);
 }
 
 float Number(const py::dict& d, const char* field) {
@@ -83,12 +82,12 @@ render::TextureLookup Lookup(const py::handle& value, const std::string& what) {
         index.cast<long long>() > (1LL << 31) - 1)
         throw py::value_error(what + ": texture " + Repr(index) + " is not an index into the scene's textures");
     t.image = index.cast<int>();
-    t.alpha_output = IndexOf(d["output"], render::kTextureOutputNames, what + ": output") == 1;
-    t.generated = IndexOf(d["coordinates"], render::kTextureCoordinateNames, what + ": coordinates") == 1;
+    t.alpha_output = IndexOf(d["output"], render::kTextureOutputNames, what + " output", "outputs") == 1;
+    t.generated = IndexOf(d["coordinates"], render::kTextureCoordinateNames, what + " coordinates", "coordinates") == 1;
     t.interpolation = render::TextureInterpolation(
-        IndexOf(d["interpolation"], render::kTextureInterpolationNames, what + ": interpolation"));
-    t.extension =
-        render::TextureExtension(IndexOf(d["extension"], render::kTextureExtensionNames, what + ": extension"));
+        IndexOf(d["interpolation"], render::kTextureInterpolationNames, what + " interpolation", "interpolations"));
+    t.extension = render::TextureExtension(
+        IndexOf(d["extension"], render::kTextureExtensionNames, what + " extension", "extensions"));
     std::vector<std::vector<double>> m;
     try {
         m = py::module_::import("numpy")
@@ -124,15 +123,7 @@ Material ReadMaterialNamed(const py::dict& d) {
 
 Material ReadMaterial(const py::dict& d) {
     Material m;
-    const py::handle kind_name = d["kind"];
-    int kind_index = -1;
-    for (int i = 0; i < int(std::size(render::kMaterialKindNames)); ++i)
-        if (py::isinstance<py::str>(kind_name) && kind_name.cast<std::string>() == render::kMaterialKindNames[i])
-            kind_index = i;
-    if (kind_index < 0)
-        throw py::value_error("unknown kind " + Repr(kind_name) + " (expected " + OneOf(render::kMaterialKindNames) +
-                              ")");
-    m.kind = MaterialKind(kind_index);
+    m.kind = MaterialKind(IndexOf(d["kind"], render::kMaterialKindNames, "kind", "kinds"));
     m.emission = Rgb(d["emission"], "emission");
     render::PrincipledInputs& in = m.inputs;
     in.base_color = Rgb(d["base_color"], "base_color");

@@ -13,6 +13,7 @@
 
 #include "core/enum_names.h"
 #include "name_tuple.h"
+#include "numpy_arrays.h"
 #include "render/renderer.h"
 #include "render/scene.h"
 
@@ -32,18 +33,6 @@ using V3 = std::array<float, 3>;
 
 Vec3f ToVec(const V3& a) { return {a[0], a[1], a[2]}; }
 
-template <class T>
-using CArray = py::array_t<T, py::array::c_style | py::array::forcecast>;
-
-// A C-contiguous [n, 3] array of T (a copy only when the dtype or layout differs).
-template <class T>
-CArray<T> RowsOf3(const py::handle& obj, const char* what) {
-    CArray<T> a = CArray<T>::ensure(obj);
-    if (!a) throw py::value_error(std::string(what) + " must be an array of numbers");
-    if (a.ndim() != 2 || a.shape(1) != 3) throw py::value_error(std::string(what) + " must have shape [n, 3]");
-    return a;
-}
-
 // [n, columns] float32 per-vertex attribute of a mesh (one row per vertex), or an empty array for None.
 CArray<float> VertexAttribute(const py::object& obj, py::ssize_t columns, py::ssize_t vertices,
                               const std::string& what) {
@@ -57,12 +46,12 @@ CArray<float> VertexAttribute(const py::object& obj, py::ssize_t columns, py::ss
 void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices, const py::object& triangles,
              const py::object& normals, const py::object& material_ids, const py::object& uvs,
              const py::object& generated) {
-    const auto v = RowsOf3<float>(vertices, "vertices");
-    const auto t = RowsOf3<int32_t>(triangles, "triangles");
+    const auto v = RowsOf<float>(vertices, 3, "vertices");
+    const auto t = RowsOf<int32_t>(triangles, 3, "triangles");
     CArray<float> n;
     CArray<int32_t> m;
     if (!normals.is_none()) {
-        n = RowsOf3<float>(normals, "normals");
+        n = RowsOf<float>(normals, 3, "normals");
         if (n.shape(0) != v.shape(0)) throw py::value_error("mesh '" + name + "': normals must match the vertices");
     }
     if (!material_ids.is_none()) {
@@ -99,15 +88,6 @@ int AddImage(RenderScene& s, const std::string& name, const py::array& pixels, b
     return s.AddImage(ImageOfArray(name, pixels, srgb));
 }
 
-template <class Enum, size_t N>
-Enum EnumNamed(const std::string& name, const char* const (&names)[N], const char* what) {
-    for (size_t i = 0; i < N; ++i)
-        if (name == names[i]) return Enum(i);
-    std::string allowed;
-    for (size_t i = 0; i < N; ++i) allowed += (i ? ", '" : "'") + std::string(names[i]) + "'";
-    throw py::value_error(std::string(what) + " must be one of " + allowed + ", got '" + name + "'");
-}
-
 render::CameraModel MakeCameraModel(int width, int height, const py::object& to_world, bool orthographic,
                                     float half_width, float half_height, float offset_x, float offset_y,
                                     float aperture_radius, float focus_distance, float clip_start, float clip_end,
@@ -133,9 +113,10 @@ render::CameraModel MakeCameraModel(int width, int height, const py::object& to_
         throw py::value_error(py::str("camera filter_width must be in [{:g}, {:g}] pixels, got {:g}")
                                   .format(render::kMinPixelFilterWidth, render::kMaxPixelFilterWidth, filter_width)
                                   .cast<std::string>());
-    c.filter = render::MakePixelFilter(
-        EnumNamed<render::PixelFilterType>(pixel_filter, render::kPixelFilterNames, "camera pixel_filter"),
-        filter_width);
+    c.filter =
+        render::MakePixelFilter(ParseNameOrThrow<render::PixelFilterType>("camera pixel_filter", "pixel filters",
+                                                                          pixel_filter, render::kPixelFilterNames),
+                                filter_width);
     return c;
 }
 

@@ -16,16 +16,17 @@
 #include "core/rect_light.h"
 #include "core/sampler_timing.h"
 #include "core/textbook_rectangle.h"
+#include "numpy_arrays.h"
 
 namespace py = pybind11;
 
 namespace sphrect::python {
 namespace {
 
-using ArrayF = py::array_t<float, py::array::c_style | py::array::forcecast>;
-
-Vec3f ReadVec3f(const ArrayF& a, const char* name) {
-    if (a.ndim() != 1 || a.shape(0) != 3) throw py::value_error(std::string(name) + " must have shape (3,)");
+Vec3f ReadVec3f(const py::handle& obj, const char* name) {
+    const CArray<float> a = ArrayOf<float>(obj, name);
+    if (a.ndim() != 1 || a.shape(0) != 3)
+        throw py::value_error(std::string(name) + " must have shape (3,), got " + ShapeString(a));
     const float* p = a.data();
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
         throw py::value_error(std::string(name) + " contains NaN or Inf");
@@ -33,9 +34,9 @@ Vec3f ReadVec3f(const ArrayF& a, const char* name) {
 }
 
 // (points [N,3], pdf [N], solid angle) of the textbook float map, for uv [N,2].
-py::tuple TextbookRectangleSample(const ArrayF& origin, const ArrayF& corner, const ArrayF& ex, const ArrayF& ey,
-                                  const ArrayF& uv) {
-    if (uv.ndim() != 2 || uv.shape(1) != 2) throw py::value_error("uv must have shape (N, 2)");
+py::tuple TextbookRectangleSample(const py::object& origin, const py::object& corner, const py::object& ex,
+                                  const py::object& ey, const py::object& uv_rows) {
+    const CArray<float> uv = RowsOf<float>(uv_rows, 2, "uv");
     RectLight<float> light{ReadVec3f(corner, "corner"), ReadVec3f(ex, "edge_x"), ReadVec3f(ey, "edge_y"), true};
     const Vec3f o = ReadVec3f(origin, "origin");
     const py::ssize_t n = uv.shape(0);
