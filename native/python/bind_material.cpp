@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "numpy_arrays.h"
 #include "render/material.h"
 
 namespace py = pybind11;
@@ -88,20 +89,13 @@ render::TextureLookup Lookup(const py::handle& value, const std::string& what) {
         IndexOf(d["interpolation"], render::kTextureInterpolationNames, what + " interpolation", "interpolations"));
     t.extension = render::TextureExtension(
         IndexOf(d["extension"], render::kTextureExtensionNames, what + " extension", "extensions"));
-    std::vector<std::vector<double>> m;
-    try {
-        m = py::module_::import("numpy")
-                .attr("asarray")(d["transform"], "float64")
-                .attr("tolist")()
-                .cast<std::vector<std::vector<double>>>();
-    } catch (const std::exception&) {
-    }
-    if (m.size() != 3 || m[0].size() != 4 || m[1].size() != 4 || m[2].size() != 4)
-        throw py::value_error(what + ": transform must be a finite 3x4 matrix");
+    const std::string bad_transform = what + ": transform must be a finite 3x4 matrix";
+    const CArray<double> m = ArrayOf<double>(d["transform"], what + ": transform");
+    if (m.ndim() != 2 || m.shape(0) != 3 || m.shape(1) != 4) throw py::value_error(bad_transform);
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 4; ++c) {
-            if (!std::isfinite(m[r][c])) throw py::value_error(what + ": transform must be a finite 3x4 matrix");
-            t.transform[r][c] = float(m[r][c]);
+            if (!std::isfinite(m.at(r, c))) throw py::value_error(bad_transform);
+            t.transform[r][c] = float(m.at(r, c));
         }
     return t;
 }
