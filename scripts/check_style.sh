@@ -5,11 +5,13 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 status=0
 mapfile -t cpp < <(git ls-files 'native/*.h' 'native/*.cpp' 'tests/native/*.h' 'tests/native/*.cpp')
-if ! clang-format --dry-run --Werror "${cpp[@]}" 2> /tmp/sphrect-clang-format.log; then
-  grep -o '^[^:]*' /tmp/sphrect-clang-format.log | sort -u | sed 's/^/clang-format would change: /'
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+if ! clang-format --dry-run --Werror "${cpp[@]}" 2> "$log"; then
+  grep -o '^[^:]*' "$log" | sort -u | sed 's/^/clang-format would change: /'
   echo "fix: clang-format -i \$(git ls-files 'native/*.h' 'native/*.cpp' 'tests/native/*.h' 'tests/native/*.cpp')"
   status=1
 fi
-/usr/bin/python3 -m flake8 setup.py python addon tests scripts blend_scenes experiments || status=1
+/usr/bin/python3 -m flake8 setup.py python addon tests scripts experiments || status=1
 if ((status == 0)); then echo "style: clang-format and flake8 clean"; fi
 exit $status
