@@ -5,6 +5,7 @@
 #include <dlfcn.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <mutex>
 #include <string>
 
@@ -62,6 +63,12 @@ int RenderScene::LoadImage(const std::string& name, const std::string& path, boo
                                   kMissingImageColor.a};
         return AddImage(name, 1, 1, 4, nullptr, magenta, false);
     };
+    // Only a regular file is an image: a device (/dev/zero), a FIFO or a folder would make the reader spin or block
+    // forever.  A path with a NUL byte names another file than the one asked for.
+    if (path.find('\0') != std::string::npos) return missing("the path holds a NUL byte");
+    std::error_code error_code;
+    if (!std::filesystem::is_regular_file(path, error_code))
+        return missing(std::filesystem::exists(path, error_code) ? "not a regular file" : "no such file");
     const ImageReader& reader = Reader();
     if (!reader.read) return missing("no OpenImageIO reader module (" + reader.error + ")");
     SphrectImagePixels im{};

@@ -136,8 +136,11 @@ def _add_textures(native, scene: Scene) -> None:
         if pixels.ndim == 2:
             pixels = pixels[:, :, None]
         if pixels.dtype != np.uint8:
-            if not np.issubdtype(pixels.dtype, np.number) or np.issubdtype(pixels.dtype, np.complexfloating):
-                raise ValueError(f"texture '{t.name}': pixels must be uint8 or floats (got dtype {pixels.dtype})")
+            if np.issubdtype(pixels.dtype, np.unsignedinteger):  # e.g. a 16-bit PNG: its values over its range
+                pixels = pixels / np.float64(np.iinfo(pixels.dtype).max)
+            elif not np.issubdtype(pixels.dtype, np.floating):
+                raise ValueError(f"texture '{t.name}': pixels must be uint8, another unsigned integer type (read "
+                                 f"over its range) or floats, got dtype {pixels.dtype}")
             pixels = np.ascontiguousarray(pixels, dtype=np.float32)
         native.add_image(t.name, np.ascontiguousarray(pixels), srgb)
 

@@ -1,6 +1,10 @@
 """Image textures in the renderer: lookups bound to material inputs, Mix factors, normal maps, images from
 pixels or files (OpenImageIO), the scene file.  Most checks are identities with an untextured scene that must
 render the same (deterministic renders: no false failures); the rest compare with closed-form values."""
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -221,6 +225,50 @@ def test_missing_image_file_is_magenta_with_a_warning(tmp_path):
         img = render(lit_scene(mat, [sphrect.Texture(name="gone", path=str(tmp_path / "gone.png"))]))
     magenta = render(lit_scene(sphrect.Material(base_color=(1.0, 0.0, 1.0))))
     assert_same_render(img, magenta)
+
+
+@pytest.mark.parametrize("kind", ["device", "fifo", "folder", "nul byte"])
+def test_a_path_that_is_not_a_regular_file_is_a_missing_image(tmp_path, kind):
+    # A device or a FIFO made the image reader spin or block forever (issue 27): now each is Cycles' missing image,
+    # warned.  In a child process, so that the old behaviour fails the test on its timeout instead of hanging it.
+    path = {"device": "/dev/zero", "folder": str(tmp_path), "nul byte": str(tmp_path / "a.png") + "\0.png"}.get(kind)
+    if kind == "fifo":
+        path = str(tmp_path / "fifo")
+        os.mkfifo(path)
+    code = f"""
+import warnings, numpy as np, sphrect, sys
+sys.path.insert(0, {os.path.dirname(__file__)!r})
+from test_render_textures import LOOKUP, assert_same_render, lit_scene, render
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    img = render(lit_scene(sphrect.Material(textures={{"base_color": LOOKUP}}), [sphrect.Texture(path={path!r})]))
+magenta = render(lit_scene(sphrect.Material(base_color=(1.0, 0.0, 1.0))))
+assert_same_render(img, magenta)
+print([str(w.message) for w in caught])
+"""
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert "magenta" in run.stdout and ("regular file" in run.stdout or "NUL" in run.stdout), run.stdout
+
+
+@pytest.mark.parametrize("dtype", [np.uint16, np.uint32])
+def test_unsigned_integer_texels_are_scaled_by_their_range(dtype):
+    # uint16 pixels (what a 16-bit PNG gives through numpy) were used raw, ~65535x too bright (issue 27): an unsigned
+    # image is its values over the type's largest, as the same file read by path is.
+    top = np.iinfo(dtype).max
+    levels = np.array([0, top // 4, top // 2, top], dtype)
+    pixels = levels[np.arange(12).reshape(2, 2, 3) % 4].astype(dtype)
+    mat = sphrect.Material(textures={"base_color": sphrect.TextureLookup(0, interpolation="closest")})
+    as_integers = render(lit_scene(mat, [sphrect.Texture(pixels=pixels, colorspace="linear")]))
+    as_floats = render(lit_scene(mat, [sphrect.Texture(pixels=(pixels / np.float64(top)).astype(np.float32),
+                                                       colorspace="linear")]))
+    np.testing.assert_array_equal(as_integers, as_floats)
+
+
+def test_signed_integer_texels_are_refused_with_their_dtype():
+    mat = sphrect.Material(textures={"base_color": LOOKUP})
+    with pytest.raises(ValueError, match="int32"):
+        render(lit_scene(mat, [sphrect.Texture(pixels=np.ones((2, 2, 3), np.int32))]))
 
 
 def test_textures_survive_the_scene_file(tmp_path):
