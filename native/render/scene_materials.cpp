@@ -10,6 +10,9 @@ namespace sphrect::render {
 
 namespace {
 
+// Blender's IOR inputs stop at 1000; far beyond (2e19) the Fresnel terms overflow float and every sample is dropped.
+constexpr float kMaxIor = 1000;
+
 std::string KindName(MaterialKind kind) { return kMaterialKindNames[int(kind)]; }
 
 // The inputs each kind reads must be finite (the Make*Bsdf functions clamp their ranges, as Cycles does).
@@ -25,9 +28,11 @@ void CheckInputsFinite(const Material& m) {
                  {in.metallic, in.specular, in.specular_tint, in.roughness, in.sheen, in.sheen_tint, in.clearcoat,
                   in.clearcoat_roughness, in.anisotropic, in.anisotropic_rotation, in.transmission, in.ior})
                 if (!std::isfinite(v)) Fail("Principled inputs must be finite");
+            if (in.ior > kMaxIor) Fail("ior must be at most " + std::to_string(int(kMaxIor)) + ", as in Blender");
             break;
         case MaterialKind::kGlass:
             if (!std::isfinite(in.roughness) || !std::isfinite(m.ior)) Fail("roughness and ior must be finite");
+            if (m.ior > kMaxIor) Fail("ior must be at most " + std::to_string(int(kMaxIor)) + ", as in Blender");
             break;
         case MaterialKind::kGlossyBsdf:
             if (!std::isfinite(in.roughness) || !std::isfinite(in.anisotropic) ||

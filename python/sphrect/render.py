@@ -61,7 +61,7 @@ from . import _native
 from .arguments import int_argument, one_of, rgb
 from .sample_ranges import Accumulation, sample_ranges
 from .scene import (CAMERA_TYPES, PIXEL_FILTERS, SENSOR_FITS, TEXTURE_COLORSPACES, Camera, EllipseLight, Material,
-                    PointLight, RectLight, Scene, SpotLight, SunLight, Texture)
+                    PointLight, RectLight, Scene, SpotLight, SunLight, Texture, World)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -92,6 +92,8 @@ def _int_array(a, what: str, upper: Optional[int] = None) -> np.ndarray:
 
 def _set_camera(native, cam: Camera) -> None:
     """The camera to the native scene or renderer (their set_camera takes the same arguments)."""
+    if not isinstance(cam, Camera):
+        raise ValueError(f"camera must be a sphrect.Camera, got {type(cam).__name__}")
     for name in ("width", "height"):
         v = getattr(cam, name)
         if not isinstance(v, numbers.Integral) or not 1 <= int(v) <= _MAX_SIDE:
@@ -100,6 +102,10 @@ def _set_camera(native, cam: Camera) -> None:
         raise ValueError(f"camera type must be {one_of(CAMERA_TYPES)}, got {cam.type!r}")
     if cam.sensor_fit not in SENSOR_FITS:
         raise ValueError(f"camera sensor_fit must be {one_of(SENSOR_FITS, quote=False)}, got {cam.sensor_fit!r}")
+    for name in ("lens", "aperture_radius", "focus_distance", "clip_start", "clip_end"):
+        v = getattr(cam, name)
+        if isinstance(v, bool) or not isinstance(v, numbers.Real):
+            raise ValueError(f"camera {name} must be a number, got {v!r}")
     if cam.type == "perspective" and not cam.lens > 0:
         raise ValueError("camera lens (focal length) must be positive")
     m = np.asarray(cam.to_world, dtype=np.float64)
@@ -149,7 +155,19 @@ def _add_material(native, mat, index: int) -> None:
     """scene.materials[index] to the native scene: its fields, read and checked there (render/material.h)."""
     if not isinstance(mat, Material):
         raise ValueError(f"scene.materials[{index}] is not a sphrect.Material (got {type(mat).__name__})")
+    _refuse_layer_cycles(mat, [])
     native.add_material(dataclasses.asdict(mat))
+
+
+def _refuse_layer_cycles(mat, path) -> None:
+    """ValueError naming the materials of a cycle of mix layers (a material among its own layers)."""
+    if any(m is mat for m in path):
+        names = " -> ".join(f"'{m.name}'" for m in path[next(i for i, m in enumerate(path) if m is mat):] + [mat])
+        raise ValueError(f"material '{path[0].name}': its layers hold it again ({names})")
+    for layer in getattr(mat, "layers", None) or ():
+        child = getattr(layer, "material", None)
+        if isinstance(child, Material):
+            _refuse_layer_cycles(child, path + [mat])
 
 
 def mix_lobe_slots(materials: Sequence[Material]) -> List[int]:
@@ -163,6 +181,8 @@ def build_native_scene(scene: Scene):
     """A committed ``_native._Scene`` for `scene`, and the list of skipped-light messages."""
     if not isinstance(scene, Scene):
         raise ValueError(f"expected a sphrect.Scene, got {type(scene).__name__}")
+    if not isinstance(scene.world, World):
+        raise ValueError(f"scene.world must be a sphrect.World, got {type(scene.world).__name__}")
     native = _native._Scene()
     skipped = []
     _set_camera(native, scene.camera)
@@ -230,11 +250,18 @@ class Renderer:
                  analytic_light_coverage: bool = _DEFAULTS["analytic_light_coverage"],
                  bsdf_samples_on_diffuse: bool = _DEFAULTS["bsdf_samples_on_diffuse"],
                  memory_limit: Optional[int] = _DEFAULTS["memory_limit"]):
+        if not isinstance(scene, Scene):
+            raise ValueError(f"expected a sphrect.Scene, got {type(scene).__name__}")
         if isinstance(techniques, str):
             techniques = [techniques]
         techniques = list(techniques)
         if not techniques:
             raise ValueError("at least one technique is needed")
+        for t in techniques:
+            if not isinstance(t, str):
+                raise ValueError(f"techniques must be names ({one_of(TECHNIQUES)}), got {t!r}")
+        if not isinstance(scene.camera, Camera):
+            raise ValueError(f"camera must be a sphrect.Camera, got {type(scene.camera).__name__}")
         light_samples = int_argument("light_samples", light_samples, 1, _native.MAX_LIGHT_SAMPLES)
         threads = int_argument("threads", threads, 0, _native.MAX_THREADS)
         tile_size = int_argument("tile_size", tile_size, 1)
@@ -290,7 +317,17 @@ class Renderer:
             budget = float(time_budget)
             if not (budget > 0 and math.isfinite(budget)):
                 raise ValueError(f"time_budget must be a positive number of seconds, got {time_budget!r}")
-        return self._r.render(samples, budget, progress)
+        dropped_before = self._dropped_samples()
+        finished = self._r.render(samples, budget, progress)
+        dropped = self._dropped_samples() - dropped_before
+        if dropped:
+            warnings.warn(f"{dropped} samples were not finite (NaN or infinite) and were left out of the image: some "
+                          "input is beyond what float32 computes (an emission, an IOR, a coordinate)", RuntimeWarning,
+                          stacklevel=2)
+        return finished
+
+    def _dropped_samples(self) -> int:
+        return sum(int(self._r.stats(k)["dropped_samples"]) for k in range(len(self._techniques)))
 
     def start_at(self, first_sample: int, pass_index: int) -> None:
         """Make the next render() call render camera samples [first_sample, first_sample + samples) as pass
@@ -313,6 +350,8 @@ class Renderer:
         new Renderer's of the scene with this camera, bit for bit.  ValueError for a camera the scene could not
         take (as Renderer(scene) would say) or whose film_transparent differs from the scene's (a property of the
         scene: build a new Renderer); RuntimeError while render() runs."""
+        if not isinstance(camera, Camera):
+            raise ValueError(f"camera must be a sphrect.Camera, got {type(camera).__name__}")
         if bool(camera.film_transparent) != self._film_transparent:
             raise ValueError("camera film_transparent differs from the scene's: it is the scene's setting, "
                              "so a new Renderer is needed to change it")

@@ -1,0 +1,74 @@
+"""Bad input from a careless or hostile caller (issue 27): each refused with a ValueError that names the argument
+and what it expects, or warned, instead of a bare AttributeError / TypeError / RecursionError or a silently wrong
+image.  Deterministic: no false failures."""
+import sys
+import os
+import warnings
+
+import numpy as np
+import pytest
+
+import sphrect
+
+sys.path.insert(0, os.path.dirname(__file__))
+from test_render_textures import lit_scene  # noqa: E402
+
+
+def scene():
+    return lit_scene(sphrect.Material())
+
+
+@pytest.mark.parametrize("change,message", [
+    (lambda s: setattr(s, "camera", "cam"), "camera must be a sphrect.Camera, got str"),
+    (lambda s: setattr(s, "world", None), "world must be a sphrect.World, got NoneType"),
+    (lambda s: setattr(s.camera, "lens", "50"), "camera lens must be a number, got '50'"),
+    (lambda s: setattr(s.materials[0], "roughness", None), "roughness must be a number, got None"),
+    (lambda s: setattr(s, "materials", ["grey"]), r"scene.materials\[0\] is not a sphrect.Material"),
+])
+def test_wrong_types_in_a_scene_name_the_argument(change, message):
+    s = scene()
+    change(s)
+    with pytest.raises(ValueError, match=message):
+        sphrect.Renderer(s)
+
+
+def test_wrong_types_of_the_renderers_arguments_name_them():
+    with pytest.raises(ValueError, match="expected a sphrect.Scene, got dict"):
+        sphrect.Renderer({})
+    with pytest.raises(ValueError, match="techniques must be names"):
+        sphrect.Renderer(scene(), techniques=[1])
+    r = sphrect.Renderer(scene())
+    with pytest.raises(ValueError, match="camera must be a sphrect.Camera, got NoneType"):
+        r.set_camera(None)
+
+
+def test_a_material_among_its_own_layers_is_refused_by_name():
+    loop = sphrect.Material(name="loop", kind="mix")
+    loop.layers = [sphrect.MaterialLayer(0.5, sphrect.Material(name="inner", kind="mix",
+                                                               layers=[sphrect.MaterialLayer(1.0, loop)]))]
+    s = scene()
+    s.materials = [loop]
+    with pytest.raises(ValueError, match="material 'loop': its layers hold it again \\('loop' -> 'inner' -> 'loop'\\)"):
+        sphrect.Renderer(s)
+
+
+def test_an_ior_beyond_blenders_is_refused():
+    for kind in ("glass", "principled"):
+        s = lit_scene(sphrect.Material(kind=kind, ior=2e19))
+        with pytest.raises(ValueError, match="ior must be at most 1000"):
+            sphrect.Renderer(s)
+    sphrect.Renderer(lit_scene(sphrect.Material(kind="glass", ior=1000.0))).render(1)
+
+
+def test_dropped_samples_are_warned():
+    # A light bright enough that a mirror's samples overflow float: left out of the image, and now said so.
+    s = lit_scene(sphrect.Material(kind="principled", roughness=0.0, metallic=1.0))
+    s.lights[0].radiance = (3e37,) * 3
+    r = sphrect.Renderer(s, light_selection="power")
+    with pytest.warns(RuntimeWarning, match="samples were not finite"):
+        r.render(4)
+    assert r.stats()["dropped_samples"] > 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # an ordinary render warns of nothing
+        sphrect.Renderer(scene()).render(2)
+    assert np.isfinite(r.image()).all()
