@@ -177,6 +177,7 @@ bool Render(Renderer& r, int samples, double time_budget, const py::object& prog
 }
 
 py::array_t<float> Image(const Renderer& r, int k) {
+    const auto lock = r.ReadLock();  // set_camera on another thread waits: the resolution and image stay one
     py::array_t<float> a({r.height(), r.width(), 4});
     r.Image(k, a.mutable_data());
     return a;
@@ -341,14 +342,17 @@ void BindRender(py::module_& m) {
         .def("start_at", &Renderer::StartAt, py::arg("first_sample"), py::arg("pass_index"))
         .def("sums",
              [](const Renderer& r, int k) {
+                 const auto lock = r.ReadLock();
                  return BufferArray(r.Sums(k), {r.height(), r.width(), 3});
              })
         .def("counts",
              [](const Renderer& r) {
+                 const auto lock = r.ReadLock();
                  return BufferArray(r.Counts(), {r.height(), r.width()});
              })
         .def("alpha_sums",
              [](const Renderer& r) {
+                 const auto lock = r.ReadLock();
                  return BufferArray(r.AlphaSums(), {r.height(), r.width()});
              })
         .def_property_readonly("film_alpha", &Renderer::FilmAlpha)

@@ -40,7 +40,9 @@ void Renderer::SetCamera(const CameraModel& camera) {
     if (!lock.owns_lock()) throw std::logic_error("this Renderer is rendering: set its camera between renders");
     ValidateCamera(camera);
     CheckRenderMemory(options_, camera.width, camera.height);
-    view_ = MakeCameraView(*scene_, camera);
+    CameraView view = MakeCameraView(*scene_, camera);
+    std::unique_lock<std::shared_mutex> images(images_mutex_);  // no reader sees the images while they change
+    view_ = std::move(view);
     ClearImages();
     next_sample_ = pass_ = 0;
 }
@@ -170,6 +172,7 @@ void Renderer::StartAt(uint32_t first_sample, uint32_t pass) {
 }
 
 TechniqueStats Renderer::Stats(int k) const {
+    std::shared_lock<std::shared_mutex> images(images_mutex_);  // SetCamera resets the stats
     if (k < 0 || size_t(k) >= stats_.size()) throw std::out_of_range("technique index out of range");
     std::lock_guard<std::mutex> s(stats_mutex_);
     return stats_[k];

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,9 @@ class Renderer {
     const std::vector<double>& Sums(int technique_index) const;  // RGB per pixel
     const std::vector<uint32_t>& Counts() const { return counts_; }
     const std::vector<double>& AlphaSums() const { return alpha_sums_; }
+    // SetCamera reallocates the images: a reader on another thread holds this while it reads the resolution, an
+    // image or a buffer (the bindings do, for every reader), and SetCamera waits for it.
+    std::shared_lock<std::shared_mutex> ReadLock() const { return std::shared_lock<std::shared_mutex>(images_mutex_); }
     bool FilmAlpha() const { return scene_->film_alpha; }
 
   private:
@@ -90,6 +94,7 @@ class Renderer {
     std::atomic<bool> cancel_{false};
     std::mutex render_mutex_;  // one Render() at a time
     mutable std::mutex stats_mutex_;
+    mutable std::shared_mutex images_mutex_;  // the view and the buffers sized by it (ReadLock, SetCamera)
 };
 
 }  // namespace sphrect::render

@@ -72,3 +72,36 @@ def test_dropped_samples_are_warned():
         warnings.simplefilter("error")  # an ordinary render warns of nothing
         sphrect.Renderer(scene()).render(2)
     assert np.isfinite(r.image()).all()
+
+
+RACE = """
+import threading, time, sys
+sys.path.insert(0, {tests!r})
+import sphrect
+from test_render_textures import lit_scene
+from render_testing import top_camera
+r = sphrect.Renderer(lit_scene(sphrect.Material()))
+r.render(1)
+cameras = [top_camera(8, 8), top_camera(64, 48)]
+stop = time.monotonic() + 3
+def change():
+    i = 0
+    while time.monotonic() < stop:
+        r.set_camera(cameras[i % 2]); i += 1
+def read():
+    while time.monotonic() < stop:
+        r.image(); r.accumulation(); r.stats()
+threads = [threading.Thread(target=change)] + [threading.Thread(target=read) for _ in range(2)]
+[t.start() for t in threads]
+[t.join() for t in threads]
+print("ok")
+"""
+
+
+def test_set_camera_against_readers_on_other_threads():
+    # set_camera reallocated the images with the GIL released while image() or accumulation() read them on another
+    # thread: SIGSEGV or "double free" within seconds (issue 27).  A child process, so that a crash fails the test.
+    import subprocess
+    run = subprocess.run([sys.executable, "-c", RACE.format(tests=os.path.dirname(__file__))], capture_output=True,
+                         text=True, timeout=120)
+    assert run.returncode == 0 and run.stdout.strip() == "ok", (run.returncode, run.stderr[-2000:])
