@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 
@@ -22,7 +21,8 @@ int Fail(const std::string& why, char* error, size_t error_size) {
 
 }  // namespace
 
-extern "C" int sphrect_read_image(const char* path, SphrectImagePixels* out, char* error, size_t error_size) {
+extern "C" int sphrect_read_image(const char* path, SphrectImageAllocateFn allocate, void* context,
+                                  SphrectImagePixels* out, char* error, size_t error_size) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) return Fail("cannot be read (" + OIIO::geterror() + ")", error, error_size);
     const OIIO::ImageSpec& spec = in->spec();
@@ -31,18 +31,24 @@ extern "C" int sphrect_read_image(const char* path, SphrectImagePixels* out, cha
         return Fail("has no usable size", error, error_size);
     const bool bytes = spec.format == OIIO::TypeDesc::UINT8;
     const size_t elem = bytes ? 1 : sizeof(float), row = size_t(w) * size_t(c) * elem;
-    void* pixels = std::malloc(row * size_t(h));
-    if (!pixels) return Fail("does not fit in memory", error, error_size);
-    // OpenImageIO's rows run top to bottom, Blender's (and ours) bottom to top: read with a negative y stride
-    // from the last row.
-    char* last_row = static_cast<char*>(pixels) + row * size_t(h - 1);
-    if (!in->read_image(0, 0, 0, c, bytes ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT, last_row, OIIO::AutoStride,
-                        -OIIO::stride_t(row), OIIO::AutoStride)) {
-        std::free(pixels);
-        return Fail("could not be decoded (" + in->geterror() + ")", error, error_size);
+    void* pixels = allocate(context, w, h, c, bytes ? 1 : 0, error, error_size);
+    if (!pixels) return 0;
+    // OpenImageIO's rows run top to bottom, Blender's (and ours) bottom to top: each file row goes to its place a
+    // band at a time, so that nothing the size of the image is allocated beside `pixels` (read_image with a
+    // negative stride decoded into a whole buffer of its own first).
+    const OIIO::TypeDesc type = bytes ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
+    char* rows = static_cast<char*>(pixels);
+    if (spec.tile_width > 0) {  // tiled files: read whole, then flipped in place
+        if (!in->read_image(0, 0, 0, c, type, pixels))
+            return Fail("could not be decoded (" + in->geterror() + ")", error, error_size);
+        for (size_t top = 0, bottom = size_t(h) - 1; top < bottom; ++top, --bottom)
+            std::swap_ranges(rows + top * row, rows + (top + 1) * row, rows + bottom * row);
+    } else {
+        for (int y = 0; y < h; ++y)
+            if (!in->read_scanlines(0, 0, spec.y + y, spec.y + y + 1, spec.z, 0, c, type,
+                                    rows + row * size_t(h - 1 - y)))
+                return Fail("could not be decoded (" + in->geterror() + ")", error, error_size);
     }
     *out = {w, h, c, bytes ? 1 : 0, pixels};
     return 1;
 }
-
-extern "C" void sphrect_free_image_pixels(void* pixels) { std::free(pixels); }

@@ -8,17 +8,23 @@
 extern "C" {
 
 // An image read from a file: width x height x channels (1..4) values, rows bottom to top, bytes (uint8) when the
-// file stores 8-bit values, else floats.  pixels is malloc'ed: free it with sphrect_free_image_pixels.
+// file stores 8-bit values, else floats, in the room the caller's allocate gave.
 struct SphrectImagePixels {
     int width, height, channels;
     int bytes;  // 1: uint8 values, 0: float values
     void* pixels;
 };
 
-// 1 on success; 0 with a message in error[0 .. error_size) otherwise.
-typedef int (*SphrectReadImageFn)(const char* path, SphrectImagePixels* out, char* error, size_t error_size);
-typedef void (*SphrectFreeImagePixelsFn)(void* pixels);
-__attribute__((visibility("default"))) int sphrect_read_image(const char* path, SphrectImagePixels* out, char* error,
+// Called once the file's header is read, before anything is decoded: room for width x height x channels values
+// (bytes: uint8, else float) that the caller owns, or nullptr to refuse the image, with why in error[0 ..
+// error_size).  So an image is checked against a memory limit before it is decoded, and decoded once, in place.
+typedef void* (*SphrectImageAllocateFn)(void* context, int width, int height, int channels, int bytes, char* error,
+                                        size_t error_size);
+
+// 1 on success; 0 with a message in error[0 .. error_size) otherwise (the caller still owns what allocate gave).
+typedef int (*SphrectReadImageFn)(const char* path, SphrectImageAllocateFn allocate, void* context,
+                                  SphrectImagePixels* out, char* error, size_t error_size);
+__attribute__((visibility("default"))) int sphrect_read_image(const char* path, SphrectImageAllocateFn allocate,
+                                                              void* context, SphrectImagePixels* out, char* error,
                                                               size_t error_size);
-__attribute__((visibility("default"))) void sphrect_free_image_pixels(void* pixels);
 }

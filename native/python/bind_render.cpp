@@ -68,23 +68,49 @@ void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices
 }
 
 // An image from a [H, W, C] uint8 or float32 array (C in 1..4, rows bottom to top).
-render::Image ImageOfArray(const std::string& name, const py::array& pixels, bool srgb) {
+// Keeps a numpy array alive for the Image that reads its values; released with the GIL wherever the last scene
+// holding it goes.
+std::shared_ptr<const void> ArrayKeeper(const py::array& a) {
+    return std::shared_ptr<const void>(new py::object(a), [](const void* p) {
+        py::gil_scoped_acquire gil;
+        delete static_cast<const py::object*>(p);
+    });
+}
+
+// An Image of a numpy array's values, [H, W, 1..4] uint8 or floats.  It reads the array in place where nobody can
+// change the values under it -- a converted copy made here, a read-only array (the add-on's textures, which its
+// compare mode hands to up to 20 renderers), or for the call's own duration (`transient`) -- and copies it otherwise.
+render::Image ImageOfArray(const std::string& name, const py::array& pixels, bool srgb, bool transient = false) {
     if (pixels.ndim() != 3 || pixels.shape(2) < 1 || pixels.shape(2) > 4 || pixels.shape(0) < 1 || pixels.shape(1) < 1)
         throw py::value_error("image '" + name + "': pixels must have shape [H, W, 1..4]");
     if (pixels.shape(0) > render::kMaxImageSide || pixels.shape(1) > render::kMaxImageSide)
         throw py::value_error("image '" + name + "': at most " + std::to_string(render::kMaxImageSide) +
                               " pixels a side");
     const int h = int(pixels.shape(0)), w = int(pixels.shape(1)), c = int(pixels.shape(2));
+    const size_t values = size_t(w) * size_t(h) * size_t(c);
     if (py::isinstance<py::array_t<uint8_t>>(pixels)) {
         const auto a = CArray<uint8_t>::ensure(pixels);
+        if (transient || !a.is(pixels) || !pixels.writeable())
+            return render::ShareImage(name, w, h, c, a.data(), nullptr, ArrayKeeper(a), srgb);
         return render::MakeImage(name, w, h, c, a.data(), nullptr, srgb);
     }
-    const auto a = CArray<float>::ensure(pixels);
+    auto a = CArray<float>::ensure(pixels);
     if (!a) throw py::value_error("image '" + name + "': pixels must be numbers");
+    if (!a.is(pixels)) {  // a copy of our own: made finite in place
+        render::ZeroNonFinite(a.mutable_data(), values);
+        return render::ShareImage(name, w, h, c, nullptr, a.data(), ArrayKeeper(a), srgb);
+    }
+    const bool finite = std::all_of(a.data(), a.data() + values, [](float v) { return std::isfinite(v); });
+    if (finite && (transient || !pixels.writeable()))
+        return render::ShareImage(name, w, h, c, nullptr, a.data(), ArrayKeeper(a), srgb);
     return render::MakeImage(name, w, h, c, nullptr, a.data(), srgb);
 }
 
 int AddImage(RenderScene& s, const std::string& name, const py::array& pixels, bool srgb) {
+    if (pixels.ndim() == 3)  // before any copy is made
+        s.CheckImageMemory(
+            "image '" + name + "'",
+            uint64_t(pixels.size()) * (py::isinstance<py::array_t<uint8_t>>(pixels) ? 1 : sizeof(float)));
     return s.AddImage(ImageOfArray(name, pixels, srgb));
 }
 
@@ -259,7 +285,7 @@ void BindRender(py::module_& m) {
     m.def(
         "texture_scalar_mean",
         [](const py::array& pixels, bool srgb, bool alpha_output) {
-            return render::ImageScalarMean(ImageOfArray("pixels", pixels, srgb), alpha_output);
+            return render::ImageScalarMean(ImageOfArray("pixels", pixels, srgb, true), alpha_output);
         },
         py::arg("pixels"), py::arg("srgb"), py::arg("alpha_output"),
         "Mean over an image's texels ([H, W, C] uint8 or float32) of the scalar a material input reads there (the "
@@ -267,7 +293,7 @@ void BindRender(py::module_& m) {
     m.def(
         "texture_color_mean",
         [](const py::array& pixels, bool srgb) {
-            const Spectrum c = render::ImageColorMean(ImageOfArray("pixels", pixels, srgb));
+            const Spectrum c = render::ImageColorMean(ImageOfArray("pixels", pixels, srgb, true));
             return py::make_tuple(c.x, c.y, c.z);
         },
         py::arg("pixels"), py::arg("srgb"),
@@ -293,6 +319,8 @@ void BindRender(py::module_& m) {
         .def("add_image", &AddImage, py::arg("name"), py::arg("pixels"), py::arg("srgb"))
         .def("load_image", &RenderScene::LoadImage, py::arg("name"), py::arg("path"), py::arg("srgb"),
              py::call_guard<py::gil_scoped_release>())
+        .def("set_image_memory_limit", &RenderScene::SetImageMemoryLimit, py::arg("bytes"))
+        .def_property_readonly("image_memory_bytes", &RenderScene::ImageMemoryBytes)
         .def(
             "set_last_mesh_object_linear",
             [](RenderScene& s, const py::object& linear, const py::object& inverse) {

@@ -40,18 +40,21 @@ uint64_t DefaultMemoryLimit() {
     return uint64_t(pages) * uint64_t(page) / 2;
 }
 
-void CheckRenderMemory(const RenderOptions& o, int width, int height) {
-    const uint64_t need = RenderMemoryBytes(o, width, height);
-    const uint64_t limit = o.memory_limit > 0 ? o.memory_limit : DefaultMemoryLimit();
-    if (need <= limit) return;
-    auto gib = [](uint64_t bytes) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%.2f GiB", double(bytes) / double(uint64_t(1) << 30));
-        return std::string(text);
-    };
+uint64_t MemoryLimit(const RenderOptions& o) { return o.memory_limit > 0 ? o.memory_limit : DefaultMemoryLimit(); }
+
+std::string GiBText(uint64_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f GiB", double(bytes) / double(uint64_t(1) << 30));
+    return text;
+}
+
+void CheckRenderMemory(const RenderOptions& o, int width, int height, uint64_t image_bytes) {
+    const uint64_t film = RenderMemoryBytes(o, width, height), limit = MemoryLimit(o);
+    if (film <= limit && image_bytes <= limit - film) return;
     throw std::invalid_argument("a " + std::to_string(width) + "x" + std::to_string(height) + " image with " +
-                                std::to_string(o.techniques.size()) + " technique(s) needs " + gib(need) +
-                                ", more than the memory limit of " + gib(limit) +
+                                std::to_string(o.techniques.size()) + " technique(s) needs " + GiBText(film) +
+                                (image_bytes ? " and the scene's textures " + GiBText(image_bytes) : "") + "," +
+                                " more than the memory limit of " + GiBText(limit) +
                                 (o.memory_limit > 0 ? "" : " (half the physical memory)") +
                                 ": lower the resolution or the techniques, or raise memory_limit");
 }

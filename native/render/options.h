@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/ellipse_technique.h"
@@ -60,8 +61,15 @@ uint64_t RenderMemoryBytes(const RenderOptions& o, int width, int height);
 // Half of the machine's physical memory (the limit when RenderOptions::memory_limit is 0).
 uint64_t DefaultMemoryLimit();
 
-// Throws std::invalid_argument naming the figures if RenderMemoryBytes exceeds the limit.
-void CheckRenderMemory(const RenderOptions& o, int width, int height);
+// Throws std::invalid_argument naming the figures if RenderMemoryBytes and the scene's `image_bytes` (its textures)
+// together exceed the limit.
+void CheckRenderMemory(const RenderOptions& o, int width, int height, uint64_t image_bytes = 0);
+
+// The limit CheckRenderMemory applies: RenderOptions::memory_limit, or DefaultMemoryLimit() when that is 0.
+uint64_t MemoryLimit(const RenderOptions& o);
+
+// "1.25 GiB": how the memory checks' messages state sizes.
+std::string GiBText(uint64_t bytes);
 
 // Throws std::invalid_argument if one Render(samples) call is out of range for `o`.
 void ValidateRenderCall(const RenderOptions& o, int samples);

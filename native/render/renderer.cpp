@@ -17,7 +17,8 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
     : scene_(std::move(scene)), options_(std::move(options)) {
     if (!scene_ || !scene_->committed()) throw std::invalid_argument("the renderer needs a committed scene");
     ValidateOptions(options_);
-    CheckRenderMemory(options_, scene_->camera.width, scene_->camera.height);  // before the tree and the images
+    CheckRenderMemory(options_, scene_->camera.width, scene_->camera.height,
+                      scene_->ImageMemoryBytes());  // before the tree and the images
     if (options_.light_selection == LightSelection::Tree) scene_->BuildLightTree();
     threads_ = options_.threads > 0 ? options_.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     view_ = MakeCameraView(*scene_, scene_->camera);
@@ -39,7 +40,7 @@ void Renderer::SetCamera(const CameraModel& camera) {
     std::unique_lock<std::mutex> lock(render_mutex_, std::try_to_lock);
     if (!lock.owns_lock()) throw std::logic_error("this Renderer is rendering: set its camera between renders");
     ValidateCamera(camera);
-    CheckRenderMemory(options_, camera.width, camera.height);
+    CheckRenderMemory(options_, camera.width, camera.height, scene_->ImageMemoryBytes());
     CameraView view = MakeCameraView(*scene_, camera);
     std::unique_lock<std::shared_mutex> images(images_mutex_);  // no reader sees the images while they change
     view_ = std::move(view);

@@ -78,12 +78,19 @@ class RenderScene {
     // index.  Emissive triangles of its meshes become area lights at Commit().
     int AddMaterial(const Material& material);
     // Images, which materials' lookups name by index.  AddImage copies width x height x channels bytes or floats (rows
-    // bottom to top); LoadImage reads a file with OpenImageIO, or on failure makes Cycles' magenta missing image and a
-    // warning.
+    // bottom to top), or takes an Image made by MakeImage / ShareImage (texture.h); LoadImage reads a file with
+    // OpenImageIO, shares the pixels of a file another scene holds (unchanged since), or on failure makes Cycles'
+    // magenta missing image and a warning.  Each counts against SetImageMemoryLimit before it is copied or decoded.
     int AddImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
                  const float* floats, bool srgb);
-    int AddImage(Image image);  // made by MakeImage (texture.h)
+    int AddImage(Image image);
     int LoadImage(const std::string& name, const std::string& path, bool srgb);
+    // The most bytes the scene's images may take together (0: no limit): what a Renderer's memory limit leaves
+    // beside its film.  std::invalid_argument from the Add/Load call whose image would pass it.
+    void SetImageMemoryLimit(uint64_t bytes);
+    // std::invalid_argument naming `image` (its name, and path if any) if `bytes` more would pass the limit.
+    void CheckImageMemory(const std::string& image, uint64_t bytes) const;
+    uint64_t ImageMemoryBytes() const { return image_memory_bytes_; }  // shared pixels counted too
     // The mesh added last: its object's linear map and inverse (meshes without triangles are not kept: ignored).
     void SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids / uvs / generated may be
@@ -164,6 +171,7 @@ class RenderScene {
     void LetRaysThroughTransparentMeshes();  // Commit(): sets has_transparency and the meshes' occlusion filters
     RTCDevice device_ = nullptr;
     bool committed_ = false, camera_set_ = false;
+    uint64_t image_memory_limit_ = 0, image_memory_bytes_ = 0;
     SceneFeatures features_;
 };
 

@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sampling_util.h"
@@ -34,15 +36,18 @@ enum class TextureExtension { kRepeat, kExtend, kClip };
 struct Image {
     std::string name;
     int width = 0, height = 0, channels = 0;  // channels 1..4: grey, grey+alpha, RGB, RGBA
-    std::vector<uint8_t> bytes;               // width x height x channels, or empty: floats
-    std::vector<float> floats;
+    // width x height x channels values, exactly one of the two set: the pixels that `storage` keeps alive.  Scenes
+    // that read the same file, or the same read-only array, share one storage instead of each holding a copy.
+    const uint8_t* bytes = nullptr;
+    const float* floats = nullptr;
+    std::shared_ptr<const void> storage;
     bool srgb = false;  // stored values are sRGB-encoded (decoded after filtering)
 
     // Texel (x, y), both in range, as RGBA in stored units (bytes / 255).
     Rgba Texel(int x, int y) const {
         const size_t i = (size_t(y) * size_t(width) + size_t(x)) * size_t(channels);
         float v[4];
-        if (!bytes.empty()) {
+        if (bytes) {
             for (int c = 0; c < channels; ++c) v[c] = bytes[i + c] * (1.0f / 255.0f);
         } else {
             for (int c = 0; c < channels; ++c) v[c] = floats[i + c];
@@ -55,6 +60,11 @@ struct Image {
         }
     }
 };
+
+// What an image of that shape takes in memory (bytes: 8-bit values, else floats).
+inline uint64_t ImageStorageBytes(int width, int height, int channels, bool bytes) {
+    return uint64_t(width) * uint64_t(height) * uint64_t(channels) * (bytes ? 1 : sizeof(float));
+}
 
 // The sRGB electro-optical transfer function (IEC 61966-2-1), Cycles' color_srgb_to_linear.
 inline float SrgbToLinear(float c) {
@@ -71,29 +81,51 @@ inline Rgba DecodeTexel(const Image& im, Rgba c) {
     return c;
 }
 
-// An image of width x height x channels bytes or floats (exactly one given; rows bottom to top); non-finite
-// floats become 0, as Cycles' image loader makes them.  std::invalid_argument for a bad shape.
-inline Image MakeImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
-                       const float* floats, bool srgb) {
-    const std::string who = "image '" + name + "'";
+// std::invalid_argument unless an image of that shape can be made.
+inline void CheckImageShape(const std::string& name, int width, int height, int channels) {
     if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
-        throw std::invalid_argument(who + " must be [H > 0, W > 0, 1..4]");
-    if ((bytes == nullptr) == (floats == nullptr)) throw std::invalid_argument(who + ": give bytes or floats");
-    const size_t n = size_t(width) * size_t(height) * size_t(channels);
+        throw std::invalid_argument("image '" + name + "' must be [H > 0, W > 0, 1..4]");
+}
+
+// Non-finite floats become 0, as Cycles' image loader makes them.
+inline void ZeroNonFinite(float* values, size_t count) {
+    for (size_t i = 0; i < count; ++i)
+        if (!std::isfinite(values[i])) values[i] = 0;
+}
+
+// An image on pixels that `storage` keeps alive and nobody changes (rows bottom to top; exactly one of bytes and
+// floats given, floats all finite): shared, not copied.
+inline Image ShareImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
+                        const float* floats, std::shared_ptr<const void> storage, bool srgb) {
+    CheckImageShape(name, width, height, channels);
+    if ((bytes == nullptr) == (floats == nullptr))
+        throw std::invalid_argument("image '" + name + "': give bytes or floats");
     Image im;
     im.name = name;
     im.width = width;
     im.height = height;
     im.channels = channels;
+    im.bytes = bytes;
+    im.floats = floats;
+    im.storage = std::move(storage);
     im.srgb = srgb;
-    if (bytes) {
-        im.bytes.assign(bytes, bytes + n);
-    } else {
-        im.floats.assign(floats, floats + n);
-        for (float& v : im.floats)
-            if (!std::isfinite(v)) v = 0;
-    }
     return im;
+}
+
+// An image of a copy of width x height x channels bytes or floats (exactly one given; rows bottom to top);
+// non-finite floats become 0.  std::invalid_argument for a bad shape.
+inline Image MakeImage(const std::string& name, int width, int height, int channels, const uint8_t* bytes,
+                       const float* floats, bool srgb) {
+    CheckImageShape(name, width, height, channels);
+    const size_t n = size_t(width) * size_t(height) * size_t(channels);
+    if (bytes) {
+        auto copy = std::make_shared<std::vector<uint8_t>>(bytes, bytes + n);
+        return ShareImage(name, width, height, channels, copy->data(), nullptr, copy, srgb);
+    }
+    if (!floats) throw std::invalid_argument("image '" + name + "': give bytes or floats");
+    auto copy = std::make_shared<std::vector<float>>(floats, floats + n);
+    ZeroNonFinite(copy->data(), n);
+    return ShareImage(name, width, height, channels, nullptr, copy->data(), copy, srgb);
 }
 
 namespace texture_detail {
@@ -173,8 +205,6 @@ inline Rgba EvalTextureLookup(const std::vector<Image>& images, const TextureLoo
 inline Spectrum TextureColor(const Rgba& c) { return c.rgb(); }
 inline float TextureScalar(const Rgba& c) { return Luminance(c.rgb()); }
 
-// The mean over the image's texels of what a scalar input reads there (its Color output's luminance, or its
-// Alpha), each clamped to [0, 1] as a Mix factor is: the constant the exporter puts where a factor cannot vary.
 // The mean decoded colour of an image's texels (the constant an emitter takes of an image on its colour).
 inline Spectrum ImageColorMean(const Image& im) {
     double sum[3] = {0, 0, 0};
@@ -187,6 +217,8 @@ inline Spectrum ImageColorMean(const Image& im) {
     return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)};
 }
 
+// The mean over the image's texels of what a scalar input reads there (its Color output's luminance, or its
+// Alpha), each clamped to [0, 1] as a Mix factor is: the constant the exporter puts where a factor cannot vary.
 inline double ImageScalarMean(const Image& im, bool alpha_output) {
     double sum = 0;
     for (int y = 0; y < im.height; ++y)

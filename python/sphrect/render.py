@@ -177,8 +177,9 @@ def mix_lobe_slots(materials: Sequence[Material]) -> List[int]:
     return list(_native._mix_lobe_slots([dataclasses.asdict(m) for m in materials]))
 
 
-def build_native_scene(scene: Scene):
-    """A committed ``_native._Scene`` for `scene`, and the list of skipped-light messages."""
+def build_native_scene(scene: Scene, image_memory_limit: int = 0):
+    """A committed ``_native._Scene`` for `scene`, and the list of skipped-light messages.  Its textures may take
+    image_memory_limit bytes together (0: no limit), each checked before it is copied or decoded (ValueError)."""
     if not isinstance(scene, Scene):
         raise ValueError(f"expected a sphrect.Scene, got {type(scene).__name__}")
     if not isinstance(scene.world, World):
@@ -191,6 +192,7 @@ def build_native_scene(scene: Scene):
     med = scene.world.medium
     if med is not None:
         native.set_medium(rgb(med.sigma_s, "medium sigma_s"), rgb(med.sigma_a, "medium sigma_a"), float(med.g))
+    native.set_image_memory_limit(max(0, int(image_memory_limit)))
     _add_textures(native, scene)
     for i, mat in enumerate(scene.materials):
         _add_material(native, mat, i)
@@ -270,7 +272,8 @@ class Renderer:
         # Before the scene is built (its BVH can take long): the images must fit the memory limit.
         _native.check_render_memory(len(techniques), int(scene.camera.width), int(scene.camera.height),
                                     memory_limit)
-        native, skipped = build_native_scene(scene)
+        film = _native.render_memory_bytes(len(techniques), int(scene.camera.width), int(scene.camera.height))
+        native, skipped = build_native_scene(scene, (memory_limit or _native.default_memory_limit()) - film)
         for msg in skipped:
             warnings.warn(msg, RuntimeWarning, stacklevel=2)
         self._scene = native

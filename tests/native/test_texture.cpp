@@ -12,11 +12,8 @@ namespace {
 
 // A 2 x 2 grey image, texels (x, y): (0,0) = 0, (1,0) = 0.25, (0,1) = 0.5, (1,1) = 1 (row 0 at the bottom).
 Image Grey2x2() {
-    Image im;
-    im.width = im.height = 2;
-    im.channels = 1;
-    im.floats = {0.0f, 0.25f, 0.5f, 1.0f};
-    return im;
+    const float texels[] = {0.0f, 0.25f, 0.5f, 1.0f};
+    return MakeImage("grey", 2, 2, 1, nullptr, texels, false);
 }
 
 float Grey(const Image& im, float u, float v, TextureInterpolation i, TextureExtension e) {
@@ -65,12 +62,8 @@ TEST(TextureLookup, NonFiniteAndHugeCoordinatesStayDefined) {
 }
 
 TEST(TextureLookup, SrgbBytesDecodeAfterFiltering) {
-    Image im;
-    im.width = 2;
-    im.height = 1;
-    im.channels = 3;
-    im.srgb = true;
-    im.bytes = {0, 0, 0, 255, 255, 255};
+    const uint8_t texels[] = {0, 0, 0, 255, 255, 255};
+    const Image im = MakeImage("black, white", 2, 1, 3, texels, nullptr, true);
     // Halfway between black and white: the stored values are averaged (0.5), then decoded, as Cycles does.
     const Rgba c = LookupImage(im, 0.5f, 0.5f, TextureInterpolation::kLinear, TextureExtension::kExtend);
     EXPECT_NEAR(c.g, std::pow((0.5 + 0.055) / 1.055, 2.4), 1e-6);
@@ -79,10 +72,8 @@ TEST(TextureLookup, SrgbBytesDecodeAfterFiltering) {
 }
 
 TEST(TextureLookup, ChannelsExpandAsBlenderShowsThem) {
-    Image grey_alpha;
-    grey_alpha.width = grey_alpha.height = 1;
-    grey_alpha.channels = 2;
-    grey_alpha.floats = {0.3f, 0.6f};
+    const float texel[] = {0.3f, 0.6f};
+    const Image grey_alpha = MakeImage("grey, alpha", 1, 1, 2, nullptr, texel, false);
     const Rgba c = grey_alpha.Texel(0, 0);
     EXPECT_EQ(c.r, 0.3f);
     EXPECT_EQ(c.b, 0.3f);
@@ -105,11 +96,8 @@ TEST(TextureLookup, TransformMapsTheCoordinates) {
 }
 
 Image Constant(float r, float g, float b) {
-    Image im;
-    im.width = im.height = im.channels = 1;
-    im.channels = 3;
-    im.floats = {r, g, b};
-    return im;
+    const float texel[] = {r, g, b};
+    return MakeImage("constant", 1, 1, 3, nullptr, texel, false);
 }
 
 void ExpectSameMaterial(const Bsdf& a, const Bsdf& b) {
