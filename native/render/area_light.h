@@ -240,7 +240,7 @@ inline LightBounds TriangleLightBounds(const Vec3f& p0, const Vec3f& p1, const V
     b.hi = {std::max({p0.x, p1.x, p2.x}), std::max({p0.y, p1.y, p2.y}), std::max({p0.z, p1.z, p2.z})};
     const Vec3f c = Cross(p1 - p0, p2 - p0);
     const float twice_area = Length(c);
-    b.power = twice_area > 0 ? luminance * 0.5f * twice_area : 0.0f;  // a degenerate triangle emits nothing
+    b.power = twice_area > 0 ? double(luminance) * 0.5 * twice_area : 0.0;  // a degenerate triangle emits nothing
     b.axis = twice_area > 0 ? c / twice_area : Vec3f(0, 0, 1);
     b.cos_theta_o = 1;
     b.cos_theta_e = 0;
@@ -267,7 +267,7 @@ inline LightBounds AreaLightBounds(const AreaLight& l) {
         b.lo = l.center - half;
         b.hi = l.center + half;
     }
-    b.power = Luminance(l.radiance) * l.area;  // intensity along the normal, per side
+    b.power = double(Luminance(l.radiance)) * l.area;  // intensity along the normal, per side (double: no overflow)
     b.axis = l.n;
     b.cos_theta_o = 1;
     b.cos_theta_e = 0;  // cosine falloff to pi/2

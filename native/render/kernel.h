@@ -29,7 +29,7 @@ struct ThreadScratch {
     std::vector<DeferredShadowRay> shadow_rays;  // queued by shading, traced after it
     std::vector<uint8_t> shadow_crossed;         // per shadow ray: it crossed a transparent surface
     std::vector<Point2<float>> pixel_points, lens_points, light_points, bsdf_points;
-    std::vector<Spectrum> pixel_sums;                // per technique, per pixel of a chunk
+    std::vector<Vec3d> pixel_sums;                   // per technique, per pixel of a chunk
     std::vector<int> tile_screen_lights;             // light_coverage.h: the lights over the tile,
     std::vector<PartialCoverage> partial_coverages;  // and those partly covering the pixel
     ThreadScratch();

@@ -14,7 +14,7 @@ namespace sphrect::render {
 // cos_theta_e = 1: nothing outside it).
 struct LightBounds {
     Vec3f lo, hi;         // world bounds (lo <= hi; a point light has lo == hi)
-    float power = 0;      // its largest radiant intensity (luminance): L*A for an area light (per
+    double power = 0;     // its largest radiant intensity (luminance): L*A for an area light (per
                           // side), I for a point or spot; power * cos / d^2 estimates irradiance
     Vec3f axis{0, 0, 1};  // unit; ignored when cos_theta_o <= -1
     float cos_theta_o = 1;

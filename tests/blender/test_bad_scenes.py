@@ -27,6 +27,19 @@ def test_zero_size_light_is_skipped_with_a_warning(empty_scene):
     assert np.isfinite(rec["images"]["rectangle"]).all()
 
 
+def test_a_transform_that_is_not_finite_is_said_so(empty_scene):
+    # Issue 27: a NaN matrix was reported as "zero scale".
+    lit_test_scene(empty_scene)
+    builders.mesh_object("Lost", "plane", builders.material("Lost"), size=1).location = (float("nan"), 0, 0)
+    builders.area_light("Astray", "SQUARE", size=1.0, power=100.0, location=(0, float("nan"), 1))
+    rec = render()
+    assert rec["errors"] == []
+    text = " ".join(rec["warnings"])
+    assert "object 'Lost' has a transform that is not finite" in text and "zero scale" not in text
+    assert "light 'Astray' has a transform that is not finite" in text
+    assert np.isfinite(rec["images"]["rectangle"]).all()
+
+
 def test_negative_scales_render_like_positive_ones(empty_scene):
     """Mirroring a light about its own X axis and a box about its own Y axis changes nothing visible."""
     lit_test_scene(empty_scene)

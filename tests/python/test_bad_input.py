@@ -105,3 +105,34 @@ def test_set_camera_against_readers_on_other_threads():
     run = subprocess.run([sys.executable, "-c", RACE.format(tests=os.path.dirname(__file__))], capture_output=True,
                          text=True, timeout=120)
     assert run.returncode == 0 and run.stdout.strip() == "ok", (run.returncode, run.stderr[-2000:])
+
+
+@pytest.mark.parametrize("where", ["emission", "background", "light"])
+def test_radiance_near_floats_largest_renders_finite(where):
+    # Issue 27: an emission or background of 3e38 gave inf pixels (a pixel's samples summed in float) or, with the
+    # light tree, "LightTree: emitter 1: power not finite" (an emitter's power L * A in float).  A mean of finite
+    # samples is finite: now the image is.
+    s = scene()
+    if where == "emission":
+        s.materials[0].emission = (3e38,) * 3
+    elif where == "background":
+        s.world.background = (3e38,) * 3
+        s.camera.type, s.camera.lens = "perspective", 10.0  # sees past the plane
+    else:
+        s.lights[0].radiance = (3e38,) * 3
+    for selection in ("tree", "power"):
+        r = sphrect.Renderer(s, light_selection=selection)
+        r.render(2)
+        assert np.isfinite(r.image()).all() and r.image()[..., :3].max() > 1e37
+
+
+@pytest.mark.parametrize("kind", ["glossy_bsdf", "glass", "principled"])
+def test_roughness_outside_zero_to_one_renders_as_its_clamp(kind):
+    # Cycles clamps a roughness input to [0, 1]: a negative one is a smooth surface, one above 1 the roughest.
+    def rendered(roughness):
+        r = sphrect.Renderer(lit_scene(sphrect.Material(kind=kind, roughness=roughness, base_color=(0.7, 0.6, 0.5))),
+                             seed=4)
+        r.render(4)
+        return r.image()
+    np.testing.assert_array_equal(rendered(-1.0), rendered(0.0))
+    np.testing.assert_array_equal(rendered(7.0), rendered(1.0))

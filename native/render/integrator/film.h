@@ -10,17 +10,18 @@
 
 namespace sphrect::render {
 
-// sums[c] = sum of the `samples` values of chunk pixel c (values[c * samples ...]), for c < count.
-// Returns how many values were dropped: a NaN or inf sample would poison the pixel forever, so
-// it is left out and counted (reported in the stats; never expected).
-static inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32_t samples, Spectrum* sums) {
+// sums[c] = sum of the `samples` values of chunk pixel c (values[c * samples ...]), for c < count, in
+// double: samples near float's largest stay a finite mean.  Returns how many values were dropped: a NaN
+// or inf sample would poison the pixel forever, so it is left out and counted (reported in the stats;
+// never expected).
+static inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32_t samples, Vec3d* sums) {
     uint64_t dropped = 0;
     for (int c = 0; c < count; ++c) {
-        Spectrum sum;
+        Vec3d sum;
         for (uint32_t i = 0; i < samples; ++i) {
             const Spectrum& l = values[size_t(c) * samples + i];
             if (IsFinite(l)) {
-                sum += l;
+                sum += Vec3d(l.x, l.y, l.z);
             } else {
                 ++dropped;
             }
@@ -32,8 +33,8 @@ static inline uint64_t SumPixelSamples(const Spectrum* values, int count, uint32
 
 // Adds the chunk's pixel sums (technique k's at pixel_sums[k * stride + c]) to the pass's
 // buffers, and its samples to the pixels' counts.
-static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk, const Spectrum* pixel_sums,
-                                   int stride, const PrimaryHit* hits) {
+static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk, const Vec3d* pixel_sums, int stride,
+                                   const PrimaryHit* hits) {
     const size_t techniques = p.options->techniques.size();
     const uint32_t n = uint32_t(p.samples);
     for (int c = 0; c < chunk.count; ++c) {
@@ -44,7 +45,7 @@ static inline void AddChunkToImage(const KernelParams& p, const TileChunk& chunk
             p.alpha_sums[pixel] += alpha;
         }
         for (size_t k = 0; k < techniques; ++k) {
-            const Spectrum& sum = pixel_sums[k * stride + c];
+            const Vec3d& sum = pixel_sums[k * stride + c];
             double* px = p.sums[k] + 3 * pixel;
             px[0] += sum.x;
             px[1] += sum.y;

@@ -96,6 +96,9 @@ def scene_from_depsgraph(depsgraph):
         if cache[key] is None:
             continue
         local, material_ids, object_space = cache[key]
+        if not np.isfinite(np.array(inst.matrix_world)).all():
+            log.problem(f"object '{name}' has a transform that is not finite (NaN or infinite): skipped")
+            continue
         world = to_world(local, inst.matrix_world)
         if world is None:
             log.problem(f"object '{name}' has zero scale: skipped")

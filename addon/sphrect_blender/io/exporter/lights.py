@@ -75,6 +75,9 @@ def export_light(sphrect, obj, matrix_world, name, log):
     if power <= 0 or not np.any(color > 0):
         log.problem(f"light '{name}' has no power: skipped")
         return None
+    if not np.isfinite(np.array(matrix_world)).all():
+        log.problem(f"light '{name}' has a transform that is not finite (NaN or infinite): skipped")
+        return None
     if light.type == "AREA":
         return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log)
     _, _, z, position = _axes(matrix_world)
