@@ -84,7 +84,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     equal_time: BoolProperty(name="Equal Time", default=False,
                              description="Give every technique the same time budget instead of the same samples")
     time_budget: FloatProperty(name="Time Budget", default=2.0, min=0.01, subtype="TIME_ABSOLUTE", unit="TIME",
-                               description="Seconds per technique in equal-time comparisons")
+                               description="Seconds per technique in equal-time comparisons (whole passes of "
+                                           "one sample: a budget shorter than one pass is overrun by that pass)")
     reference: EnumProperty(name="Reference", default="RENDER",
                             items=[("NONE", "None", "No reference: no RMSE or error maps"),
                                    ("RENDER", "Render", "A high-sample render with the spherical rectangle technique"),

@@ -239,6 +239,12 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
     return native, skipped
 
 
+def dropped_samples_message(dropped: int) -> str:
+    """What a render that left `dropped` non-finite samples out of its image says (stats' dropped_samples)."""
+    return (f"{dropped} samples were not finite (NaN or infinite) and were left out of the image: some input is "
+            "beyond what float32 computes (an emission, an IOR, a coordinate)")
+
+
 class Renderer:
     """Progressive direct-lighting renderer of a :class:`sphrect.Scene` with one or more
     light-sampling techniques sharing camera rays and first hits (see the module docstring)."""
@@ -313,7 +319,11 @@ class Renderer:
     def render(self, samples: int, time_budget: Optional[float] = None,
                progress: Optional[Callable[[int, int], None]] = None) -> bool:
         """Add `samples` camera samples per pixel (or passes of them until `time_budget` seconds
-        are spent).  progress(done_tiles, total_tiles) runs on this thread.  False if cancelled."""
+        are spent).  progress(done_tiles, total_tiles) runs on this thread.  False if cancelled.
+
+        The budget counts whole passes: the first pass always runs to its end, so a budget shorter than one pass
+        of `samples` is overrun by that pass; later passes start only while one more would more likely end
+        within the budget than not.  For a tight bound, make a pass short (samples=1)."""
         samples = int_argument("samples", samples, 1, _native.MAX_SAMPLES_PER_CALL)
         budget = 0.0
         if time_budget is not None:
@@ -324,9 +334,7 @@ class Renderer:
         finished = self._r.render(samples, budget, progress)
         dropped = self._dropped_samples() - dropped_before
         if dropped:
-            warnings.warn(f"{dropped} samples were not finite (NaN or infinite) and were left out of the image: some "
-                          "input is beyond what float32 computes (an emission, an IOR, a coordinate)", RuntimeWarning,
-                          stacklevel=2)
+            warnings.warn(dropped_samples_message(dropped), RuntimeWarning, stacklevel=2)
         return finished
 
     def _dropped_samples(self) -> int:

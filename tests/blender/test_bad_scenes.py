@@ -111,6 +111,32 @@ def test_cancel_keeps_the_partial_image(empty_scene):
     assert "Cancelled" in rec["stats_line"]
 
 
+def test_a_cancel_requested_just_before_f12_stops_that_render(empty_scene):
+    # Issue 27: F12 forgot a cancel requested before it started, and rendered in full.
+    lit_test_scene(empty_scene)
+    empty_scene.sphrect.samples = 4
+    engine_module().request_cancel()
+    rec = render()
+    assert rec["cancelled"] and rec["errors"] == []
+    assert all(s["samples"] == 0 for s in rec["stats"].values())
+    rec = render()  # the request is used up: the next render runs to its end
+    assert not rec["cancelled"] and all(s["samples"] == 4 for s in rec["stats"].values())
+
+
+def test_samples_left_out_of_the_image_are_in_the_report(empty_scene):
+    # Issue 27: non-finite samples were dropped with only the stats to show it.  A mirror under a 1 m light of
+    # 1e38 W (radiance 3e37, as far as Blender's fields go): the reflection overflows float32.
+    lit_test_scene(empty_scene)
+    bpy.data.objects["Ground"].active_material = builders.material("Mirror", kind="principled", roughness=0.0,
+                                                                   metallic=1.0)
+    bpy.data.lights["Light"].energy = 1e38
+    rec = render()
+    assert rec["errors"] == []
+    (line,) = [w for w in rec["warnings"] if "samples were not finite" in w]
+    assert line.startswith("SPHRECT rectangle: ") and rec["stats"]["rectangle"]["raw"]["dropped_samples"] > 0
+    assert np.isfinite(rec["images"]["rectangle"]).all()
+
+
 def test_fresh_blender_without_the_module_reports_how_to_fix_it(tmp_path):
     """An add-on copy with no sphrect anywhere: F12 gives one clear error naming the fix, no traceback."""
     import os

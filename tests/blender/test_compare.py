@@ -210,3 +210,29 @@ def test_comparison_image_layout_rmse_and_shared_heat_scale():
         e.update(ellipse_technique="spherical_ellipse")
     assert compare._label_lines(entries[0])[:2] == ["LIGHTS BY tree", "DISKS BY spherical_ellipse"]
     assert compare.comparison_image(entries, reference).shape[0] == taller.shape[0] + 2 * (compare.GLYPH_H + 2)
+
+
+def test_compare_with_a_rendered_reference_from_a_script_exits_cleanly(tmp_path):
+    # Issue 27: Debian's Blender 3.4.1 segfaults at exit (139) once a --python file has imported
+    # concurrent.futures.process; the comparison's RMSE imported it through sphrect.study's executors.  The add-on
+    # now imports only the study's metrics, and the script's Blender exits 0.
+    import subprocess
+    from conftest import BLEND_DIR, REPO
+    script = tmp_path / "compare.py"
+    script.write_text(
+        "import sys, addon_utils, bpy\n"
+        f"sys.path[:0] = [{os.path.join(REPO, 'addon')!r}, {os.environ['SPHRECT_PYTHON_PATH']!r}]\n"
+        "addon_utils.enable('sphrect_blender', handle_error=None)\n"
+        f"bpy.ops.wm.open_mainfile(filepath={os.path.join(BLEND_DIR, '01_paper.blend')!r})\n"
+        "scene = bpy.context.scene\n"
+        "scene.render.resolution_x, scene.render.resolution_y, scene.render.resolution_percentage = 24, 16, 100\n"
+        "s = scene.sphrect\n"
+        "s.compare, s.samples, s.reference, s.reference_samples = True, 2, 'RENDER', 4\n"
+        f"scene.render.filepath = {str(tmp_path / 'out_')!r}\n"
+        "bpy.ops.render.render(write_still=True)\n"
+        "print('STUDY_EXECUTORS_IMPORTED', 'concurrent.futures.process' in sys.modules, flush=True)\n")
+    run = subprocess.run([bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+                          str(script)], capture_output=True, text=True, timeout=300)
+    assert "STUDY_EXECUTORS_IMPORTED False" in run.stdout, run.stdout[-2000:] + run.stderr[-2000:]
+    assert run.returncode == 0, (run.returncode, run.stderr[-2000:])
+    assert list(tmp_path.glob("out_*_sphrect_compare.png"))

@@ -120,13 +120,14 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         last_render.clear()
         last_render.update(errors=[], warnings=[], features=[], stats={}, images={}, comparison=None,
                            cancelled=False, time_limited=False)
-        clear_cancel_request()
         try:
             self._render(depsgraph)
         except Exception as e:  # never a traceback in the user's face; the message names the problem
             import traceback
             traceback.print_exc()
             self._error(f"SPHRECT render failed: {type(e).__name__}: {e}")
+        finally:
+            clear_cancel_request()  # the request that stopped this render, or came while it ran, is used up
 
     def _stats_line(self, text):
         last_render["stats_line"] = text
@@ -244,6 +245,7 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
             for e in entries:
                 last_render["stats"][e.name].update(light_selection=e.light_selection,
                                                     ellipse_technique=e.ellipse_technique)
+            self._warn_of_dropped_samples(sphrect, images)
             if settings.compare and not self._cancelled:
                 self._comparison(bl_scene, images, reference, settings)
         finally:
@@ -251,6 +253,13 @@ class SphrectRenderEngine(bpy.types.RenderEngine):
         last_render["cancelled"] = self._cancelled
         if self._cancelled:
             self._stats_line(f"{self._header} | Cancelled: partial image kept")
+
+    def _warn_of_dropped_samples(self, sphrect, images):
+        """Non-finite samples left out of an image (an input beyond float32), said in the render's report."""
+        for i in images:
+            dropped = int(i["raw"].get("dropped_samples", 0))
+            if dropped:
+                self._warning(f"SPHRECT {i['name']}: {sphrect.dropped_samples_message(dropped)}")
 
     def _stats(self, renderer, technique):
         s = dict(renderer.stats(technique))

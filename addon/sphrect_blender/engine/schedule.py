@@ -33,7 +33,9 @@ def sample_schedule(total, passes, pixels):
 
 
 def request_cancel():
-    """Cancel the running render from a script or another thread (as Esc does in the window)."""
+    """Cancel the running render from a script or another thread (as Esc does in the window); called while none
+    runs, the next render is cancelled before it renders anything (as sphrect.Renderer.cancel does), so a request
+    just before F12 starts is not lost."""
     _cancel_requested.set()
     with _active_lock:
         for renderer in _active:
@@ -45,7 +47,7 @@ def cancel_requested():
 
 
 def clear_cancel_request():
-    """A new render starts: forget the last one's cancellation."""
+    """A render ended: the cancellation that stopped it is used up."""
     _cancel_requested.clear()
 
 

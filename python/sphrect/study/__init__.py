@@ -16,7 +16,21 @@ Behaviour under bad options, damaged files and a killed study: docs/study_reliab
 __all__ = ["Executor", "LocalProcessPool", "SerialExecutor", "Job", "StudyConfig", "build_plan", "sample_ladder",
            "ReferenceSettings", "run_study"]
 
-from .executors import Executor, LocalProcessPool, SerialExecutor  # noqa: F401
-from .jobs import Job, StudyConfig, build_plan, sample_ladder  # noqa: F401
-from .reference import ReferenceSettings  # noqa: F401
-from .study import run_study  # noqa: F401
+# Where each public name lives, imported on first use: `sphrect.study.metrics` (the add-on's RMSE) must not pull in
+# the executors' concurrent.futures.process, after which Debian's Blender 3.4.1 segfaults at exit.
+_HOMES = {"Executor": "executors", "LocalProcessPool": "executors", "SerialExecutor": "executors", "Job": "jobs",
+          "StudyConfig": "jobs", "build_plan": "jobs", "sample_ladder": "jobs", "ReferenceSettings": "reference",
+          "run_study": "study"}
+
+
+def __getattr__(name):
+    if name not in _HOMES:
+        raise AttributeError(f"module 'sphrect.study' has no attribute {name!r}")
+    import importlib
+    value = getattr(importlib.import_module(f".{_HOMES[name]}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(list(globals()) + __all__)
