@@ -157,6 +157,24 @@ def test_missing_image_is_magenta_with_a_warning(empty_scene):
     assert "material 'NoImage' has no image" in text
 
 
+def test_exported_pixels_are_read_only_so_renderers_share_them(empty_scene):
+    # Issue 27: the compare mode's renderers (up to 20) each copied every texture; a read-only array is shared.
+    on_plane(textured("P", new_image("Packed", random_pixels(8, 8))))
+    on_plane(textured("F", new_image("HDR", random_pixels(8, 8), float_buffer=True)), "Other", location=(3, 0, 0))
+    scene, _ = export()
+    assert [t.pixels.flags.writeable for t in scene.textures] == [False, False]
+
+
+def test_an_image_too_large_to_export_is_magenta_with_a_warning(empty_scene, monkeypatch):
+    # Issue 27: the exporter's float copy of a huge image went past the machine's memory; now it is refused first.
+    # (Half the memory stands in at 1 KiB here: a 16 x 16 RGBA image's float copy takes 4 KiB.)
+    monkeypatch.setattr(sphrect, "default_memory_limit", lambda: 1024)
+    on_plane(textured("M", new_image("Big", random_pixels(16, 16))))
+    scene, log = export()
+    assert tuple(scene.textures[0].pixels.ravel()) == (1.0, 0.0, 1.0, 1.0)
+    assert "image 'Big' (16 x 16) needs 0.0 GiB to export, more than half the memory: magenta" in log.warning_text()
+
+
 def test_partial_alpha_gives_the_colour_cycles_reads(empty_scene):
     """Measured in Cycles 3.4 (test_texture_parity's lookups): a straight-alpha byte image's colour comes
     multiplied by its alpha (its encoded bytes, truncated), and as stored when the node's Alpha output is used; a

@@ -216,6 +216,10 @@ class TextureExport:
                              "as Cycles shows it")
             return self._missing(image.name), False
         channels = count // (width * height)
+        if 4 * count > self.sphrect.default_memory_limit():  # Blender's float copy alone would not fit
+            self.log.problem(f"image '{image.name}' ({width} x {height}) needs {4 * count / 2**30:.1f} GiB to export, "
+                             "more than half the memory: magenta")
+            return self._missing(image.name), False
         pixels = np.empty(count, dtype=np.float32)
         image.pixels.foreach_get(pixels)
         pixels = pixels.reshape(height, width, channels)
@@ -230,6 +234,7 @@ class TextureExport:
             pixels = pixels.astype(np.uint8)
             colorspace = self._colorspace(image)
         name = image.name + (" (unassociated alpha)" if unassociated and alpha_matters else "")
+        pixels.flags.writeable = False  # so that every renderer of the scene (compare mode's) shares, not copies, it
         return self.sphrect.Texture(name=name, pixels=pixels, colorspace=colorspace), alpha_matters
 
     def _colorspace(self, image):
