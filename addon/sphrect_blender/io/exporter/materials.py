@@ -22,13 +22,15 @@ import dataclasses
 
 import numpy as np
 
-from .node_groups import MAX_GROUP_DEPTH, too_deep_groups, wrap_node
+from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
 from .textures import TextureExport, follow_reroutes, image_texture_source
 
 
 def _active_output(tree, node_type):
     """The output node Cycles uses (wrapped: node_groups.py), None when there is none or it is muted (Cycles then
-    links nothing to its output: a black surface, no volume)."""
+    links nothing to its output: a black surface, no volume).  Each export of a tree starts here: its links are read
+    anew."""
+    read_links_anew()
     outputs = [n for n in tree.nodes if n.bl_idname == node_type]
     active = next((n for n in outputs if getattr(n, "is_active_output", False)
                    and getattr(n, "target", "ALL") in {"ALL", "CYCLES"}), outputs[0] if outputs else None)

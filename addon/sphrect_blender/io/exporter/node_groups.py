@@ -23,9 +23,31 @@ def _context(socket):
     return socket.groups if isinstance(socket, CyclesSocket) else ()
 
 
+# Each tree's links by the input they go into, built once per export (NodeSocket.links walks all the tree's links:
+# reading it per input would make an export quadratic in the links).
+_links_by_input = {}
+
+
+def read_links_anew():
+    """Forgets the trees' links read so far: each export starts with it (the trees may have changed since)."""
+    _links_by_input.clear()
+
+
+def _links_into(socket):
+    if not socket.is_linked:
+        return ()
+    tree = socket.id_data
+    index = _links_by_input.get(tree.as_pointer())
+    if index is None:
+        index = _links_by_input[tree.as_pointer()] = {}
+        for link in tree.links:
+            index.setdefault(link.to_socket.as_pointer(), []).append(link)
+    return index.get(socket.as_pointer(), ())
+
+
 def followed_link(socket):
     """The link into Blender input `socket` that Cycles keeps, or None."""
-    for link in socket.links:
+    for link in _links_into(socket):
         if link.is_valid and not link.is_muted and link.from_socket.enabled and link.to_socket.enabled:
             return link
     return None
