@@ -17,7 +17,9 @@ its BSDF, a mix scales each side's closures by its weight, mesh emission is two-
 World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
 Roughness, Metallic and Specular, the Color of Diffuse, Glossy, Glass and Translucent BSDFs and the Roughness of
 Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; every other
-linked input and every other node is logged as unsupported, its own value used."""
+linked input and every other node is logged as unsupported, its own value used.  Links are read as Cycles follows
+them (node_groups.py: muted and invalid links left out, muted nodes passing their internal links, groups inlined),
+and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it (_closures)."""
 import dataclasses
 
 import numpy as np
