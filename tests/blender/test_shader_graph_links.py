@@ -353,16 +353,19 @@ def test_groups_nested_too_deep_are_warned_and_left_out(empty_scene):
         node.node_tree = inner
         outer.links.new(node.outputs[0], gout.inputs[0])
         inner = outer
-    for name, group in (("Deep16", bpy.data.node_groups["Level15"]), ("Deep17", inner)):
+    levels = bpy.data.node_groups
+    # "Both" holds Level0 at the top first, then again 17 deep in Level16.
+    for name, groups in (("Deep16", ["Level15"]), ("Deep17", ["Level16"]), ("Both", ["Level0", "Level16"])):
         t = Tree(name)
-        node = t.node("ShaderNodeGroup")
-        node.node_tree = group
+        for group in groups:
+            node = t.node("ShaderNodeGroup")
+            node.node_tree = levels[group]
         t.surface(node)
         on_plane(t.mat, name)
     scene, log = export()
-    results = {name: material_named(scene, name).base_color for name in ("Deep16", "Deep17")}
-    assert results == {"Deep16": rgb(RED), "Deep17": (0.0, 0.0, 0.0)}
-    assert "node groups nested more than 16 deep (the links through the deeper ones left out) (Deep17)" \
+    results = {name: material_named(scene, name).base_color for name in ("Deep16", "Deep17", "Both")}
+    assert results == {"Deep16": rgb(RED), "Deep17": (0.0, 0.0, 0.0), "Both": (0.0, 0.0, 0.0)}
+    assert "node groups nested more than 16 deep (the links through the deeper ones left out) (Deep17, Both)" \
         in log.warning_text()
 
 

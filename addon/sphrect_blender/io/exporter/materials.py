@@ -226,9 +226,9 @@ def _closure_sources(sphrect, node, textures, name):
         source = image_texture_source(fac_socket)
         if source is None:
             return None
-        lookup = textures.lookup(*source, name)
         if first is not None and first == second:  # (1 - fac) + fac of the same closures: exactly those
             return [(first, 1.0, None, False)]
+        lookup = textures.lookup(*source, name)
         return [(n, 1.0, sphrect.MixFactor(lookup=lookup, complement=n is first), False)
                 for n in (first, second) if n is not None]
     if node.bl_idname == "ShaderNodeAddShader":

@@ -123,20 +123,20 @@ def resolve(socket):
     return trace(socket)[0]
 
 
-def too_deep_groups(tree, depth=0, seen=None):
-    """Names of the node groups of `tree` nested deeper than MAX_GROUP_DEPTH (their links are left out), each
-    tree looked at once."""
-    seen = {} if seen is None else seen
+def too_deep_groups(tree, depth=0, deepest=None):
+    """Names of the node groups of `tree` nested deeper than MAX_GROUP_DEPTH (their links are left out); each group
+    looked into again only where it sits deeper than before (at most MAX_GROUP_DEPTH times)."""
+    deepest = {} if deepest is None else deepest  # group -> the deepest level it was looked into at
     found = []
     for node in tree.nodes:
         group = node.node_tree if node.bl_idname == _GROUP else None
-        if group is None or seen.get(group.name, MAX_GROUP_DEPTH + 1) <= depth:
+        if group is None or deepest.get(group.as_pointer(), -1) >= depth:
             continue
-        seen[group.name] = depth
+        deepest[group.as_pointer()] = depth
         if depth >= MAX_GROUP_DEPTH:
             found.append(group.name)
         else:
-            found.extend(too_deep_groups(group, depth + 1, seen))
+            found.extend(too_deep_groups(group, depth + 1, deepest))
     return found
 
 

@@ -115,6 +115,7 @@ class TextureExport:
 
     def lookup(self, node, output, owner):
         """The TextureLookup of Image Texture `node`'s output ('color' / 'alpha') read by material `owner`."""
+        node = wrap_node(node)
         interpolation = _INTERPOLATIONS.get(node.interpolation)
         if interpolation is None:
             self.log.unsupported_feature(f"Image Texture interpolation '{node.interpolation}' (Linear used)", owner)
@@ -124,7 +125,6 @@ class TextureExport:
         coordinates, transform = self._vector(node.inputs["Vector"], owner)
         # Cycles divides the colour by the alpha when the node's Alpha output is used (NODE_IMAGE_ALPHA_UNASSOCIATE)
         # by a node its graph keeps: one the material's output reaches.
-        node = wrap_node(node)
         tree = node.groups[0].id_data if node.groups else node.id_data
         alpha_used = (node.key, "Alpha") in self._reached_outputs(tree)
         texture = self.texture_of(node.image, owner, unassociated=alpha_used)
