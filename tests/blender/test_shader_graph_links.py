@@ -143,7 +143,7 @@ def test_a_shader_reached_twice_is_one_layer_of_its_summed_weight(empty_scene):
 
 def test_muted_links_are_left_out(empty_scene):
     """A muted link is no link (Cycles skips it): the input's own value, no shader on a Surface or Mix input, no
-    texture, factor or Mapping.  The code before followed each of these links."""
+    volume, texture, factor, Mapping or normal map.  The code before followed each of these links."""
     image = new_image("Img", random_pixels())
     surface = Tree("MutedSurface")
     surface.surface(diffuse(surface, RED))
@@ -170,11 +170,26 @@ def test_muted_links_are_left_out(empty_scene):
     mute_link(tex.inputs["Vector"])
     mapping.link(tex.outputs["Color"], bsdf.inputs["Color"])
     mapping.surface(bsdf)
-    for t in (surface, color, factor, side, mapping):
+    volume = Tree("MutedVolume")  # no Surface link and a muted Volume one: neither (black), not volume-only
+    volume.link(volume.node("ShaderNodeVolumeScatter").outputs[0], volume.out.inputs["Volume"])
+    mute_link(volume.out.inputs["Volume"])
+    normal_maps = {}
+    for name in ("MutedNormalLink", "MutedNormalMap"):
+        t = normal_maps[name] = Tree(name)
+        bsdf, normal_map = t.node("ShaderNodeBsdfPrincipled"), t.node("ShaderNodeNormalMap")
+        t.link(t.image(image).outputs["Color"], normal_map.inputs["Color"])
+        t.link(normal_map.outputs["Normal"], bsdf.inputs["Normal"])
+        t.surface(bsdf)
+    mute_link(normal_maps["MutedNormalLink"].nodes["Principled BSDF"].inputs["Normal"])
+    normal_maps["MutedNormalMap"].nodes["Normal Map"].mute = True  # passes its Strength, unlinked: 0, no normal
+    for t in (surface, color, factor, side, mapping, volume, *normal_maps.values()):
         on_plane(t.mat, t.mat.name)
     scene, log = export()
+    assert "volume-only" not in log.warning_text() and "material volumes" not in log.warning_text()
+    assert material_named(scene, "MutedVolume").base_color == (0.0, 0.0, 0.0)
+    assert [material_named(scene, name).normal_map for name in normal_maps] == [None, None]
     assert material_named(scene, "MutedSurface").base_color == (0.0, 0.0, 0.0)
-    assert "materials without a surface shader (black) (MutedSurface)" in log.warning_text()
+    assert "materials without a surface shader (black) (MutedSurface, MutedVolume)" in log.warning_text()
     m = material_named(scene, "MutedColor")
     assert (m.base_color, m.textures) == (rgb(RED), {})
     m = material_named(scene, "MutedFactor")
