@@ -17,20 +17,32 @@ its BSDF, a mix scales each side's closures by its weight, mesh emission is two-
 World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
 Roughness, Metallic and Specular, the Color of Diffuse, Glossy, Glass and Translucent BSDFs and the Roughness of
 Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; every other
-linked input and every other node is logged as unsupported, its own value used."""
+linked input and every other node is logged as unsupported, its own value used.  Links are read as Cycles follows
+them (node_groups.py: muted and invalid links left out, muted nodes passing their internal links, groups inlined),
+and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it (_closures)."""
 import dataclasses
 
 import numpy as np
 
+from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
 from .textures import TextureExport, follow_reroutes, image_texture_source
 
 
 def _active_output(tree, node_type):
+    """The output node Cycles uses (wrapped: node_groups.py), None when there is none or it is muted (Cycles then
+    links nothing to its output: a black surface, no volume).  Each export of a tree starts here: its links are read
+    anew."""
+    read_links_anew()
     outputs = [n for n in tree.nodes if n.bl_idname == node_type]
-    for n in outputs:
-        if getattr(n, "is_active_output", False) and getattr(n, "target", "ALL") in {"ALL", "CYCLES"}:
-            return n
-    return outputs[0] if outputs else None
+    active = next((n for n in outputs if getattr(n, "is_active_output", False)
+                   and getattr(n, "target", "ALL") in {"ALL", "CYCLES"}), outputs[0] if outputs else None)
+    return wrap_node(active) if active is not None and not active.mute else None
+
+
+def _warn_of_deep_groups(tree, log, owner):
+    if too_deep_groups(tree):
+        log.unsupported_feature(f"node groups nested more than {MAX_GROUP_DEPTH} deep (the links through the deeper "
+                                "ones left out)", owner)
 
 
 def _linked_node(socket):
@@ -159,6 +171,7 @@ def export_material(sphrect, mat, log, textures=None):
     name = mat.name
     if not mat.use_nodes or mat.node_tree is None:
         return sphrect.Material(name=name, kind="diffuse", base_color=_rgb(mat.diffuse_color))
+    _warn_of_deep_groups(mat.node_tree, log, name)
     out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
     if transparent_surface(mat):  # its triangles are left out (geometry.triangulate), which warns per object
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
@@ -192,46 +205,109 @@ def _emission(node, color_input, strength_input, weight, log, owner, textures=No
     return _rgb(np.clip(color, 0, None) * strength * weight)
 
 
-def _closures(sphrect, node, weight, factors, leaves, textures, name):
-    """Appends (weight, shader node, mix factors) for each shader reached through Mix and Add Shader nodes
-    (svm_node_mix_closure: the factor clamped to [0, 1], (1 - fac) to the first input, fac to the second;
-    Add: 1 to each).  A factor an Image Texture drives is a MixFactor of each shader below it (its complement
-    for the first input); False for a factor linked from anything else (not modelled)."""
-    if node is None or weight <= 0:  # an unlinked shader input, or a side Cycles skips: no closure
-        return True
+# Distinct lists of texture-driven Mix Shader factors a material's shaders may sit under (_closures): past it,
+# the graph's texture-driven mixes are not modelled.
+MAX_FACTOR_LISTS = 1024
+
+
+def _closure_sources(sphrect, node, textures, name):
+    """Where the closures of shader node `node` come from: [(node or WHITE_TRANSPARENT, weight, MixFactor or None,
+    whether it is a shader of its own)] (svm_node_mix_closure: the factor clamped to [0, 1], (1 - fac) to the
+    first input, fac to the second, a side of weight 0 skipped as Cycles does; Add: 1 to each; a Principled BSDF
+    whose Alpha is below 1 or an image's: Cycles' PrincipledBsdfNode::expand, a Mix Shader of Fac = Alpha, a white
+    Transparent BSDF first); [(node, 1, None, True)] for any other shader; None for a Mix factor linked from
+    anything but an Image Texture (not modelled)."""
     if node.bl_idname == "ShaderNodeMixShader":
         fac_socket = node.inputs[0]
         first, second = _linked_node(node.inputs[1]), _linked_node(node.inputs[2])
-        if fac_socket.is_linked:
-            source = image_texture_source(fac_socket)
-            if source is None:
-                return False
-            lookup = textures.lookup(*source, name)
-            return (_closures(sphrect, first, weight, factors + [sphrect.MixFactor(lookup=lookup, complement=True)],
-                              leaves, textures, name)
-                    and _closures(sphrect, second, weight, factors + [sphrect.MixFactor(lookup=lookup)], leaves,
-                                  textures, name))
-        fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
-        return (_closures(sphrect, first, weight * (1 - fac), factors, leaves, textures, name)
-                and _closures(sphrect, second, weight * fac, factors, leaves, textures, name))
+        if not fac_socket.is_linked:
+            fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
+            return [(n, w, None, False) for n, w in ((first, 1 - fac), (second, fac)) if n is not None and w > 0]
+        source = image_texture_source(fac_socket)
+        if source is None:
+            return None
+        if first is not None and first == second:  # (1 - fac) + fac of the same closures: exactly those
+            return [(first, 1.0, None, False)]
+        lookup = textures.lookup(*source, name)
+        return [(n, 1.0, sphrect.MixFactor(lookup=lookup, complement=n is first), False)
+                for n in (first, second) if n is not None]
+    if node.bl_idname == "ShaderNodeAddShader":
+        return [(n, 1.0, None, False) for n in map(_linked_node, node.inputs) if n is not None]
     if node.bl_idname == "ShaderNodeBsdfPrincipled" and _has_alpha(node):
-        # Cycles' PrincipledBsdfNode::expand: Mix Shader of Fac = Alpha, a white Transparent BSDF first.
         alpha_socket = node.inputs["Alpha"]
         source = image_texture_source(alpha_socket) if alpha_socket.is_linked else None
         if source is not None:
             lookup = textures.lookup(*source, name)
-            leaves.append((weight, WHITE_TRANSPARENT, factors + [sphrect.MixFactor(lookup=lookup, complement=True)]))
-            leaves.append((weight, node, factors + [sphrect.MixFactor(lookup=lookup)]))
-        else:
-            alpha = min(max(float(alpha_socket.default_value), 0.0), 1.0)
-            leaves.append((weight * (1 - alpha), WHITE_TRANSPARENT, factors))
-            leaves.append((weight * alpha, node, factors))
-        return True
-    if node.bl_idname == "ShaderNodeAddShader":
-        return (_closures(sphrect, _linked_node(node.inputs[0]), weight, factors, leaves, textures, name)
-                and _closures(sphrect, _linked_node(node.inputs[1]), weight, factors, leaves, textures, name))
-    leaves.append((weight, node, factors))
-    return True
+            return [(WHITE_TRANSPARENT, 1.0, sphrect.MixFactor(lookup=lookup, complement=True), True),
+                    (node, 1.0, sphrect.MixFactor(lookup=lookup), True)]
+        alpha = min(max(float(alpha_socket.default_value), 0.0), 1.0)
+        return [(WHITE_TRANSPARENT, 1 - alpha, None, True), (node, alpha, None, True)]
+    return [(node, 1.0, None, True)]
+
+
+def _factor_key(factor):
+    lookup = factor.lookup
+    return (lookup.texture, lookup.output, lookup.coordinates, repr(lookup.transform), lookup.interpolation,
+            lookup.extension, factor.complement)
+
+
+def _closures(sphrect, node, textures, log, name):
+    """[(weight, shader node, mix factors)] of the shaders a tree of Mix and Add Shader nodes from `node` reaches
+    (_closure_sources), in the order a depth-first walk first reaches them, or None (warned) when the Mix factors
+    are not modelled.  Each shader comes once per list of texture-driven factors above it, its weights summed over the
+    paths to it: the graph is walked once per node (and factor list), as Cycles compiles each node once, not once
+    per path (paths may be exponentially many).  A texture-driven factor is a MixFactor of each shader below it (its
+    complement for the first input)."""
+    root = (("node", node.key), ())
+    states = {root: (node, [])}  # (node key, factor keys) -> (node, MixFactors): a node under a list of factors
+    edges, shaders, finished, done, factor_lists = {}, [], [], set(), set()
+    stack = [root]
+    while stack:  # depth first, without recursion: a graph may be deeper than Python's stack
+        state = stack[-1]
+        if state in edges:
+            stack.pop()
+            if state not in done:
+                done.add(state)
+                finished.append(state)
+            continue
+        edges[state] = _state_edges(sphrect, state, states, shaders, textures, name)
+        if edges[state] is None:
+            log.unsupported_feature("linked Mix Shader factor (grey diffuse used)", name)
+            return None
+        if any(child in edges and child not in done for child, _ in edges[state]):  # not with valid links
+            log.unsupported_feature("a cycle of shader nodes (the link closing it left out)", name)
+            edges[state] = [(child, w) for child, w in edges[state] if child not in edges or child in done]
+        factor_lists.update(factors for _, factors in edges[state])
+        if len(factor_lists) > MAX_FACTOR_LISTS:
+            log.unsupported_feature(f"more than {MAX_FACTOR_LISTS} combinations of texture-driven Mix Shader "
+                                    "factors (grey diffuse used)", name)
+            return None
+        stack.extend(reversed([child for child, _ in edges[state] if child not in edges]))
+    weights = dict.fromkeys(states, 0.0)
+    weights[root] = 1.0
+    for state in reversed(finished):  # parents before children: a state's weight is complete when it is read
+        for child, weight in edges[state]:
+            weights[child] += weights[state] * weight
+    return [(weights[state], *states[state]) for state in shaders]
+
+
+def _state_edges(sphrect, state, states, shaders, textures, name):
+    """The states state's closures come from, with their weights (a shader of its own has none)."""
+    (kind, _), factor_keys = state
+    node, factors = states[state]
+    if kind == "shader":
+        shaders.append(state)
+        return []
+    sources = _closure_sources(sphrect, node, textures, name)
+    if sources is None:
+        return None
+    edges = []
+    for source, weight, factor, own in sources:
+        key = (("shader" if own else "node", source if source is WHITE_TRANSPARENT else source.key),
+               factor_keys + ((_factor_key(factor),) if factor is not None else ()))
+        states.setdefault(key, (source, factors + ([factor] if factor is not None else [])))
+        edges.append((key, weight))
+    return edges
 
 
 # The white Transparent BSDF Cycles mixes under a Principled BSDF whose Alpha is below 1 (_closures).
@@ -268,9 +344,8 @@ def _is_textured(layer):
 def _shader(sphrect, node, textures, log, name):
     """The surface shader behind the output: one BSDF, or the weighted sum of the shaders a tree of Mix and Add
     Shader nodes reaches (kind 'mix'), emission summed."""
-    leaves = []
-    if not _closures(sphrect, node, 1.0, [], leaves, textures, name):
-        log.unsupported_feature("linked Mix Shader factor (grey diffuse used)", name)
+    leaves = _closures(sphrect, node, textures, log, name)
+    if leaves is None:  # warned
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
     emission = np.zeros(3)
     layers = []
@@ -588,6 +663,7 @@ def export_world(sphrect, world, log):
         return sphrect.World()
     if not world.use_nodes or world.node_tree is None:
         return sphrect.World(background=_rgb(world.color))
+    _warn_of_deep_groups(world.node_tree, log, world.name)
     out = _active_output(world.node_tree, "ShaderNodeOutputWorld")
     if out is None:
         return sphrect.World()

@@ -1,22 +1,63 @@
-"""Node groups, followed as Cycles compiles them (inlined): a link from a Group node's output continues inside
-the group at its Group Output, and a link from a Group Input continues at the Group node's input outside (its
-own value when nothing is linked there).  Nested groups work the same way.
+"""Links followed as Cycles 3.4 compiles a node tree (intern/cycles/blender/shader.cpp): a muted link, an invalid
+one (Blender marks invalid a link that closes a cycle or joins sockets of types that do not connect) or one from or
+to an unavailable socket is left out; a muted node and a reroute pass an input on to an output along Blender's
+internal link (an output without one is unlinked), and an unlinked input they pass on reads 0 (Cycles' proxy's
+value); node groups are inlined: a link from a Group node's output continues inside the group at its Group
+Output, and a link from a Group Input continues at the Group node's input outside (its own value when nothing is
+linked there).  Nested groups work the same way, to MAX_GROUP_DEPTH.
 
 The exporter reads node trees through sockets (`is_linked`, `links[0].from_node`, `default_value`) and nodes
-(`inputs[...]`, properties).  Nodes and sockets inside a group are handed to it wrapped (GroupNode,
-GroupSocket), carrying the chain of Group nodes they sit in, so that the same reads see through the group.
-Nodes outside any group stay Blender's own: materials without groups read exactly as before."""
+(`inputs[...]`, properties).  It reads every node wrapped (CyclesNode, CyclesSocket, wrap_node), carrying the
+chain of Group nodes it sits in, so that those reads see the links Cycles follows."""
 
 _GROUP, _GROUP_INPUT, _GROUP_OUTPUT, _REROUTE = "ShaderNodeGroup", "NodeGroupInput", "NodeGroupOutput", "NodeReroute"
-MAX_GROUP_DEPTH = 16  # deeper (or recursive) groups: the link is treated as absent
+MAX_GROUP_DEPTH = 16  # deeper groups: the link is treated as absent (too_deep_groups names them)
+_MAX_HOPS = 64 * MAX_GROUP_DEPTH  # reroutes, muted nodes and group boundaries on one link's way
 
 
 def _unwrap(socket):
-    return socket.socket if isinstance(socket, GroupSocket) else socket
+    return socket.socket if isinstance(socket, CyclesSocket) else socket
 
 
 def _context(socket):
-    return socket.groups if isinstance(socket, GroupSocket) else ()
+    return socket.groups if isinstance(socket, CyclesSocket) else ()
+
+
+# Each tree's links by the input they go into, built once per export (NodeSocket.links walks all the tree's links:
+# reading it per input would make an export quadratic in the links).
+_links_by_input = {}
+
+
+def read_links_anew():
+    """Forgets the trees' links read so far: each export starts with it (the trees may have changed since)."""
+    _links_by_input.clear()
+
+
+def _links_into(socket):
+    if not socket.is_linked:
+        return ()
+    tree = socket.id_data
+    index = _links_by_input.get(tree.as_pointer())
+    if index is None:
+        index = _links_by_input[tree.as_pointer()] = {}
+        for link in tree.links:
+            index.setdefault(link.to_socket.as_pointer(), []).append(link)
+    return index.get(socket.as_pointer(), ())
+
+
+def followed_link(socket):
+    """The link into Blender input `socket` that Cycles keeps, or None."""
+    for link in _links_into(socket):
+        if link.is_valid and not link.is_muted and link.from_socket.enabled and link.to_socket.enabled:
+            return link
+    return None
+
+
+def _passed_input(node, output):
+    """The input a muted node or a reroute passes on to its `output`, or None."""
+    if node.bl_idname == _REROUTE:
+        return node.inputs[0]
+    return next((link.from_socket for link in node.internal_links if link.to_socket == output), None)
 
 
 def _group_output_input(group_node, output_socket):
@@ -30,56 +71,77 @@ def _group_output_input(group_node, output_socket):
     return active[0].inputs[index] if active and index < len(active[0].inputs) else None
 
 
-def _through(link, groups):
-    """Where a link from a reroute or a Group Input continues: (the input socket upstream, its groups), or None
-    when it continues nowhere (a Group Input outside any group); False for a link from any other node."""
-    node = link.from_node
-    if node.bl_idname == _REROUTE:
-        return node.inputs[0], groups
-    if node.bl_idname != _GROUP_INPUT:
-        return False
-    if not groups:
-        return None
-    outer, index = groups[-1], list(node.outputs).index(link.from_socket)
-    return (outer.inputs[index], groups[:-1]) if index < len(outer.inputs) else None
+class _Zero:
+    """The own value of an input a muted node or a reroute passes an unlinked input to: 0 (Cycles' proxy's)."""
+
+    def __init__(self, socket):
+        self.socket = socket
+
+    @property
+    def default_value(self):
+        value = self.socket.default_value
+        try:
+            return tuple(0.0 for _ in value)
+        except TypeError:
+            return type(value)(0)
+
+
+def trace(socket):
+    """(node, output socket, groups) feeding input `socket` as Cycles links it, or None; and the socket whose own
+    value the input has (when nothing feeds it, or when what does is not modelled).  The node is the real one,
+    `groups` the chain of Group nodes it sits in."""
+    real, groups = _unwrap(socket), _context(socket)
+    value, passed = real, False
+    for _ in range(_MAX_HOPS):
+        link = followed_link(real)
+        if link is None:
+            break
+        node = link.from_node
+        if node.mute or node.bl_idname == _REROUTE:
+            real, passed = _passed_input(node, link.from_socket), True
+            if real is None:  # no internal link: the input is unlinked
+                return None, value
+        elif node.bl_idname == _GROUP_INPUT:
+            index = list(node.outputs).index(link.from_socket)
+            if not groups or index >= len(groups[-1].inputs):
+                break
+            real, groups = groups[-1].inputs[index], groups[:-1]
+            value, passed = real, False
+        elif node.bl_idname == _GROUP:
+            if len(groups) >= MAX_GROUP_DEPTH:
+                break
+            real, groups = _group_output_input(node, link.from_socket), groups + (node,)
+            if real is None:  # no Group Output: the group's output proxy is unlinked
+                return None, _Zero(value)
+            value, passed = real, False
+        else:
+            return (node, link.from_socket, groups), value
+    return None, _Zero(value) if passed else value
 
 
 def resolve(socket):
-    """(node, output socket, groups) feeding input `socket` through reroutes and groups, or None; the node is the
-    real one, `groups` the chain of Group nodes it sits in."""
-    real, groups = _unwrap(socket), _context(socket)
-    for _ in range(64 * MAX_GROUP_DEPTH):
-        if real is None or not real.is_linked:
-            return None
-        link = real.links[0]
-        upstream = _through(link, groups)
-        if upstream is None:
-            return None
-        if upstream is not False:
-            real, groups = upstream
-        elif link.from_node.bl_idname == _GROUP:
-            if len(groups) >= MAX_GROUP_DEPTH:
-                return None
-            real, groups = _group_output_input(link.from_node, link.from_socket), groups + (link.from_node,)
+    return trace(socket)[0]
+
+
+def too_deep_groups(tree, depth=0, deepest=None):
+    """Names of the node groups of `tree` nested deeper than MAX_GROUP_DEPTH (their links are left out); each group
+    looked into again only where it sits deeper than before (at most MAX_GROUP_DEPTH times)."""
+    deepest = {} if deepest is None else deepest  # group -> the deepest level it was looked into at
+    found = []
+    for node in tree.nodes:
+        group = node.node_tree if node.bl_idname == _GROUP else None
+        if group is None or deepest.get(group.as_pointer(), -1) >= depth:
+            continue
+        deepest[group.as_pointer()] = depth
+        if depth >= MAX_GROUP_DEPTH:
+            found.append(group.name)
         else:
-            return link.from_node, link.from_socket, groups
-    return None
+            found.extend(too_deep_groups(group, depth + 1, deepest))
+    return found
 
 
-def value_socket(socket):
-    """The socket whose own value an unlinked input has: the Group node's input outside when the input is linked
-    to a Group Input (through any depth), else the input itself."""
-    real, groups = _unwrap(socket), _context(socket)
-    while real is not None and real.is_linked and groups:
-        upstream = _through(real.links[0], groups)
-        if not upstream:  # from another node (its own value is this socket's), or from nowhere
-            break
-        real, groups = upstream
-    return real
-
-
-def wrap_node(node, groups):
-    return GroupNode(node, groups) if groups else node
+def wrap_node(node, groups=()):
+    return node if isinstance(node, CyclesNode) else CyclesNode(node, groups)
 
 
 class _Link:
@@ -87,9 +149,9 @@ class _Link:
         self.from_node, self.from_socket = from_node, from_socket
 
 
-class GroupSocket:
-    """A socket of a node inside a group: an input's link and own value are seen through the group's boundaries
-    (an output's links are its own, within the group)."""
+class CyclesSocket:
+    """A node's socket as Cycles links it: an input's link and own value are trace()'s (an output's links are its
+    own)."""
 
     def __init__(self, socket, groups):
         self.socket, self.groups = socket, groups
@@ -106,11 +168,11 @@ class GroupSocket:
         if found is None:
             return []
         node, out, groups = found
-        return [_Link(wrap_node(node, groups), GroupSocket(out, groups) if groups else out)]
+        return [_Link(CyclesNode(node, groups), CyclesSocket(out, groups))]
 
     @property
     def default_value(self):
-        return self.socket.default_value if self.socket.is_output else value_socket(self).default_value
+        return self.socket.default_value if self.socket.is_output else trace(self)[1].default_value
 
     def __getattr__(self, name):
         return getattr(self.socket, name)
@@ -121,21 +183,21 @@ class _Sockets:
         self._sockets, self._groups = sockets, groups
 
     def __getitem__(self, key):
-        return GroupSocket(self._sockets[key], self._groups)
+        return CyclesSocket(self._sockets[key], self._groups)
 
     def get(self, key, default=None):
         socket = self._sockets.get(key)
-        return GroupSocket(socket, self._groups) if socket is not None else default
+        return CyclesSocket(socket, self._groups) if socket is not None else default
 
     def __iter__(self):
-        return (GroupSocket(s, self._groups) for s in self._sockets)
+        return (CyclesSocket(s, self._groups) for s in self._sockets)
 
     def __len__(self):
         return len(self._sockets)
 
 
-class GroupNode:
-    """A node inside a group: its sockets see through the group's boundaries; everything else is the node's."""
+class CyclesNode:
+    """A node (inside the Group nodes `groups`): its sockets are CyclesSockets; everything else is the node's."""
 
     def __init__(self, node, groups):
         self.node, self.groups = node, groups
@@ -148,11 +210,16 @@ class GroupNode:
     def outputs(self):
         return _Sockets(self.node.outputs, self.groups)
 
+    @property
+    def key(self):
+        """The node's identity in its material's inlined tree (a group's node once per Group node using it)."""
+        return (self.node.as_pointer(), tuple(g.as_pointer() for g in self.groups))
+
     def __getattr__(self, name):
         return getattr(self.node, name)
 
     def __eq__(self, other):
-        return isinstance(other, GroupNode) and other.node == self.node and other.groups == self.groups
+        return isinstance(other, CyclesNode) and other.key == self.key
 
     def __hash__(self):
-        return hash((self.node.name, tuple(g.name for g in self.groups)))
+        return hash(self.key)

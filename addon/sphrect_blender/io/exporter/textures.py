@@ -16,7 +16,7 @@ channel count.  What Cycles 3.4 reads and how:
 import mathutils
 import numpy as np
 
-from .node_groups import GroupSocket, resolve, wrap_node
+from .node_groups import CyclesNode, CyclesSocket, resolve, wrap_node
 
 # Cycles' colour for an image it cannot read (kernel/svm/image.h TEX_IMAGE_MISSING_R/G/B/A).
 MISSING_IMAGE_RGBA = (1.0, 0.0, 1.0, 1.0)
@@ -27,13 +27,13 @@ _IMAGE_NODE = "ShaderNodeTexImage"
 
 
 def follow_reroutes(socket):
-    """(node, output socket) feeding `socket` through reroutes and node groups (node_groups.py: a node inside a group
-    comes wrapped), or (None, None) when nothing does."""
+    """(node, output socket) feeding `socket` along the links Cycles follows (node_groups.py: through reroutes, muted
+    nodes and node groups; both wrapped), or (None, None) when nothing does."""
     found = resolve(socket) if socket is not None else None
     if found is None:
         return None, None
     node, out, groups = found
-    return wrap_node(node, groups), (GroupSocket(out, groups) if groups else out)
+    return CyclesNode(node, groups), CyclesSocket(out, groups)
 
 
 def image_texture_source(socket):
@@ -110,11 +110,12 @@ class TextureExport:
         self.list = []
         self.index = {}
         self.uv_maps_named = {}  # material name -> UV map names its nodes ask for (checked per object)
-        self._used = {}  # node tree -> names of the nodes its output reaches
+        self._reached = {}  # material node tree -> the outputs its Material Output reaches (_reached_outputs)
         self._means = {}  # (texture, output) -> its scalar's mean (factor_mean)
 
     def lookup(self, node, output, owner):
         """The TextureLookup of Image Texture `node`'s output ('color' / 'alpha') read by material `owner`."""
+        node = wrap_node(node)
         interpolation = _INTERPOLATIONS.get(node.interpolation)
         if interpolation is None:
             self.log.unsupported_feature(f"Image Texture interpolation '{node.interpolation}' (Linear used)", owner)
@@ -124,29 +125,33 @@ class TextureExport:
         coordinates, transform = self._vector(node.inputs["Vector"], owner)
         # Cycles divides the colour by the alpha when the node's Alpha output is used (NODE_IMAGE_ALPHA_UNASSOCIATE)
         # by a node its graph keeps: one the material's output reaches.
-        used = self._used_nodes(node.id_data)
-        alpha_used = any(link.to_node.name in used for link in node.outputs["Alpha"].links if not link.is_muted)
+        tree = node.groups[0].id_data if node.groups else node.id_data
+        alpha_used = (node.key, "Alpha") in self._reached_outputs(tree)
         texture = self.texture_of(node.image, owner, unassociated=alpha_used)
         return self.sphrect.TextureLookup(texture=texture, output=output,
                                           coordinates=coordinates, transform=transform[:3].tolist(),
                                           interpolation=interpolation, extension=node.extension.lower())
 
-    def _used_nodes(self, tree):
-        """Names of the nodes of `tree` the active Material Output reaches through links (Cycles drops the rest)."""
-        key = tree.name_full if hasattr(tree, "name_full") else id(tree)
-        if key not in self._used:
-            outputs = ([n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
-                       or [n for n in tree.nodes if n.bl_idname == "NodeGroupOutput"])  # a group's tree
+    def _reached_outputs(self, tree):
+        """(node key, output identifier) of each node output the active Material Output of material tree `tree`
+        reaches along the links Cycles follows (Cycles drops the rest of the graph); each node visited once."""
+        key = tree.as_pointer()  # an embedded tree's name is its kind's ('Shader Nodetree')
+        if key not in self._reached:
+            outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
             active = [n for n in outputs if getattr(n, "is_active_output", False)] or outputs[:1]
-            used, stack = set(), list(active)
+            reached, stack = set(), [wrap_node(n) for n in active if not n.mute]
+            visited = {n.key for n in stack}
             while stack:
-                n = stack.pop()
-                if n.name in used:
-                    continue
-                used.add(n.name)
-                stack.extend(link.from_node for socket in n.inputs for link in socket.links if not link.is_muted)
-            self._used[key] = used
-        return self._used[key]
+                for socket in stack.pop().inputs:
+                    source, output = follow_reroutes(socket)
+                    if source is None:
+                        continue
+                    reached.add((source.key, output.identifier))
+                    if source.key not in visited:
+                        visited.add(source.key)
+                        stack.append(source)
+            self._reached[key] = reached
+        return self._reached[key]
 
     def factor_mean(self, factors):
         """The product of MixFactors' means over their images: the constant weight of shaders whose factor the
