@@ -8,6 +8,7 @@ import json
 import os
 import signal
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -61,6 +62,44 @@ def test_split_render_is_bit_identical_to_a_local_render(cluster, pattern):
         for t in split:
             assert not np.array_equal(split[t], sphrect.render(scene, 13, parts=2, **dict(options, seed=8))[t])
             np.testing.assert_allclose(split[t], whole[t], rtol=1e-5, atol=1e-6)
+
+
+def kill_once_a_part_is_on(client, pid):
+    """Kill the worker process `pid` as soon as the scheduler has given it a part of a split render."""
+    deadline = time.monotonic() + 60
+    while not any(key.startswith("_render_part") for keys in client.processing().values() for key in keys):
+        assert time.monotonic() < deadline, "no part reached the worker"
+        time.sleep(0.02)
+    os.kill(pid, signal.SIGKILL)
+
+
+@pytest.mark.slow
+def test_a_split_render_survives_the_death_of_the_worker_holding_its_scene(tmp_path):
+    # The only worker holds the scattered scene; killed while it renders (its nanny starts another), it took the scene
+    # with it: a bare CancelledError: _render_part-<uuid> (issue 27). Now the scene is sent again and the parts rerun.
+    scene, samples = paper_like_scene(32, 24), 4096  # about a second a part on one thread
+    options = dict(techniques=["rectangle"], pattern="sobol", threads=1, seed=5)
+    with dask_cluster(tmp_path, worker_envs=({},)) as (_, client):
+        (victim,) = worker_pids(client).values()
+        killer = threading.Thread(target=kill_once_a_part_is_on, args=(client, victim))
+        killer.start()
+        try:
+            split = sphrect.render_distributed(scene, samples, client=client, parts=2, **options)
+        finally:
+            killer.join()
+        assert victim not in worker_pids(client).values()  # the parts were rendered by the new worker
+    assert np.array_equal(split["rectangle"], sphrect.render(scene, samples, parts=2, **options)["rectangle"])
+
+
+def test_a_split_render_reads_the_image_the_client_names(cluster, tmp_path, monkeypatch):
+    # A relative texture path was read from each worker's current directory: magenta there (issue 27).
+    from test_render_textures import write_ppm
+    from test_study_reliability import textured_scene
+    _, client = cluster
+    write_ppm(tmp_path / "green.ppm", np.tile(np.array([0, 255, 0], np.uint8), (2, 2, 1)))
+    monkeypatch.chdir(tmp_path)  # the client's, not the workers'
+    image = sphrect.render_distributed(textured_scene(sphrect.Texture(path="green.ppm")), 2, client=client)
+    assert image["rectangle"][..., 1].mean() > 0 and not image["rectangle"][..., 0].any()  # green, not magenta
 
 
 def test_a_worker_of_another_build_refuses_the_job(cluster):
