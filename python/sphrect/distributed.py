@@ -109,6 +109,7 @@ def render_distributed(scene, samples: int, client, techniques: Union[str, Itera
         _render_parts(client, scene, ranges, done, techniques, options)
         if len(done) == len(ranges):
             return merge([done[i] for i in range(len(ranges))]).images()
-    raise WorkersLost(f"every worker holding the scene died, {SCENE_SENDS} times, before {len(ranges) - len(done)} of "
-                      f"the {len(ranges)} parts were rendered: see the workers' logs (out of memory?), then render "
-                      f"again")
+    sends = f"{SCENE_SENDS} time{'s' if SCENE_SENDS > 1 else ''}"
+    raise WorkersLost(f"the scene was sent to the workers {sends}, and each time every worker holding it died before "
+                      f"{len(ranges) - len(done)} of the {len(ranges)} parts were rendered: see the workers' logs (out "
+                      f"of memory?), then render again")

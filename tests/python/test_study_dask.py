@@ -1,8 +1,10 @@
 """The study and split renders on a real Dask cluster on this machine (dask_cluster.py: a `dask scheduler` and two
 `dask worker` processes on 127.0.0.1, or the executor's own local cluster): a split render is bit-identical to a
-local render of the same sample ranges; a study gives the records the local pool gives; a worker killed in the middle
-of a study, a job that kills every worker and an interrupted client all leave every record whole and once; a worker
-2x slower than the other changes no verdict; a worker of another build refuses jobs."""
+local render of the same sample ranges, and survives the death of the only worker holding its scene; a study gives
+the records the local pool gives; a worker killed in the middle of a study, a job that kills every worker and an
+interrupted client all leave every record whole and once; a worker 2x slower than the other changes no verdict; a
+worker of another build refuses jobs."""
+import contextlib
 import csv
 import json
 import os
@@ -16,6 +18,7 @@ import pytest
 import sphrect
 from dask_cluster import dask_cluster, worker_pids
 from sphrect.build import BuildMismatch
+from sphrect.distributed import WorkersLost
 from sphrect.study import LocalProcessPool, ReferenceSettings, SerialExecutor, StudyConfig, run_study
 from sphrect.study import dask_executor, study as study_module
 from sphrect.study.cli import main as study_main
@@ -73,22 +76,42 @@ def kill_once_a_part_is_on(client, pid):
     os.kill(pid, signal.SIGKILL)
 
 
-@pytest.mark.slow
-def test_a_split_render_survives_the_death_of_the_worker_holding_its_scene(tmp_path):
-    # The only worker holds the scattered scene; killed while it renders (its nanny starts another), it took the scene
-    # with it: a bare CancelledError: _render_part-<uuid> (issue 27). Now the scene is sent again and the parts rerun.
-    scene, samples = paper_like_scene(32, 24), 4096  # about a second a part on one thread
-    options = dict(techniques=["rectangle"], pattern="sobol", threads=1, seed=5)
+SPLIT_SCENE, SPLIT_SAMPLES = paper_like_scene(32, 24), 4096  # about a second a part on one thread
+SPLIT_OPTIONS = dict(techniques=["rectangle"], pattern="sobol", threads=1, seed=5)
+
+
+@contextlib.contextmanager
+def render_killing_the_worker(tmp_path):
+    """render_distributed of SPLIT_SCENE in 2 parts on a cluster of one worker, killed once a part is on it (its
+    nanny starts another): (the images, the client, the victim's pid), the cluster running."""
     with dask_cluster(tmp_path, worker_envs=({},)) as (_, client):
         (victim,) = worker_pids(client).values()
         killer = threading.Thread(target=kill_once_a_part_is_on, args=(client, victim))
         killer.start()
         try:
-            split = sphrect.render_distributed(scene, samples, client=client, parts=2, **options)
+            yield sphrect.render_distributed(SPLIT_SCENE, SPLIT_SAMPLES, client=client, parts=2, **SPLIT_OPTIONS), \
+                client, victim
         finally:
             killer.join()
+
+
+@pytest.mark.slow
+def test_a_split_render_survives_the_death_of_the_worker_holding_its_scene(tmp_path):
+    # The only worker holds the scattered scene; killed while it renders, it took the scene with it: a bare
+    # CancelledError: _render_part-<uuid> (issue 27). Now the scene is sent again and the parts rerun.
+    with render_killing_the_worker(tmp_path) as (split, client, victim):
         assert victim not in worker_pids(client).values()  # the parts were rendered by the new worker
-    assert np.array_equal(split["rectangle"], sphrect.render(scene, samples, parts=2, **options)["rectangle"])
+    expected = sphrect.render(SPLIT_SCENE, SPLIT_SAMPLES, parts=2, **SPLIT_OPTIONS)
+    assert np.array_equal(split["rectangle"], expected["rectangle"])
+
+
+@pytest.mark.slow
+def test_a_split_render_whose_scene_is_lost_too_often_says_so(tmp_path, monkeypatch):
+    monkeypatch.setattr(sphrect.distributed, "SCENE_SENDS", 1)  # the first loss is one too many
+    with pytest.raises(WorkersLost, match="the scene was sent to the workers 1 time, and each time every worker "
+                                          "holding it died before 2 of the 2 parts were rendered: see the workers"):
+        with render_killing_the_worker(tmp_path):
+            pass
 
 
 def test_a_split_render_reads_the_image_the_client_names(cluster, tmp_path, monkeypatch):
