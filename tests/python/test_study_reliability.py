@@ -394,3 +394,15 @@ def test_a_worker_reads_its_copies_of_the_scene_and_its_images(tmp_path, monkeyp
         warnings.simplefilter("error")  # no missing image
         image, _ = runner.render_sphrect(context, Job("sphrect", "rectangle", "balance", "sobol", 2))
     assert image[..., 1].mean() > 0 and not image[..., 0].any()
+
+
+def test_the_exporters_warnings_are_in_the_report(scene_file, tmp_path):
+    # A .blend's exporter warnings were kept in config.json, but the report did not show them (issue 27).
+    from sphrect.study.report import write_report
+    out = tmp_path / "out"
+    study(scene_file, out, report=False, **DAMAGE_STUDY)
+    config = json.loads((out / "config.json").read_text())
+    config["exporter_warnings"] = "SPHRECT does not support, ignored: particle hair (Cube)"  # as export_blend gives
+    (out / "config.json").write_text(json.dumps(config))
+    write_report(str(out), sampler_table=False)
+    assert "- SPHRECT does not support, ignored: particle hair (Cube) (the exporter)" in (out / "report.md").read_text()
