@@ -125,6 +125,14 @@ def test_a_split_render_reads_the_image_the_client_names(cluster, tmp_path, monk
     assert image["rectangle"][..., 1].mean() > 0 and not image["rectangle"][..., 0].any()  # green, not magenta
 
 
+def test_a_split_render_warns_the_workers_warnings(cluster):
+    # Samples left out as not finite were warned on the worker alone, in its log (issue 27).
+    from test_study_reliability import mirror_scene
+    _, client = cluster
+    with pytest.warns(RuntimeWarning, match="samples were not finite"):
+        sphrect.render_distributed(mirror_scene(), 2, client=client, techniques="rectangle_cosine")
+
+
 def test_a_worker_of_another_build_refuses_the_job(cluster):
     _, client = cluster
     with pytest.raises(BuildMismatch, match="build"):

@@ -334,13 +334,18 @@ def test_every_warning_of_a_study_is_in_its_report(tmp_path):
     assert "image 'gone'" in report and "magenta" in report and "the scene check and " in report, report[:3000]
 
 
-def test_a_study_whose_runs_drop_samples_says_so_in_its_report(tmp_path):
-    # Non-finite samples were left out of the images in silence, but for stats()['dropped_samples'] (issue 27).
+def mirror_scene():
+    """A mirror under a light so bright that some of rectangle_cosine's samples on it overflow float."""
     mirror = textured_scene(sphrect.Texture(pixels=np.full((1, 1, 3), 200, np.uint8)),
                             sphrect.Material(kind="principled", roughness=0.0, metallic=1.0))
-    mirror.lights[0].radiance = (3e37,) * 3  # rectangle_cosine's samples on the mirror overflow float
+    mirror.lights[0].radiance = (3e37,) * 3
+    return mirror
+
+
+def test_a_study_whose_runs_drop_samples_says_so_in_its_report(tmp_path):
+    # Non-finite samples were left out of the images in silence, but for stats()['dropped_samples'] (issue 27).
     scene = str(tmp_path / "mirror.sphrect.npz")
-    sphrect.save_scene(mirror, scene)
+    sphrect.save_scene(mirror_scene(), scene)
     out = tmp_path / "out"
     assert cli.main([scene, "--out", str(out), *QUICK, *ONE_CONFIGURATION, "--techniques", "rectangle_cosine"]) == 0
     assert "samples were not finite (NaN or infinite) and were left out of the image" in (out / "report.md").read_text()
