@@ -20,13 +20,15 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
   (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
   ``mesh{i}.material_ids`` (int32 [T]), ``mesh{i}.uvs`` (float32 [V,2]), ``mesh{i}.generated``
   (float32 [V,3]);
-* for texture *i* with pixels: ``texture{i}.pixels`` (uint8 or float32 [H,W,C]).
+* for texture *i* with pixels: ``texture{i}.pixels`` (uint8 or float32 [H,W,C]); a texture without them has a
+  ``path``, relative to the file's folder unless absolute.
 """
 from __future__ import annotations
 
 import dataclasses
 import json
 import math
+import os
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
@@ -192,7 +194,8 @@ class MaterialLayer:
 class Texture:
     """An image: `pixels` (uint8 or float32 [H, W, C], C in 1..4, row 0 the image's bottom as in Blender's
     Image.pixels, values as stored: see TEXTURE_COLORSPACES), or `path`, a file OpenImageIO reads when the scene
-    is rendered (magenta, Cycles' missing-image colour, with a warning, when it cannot)."""
+    is rendered (magenta, Cycles' missing-image colour, with a warning, when it cannot; a relative path is read from
+    the current directory, and in a scene file is relative to the file's folder: save_scene, load_scene)."""
     name: str = "image"
     pixels: Optional[np.ndarray] = None
     path: str = ""
@@ -372,7 +375,8 @@ _LIGHT_NAMES = {cls: name for name, cls in _LIGHT_TYPES.items()}
 
 def save_scene(scene: Scene, path: str) -> None:
     """Write `scene` to `path` (see the module docstring). Written to a temporary file
-    and renamed, so an interrupted save never leaves a half-written scene behind."""
+    and renamed, so an interrupted save never leaves a half-written scene behind. A relative texture path (read from
+    the current directory) is stored relative to the file's folder, naming the same file."""
     meta = {
         "format": FORMAT_NAME,
         "version": FORMAT_VERSION,
@@ -386,7 +390,8 @@ def save_scene(scene: Scene, path: str) -> None:
     arrays = {}
     for i, t in enumerate(scene.textures):
         key = f"texture{i}" if t.pixels is not None else None
-        meta["textures"].append({"name": t.name, "colorspace": t.colorspace, "path": t.path, "arrays": key})
+        meta["textures"].append({"name": t.name, "colorspace": t.colorspace, "arrays": key,
+                                 "path": scene_file.texture_path_to_store(t.path, path)})
         if key:
             arrays[f"{key}.pixels"] = np.asarray(t.pixels)
     for i, m in enumerate(scene.meshes):
@@ -408,9 +413,10 @@ def save_scene(scene: Scene, path: str) -> None:
     atomic_write(path, lambda f: np.savez_compressed(f, **arrays))
 
 
-def load_scene(path: str) -> Scene:
+def load_scene(path: str, relative_to: Optional[str] = None) -> Scene:
     """Read a scene written by :func:`save_scene`; ValueError saying what is wrong if it is not one (sizes and
-    shapes are checked before any array is read: scene_file.py)."""
+    shapes are checked before any array is read: scene_file.py). Relative texture paths are resolved against the
+    folder `relative_to` (default: the file's own, wherever the process runs) and made absolute."""
     try:
         headers = scene_file.member_headers(path)
         data = np.load(path, allow_pickle=False)
@@ -420,14 +426,15 @@ def load_scene(path: str) -> Scene:
         raise ValueError(f"{path}: not a sphrect scene file ({type(e).__name__}: {e})") from None
     try:
         with data:
-            return _scene_from_file(path, data, headers)
+            return _scene_from_file(path, data, headers, os.path.dirname(os.path.abspath(path))
+                                    if relative_to is None else relative_to)
     except scene_file.MalformedScene:
         raise
     except (ValueError, *scene_file.MALFORMED) as e:
         raise ValueError(f"{path}: malformed sphrect scene file ({type(e).__name__}: {e})") from None
 
 
-def _scene_from_file(path, data, headers) -> Scene:
+def _scene_from_file(path, data, headers, relative_to) -> Scene:
     meta = scene_file.read_meta(path, data, headers, FORMAT_NAME, FORMAT_VERSION)
     for key in ("camera", "world", "materials", "lights", "meshes"):
         if key not in meta:
@@ -462,6 +469,6 @@ def _scene_from_file(path, data, headers) -> Scene:
         if key is not None:
             scene_file.check_texture_arrays(path, headers, key)
             pixels = data[f"{key}.pixels"]
-        scene.textures.append(Texture(name=t["name"], pixels=pixels, path=t.get("path", ""),
-                                      colorspace=t["colorspace"]))
+        scene.textures.append(Texture(name=t["name"], pixels=pixels, colorspace=t["colorspace"],
+                                      path=scene_file.texture_path_loaded(path, t.get("path", ""), relative_to)))
     return scene

@@ -3,8 +3,12 @@ inflated size and its declared .npy shape and dtype are checked against caps and
 counts, so that a small file cannot force gigabytes of allocation; and whatever is malformed -- a corrupted zip,
 a plain .npy, JSON that is not an object, a null or non-numeric version, missing or unknown keys, deep nesting --
 surfaces as ValueError saying what is wrong.  Pickled objects are refused, never executed (allow_pickle=False,
-and object dtypes are rejected from the headers)."""
+and object dtypes are rejected from the headers).
+
+Texture paths: a relative path in a scene file is relative to the file's folder, so that a scene renders the same
+wherever the process runs (texture_path_to_store, texture_path_loaded)."""
 import json
+import os
 import zipfile
 import zlib
 
@@ -28,6 +32,27 @@ MALFORMED = (KeyError, TypeError, AttributeError, IndexError, RecursionError, zl
 
 class MalformedScene(ValueError):
     """A scene file that cannot be read: the message names the file and what is wrong."""
+
+
+def texture_path_to_store(path, scene_path: str) -> str:
+    """How a scene file at `scene_path` stores a texture's `path`: a relative one, which the renderer reads from the
+    current directory, made relative to the file's folder, so that it names the same file from there; an absolute
+    one (or none) as it is."""
+    path = os.fspath(path) if path else ""
+    if not path or os.path.isabs(path):
+        return path
+    return os.path.relpath(os.path.abspath(path), os.path.dirname(os.path.abspath(scene_path)))
+
+
+def texture_path_loaded(scene_path: str, stored, folder: str) -> str:
+    """A texture path read from a scene file: a relative one resolved against `folder` (the file's own, or where
+    the file was when a copy of it is read) and made absolute, so that it names the same file wherever the process
+    runs and the scene is saved again; an absolute one (or none) as it is."""
+    if not isinstance(stored, str):
+        raise MalformedScene(f"{scene_path}: a texture's path is {stored!r}, not a string")
+    if not stored or os.path.isabs(stored):
+        return stored
+    return os.path.normpath(os.path.join(os.path.abspath(folder), stored))
 
 
 def member_headers(path):

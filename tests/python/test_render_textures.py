@@ -4,6 +4,7 @@ render the same (deterministic renders: no false failures); the rest compare wit
 import os
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -280,6 +281,47 @@ def test_textures_survive_the_scene_file(tmp_path):
     loaded = sphrect.load_scene(path)
     assert loaded.textures[1].pixels.dtype == np.uint8
     np.testing.assert_array_equal(render(loaded), render(scene))
+
+
+def image_file_scene(folder):
+    """A scene reading `folder`/image.ppm by the relative path 'image.ppm' (the current directory must be
+    `folder`), and the same image from its pixels."""
+    pixels = np.random.default_rng(9).integers(0, 256, (4, 6, 3), dtype=np.uint8)
+    write_ppm(folder / "image.ppm", pixels[::-1])
+    mat = sphrect.Material(textures={"base_color": sphrect.TextureLookup(0, interpolation="closest")})
+    return lit_scene(mat, [sphrect.Texture(path="image.ppm")]), lit_scene(mat, [sphrect.Texture(pixels=pixels)])
+
+
+def test_a_relative_texture_path_is_relative_to_the_scene_file(tmp_path, monkeypatch):
+    # It was read from the current directory: the same scene file rendered magenta from anywhere else (issue 27).
+    (tmp_path / "scene").mkdir()
+    (tmp_path / "elsewhere").mkdir()
+    monkeypatch.chdir(tmp_path / "scene")
+    scene, from_pixels = image_file_scene(tmp_path / "scene")
+    sphrect.save_scene(scene, "s.sphrect.npz")
+    monkeypatch.chdir(tmp_path / "elsewhere")
+    loaded = sphrect.load_scene(str(tmp_path / "scene" / "s.sphrect.npz"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no missing image
+        np.testing.assert_array_equal(render(loaded), render(from_pixels))
+    assert loaded.textures[0].path == str(tmp_path / "scene" / "image.ppm")
+
+
+def test_a_scene_saved_again_elsewhere_names_the_same_texture_file(tmp_path, monkeypatch):
+    # save -> load -> save in another folder -> load, and a relative path saved from another directory than the
+    # file's: each time the file the scene in memory reads.
+    for folder in ("images", "a", "b", "run"):
+        (tmp_path / folder).mkdir()
+    monkeypatch.chdir(tmp_path / "images")
+    scene, from_pixels = image_file_scene(tmp_path / "images")
+    sphrect.save_scene(scene, str(tmp_path / "a" / "s.sphrect.npz"))  # 'image.ppm' of images/, stored relative to a/
+    monkeypatch.chdir(tmp_path / "run")
+    again = sphrect.load_scene(str(tmp_path / "a" / "s.sphrect.npz"))
+    sphrect.save_scene(again, str(tmp_path / "b" / "s.sphrect.npz"))
+    for name in ("a", "b"):
+        loaded = sphrect.load_scene(str(tmp_path / name / "s.sphrect.npz"))
+        assert loaded.textures[0].path == str(tmp_path / "images" / "image.ppm"), name
+        np.testing.assert_array_equal(render(loaded), render(from_pixels))
 
 
 def test_textured_scene_reports_its_features():

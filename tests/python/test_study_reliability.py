@@ -11,6 +11,7 @@ import subprocess
 import sys
 import threading
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -268,3 +269,145 @@ def test_a_study_whose_ladder_runs_all_fail_still_writes_its_report(scene_file, 
     assert len(summary["failures"]) == len(os.listdir(out / "failed")) > 0 and summary["equal_time_runs"] == 0
     assert "equal-time renders skipped" in capfd.readouterr().err
     assert (out / "report.md").exists()
+
+
+# -- issue 27: scenes that cannot be built, warnings, texture paths -----------------------------------------------
+
+def study_command(scene, out, *options):
+    """scripts/study.py as a user runs it, in a subprocess: its exit status and stderr as they are."""
+    package_root = os.path.dirname(os.path.dirname(os.path.abspath(sphrect.__file__)))
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path), SPHRECT_PYTHON_PATH=package_root)
+    return subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "study.py"), scene, "--out", str(out),
+                           *QUICK, *options], env=env, capture_output=True, text=True, timeout=300)
+
+
+def nan_radiance_scene(folder):
+    scene = paper_like_scene(8, 6)
+    scene.lights[0].radiance = (float("nan"), 1.0, 1.0)
+    path = str(folder / "nan.sphrect.npz")
+    sphrect.save_scene(scene, path)
+    return path
+
+
+def truncated_blend(folder):
+    path = str(folder / "truncated.blend")
+    with open(os.path.join(ROOT, "blend_scenes", "01_paper.blend"), "rb") as f:
+        content = f.read()
+    with open(path, "wb") as f:
+        f.write(content[:len(content) // 2])
+    return path
+
+
+@pytest.mark.parametrize("make_scene", [nan_radiance_scene, truncated_blend])
+def test_a_scene_that_cannot_be_built_is_refused_before_any_job(tmp_path, make_scene):
+    # Every reference chunk was rendered, and failed, then a traceback and exit status 1 (the NaN radiance), or a
+    # traceback at once (the .blend Blender cannot read; issue 27): now the scene is read and built once, first.
+    scene, out = make_scene(tmp_path), tmp_path / "out"
+    run = study_command(scene, out)
+    assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+    errors = [line for line in run.stderr.splitlines() if line.startswith("error")]
+    assert len(errors) == 1 and run.stderr.splitlines()[-1] == errors[0], run.stderr
+    assert errors[0].startswith(f"error: scene: {scene}: ") and (
+        "radiance must be finite" in errors[0] or "Blender could not export it" in errors[0]), errors[0]
+    assert not (out / "runs").exists()  # no job ran
+
+
+# A study of one configuration on the real renderer, as small as a report allows.
+ONE_CONFIGURATION = ["--techniques", "rectangle", "--mis", "balance", "--patterns", "sobol", "--grid-mis", "balance"]
+
+
+def textured_scene(texture, material=None):
+    """test_render_textures' lit plane of 8x6 pixels, its base colour from `texture`."""
+    from test_render_textures import lit_scene
+    material = material or sphrect.Material(textures={"base_color": sphrect.TextureLookup(0)})
+    return lit_scene(material, [texture], width=8, height=6)
+
+
+def test_every_warning_of_a_study_is_in_its_report(tmp_path):
+    # A missing image rendered magenta, warned on the workers' stderr alone: the study exited 0 and its report
+    # said nothing (issue 27).
+    scene = str(tmp_path / "missing.sphrect.npz")
+    sphrect.save_scene(textured_scene(sphrect.Texture(name="gone", path=str(tmp_path / "gone.png"))), scene)
+    out = tmp_path / "out"
+    assert cli.main([scene, "--out", str(out), *QUICK, *ONE_CONFIGURATION]) == 0
+    report = (out / "report.md").read_text()
+    assert "image 'gone'" in report and "magenta" in report and "the scene check and " in report, report[:3000]
+
+
+def mirror_scene():
+    """A mirror under a light so bright that some of rectangle_cosine's samples on it overflow float."""
+    mirror = textured_scene(sphrect.Texture(pixels=np.full((1, 1, 3), 200, np.uint8)),
+                            sphrect.Material(kind="principled", roughness=0.0, metallic=1.0))
+    mirror.lights[0].radiance = (3e37,) * 3
+    return mirror
+
+
+def test_a_study_whose_runs_drop_samples_says_so_in_its_report(tmp_path):
+    # Non-finite samples were left out of the images in silence, but for stats()['dropped_samples'] (issue 27).
+    scene = str(tmp_path / "mirror.sphrect.npz")
+    sphrect.save_scene(mirror_scene(), scene)
+    out = tmp_path / "out"
+    assert cli.main([scene, "--out", str(out), *QUICK, *ONE_CONFIGURATION, "--techniques", "rectangle_cosine"]) == 0
+    assert "samples were not finite (NaN or infinite) and were left out of the image" in (out / "report.md").read_text()
+    records = [json.loads((out / "runs" / name).read_text()) for name in os.listdir(out / "runs")]
+    assert any(r["dropped_samples"] > 0 for r in records)
+
+
+def green_image_scene(folder):
+    """A scene file in `folder` reading a green image beside it by the relative path 'green.ppm'."""
+    from test_render_textures import write_ppm
+    write_ppm(folder / "green.ppm", np.tile(np.array([0, 255, 0], np.uint8), (2, 2, 1)))
+    path = str(folder / "green.sphrect.npz")
+    cwd = os.getcwd()
+    os.chdir(folder)
+    try:
+        sphrect.save_scene(textured_scene(sphrect.Texture(path="green.ppm")), path)
+    finally:
+        os.chdir(cwd)
+    return path
+
+
+def test_a_study_run_from_elsewhere_reads_the_scene_files_images(tmp_path, monkeypatch):
+    # The relative path was read from the study's current directory: magenta (issue 27).
+    (tmp_path / "scene").mkdir()
+    (tmp_path / "elsewhere").mkdir()
+    scene = green_image_scene(tmp_path / "scene")
+    monkeypatch.chdir(tmp_path / "elsewhere")
+    out = tmp_path / "out"
+    assert cli.main([scene, "--out", str(out), *QUICK, *ONE_CONFIGURATION]) == 0
+    reference = np.load(out / "images" / "reference.npy")
+    assert reference[..., 1].mean() > 0 and not reference[..., 0].any()  # green, not magenta
+    assert "magenta" not in (out / "report.md").read_text()
+
+
+def test_a_worker_reads_its_copies_of_the_scene_and_its_images(tmp_path, monkeypatch):
+    # A Dask worker reads a copy of the scene file in a folder of its own (shared_files.py): a relative texture path
+    # is resolved against the study's scene folder, and the image read from the worker's copy of it too.
+    from sphrect.study import runner, shared_files
+    from sphrect.study.jobs import Job
+    (tmp_path / "scene").mkdir()
+    scene = green_image_scene(tmp_path / "scene")
+    context = runner.RunContext(store_root=str(tmp_path / "out"), scene_path=scene, width=8, height=6,
+                                fingerprint="", texture_files=runner.scene_texture_files(sphrect.load_scene(scene)))
+    assert context.texture_files == (str(tmp_path / "scene" / "green.ppm"),)
+    monkeypatch.setattr(shared_files, "_copies", {})
+    monkeypatch.setattr(runner, "_scene_cache", {})
+    shared_files.use_copies(shared_files.read_files(runner.job_files(context, [])), str(tmp_path / "worker"))
+    shutil.rmtree(tmp_path / "scene")  # the study's folder is not on the worker's machine
+    monkeypatch.chdir(tmp_path / "worker")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no missing image
+        image, _ = runner.render_sphrect(context, Job("sphrect", "rectangle", "balance", "sobol", 2))
+    assert image[..., 1].mean() > 0 and not image[..., 0].any()
+
+
+def test_the_exporters_warnings_are_in_the_report(scene_file, tmp_path):
+    # A .blend's exporter warnings were kept in config.json, but the report did not show them (issue 27).
+    from sphrect.study.report import write_report
+    out = tmp_path / "out"
+    study(scene_file, out, report=False, **DAMAGE_STUDY)
+    config = json.loads((out / "config.json").read_text())
+    config["exporter_warnings"] = "SPHRECT does not support, ignored: particle hair (Cube)"  # as export_blend gives
+    (out / "config.json").write_text(json.dumps(config))
+    write_report(str(out), sampler_table=False)
+    assert "- SPHRECT does not support, ignored: particle hair (Cube) (the exporter)" in (out / "report.md").read_text()

@@ -119,8 +119,8 @@ def _option(setting: str) -> str:
 
 
 def main(argv: Optional[List[str]] = None) -> int:
-    """Every option is checked (alone and with the others) before anything is rendered: a bad one ends the study
-    at once with exit status 2 and a message naming it."""
+    """Every option, and the scene, is checked (alone and with the others) before anything is rendered: a bad one
+    ends the study at once with exit status 2 and a line naming it."""
     args = parser().parse_args(argv)
     from .report import write_report
     try:
@@ -156,12 +156,15 @@ def main(argv: Optional[List[str]] = None) -> int:
             from .cycles import find_blender
             if not args.scene.endswith(".blend") or find_blender(args.blender) is None:
                 raise SettingError("cycles", "--cycles on needs a .blend scene and Blender")
-        from .study import run_study
+        from .study import ReferenceFailed, run_study
         executor = make_executor(args.executor, args.scheduler, args.workers)
         try:
             summary = run_study(args.scene, args.out, config, reference, workers=args.workers,
                                 resolution=args.resolution, blender=args.blender, blender_script=args.blender_script,
                                 progress=not args.quiet, report=False, executor=executor)
+        except ReferenceFailed as e:  # nothing to measure against: no report
+            print(f"error: {e}", file=sys.stderr)
+            return 1
         finally:
             if executor is not None:
                 executor.close()

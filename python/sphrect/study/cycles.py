@@ -75,9 +75,29 @@ def _sphrect_python_dir() -> str:
     return os.path.dirname(os.path.dirname(os.path.abspath(sphrect.__file__)))
 
 
+class BlenderFailed(RuntimeError):
+    """Blender ended with an error (the message has the tail of its output); `reason` is the line that says why."""
+
+    def __init__(self, message: str, reason: str):
+        super().__init__(message)
+        self.reason = reason
+
+
+_ERROR_LINE = re.compile(r"^(Error: |[A-Za-z_.]*(Error|Exception): )")
+
+
+def blender_error_line(output: str) -> str:
+    """The line of Blender's output that says why it failed: its last error line (Blender's "Error: ..." or a Python
+    exception's), else its last line."""
+    lines = [line.strip() for line in output.splitlines() if line.strip() and line.strip() != "Blender quit"]
+    errors = [line for line in lines if _ERROR_LINE.match(line)]
+    line = (errors or lines or ["no output"])[-1]
+    return line[len("Error: "):] if line.startswith("Error: ") else line
+
+
 def run_blender(blend: str, command: str, args: Dict, blender: Optional[str] = None,
                 blender_script: Optional[str] = None, timeout: float = 3600) -> subprocess.CompletedProcess:
-    """Run the add-on's headless `command` with `args` in Blender on `blend`."""
+    """Run the add-on's headless `command` with `args` in Blender on `blend` (BlenderFailed when it fails)."""
     exe = find_blender(blender)
     if exe is None:
         raise RuntimeError("Blender was not found (install Debian's blender, or set $BLENDER)")
@@ -88,8 +108,10 @@ def run_blender(blend: str, command: str, args: Dict, blender: Optional[str] = N
     env = dict(os.environ, SPHRECT_PYTHON_PATH=_sphrect_python_dir())
     result = subprocess.run(command_line, capture_output=True, text=True, timeout=timeout, env=env)
     if result.returncode != 0:
-        tail = "\n".join((result.stdout + result.stderr).strip().splitlines()[-25:])
-        raise RuntimeError(f"Blender failed on {blend} (exit {result.returncode}):\n{tail}")
+        output = result.stdout + result.stderr
+        tail = "\n".join(output.strip().splitlines()[-25:])
+        raise BlenderFailed(f"Blender failed on {blend} (exit {result.returncode}):\n{tail}",
+                            blender_error_line(output))
     return result
 
 

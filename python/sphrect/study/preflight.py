@@ -1,11 +1,11 @@
 """Checks of a study's settings that need more than one setting or the machine (the resolution against memory,
-the worker count), made before anything is rendered so that a bad setting fails in seconds, naming its option,
-rather than after the reference or the ladder (single settings are checked by StudyConfig and
-ReferenceSettings themselves)."""
+the worker count), and of its scene (read and built once), made before anything is rendered so that a bad setting
+or scene fails in seconds, naming its option, rather than after the reference or the ladder (single settings are
+checked by StudyConfig and ReferenceSettings themselves)."""
 from __future__ import annotations
 
 import os
-from typing import Optional
+from typing import List, Optional
 
 from .. import _native
 from .jobs import SettingError, check_int
@@ -60,3 +60,29 @@ def check_workers(workers: Optional[int]) -> Optional[int]:
     if workers is None:
         return None
     return check_int("workers", workers, 1, MAX_WORKERS_PER_CORE * (os.cpu_count() or 1))
+
+
+def one_line(text) -> str:
+    """`text` on one line, its lines joined by '; ' (the command line prints an error as one line)."""
+    return "; ".join(line.strip() for line in str(text).splitlines() if line.strip())
+
+
+def load_study_scene_file(scene_path: str):
+    """The study's scene file (load_scene), else SettingError naming the scene when it cannot be read."""
+    from ..scene import load_scene
+    try:
+        return load_scene(scene_path)
+    except ValueError as e:  # its message names the file
+        raise SettingError("scene", one_line(e)) from None
+
+
+def check_scene(scene, input_path: str) -> List[str]:
+    """Build `scene` once, as every job's renderer will (render.build_native_scene): SettingError naming the scene
+    when it cannot be built (a NaN radiance, an index out of range...), which would fail every job; else the
+    warnings of building it (a missing image, a light left out), which every run will give too."""
+    from ..render import build_native_scene
+    try:
+        _, warnings = build_native_scene(scene)
+    except (ValueError, TypeError) as e:
+        raise SettingError("scene", f"{input_path}: cannot be rendered: {one_line(e)}") from None
+    return list(warnings)

@@ -11,6 +11,7 @@ import importlib
 import math
 import os
 import time
+import warnings
 from dataclasses import dataclass, replace
 from typing import Dict, Optional, Tuple
 
@@ -40,6 +41,7 @@ class RunContext:
     blender: Optional[str] = None
     blender_script: Optional[str] = None  # the add-on's headless entry point (cycles.find_blender_script)
     render_hook: Optional[str] = None     # "module:function" replacing render_job (tests)
+    texture_files: Tuple[str, ...] = ()   # the image files the scene reads by path (scene_texture_files)
 
     def with_reference(self, name: str, fingerprint: str) -> "RunContext":
         return replace(self, reference_name=name, fingerprint=fingerprint)
@@ -50,13 +52,18 @@ _scene_cache: Dict[Tuple, object] = {}
 _reference_cache: Dict[Tuple[str, str, str], np.ndarray] = {}
 
 
-def load_study_scene(path: str, width: int, height: int):
-    """The scene file at the study's resolution (cached per worker process, while the file stays the same)."""
+def load_study_scene(scene_path: str, width: int, height: int):
+    """The study's scene file at the study's resolution, as this worker reads it (cached per worker process, while the
+    file stays the same): its copy of the file and of each image the scene reads by path (shared_files.py), a relative
+    texture path resolved against the study's scene file's folder, as on the study's own machine."""
+    path = local_path(scene_path)
     info = os.stat(path)
     key = (os.path.abspath(path), info.st_mtime_ns, info.st_size, width, height)
     if key not in _scene_cache:
         import sphrect
-        scene = sphrect.load_scene(path)
+        scene = sphrect.load_scene(path, relative_to=os.path.dirname(os.path.abspath(scene_path)))
+        for texture in scene.textures:
+            texture.path = local_path(texture.path) if texture.path else texture.path
         scene.camera.width, scene.camera.height = int(width), int(height)
         _scene_cache.clear()
         _scene_cache[key] = scene
@@ -69,7 +76,7 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     thread, the render's own compute time, insensitive to other load on the machine);
     wall_time/light_time/shading_time/rays: the renderer's own stats."""
     import sphrect
-    scene = load_study_scene(local_path(context.scene_path), context.width, context.height)
+    scene = load_study_scene(context.scene_path, context.width, context.height)
     t0 = time.perf_counter()
     renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
                                 pattern=job.pattern, mis=job.mis, light_selection=job.light_selection,
@@ -94,6 +101,7 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
         "samples_done": int(stats["samples"]),
         "camera_rays": int(stats["camera_rays"]),
         "camera_time": float(stats["camera_time"]),
+        "dropped_samples": int(stats["dropped_samples"]),
     }
     return image, measured
 
@@ -148,17 +156,23 @@ def run_job(context: RunContext, job: Job) -> Tuple[Dict, Optional[np.ndarray]]:
     """Render `job` and measure it (in a worker); returns its record and, for reference chunks and equal-time runs,
     its image, which the study's own process stores (record_result): workers write nothing, so a worker on another
     machine, or one that dies, leaves the store as it was. The measured times are scaled by the worker's
-    machines.slowdown(), and the record says where it ran (machines.machine_info)."""
+    machines.slowdown(), and the record says where it ran (machines.machine_info) and every warning the render gave
+    (a missing image, samples left out as not finite...), for the report."""
     if in_study_pool():  # a local pool's worker: claim the folder while this process lives (lock.py)
         hold_worker_lock(context.store_root)
-    image, measured = _render_function(context)(context, job)
+    # This job's warnings: catch_warnings is the process's, and a study's worker runs one job at a time (a Dask worker
+    # of several threads may mix those of the jobs it runs together).
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        image, measured = _render_function(context)(context, job)
     image = np.asarray(image, dtype=np.float32)
     if image.ndim != 3 or image.shape[0] != context.height or image.shape[1] != context.width:
         raise RuntimeError(f"{job.key}: rendered an image of shape {image.shape}, expected "
                            f"({context.height}, {context.width}, 4)")
     finite = bool(np.all(np.isfinite(image[..., :3])))
     record = {"key": job.key, "fingerprint": context.fingerprint, "job": job.to_dict(), "label": job.label,
-              "finite": finite, **scale_times(measured, slowdown()), "machine": machine_info()}
+              "finite": finite, **scale_times(measured, slowdown()), "machine": machine_info(),
+              "warnings": list(dict.fromkeys(str(w.message) for w in caught))}
     kept = None
     if job.kind in (REFERENCE_KIND, EQUAL_TIME):
         record["image"] = job.key
@@ -171,6 +185,13 @@ def run_job(context: RunContext, job: Job) -> Tuple[Dict, Optional[np.ndarray]]:
     return record, kept
 
 
+def scene_texture_files(scene) -> Tuple[str, ...]:
+    """The image files `scene` (as load_scene gives it: absolute texture paths) reads by path, those that are
+    there: a missing one is magenta and warned on every worker alike."""
+    return tuple(dict.fromkeys(t.path for t in scene.textures
+                               if t.pixels is None and t.path and os.path.isfile(t.path)))
+
+
 def record_result(store: ResultStore, record: Dict, image: Optional[np.ndarray]) -> None:
     """Stores a run_job result: its image first, then its record (each written atomically), so that a record is
     never there without its image."""
@@ -180,9 +201,9 @@ def record_result(store: ResultStore, record: Dict, image: Optional[np.ndarray])
 
 
 def job_files(context: RunContext, jobs) -> list:
-    """The files `jobs` read (Executor.run's `files`): the scene, the reference image once there is one, the .blend
-    for Cycles jobs."""
-    files = [context.scene_path]
+    """The files `jobs` read (Executor.run's `files`): the scene and the images it reads by path, the reference image
+    once there is one, the .blend for Cycles jobs."""
+    files = [context.scene_path, *context.texture_files]
     if context.reference_name:
         files.append(ResultStore(context.store_root).image_path(context.reference_name))
     if context.blend_path and any(job.engine == CYCLES for job in jobs):

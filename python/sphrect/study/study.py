@@ -13,6 +13,7 @@ import hashlib
 import os
 import sys
 import time
+from collections import Counter
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -20,13 +21,14 @@ import numpy as np
 from . import metrics
 from ..build import build_hash
 from .executors import Executor, LocalProcessPool
-from .jobs import SPHRECT, CostKey, Job, StudyConfig, build_plan, cost_key, equal_time_jobs, fingerprint
+from .jobs import (SPHRECT, CostKey, Job, SettingError, StudyConfig, build_plan, cost_key, equal_time_jobs,
+                   fingerprint)
 from .lock import WORKER_EXIT_WAIT, StudyLock
 from .machines import judged_times
-from .preflight import check_resolution, check_workers
+from .preflight import check_resolution, check_scene, check_workers, load_study_scene_file, one_line
 from .progress import ProgressBar
 from .reference import ReferenceSettings, combine_reference, load_reference_info, reference_jobs
-from .runner import RunContext, job_files, record_result, run_job
+from .runner import RunContext, job_files, record_result, run_job, scene_texture_files
 from .store import ResultStore, atomic_write_json
 
 SCENE_FILE = "scene.sphrect.npz"
@@ -52,15 +54,19 @@ def prepare_scene(input_path: str, out_dir: str, resolution: Optional[Tuple[int,
                   blender: Optional[str] = None, blender_script: Optional[str] = None
                   ) -> Tuple[str, Optional[str], str]:
     """(scene file, .blend or None, exporter warnings). A .blend is exported with Blender headless
-    (at `resolution` if given); a .sphrect.npz is used as it is."""
+    (at `resolution` if given; SettingError naming the scene when it cannot be); a .sphrect.npz is used as it is."""
     if not os.path.isfile(input_path):
         raise ValueError(f"{input_path}: no such file")
     if input_path.endswith(".blend"):
-        from .cycles import export_blend
+        from .cycles import BlenderFailed, export_blend
         scene_path = os.path.join(out_dir, SCENE_FILE)
         log(f"exporting {input_path} with Blender ...")
-        warnings = export_blend(input_path, scene_path, resolution=resolution, blender=blender,
-                                blender_script=blender_script)
+        try:
+            warnings = export_blend(input_path, scene_path, resolution=resolution, blender=blender,
+                                    blender_script=blender_script)
+        except RuntimeError as e:  # a .blend Blender cannot open (truncated), no Blender, no add-on script
+            reason = e.reason if isinstance(e, BlenderFailed) else one_line(e)
+            raise SettingError("scene", f"{input_path}: Blender could not export it: {reason}") from None
         return scene_path, os.path.abspath(input_path), warnings
     if input_path.endswith(".npz"):
         return os.path.abspath(input_path), None, ""
@@ -72,7 +78,7 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
     """Run the jobs of one phase that have no current record; returns (records of all jobs, failures)."""
     todo = [j for j in phase_jobs if not store.is_done(j.key, context.fingerprint)]
     done = len(phase_jobs) - len(todo)
-    failures = []
+    failures, warned = [], Counter()  # warning -> runs that gave it
     if todo:
         if done:
             log(f"{label}: {done} of {len(phase_jobs)} runs already measured, {len(todo)} to go")
@@ -85,11 +91,14 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
                     bar.update(1, note=f"FAILED {job.key}")
                 else:
                     record_result(store, *result)
+                    warned.update(result[0].get("warnings", ()))
                     rmse = result[0].get("rmse")
                     bar.update(1, note=f"{job.label} n={job.samples}" + (f" rmse={rmse:.3g}" if rmse else ""))
     store.remove_stale_temporaries()  # no worker is writing now; a killed one may have left its temporary
     for job, message in failures:
         log(f"  failed: {job.key}: {message.splitlines()[0] if message else ''}")
+    for message, runs in warned.items():  # also in the report
+        log(f"  warning ({label}, {runs} run{'s' if runs > 1 else ''}): {message}")
     records = [r for r in (store.read_run(j.key) for j in phase_jobs)
                if r is not None and r.get("fingerprint") == context.fingerprint]
     return records, failures
@@ -130,6 +139,10 @@ def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
 STATE_FILE = "state.json"
 
 
+class ReferenceFailed(RuntimeError):
+    """Reference chunks failed: the study cannot measure any error without its reference."""
+
+
 def _write_state(out_dir: str, **values) -> None:
     """study state the report needs (the current runs' fingerprint, the equal-time budget)."""
     state = ResultStore(out_dir).read_json(STATE_FILE) or {}  # a damaged one is set aside and rewritten
@@ -165,7 +178,6 @@ def run_study(input_path: str, out_dir: str, config: Optional[StudyConfig] = Non
 def _run_locked(input_path, out_dir, config, reference, executor, resolution, blender, blender_script, render_hook,
                 progress, report, sampler_table) -> Dict:
     """run_study's phases, in a folder this study holds (lock.py)."""
-    store = ResultStore(out_dir)
     started = time.time()
 
     if config.cycles:
@@ -180,11 +192,16 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
     scene_path, blend_path, warnings = prepare_scene(input_path, out_dir, resolution, blender, blender_script)
     if warnings:
         log(f"exporter warnings: {warnings}")
-    from ..scene import load_scene
-    camera = load_scene(scene_path).camera
-    width, height = resolution or (camera.width, camera.height)
+    # The scene checked once, before any job (every job would fail on a scene that cannot be built).
+    scene = load_study_scene_file(scene_path)
+    width, height = resolution or (scene.camera.width, scene.camera.height)
     check_resolution(width, height, workers=getattr(executor, "workers", None) or 1, chunks=reference.chunks,
                      setting="resolution")  # the scene's own, when not given
+    scene.camera.width, scene.camera.height = width, height
+    scene_warnings = [] if render_hook else check_scene(scene, input_path)  # a hook renders instead (tests' fakes)
+    for message in scene_warnings:
+        log(f"scene warning: {message}")
+    store = ResultStore(out_dir)
     # Runs are redone when the scene, the resolution or the renderer's build changes.
     scene_fp = fingerprint(scene=scene_content_hash(scene_path), width=width, height=height,
                            renderer=build_hash())
@@ -193,10 +210,12 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
     atomic_write_json(os.path.join(out_dir, CONFIG_FILE), {
         "input": os.path.relpath(input_path), "scene_file": scene_path, "blend": blend_path, "width": width,
         "height": height, "study": config.to_dict(), "reference": reference.__dict__, "exporter_warnings": warnings,
-        "workers": getattr(executor, "workers", None), "executor": type(executor).__name__})
+        "scene_warnings": scene_warnings, "workers": getattr(executor, "workers", None),
+        "executor": type(executor).__name__})
     context = RunContext(store_root=store.root, scene_path=scene_path, width=width, height=height,
                          fingerprint=scene_fp, blend_path=blend_path, blender=blender,
-                         blender_script=blender_script, render_hook=render_hook)
+                         blender_script=blender_script, render_hook=render_hook,
+                         texture_files=scene_texture_files(scene))
     log(f"study of {input_path}: {width}x{height}, {len(config.techniques)} techniques x {len(config.mis)} MIS x "
         f"{len(config.patterns)} patterns x {len(config.light_selections)} light selections x "
         f"{len(config.ellipse_techniques)} ellipse techniques x ladder "
@@ -210,7 +229,8 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
     chunk_jobs = reference_jobs(reference, threads=config.threads)
     _, failures = _run_phase(executor, context, store, chunk_jobs, "reference", progress)
     if failures:
-        raise RuntimeError(f"{len(failures)} reference chunks failed; first: {failures[0][1]}")
+        raise ReferenceFailed(f"{len(failures)} reference chunks failed (see {os.path.join(out_dir, 'failed')}); "
+                              f"first: {one_line(failures[0][1])}")
     info = load_reference_info(store)
     expected_keys = [j.key for j in chunk_jobs]
     if info is None or info.get("chunk_keys") != expected_keys or info.get("scene_fingerprint") != scene_fp \

@@ -12,12 +12,15 @@ from ..store import atomic_write_bytes
 from . import equal_error, findings, plots, wording
 from .curves import REFERENCE_NOISE_FACTOR
 from .document import Document
-from .results import Curves, StudyResults, curves, equal_time_grid, load_study, smallest_rmse, write_runs
+from .results import (Curves, StudyResults, curves, equal_time_grid, load_study, smallest_rmse, study_warnings,
+                      write_runs)
 from .wording import COST_NOTE, fmt
 
 PLOTS = "plots"
 # The reference's error is "well under" the smallest error reported below this share of it.
 REFERENCE_SHARE_OK = 0.3
+# Distinct warnings the report lists (the runs' records have them all).
+MAX_WARNINGS_SHOWN = 12
 
 
 @dataclass
@@ -104,6 +107,21 @@ def scene_section(report: Report) -> None:
     if non_finite:
         doc.para(f"**{len(non_finite)} runs produced NaN/Inf pixels** (their RMSE is infinite): "
                  + ", ".join(non_finite[:8]))
+    warnings_paragraphs(report)
+
+
+def warnings_paragraphs(report: Report) -> None:
+    """Every warning the study gave (study_warnings), at most MAX_WARNINGS_SHOWN, so that what renders otherwise than
+    intended (a missing image, samples left out) is in the report and not only in a terminal."""
+    warned = study_warnings(report.results)
+    if not warned:
+        return
+    report.doc.para(f"**{len(warned)} warning{'s' if len(warned) > 1 else ''}**: the images may not be what the "
+                    f"scene means (each run's record in runs/ has its own):")
+    for message, where in warned[:MAX_WARNINGS_SHOWN]:
+        report.doc.para(f"- {message} ({where})")
+    if len(warned) > MAX_WARNINGS_SHOWN:
+        report.doc.para(f"- and {len(warned) - MAX_WARNINGS_SHOWN} more")
 
 
 def reference_section(report: Report) -> None:

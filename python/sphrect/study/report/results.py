@@ -24,7 +24,7 @@ CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "light_se
                "samples", "light_samples",
                "seed", "threads", "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time",
                "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse",
-               "finite", *MACHINE_FIELDS)
+               "finite", "dropped_samples", *MACHINE_FIELDS)
 
 
 @dataclass
@@ -62,6 +62,25 @@ def load_study(out_dir: str) -> StudyResults:
                         settings=settings, ladder=[r for r in records if r["job"]["kind"] == LADDER],
                         equal_time=[r for r in records if r["job"]["kind"] == EQUAL_TIME],
                         failures=list(store.failures()), time_basis=basis.description)
+
+
+def study_warnings(results: StudyResults) -> List[Tuple[str, str]]:
+    """Every warning the study gave, once each, with where: (message, "the exporter" | "the scene check" and/or "N
+    runs"), the exporter's and the scene check's first, then the runs' (reference chunks included), most runs
+    first."""
+    sources: Dict[str, List[str]] = {}
+    for message in (results.config.get("exporter_warnings") or "").splitlines():
+        sources.setdefault(message, []).append("the exporter")
+    for message in results.config.get("scene_warnings") or ():
+        sources.setdefault(message, []).append("the scene check")
+    chunks = [results.store.read_run(key) for key in results.reference.get("chunk_keys", ())]
+    runs = defaultdict(int)
+    for record in [r for r in chunks if r] + results.ladder + results.equal_time:
+        for message in record.get("warnings") or ():
+            runs[message] += 1
+    for message, count in sorted(runs.items(), key=lambda item: -item[1]):
+        sources.setdefault(message, []).append(f"{count} run{'s' if count > 1 else ''}")
+    return [(message, " and ".join(where)) for message, where in sources.items()]
 
 
 def curves(records: List[Dict]) -> Curves:
