@@ -170,6 +170,7 @@ print(sorted(refused), np.isfinite(r.image()).all())
 """
 
 
+@pytest.mark.slow
 def test_every_method_against_every_other_on_other_threads():
     # Issue 27, class 1 in general: every public method of a Renderer, called from six threads at once for 3 s, in a
     # child process so that a crash fails the test.  Each call either runs or is refused with a RuntimeError that
