@@ -141,6 +141,7 @@ class DATA_PT_sphrect_light(SphrectPanel, bpy.types.Panel):
         light = context.light
         if light.type == "AREA":
             layout.prop(light.sphrect, "two_sided")
+            layout.prop(light, "spread")  # Cycles' (its own panel is not shown for SPHRECT)
             layout.prop(context.object, "visible_camera", text="Visible to Camera")
         ignored = ignored_light_settings(light)
         if ignored:

@@ -63,4 +63,22 @@ RectLightFrame<T> MakeRectLightFrame(const RectLight<T>& light) {
     return f;
 }
 
+// The sub-rectangle [u0, u1] x [v0, v1] of the light, in lengths along its unit edges from its corner
+// (0 <= u0 < u1 <= wx, 0 <= v0 < v1 <= wy): another rectangle for every technique, its corner computed in
+// double from the light's (the float light is what the samples' points are built from).  Invalid when the
+// light is, or when the sub-rectangle is empty.
+template <class T>
+RectLightFrame<T> SubRectLightFrame(const RectLightFrame<T>& f, double u0, double v0, double u1, double v1) {
+    RectLightFrame<T> s = f;
+    s.corner = f.corner + f.exh * u0 + f.eyh * v0;
+    s.wx = u1 - u0;
+    s.wy = v1 - v0;
+    s.light.corner = Vec3<T>(s.corner);
+    s.light.ex = Vec3<T>(f.exh * s.wx);
+    s.light.ey = Vec3<T>(f.eyh * s.wy);
+    const T area = T(s.wx * s.wy);
+    s.valid = f.valid && s.wx > 0 && s.wy > 0 && area > 0 && std::isfinite(area);
+    return s;
+}
+
 }  // namespace sphrect

@@ -305,6 +305,16 @@ void BindRender(py::module_& m) {
     m.attr("pixel_filters") = names(render::kPixelFilterNames);
     m.attr("MIN_PIXEL_FILTER_WIDTH") = render::kMinPixelFilterWidth;
     m.attr("MAX_PIXEL_FILTER_WIDTH") = render::kMaxPixelFilterWidth;
+    m.attr("MIN_AREA_SPREAD") = render::kMinAreaSpread;
+    m.def(
+        "area_spread_factors",
+        [](float spread) {
+            render::AreaLight l;
+            render::SetAreaSpread(l, spread);
+            return py::make_tuple(l.spread_cot, l.spread_normalization);
+        },
+        py::arg("spread"),
+        "(spread_cot, normalization) of an area light's spread as Cycles 3.4 sets them up (render/area_light.h)");
     py::class_<RenderScene, std::shared_ptr<RenderScene>>(
         m, "_Scene", "Native scene; built by sphrect.Renderer from a sphrect.Scene")
         .def(py::init<>())
@@ -340,12 +350,14 @@ void BindRender(py::module_& m) {
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none(), py::arg("uvs") = py::none(),
              py::arg("generated") = py::none())
         .def("add_rect_light",
-             [](RenderScene& s, V3 corner, V3 ex, V3 ey, V3 radiance, bool two_sided, bool visible) {
-                 return s.AddRectLight(ToVec(corner), ToVec(ex), ToVec(ey), ToVec(radiance), two_sided, visible);
+             [](RenderScene& s, V3 corner, V3 ex, V3 ey, V3 radiance, bool two_sided, bool visible, float spread) {
+                 return s.AddRectLight(ToVec(corner), ToVec(ex), ToVec(ey), ToVec(radiance), two_sided, visible,
+                                       spread);
              })
         .def("add_ellipse_light",
-             [](RenderScene& s, V3 center, V3 ax, V3 ay, V3 radiance, bool two_sided, bool visible) {
-                 return s.AddEllipseLight(ToVec(center), ToVec(ax), ToVec(ay), ToVec(radiance), two_sided, visible);
+             [](RenderScene& s, V3 center, V3 ax, V3 ay, V3 radiance, bool two_sided, bool visible, float spread) {
+                 return s.AddEllipseLight(ToVec(center), ToVec(ax), ToVec(ay), ToVec(radiance), two_sided, visible,
+                                          spread);
              })
         .def("add_point_light", [](RenderScene& s, V3 p, V3 i) { s.AddPointLight(ToVec(p), ToVec(i)); })
         .def("add_spot_light", [](RenderScene& s, V3 p, V3 d, V3 i, float size,

@@ -21,6 +21,7 @@ std::vector<std::string> SceneFeatures::Names() const {
     if (orthographic) n.push_back("orthographic");
     if (background) n.push_back("background");
     if (emissive_meshes) n.push_back("emissive_meshes");
+    if (area_spread) n.push_back("area_spread");
     if (textures) n.push_back("textures");
     if (normal_maps) n.push_back("normal_maps");
     if (transparency) n.push_back("transparency");
@@ -125,7 +126,10 @@ void RenderScene::Commit() {
     features_.medium = has_medium;
     features_.dof = camera.aperture_radius > 0 && !camera.orthographic;
     features_.orthographic = camera.orthographic;
-    for (const auto& l : area_lights) features_.ellipse_lights |= l.shape == AreaShape::Ellipse;
+    for (const auto& l : area_lights) {
+        features_.ellipse_lights |= l.shape == AreaShape::Ellipse;
+        features_.area_spread |= l.HasSpread();
+    }
     features_.delta_lights = !delta_lights.empty();
     features_.background = !IsBlack(background);
     features_.emissive_meshes = has_mesh_lights;

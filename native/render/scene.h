@@ -52,7 +52,7 @@ struct MeshData {
 struct SceneFeatures {
     bool glossy = false, medium = false, dof = false;
     bool ellipse_lights = false, delta_lights = false, orthographic = false, background = false;
-    bool emissive_meshes = false;
+    bool emissive_meshes = false, area_spread = false;
     bool textures = false, normal_maps = false, transparency = false;
     std::vector<std::string> Names() const;
 };
@@ -98,11 +98,12 @@ class RenderScene {
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,
                  size_t num_triangles, const float* normals, const int32_t* material_ids, const float* uvs = nullptr,
                  const float* generated = nullptr);
-    // Area lights return "" when added, or why the light was skipped (zero area, black).
+    // Area lights return "" when added, or why the light was skipped (zero area, black).  spread: Blender's
+    // Spread, radians in [0, pi] (pi: none; area_light.h, SetAreaSpread).
     std::string AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
-                             bool two_sided, bool visible);
+                             bool two_sided, bool visible, float spread = kPi);
     std::string AddEllipseLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay, const Spectrum& radiance,
-                                bool two_sided, bool visible);
+                                bool two_sided, bool visible, float spread = kPi);
     void AddPointLight(const Vec3f& position, const Spectrum& intensity);
     void AddSpotLight(const Vec3f& position, const Vec3f& direction, const Spectrum& intensity, float spot_size,
                       float spot_blend);

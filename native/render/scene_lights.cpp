@@ -17,25 +17,33 @@ std::string SkippedForArea(const std::string& what, float area) {
     return {};
 }
 
+// An area light's spread: radians in [0, pi] (Blender's range; pi: none).
+void CheckSpread(const std::string& what, float spread) {
+    if (!(spread >= 0 && spread <= kPi)) Fail(what + " spread must be in [0, pi] radians");
+}
+
 }  // namespace
 
 std::string RenderScene::AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
-                                      bool two_sided, bool visible) {
+                                      bool two_sided, bool visible, float spread) {
     RequireNotCommitted();
     CheckColor("rectangle light radiance", radiance);
+    CheckSpread("rectangle light", spread);
     const std::string problem = ValidateRectLight(RectLight<float>{corner, ex, ey, two_sided});
     if (!problem.empty()) Fail(problem);
     const std::string skipped = SkippedForArea("rectangle light", Length(Cross(ex, ey)));
     if (!skipped.empty()) return skipped;
     if (IsBlack(radiance)) return "rectangle light with zero radiance skipped";
     area_lights.push_back(MakeRectAreaLight(corner, ex, ey, radiance, two_sided, visible));
+    SetAreaSpread(area_lights.back(), spread);
     return {};
 }
 
 std::string RenderScene::AddEllipseLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay,
-                                         const Spectrum& radiance, bool two_sided, bool visible) {
+                                         const Spectrum& radiance, bool two_sided, bool visible, float spread) {
     RequireNotCommitted();
     CheckColor("ellipse light radiance", radiance);
+    CheckSpread("ellipse light", spread);
     CheckVector("ellipse light centre", center);
     CheckVector("ellipse light axes", ax);
     CheckVector("ellipse light axes", ay);
@@ -46,6 +54,7 @@ std::string RenderScene::AddEllipseLight(const Vec3f& center, const Vec3f& ax, c
     if (!skipped.empty()) return skipped;
     if (IsBlack(radiance)) return "ellipse light with zero radiance skipped";
     area_lights.push_back(MakeEllipseAreaLight(center, ax, ay, radiance, two_sided, visible));
+    SetAreaSpread(area_lights.back(), spread);
     return {};
 }
 

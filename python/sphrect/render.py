@@ -218,11 +218,11 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
         if isinstance(light, RectLight):
             msg = native.add_rect_light(rgb(light.corner, "corner"), rgb(light.edge_x, "edge_x"),
                                         rgb(light.edge_y, "edge_y"), rgb(light.radiance, "radiance"),
-                                        bool(light.two_sided), bool(light.visible))
+                                        bool(light.two_sided), bool(light.visible), float(light.spread))
         elif isinstance(light, EllipseLight):
             msg = native.add_ellipse_light(rgb(light.center, "center"), rgb(light.axis_x, "axis_x"),
                                            rgb(light.axis_y, "axis_y"), rgb(light.radiance, "radiance"),
-                                           bool(light.two_sided), bool(light.visible))
+                                           bool(light.two_sided), bool(light.visible), float(light.spread))
         elif isinstance(light, PointLight):
             native.add_point_light(rgb(light.position, "position"), rgb(light.intensity, "intensity"))
         elif isinstance(light, SpotLight):

@@ -57,7 +57,8 @@ FORMAT_NAME = "sphrect-scene"
 # 9: Material.anisotropic, anisotropic_rotation (Principled Anisotropic, the Anisotropic BSDF) and the 'principled'
 # and 'glossy_bsdf' distribution 'multiscatter_ggx', Material.transmission ('principled', with its ior).
 # Older files load unchanged (isotropic GGX, no transmission).
-FORMAT_VERSION = 9
+# 10: RectLight.spread, EllipseLight.spread (Blender's Spread, radians).  Older files load with spread = pi (none).
+FORMAT_VERSION = 10
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -243,6 +244,10 @@ class RectLight:
     two_sided: bool = False
     visible: bool = True             # seen by camera rays
     name: str = "rect"
+    # Blender's Spread (radians, [0, pi]; pi: none), as Cycles 3.4 evaluates it: emission attenuated away from the
+    # normal (max(1 - tan(angle) / tan(spread / 2), 0), normalised to keep the power; at least 1 degree), each
+    # shading point sampling only the sub-rectangle it receives light from (docs/renderer.md).
+    spread: float = math.pi
 
     @property
     def area(self) -> float:
@@ -269,6 +274,7 @@ class EllipseLight:
     two_sided: bool = False
     visible: bool = True
     name: str = "ellipse"
+    spread: float = math.pi          # as RectLight.spread; the whole ellipse is sampled, as in Cycles 3.4
 
 
 @dataclass

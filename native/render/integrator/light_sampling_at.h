@@ -72,10 +72,10 @@ static inline void SkipFormerLightChoiceNumber(const LightSelector& selector, PC
     if (!selector.Empty()) rng.NextFloat();
 }
 
-// A rectangle's sampler is set up once per (point, light) -- lazily, by the first sample of
-// that light or the first pdf a BSDF/phase ray needs of it -- and kept for the following samples
-// and pdfs of that light: up to kKeptSamplers of them, the oldest replaced (4 light samples on
-// the studio's 4 softboxes set up ~2 instead of ~3.5).  No allocation: the samplers live in place.
+// A rectangle's sampler (with spread: of the sub-rectangle SpreadClippedFrame) is set up once per (point, light) --
+// lazily, by the first sample of that light or the first pdf a BSDF/phase ray needs of it -- and kept for the following
+// samples and pdfs of that light: up to kKeptSamplers of them, the oldest replaced (4 light samples on the studio's 4
+// softboxes set up ~2 instead of ~3.5).  No allocation: the samplers live in place.
 template <Technique K>
 class LightSamplingAt {
   public:
@@ -139,7 +139,13 @@ class LightSamplingAt {
             if (sampler_index_[k] == index) return sampler_[k].sampler;
         const int slot = set_up_++ % kKeptSamplers;
         sampler_index_[slot] = index;
-        return *new (&sampler_[slot].sampler) LightSampler<K, float>(origin_, normal_, scene_.area_lights[index].frame);
+        const AreaLight& l = scene_.area_lights[index];
+        // With spread, the technique samples the part of the light this point receives light from (the
+        // same sub-rectangle for the samples and the pdfs of the BSDF rays that hit it).
+        if (l.HasSpread())
+            return *new (&sampler_[slot].sampler)
+                LightSampler<K, float>(origin_, normal_, SpreadClippedFrame(l, origin_));
+        return *new (&sampler_[slot].sampler) LightSampler<K, float>(origin_, normal_, l.frame);
     }
 
     // Triangle lights (every solid-angle technique): the spherical triangle, kept like a

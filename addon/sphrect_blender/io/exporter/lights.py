@@ -18,7 +18,6 @@ IGNORED_LIGHT_SETTINGS = (
     (("POINT", "SPOT"), "shadow_soft_size", 0.0, "Radius (hard shadows)",
      "point/spot light radius (treated as 0: hard shadows)"),
     (("SUN",), "angle", 0.0, "Angle (hard shadows)", "sun angle (treated as 0: hard shadows)"),
-    (("AREA",), "spread", math.pi, "Spread (full hemisphere)", "area light spread (full hemisphere used)"),
 )
 
 
@@ -115,11 +114,12 @@ def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, lo
         ey = np.cross(np.cross(ex, ey) / rect_area, ex) * (rect_area / np.linalg.norm(ex) ** 2)
     two_sided = bool(getattr(getattr(light, "sphrect", None), "two_sided", False))
     visible = bool(getattr(obj, "visible_camera", True))
+    spread = float(light.spread)  # Cycles 3.4's Spread, simulated as it evaluates it (sphrect.RectLight.spread)
     if light.shape in {"SQUARE", "RECTANGLE"}:
         radiance = sphrect.scene.area_light_radiance(power, color, rect_area)
         return sphrect.RectLight(corner=_tuple(centre - 0.5 * ex - 0.5 * ey), edge_x=_tuple(ex), edge_y=_tuple(ey),
-                                 radiance=radiance, two_sided=two_sided, visible=visible, name=name)
+                                 radiance=radiance, two_sided=two_sided, visible=visible, name=name, spread=spread)
     ellipse_area = 0.25 * math.pi * rect_area  # pi * a * b with semi-axes a, b = half the edges
     radiance = sphrect.scene.area_light_radiance(power, color, ellipse_area)
     return sphrect.EllipseLight(center=_tuple(centre), axis_x=_tuple(0.5 * ex), axis_y=_tuple(0.5 * ey),
-                                radiance=radiance, two_sided=two_sided, visible=visible, name=name)
+                                radiance=radiance, two_sided=two_sided, visible=visible, name=name, spread=spread)

@@ -1,0 +1,204 @@
+"""Area light Spread as Cycles 3.4 evaluates it (docs/renderer.md, "Area light spread"): emission attenuated by
+max((1 - cot(h) tan(alpha)) N, 0) for light leaving at alpha to the normal (h: half the spread, at least half a
+degree; cot(h) and N as Cycles computes them, sphrect._native.area_spread_factors), each shading point sampling
+the sub-rectangle it receives light from.
+
+Closed forms on a Lambertian plane under a horizontal light facing it at height d: where the disc of radius
+d tan(h) around a point's foot lies on the light, E = pi L N (1 - h' cot(h)) (h' = atan(1 / cot(h)): the
+integral of cos(alpha) (1 - cot(h) tan(alpha)) over the cone), whatever d; with the foot on the light's edge,
+half of it, on its corner, a quarter (the attenuation is symmetric about the foot).
+
+False-failure rate: each t-tested image is one family of pixel tests at family-wise rate 1e-4 (Sidak), and the
+constant images' means are t-tested once more at 1e-4 (the power: ~0.5 %); there are 2 x (2 scenes x 5 techniques
+x 2 MIS settings + 2 ellipse techniques x 2 MIS) + 2 corner/edge x 5 = 58 tests, so a correct renderer fails
+this file with probability < 0.6 % (seeds are fixed: the outcome is deterministic).
+test_the_tests_detect_a_1_percent_error shows their power."""
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+import sphrect
+from render_testing import ALL_TECHNIQUES, pixel_t_test, plane_mesh, replicate_images, top_camera
+from sphrect import _native
+
+FAMILY_ALPHA = 1e-4
+ALBEDO = 0.5
+REPLICATES = 16
+SAMPLES = 32
+
+
+def pooled_t_test(reps, value, alpha=FAMILY_ALPHA):
+    """Two-sided t-test of the replicates' image means (independent) against a constant image's `value`:
+    (passed, p, relative error of the mean)."""
+    means = reps.reshape(reps.shape[0], -1).mean(axis=1)
+    p = stats.ttest_1samp(means, value).pvalue
+    return bool(p >= alpha), float(p), float(means.mean() / value - 1)
+
+
+def full_cone_radiance(spread, radiance=1.0):
+    """Lambertian radiance albedo E / pi under a spread light covering the whole cone of every point."""
+    cot, norm = _native.area_spread_factors(spread)
+    if cot == 0:
+        return ALBEDO * radiance
+    return ALBEDO * radiance * norm * (1 - math.atan(1 / cot) * cot)
+
+
+def facing_rect(x0, y0, x1, y1, z, spread, radiance=1.0, **kw):
+    """A one-sided rectangle [x0, x1] x [y0, y1] at height z facing down (cross(edge_x, edge_y) = -z)."""
+    return sphrect.RectLight(corner=(x0, y0, z), edge_x=(0, y1 - y0, 0), edge_y=(x1 - x0, 0, 0),
+                             radiance=(radiance,) * 3, visible=False, spread=spread, **kw)
+
+
+def plane_scene(light, camera=None):
+    return sphrect.Scene(camera=camera or top_camera(), meshes=[plane_mesh()], lights=[light],
+                         materials=[sphrect.Material(base_color=(ALBEDO,) * 3)])
+
+
+def test_spread_factors_are_cycles_3_4s():
+    """180 degrees is no spread; below 1 degree Cycles clamps to 1; the normalisation is 1 / (1 - h / tan h)
+    up to Cycles' float cancellation, which it keeps (1.245 times at 1 degree)."""
+    assert _native.area_spread_factors(math.pi) == (0.0, 1.0)
+    assert _native.area_spread_factors(0.0) == _native.area_spread_factors(_native.MIN_AREA_SPREAD)
+    for deg in (10, 30, 90, 179):
+        h = math.radians(deg) / 2
+        cot, norm = _native.area_spread_factors(math.radians(deg))
+        assert cot == pytest.approx(1 / math.tan(h), rel=1e-5)
+        assert norm == pytest.approx(1 / (1 - h / math.tan(h)), rel=3e-4)
+    h = math.radians(1) / 2
+    assert _native.area_spread_factors(math.radians(1))[1] * (1 - h / math.tan(h)) == pytest.approx(1.245, abs=2e-3)
+
+
+def test_spread_pi_is_the_light_without_spread():
+    """Spread = 180 degrees renders bit for bit as a light without it, and is no scene feature."""
+    light = facing_rect(-0.3, -0.4, 0.6, 0.5, 1.0, math.pi)
+    plain = sphrect.RectLight(corner=light.corner, edge_x=light.edge_x, edge_y=light.edge_y,
+                              radiance=light.radiance, visible=False)  # the default spread
+    a = sphrect.Renderer(plane_scene(light), techniques=ALL_TECHNIQUES, seed=3, mis="balance")
+    b = sphrect.Renderer(plane_scene(plain), techniques=ALL_TECHNIQUES, seed=3, mis="balance")
+    a.render(4)
+    b.render(4)
+    assert "area_spread" not in a.features
+    for t in ALL_TECHNIQUES:
+        np.testing.assert_array_equal(a.image(t), b.image(t))
+    c = sphrect.Renderer(plane_scene(facing_rect(-0.3, -0.4, 0.6, 0.5, 1.0, math.radians(170))), seed=3)
+    assert "area_spread" in c.features
+
+
+@pytest.mark.parametrize("spread", [-0.1, math.pi + 1e-3, float("nan")])
+def test_spread_is_validated(spread):
+    with pytest.raises(ValueError, match="spread"):
+        sphrect.Renderer(plane_scene(facing_rect(-1, -1, 1, 1, 1.0, spread)))
+
+
+# name -> (light, expected radiance).  "spread30": a 10 x 10 light at height 1, spread 30 degrees (cone radius
+# 0.27); "spread1_near": spread 1 degree 1e-3 above the plane, each point lit by a 1.7e-5 wide patch.
+FULL_CONE_SCENES = {
+    "spread30": (facing_rect(-5, -5, 5, 5, 1.0, math.radians(30)), full_cone_radiance(math.radians(30))),
+    "spread1_near": (facing_rect(-5, -5, 5, 5, 1e-3, math.radians(1)), full_cone_radiance(math.radians(1))),
+}
+
+
+@pytest.mark.parametrize("mis, bsdf_on_diffuse", [("none", False), ("balance", True)])
+@pytest.mark.parametrize("name", list(FULL_CONE_SCENES))
+def test_full_cone_is_exact_for_every_technique(name, mis, bsdf_on_diffuse):
+    """Every technique samples the clipped sub-rectangle; with MIS and BSDF samples on the diffuse plane the
+    BSDF rays that hit the light weigh themselves with that sub-rectangle's pdf."""
+    light, value = FULL_CONE_SCENES[name]
+    scene = plane_scene(light)
+    expected = np.full((scene.camera.height, scene.camera.width), value)
+    reps = replicate_images(scene, ALL_TECHNIQUES, REPLICATES, SAMPLES, mis=mis,
+                            bsdf_samples_on_diffuse=bsdf_on_diffuse)
+    for t in ALL_TECHNIQUES:
+        ok, p_min, alpha = pixel_t_test(reps[t], expected, FAMILY_ALPHA)
+        rel = np.abs(reps[t].mean(0) / value - 1).max()
+        assert ok, f"{name}/{mis}/{t}: worst p = {p_min:.3g} < {alpha:.3g} (max rel. error {rel:.3g})"
+        ok, p, rel = pooled_t_test(reps[t], value)
+        assert ok, f"{name}/{mis}/{t}: image mean off by {rel:.3g} (p = {p:.3g})"
+
+
+def test_the_tests_detect_a_1_percent_error():
+    light, value = FULL_CONE_SCENES["spread1_near"]
+    reps = replicate_images(plane_scene(light), ["rectangle"], REPLICATES, SAMPLES)
+    assert pooled_t_test(reps["rectangle"], value)[0]
+    assert not pooled_t_test(reps["rectangle"], 1.01 * value)[0]
+    assert not pooled_t_test(reps["rectangle"], 0.99 * value)[0]
+
+
+@pytest.mark.parametrize("where, fraction", [("corner", 0.25), ("edge", 0.5)])
+def test_foot_on_the_lights_edge_or_corner_gets_its_share(where, fraction):
+    """One tiny pixel centred where the light's corner (edge) lies above: a quarter (half) of the full cone, up
+    to the pixel's second-order variation (1e-4 / 0.27)^2."""
+    spread = math.radians(30)
+    light = facing_rect(0.0, 0.0 if where == "corner" else -5.0, 5.0, 5.0, 1.0, spread)
+    scene = plane_scene(light, top_camera(width=1, height=1, half=1e-4))
+    expected = np.full((1, 1), fraction * full_cone_radiance(spread))
+    reps = replicate_images(scene, ALL_TECHNIQUES, REPLICATES, 4 * SAMPLES)
+    for t in ALL_TECHNIQUES:
+        ok, p_min, alpha = pixel_t_test(reps[t], expected, FAMILY_ALPHA)
+        assert ok, f"{where}/{t}: mean {reps[t].mean():.6g}, expected {expected[0, 0]:.6g}, p = {p_min:.3g}"
+
+
+@pytest.mark.parametrize("mis", ["none", "balance"])
+@pytest.mark.parametrize("ellipse_technique", sphrect.ellipse_techniques)
+def test_ellipse_full_cone_is_exact(ellipse_technique, mis):
+    """Ellipses are sampled whole (as Cycles 3.4 does), the attenuation zero outside the cone."""
+    spread = math.radians(60)
+    light = sphrect.EllipseLight(center=(0, 0, 1.0), axis_x=(0, 5, 0), axis_y=(5, 0, 0), radiance=(1,) * 3,
+                                 visible=False, spread=spread)
+    scene = plane_scene(light)
+    expected = np.full((scene.camera.height, scene.camera.width), full_cone_radiance(spread))
+    reps = replicate_images(scene, ["rectangle"], REPLICATES, 4 * SAMPLES, mis=mis,
+                            ellipse_technique=ellipse_technique, bsdf_samples_on_diffuse=mis != "none")
+    ok, p_min, alpha = pixel_t_test(reps["rectangle"], expected, FAMILY_ALPHA)
+    assert ok, f"{ellipse_technique}/{mis}: worst p = {p_min:.3g} < {alpha:.3g}"
+    ok, p, rel = pooled_t_test(reps["rectangle"], expected[0, 0])
+    assert ok, f"{ellipse_technique}/{mis}: image mean off by {rel:.3g} (p = {p:.3g})"
+
+
+@pytest.mark.parametrize("shape", ["rect", "ellipse"])
+@pytest.mark.parametrize("view_deg", [0, 20, 35])
+def test_camera_sees_the_attenuated_light(shape, view_deg):
+    """An orthographic camera looking at a large light facing it, at view_deg from its normal: every pixel sees
+    L N (1 - cot(h) tan(alpha)), 0 past the half spread (30 degrees)."""
+    spread = math.radians(60)
+    a = math.radians(view_deg)
+    Z = np.array([0, math.sin(a), math.cos(a)])  # camera +Z: towards the camera from the scene
+    Y = np.array([0, math.cos(a), -math.sin(a)])
+    pos = 5 * Z
+    cam = sphrect.Camera(width=4, height=4, type="orthographic", ortho_scale=0.5,
+                         to_world=[[1, Y[0], Z[0], pos[0]], [0, Y[1], Z[1], pos[1]], [0, Y[2], Z[2], pos[2]],
+                                   [0, 0, 0, 1]])
+    if shape == "rect":
+        light = sphrect.RectLight(corner=(-5, -5, 0), edge_x=(10, 0, 0), edge_y=(0, 10, 0), radiance=(2,) * 3,
+                                  spread=spread)
+    else:
+        light = sphrect.EllipseLight(center=(0, 0, 0), axis_x=(5, 0, 0), axis_y=(0, 5, 0), radiance=(2,) * 3,
+                                     spread=spread)
+    cot, norm = _native.area_spread_factors(spread)
+    expected = 2 * max((1 - cot * math.tan(a)) * norm, 0)
+    img = sphrect.Renderer(sphrect.Scene(camera=cam, lights=[light]), techniques=["rectangle"], seed=1)
+    img.render(4)
+    np.testing.assert_allclose(img.image("rectangle")[:, :, :3], expected, rtol=1e-4, atol=1e-6)
+
+
+def test_spread_is_saved_and_older_files_load_without_it(tmp_path):
+    light = facing_rect(-1, -1, 1, 1, 1.0, 0.5)
+    disc = sphrect.EllipseLight(center=(0, 0, 1), axis_x=(1, 0, 0), axis_y=(0, -1, 0), radiance=(1,) * 3,
+                                spread=0.25)
+    path = str(tmp_path / "s.sphrect.npz")
+    sphrect.save_scene(sphrect.Scene(lights=[light, disc], meshes=[plane_mesh()]), path)
+    assert [l.spread for l in sphrect.load_scene(path).lights] == [0.5, 0.25]
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    meta = json.loads(bytes(arrays["scene.json"]).decode("utf-8"))
+    assert meta["version"] == sphrect.scene.FORMAT_VERSION
+    meta["version"] = 9
+    for l in meta["lights"]:
+        del l["spread"]
+    arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
+    old = str(tmp_path / "v9.sphrect.npz")
+    np.savez_compressed(old, **arrays)
+    assert [l.spread for l in sphrect.load_scene(old).lights] == [math.pi, math.pi]
