@@ -10,9 +10,11 @@ half of it, on its corner, a quarter (the attenuation is symmetric about the foo
 
 False-failure rate: each t-tested image is one family of pixel tests at family-wise rate 1e-4 (Sidak), and the
 constant images' means are t-tested once more at 1e-4 (the power: ~0.5 %); there are 2 x (2 scenes x 5 techniques
-x 2 MIS settings + 2 ellipse techniques x 2 MIS) + 2 corner/edge x 5 = 58 tests, so a correct renderer fails
-this file with probability < 0.6 % (seeds are fixed: the outcome is deterministic).
+x 2 MIS settings + 2 ellipse techniques x 2 MIS) + 2 corner/edge x 5 = 58 tests, and 15 image pairs (Welch,
+1e-4 each) on a glossy scene and 5 in a medium, so a correct renderer fails this file with probability < 0.8 %
+(seeds are fixed: the outcome is deterministic).
 test_the_tests_detect_a_1_percent_error shows their power."""
+import dataclasses
 import json
 import math
 
@@ -23,6 +25,7 @@ from scipy import stats
 import sphrect
 from render_testing import ALL_TECHNIQUES, pixel_t_test, plane_mesh, replicate_images, top_camera
 from sphrect import _native
+from test_render_convergence import glossy_scene, welch_agree
 
 FAMILY_ALPHA = 1e-4
 ALBEDO = 0.5
@@ -202,3 +205,37 @@ def test_spread_is_saved_and_older_files_load_without_it(tmp_path):
     old = str(tmp_path / "v9.sphrect.npz")
     np.savez_compressed(old, **arrays)
     assert [l.spread for l in sphrect.load_scene(old).lights] == [math.pi, math.pi]
+
+
+def with_spread(scene, degrees):
+    """The scene with each rectangle and ellipse light given a spread (degrees, in turn)."""
+    lights = [dataclasses.replace(l, spread=math.radians(d)) for l, d in zip(scene.lights, degrees)]
+    return dataclasses.replace(scene, lights=lights)
+
+
+def test_techniques_and_mis_modes_agree_with_spread_on_glossy_surfaces():
+    """Occlusion, glossy floor and box, a two-sided rectangle of spread 40 degrees and a camera-visible ellipse
+    of 70: BSDF rays that hit the lights weigh themselves with the clipped sub-rectangle's pdf, whichever
+    technique, so every technique and MIS mode converges to the same image.  (The closed forms above are the
+    sharper check: with the whole light's pdf for the BSDF rays' weights, the spread30 / balance and the corner
+    and edge tests fail, this one does not.)"""
+    scene = with_spread(glossy_scene(), (40, 70))
+    reference = replicate_images(scene, ["rectangle"], 8, 64, mis="balance")["rectangle"]
+    assert reference.mean() > 0.01
+    for mis in sphrect.mis_modes:
+        reps = replicate_images(scene, ALL_TECHNIQUES, 8, 32, mis=mis)
+        for t in ALL_TECHNIQUES:
+            ok, p = welch_agree(reps[t], reference)
+            assert ok, f"{t}/{mis} differs from rectangle/balance: worst p = {p:.3g}"
+
+
+def test_techniques_agree_with_spread_in_a_medium():
+    """Scattering points in fog (no normal) sample the sub-rectangle too."""
+    light = facing_rect(-0.6, -0.6, 0.6, 0.6, 1.0, math.radians(50), radiance=4.0)
+    scene = plane_scene(light, top_camera(width=8, height=8))
+    scene.world = sphrect.World(medium=sphrect.Medium(sigma_s=(0.3,) * 3, sigma_a=(0.05,) * 3, g=0.2))
+    reference = replicate_images(scene, ["rectangle"], 8, 64, mis="balance")["rectangle"]
+    reps = replicate_images(scene, ALL_TECHNIQUES, 8, 32, mis="power")
+    for t in ALL_TECHNIQUES:
+        ok, p = welch_agree(reps[t], reference)
+        assert ok, f"{t}/power differs from rectangle/balance in fog: worst p = {p:.3g}"
