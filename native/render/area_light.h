@@ -26,7 +26,7 @@ enum class AreaShape { Rectangle, Ellipse, Triangle };
 struct AreaLight {
     AreaShape shape = AreaShape::Rectangle;
     // Rectangle: the light (frame.light: corner, edges ex, ey) with what the samplers' setups
-    // need of it, computed once per light.  Ellipses leave it invalid.
+    // need of it, computed once per light.  Ellipses: invalid, or with spread their bounding rectangle.
     RectLightFrame<float> frame;
     // Ellipse: what the spherical ellipse's setups need of it (invalid for the other shapes).
     EllipseLightFrame<float> ellipse_frame;
@@ -62,6 +62,9 @@ inline void SetAreaSpread(AreaLight& l, float spread) {
     const float a = 0.5f * (kPi - std::max(spread, kMinAreaSpread));
     l.spread_cot = std::tan(a);
     l.spread_normalization = l.spread_cot > 0 ? 2.0f / (2.0f + (2.0f * a - kPi) * l.spread_cot) : 1.0f;
+    // An ellipse with spread is sampled on its bounding rectangle's clip (EllipseSamplingAt).
+    if (l.HasSpread() && l.shape == AreaShape::Ellipse)
+        l.frame = MakeRectLightFrame(RectLight<float>{l.center - l.ax - l.ay, l.ax * 2.0f, l.ay * 2.0f, l.two_sided});
 }
 
 // Cycles 3.4's spread attenuation (kernel/light/common.h, light_spread_attenuation: a soft box's grid,
@@ -138,10 +141,17 @@ inline Spectrum EmittedRadiance(const AreaLight& l, const Vec3f& toward) {
     return l.HasSpread() ? l.radiance * SpreadAttenuation(l, toward) : l.radiance;
 }
 
-// The part of rectangle light l from which `origin` receives light within the spread (Cycles 3.4:
-// kernel/light/common.h, light_spread_clamp_area_light): the light clipped to the square, in its plane,
-// centred on the origin's foot, of half side r = distance to the plane * tan(h) -- the box of the disc
-// outside which the attenuation is 0.  A sub-rectangle, sampled by every technique as a light of its own; an
+// Whether the point p of the ellipse light's plane lies on the ellipse.
+inline bool OnEllipse(const AreaLight& l, const Vec3f& p) {
+    const Vec3f q = p - l.center;
+    const float a = Dot(q, l.inv_x), b = Dot(q, l.inv_y);
+    return a * a + b * b <= 1;
+}
+
+// The part of rectangle light l (with spread, of an ellipse's bounding rectangle) from which `origin` receives light
+// within the spread (Cycles 3.4: kernel/light/common.h, light_spread_clamp_area_light): the light clipped to the
+// square, in its plane, centred on the origin's foot, of half side r = distance to the plane * tan(h) -- the box of the
+// disc outside which the attenuation is 0.  A sub-rectangle, sampled by every technique as a light of its own; an
 // invalid frame when empty (the origin receives nothing).  In double, from the light's double frame.
 inline RectLightFrame<float> SpreadClippedFrame(const AreaLight& l, const Vec3f& origin) {
     const RectLightFrame<float>& f = l.frame;

@@ -274,7 +274,7 @@ class EllipseLight:
     two_sided: bool = False
     visible: bool = True
     name: str = "ellipse"
-    spread: float = math.pi          # as RectLight.spread; the whole ellipse is sampled, as in Cycles 3.4
+    spread: float = math.pi          # as RectLight.spread (sampled on its bounding rectangle's sub-rectangle)
 
 
 @dataclass

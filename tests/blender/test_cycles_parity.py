@@ -96,7 +96,9 @@ def test_every_light_type_matches_cycles(light, tmp_path):
 
 
 # name -> (light shape, spread in degrees, seen by the camera): Cycles 3.4's Spread on the smallest scene's light
-# (2 m above the ground, tilted): the light's cone a soft spot on the ground, its image attenuated.
+# (2 m above the ground, tilted): the light's cone a soft spot on the ground, its image attenuated.  No disk of
+# small spread: Cycles samples disks whole by area, and at 10 degrees its 2048- and 8192-sample images still differ
+# by 9 % per block (ours is within 4 % of the latter, the lit total within 1.2 %).
 SPREADS = {"rect_30": ("RECTANGLE", 30.0, False), "rect_90_seen": ("RECTANGLE", 90.0, True),
            "square_5": ("SQUARE", 5.0, False), "disk_60": ("DISK", 60.0, False)}
 

@@ -8,11 +8,13 @@ d tan(h) around a point's foot lies on the light, E = pi L N (1 - h' cot(h)) (h'
 integral of cos(alpha) (1 - cot(h) tan(alpha)) over the cone), whatever d; with the foot on the light's edge,
 half of it, on its corner, a quarter (the attenuation is symmetric about the foot).
 
+Under a disc whose rim cuts the cone, the reference integrates the radial closed form over the angle.
+
 False-failure rate: each t-tested image is one family of pixel tests at family-wise rate 1e-4 (Sidak), and the
 constant images' means are t-tested once more at 1e-4 (the power: ~0.5 %); there are 2 x (2 scenes x 5 techniques
-x 2 MIS settings + 2 ellipse techniques x 2 MIS) + 2 corner/edge x 5 = 58 tests, and 15 image pairs (Welch,
-1e-4 each) on a glossy scene and 5 in a medium, so a correct renderer fails this file with probability < 0.8 %
-(seeds are fixed: the outcome is deterministic).
+x 2 MIS settings + 2 discs x 2 ellipse techniques x 2 MIS) + 2 corner/edge x 5 + 4 rim = 70 tests, and 15 image
+pairs (Welch, 1e-4 each) on a glossy scene and 5 in a medium, so a correct renderer fails this file with
+probability < 0.9 % (seeds are fixed: the outcome is deterministic).
 test_the_tests_detect_a_1_percent_error shows their power."""
 import dataclasses
 import json
@@ -144,12 +146,17 @@ def test_foot_on_the_lights_edge_or_corner_gets_its_share(where, fraction):
         assert ok, f"{where}/{t}: mean {reps[t].mean():.6g}, expected {expected[0, 0]:.6g}, p = {p_min:.3g}"
 
 
-@pytest.mark.parametrize("mis", ["none", "balance"])
-@pytest.mark.parametrize("ellipse_technique", sphrect.ellipse_techniques)
-def test_ellipse_full_cone_is_exact(ellipse_technique, mis):
-    """Ellipses are sampled whole (as Cycles 3.4 does), the attenuation zero outside the cone."""
-    spread = math.radians(60)
-    light = sphrect.EllipseLight(center=(0, 0, 1.0), axis_x=(0, 5, 0), axis_y=(5, 0, 0), radiance=(1,) * 3,
+def ellipse_sampling_cases():
+    return [(t, m) for t in sphrect.ellipse_techniques for m in ("none", "balance")]
+
+
+@pytest.mark.parametrize("degrees, height", [(60, 1.0), (1, 1e-3)])
+@pytest.mark.parametrize("ellipse_technique, mis", ellipse_sampling_cases())
+def test_ellipse_full_cone_is_exact(ellipse_technique, mis, degrees, height):
+    """An ellipse with spread is sampled on the clip of its bounding rectangle (by area, or by the rectangle
+    map under spherical_ellipse), here wholly on the disc."""
+    spread = math.radians(degrees)
+    light = sphrect.EllipseLight(center=(0, 0, height), axis_x=(0, 5, 0), axis_y=(5, 0, 0), radiance=(1,) * 3,
                                  visible=False, spread=spread)
     scene = plane_scene(light)
     expected = np.full((scene.camera.height, scene.camera.width), full_cone_radiance(spread))
@@ -159,6 +166,42 @@ def test_ellipse_full_cone_is_exact(ellipse_technique, mis):
     assert ok, f"{ellipse_technique}/{mis}: worst p = {p_min:.3g} < {alpha:.3g}"
     ok, p, rel = pooled_t_test(reps["rectangle"], expected[0, 0])
     assert ok, f"{ellipse_technique}/{mis}: image mean off by {rel:.3g} (p = {p:.3g})"
+
+
+def disc_spread_radiance(foot, disc_radius, height, spread, radiance=1.0, n=200_000):
+    """Lambertian radiance at the plane point `foot` (its distance from the axis of a disc facing down at
+    `height`) under the disc with spread: albedo / pi * L N * the integral over phi of F(min(rho(phi), R)), rho the
+    distance from the foot to the rim along phi, R = height / cot(h) the cone's radius, F the closed-form radial
+    integral of cos^2 (1 - cot(h) tan) / dist^2 (midpoint rule in phi)."""
+    cot, norm = _native.area_spread_factors(spread)
+    d, R = height, height / cot
+    phi = (np.arange(n) + 0.5) * (2 * np.pi / n)
+    rho = -foot * np.cos(phi) + np.sqrt(disc_radius ** 2 - (foot * np.sin(phi)) ** 2)
+    r = np.minimum(rho, R)
+    F = r * r / (2 * (d * d + r * r)) - cot * (np.arctan(r / d) / 2 - d * r / (2 * (d * d + r * r)))
+    return ALBEDO / np.pi * radiance * norm * F.mean() * 2 * np.pi
+
+
+def test_disc_reference_gives_the_full_cone():
+    spread = math.radians(30)
+    assert disc_spread_radiance(0.0, 5.0, 1.0, spread) == pytest.approx(full_cone_radiance(spread), rel=1e-9)
+
+
+@pytest.mark.parametrize("ellipse_technique, mis", ellipse_sampling_cases())
+def test_disc_rim_cutting_the_cone(ellipse_technique, mis):
+    """A point whose cone (radius 0.27) the rim of a unit disc cuts: samples of the clip off the disc are dropped,
+    BSDF rays take the clip's pdf."""
+    spread = math.radians(30)
+    light = sphrect.EllipseLight(center=(0, 0, 1.0), axis_x=(0, 1, 0), axis_y=(1, 0, 0), radiance=(1,) * 3,
+                                 visible=False, spread=spread)
+    cam = sphrect.Camera(width=1, height=1, type="orthographic", ortho_scale=2e-4,
+                         to_world=[[1, 0, 0, 0.97], [0, 1, 0, 0], [0, 0, 1, 5], [0, 0, 0, 1]])
+    expected = np.full((1, 1), disc_spread_radiance(0.97, 1.0, 1.0, spread))
+    assert 0.3 * full_cone_radiance(spread) < expected[0, 0] < 0.8 * full_cone_radiance(spread)
+    reps = replicate_images(plane_scene(light, cam), ["rectangle"], REPLICATES, 4 * SAMPLES, mis=mis,
+                            ellipse_technique=ellipse_technique, bsdf_samples_on_diffuse=mis != "none")
+    ok, p_min, alpha = pixel_t_test(reps["rectangle"], expected, FAMILY_ALPHA)
+    assert ok, f"{ellipse_technique}/{mis}: mean {reps['rectangle'].mean():.6g}, expected {expected[0, 0]:.6g}"
 
 
 @pytest.mark.parametrize("shape", ["rect", "ellipse"])

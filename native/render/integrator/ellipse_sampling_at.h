@@ -1,4 +1,5 @@
-// Ellipse (disk) lights at one shading or scattering point, sampled with the ellipse technique the
+// Ellipse (disk) lights at one shading or scattering point (with spread: the clip of their bounding
+// rectangle, SpreadClipDispatch), sampled with the ellipse technique the
 // user chose (RenderOptions::ellipse_technique): `area`, uniformly by area (area_light.h, no setup),
 // or `spherical_ellipse`, the area-preserving map of core/spherical_ellipse.h, following its area
 // fallback (Sample and PDF both go through the setup, so the pdf is that of the point returned) --
@@ -25,22 +26,45 @@
 
 #include "core/ellipse_map_choice.h"
 #include "core/ellipse_technique.h"
+#include "core/technique.h"
 #include "render/area_light.h"
 
 namespace sphrect::render {
 
 class EllipseSamplingAt {
+    // With spread: the clip of the ellipse's bounding rectangle (SpreadClippedFrame), which holds the support of
+    // its attenuated emission (the disc there within the ellipse), sampled as a rectangle light by area (`area`)
+    // or by solid angle with the rectangle map (`spherical_ellipse`); f(sampler).  Set up at each call: spread
+    // ellipses only.
+    template <class F>
+    auto SpreadClipDispatch(const AreaLight& l, const Vec3f& origin, F&& f) const {
+        const RectLightFrame<float> clip = SpreadClippedFrame(l, origin);
+        if (technique_ == EllipseTechnique::Area) return f(LightSampler<Technique::Area, float>(origin, {}, clip));
+        return f(LightSampler<Technique::Rectangle, float>(origin, {}, clip));
+    }
+    // A sample of the clip, dropped off the ellipse (where nothing emits).
+    template <class S>
+    static LightSample<float> SampleOnEllipse(const AreaLight& l, const S& s, Point2<float> u) {
+        if (!s.Valid()) return {};
+        const LightSample<float> ls = s.Sample(u);
+        return OnEllipse(l, ls.point) ? ls : LightSample<float>{};
+    }
+
   public:
     explicit EllipseSamplingAt(EllipseTechnique technique) : technique_(technique) {}
 
     // A light sample on ellipse light l (area light `index`) seen from origin.
     LightSample<float> Sample(const AreaLight& l, int index, const Vec3f& origin, Point2<float> u) {
+        if (l.HasSpread())
+            return SpreadClipDispatch(l, origin, [&](const auto& s) { return SampleOnEllipse(l, s, u); });
         if (ByArea(l, origin)) return SampleEllipseArea(l, origin, u);
         return SampleSphericalEllipse(Setup(l, index, origin), u);
     }
 
     // Solid-angle pdf with which Sample produces point p on l.
     float PDF(const AreaLight& l, int index, const Vec3f& origin, const Vec3f& p) {
+        if (l.HasSpread())
+            return SpreadClipDispatch(l, origin, [&](const auto& s) { return s.Valid() ? s.PDF(p) : 0.0f; });
         if (ByArea(l, origin)) return EllipseAreaPDF(l, origin, p);
         return SphericalEllipsePDF(Setup(l, index, origin), p);
     }
