@@ -17,7 +17,6 @@ pairs (Welch, 1e-4 each) on a glossy scene and 5 in a medium, so a correct rende
 probability < 0.9 % (seeds are fixed: the outcome is deterministic).
 test_the_tests_detect_a_1_percent_error shows their power."""
 import dataclasses
-import json
 import math
 
 import numpy as np
@@ -25,9 +24,10 @@ import pytest
 from scipy import stats
 
 import sphrect
-from render_testing import ALL_TECHNIQUES, pixel_t_test, plane_mesh, replicate_images, top_camera
+from render_testing import (ALL_TECHNIQUES, pixel_t_test, plane_mesh, replicate_images, save_as_older_version,
+                            top_camera)
 from sphrect import _native
-from test_render_convergence import glossy_scene, welch_agree
+from test_render_convergence import assert_techniques_and_mis_modes_agree, glossy_scene, welch_agree
 
 FAMILY_ALPHA = 1e-4
 ALBEDO = 0.5
@@ -237,16 +237,8 @@ def test_spread_is_saved_and_older_files_load_without_it(tmp_path):
     path = str(tmp_path / "s.sphrect.npz")
     sphrect.save_scene(sphrect.Scene(lights=[light, disc], meshes=[plane_mesh()]), path)
     assert [l.spread for l in sphrect.load_scene(path).lights] == [0.5, 0.25]
-    with np.load(path) as data:
-        arrays = {k: data[k] for k in data.files}
-    meta = json.loads(bytes(arrays["scene.json"]).decode("utf-8"))
-    assert meta["version"] == sphrect.scene.FORMAT_VERSION
-    meta["version"] = 9
-    for l in meta["lights"]:
-        del l["spread"]
-    arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
     old = str(tmp_path / "v9.sphrect.npz")
-    np.savez_compressed(old, **arrays)
+    save_as_older_version(path, old, 9, lambda meta: [l.pop("spread") for l in meta["lights"]])
     assert [l.spread for l in sphrect.load_scene(old).lights] == [math.pi, math.pi]
 
 
@@ -262,14 +254,7 @@ def test_techniques_and_mis_modes_agree_with_spread_on_glossy_surfaces():
     technique, so every technique and MIS mode converges to the same image.  (The closed forms above are the
     sharper check: with the whole light's pdf for the BSDF rays' weights, the spread30 / balance and the corner
     and edge tests fail, this one does not.)"""
-    scene = with_spread(glossy_scene(), (40, 70))
-    reference = replicate_images(scene, ["rectangle"], 8, 64, mis="balance")["rectangle"]
-    assert reference.mean() > 0.01
-    for mis in sphrect.mis_modes:
-        reps = replicate_images(scene, ALL_TECHNIQUES, 8, 32, mis=mis)
-        for t in ALL_TECHNIQUES:
-            ok, p = welch_agree(reps[t], reference)
-            assert ok, f"{t}/{mis} differs from rectangle/balance: worst p = {p:.3g}"
+    assert_techniques_and_mis_modes_agree(with_spread(glossy_scene(), (40, 70)))
 
 
 def test_techniques_agree_with_spread_in_a_medium():
