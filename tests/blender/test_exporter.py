@@ -49,6 +49,18 @@ def test_area_light_power_size_and_orientation(empty_scene, shape, scale):
     assert log.warning_text() == ""
 
 
+@pytest.mark.parametrize("shape", ["RECTANGLE", "DISK"])
+def test_area_light_spread_is_exported(empty_scene, shape):
+    """Blender's Spread (radians) becomes the light's spread, without a warning; the default is pi: none."""
+    obj = builders.area_light("L", shape, size=0.5, size_y=0.25, power=100.0, location=(0, 0, 2))
+    scene, log = export()
+    assert scene.lights[0].spread == pytest.approx(math.pi)
+    obj.data.spread = math.radians(20)
+    scene, log = export()
+    assert scene.lights[0].spread == pytest.approx(math.radians(20), rel=1e-6)
+    assert log.warning_text() == ""
+
+
 def test_sheared_area_light_keeps_its_plane_and_power(empty_scene):
     """A rotated light under a non-uniformly scaled parent is a parallelogram in world space: exported as a
     rectangle of the same area (so the same power) in the same plane, emitting on the same side."""
