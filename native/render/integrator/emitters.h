@@ -101,6 +101,14 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
         const float pdf_light = light_sampling.PDF(i, o + d * t);
         sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light));
     });
+    // Soft point, spot and sun lights (delta_light.h): the cone each subtends at o.
+    for (const SoftLightRef& s : c.scene.soft_lights) {
+        const SoftLightCrossing x = CrossSoftLight(c.scene.delta_lights[s.delta], o, d);
+        if (!x.hit) continue;
+        const float pdf_light = light_sampling.DeltaPMF(s.tree_emitter) * x.pdf;
+        sink.Add(o, d, x.t,
+                 x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light));
+    }
 }
 
 }  // namespace sphrect::render

@@ -119,6 +119,12 @@ class LightSamplingAt {
         return pmf * PointPDF(index, p);
     }
 
+    // The probability that a point or spot light is chosen for a light sample here: its tree emitter's pmf
+    // under "tree"; 1 for the lights evaluated once (tree_emitter -1, and every one under "power").
+    float DeltaPMF(int tree_emitter) {
+        return selection_ == LightSelection::Tree && tree_emitter >= 0 ? tree_.PMF(tree_emitter) : 1.0f;
+    }
+
   private:
     float PointPDF(int index, const Vec3f& p) {
         const AreaLight& l = scene_.area_lights[index];

@@ -39,6 +39,13 @@ class TimedLightSamplingAt {
         return pdf;
     }
 
+    float DeltaPMF(int tree_emitter) {
+        const uint64_t t0 = ReadTicks();
+        const float pmf = sampling_.DeltaPMF(tree_emitter);
+        ticks_ += ReadTicks() - t0;
+        return pmf;
+    }
+
   private:
     LightSamplingAt<K> sampling_;
     uint64_t& ticks_;
