@@ -93,12 +93,16 @@ static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceSh
 }
 
 // The delta lights evaluated once per camera sample (ForEachDeltaLightEvaluatedOnce: all with "power",
-// suns with "tree"); soft ones sampled with the point u.
+// suns with "tree"); a soft one sampled once per light sample instead, with its light point (of
+// light_points[0, light_samples)), like the lights chosen per light sample.
 template <bool kGlossy, bool kMedium>
-static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
-                                           const ShadowSink& sink) {
+static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp,
+                                           const Point2<float>* light_points, const ShadowSink& sink) {
     ForEachDeltaLightEvaluatedOnce(c.scene, c.light_selection, [&](const DeltaLight& d) {
-        QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, u, 1, sink);
+        if (!IsSoft(d)) return QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, {}, 1, sink);
+        const ShadowSink pair_sink = sink.Scaled(1.0f / c.light_samples);
+        for (int j = 0; j < c.light_samples; ++j)
+            QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, light_points[j], 1, pair_sink);
     });
 }
 
@@ -158,9 +162,9 @@ static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
 }
 
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
-// pairs averaged, then the delta lights evaluated once.  Light sample j's emitter and its point
-// come from light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that
-// may follow.  light_ticks counts the time in light sampling.
+// pairs averaged, then the delta lights evaluated once (soft ones once per light sample).  Light sample j's emitter and
+// its point come from light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that may follow.
+// light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h, const Vec3f& wo_world,
                                 const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
@@ -194,7 +198,7 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
         if (c.sample_bsdf)
             QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);
     }
-    QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, light_points[0], sink);
+    QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, light_points, sink);
 }
 
 }  // namespace sphrect::render
