@@ -1,5 +1,7 @@
 """Shared helpers of the renderer tests: small analytic scenes, closed-form irradiance, and a
 per-pixel t-test over independent replicate renders with a Sidak multiple-comparison correction."""
+import json
+
 import numpy as np
 from scipy import stats
 
@@ -92,3 +94,15 @@ def pixel_t_test(reps, expected, family_alpha, rel_tol=2e-5):
     n = expected.size
     alpha_pixel = sidak_alpha(family_alpha, n)
     return bool(p.min() >= alpha_pixel), float(p.min()), alpha_pixel
+
+
+def save_as_older_version(path, old_path, version, edit):
+    """Write the scene file `path` again at `old_path` as format `version`, its scene.json changed by edit(meta)
+    (which drops what that version lacks): a file an older sphrect wrote."""
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    meta = json.loads(bytes(arrays["scene.json"]).decode("utf-8"))
+    meta["version"] = version
+    edit(meta)
+    arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
+    np.savez_compressed(old_path, **arrays)
