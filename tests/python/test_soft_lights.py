@@ -137,3 +137,27 @@ def test_files_keep_radius_and_angle_and_older_ones_load_delta_lights(tmp_path):
     save_as_older_version(path, old, 9, drop_soft_fields)
     loaded = sphrect.load_scene(old)
     assert [getattr(light, "radius", getattr(light, "angle", None)) for light in loaded.lights] == [0, 0, 0]
+
+
+@pytest.mark.parametrize("light, message", [
+    (sphrect.PointLight(position=(0, 0, 1), intensity=(1, 1, 1), radius=-0.1), "radius"),
+    (sphrect.PointLight(position=(0, 0, 1), intensity=(1, 1, 1), radius=float("nan")), "radius"),
+    (sphrect.SpotLight(position=(0, 0, 1), direction=(0, 0, -1), intensity=(1, 1, 1), radius=float("inf")), "radius"),
+    (sphrect.PointLight(position=(0, 0, 1), intensity=(1, 1, 1), radius=1e-30), "radius"),
+    (sphrect.SunLight(direction=(0, 0, -1), irradiance=(1, 1, 1), angle=3.2), "angle"),
+    (sphrect.SunLight(direction=(0, 0, -1), irradiance=(1, 1, 1), angle=-0.1), "angle"),
+])
+def test_bad_radius_or_angle_is_refused(light, message):
+    with pytest.raises(ValueError, match=message):
+        sphrect.render(plane_scene(light), samples=1)
+
+
+def test_a_180_degree_sun_and_a_tiny_radius_render_finite():
+    """A 180 degree sun sends nothing (Cycles: radius tan(pi / 2)); a radius of 1e-6 is the point light."""
+    sun = sphrect.SunLight(direction=(0, 0, -1), irradiance=(1, 1, 1), angle=math.pi)
+    image = sphrect.render(plane_scene(sun), samples=2)["rectangle"][..., :3]
+    assert np.isfinite(image).all() and image.max() < 1e-6
+    point = dict(position=(0.1, 0.2, 1.0), intensity=(0.7, 0.7, 0.7))
+    soft = sphrect.render(plane_scene(sphrect.PointLight(radius=1e-6, **point)), samples=2)["rectangle"]
+    sharp = sphrect.render(plane_scene(sphrect.PointLight(**point)), samples=2)["rectangle"]
+    np.testing.assert_allclose(soft, sharp, rtol=1e-4, atol=1e-7)
