@@ -62,3 +62,20 @@ def test_point_light_almost_touching_the_floor_matches_cycles(visible, tmp_path)
     difference, _, _ = difference_to_cycles(scene, f"touching point (visible {visible})", tmp_path)
     assert difference <= 0.01
     assert math.isfinite(difference)
+
+
+def test_soft_point_light_in_view_matches_cycles(tmp_path):
+    """A visible point light of radius 0.3 in the middle of the view, 3 m from the camera: both renderers show
+    the disc facing the camera at radiance P / (4 pi^2 r^2) (Cycles 3.4: its lamp is intersected by camera rays)
+    over the lit scene."""
+    scene = mixed_lights_scene("Point")
+    light, cam = bpy.data.objects["Point"], scene.camera
+    light.data.shadow_soft_size = 0.3
+    light.visible_camera = True
+    view = -(cam.matrix_world.to_3x3().col[2]).normalized()
+    light.location = cam.matrix_world.translation + 3.0 * view
+    difference, ours, cycles = difference_to_cycles(scene, "point in view", tmp_path)
+    assert difference <= 0.01
+    # The disc is seen: the brightest pixel is the light's radiance (not the lit surfaces').
+    radiance = light.data.energy / (4 * math.pi ** 2 * 0.3 ** 2)
+    assert ours[..., 0].max() == pytest.approx(radiance * light.data.color[0], rel=0.05)
