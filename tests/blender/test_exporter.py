@@ -98,7 +98,7 @@ def test_soft_lights_are_exported_without_warnings(empty_scene):
         obj = builders.other_light(kind[0], kind, 50.0)
         obj.data.shadow_soft_size = radius
         obj.scale = (2, 2, 2)
-    sun = builders.other_light("S", "SUN", 3.0)
+    sun = builders.other_light("Sun", "SUN", 3.0)
     sun.data.angle = 0.2
     sun.visible_camera = False
     scene, log = export()
@@ -107,6 +107,12 @@ def test_soft_lights_are_exported_without_warnings(empty_scene):
     assert by_type["SpotLight"].radius == pytest.approx(0.2)
     assert by_type["SunLight"].angle == pytest.approx(0.2) and not by_type["SunLight"].visible
     assert "radius" not in log.warning_text() and "angle" not in log.warning_text()
+    # Cycles' camera rays find a sun only with its Multiple Importance on.
+    sun.visible_camera = True
+    assert [light.visible for light in export()[0].lights if type(light).__name__ == "SunLight"] == [True]
+    sun.data.cycles.use_multiple_importance_sampling = False
+    sun.data.update_tag()  # an add-on's property: the depsgraph's copy follows only when tagged
+    assert [light.visible for light in export()[0].lights if type(light).__name__ == "SunLight"] == [False]
 
 
 def test_camera_lens_sensor_shift_and_dof(empty_scene):

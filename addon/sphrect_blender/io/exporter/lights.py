@@ -99,8 +99,10 @@ def export_light(sphrect, obj, matrix_world, name, log):
             log.problem(f"sun '{name}' has zero scale along Z: skipped")
             return None
         angle = min(max(float(getattr(light, "angle", 0.0)), 0.0), math.pi)
+        # Cycles 3.4 finds a sun on escaping rays only with its Multiple Importance on (light_sample_from_distant_ray).
+        use_mis = bool(getattr(getattr(light, "cycles", None), "use_multiple_importance_sampling", True))
         return sphrect.SunLight(direction=_tuple(direction), irradiance=sphrect.scene.sun_irradiance(power, color),
-                                name=name, angle=angle, visible=visible)
+                                name=name, angle=angle, visible=visible and use_mis)
     log.unsupported_feature(f"{light.type.lower()} lights", light.name)
     return None
 
