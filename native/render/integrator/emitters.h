@@ -103,9 +103,10 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
     });
     // Soft point, spot and sun lights (delta_light.h): the cone each subtends at o.
     for (const SoftLightRef& s : c.scene.soft_lights) {
-        const SoftLightCrossing x = CrossSoftLight(c.scene.delta_lights[s.delta], o, d);
+        const DeltaLight& l = c.scene.delta_lights[s.delta];
+        const SoftLightCrossing x = CrossSoftLight(l, o, d);
         if (!x.hit) continue;
-        const float pdf_light = light_sampling.DeltaPMF(s.tree_emitter) * x.pdf;
+        const float pdf_light = light_sampling.SoftLightPDF(l, s.tree_emitter);
         sink.Add(o, d, x.t,
                  x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light));
     }

@@ -39,11 +39,11 @@ class TimedLightSamplingAt {
         return pdf;
     }
 
-    float DeltaPMF(int tree_emitter) {
+    float SoftLightPDF(const DeltaLight& l, int tree_emitter) {
         const uint64_t t0 = ReadTicks();
-        const float pmf = sampling_.DeltaPMF(tree_emitter);
+        const float pdf = sampling_.SoftLightPDF(l, tree_emitter);
         ticks_ += ReadTicks() - t0;
-        return pmf;
+        return pdf;
     }
 
   private:
