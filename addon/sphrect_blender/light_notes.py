@@ -1,6 +1,6 @@
 """What the Sampling panel says about the scene's lights that the chosen Technique does not sample: the
 Technique is for rectangle lights (and emissive mesh rectangles); disks and ellipses follow Disk Lights; point,
-spot and sun lights have no area to sample."""
+spot and sun lights have no area to sample (with a radius or an angle, the cone they subtend is sampled)."""
 from .names import ELLIPSE_TECHNIQUE_LABELS, TECHNIQUE_LABELS, label, sphrect_name
 
 RECTANGLE_SHAPES = {"SQUARE", "RECTANGLE"}
@@ -33,5 +33,5 @@ def light_shape_notes(scene, settings):
         ellipse = label(sphrect_name(settings.ellipse_technique), ELLIPSE_TECHNIQUE_LABELS)[0]
         notes.append(f"{disks} disk/ellipse light{'s' * (disks > 1)}: by Disk Lights ({ellipse})")
     if delta:
-        notes.append(f"{delta} point/spot/sun light{'s' * (delta > 1)}: no area to sample")
+        notes.append(f"{delta} point/spot/sun light{'s' * (delta > 1)}: no area to sample (soft: by cone)")
     return notes

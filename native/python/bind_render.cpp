@@ -359,10 +359,25 @@ void BindRender(py::module_& m) {
                  return s.AddEllipseLight(ToVec(center), ToVec(ax), ToVec(ay), ToVec(radiance), two_sided, visible,
                                           spread);
              })
-        .def("add_point_light", [](RenderScene& s, V3 p, V3 i) { s.AddPointLight(ToVec(p), ToVec(i)); })
-        .def("add_spot_light", [](RenderScene& s, V3 p, V3 d, V3 i, float size,
-                                  float blend) { s.AddSpotLight(ToVec(p), ToVec(d), ToVec(i), size, blend); })
-        .def("add_sun_light", [](RenderScene& s, V3 d, V3 e) { s.AddSunLight(ToVec(d), ToVec(e)); })
+        .def(
+            "add_point_light",
+            [](RenderScene& s, V3 p, V3 i, float radius, bool visible) {
+                s.AddPointLight(ToVec(p), ToVec(i), radius, visible);
+            },
+            py::arg("position"), py::arg("intensity"), py::arg("radius") = 0.0f, py::arg("visible") = true)
+        .def(
+            "add_spot_light",
+            [](RenderScene& s, V3 p, V3 d, V3 i, float size, float blend, float radius, bool visible) {
+                s.AddSpotLight(ToVec(p), ToVec(d), ToVec(i), size, blend, radius, visible);
+            },
+            py::arg("position"), py::arg("direction"), py::arg("intensity"), py::arg("spot_size"),
+            py::arg("spot_blend"), py::arg("radius") = 0.0f, py::arg("visible") = true)
+        .def(
+            "add_sun_light",
+            [](RenderScene& s, V3 d, V3 e, float angle, bool visible) {
+                s.AddSunLight(ToVec(d), ToVec(e), angle, visible);
+            },
+            py::arg("direction"), py::arg("irradiance"), py::arg("angle") = 0.0f, py::arg("visible") = true)
         .def("commit", &RenderScene::Commit, py::call_guard<py::gil_scoped_release>())
         .def_property_readonly("features", [](const RenderScene& s) { return s.features().Names(); })
         .def_property_readonly("warnings", [](const RenderScene& s) { return s.warnings; })

@@ -21,6 +21,7 @@ std::vector<std::string> SceneFeatures::Names() const {
     if (orthographic) n.push_back("orthographic");
     if (background) n.push_back("background");
     if (emissive_meshes) n.push_back("emissive_meshes");
+    if (soft_lights) n.push_back("soft_lights");
     if (area_spread) n.push_back("area_spread");
     if (textures) n.push_back("textures");
     if (normal_maps) n.push_back("normal_maps");
@@ -103,8 +104,15 @@ void RenderScene::Commit() {
     }
     medium_centre_selector.Build(powers);
     sun_lights.clear();
-    for (size_t i = 0; i < delta_lights.size(); ++i)
-        if (delta_lights[i].kind == DeltaKind::Sun) sun_lights.push_back(uint32_t(i));
+    soft_lights.clear();
+    // Tree emitters: the area lights, then the point and spot lights in order (CollectTreeEmitters).
+    int tree_emitter = int(area_lights.size());
+    for (size_t i = 0; i < delta_lights.size(); ++i) {
+        const bool sun = delta_lights[i].kind == DeltaKind::Sun;
+        if (sun) sun_lights.push_back(uint32_t(i));
+        if (IsSoft(delta_lights[i])) soft_lights.push_back({uint32_t(i), sun ? -1 : tree_emitter});
+        if (!sun) ++tree_emitter;
+    }
     features_ = {};
     film_alpha = film_transparent;
     // A glossy material only matters when some triangle uses it.
@@ -133,6 +141,7 @@ void RenderScene::Commit() {
     features_.delta_lights = !delta_lights.empty();
     features_.background = !IsBlack(background);
     features_.emissive_meshes = has_mesh_lights;
+    features_.soft_lights = !soft_lights.empty();
     features_.transparency = has_transparency;
     if (has_transparency && has_medium)
         warnings.push_back(

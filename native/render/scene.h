@@ -52,9 +52,16 @@ struct MeshData {
 struct SceneFeatures {
     bool glossy = false, medium = false, dof = false;
     bool ellipse_lights = false, delta_lights = false, orthographic = false, background = false;
-    bool emissive_meshes = false, area_spread = false;
+    bool emissive_meshes = false, soft_lights = false, area_spread = false;
     bool textures = false, normal_maps = false, transparency = false;
     std::vector<std::string> Names() const;
+};
+
+// A soft point, spot or sun light (delta_light.h): delta_lights[delta], tree emitter tree_emitter of the light
+// tree (-1: a sun, evaluated once).
+struct SoftLightRef {
+    uint32_t delta;
+    int tree_emitter;
 };
 
 // std::invalid_argument unless the camera can render: resolution within the limits, a finite, non-singular
@@ -104,10 +111,12 @@ class RenderScene {
                              bool two_sided, bool visible, float spread = kPi);
     std::string AddEllipseLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay, const Spectrum& radiance,
                                 bool two_sided, bool visible, float spread = kPi);
-    void AddPointLight(const Vec3f& position, const Spectrum& intensity);
+    // radius (point, spot) and angle (the sun's angular diameter, in [0, pi]): soft lights as Cycles 3.4's
+    // (delta_light.h); 0: delta lights.  visible: a soft light is seen by camera rays.
+    void AddPointLight(const Vec3f& position, const Spectrum& intensity, float radius = 0, bool visible = true);
     void AddSpotLight(const Vec3f& position, const Vec3f& direction, const Spectrum& intensity, float spot_size,
-                      float spot_blend);
-    void AddSunLight(const Vec3f& direction, const Spectrum& irradiance);
+                      float spot_blend, float radius = 0, bool visible = true);
+    void AddSunLight(const Vec3f& direction, const Spectrum& irradiance, float angle = 0, bool visible = true);
     void Commit();
 
     bool committed() const { return committed_; }
@@ -148,6 +157,8 @@ class RenderScene {
     std::vector<Vec3f> medium_centres;
     LightSelector medium_centre_selector;
     std::vector<DeltaLight> delta_lights;
+    // The soft ones among delta_lights (a radius or an angle), which BSDF, phase and camera rays reach.
+    std::vector<SoftLightRef> soft_lights;
     // The suns among delta_lights (indices): what "tree" still evaluates once per sample, in a list of
     // their own so that the tree's point and spot lights cost nothing in that loop.
     std::vector<uint32_t> sun_lights;

@@ -1,6 +1,7 @@
 // The scene's lights as Blender defines them (Cycles: scene/light.cpp): rectangles, ellipses, points, spots and
 // suns, checked; area lights that cannot emit are skipped with the reason.
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "scene.h"
@@ -58,22 +59,34 @@ std::string RenderScene::AddEllipseLight(const Vec3f& center, const Vec3f& ax, c
     return {};
 }
 
-void RenderScene::AddPointLight(const Vec3f& position, const Spectrum& intensity) {
+// A point or spot light's radius: finite, >= 0, and 0 or large enough that pi r^2 stays a normal float.
+static void CheckLightRadius(const char* what, float radius) {
+    if (!(radius >= 0 && std::isfinite(radius)))
+        Fail(std::string(what) + " radius must be finite and >= 0, got " + std::to_string(radius));
+    if (radius > 0 && !(kPi * radius * radius >= std::numeric_limits<float>::min()))
+        Fail(std::string(what) + " radius must be 0 or at least 1e-18");
+}
+
+void RenderScene::AddPointLight(const Vec3f& position, const Spectrum& intensity, float radius, bool visible) {
     RequireNotCommitted();
     CheckVector("point light position", position);
     CheckColor("point light intensity", intensity);
+    CheckLightRadius("point light", radius);
     DeltaLight l;
     l.kind = DeltaKind::Point;
     l.position = position;
     l.power = intensity;
+    l.radius = radius;
+    l.visible = visible;
     delta_lights.push_back(l);
 }
 
 void RenderScene::AddSpotLight(const Vec3f& position, const Vec3f& direction, const Spectrum& intensity,
-                               float spot_size, float spot_blend) {
+                               float spot_size, float spot_blend, float radius, bool visible) {
     RequireNotCommitted();
     CheckVector("spot light position", position);
     CheckColor("spot light intensity", intensity);
+    CheckLightRadius("spot light", radius);
     if (!IsFinite(direction) || !(Length(direction) > 0)) Fail("spot light direction must be a non-zero vector");
     if (!(spot_size > 0 && spot_size <= 2 * kPi)) Fail("spot_size must be in (0, 2 pi]");
     if (!(spot_blend >= 0 && spot_blend <= 1)) Fail("spot_blend must be in [0, 1]");
@@ -84,17 +97,24 @@ void RenderScene::AddSpotLight(const Vec3f& position, const Vec3f& direction, co
     l.power = intensity;
     l.cos_half_angle = std::cos(std::min(spot_size, kPi) / 2);
     l.spot_smooth = (1 - l.cos_half_angle) * spot_blend;
+    l.radius = radius;
+    l.visible = visible;
     delta_lights.push_back(l);
 }
 
-void RenderScene::AddSunLight(const Vec3f& direction, const Spectrum& irradiance) {
+void RenderScene::AddSunLight(const Vec3f& direction, const Spectrum& irradiance, float angle, bool visible) {
     RequireNotCommitted();
     CheckColor("sun irradiance", irradiance);
     if (!IsFinite(direction) || !(Length(direction) > 0)) Fail("sun direction must be a non-zero vector");
+    if (!(angle >= 0 && angle <= kPi)) Fail("sun angle must be in [0, pi], got " + std::to_string(angle));
     DeltaLight l;
     l.kind = DeltaKind::Sun;
     l.axis = -Normalize(direction);  // towards the sun
     l.power = irradiance;
+    // 1 - cos(angle / 2) = 2 sin^2(angle / 4), in double: exact for a 1e-4 rad sun.
+    const double s = std::sin(double(angle) / 4);
+    l.sun_one_minus_cos = float(2 * s * s);
+    l.visible = visible;
     delta_lights.push_back(l);
 }
 

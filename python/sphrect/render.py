@@ -224,12 +224,15 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
                                            rgb(light.axis_y, "axis_y"), rgb(light.radiance, "radiance"),
                                            bool(light.two_sided), bool(light.visible), float(light.spread))
         elif isinstance(light, PointLight):
-            native.add_point_light(rgb(light.position, "position"), rgb(light.intensity, "intensity"))
+            native.add_point_light(rgb(light.position, "position"), rgb(light.intensity, "intensity"),
+                                   float(light.radius), bool(light.visible))
         elif isinstance(light, SpotLight):
             native.add_spot_light(rgb(light.position, "position"), rgb(light.direction, "direction"),
-                                  rgb(light.intensity, "intensity"), float(light.spot_size), float(light.spot_blend))
+                                  rgb(light.intensity, "intensity"), float(light.spot_size), float(light.spot_blend),
+                                  float(light.radius), bool(light.visible))
         elif isinstance(light, SunLight):
-            native.add_sun_light(rgb(light.direction, "direction"), rgb(light.irradiance, "irradiance"))
+            native.add_sun_light(rgb(light.direction, "direction"), rgb(light.irradiance, "irradiance"),
+                                 float(light.angle), bool(light.visible))
         else:
             raise ValueError(f"unknown light type {type(light).__name__}")
         if msg:

@@ -57,8 +57,10 @@ FORMAT_NAME = "sphrect-scene"
 # 9: Material.anisotropic, anisotropic_rotation (Principled Anisotropic, the Anisotropic BSDF) and the 'principled'
 # and 'glossy_bsdf' distribution 'multiscatter_ggx', Material.transmission ('principled', with its ior).
 # Older files load unchanged (isotropic GGX, no transmission).
-# 10: RectLight.spread, EllipseLight.spread (Blender's Spread, radians).  Older files load with spread = pi (none).
-FORMAT_VERSION = 10
+# 10: PointLight.radius, SpotLight.radius, SunLight.angle (soft lights, as Cycles 3.4's) and their visible.  Older
+# files load as before: radius and angle 0, delta lights.
+# 11: RectLight.spread, EllipseLight.spread (Blender's Spread, radians).  Older files load with spread = pi (none).
+FORMAT_VERSION = 11
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -279,9 +281,13 @@ class EllipseLight:
 
 @dataclass
 class PointLight:
+    """A point, or with a radius Cycles 3.4's soft point light: a disc of that radius facing the shading point,
+    of radiance intensity / (pi radius^2), sampled by the cone it subtends."""
     position: V3
     intensity: RGB                   # W/sr
     name: str = "point"
+    radius: float = 0.0              # Blender's Radius (shadow_soft_size); 0: a delta light
+    visible: bool = True             # with a radius: seen by camera rays
 
 
 @dataclass
@@ -293,13 +299,19 @@ class SpotLight:
     spot_size: float = math.pi / 4   # full cone angle, radians
     spot_blend: float = 0.15
     name: str = "spot"
+    radius: float = 0.0              # as PointLight.radius, the falloff taken towards each shading point
+    visible: bool = True
 
 
 @dataclass
 class SunLight:
+    """A sun; with an angle Cycles 3.4's: the cone of directions within angle / 2 of it, of radiance
+    irradiance / (pi tan^2(angle / 2) cos^3(theta)) at theta from its direction, sampled uniformly in that cone."""
     direction: V3                    # unit, the direction light travels
     irradiance: RGB                  # W/m^2 on a surface facing the sun
     name: str = "sun"
+    angle: float = 0.0               # angular diameter, radians in [0, pi]; 0: a delta light
+    visible: bool = True             # with an angle: seen by camera rays that escape
 
 
 @dataclass

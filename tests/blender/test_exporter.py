@@ -103,11 +103,28 @@ def test_point_spot_and_sun(empty_scene):
     assert sun.direction == pytest.approx([-math.sin(0.4), 0, -math.cos(0.4)], abs=1e-6)
 
 
-def test_soft_point_light_radius_is_reported(empty_scene):
-    obj = builders.other_light("P", "POINT", 50.0)
-    obj.data.shadow_soft_size = 0.3
-    _, log = export()
-    assert "radius" in log.warning_text()
+def test_soft_lights_are_exported_without_warnings(empty_scene):
+    """A point or spot light's radius (unscaled by the object, as Cycles 3.4 takes it) and a sun's angle are
+    simulated: exported, not warned about; camera visibility goes with them."""
+    for kind, radius in (("POINT", 0.3), ("SPOT", 0.2)):
+        obj = builders.other_light(kind[0], kind, 50.0)
+        obj.data.shadow_soft_size = radius
+        obj.scale = (2, 2, 2)
+    sun = builders.other_light("Sun", "SUN", 3.0)
+    sun.data.angle = 0.2
+    sun.visible_camera = False
+    scene, log = export()
+    by_type = {type(light).__name__: light for light in scene.lights}
+    assert by_type["PointLight"].radius == pytest.approx(0.3)
+    assert by_type["SpotLight"].radius == pytest.approx(0.2)
+    assert by_type["SunLight"].angle == pytest.approx(0.2) and not by_type["SunLight"].visible
+    assert "radius" not in log.warning_text() and "angle" not in log.warning_text()
+    # Cycles' camera rays find a sun only with its Multiple Importance on.
+    sun.visible_camera = True
+    assert [light.visible for light in export()[0].lights if type(light).__name__ == "SunLight"] == [True]
+    sun.data.cycles.use_multiple_importance_sampling = False
+    sun.data.update_tag()  # an add-on's property: the depsgraph's copy follows only when tagged
+    assert [light.visible for light in export()[0].lights if type(light).__name__ == "SunLight"] == [False]
 
 
 def test_camera_lens_sensor_shift_and_dof(empty_scene):

@@ -53,12 +53,9 @@ def test_light_panel_lists_the_settings_sphrect_ignores():
         light = bpy.data.lights.new(f"probe {kind}", kind)
         ignored = lights.ignored_light_settings(light)
         assert "Specular factor" in [label for label, _, _ in ignored]
-        # A new light differs from SPHRECT's assumptions only in a point or spot light's radius and a sun's
-        # angle (Blender's defaults 0.25 m and 0.53 degrees: soft shadows in Cycles, hard ones here).
+        # A new light has SPHRECT's assumptions (a point or spot light's radius and a sun's angle are simulated).
         flagged = [label for label, _, differs in ignored if differs]
-        expected = {"POINT": ["Radius (hard shadows)"], "SPOT": ["Radius (hard shadows)"],
-                    "SUN": ["Angle (hard shadows)"], "AREA": []}[kind]
-        assert flagged == expected, (kind, ignored)
+        assert flagged == [], (kind, ignored)
         bpy.data.lights.remove(light)
     sun = bpy.data.lights.new("probe sun", "SUN")
     sun.angle, sun.specular_factor = 0.0, 0.5

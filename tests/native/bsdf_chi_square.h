@@ -1,4 +1,5 @@
-// Pearson chi-square of a material's BSDF sampling against its pdf (shared by the BSDF tests): samples binned on
+// Pearson chi-square of a direction sampler against its pdf -- a material's BSDF sampling (the BSDF tests), the
+// uniform cone (test_cone.cpp): samples binned on
 // a (cos theta, phi) grid over cos theta in [cos_lo, 1] against the pdf integrated over each cell (sub x sub
 // midpoint points); cells expecting < 5 pooled (Pearson's rule), and samples without a direction (pdf 0) are
 // the pdf's missing mass, pooled too.
@@ -25,8 +26,10 @@ inline double ChiSquareQuantile(int k, double z) {
     return k * std::pow(1 - a + z * std::sqrt(a), 3);
 }
 
-inline ChiSquare BsdfSamplingChiSquare(const Bsdf& m, const Vec3f& wo, PCG32& rng, float cos_lo, int n_theta, int n_phi,
-                                       int sub, int samples) {
+// Any direction sampler: pdf(wi) its solid-angle density, sample(u, &wi) false for a sample without a direction.
+template <class PDF, class Sample>
+inline ChiSquare DirectionSamplingChiSquare(PDF&& pdf, Sample&& sample, PCG32& rng, float cos_lo, int n_theta,
+                                            int n_phi, int sub, int samples) {
     std::vector<double> expected(size_t(n_theta) * n_phi, 0.0), observed(expected.size(), 0.0);
     const float cos_range = 1 - cos_lo;
     double expected_total = 0;
@@ -37,7 +40,7 @@ inline ChiSquare BsdfSamplingChiSquare(const Bsdf& m, const Vec3f& wo, PCG32& rn
                 for (int b = 0; b < sub; ++b) {
                     const float ct = cos_lo + cos_range * (i + (a + 0.5f) / sub) / n_theta;
                     const float phi = 2 * kPi * (j + (b + 0.5f) / sub) / n_phi;
-                    sum += BsdfPDF<true>(m, wo, SphericalDirection(ct, phi));
+                    sum += pdf(SphericalDirection(ct, phi));
                 }
             const double cell_area = 2 * M_PI * cos_range / (double(n_theta) * n_phi);
             expected[size_t(i) * n_phi + j] = sum / (sub * sub) * cell_area * samples;
@@ -45,13 +48,13 @@ inline ChiSquare BsdfSamplingChiSquare(const Bsdf& m, const Vec3f& wo, PCG32& rn
         }
     double rejected = 0;
     for (int n = 0; n < samples; ++n) {
-        const BsdfSample s = SampleBsdf<true>(m, wo, {rng.NextFloat(), rng.NextFloat()});
-        if (s.pdf == 0) {
+        Vec3f wi;
+        if (!sample(Point2<float>{rng.NextFloat(), rng.NextFloat()}, &wi)) {
             ++rejected;
             continue;
         }
-        const int i = std::clamp(int((s.wi.z - cos_lo) / cos_range * n_theta), 0, n_theta - 1);
-        float phi = std::atan2(s.wi.y, s.wi.x);
+        const int i = std::clamp(int((wi.z - cos_lo) / cos_range * n_theta), 0, n_theta - 1);
+        float phi = std::atan2(wi.y, wi.x);
         if (phi < 0) phi += 2 * kPi;
         const int j = std::min(int(phi / (2 * kPi) * n_phi), n_phi - 1);
         observed[size_t(i) * n_phi + j] += 1;
@@ -72,6 +75,17 @@ inline ChiSquare BsdfSamplingChiSquare(const Bsdf& m, const Vec3f& wo, PCG32& rn
         ++r.cells;
     }
     return r;
+}
+
+inline ChiSquare BsdfSamplingChiSquare(const Bsdf& m, const Vec3f& wo, PCG32& rng, float cos_lo, int n_theta, int n_phi,
+                                       int sub, int samples) {
+    return DirectionSamplingChiSquare([&](const Vec3f& wi) { return BsdfPDF<true>(m, wo, wi); },
+                                      [&](Point2<float> u, Vec3f* wi) {
+                                          const BsdfSample s = SampleBsdf<true>(m, wo, u);
+                                          *wi = s.wi;
+                                          return s.pdf != 0;
+                                      },
+                                      rng, cos_lo, n_theta, n_phi, sub, samples);
 }
 
 }  // namespace sphrect::render

@@ -77,7 +77,7 @@ bool CanLight(const Emitters& e, int i, const Vec3f& p, const Vec3f& n) {
     const TreeEmitterRef ref = e.tree.refs[i];
     const bool has_normal = n.x != 0 || n.y != 0 || n.z != 0;
     if (ref.kind == TreeEmitterKind::Delta) {
-        const DeltaIllumination di = IlluminateFromDelta(e.delta[ref.index], p);
+        const DeltaIllumination di = IlluminateFromDelta(e.delta[ref.index], p, {});
         return !IsBlack(di.li) && (!has_normal || Dot(di.wi, n) > 0);
     }
     const AreaLight& l = e.area[ref.index];

@@ -97,12 +97,11 @@ def pixel_t_test(reps, expected, family_alpha, rel_tol=2e-5):
 
 
 def save_as_older_version(path, old_path, version, edit):
-    """Write the scene file `path` (saved at the current format) to `old_path` as a version-`version` file:
-    scene.json's version set and `edit(meta)` removing what that version lacks."""
+    """Write the scene file `path` again at `old_path` as format `version`, its scene.json changed by edit(meta)
+    (which drops what that version lacks): a file an older sphrect wrote."""
     with np.load(path) as data:
         arrays = {k: data[k] for k in data.files}
     meta = json.loads(bytes(arrays["scene.json"]).decode("utf-8"))
-    assert meta["version"] == sphrect.scene.FORMAT_VERSION
     meta["version"] = version
     edit(meta)
     arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)

@@ -239,8 +239,8 @@ def test_spread_is_saved_and_older_files_load_without_it(tmp_path):
     path = str(tmp_path / "s.sphrect.npz")
     sphrect.save_scene(sphrect.Scene(lights=[light, disc], meshes=[plane_mesh()]), path)
     assert [l.spread for l in sphrect.load_scene(path).lights] == [0.5, 0.25]
-    old = str(tmp_path / "v9.sphrect.npz")
-    save_as_older_version(path, old, 9, lambda meta: [l.pop("spread") for l in meta["lights"]])
+    old = str(tmp_path / "v10.sphrect.npz")
+    save_as_older_version(path, old, 10, lambda meta: [l.pop("spread") for l in meta["lights"]])
     assert [l.spread for l in sphrect.load_scene(old).lights] == [math.pi, math.pi]
 
 

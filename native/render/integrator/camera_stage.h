@@ -82,6 +82,23 @@ static inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_
     IntersectCameraRays(scene, rtc_hits, n);
 }
 
+// The soft point and spot lights' discs the camera ray crosses between t_begin and its hit, and a soft sun's
+// cone where it escapes (not through a transparent film), as Cycles 3.4's camera rays see them unless hidden.
+template <bool kMedium, class Weighted>
+[[gnu::noinline]] static void AddSoftLightsSeen(const RenderScene& scene, const PrimaryHit& out, float t_begin,
+                                                const Weighted& weighted, Spectrum& seen) {
+    const float t_end = std::min(out.t_end, out.ray.tmax);
+    for (const SoftLightRef& s : scene.soft_lights) {
+        const DeltaLight& l = scene.delta_lights[s.delta];
+        if (!l.visible) continue;
+        const SoftLightCrossing x = CrossSoftLight(l, out.ray.o, out.ray.d);
+        if (!x.hit) continue;
+        const bool seen_here =
+            l.kind == DeltaKind::Sun ? !out.hit && !scene.film_transparent : x.t >= t_begin && x.t < t_end;
+        if (seen_here) seen += weighted(x.le * SegmentTransmittance<kMedium>(scene.medium, x.t));
+    }
+}
+
 // What the camera ray sees directly from t_begin up to its hit (or escape), times `throughput` (kWeighted; else
 // 1): the hit's emission and the analytic lights it crosses before it.
 template <bool kMedium, bool kWeighted>
@@ -99,6 +116,7 @@ static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHi
                                                     seen += weighted(EmittedRadiance(scene.area_lights[i], -out.ray.d) *
                                                                      SegmentTransmittance<kMedium>(scene.medium, t));
                                                 });
+    if (!scene.soft_lights.empty()) AddSoftLightsSeen<kMedium>(scene, out, t_begin, weighted, seen);
 }
 
 // The camera ray's first hit, or what lies past it while it is transparent (transparency.h): the hit shading

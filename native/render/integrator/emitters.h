@@ -101,6 +101,15 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
         const float pdf_light = light_sampling.PDF(i, o + d * t);
         sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light));
     });
+    // Soft point, spot and sun lights (delta_light.h): the cone each subtends at o.
+    for (const SoftLightRef& s : c.scene.soft_lights) {
+        const DeltaLight& l = c.scene.delta_lights[s.delta];
+        const SoftLightCrossing x = CrossSoftLight(l, o, d);
+        if (!x.hit) continue;
+        const float pdf_light = light_sampling.SoftLightPDF(l, s.tree_emitter);
+        sink.Add(o, d, x.t,
+                 x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light));
+    }
 }
 
 }  // namespace sphrect::render

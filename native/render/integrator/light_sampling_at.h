@@ -119,6 +119,17 @@ class LightSamplingAt {
         return pmf * PointPDF(index, p);
     }
 
+    // Solid-angle pdf with which soft light l (tree emitter tree_emitter, -1 for a sun) sends a light sample
+    // from this point in a direction of its cone: the chance it is chosen (its tree emitter's pmf under "tree";
+    // 1 for the lights evaluated once: suns, and every one under "power") times the cone's uniform pdf here,
+    // at the point its light samples start from (not a BSDF ray's offset origin), as PDF() for area lights.
+    float SoftLightPDF(const DeltaLight& l, int tree_emitter) {
+        const float pmf = selection_ == LightSelection::Tree && tree_emitter >= 0 ? tree_.PMF(tree_emitter) : 1.0f;
+        if (!(pmf > 0)) return 0;
+        const float one_minus_cos = SoftConeAt(l, origin_).one_minus_cos;
+        return one_minus_cos > 0 ? pmf * UniformConePDF(one_minus_cos) : 0.0f;
+    }
+
   private:
     float PointPDF(int index, const Vec3f& p) {
         const AreaLight& l = scene_.area_lights[index];

@@ -73,28 +73,36 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
                                       sink.Scaled(bs.f * (std::abs(bs.wi.z) / bs.pdf)));
 }
 
-// One point, spot or sun light: f Li T cos.
+// One point, spot or sun light: f Li T cos; a soft one's direction from the point u, weighted against the
+// BSDF sample by MIS (its pdf pmf * the cone's, pmf the light's choice: 1 when evaluated once).
 template <bool kGlossy, bool kMedium>
 static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceShadingPoint& sp, const DeltaLight& d,
-                                          const ShadowSink& sink) {
-    const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p);
+                                          Point2<float> u, float pmf, const ShadowSink& sink) {
+    const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p, u);
     if (IsBlack(di.li)) return;
     const Vec3f wi = sp.frame.ToLocal(di.wi);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, wi, di.wi, origin)) return;
     const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
     if (IsBlack(f)) return;
+    const float w = di.pdf > 0 && c.mis != MisMode::None
+                        ? MisWeight(c.mis, pmf * di.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi))
+                        : 1.0f;
     sink.Add(origin, di.wi, di.dist,
-             f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * std::abs(wi.z));
+             f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * (std::abs(wi.z) * w));
 }
 
 // The delta lights evaluated once per camera sample (ForEachDeltaLightEvaluatedOnce: all with "power",
-// suns with "tree").
+// suns with "tree"); a soft one sampled once per light sample instead, with its light point (of
+// light_points[0, light_samples)), like the lights chosen per light sample.
 template <bool kGlossy, bool kMedium>
 static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceShadingPoint& sp,
-                                           const ShadowSink& sink) {
+                                           const Point2<float>* light_points, const ShadowSink& sink) {
     ForEachDeltaLightEvaluatedOnce(c.scene, c.light_selection, [&](const DeltaLight& d) {
-        QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, sink);
+        if (!IsSoft(d)) return QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, {}, 1, sink);
+        const ShadowSink pair_sink = sink.Scaled(1.0f / c.light_samples);
+        for (int j = 0; j < c.light_samples; ++j)
+            QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, d, light_points[j], 1, pair_sink);
     });
 }
 
@@ -154,9 +162,9 @@ static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
 }
 
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
-// pairs averaged, then the delta lights evaluated once.  Light sample j's emitter and its point
-// come from light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that
-// may follow.  light_ticks counts the time in light sampling.
+// pairs averaged, then the delta lights evaluated once (soft ones once per light sample).  Light sample j's emitter and
+// its point come from light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that may follow.
+// light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h, const Vec3f& wo_world,
                                 const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
@@ -183,14 +191,14 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     for (int j = 0; j < n_pairs; ++j) {
         const ChosenLight light = light_sampling.Choose(light_points[j]);
         if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow
-        if (light.delta >= 0)  // a point or spot light the tree chose: f Li T cos / pmf (no MIS: no ray finds it)
-            QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, scene.delta_lights[light.delta],
+        if (light.delta >= 0)  // a point or spot light the tree chose: f Li T cos / pmf (MIS if soft)
+            QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, scene.delta_lights[light.delta], light.u, light.pmf,
                                                      pair_sink.Scaled(1.0f / light.pmf));
         QueueSurfaceLightSample<K, kGlossy, kMedium>(c, sp, light, light_sampling, pair_sink);
         if (c.sample_bsdf)
             QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);
     }
-    QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, sink);
+    QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, light_points, sink);
 }
 
 }  // namespace sphrect::render

@@ -47,20 +47,23 @@ static inline void QueueMediumPhaseSample(const ShadeContext& c, const Scatterin
     QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, light_sampling, sink);
 }
 
-// One point, spot or sun light: phase Li T.
+// One point, spot or sun light: phase Li T; a soft one's direction from the point u, weighted against the phase
+// sample by MIS (pmf: the light's choice, 1 when evaluated once).
 static inline void QueueMediumDeltaLight(const ShadeContext& c, const ScatteringPoint& sp, const DeltaLight& d,
-                                         const ShadowSink& sink) {
+                                         Point2<float> u, float pmf, const ShadowSink& sink) {
     const HomogeneousMedium& med = c.scene.medium;
-    const DeltaIllumination di = IlluminateFromDelta(d, sp.x);
+    const DeltaIllumination di = IlluminateFromDelta(d, sp.x, u);
     if (IsBlack(di.li)) return;
-    sink.Add(sp.x, di.wi, di.dist,
-             di.li * Transmittance(med, di.dist) * HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g));
+    const float phase = HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g);
+    const float w = di.pdf > 0 ? MisWeight(c.mis, pmf * di.pdf, phase) : 1.0f;
+    sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * (phase * w));
 }
 
-// The delta lights evaluated once (ForEachDeltaLightEvaluatedOnce).
-static inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint& sp, const ShadowSink& sink) {
+// The delta lights evaluated once (ForEachDeltaLightEvaluatedOnce); soft ones sampled with the point u.
+static inline void QueueMediumDeltaLights(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
+                                          const ShadowSink& sink) {
     ForEachDeltaLightEvaluatedOnce(c.scene, c.light_selection,
-                                   [&](const DeltaLight& d) { QueueMediumDeltaLight(c, sp, d, sink); });
+                                   [&](const DeltaLight& d) { QueueMediumDeltaLight(c, sp, d, u, 1, sink); });
 }
 
 // Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights.
@@ -75,10 +78,11 @@ static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint
                                             c.ellipse_technique, light_ticks);
     const ChosenLight light = light_sampling.Choose(light_point);
     if (light.delta >= 0)  // a point or spot light the tree chose: phase Li T / pmf
-        QueueMediumDeltaLight(c, sp, c.scene.delta_lights[light.delta], out.Scaled(1.0f / light.pmf));
+        QueueMediumDeltaLight(c, sp, c.scene.delta_lights[light.delta], light.u, light.pmf,
+                              out.Scaled(1.0f / light.pmf));
     QueueMediumLightSample<MK>(c, sp, light, light_sampling, out);
     if (c.sample_bsdf) QueueMediumPhaseSample<MK>(c, sp, phase_point, light_sampling, out);
-    QueueMediumDeltaLights(c, sp, out);
+    QueueMediumDeltaLights(c, sp, light_point, out);
 }
 
 // A scattering distance on the camera ray's segment [0, t_end) and its pdf (0: none).

@@ -39,6 +39,13 @@ class TimedLightSamplingAt {
         return pdf;
     }
 
+    float SoftLightPDF(const DeltaLight& l, int tree_emitter) {
+        const uint64_t t0 = ReadTicks();
+        const float pdf = sampling_.SoftLightPDF(l, tree_emitter);
+        ticks_ += ReadTicks() - t0;
+        return pdf;
+    }
+
   private:
     LightSamplingAt<K> sampling_;
     uint64_t& ticks_;

@@ -15,9 +15,6 @@ IGNORED_LIGHT_SETTINGS = (
     (_ALL_TYPES, "diffuse_factor", 1.0, "Diffuse factor", "light diffuse factor (1 used)"),
     (_ALL_TYPES, "specular_factor", 1.0, "Specular factor", "light specular factor (1 used)"),
     (_ALL_TYPES, "volume_factor", 1.0, "Volume factor", "light volume factor (1 used)"),
-    (("POINT", "SPOT"), "shadow_soft_size", 0.0, "Radius (hard shadows)",
-     "point/spot light radius (treated as 0: hard shadows)"),
-    (("SUN",), "angle", 0.0, "Angle (hard shadows)", "sun angle (treated as 0: hard shadows)"),
 )
 
 
@@ -80,23 +77,31 @@ def export_light(sphrect, obj, matrix_world, name, log):
     if light.type == "AREA":
         return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log)
     _, _, z, position = _axes(matrix_world)
+    visible = bool(getattr(obj, "visible_camera", True))
     if light.type in {"POINT", "SPOT"}:
         intensity = sphrect.scene.point_light_intensity(power, color)
+        # Cycles 3.4 takes the radius as set, unscaled by the object (blender/light.cpp: shadow_soft_size).
+        radius = max(float(getattr(light, "shadow_soft_size", 0.0)), 0.0)
         if light.type == "POINT":
-            return sphrect.PointLight(position=_tuple(position), intensity=intensity, name=name)
+            return sphrect.PointLight(position=_tuple(position), intensity=intensity, name=name, radius=radius,
+                                      visible=visible)
         direction = _unit(-z)
         if direction is None:
             log.problem(f"spot light '{name}' has zero scale along Z: skipped")
             return None
         return sphrect.SpotLight(position=_tuple(position), direction=_tuple(direction), intensity=intensity,
-                                 spot_size=float(light.spot_size), spot_blend=float(light.spot_blend), name=name)
+                                 spot_size=float(light.spot_size), spot_blend=float(light.spot_blend), name=name,
+                                 radius=radius, visible=visible)
     if light.type == "SUN":
         direction = _unit(-z)
         if direction is None:
             log.problem(f"sun '{name}' has zero scale along Z: skipped")
             return None
+        angle = min(max(float(getattr(light, "angle", 0.0)), 0.0), math.pi)
+        # Cycles 3.4 finds a sun on escaping rays only with its Multiple Importance on (light_sample_from_distant_ray).
+        use_mis = bool(getattr(getattr(light, "cycles", None), "use_multiple_importance_sampling", True))
         return sphrect.SunLight(direction=_tuple(direction), irradiance=sphrect.scene.sun_irradiance(power, color),
-                                name=name)
+                                name=name, angle=angle, visible=visible and use_mis)
     log.unsupported_feature(f"{light.type.lower()} lights", light.name)
     return None
 
