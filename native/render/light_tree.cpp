@@ -32,6 +32,16 @@ TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
     return e;
 }
 
+std::vector<int> DeltaTreeEmitters(size_t num_area_lights, const std::vector<DeltaLight>& delta_lights) {
+    std::vector<int> emitters(delta_lights.size(), -1);
+    int next = int(num_area_lights);
+    for (size_t i = 0; i < delta_lights.size(); ++i) {
+        LightBounds b;
+        if (DeltaLightBounds(delta_lights[i], &b)) emitters[i] = next++;  // as CollectTreeEmitters counts them
+    }
+    return emitters;
+}
+
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;

@@ -42,6 +42,9 @@ struct TreeEmitters {
 };
 TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
                                  const std::vector<DeltaLight>& delta_lights);
+// The tree emitter each delta light is in CollectTreeEmitters' numbering (after the area lights), -1 for one that
+// is not a tree emitter (a sun): what a scene needs of the numbering before (or without) building the tree.
+std::vector<int> DeltaTreeEmitters(size_t num_area_lights, const std::vector<DeltaLight>& delta_lights);
 
 // A node, 48 bytes: the bounding sphere of its box (what the importance needs of the box), the
 // union of its emitters' cones, their power (divided by the tree's total, so at most 1).

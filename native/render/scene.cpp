@@ -105,13 +105,10 @@ void RenderScene::Commit() {
     medium_centre_selector.Build(powers);
     sun_lights.clear();
     soft_lights.clear();
-    // Tree emitters: the area lights, then the point and spot lights in order (CollectTreeEmitters).
-    int tree_emitter = int(area_lights.size());
+    const std::vector<int> tree_emitters = DeltaTreeEmitters(area_lights.size(), delta_lights);
     for (size_t i = 0; i < delta_lights.size(); ++i) {
-        const bool sun = delta_lights[i].kind == DeltaKind::Sun;
-        if (sun) sun_lights.push_back(uint32_t(i));
-        if (IsSoft(delta_lights[i])) soft_lights.push_back({uint32_t(i), sun ? -1 : tree_emitter});
-        if (!sun) ++tree_emitter;
+        if (delta_lights[i].kind == DeltaKind::Sun) sun_lights.push_back(uint32_t(i));
+        if (IsSoft(delta_lights[i])) soft_lights.push_back({uint32_t(i), tree_emitters[i]});
     }
     features_ = {};
     film_alpha = film_transparent;
