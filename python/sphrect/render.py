@@ -282,7 +282,8 @@ class Renderer:
         _native.check_render_memory(len(techniques), int(scene.camera.width), int(scene.camera.height),
                                     memory_limit)
         film = _native.render_memory_bytes(len(techniques), int(scene.camera.width), int(scene.camera.height))
-        native, skipped = build_native_scene(scene, (memory_limit or _native.default_memory_limit()) - film)
+        # What the limit leaves beside the film (at least 1 byte: 0 would mean no limit for the textures).
+        native, skipped = build_native_scene(scene, max(1, (memory_limit or _native.default_memory_limit()) - film))
         for msg in skipped:
             warnings.warn(msg, RuntimeWarning, stacklevel=2)
         self._scene = native

@@ -91,6 +91,8 @@ def test_the_film_and_the_textures_share_one_limit():
     with pytest.raises(ValueError, match="memory limit"):
         sphrect.Renderer(textured(sphrect.Texture(pixels=pixels)), techniques="rectangle",
                          memory_limit=film + 4 * MB - 1)
+    with pytest.raises(ValueError, match="image 'image' takes .* the memory limit leaves beside the film"):
+        sphrect.Renderer(textured(sphrect.Texture(pixels=pixels)), techniques="rectangle", memory_limit=film)
 
 
 def test_a_file_is_decoded_once_into_the_memory_the_scene_keeps(tmp_path):
