@@ -60,7 +60,8 @@ FORMAT_NAME = "sphrect-scene"
 # 10: PointLight.radius, SpotLight.radius, SunLight.angle (soft lights, as Cycles 3.4's) and their visible.  Older
 # files load as before: radius and angle 0, delta lights.
 # 11: RectLight.spread, EllipseLight.spread (Blender's Spread, radians).  Older files load with spread = pi (none).
-FORMAT_VERSION = 11
+# 12: World.environment (an equirectangular image world).  Older files load without one (the constant background).
+FORMAT_VERSION = 12
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -323,9 +324,26 @@ class Medium:
 
 
 @dataclass
+class Environment:
+    """An equirectangular image of the radiance arriving from infinitely far away, as Cycles 3.4's Environment
+    Texture (equirectangular projection) maps it: a unit direction d in the image's own frame falls at
+    u = (atan2(d.y, d.x) - pi) / (-2 pi), v = (acos(d.z) - pi/2) / (-pi) + 1/2, so +X is the image's middle column and
+    +Z its top row (row 0 of Texture.pixels is the image's bottom).  A world direction w is looked up at
+    d = to_world^T w (to_world: a rotation, row-major; the Mapping / Vector Rotate nodes in front of the texture).
+    The radiance is the image's value times `strength` (the Background's Strength times any constant colour
+    factor); `interpolation` is the texture node's."""
+    texture: int                       # into Scene.textures
+    strength: RGB = (1.0, 1.0, 1.0)
+    to_world: List[List[float]] = field(default_factory=lambda: np.eye(3).tolist())
+    interpolation: str = "linear"      # one of TEXTURE_INTERPOLATIONS
+
+
+@dataclass
 class World:
     background: RGB = (0.0, 0.0, 0.0)  # constant radiance seen where rays escape (and lighting the scene)
     medium: Optional[Medium] = None
+    # An image world: where set, rays that escape see it instead of `background`.
+    environment: Optional[Environment] = None
 
 
 @dataclass
@@ -459,9 +477,11 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
             raise ValueError(f"{path}: scene.json has no '{key}'")
     world = dict(meta["world"])
     medium = world.pop("medium", None)
+    environment = world.pop("environment", None)
     scene = Scene(
         camera=Camera(**meta["camera"]),
-        world=World(medium=Medium(**medium) if medium else None, **world),
+        world=World(medium=Medium(**medium) if medium else None,
+                    environment=Environment(**environment) if environment else None, **world),
         materials=[_material_from_dict(m) for m in meta["materials"]],
     )
     for l in meta["lights"]:
