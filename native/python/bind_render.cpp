@@ -444,6 +444,8 @@ void BindRender(py::module_& m) {
     m.attr("MAX_SAMPLES_PER_CALL") = render::kMaxSamplesPerCall;
     m.attr("MAX_IMAGE_SIDE") = render::kMaxImageSide;
     m.attr("MAX_LIGHT_TREE_EMITTERS") = render::kMaxLightTreeEmitters;
+    m.attr("MAX_DELTA_LIGHTS_BESIDE_TREE") = render::kMaxDeltaLightsBesideTree;
+    m.attr("TREE_FLUX_SHARE") = render::kTreeFluxShare;
     m.attr("MAX_MIX_GLOSSY_LOBES") = render::kMaxMicrofacetLobes;
     m.attr("MAX_TRANSPARENT_HITS") = render::kMaxTransparentHits;
     m.attr("mis_modes") = NameTuple(render::kAllMisModes, render::MisModeName);

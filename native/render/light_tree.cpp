@@ -16,13 +16,20 @@ namespace sphrect::render {
 
 // ---- The scene's emitters, each bounding itself (area_light.h, delta_light.h) ----
 
-TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
-                                 const std::vector<DeltaLight>& delta_lights) {
+bool DeltaLightsInTree(const std::vector<DeltaLight>& delta_lights) {
+    return size_t(std::count_if(delta_lights.begin(), delta_lights.end(), [](const DeltaLight& l) {
+               return l.kind != DeltaKind::Sun;
+           })) > kMaxDeltaLightsBesideTree;
+}
+
+TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights, const std::vector<DeltaLight>& delta_lights,
+                                 bool delta_lights_in_tree) {
     TreeEmitters e;
     for (size_t i = 0; i < area_lights.size(); ++i) {
         e.bounds.push_back(AreaLightBounds(area_lights[i]));
         e.refs.push_back({TreeEmitterKind::Area, int(i)});
     }
+    if (!delta_lights_in_tree) return e;
     for (size_t i = 0; i < delta_lights.size(); ++i) {
         LightBounds b;
         if (!DeltaLightBounds(delta_lights[i], &b)) continue;
@@ -32,8 +39,10 @@ TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
     return e;
 }
 
-std::vector<int> DeltaTreeEmitters(size_t num_area_lights, const std::vector<DeltaLight>& delta_lights) {
+std::vector<int> DeltaTreeEmitters(size_t num_area_lights, const std::vector<DeltaLight>& delta_lights,
+                                   bool delta_lights_in_tree) {
     std::vector<int> emitters(delta_lights.size(), -1);
+    if (!delta_lights_in_tree) return emitters;
     int next = int(num_area_lights);
     for (size_t i = 0; i < delta_lights.size(); ++i) {
         LightBounds b;
@@ -450,12 +459,20 @@ void LightTree::Build(const std::vector<LightBounds>& emitters, int threads) {
         throw std::invalid_argument("LightTree: " + std::to_string(emitters.size()) + " emitters, more than " +
                                     std::to_string(kMaxLightTreeEmitters));
     trails_.assign(emitters.size(), kNotInTree);
+    flux_ = {};
+    flux_share_ = 0;
     double total = 0;
     for (size_t i = 0; i < emitters.size(); ++i) {
         Validate(emitters[i], i);
         total += emitters[i].power;
     }
     if (!(total > 0)) return;
+    std::vector<double> flux(emitters.size());
+    for (size_t i = 0; i < emitters.size(); ++i) flux[i] = EmitterFlux(emitters[i]);
+    flux_.Build(flux);
+    flux_share_ = std::count_if(emitters.begin(), emitters.end(), [](const LightBounds& b) { return b.power > 0; }) > 1
+                      ? kTreeFluxShare
+                      : 0.0f;
 
     std::vector<BuildItem> items;
     items.reserve(emitters.size());

@@ -26,6 +26,7 @@
 #include "core/rng.h"
 #include "delta_light.h"
 #include "light_bounds.h"
+#include "light_selector.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -40,11 +41,20 @@ struct TreeEmitters {
     std::vector<LightBounds> bounds;
     std::vector<TreeEmitterRef> refs;  // refs[i] is emitter i of the tree
 };
-TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights,
-                                 const std::vector<DeltaLight>& delta_lights);
+// A scene's point and spot lights stay beside the tree, each evaluated at every light sample as under "power", while
+// there are at most this many of them: where a few strong lights each dominate somewhere, choosing them costs
+// selection noise that evaluating them does not, and their shadow rays are few (docs/light_tree.md, starvation).
+constexpr size_t kMaxDeltaLightsBesideTree = 8;
+// Whether the scene's point and spot lights are tree emitters (more than kMaxDeltaLightsBesideTree of them).
+bool DeltaLightsInTree(const std::vector<DeltaLight>& delta_lights);
+// The area lights, then (when delta_lights_in_tree: a scene's DeltaLightsInTree) the point and spot lights.
+TreeEmitters CollectTreeEmitters(const std::vector<AreaLight>& area_lights, const std::vector<DeltaLight>& delta_lights,
+                                 bool delta_lights_in_tree);
 // The tree emitter each delta light is in CollectTreeEmitters' numbering (after the area lights), -1 for one that
-// is not a tree emitter (a sun): what a scene needs of the numbering before (or without) building the tree.
-std::vector<int> DeltaTreeEmitters(size_t num_area_lights, const std::vector<DeltaLight>& delta_lights);
+// is not a tree emitter (a sun, or a point or spot light beside the tree): what a scene needs of the numbering before
+// (or without) building the tree.
+std::vector<int> DeltaTreeEmitters(size_t num_area_lights, const std::vector<DeltaLight>& delta_lights,
+                                   bool delta_lights_in_tree);
 
 // A node, 48 bytes: the bounding sphere of its box (what the importance needs of the box), the
 // union of its emitters' cones, their power (divided by the tree's total, so at most 1).
@@ -160,6 +170,21 @@ struct LightTreeReceiver {
         : p(p_), n(n_), has_normal(n_.x != 0 || n_.y != 0 || n_.z != 0) {}
 };
 
+// The share of the tree's choices made by flux alone (EmitterFlux, as light_selection "power" chooses area lights): a
+// defensive mixture, pmf = share * flux pmf + (1 - share) * the tree's own.  The tree's estimates are bounds, and an
+// emitter whose favourable bound is far above its true contribution (an area light seen edge-on from the floor beside
+// it) otherwise starves its neighbours, whose samples then carry weights of 1 / pmf up to 2^24; with the mixture no
+// emitter's pmf falls below share x its flux pmf, so the second moment of a light sample is at most 1 / share times
+// power selection's (docs/light_tree.md, starvation, with the measurements that chose the share).
+inline constexpr float kTreeFluxShare = 0.1f;
+
+// What an emitter sends in all, in the units of AreaLightPower (flux / pi): L A per side of an area light, 4 I for a
+// point or spot light (as RenderScene::Commit weighs them).
+inline double EmitterFlux(const LightBounds& b) {
+    if (b.cos_theta_o <= -1 || b.cos_theta_e >= 1) return 4 * b.power;
+    return b.two_sided ? 2 * b.power : b.power;
+}
+
 class LightTree {
   public:
     // Throws std::invalid_argument naming the emitter for NaN/infinite bounds, power or cone,
@@ -182,7 +207,7 @@ class LightTree {
     LightTreeSample Sample(const Vec3f& p, const Vec3f& n, float u) const {
         const LightTreeReceiver r(p, n);
         if (!CanLight(r)) return {};
-        return Descend(u, [&](uint32_t left) { return LeftProbability(left, r); });
+        return SampleMixture(u, [&](uint32_t left) { return LeftProbability(left, r); });
     }
 
     // The probability that Sample(p, n, .) returns `emitter`: the same products along the
@@ -191,7 +216,7 @@ class LightTree {
         if (!InTree(emitter)) return 0;
         const LightTreeReceiver r(p, n);
         if (!CanLight(r)) return 0;
-        return PathPMF(emitter, [&](uint32_t left) { return LeftProbability(left, r); });
+        return MixturePMF(emitter, PathPMF(emitter, [&](uint32_t left) { return LeftProbability(left, r); }));
     }
 
     // ---- The pieces of Sample and PMF, for LightTreeAt (which memoises p_left per node). ----
@@ -210,6 +235,27 @@ class LightTree {
         const LightTreeNode& rt = nodes_[left + 1];
         return LeftChildProbability(NodeImportance(l, r.p, r.n, r.has_normal),
                                     NodeImportance(rt, r.p, r.n, r.has_normal), l.power, rt.power);
+    }
+    // Sample's choice (CanLight holds): by flux with probability kTreeFluxShare, else down the tree, u rescaled to the
+    // chosen branch; the pmf is the mixture's, MixturePMF.
+    template <class PLeft>
+    LightTreeSample SampleMixture(float u, PLeft&& p_left_of) const {
+        const float a = flux_share_;
+        if (a == 0) return Descend(u, p_left_of);
+        if (u < a) {
+            LightTreeSample s;
+            s.emitter = flux_.SelectRemapped(std::min(u / a, kOneMinusEpsilonF), &s.u);
+            s.pmf = MixturePMF(s.emitter, PathPMF(s.emitter, p_left_of));
+            return s;
+        }
+        LightTreeSample s = Descend(std::min((u - a) / (1 - a), kOneMinusEpsilonF), p_left_of);
+        s.pmf = MixturePMF(s.emitter, s.pmf);
+        return s;
+    }
+    // The probability that SampleMixture picks `emitter`, whose pmf down the tree is tree_pmf.
+    float MixturePMF(int emitter, float tree_pmf) const {
+        if (flux_share_ == 0) return tree_pmf;
+        return flux_share_ * flux_.pmf[size_t(emitter)] + (1 - flux_share_) * tree_pmf;
     }
     // Sample's descent (CanLight holds) with p_left_of(left) the probability of child `left`.
     template <class PLeft>
@@ -260,6 +306,8 @@ class LightTree {
 
     std::vector<LightTreeNode> nodes_;  // nodes_[0] the root, then siblings in pairs
     std::vector<uint64_t> trails_;      // per emitter; kNotInTree for zero power
+    LightSelector flux_;                // per emitter, by EmitterFlux (the mixture's other half)
+    float flux_share_ = 0;              // kTreeFluxShare; 0 with one emitter (nothing to mix)
     int depth_ = 0;
 };
 
@@ -277,12 +325,13 @@ class LightTreeAt {
 
     LightTreeSample Sample(float u) {
         if (!CanLight()) return {};
-        return tree_.Descend(u, [this](uint32_t left) { return LeftProbability(left); });
+        return tree_.SampleMixture(u, [this](uint32_t left) { return LeftProbability(left); });
     }
 
     float PMF(int emitter) {
         if (!tree_.InTree(emitter) || !CanLight()) return 0;
-        return tree_.PathPMF(emitter, [this](uint32_t left) { return LeftProbability(left); });
+        return tree_.MixturePMF(emitter,
+                                tree_.PathPMF(emitter, [this](uint32_t left) { return LeftProbability(left); }));
     }
 
   private:

@@ -103,11 +103,12 @@ void RenderScene::Commit() {
         medium_centres.push_back(d.position);
     }
     medium_centre_selector.Build(powers);
-    sun_lights.clear();
+    delta_lights_beside_tree.clear();
     soft_lights.clear();
-    const std::vector<int> tree_emitters = DeltaTreeEmitters(area_lights.size(), delta_lights);
+    const std::vector<int> tree_emitters =
+        DeltaTreeEmitters(area_lights.size(), delta_lights, DeltaLightsInTree(delta_lights));
     for (size_t i = 0; i < delta_lights.size(); ++i) {
-        if (delta_lights[i].kind == DeltaKind::Sun) sun_lights.push_back(uint32_t(i));
+        if (tree_emitters[i] < 0) delta_lights_beside_tree.push_back(uint32_t(i));
         if (IsSoft(delta_lights[i])) soft_lights.push_back({uint32_t(i), tree_emitters[i]});
     }
     features_ = {};
@@ -176,7 +177,7 @@ void RenderScene::CheckTextureCoordinates() {
 void RenderScene::BuildLightTree() const {
     if (!committed_) Fail("the light tree needs a committed scene");
     std::call_once(light_tree_once_, [this] {
-        TreeEmitters emitters = CollectTreeEmitters(area_lights, delta_lights);
+        TreeEmitters emitters = CollectTreeEmitters(area_lights, delta_lights, DeltaLightsInTree(delta_lights));
         light_tree_.Build(emitters.bounds);
         light_tree_refs_ = std::move(emitters.refs);
     });

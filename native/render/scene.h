@@ -159,11 +159,12 @@ class RenderScene {
     std::vector<DeltaLight> delta_lights;
     // The soft ones among delta_lights (a radius or an angle), which BSDF, phase and camera rays reach.
     std::vector<SoftLightRef> soft_lights;
-    // The suns among delta_lights (indices): what "tree" still evaluates once per sample, in a list of
-    // their own so that the tree's point and spot lights cost nothing in that loop.
-    std::vector<uint32_t> sun_lights;
-    // Every area light and point/spot light in one light tree (light_selection "tree"): tree
-    // emitter i < area_lights.size() is area light i, then the point and spot lights
+    // The delta_lights (indices) that are not tree emitters: what "tree" still evaluates once per sample -- the suns,
+    // and the point and spot lights while there are few (DeltaLightsInTree) -- in a list of their own so that the
+    // tree's point and spot lights cost nothing in that loop.
+    std::vector<uint32_t> delta_lights_beside_tree;
+    // Every area light and (when there are many, DeltaLightsInTree) point/spot light in one light tree
+    // (light_selection "tree"): tree emitter i < area_lights.size() is area light i, then the point and spot lights
     // (light_tree_refs() maps each to its light); suns stay outside.  Built by the first
     // Renderer that selects by tree (BuildLightTree, thread-safe), so that "power" renders of a
     // million emitters do not pay its ~1.4 s and ~100 MB; empty until then.

@@ -10,8 +10,9 @@ Example::
 Light selection (light_selection, one of LIGHT_SELECTIONS): one emitter per light sample, chosen by
 the v of the light sample's pattern point, which is then rescaled for the point on the light (so the
 choice is stratified with the pattern).  "tree" (default): a light tree over the area lights
-(rectangles, ellipses, emissive triangles) and the point and spot lights picks one in proportion to
-an estimate of its contribution at the shading point (power, distance, orientation); "power": an
+(rectangles, ellipses, emissive triangles) and, when there are more than MAX_DELTA_LIGHTS_BESIDE_TREE, the point
+and spot lights picks one in proportion to an estimate of its contribution at the shading point (power, distance,
+orientation), a TREE_FLUX_SHARE of the choices by flux so that no light starves; "power": an
 area light with probability proportional to its power (luminance x area x sides), and point and
 spot lights evaluated once per camera sample each.  Suns are evaluated once per camera sample with
 either.  Pixels are filtered as Camera.pixel_filter says (box, gaussian or blackman_harris of Camera.filter_width

@@ -66,7 +66,7 @@ Emitters MixedScene(int n, uint32_t seed) {
             e.delta.push_back(d);
         }
     }
-    e.tree = CollectTreeEmitters(e.area, e.delta);
+    e.tree = CollectTreeEmitters(e.area, e.delta, true);
     return e;
 }
 
@@ -273,6 +273,36 @@ TEST(LightTree, PickFrequenciesMatchPMF) {
         if (cells < 2) continue;
         EXPECT_LT(chi2, Chi2Threshold(cells - 1, alpha)) << "cells " << cells;
     }
+}
+
+// The defensive mixture (kTreeFluxShare): wherever the tree can light a receiver, no emitter's pmf falls below the
+// share times its flux pmf -- the bound that keeps a light sample's second moment within 1 / share of power
+// selection's -- and a single emitter is not mixed (its pmf stays 1).
+TEST(LightTree, NoEmitterFallsBelowItsShareOfFlux) {
+    const Emitters e = MixedScene(300, 23);
+    LightTree tree;
+    tree.Build(e.tree.bounds);
+    double total_flux = 0;
+    for (const LightBounds& b : e.tree.bounds) total_flux += EmitterFlux(b);
+    int checked = 0;
+    for (const bool with_normal : {true, false})
+        for (const Receiver& r : RandomReceivers(200, 29, with_normal)) {
+            if (!(tree.PMF(r.p, r.n, tree.Sample(r.p, r.n, 0.5f).emitter) > 0)) continue;  // nothing can light r
+            for (int i = 0; i < tree.NumEmitters(); ++i) {
+                const double floor = kTreeFluxShare * EmitterFlux(e.tree.bounds[size_t(i)]) / total_flux;
+                EXPECT_GE(tree.PMF(r.p, r.n, i), floor * (1 - 1e-5)) << i;
+                ++checked;
+            }
+        }
+    EXPECT_GT(checked, 10000);
+
+    const Emitters one = MixedScene(1, 3);
+    LightTree single;
+    single.Build(CollectTreeEmitters(one.area, one.delta, true).bounds);
+    const LightTreeSample s = single.Sample({0, 0, 0}, {}, 0.7f);
+    ASSERT_EQ(s.emitter, 0);
+    EXPECT_EQ(s.pmf, 1.0f);
+    EXPECT_EQ(s.u, 0.7f);
 }
 
 TEST(LightTree, PMFPositiveForEveryEmitterThatCanLight) {
@@ -504,7 +534,7 @@ TEST(LightTree, SunIsNoTreeEmitter) {
     sun.kind = DeltaKind::Sun;
     LightBounds b;
     EXPECT_FALSE(DeltaLightBounds(sun, &b));
-    const TreeEmitters t = CollectTreeEmitters({}, {sun});
+    const TreeEmitters t = CollectTreeEmitters({}, {sun}, true);
     EXPECT_TRUE(t.bounds.empty());
 }
 

@@ -442,30 +442,35 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
     s.AddPointLight({0, 0, 1}, {1, 1, 1});
     s.AddSunLight({0, 0, -1}, {1, 1, 1});
     s.AddSpotLight({1, 1, 3}, {0, 0, -1}, {5, 5, 5}, 1.0f, 0.2f);
+    // More point lights than stay beside the tree: all of them are tree emitters.
+    for (size_t i = 0; i < kMaxDeltaLightsBesideTree; ++i) s.AddPointLight({-4.0f + i, 5, 2}, {0.5f, 0.5f, 0.5f});
     s.Commit();
     EXPECT_EQ(s.light_tree().NumEmitters(), 0);  // built for the first Renderer that selects by tree
     s.BuildLightTree();
-    ASSERT_EQ(s.light_tree().NumEmitters(), 5);
-    ASSERT_EQ(s.light_tree_refs().size(), 5u);
+    const int emitters = int(3 + 2 + kMaxDeltaLightsBesideTree);
+    ASSERT_EQ(s.light_tree().NumEmitters(), emitters);
+    ASSERT_EQ(s.light_tree_refs().size(), size_t(emitters));
     for (int i = 0; i < 3; ++i) EXPECT_EQ(s.light_tree_refs()[i].kind, TreeEmitterKind::Area);
     EXPECT_EQ(s.light_tree_refs()[3].kind, TreeEmitterKind::Delta);
-    EXPECT_EQ(s.light_tree_refs()[3].index, 0);  // the point light
-    EXPECT_EQ(s.light_tree_refs()[4].index, 2);  // the spot (delta light 1 is the sun)
+    EXPECT_EQ(s.light_tree_refs()[3].index, 0);                       // the point light
+    EXPECT_EQ(s.light_tree_refs()[4].index, 2);                       // the spot (delta light 1 is the sun)
+    EXPECT_EQ(s.delta_lights_beside_tree, std::vector<uint32_t>{1});  // the sun
+    const std::vector<int> delta_emitter = DeltaTreeEmitters(3, s.delta_lights, DeltaLightsInTree(s.delta_lights));
 
     const Vec3f p{0.2f, -0.1f, 0}, n{0, 0, 1};
     LightSamplingAt<Technique::Rectangle> at(s, LightSelection::Tree, p, n, n, 4);
-    std::vector<int> count(5, 0);
+    std::vector<int> count(size_t(emitters), 0);
     constexpr int kN = 20000;
     double pmf_sum = 0;
-    for (int i = 0; i < 5; ++i) pmf_sum += s.light_tree().PMF(p, n, i);
+    for (int i = 0; i < emitters; ++i) pmf_sum += s.light_tree().PMF(p, n, i);
     EXPECT_NEAR(pmf_sum, 1.0, 1e-5);
     for (int k = 0; k < kN; ++k) {
         const ChosenLight c = at.Choose({0.5f, (k + 0.5f) / kN});
         ASSERT_TRUE(c.pmf > 0);
         ASSERT_NE(c.index >= 0, c.delta >= 0);  // one of the two
-        const int emitter = c.index >= 0 ? c.index : (c.delta == 0 ? 3 : 4);
+        const int emitter = c.index >= 0 ? c.index : delta_emitter[size_t(c.delta)];
         EXPECT_EQ(c.pmf, s.light_tree().PMF(p, n, emitter));
-        ++count[emitter];
+        ++count[size_t(emitter)];
         if (c.index >= 0) {  // PDF of the sampled point = tree pmf x its point pdf
             const LightSample<float> ls = at.Sample(c.index, c.u);
             if (ls.pdf > 0) {
@@ -473,8 +478,28 @@ TEST(RenderLights, LightTreeOverTheScenesEmitters) {
             }
         }
     }
-    // A stratified v: each emitter's count is its pmf x kN up to the traversal's rounding.
-    for (int i = 0; i < 5; ++i) EXPECT_NEAR(count[i], s.light_tree().PMF(p, n, i) * kN, 2.0) << i;
+    // A stratified v: each emitter's count is its pmf x kN up to the traversal's rounding (in each of the mixture's
+    // two halves, light_tree.h kTreeFluxShare).
+    for (int i = 0; i < emitters; ++i) EXPECT_NEAR(count[size_t(i)], s.light_tree().PMF(p, n, i) * kN, 3.0) << i;
+}
+
+// With few point and spot lights (up to kMaxDeltaLightsBesideTree) the tree holds the area lights only, and the point
+// and spot lights are evaluated at every light sample beside it, with the suns, as "power" evaluates them.
+TEST(RenderLights, FewPointLightsStayBesideTheTree) {
+    RenderScene s;
+    SetTinyCameraAndGreyMaterial(s);
+    EXPECT_EQ(s.AddRectLight({-1, -1, 2}, {0, 2, 0}, {2, 0, 0}, {1, 1, 1}, false, false), "");
+    for (size_t i = 0; i < kMaxDeltaLightsBesideTree; ++i) s.AddPointLight({-4.0f + i, 5, 2}, {0.5f, 0.5f, 0.5f});
+    s.AddSunLight({0, 0, -1}, {1, 1, 1});
+    s.Commit();
+    s.BuildLightTree();
+    EXPECT_EQ(s.light_tree().NumEmitters(), 1);
+    EXPECT_EQ(s.delta_lights_beside_tree.size(), kMaxDeltaLightsBesideTree + 1);
+    for (int e : DeltaTreeEmitters(1, s.delta_lights, DeltaLightsInTree(s.delta_lights))) EXPECT_EQ(e, -1);
+    std::vector<uint32_t> seen;
+    ForEachDeltaLightEvaluatedOnce(s, LightSelection::Tree,
+                                   [&](const DeltaLight& d) { seen.push_back(uint32_t(&d - s.delta_lights.data())); });
+    EXPECT_EQ(seen, s.delta_lights_beside_tree);
 }
 
 // LightSamplingAt keeps the samplers of the last kKeptSamplers (4) rectangle lights it set up, for

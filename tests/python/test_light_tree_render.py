@@ -1,5 +1,6 @@
 """The renderer with light_selection="tree": the light tree picks one emitter per light sample among
-rectangles, emissive triangles and point/spot lights (suns stay evaluated once), and the MIS pdf of an
+rectangles and emissive triangles (the point/spot lights, fewer than MAX_DELTA_LIGHTS_BESIDE_TREE, and the sun
+stay evaluated once; test_render.cpp's RenderLights tests the tree choosing point lights), and the MIS pdf of an
 emitter a BSDF ray finds is the tree's pmf at the shading point.
 
 - unbiased: a Lambertian plane under three rectangles of different power, an emissive triangle, two

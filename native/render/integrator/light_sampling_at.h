@@ -55,13 +55,13 @@ static inline bool HasChoosableLights(const RenderScene& scene, LightSelection s
 }
 
 // Delta lights evaluated once per camera sample (each casts its shadow ray): all of them with
-// "power", only suns with "tree" (point and spot lights are tree emitters).
+// "power"; with "tree" those beside the tree (suns, and point and spot lights while they are few).
 template <class F>
 static inline void ForEachDeltaLightEvaluatedOnce(const RenderScene& scene, LightSelection selection, F&& f) {
     if (selection == LightSelection::Power) {
         for (const DeltaLight& d : scene.delta_lights) f(d);
     } else {
-        for (uint32_t i : scene.sun_lights) f(scene.delta_lights[i]);
+        for (uint32_t i : scene.delta_lights_beside_tree) f(scene.delta_lights[i]);
     }
 }
 
