@@ -114,7 +114,6 @@ int AddImage(RenderScene& s, const std::string& name, const py::array& pixels, b
     return s.AddImage(ImageOfArray(name, pixels, srgb));
 }
 
-
 // A 3x3 rotation (row-major) from Python, or ValueError naming `what`.
 void RotationOf(const py::object& obj, const std::string& what, float out[3][3]) {
     const auto a = ArrayOf<double>(obj, what);

@@ -4,7 +4,6 @@ strength), the worlds it cannot take as they are kept on the constant fallback (
 Cycles parity of a scene lit by an HDR-like float image (a bright blob and a sky gradient; mean relative difference
 over lit 4x4-pixel blocks, as test_cycles_parity.py measures; Cycles 2048 spp, SPHRECT 512 spp).  Fixed seeds:
 deterministic."""
-import math
 
 import bpy
 import mathutils

@@ -75,8 +75,8 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
 
 // Light sampling of the image world: f Le T cos w / pdf, w its MIS weight against the BSDF sample.
 template <bool kGlossy>
-static inline void QueueSurfaceEnvironmentSample(const ShadeContext& c, const SurfaceShadingPoint& sp,
-                                                 Point2<float> u, const ShadowSink& sink) {
+static inline void QueueSurfaceEnvironmentSample(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
+                                                 const ShadowSink& sink) {
     const EmitterSample e = SampleEnvironmentEmitter(c, u);
     if (!e.valid) return;
     const Vec3f wi = sp.frame.ToLocal(e.dir);
@@ -177,9 +177,9 @@ static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
 }
 
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
-// pairs averaged, as many light samples of the image world, then the delta lights evaluated once (soft ones once per light sample).  Light sample j's emitter and
-// its point come from light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that may follow.
-// light_ticks counts the time in light sampling.
+// pairs averaged, as many light samples of the image world, then the delta lights evaluated once (soft ones once per
+// light sample).  Light sample j's emitter and its point come from light_points[j] (LightSamplingAt::Choose); rng is
+// only advanced for the medium that may follow. light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h, const Vec3f& wo_world,
                                 const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
