@@ -65,44 +65,54 @@ inline Spectrum EnvironmentRadiance(const EnvironmentLight& e, const Image& im, 
     return LookupImage(im, uv.u, uv.v, e.interpolation, TextureExtension::kRepeat).rgb() * e.strength;
 }
 
-// The weights of Distribution2D, one per pixel: the luminance (negative channels as 0) the pixel's cell sends
-// (linear interpolation: the mean of the bilinear lookup over the cell, 1/8 3/4 1/8 of the texel and its
-// neighbours per axis, so that every cell with any radiance can be sampled; closest: the texel) times the
-// solid angle of its row, 2 pi (cos theta0 - cos theta1) / width, which stays positive at the poles.
-inline std::vector<double> EnvironmentPixelWeights(const EnvironmentLight& e, const Image& im) {
+// The sampling grid is the image's pixels, each split into k x l cells so that it has at least this many rows and
+// columns: a tiny image (1 x 1, a two-tone 2 x 1) is still sampled by the solid angle of its rows, not densest at
+// the poles.
+constexpr int kMinEnvironmentRows = 32, kMinEnvironmentColumns = 64;
+
+// The weights of Distribution2D over that grid: the luminance (negative channels as 0) its pixel sends (linear
+// interpolation: the mean of the bilinear lookup over the pixel, 1/8 3/4 1/8 of the texel and its neighbours per
+// axis, so that every cell with any radiance can be sampled; closest: the texel) times the solid angle of the cell's
+// row, 2 pi (cos theta0 - cos theta1) / columns, which stays positive at the poles.  Sets *columns and *rows.
+inline std::vector<double> EnvironmentCellWeights(const EnvironmentLight& e, const Image& im, int* columns,
+                                                  int* rows) {
     const int w = im.width, h = im.height;
-    std::vector<double> lum(size_t(w) * size_t(h));
+    const int kx = (kMinEnvironmentColumns + w - 1) / w, ky = (kMinEnvironmentRows + h - 1) / h;
+    *columns = w * kx;
+    *rows = h * ky;
+    std::vector<float> lum(size_t(w) * size_t(h));
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             Spectrum c = DecodeTexel(im, im.Texel(x, y)).rgb() * e.strength;
             c = {std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f)};
             lum[size_t(y) * size_t(w) + size_t(x)] = Luminance(c);
         }
-    std::vector<double> weights(lum.size());
-    const bool linear = e.interpolation == TextureInterpolation::kLinear;
     auto at = [&](int x, int y) {
-        return lum[size_t(texture_detail::WrapRepeat(y, h)) * size_t(w) + size_t(texture_detail::WrapRepeat(x, w))];
+        return double(
+            lum[size_t(texture_detail::WrapRepeat(y, h)) * size_t(w) + size_t(texture_detail::WrapRepeat(x, w))]);
     };
-    constexpr double kTap[3] = {0.125, 0.75, 0.125};
-    for (int y = 0; y < h; ++y) {
-        const double theta0 = kPi * (1 - double(y) / h), theta1 = kPi * (1 - double(y + 1) / h);
-        const double row_solid_angle = 2 * double(kPi) * (std::cos(theta1) - std::cos(theta0)) / w;
-        for (int x = 0; x < w; ++x) {
-            double l = 0;
-            if (linear) {
-                for (int j = -1; j <= 1; ++j)
-                    for (int i = -1; i <= 1; ++i) l += kTap[j + 1] * kTap[i + 1] * at(x + i, y + j);
-            } else {
-                l = at(x, y);
-            }
-            weights[size_t(y) * size_t(w) + size_t(x)] = l * row_solid_angle;
-        }
+    auto pixel = [&](int x, int y) {
+        if (e.interpolation != TextureInterpolation::kLinear) return at(x, y);
+        constexpr double kTap[3] = {0.125, 0.75, 0.125};
+        double l = 0;
+        for (int j = -1; j <= 1; ++j)
+            for (int i = -1; i <= 1; ++i) l += kTap[j + 1] * kTap[i + 1] * at(x + i, y + j);
+        return l;
+    };
+    std::vector<double> weights(size_t(*columns) * size_t(*rows));
+    for (int r = 0; r < *rows; ++r) {
+        const double theta0 = kPi * (1 - double(r) / *rows), theta1 = kPi * (1 - double(r + 1) / *rows);
+        const double row_solid_angle = 2 * double(kPi) * (std::cos(theta1) - std::cos(theta0)) / *columns;
+        for (int c = 0; c < *columns; ++c)
+            weights[size_t(r) * size_t(*columns) + size_t(c)] = pixel(c / kx, r / ky) * row_solid_angle;
     }
     return weights;
 }
 
 inline void BuildEnvironmentDistribution(EnvironmentLight& e, const Image& im) {
-    e.distribution.Build(im.width, im.height, EnvironmentPixelWeights(e, im));
+    int columns, rows;
+    const std::vector<double> weights = EnvironmentCellWeights(e, im, &columns, &rows);
+    e.distribution.Build(columns, rows, weights);
 }
 
 // ------------------------------------------------------------------ sampling

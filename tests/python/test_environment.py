@@ -70,8 +70,9 @@ CHI2_CASES = [
 @pytest.mark.parametrize("name,image,to_world,interpolation", CHI2_CASES, ids=[c[0] for c in CHI2_CASES])
 def test_environment_sampling_matches_its_pdf(name, image, to_world, interpolation):
     sampler = sphrect.EnvironmentSampler(image, to_world=to_world, interpolation=interpolation)
-    # A grid on the pixels' edges where no pixel is black (exact cell integrals: fast), else one across them.
-    resolution = (24, 12) if np.all(image > 0) and image.shape[:2] == (6, 8) else (25, 13)
+    # A grid on the sampling cells' edges (the 6 x 8 images: 36 x 64) where no pixel is black (exact cell integrals:
+    # fast), else one across them.
+    resolution = (64, 36) if np.all(image > 0) and image.shape[:2] == (6, 8) else (25, 13)
     r = environment_chi2_test(sampler, name, to_world=to_world, test_count=CHI2_TESTS, resolution=resolution)
     assert abs(r.total_probability - 1) < 1e-3, str(r)
     assert r.passed, str(r)
@@ -80,7 +81,7 @@ def test_environment_sampling_matches_its_pdf(name, image, to_world, interpolati
 def test_environment_chi2_fails_for_a_wrong_pdf():
     """The same harness rejects a pdf tilted by 10 % towards +Z: it can fail."""
     sampler = sphrect.EnvironmentSampler(random_image(6, 8))
-    r = environment_chi2_test(sampler, "tilted", test_count=CHI2_TESTS, resolution=(24, 12),
+    r = environment_chi2_test(sampler, "tilted", test_count=CHI2_TESTS, resolution=(64, 36),
                               pdf_factor=lambda w: 1 + 0.1 * w[:, 2])
     assert not r.passed, str(r)
 
