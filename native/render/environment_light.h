@@ -74,8 +74,7 @@ constexpr int kMinEnvironmentRows = 32, kMinEnvironmentColumns = 64;
 // interpolation: the mean of the bilinear lookup over the pixel, 1/8 3/4 1/8 of the texel and its neighbours per
 // axis, so that every cell with any radiance can be sampled; closest: the texel) times the solid angle of the cell's
 // row, 2 pi (cos theta0 - cos theta1) / columns, which stays positive at the poles.  Sets *columns and *rows.
-inline std::vector<double> EnvironmentCellWeights(const EnvironmentLight& e, const Image& im, int* columns,
-                                                  int* rows) {
+inline std::vector<double> EnvironmentCellWeights(const EnvironmentLight& e, const Image& im, int* columns, int* rows) {
     const int w = im.width, h = im.height;
     const int kx = (kMinEnvironmentColumns + w - 1) / w, ky = (kMinEnvironmentRows + h - 1) / h;
     *columns = w * kx;
