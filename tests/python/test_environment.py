@@ -25,7 +25,8 @@ from scipy import stats
 import sphrect
 from chi2 import environment_chi2_test, equirectangular_direction, sidak_alpha
 from sphrect.render import build_native_scene
-from render_testing import expected_plane_image, pixel_t_test, plane_mesh, replicate_images, top_camera
+from render_testing import (expected_plane_image, pixel_t_test, plane_mesh, replicate_images, save_as_older_version,
+                            top_camera)
 
 FAMILY_ALPHA = 1e-4
 ALBEDO = 0.5
@@ -263,3 +264,39 @@ def test_environment_is_a_scene_feature_and_its_only_light():
     scene = environment_scene(np.ones((2, 4, 3), np.float32), meshes=[], camera=look_at_camera((0, 1, 0), 50))
     native, _ = build_native_scene(scene)
     assert "environment" in native.features and "background" not in native.features
+
+
+def test_files_keep_the_environment_and_older_ones_load_without(tmp_path):
+    """A saved image world loads back the same (and renders the same image); a format-11 file, which has none,
+    loads with the constant background."""
+    scene = environment_scene(random_image(4, 8, 9), to_world=rot_x(0.4), strength=(2.0, 1.0, 0.5))
+    path = str(tmp_path / "env.sphrect.npz")
+    sphrect.save_scene(scene, path)
+    loaded = sphrect.load_scene(path)
+    e, f = loaded.world.environment, scene.world.environment
+    assert (e.texture, tuple(e.strength), e.to_world, e.interpolation) == \
+        (f.texture, tuple(f.strength), f.to_world, f.interpolation)
+    a = sphrect.Renderer(scene, techniques=["rectangle"], seed=3)
+    b = sphrect.Renderer(loaded, techniques=["rectangle"], seed=3)
+    assert a.render(2) and b.render(2)
+    np.testing.assert_array_equal(a.image("rectangle"), b.image("rectangle"))
+    old = str(tmp_path / "old.sphrect.npz")
+    save_as_older_version(path, old, 11, lambda meta: meta["world"].pop("environment"))
+    older = sphrect.load_scene(old)
+    assert older.world.environment is None and tuple(older.world.background) == (7.0, 7.0, 7.0)
+
+
+def test_an_environment_in_an_infinite_medium_lights_nothing():
+    """The medium's transmittance to infinity is 0, as for the constant background: the image world adds nothing
+    (the image is the one with the constant background of black, bit for bit)."""
+    scene = environment_scene(np.full((4, 8, 3), 3.0, np.float32))
+    scene.world.medium = sphrect.Medium(sigma_s=(0.2,) * 3, sigma_a=(0.05,) * 3)
+    scene.lights.append(sphrect.PointLight(position=(0, 0, 1), intensity=(1, 1, 1)))
+    plain = environment_scene(np.full((4, 8, 3), 3.0, np.float32))
+    plain.world = sphrect.World(medium=scene.world.medium)
+    plain.lights = list(scene.lights)
+    a = sphrect.Renderer(scene, techniques=["rectangle"], seed=5)
+    b = sphrect.Renderer(plain, techniques=["rectangle"], seed=5)
+    assert a.render(2) and b.render(2)
+    assert b.image("rectangle")[..., 0].mean() > 0
+    np.testing.assert_array_equal(a.image("rectangle"), b.image("rectangle"))
