@@ -1,9 +1,11 @@
-"""Image worlds (issue 28): the exporter's Background from an equirectangular Environment Texture -> sphrect.Environment
-(the image a Texture, the Mapping / Texture Coordinate rotation its to_world, Strength and a constant Multiply its
-strength), the worlds it cannot take as they are kept on the constant fallback (_world_not_representable), and
-Cycles parity of a scene lit by an HDR-like float image (a bright blob and a sky gradient; mean relative difference
-over lit 4x4-pixel blocks, as test_cycles_parity.py measures; Cycles 2048 spp, SPHRECT 512 spp).  Fixed seeds:
+"""Image worlds (issue 28): the exporter's Background from an equirectangular Environment Texture ->
+sphrect.Environment (the image a Texture, the Mapping / Vector Rotate / Texture Coordinate rotation its to_world,
+Strength and a constant Multiply its strength), the worlds it cannot take as they are kept on the constant fallback
+(_world_not_representable), and Cycles parity of a scene lit by an HDR-like float image (a bright blob and a sky
+gradient) and of Blender's own HDR photographs (its studio-light worlds): mean relative difference over lit
+4x4-pixel blocks, as test_cycles_parity.py measures (Cycles 2048 spp, SPHRECT 512 spp).  Fixed seeds:
 deterministic."""
+import os
 
 import bpy
 import mathutils
@@ -97,6 +99,29 @@ def test_scaled_mapping_and_multiply_are_an_environment(empty_scene):
     np.testing.assert_allclose(np.array(e.to_world), expected, atol=1e-6)
 
 
+@pytest.mark.parametrize("invert", [False, True])
+def test_vector_rotate_is_the_environment_rotation(empty_scene, invert):
+    """A Vector Rotate node (axis and angle, about the origin) between the Mapping and the image: Cycles looks w up
+    at R_rotate R_mapping w."""
+    world, env = image_world(hdr_pixels(4, 8), rotation_z=0.3)
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    rotate = nodes.new("ShaderNodeVectorRotate")
+    rotate.rotation_type = "AXIS_ANGLE"
+    rotate.invert = invert
+    rotate.inputs["Axis"].default_value = (1.0, 1.0, 0.0)
+    rotate.inputs["Angle"].default_value = 0.7
+    links.new(nodes["Mapping"].outputs["Vector"], rotate.inputs["Vector"])
+    links.new(rotate.outputs["Vector"], env.inputs["Vector"])
+    ground()
+    e = export()[0].world.environment
+    assert e is not None
+    turn = np.array(mathutils.Matrix.Rotation(-0.7 if invert else 0.7, 3, mathutils.Vector((1, 1, 0)).normalized()))
+    mapping = np.array(mathutils.Euler((0, 0, 0.3), "XYZ").to_matrix())
+    np.testing.assert_allclose(np.array(e.to_world), (turn @ mapping).T, atol=1e-6)
+    rotate.inputs["Center"].default_value = (0.0, 0.0, 1.0)  # a rotation about a point off the origin: not one
+    assert export()[0].world.environment is None
+
+
 @pytest.mark.parametrize("change", ["mirror_ball", "translation", "unequal_scale", "sky"])
 def test_worlds_not_representable_keep_the_constant_fallback(empty_scene, change):
     """A mirror-ball projection, a Mapping with a translation or an unequal scale, a Sky Texture: today's constant
@@ -153,3 +178,25 @@ def test_environment_lit_scene_matches_cycles(empty_scene, tmp_path):
     empty_scene.world.node_tree.nodes["Mapping"].inputs["Rotation"].default_value = (0.0, 0.0, 0.0)
     unrotated, _, _ = difference_to_cycles(empty_scene, "image world, unrotated", tmp_path, cycles=cycles)
     assert unrotated > 0.03
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["sunrise.exr", "courtyard.exr", "night.exr"])
+def test_blenders_own_hdris_match_cycles(empty_scene, name, tmp_path):
+    """Real HDR photographs: the equirectangular studio-light worlds Blender ships (Poly Haven's, CC0), as a world
+    image on the floor, box and sphere scene (rotated 2 rad about Z)."""
+    path = os.path.join(bpy.utils.system_resource("DATAFILES", path="studiolights/world"), name)
+    world, env = image_world(hdr_pixels(2, 4), rotation_z=2.0, name=name)
+    env.image = bpy.data.images.load(path)
+    ground()
+    builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.6, 0.5, 0.5),
+                         size=1.0, rotation=(0, 0, 0.4))
+    sphere = builders.mesh_object("Ball", "uv_sphere", builders.material("Ball", (0.3, 0.6, 0.8)),
+                                  location=(-0.9, -0.2, 0.6), radius=0.6)
+    builders.smooth(sphere)
+    set_resolution(empty_scene, WIDTH, HEIGHT)
+    bpy.context.view_layer.update()
+    scene, _ = export()
+    assert scene.world.environment is not None
+    difference, _, _ = difference_to_cycles(empty_scene, f"Blender's {name}", tmp_path, light_samples=2)
+    assert difference <= 0.01

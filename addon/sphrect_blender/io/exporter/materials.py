@@ -22,6 +22,7 @@ them (node_groups.py: muted and invalid links left out, muted nodes passing thei
 and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it (_closures)."""
 import dataclasses
 
+import mathutils
 import numpy as np
 
 from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
@@ -711,7 +712,8 @@ def _world_color(sphrect, background, log, owner):
 
 def _direct_world(sphrect, surface, textures, log, owner):
     """(background, environment) of a Background the renderer takes as Cycles evaluates it, or None: a constant
-    Color, or an Environment Texture (equirectangular) behind optional Mapping nodes and a Texture Coordinate
+    Color, or an Environment Texture (equirectangular) behind optional Mapping / Vector Rotate nodes and a Texture
+    Coordinate
     (Generated, or Object: the ray's direction in a world) whose affine map is a rotation times a positive
     uniform scale without translation, its Color times a constant colour (a MixRGB Multiply) and the Strength."""
     if surface.bl_idname != "ShaderNodeBackground" or surface.inputs["Strength"].is_linked:
@@ -774,21 +776,47 @@ def _constant_multiply(mix):
     return source, output, np.array(_own_value(a)[:3])
 
 
+def _vector_rotate(node):
+    """4x4 matrix of a Vector Rotate node (Cycles' svm_node_vector_rotate: about its Center, by Angle about Axis or
+    X / Y / Z, or by an XYZ Euler rotation; Invert the inverse rotation), None where an input is linked."""
+    if any(socket.is_linked for socket in node.inputs if socket.identifier != "Vector"):
+        return None
+    values = {socket.identifier: _own_value(socket) for socket in node.inputs if socket.identifier != "Vector"}
+    kind = node.rotation_type
+    if kind == "EULER_XYZ":
+        rotation = np.array(mathutils.Euler(values["Rotation"], "XYZ").to_matrix(), dtype=np.float64)
+        if node.invert:
+            rotation = rotation.T
+    else:
+        axis = {"X_AXIS": (1.0, 0.0, 0.0), "Y_AXIS": (0.0, 1.0, 0.0), "Z_AXIS": (0.0, 0.0, 1.0)}.get(kind)
+        axis = mathutils.Vector(axis if axis is not None else values["Axis"])
+        if axis.length == 0:
+            return np.eye(4)  # Cycles leaves the vector as it is
+        angle = -values["Angle"] if node.invert else values["Angle"]
+        rotation = np.array(mathutils.Matrix.Rotation(angle, 3, axis.normalized()), dtype=np.float64)
+    center = np.array(values["Center"], dtype=np.float64)
+    m = np.eye(4)
+    m[:3, :3] = rotation
+    m[:3, 3] = center - rotation @ center
+    return m
+
+
 def _environment_rotation(node, textures, owner):
     """The rotation Q (3x3) under which Environment Texture `node` looks the ray direction w up at Q w (Cycles
-    normalises its vector), or None: its Vector through Mapping nodes from nothing (the direction), a Texture
-    Coordinate's Generated or Object output (in a world both the direction; Object of an object: its inverse
-    matrix) must be an affine map s Q with s > 0 and no translation."""
+    normalises its vector), or None: its Vector through Mapping and Vector Rotate nodes from nothing (the
+    direction), a Texture Coordinate's Generated or Object output (in a world both the direction; Object of an
+    object: its inverse matrix) must be an affine map s Q with s > 0 and no translation."""
     transform = np.eye(4)
     source, output = follow_reroutes(node.inputs["Vector"])
-    while source is not None and source.bl_idname == "ShaderNodeMapping":
-        mapping = textures._mapping(source, owner)
+    while source is not None and source.bl_idname in {"ShaderNodeMapping", "ShaderNodeVectorRotate"}:
+        mapping = textures._mapping(source, owner) if source.bl_idname == "ShaderNodeMapping" else \
+            _vector_rotate(source)
         if mapping is None:
             return None
         transform = transform @ mapping
         source, output = follow_reroutes(source.inputs["Vector"])
         if source is None:
-            return None  # an unlinked Mapping Vector is its own constant value
+            return None  # an unlinked Vector is its own constant value
     if source is not None:
         if source.bl_idname != "ShaderNodeTexCoord" or output.identifier not in {"Generated", "Object"}:
             return None
