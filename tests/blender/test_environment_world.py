@@ -99,6 +99,27 @@ def test_scaled_mapping_and_multiply_are_an_environment(empty_scene):
     np.testing.assert_allclose(np.array(e.to_world), expected, atol=1e-6)
 
 
+@pytest.mark.parametrize("location", [(0.0, 0.0, 0.0), (0.0, 2.0, 0.0)])
+def test_object_coordinates_of_a_rotated_empty(empty_scene, location):
+    """A Texture Coordinate's Object output of an object: Cycles looks the direction up at the object's inverse
+    matrix, a rotation for an empty at the origin (to_world its rotation), not one where it is moved."""
+    world, env = image_world(hdr_pixels(4, 8))
+    empty = builders.link(bpy.data.objects.new("Frame", None))
+    empty.rotation_euler = (0.2, 0.0, 0.9)
+    empty.location = location
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    coords = nodes.new("ShaderNodeTexCoord")
+    coords.object = empty
+    links.new(coords.outputs["Object"], env.inputs["Vector"])
+    ground()
+    bpy.context.view_layer.update()
+    e = export()[0].world.environment
+    if location == (0.0, 0.0, 0.0):
+        np.testing.assert_allclose(np.array(e.to_world), np.array(empty.matrix_world.to_3x3()), atol=1e-6)
+    else:
+        assert e is None
+
+
 @pytest.mark.parametrize("invert", [False, True])
 def test_vector_rotate_is_the_environment_rotation(empty_scene, invert):
     """A Vector Rotate node (axis and angle, about the origin) between the Mapping and the image: Cycles looks w up
@@ -199,4 +220,23 @@ def test_blenders_own_hdris_match_cycles(empty_scene, name, tmp_path):
     scene, _ = export()
     assert scene.world.environment is not None
     difference, _, _ = difference_to_cycles(empty_scene, f"Blender's {name}", tmp_path, light_samples=2)
+    assert difference <= 0.01
+
+
+@pytest.mark.slow
+def test_object_coordinates_world_matches_cycles(empty_scene, tmp_path):
+    """The HDR-like world looked up in the frame of an empty rotated about X and Z (Texture Coordinate Object)."""
+    world, env = image_world(hdr_pixels(), strength=1.5)
+    empty = builders.link(bpy.data.objects.new("Frame", None))
+    empty.rotation_euler = (0.5, 0.0, 2.2)
+    coords = world.node_tree.nodes.new("ShaderNodeTexCoord")
+    coords.object = empty
+    world.node_tree.links.new(coords.outputs["Object"], env.inputs["Vector"])
+    ground()
+    builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.6, 0.5, 0.5),
+                         size=1.0, rotation=(0, 0, 0.4))
+    set_resolution(empty_scene, WIDTH, HEIGHT)
+    bpy.context.view_layer.update()
+    assert export()[0].world.environment is not None
+    difference, _, _ = difference_to_cycles(empty_scene, "image world in an object's frame", tmp_path)
     assert difference <= 0.01
