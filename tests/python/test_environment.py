@@ -14,8 +14,8 @@ BSDF rays.
 - bad inputs are ValueErrors.
 
 False-failure rate: the chi-square tests share a suite-wide significance of 1e-3 (Sidak over CHI2_TESTS); each
-image test is one family of pixel tests at 1e-4 (Sidak over its pixels), 15 of them: a correct renderer fails this
-file with probability < 0.3 % (fixed seeds: the outcome is deterministic).  The other tests are exact."""
+image test is one family of pixel tests at 1e-4 (Sidak over its pixels), 13 of them: a correct renderer fails this
+file with probability < 0.25 % (fixed seeds: the outcome is deterministic).  The other tests are exact."""
 import math
 
 import numpy as np
