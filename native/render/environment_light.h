@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 #include "distribution_2d.h"
@@ -70,13 +71,28 @@ inline Spectrum EnvironmentRadiance(const EnvironmentLight& e, const Image& im, 
 // the poles.
 constexpr int kMinEnvironmentRows = 32, kMinEnvironmentColumns = 64;
 
+// The pixels of an image w x h are split kx x ky ways (the grid's columns w kx, rows h ky).
+inline void EnvironmentGridSplit(int w, int h, int* kx, int* ky) {
+    *kx = (kMinEnvironmentColumns + w - 1) / w;
+    *ky = (kMinEnvironmentRows + h - 1) / h;
+}
+
+// What the sampling distribution of an image w x h takes (LightSelector: a cdf and a pmf float per cell and row).
+inline uint64_t EnvironmentDistributionBytes(int w, int h) {
+    int kx, ky;
+    EnvironmentGridSplit(w, h, &kx, &ky);
+    const uint64_t rows = uint64_t(h) * uint64_t(ky), cells = rows * uint64_t(w) * uint64_t(kx);
+    return (cells + rows) * 2 * sizeof(float);
+}
+
 // The weights of Distribution2D over that grid: the luminance (negative channels as 0) its pixel sends (linear
 // interpolation: the mean of the bilinear lookup over the pixel, 1/8 3/4 1/8 of the texel and its neighbours per
 // axis, so that every cell with any radiance can be sampled; closest: the texel) times the solid angle of the cell's
 // row, 2 pi (cos theta0 - cos theta1) / columns, which stays positive at the poles.  Sets *columns and *rows.
 inline std::vector<double> EnvironmentCellWeights(const EnvironmentLight& e, const Image& im, int* columns, int* rows) {
     const int w = im.width, h = im.height;
-    const int kx = (kMinEnvironmentColumns + w - 1) / w, ky = (kMinEnvironmentRows + h - 1) / h;
+    int kx, ky;
+    EnvironmentGridSplit(w, h, &kx, &ky);
     *columns = w * kx;
     *rows = h * ky;
     std::vector<float> lum(size_t(w) * size_t(h));

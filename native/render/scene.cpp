@@ -74,6 +74,14 @@ void RenderScene::SetEnvironment(int image, const Spectrum& strength, const floa
                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
     if (!(det > 0)) Fail("world environment to_world must be a rotation (orthonormal, determinant +1)");
+    // Its sampling distribution counts against the images' memory (replacing an earlier one's).
+    const Image& im = images[size_t(image)];
+    const uint64_t bytes = EnvironmentDistributionBytes(im.width, im.height);
+    image_memory_bytes_ -= environment_memory_bytes_;
+    environment_memory_bytes_ = 0;
+    CheckImageMemory("the world environment's sampling distribution", bytes);
+    image_memory_bytes_ += bytes;
+    environment_memory_bytes_ = bytes;
     has_environment = true;
     environment = {};
     environment.image = image;

@@ -83,7 +83,8 @@ class RenderScene {
     // lights the scene).
     void SetFilmTransparent(bool transparent);
     // An image world (environment_light.h) on image `image` (added before), replacing the background: strength
-    // finite and non-negative, to_world a rotation (row-major).  Commit() builds its sampling distribution.
+    // finite and non-negative, to_world a rotation (row-major).  Commit() builds its sampling distribution, whose
+    // memory counts against SetImageMemoryLimit (std::invalid_argument here where it would pass it).
     void SetEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
                         TextureInterpolation interpolation);
     void SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
@@ -195,6 +196,7 @@ class RenderScene {
     RTCDevice device_ = nullptr;
     bool committed_ = false, camera_set_ = false;
     uint64_t image_memory_limit_ = 0, image_memory_bytes_ = 0;
+    uint64_t environment_memory_bytes_ = 0;  // the image world's sampling distribution, in image_memory_bytes_
     SceneFeatures features_;
 };
 

@@ -300,3 +300,19 @@ def test_an_environment_in_an_infinite_medium_lights_nothing():
     assert a.render(2) and b.render(2)
     assert b.image("rectangle")[..., 0].mean() > 0
     np.testing.assert_array_equal(a.image("rectangle"), b.image("rectangle"))
+
+
+def test_the_sampling_distribution_counts_against_the_image_memory():
+    """A 512 x 256 float image (1.5 MiB) fits a 3 MiB limit, its sampling distribution (1 MiB) beside it too, not a
+    2 MiB one."""
+    pixels = np.ones((256, 512, 3), np.float32)
+    for limit, fits in ((3 << 20, True), (2 << 20, False)):
+        native = sphrect._native._Scene()
+        native.set_image_memory_limit(limit)
+        native.add_image("sky", pixels, False)
+        if fits:
+            native.set_environment(0, (1.0, 1.0, 1.0), np.eye(3), "linear")
+            assert native.image_memory_bytes == pixels.nbytes + (512 * 256 + 256) * 8
+        else:
+            with pytest.raises(ValueError, match="sampling distribution"):
+                native.set_environment(0, (1.0, 1.0, 1.0), np.eye(3), "linear")
