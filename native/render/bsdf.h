@@ -71,7 +71,8 @@ inline float BsdfPDF(const Bsdf& m, const Vec3f& wo, const Vec3f& wi) {
 struct BsdfSample {
     Vec3f wi;
     Spectrum f;
-    float pdf = 0;  // 0: no sample
+    float pdf = 0;              // 0: no sample
+    uint8_t ray = kRayDiffuse;  // the sampled lobe's ray kind (ray_visibility.h)
 };
 
 template <bool kGlossy>
@@ -83,8 +84,9 @@ inline BsdfSample SampleBsdf(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
             // One uniform number picks the lobe and is rescaled to [0,1) for the lobe's own warp.
             const float ps = m.specular_probability;
             if (m.principled) {
-                s.wi = SamplePrincipledDirection(m, wo, u);
+                s.wi = SamplePrincipledDirection(m, wo, u, s.ray);
             } else if (u.u < ps) {
+                s.ray = kRayGlossy;
                 u.u = std::min(u.u / ps, kOneMinusEpsilonF);
                 const Vec3f h = SampleGgxVisibleNormal(wo, m.alpha, u);
                 s.wi = h * (2 * Dot(wo, h)) - wo;
@@ -109,6 +111,44 @@ inline BsdfSample SampleBsdf(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
     }
     s.f = m.diffuse * kInvPi;
     return s;
+}
+
+// --- A light that lights some closure classes only (ray_visibility.h) ----------------------------
+
+// The lobes of m that a light visible to `classes` (kRayDiffuse, kRayGlossy) lights, for EvalBsdf: Cycles evaluates
+// only those closures for its samples (_surface_shader_exclude).  Transmission is no lobe here (refraction is not
+// simulated): it changes nothing.
+[[gnu::cold, gnu::noinline]] inline Bsdf LobesLitBy(const Bsdf& m, uint8_t classes) {
+    Bsdf out = m;
+    if (!(classes & kRayDiffuse)) {  // Lambert, Burley, sheen, translucent: CLOSURE_IS_BSDF_DIFFUSE
+        out.diffuse = out.lambert = out.sheen = out.translucent = {};
+        out.has_sheen = false;
+    }
+    if (!(classes & kRayGlossy)) {  // the microfacet reflections: CLOSURE_IS_BSDF_GLOSSY
+        out.has_specular = out.has_clearcoat = false;
+        out.num_lobes = 0;
+        if (!out.principled) out.glossy = false;  // the 'glossy' model's GGX lobe
+    }
+    return out;
+}
+
+// The pdf of the lobes of m that a light visible to `classes` lights, by their own probabilities (not renormalised):
+// Cycles' pdf for such a light's MIS weight (_surface_shader_bsdf_eval_mis skips the others' pdfs).
+template <bool kGlossy>
+inline float BsdfPDFOfClasses(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, uint8_t classes) {
+    if constexpr (kGlossy) {
+        if (m.has_translucent && wi.z < 0 && wo.z > 0) return PrincipledPDF(m, wo, wi, classes);
+    }
+    if (wi.z <= 0 || wo.z <= 0) return 0;
+    const float cosine = classes & kRayDiffuse ? CosineHemispherePDF(wi.z) : 0.0f;
+    if constexpr (kGlossy) {
+        if (m.principled) return PrincipledPDF(m, wo, wi, classes);
+        if (m.glossy) {
+            const float ps = m.specular_probability;
+            return (classes & kRayGlossy ? ps * GgxReflectionPDF(wo, wi, m.alpha) : 0.0f) + (1 - ps) * cosine;
+        }
+    }
+    return cosine;
 }
 
 }  // namespace sphrect::render

@@ -42,8 +42,20 @@ static inline bool RayOriginTowards(const SurfaceShadingPoint& sp, const Vec3f& 
     return false;
 }
 
+// A light's sample that lights only some closure classes (LightVisibility::rays): f and the BSDF pdf of those
+// lobes alone, as Cycles evaluates them; false if none is lit.  Out of line: lights that light every class never
+// come here.
+template <bool kGlossy>
+[[gnu::noinline, gnu::cold]] static bool EvalLobesLitBy(const Bsdf& m, const Vec3f& wo, const Vec3f& wi,
+                                                       uint8_t classes, Spectrum& f, float& bsdf_pdf) {
+    f = EvalBsdf<kGlossy>(LobesLitBy(m, classes), wo, wi);
+    bsdf_pdf = BsdfPDFOfClasses<kGlossy>(m, wo, wi, classes);
+    return !IsBlack(f);
+}
+
 // Light sampling: f Le T cos w / (pmf pdf) for a point on the chosen light, w its MIS weight
-// against the BSDF sample.
+// against the BSDF sample (1 for a light without Multiple Importance); a light without Cast Shadow traces no
+// shadow ray (ray_visibility.h).
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
                                            TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
@@ -52,11 +64,21 @@ static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceS
     const Vec3f wi = sp.frame.ToLocal(e.dir);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
-    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
-    if (IsBlack(f)) return;
-    const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
+    const LightVisibility& vis = c.scene.area_lights[light.index].vis;
+    Spectrum f;
+    float bsdf_pdf = -1;  // < 0: not evaluated yet
+    if ((vis.rays & kRayBsdfClasses) == kRayBsdfClasses) {
+        f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+        if (IsBlack(f)) return;
+    } else if (!EvalLobesLitBy<kGlossy>(sp.material, sp.wo, wi, vis.rays, f, bsdf_pdf)) {
+        return;
+    }
+    float w = 1;
+    if (c.mis != MisMode::None && vis.use_mis)
+        w = MisWeight(c.mis, e.pdf, bsdf_pdf >= 0 ? bsdf_pdf : BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
     sink.Add(origin, e.dir, e.dist,
-             f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (std::abs(wi.z) * w / e.pdf));
+             f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (std::abs(wi.z) * w / e.pdf),
+             vis.ShadowMask());
 }
 
 // BSDF sampling: finds the area lights (MIS partner of the light sample) and the background,
@@ -69,12 +91,13 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
     const Vec3f wi_world = sp.frame.FromLocal(bs.wi);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, bs.wi, wi_world, origin)) return;
-    QueueEmittersAlongRay<K, kMedium>(c, origin, wi_world, bs.pdf, light_sampling,
+    QueueEmittersAlongRay<K, kMedium>(c, origin, wi_world, bs.pdf, bs.ray, light_sampling,
                                       sink.Scaled(bs.f * (std::abs(bs.wi.z) / bs.pdf)));
 }
 
 // One point, spot or sun light: f Li T cos; a soft one's direction from the point u, weighted against the
-// BSDF sample by MIS (its pdf pmf * the cone's, pmf the light's choice: 1 when evaluated once).
+// BSDF sample by MIS (its pdf pmf * the cone's, pmf the light's choice: 1 when evaluated once); its visibility as a
+// light sample's (QueueSurfaceLightSample).
 template <bool kGlossy, bool kMedium>
 static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceShadingPoint& sp, const DeltaLight& d,
                                           Point2<float> u, float pmf, const ShadowSink& sink) {
@@ -83,13 +106,21 @@ static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceSh
     const Vec3f wi = sp.frame.ToLocal(di.wi);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, wi, di.wi, origin)) return;
-    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
-    if (IsBlack(f)) return;
-    const float w = di.pdf > 0 && c.mis != MisMode::None
-                        ? MisWeight(c.mis, pmf * di.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi))
+    Spectrum f;
+    float bsdf_pdf = -1;  // < 0: not evaluated yet
+    if ((d.vis.rays & kRayBsdfClasses) == kRayBsdfClasses) {
+        f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+        if (IsBlack(f)) return;
+    } else if (!EvalLobesLitBy<kGlossy>(sp.material, sp.wo, wi, d.vis.rays, f, bsdf_pdf)) {
+        return;
+    }
+    const float w = di.pdf > 0 && c.mis != MisMode::None && d.vis.use_mis
+                        ? MisWeight(c.mis, pmf * di.pdf,
+                                    bsdf_pdf >= 0 ? bsdf_pdf : BsdfPDF<kGlossy>(sp.material, sp.wo, wi))
                         : 1.0f;
     sink.Add(origin, di.wi, di.dist,
-             f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * (std::abs(wi.z) * w));
+             f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * (std::abs(wi.z) * w),
+             d.vis.ShadowMask());
 }
 
 // The delta lights evaluated once per camera sample (ForEachDeltaLightEvaluatedOnce: all with "power",

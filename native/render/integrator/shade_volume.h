@@ -26,15 +26,20 @@ struct ScatteringPoint {
     Vec3f ray_dir;
 };
 
-// Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample.
+// Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample; none from a light hidden from
+// volume scatter (Cycles' SHADER_EXCLUDE_SCATTER), weight 1 without its Multiple Importance, no shadow ray without
+// its Cast Shadow (ray_visibility.h).
 template <Technique K>
 static inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
                                           TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, light.u, light_sampling);
     if (!e.valid) return;
+    const LightVisibility& vis = c.scene.area_lights[light.index].vis;
+    if (!(vis.rays & kRayVolumeScatter)) return;
     const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
-    const float w = MisWeight(c.mis, e.pdf, phase);
-    sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf));
+    const float w = vis.use_mis ? MisWeight(c.mis, e.pdf, phase) : 1.0f;
+    sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf),
+             vis.ShadowMask());
 }
 
 // Phase sampling (the weight phase / pdf is 1): finds the area lights and the background.
@@ -44,19 +49,20 @@ static inline void QueueMediumPhaseSample(const ShadeContext& c, const Scatterin
     const float g = c.scene.medium.g;
     const Vec3f wi = SampleHenyeyGreenstein(sp.ray_dir, g, u);
     const float pdf_phase = HenyeyGreenstein(Dot(wi, sp.ray_dir), g);
-    QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, light_sampling, sink);
+    QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, kRayVolumeScatter, light_sampling, sink);
 }
 
 // One point, spot or sun light: phase Li T; a soft one's direction from the point u, weighted against the phase
-// sample by MIS (pmf: the light's choice, 1 when evaluated once).
+// sample by MIS (pmf: the light's choice, 1 when evaluated once); its visibility as QueueMediumLightSample's.
 static inline void QueueMediumDeltaLight(const ShadeContext& c, const ScatteringPoint& sp, const DeltaLight& d,
                                          Point2<float> u, float pmf, const ShadowSink& sink) {
     const HomogeneousMedium& med = c.scene.medium;
+    if (!(d.vis.rays & kRayVolumeScatter)) return;
     const DeltaIllumination di = IlluminateFromDelta(d, sp.x, u);
     if (IsBlack(di.li)) return;
     const float phase = HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g);
-    const float w = di.pdf > 0 ? MisWeight(c.mis, pmf * di.pdf, phase) : 1.0f;
-    sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * (phase * w));
+    const float w = di.pdf > 0 && d.vis.use_mis ? MisWeight(c.mis, pmf * di.pdf, phase) : 1.0f;
+    sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * (phase * w), d.vis.ShadowMask());
 }
 
 // The delta lights evaluated once (ForEachDeltaLightEvaluatedOnce); soft ones sampled with the point u.

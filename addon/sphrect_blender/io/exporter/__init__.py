@@ -12,6 +12,7 @@ from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
 from .textures import TextureExport, coordinates_needed, has_normal_map, is_anisotropic
+from .visibility import invisible_to
 
 
 class _Materials:
@@ -80,8 +81,6 @@ def scene_from_depsgraph(depsgraph):
         for psys in getattr(obj, "particle_systems", ()):
             if psys.settings.type == "HAIR" and psys.settings.render_type == "PATH":
                 log.unsupported_feature("hair particles", obj.name)
-        if not getattr(obj, "visible_camera", True) or not getattr(obj, "visible_shadow", True):
-            log.unsupported_feature("per-object ray visibility (object rendered as visible)", obj.name)
         key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
         if key not in cache:  # instances share the triangulation and the material ids
             slots = materials.slot_ids(obj)
@@ -108,7 +107,8 @@ def scene_from_depsgraph(depsgraph):
         object_linear = np.array(inst.matrix_world)[:3, :3].tolist() if object_space else None
         scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
                                          material_ids=material_ids, name=name, uvs=local.uvs,
-                                         generated=local.generated, object_linear=object_linear))
+                                         generated=local.generated, object_linear=object_linear,
+                                         invisible_to=invisible_to(obj, sphrect.scene.RAY_KINDS)))
     scene.materials = materials.list
     scene.textures = materials.textures.list
     emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}

@@ -1,0 +1,12 @@
+"""Blender's Object Properties > Visibility > Ray Visibility (obj.visible_<kind>) as the scene's invisible_to: the ray
+kinds (sphrect.scene.RAY_KINDS) an object hides from, which the renderer honours as Cycles 3.4 does."""
+
+
+def invisible_to(obj, kinds):
+    """The kinds of `kinds` whose obj.visible_<kind> is off, in their order (a tuple; empty: visible to all)."""
+    return tuple(k for k in kinds if not getattr(obj, f"visible_{k}", True))
+
+
+# The kinds a light's visibility can hide it from besides the camera (its `visible`): Blender shows no Shadow
+# toggle for lights (their own shadows are the light's Cast Shadow).
+LIGHT_RAY_KINDS = ("diffuse", "glossy", "transmission", "volume_scatter")
