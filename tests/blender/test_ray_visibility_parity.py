@@ -1,0 +1,46 @@
+"""Cycles parity of ray visibility (issue 28): a box hidden from camera rays (the ground shows through, its shadow
+stays) or from shadow rays (no shadow), and a rectangle light that lights only the glossy or only the diffuse lobes
+of a Principled ground, as Cycles 3.4 renders them (direct light only, as in test_cycles_parity.py: Cycles 2048 spp,
+SPHRECT 512 spp, rectangle, mean relative difference over lit 4x4-pixel blocks).  Each case also differs from the
+image of the scene with everything visible by far more than the bound, so the comparison would catch the setting
+ignored.  Fixed seeds: deterministic."""
+import bpy
+import pytest
+
+from conftest import builders, lit_test_scene, render, set_resolution
+from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles, mean_relative_difference
+
+pytestmark = pytest.mark.slow
+
+# case -> (object, its visibility setting turned off)
+CASES = {
+    "box hidden from the camera": ("Box", "visible_camera"),
+    "box hidden from shadows": ("Box", "visible_shadow"),
+    "light only on glossy": ("Light", "visible_diffuse"),
+    "light only on diffuse": ("Light", "visible_glossy"),
+}
+
+
+def glossy_ground_scene(scene):
+    lit_test_scene(scene)
+    bpy.data.objects["Light"].visible_camera = False
+    ground = bpy.data.objects["Ground"]
+    ground.data.materials[0] = builders.material("Principled ground", (0.6, 0.6, 0.6), kind="principled",
+                                                 roughness=0.3)
+    set_resolution(scene, WIDTH, HEIGHT)
+    scene.sphrect.technique = "RECTANGLE"
+    return scene
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_ray_visibility_matches_cycles(case, empty_scene, tmp_path):
+    scene = glossy_ground_scene(empty_scene)
+    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 512, 1, 4  # difference_to_cycles'
+    all_visible = render()["images"]["rectangle"]
+    name, setting = CASES[case]
+    setattr(bpy.data.objects[name], setting, False)
+    difference, _, cycles = difference_to_cycles(scene, case, tmp_path, light_samples=4)
+    assert difference <= 0.01
+    ignored = mean_relative_difference(all_visible, cycles)
+    print(f"{case}: the setting ignored differs by {ignored:.4f}")
+    assert ignored > 0.03
