@@ -25,8 +25,8 @@ constexpr uint8_t kRayAll = 63;
 // The closure classes a light can hide from (SHADER_EXCLUDE_DIFFUSE, _GLOSSY, _TRANSMIT).
 constexpr uint8_t kRayBsdfClasses = kRayDiffuse | kRayGlossy | kRayTransmission;
 // The names of the bits, lowest first: the scene files' and Blender's (visible_<name>).
-inline constexpr const char* kRayKindNames[] = {"camera", "shadow", "diffuse", "glossy", "transmission",
-                                                "volume_scatter"};
+inline constexpr const char* kRayKindNames[] = {"camera", "shadow",       "diffuse",
+                                                "glossy", "transmission", "volume_scatter"};
 
 // What a light lights and how (Cycles 3.4's light shader flags).  Its camera visibility is the light's `visible`.
 struct LightVisibility {

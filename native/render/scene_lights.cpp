@@ -26,8 +26,7 @@ void CheckSpread(const std::string& what, float spread) {
 }  // namespace
 
 std::string RenderScene::AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
-                                      bool two_sided, bool visible, float spread,
-                                      const LightVisibility& vis) {
+                                      bool two_sided, bool visible, float spread, const LightVisibility& vis) {
     RequireNotCommitted();
     CheckColor("rectangle light radiance", radiance);
     CheckSpread("rectangle light", spread);

@@ -196,6 +196,7 @@ def test_light_hidden_from_volume_scatter_does_not_light_the_medium(light):
     fog = sphrect.World(medium=sphrect.Medium(sigma_s=(0.5,) * 3, sigma_a=(0.0,) * 3))
     up = sphrect.Camera(width=8, height=8, type="orthographic", ortho_scale=2.0,
                         to_world=[[1, 0, 0, 0], [0, -1, 0, 0], [0, 0, -1, 0.2], [0, 0, 0, 1]])
+
     def sky_scene(l):
         return sphrect.Scene(camera=up, lights=[l], materials=[sphrect.Material()], world=fog)
     for mis in ("none", "power"):

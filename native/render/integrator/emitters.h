@@ -92,8 +92,7 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
 // its weight f cos / pdf.  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.
 template <Technique K, bool kMedium>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                         uint8_t ray, TimedLightSamplingAt<K>& light_sampling,
-                                         const ShadowSink& sink) {
+                                         uint8_t ray, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky, ray);
     if (c.mis == MisMode::None) return;
     if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, ray, light_sampling, sink);
@@ -115,8 +114,7 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
         if (!x.hit) continue;
         const float pdf_light = light_sampling.SoftLightPDF(l, s.tree_emitter);
         sink.Add(o, d, x.t,
-                 x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light),
-                 ray);
+                 x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light), ray);
     }
 }
 

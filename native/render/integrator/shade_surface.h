@@ -47,7 +47,7 @@ static inline bool RayOriginTowards(const SurfaceShadingPoint& sp, const Vec3f& 
 // come here.
 template <bool kGlossy>
 [[gnu::noinline, gnu::cold]] static bool EvalLobesLitBy(const Bsdf& m, const Vec3f& wo, const Vec3f& wi,
-                                                       uint8_t classes, Spectrum& f, float& bsdf_pdf) {
+                                                        uint8_t classes, Spectrum& f, float& bsdf_pdf) {
     f = EvalBsdf<kGlossy>(LobesLitBy(m, classes), wo, wi);
     bsdf_pdf = BsdfPDFOfClasses<kGlossy>(m, wo, wi, classes);
     return !IsBlack(f);
@@ -114,10 +114,10 @@ static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceSh
     } else if (!EvalLobesLitBy<kGlossy>(sp.material, sp.wo, wi, d.vis.rays, f, bsdf_pdf)) {
         return;
     }
-    const float w = di.pdf > 0 && c.mis != MisMode::None && d.vis.use_mis
-                        ? MisWeight(c.mis, pmf * di.pdf,
-                                    bsdf_pdf >= 0 ? bsdf_pdf : BsdfPDF<kGlossy>(sp.material, sp.wo, wi))
-                        : 1.0f;
+    const float w =
+        di.pdf > 0 && c.mis != MisMode::None && d.vis.use_mis
+            ? MisWeight(c.mis, pmf * di.pdf, bsdf_pdf >= 0 ? bsdf_pdf : BsdfPDF<kGlossy>(sp.material, sp.wo, wi))
+            : 1.0f;
     sink.Add(origin, di.wi, di.dist,
              f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * (std::abs(wi.z) * w),
              d.vis.ShadowMask());

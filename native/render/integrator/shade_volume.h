@@ -38,8 +38,7 @@ static inline void QueueMediumLightSample(const ShadeContext& c, const Scatterin
     if (!(vis.rays & kRayVolumeScatter)) return;
     const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
     const float w = vis.use_mis ? MisWeight(c.mis, e.pdf, phase) : 1.0f;
-    sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf),
-             vis.ShadowMask());
+    sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf), vis.ShadowMask());
 }
 
 // Phase sampling (the weight phase / pdf is 1): finds the area lights and the background.

@@ -10,3 +10,7 @@ def invisible_to(obj, kinds):
 # The kinds a light's visibility can hide it from besides the camera (its `visible`): Blender shows no Shadow
 # toggle for lights (their own shadows are the light's Cast Shadow).
 LIGHT_RAY_KINDS = ("diffuse", "glossy", "transmission", "volume_scatter")
+
+# The panel's order of them (Cycles' Ray Visibility panel's): a mesh's, a light's.
+PANEL_RAY_KINDS = ("camera", "diffuse", "glossy", "transmission", "volume_scatter", "shadow")
+PANEL_LIGHT_RAY_KINDS = ("camera",) + LIGHT_RAY_KINDS
