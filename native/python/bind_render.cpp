@@ -55,13 +55,10 @@ uint8_t VisibleTo(const std::vector<std::string>& hidden) {
 // seen, as visible = false); shadow is no light's (Cycles' lights cast no shadow of their own: cast_shadow is theirs).
 render::LightVisibility LightVisibilityOf(const std::vector<std::string>& invisible_to, bool cast_shadow,
                                           bool use_mis) {
-    render::LightVisibility vis;
-    vis.rays = VisibleTo(invisible_to);
-    if (!(vis.rays & render::kRayShadow))
+    const uint8_t rays = VisibleTo(invisible_to);
+    if (!(rays & render::kRayShadow))
         throw py::value_error("a light's invisible_to cannot name 'shadow' (its own shadows are cast_shadow)");
-    vis.cast_shadow = cast_shadow;
-    vis.use_mis = use_mis;
-    return vis;
+    return {rays, cast_shadow, use_mis};
 }
 
 void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices, const py::object& triangles,
@@ -378,7 +375,7 @@ void BindRender(py::module_& m) {
                const std::vector<std::string>& invisible_to, bool cast_shadow, bool use_mis) {
                 const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
                 return s.AddRectLight(ToVec(corner), ToVec(ex), ToVec(ey), ToVec(radiance), two_sided,
-                                      visible && (vis.rays & render::kRayCamera), spread, vis);
+                                      visible && (vis.rays() & render::kRayCamera), spread, vis);
             },
             py::arg("corner"), py::arg("edge_x"), py::arg("edge_y"), py::arg("radiance"), py::arg("two_sided"),
             py::arg("visible"), py::arg("spread"), py::arg("invisible_to") = std::vector<std::string>{},
@@ -389,7 +386,7 @@ void BindRender(py::module_& m) {
                const std::vector<std::string>& invisible_to, bool cast_shadow, bool use_mis) {
                 const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
                 return s.AddEllipseLight(ToVec(center), ToVec(ax), ToVec(ay), ToVec(radiance), two_sided,
-                                         visible && (vis.rays & render::kRayCamera), spread, vis);
+                                         visible && (vis.rays() & render::kRayCamera), spread, vis);
             },
             py::arg("center"), py::arg("axis_x"), py::arg("axis_y"), py::arg("radiance"), py::arg("two_sided"),
             py::arg("visible"), py::arg("spread"), py::arg("invisible_to") = std::vector<std::string>{},
@@ -399,7 +396,7 @@ void BindRender(py::module_& m) {
             [](RenderScene& s, V3 p, V3 i, float radius, bool visible, const std::vector<std::string>& invisible_to,
                bool cast_shadow, bool use_mis) {
                 const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
-                s.AddPointLight(ToVec(p), ToVec(i), radius, visible && (vis.rays & render::kRayCamera), vis);
+                s.AddPointLight(ToVec(p), ToVec(i), radius, visible && (vis.rays() & render::kRayCamera), vis);
             },
             py::arg("position"), py::arg("intensity"), py::arg("radius") = 0.0f, py::arg("visible") = true,
             py::arg("invisible_to") = std::vector<std::string>{}, py::arg("cast_shadow") = true,
@@ -410,7 +407,7 @@ void BindRender(py::module_& m) {
                const std::vector<std::string>& invisible_to, bool cast_shadow, bool use_mis) {
                 const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
                 s.AddSpotLight(ToVec(p), ToVec(d), ToVec(i), size, blend, radius,
-                               visible && (vis.rays & render::kRayCamera), vis);
+                               visible && (vis.rays() & render::kRayCamera), vis);
             },
             py::arg("position"), py::arg("direction"), py::arg("intensity"), py::arg("spot_size"),
             py::arg("spot_blend"), py::arg("radius") = 0.0f, py::arg("visible") = true,
@@ -421,7 +418,7 @@ void BindRender(py::module_& m) {
             [](RenderScene& s, V3 d, V3 e, float angle, bool visible, const std::vector<std::string>& invisible_to,
                bool cast_shadow, bool use_mis) {
                 const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
-                s.AddSunLight(ToVec(d), ToVec(e), angle, visible && (vis.rays & render::kRayCamera), vis);
+                s.AddSunLight(ToVec(d), ToVec(e), angle, visible && (vis.rays() & render::kRayCamera), vis);
             },
             py::arg("direction"), py::arg("irradiance"), py::arg("angle") = 0.0f, py::arg("visible") = true,
             py::arg("invisible_to") = std::vector<std::string>{}, py::arg("cast_shadow") = true,

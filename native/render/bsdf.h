@@ -21,6 +21,7 @@
 #include "bsdf/mix.h"
 #include "bsdf/principled.h"
 #include "core/rng.h"
+#include "ray_visibility.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -71,8 +72,7 @@ inline float BsdfPDF(const Bsdf& m, const Vec3f& wo, const Vec3f& wi) {
 struct BsdfSample {
     Vec3f wi;
     Spectrum f;
-    float pdf = 0;              // 0: no sample
-    uint8_t ray = kRayDiffuse;  // the sampled lobe's ray kind (ray_visibility.h)
+    float pdf = 0;  // 0: no sample
 };
 
 template <bool kGlossy>
@@ -84,9 +84,8 @@ inline BsdfSample SampleBsdf(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
             // One uniform number picks the lobe and is rescaled to [0,1) for the lobe's own warp.
             const float ps = m.specular_probability;
             if (m.principled) {
-                s.wi = SamplePrincipledDirection(m, wo, u, s.ray);
+                s.wi = SamplePrincipledDirection(m, wo, u);
             } else if (u.u < ps) {
-                s.ray = kRayGlossy;
                 u.u = std::min(u.u / ps, kOneMinusEpsilonF);
                 const Vec3f h = SampleGgxVisibleNormal(wo, m.alpha, u);
                 s.wi = h * (2 * Dot(wo, h)) - wo;
@@ -136,19 +135,37 @@ inline BsdfSample SampleBsdf(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
 // Cycles' pdf for such a light's MIS weight (_surface_shader_bsdf_eval_mis skips the others' pdfs).
 template <bool kGlossy>
 inline float BsdfPDFOfClasses(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, uint8_t classes) {
+    const bool diffuse = classes & kRayDiffuse, reflection = classes & kRayGlossy;
     if constexpr (kGlossy) {
-        if (m.has_translucent && wi.z < 0 && wo.z > 0) return PrincipledPDF(m, wo, wi, classes);
+        if ((m.has_translucent && wi.z < 0 && wo.z > 0) || (m.principled && wi.z > 0 && wo.z > 0))
+            return PrincipledPDFOfClasses(m, wo, wi, classes);
     }
     if (wi.z <= 0 || wo.z <= 0) return 0;
-    const float cosine = classes & kRayDiffuse ? CosineHemispherePDF(wi.z) : 0.0f;
+    const float cosine = diffuse ? CosineHemispherePDF(wi.z) : 0.0f;
     if constexpr (kGlossy) {
-        if (m.principled) return PrincipledPDF(m, wo, wi, classes);
         if (m.glossy) {
             const float ps = m.specular_probability;
-            return (classes & kRayGlossy ? ps * GgxReflectionPDF(wo, wi, m.alpha) : 0.0f) + (1 - ps) * cosine;
+            return (reflection ? ps * GgxReflectionPDF(wo, wi, m.alpha) : 0.0f) + (1 - ps) * cosine;
         }
     }
     return cosine;
+}
+
+// The ray kind (ray_visibility.h) of SampleBsdf's sample from u: the class of the lobe u.u picks, by SampleBsdf's and
+// SamplePrincipledDirection's thresholds (the same sums in the same order).  Apart from them, so that sampling
+// costs nothing more where no mesh or light hides from a kind.
+template <bool kGlossy>
+inline uint8_t SampledRayKind(const Bsdf& m, Point2<float> u) {
+    if constexpr (kGlossy) {
+        if (m.glossy) {
+            if (!m.principled) return u.u < m.specular_probability ? kRayGlossy : kRayDiffuse;
+            float start = m.specular_probability + m.clearcoat_probability;
+            for (int i = 0; i < m.num_lobes; ++i) start += m.lobes[i].probability;
+            if (u.u < start) return kRayGlossy;
+            return u.u < start + m.translucent_probability ? kRayDiffuse | kRayTransmission : kRayDiffuse;
+        }
+    }
+    return kRayDiffuse;
 }
 
 }  // namespace sphrect::render

@@ -13,14 +13,8 @@ namespace sphrect::render {
 // A ray's kind, and the kinds of rays a mesh is visible to (bits).  A BSDF ray is of its lobe's class: diffuse
 // (Lambert, Burley, sheen), glossy (microfacet reflection), diffuse | transmission (translucent), as Cycles' labels
 // make it; a phase ray volume_scatter.
-enum RayKind : uint8_t {
-    kRayCamera = 1,
-    kRayShadow = 2,
-    kRayDiffuse = 4,
-    kRayGlossy = 8,
-    kRayTransmission = 16,
-    kRayVolumeScatter = 32,
-};
+constexpr uint8_t kRayCamera = 1, kRayShadow = 2, kRayDiffuse = 4, kRayGlossy = 8, kRayTransmission = 16,
+                  kRayVolumeScatter = 32;
 constexpr uint8_t kRayAll = 63;
 // The closure classes a light can hide from (SHADER_EXCLUDE_DIFFUSE, _GLOSSY, _TRANSMIT).
 constexpr uint8_t kRayBsdfClasses = kRayDiffuse | kRayGlossy | kRayTransmission;
@@ -28,17 +22,29 @@ constexpr uint8_t kRayBsdfClasses = kRayDiffuse | kRayGlossy | kRayTransmission;
 inline constexpr const char* kRayKindNames[] = {"camera", "shadow",       "diffuse",
                                                 "glossy", "transmission", "volume_scatter"};
 
-// What a light lights and how (Cycles 3.4's light shader flags).  Its camera visibility is the light's `visible`.
-struct LightVisibility {
-    uint8_t rays = kRayAll;   // the ray kinds and closure classes it lights (diffuse, glossy, transmission, scatter)
-    bool cast_shadow = true;  // false: its light samples trace no shadow ray (SHADER_CAST_SHADOW)
-    bool use_mis = true;      // false: BSDF and phase rays do not find it, its samples weigh 1 (SHADER_USE_MIS)
-    bool IsDefault() const { return rays == kRayAll && cast_shadow && use_mis; }
+// What a light lights and how (Cycles 3.4's light shader flags), in one byte so that a light of the default
+// visibility costs shading one comparison.  Its camera visibility is the light's `visible`.
+class LightVisibility {
+  public:
+    static constexpr uint8_t kCastShadow = 64, kUseMis = 128;
+    LightVisibility() = default;
+    // rays: the ray kinds and closure classes it lights (diffuse, glossy, transmission, volume scatter); cast_shadow
+    // false: its light samples trace no shadow ray (SHADER_CAST_SHADOW); use_mis false: BSDF and phase rays do not
+    // find it and its samples weigh 1 (SHADER_USE_MIS).
+    LightVisibility(uint8_t rays, bool cast_shadow, bool use_mis)
+        : bits_(uint8_t((rays & kRayAll) | (cast_shadow ? kCastShadow : 0) | (use_mis ? kUseMis : 0))) {}
+    uint8_t rays() const { return bits_ & kRayAll; }
+    bool cast_shadow() const { return bits_ & kCastShadow; }
+    bool use_mis() const { return bits_ & kUseMis; }
+    bool IsDefault() const { return bits_ == 0xff; }
     // Whether a BSDF or phase ray of kind `ray` finds the light: kernel/integrator/shade_light.h skips it if it hides
     // from any of the ray's kinds (a translucent ray is diffuse and transmission).
-    bool FoundBy(uint8_t ray) const { return use_mis && (ray & ~rays) == 0; }
+    bool FoundBy(uint8_t ray) const { return use_mis() && (ray & ~rays()) == 0; }
     // The mask of its light samples' shadow rays: 0 (nothing blocks them) without Cast Shadow.
-    unsigned ShadowMask() const { return cast_shadow ? unsigned(kRayShadow) : 0u; }
+    unsigned ShadowMask() const { return cast_shadow() ? kRayShadow : 0u; }
+
+  private:
+    uint8_t bits_ = 0xff;
 };
 
 }  // namespace sphrect::render

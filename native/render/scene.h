@@ -151,6 +151,9 @@ class RenderScene {
     LightSelector light_selector;           // over area_lights, by power
     bool has_mesh_lights = false;           // some area light is on_mesh
     bool has_transparency = false;          // Commit(): some triangle's material may let rays through
+    // Commit(): some mesh hides from some ray kind, or some light's visibility is not the default (ray_visibility.h):
+    // BSDF rays then need their lobe's kind.
+    bool ray_visibility = false;
     // Whether triangle `prim` of `mesh` has a material that may let rays through (integrator/transparency.h).
     bool MayBeTransparent(const MeshData& mesh, uint32_t prim) const {
         const int32_t material = mesh.material_ids.empty() ? 0 : mesh.material_ids[prim];

@@ -112,7 +112,8 @@ void RenderScene::AddMeshLights() {
             m.triangle_light[i] = index;
         }
         // It lights the closures its object is visible to (light.cpp's mesh_light.shader_flag).
-        for (size_t i = first_light; i < area_lights.size(); ++i) area_lights[i].vis.rays = m.visibility;
+        for (size_t i = first_light; i < area_lights.size(); ++i)
+            area_lights[i].vis = LightVisibility(m.visibility, true, true);
     }
     has_mesh_lights = area_lights.size() > num_analytic_lights;
     if (skipped)

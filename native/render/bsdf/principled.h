@@ -88,24 +88,46 @@ inline Spectrum EvalPrincipled(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, 
     return f;
 }
 
-// wo.z > 0; wi.z > 0, or < 0 for the translucent lobe.  classes: the lobes counted, by Cycles' closure class
-// (kRayDiffuse: the cosine and translucent lobes, kRayGlossy: the reflection lobes; ray_visibility.h), each with its
-// own probability as Cycles' pdf of the closures a light lights (_surface_shader_bsdf_eval_mis).
-inline float PrincipledPDF(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, uint8_t classes = kRayAll) {
-    const bool diffuse = classes & kRayDiffuse, glossy = classes & kRayGlossy;
+// wo.z > 0; wi.z > 0, or < 0 for the translucent lobe.
+inline float PrincipledPDF(const Bsdf& m, const Vec3f& wo, const Vec3f& wi) {
+    if (wi.z < 0) return m.translucent_probability * CosineHemispherePDF(-wi.z);
+    const float ps = m.specular_probability, pc = m.clearcoat_probability;
+    float p_cos = 1 - ps - pc - m.translucent_probability;
+    float pdf = 0;
+    if (ps > 0)
+        pdf += ps * (m.alpha == m.specular_alpha_y ? GgxReflectionPDF(wo, wi, m.alpha)
+                                                   : GgxAnisotropicPDF(wo, wi, m.alpha, m.specular_alpha_y,
+                                                                       m.specular_tangent_cos, m.specular_tangent_sin));
+    if (pc > 0) pdf += pc * ClearcoatReflectionPDF(wo, wi, m.clearcoat_alpha);
+    for (int i = 0; i < m.num_lobes; ++i) {
+        const MicrofacetLobe& l = m.lobes[i];
+        p_cos -= l.probability;
+        pdf += l.probability * (l.anisotropic()
+                                    ? GgxAnisotropicPDF(wo, wi, l.alpha, l.alpha_y, l.tangent_cos, l.tangent_sin)
+                                    : GgxReflectionPDF(wo, wi, l.alpha));
+    }
+    return pdf + std::max(p_cos, 0.0f) * CosineHemispherePDF(wi.z);
+}
+
+// PrincipledPDF of the lobes of some closure classes (ray_visibility.h; kRayDiffuse: the cosine and translucent lobes,
+// kRayGlossy: the microfacet reflections), each at its own probability: Cycles' pdf of the closures a light lights
+// (_surface_shader_bsdf_eval_mis).  The same sums in the same order as PrincipledPDF, which stays the hot path's
+// (test_bsdf_lobes.cpp checks that all classes give its value bit for bit).
+inline float PrincipledPDFOfClasses(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, uint8_t classes) {
+    const bool diffuse = classes & kRayDiffuse, reflection = classes & kRayGlossy;
     if (wi.z < 0) return diffuse ? m.translucent_probability * CosineHemispherePDF(-wi.z) : 0.0f;
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
     float p_cos = 1 - ps - pc - m.translucent_probability;
     float pdf = 0;
-    if (glossy && ps > 0)
+    if (reflection && ps > 0)
         pdf += ps * (m.alpha == m.specular_alpha_y ? GgxReflectionPDF(wo, wi, m.alpha)
                                                    : GgxAnisotropicPDF(wo, wi, m.alpha, m.specular_alpha_y,
                                                                        m.specular_tangent_cos, m.specular_tangent_sin));
-    if (glossy && pc > 0) pdf += pc * ClearcoatReflectionPDF(wo, wi, m.clearcoat_alpha);
+    if (reflection && pc > 0) pdf += pc * ClearcoatReflectionPDF(wo, wi, m.clearcoat_alpha);
     for (int i = 0; i < m.num_lobes; ++i) {
         const MicrofacetLobe& l = m.lobes[i];
         p_cos -= l.probability;
-        if (glossy)
+        if (reflection)
             pdf += l.probability * (l.anisotropic()
                                         ? GgxAnisotropicPDF(wo, wi, l.alpha, l.alpha_y, l.tangent_cos, l.tangent_sin)
                                         : GgxReflectionPDF(wo, wi, l.alpha));
@@ -123,9 +145,8 @@ inline Vec3f ReflectAbove(const Vec3f& wo, const Vec3f& h) {
 
 // One uniform number picks the lobe (GGX visible normals of the specular, GTR1 normals, each microfacet
 // lobe's GGX visible normals, else the cosine for diffuse and sheen) and is rescaled to [0,1) for the
-// lobe's own warp.  ray: the sampled lobe's ray kind, as Cycles' closure labels make it (ray_visibility.h).
-inline Vec3f SamplePrincipledDirection(const Bsdf& m, const Vec3f& wo, Point2<float> u, uint8_t& ray) {
-    ray = kRayGlossy;
+// lobe's own warp.
+inline Vec3f SamplePrincipledDirection(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
     const float ps = m.specular_probability, pc = m.clearcoat_probability;
     if (u.u < ps) {
         u.u = std::min(u.u / ps, kOneMinusEpsilonF);
@@ -156,10 +177,8 @@ inline Vec3f SamplePrincipledDirection(const Bsdf& m, const Vec3f& wo, Point2<fl
     if (const float pt = m.translucent_probability; u.u < start + pt) {
         u.u = std::min((u.u - start) / pt, kOneMinusEpsilonF);
         const Vec3f w = SampleCosineHemisphere(u);
-        ray = kRayDiffuse | kRayTransmission;
         return {w.x, w.y, -w.z};
     }
-    ray = kRayDiffuse;
     start += m.translucent_probability;
     u.u = std::min((u.u - start) / std::max(1 - start, 1e-7f), kOneMinusEpsilonF);
     return SampleCosineHemisphere(u);

@@ -42,43 +42,47 @@ static inline bool RayOriginTowards(const SurfaceShadingPoint& sp, const Vec3f& 
     return false;
 }
 
-// A light's sample that lights only some closure classes (LightVisibility::rays): f and the BSDF pdf of those
-// lobes alone, as Cycles evaluates them; false if none is lit.  Out of line: lights that light every class never
-// come here.
-template <bool kGlossy>
-[[gnu::noinline, gnu::cold]] static bool EvalLobesLitBy(const Bsdf& m, const Vec3f& wo, const Vec3f& wi,
-                                                        uint8_t classes, Spectrum& f, float& bsdf_pdf) {
-    f = EvalBsdf<kGlossy>(LobesLitBy(m, classes), wo, wi);
-    bsdf_pdf = BsdfPDFOfClasses<kGlossy>(m, wo, wi, classes);
-    return !IsBlack(f);
+// A light sample of a light whose visibility is not the default (LightVisibility): f of the lobes it lights, with
+// their pdf alone for the MIS weight against pdf_light (0: none), 1 for a light without Multiple Importance; no
+// shadow ray without Cast Shadow.  The value is QueueSurfaceLightSample's (pdf_div: its pdf) or
+// QueueSurfaceDeltaLight's (1), computed in their order, so that a light that lights every class gives theirs bit for
+// bit.  Out of line: scenes whose lights are all visible never come here.
+template <bool kGlossy, bool kMedium>
+[[gnu::noinline, gnu::cold]] static void QueueLightWithVisibility(const ShadeContext& c, const SurfaceShadingPoint& sp,
+                                                                  const Vec3f& dir, float dist, const Spectrum& le,
+                                                                  float pdf_light, float pdf_div,
+                                                                  const LightVisibility& vis, const ShadowSink& sink) {
+    const Vec3f wi = sp.frame.ToLocal(dir);
+    Vec3f origin;
+    if (!RayOriginTowards<kGlossy>(sp, wi, dir, origin)) return;
+    const uint8_t classes = vis.rays() & kRayBsdfClasses;
+    const Spectrum f = EvalBsdf<kGlossy>(LobesLitBy(sp.material, classes), sp.wo, wi);
+    if (IsBlack(f)) return;
+    const float w = pdf_light > 0 && c.mis != MisMode::None && vis.use_mis()
+                        ? MisWeight(c.mis, pdf_light, BsdfPDFOfClasses<kGlossy>(sp.material, sp.wo, wi, classes))
+                        : 1.0f;
+    sink.Add(origin, dir, dist,
+             f * le * SegmentTransmittance<kMedium>(c.scene.medium, dist) * (std::abs(wi.z) * w / pdf_div),
+             vis.ShadowMask());
 }
 
 // Light sampling: f Le T cos w / (pmf pdf) for a point on the chosen light, w its MIS weight
-// against the BSDF sample (1 for a light without Multiple Importance); a light without Cast Shadow traces no
-// shadow ray (ray_visibility.h).
+// against the BSDF sample.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
                                            TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, light.u, light_sampling);
     if (!e.valid) return;
+    if (const LightVisibility& vis = c.scene.area_lights[light.index].vis; !vis.IsDefault())
+        return QueueLightWithVisibility<kGlossy, kMedium>(c, sp, e.dir, e.dist, e.le, e.pdf, e.pdf, vis, sink);
     const Vec3f wi = sp.frame.ToLocal(e.dir);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
-    const LightVisibility& vis = c.scene.area_lights[light.index].vis;
-    Spectrum f;
-    float bsdf_pdf = -1;  // < 0: not evaluated yet
-    if ((vis.rays & kRayBsdfClasses) == kRayBsdfClasses) {
-        f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
-        if (IsBlack(f)) return;
-    } else if (!EvalLobesLitBy<kGlossy>(sp.material, sp.wo, wi, vis.rays, f, bsdf_pdf)) {
-        return;
-    }
-    float w = 1;
-    if (c.mis != MisMode::None && vis.use_mis)
-        w = MisWeight(c.mis, e.pdf, bsdf_pdf >= 0 ? bsdf_pdf : BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
+    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+    if (IsBlack(f)) return;
+    const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
     sink.Add(origin, e.dir, e.dist,
-             f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (std::abs(wi.z) * w / e.pdf),
-             vis.ShadowMask());
+             f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (std::abs(wi.z) * w / e.pdf));
 }
 
 // BSDF sampling: finds the area lights (MIS partner of the light sample) and the background,
@@ -91,36 +95,32 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
     const Vec3f wi_world = sp.frame.FromLocal(bs.wi);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, bs.wi, wi_world, origin)) return;
-    QueueEmittersAlongRay<K, kMedium>(c, origin, wi_world, bs.pdf, bs.ray, light_sampling,
+    // The ray's kind matters only where a mesh or light hides from some (RenderScene::ray_visibility).
+    const uint8_t ray = c.scene.ray_visibility ? SampledRayKind<kGlossy>(sp.material, u) : kRayDiffuse;
+    QueueEmittersAlongRay<K, kMedium>(c, origin, wi_world, bs.pdf, ray, light_sampling,
                                       sink.Scaled(bs.f * (std::abs(bs.wi.z) / bs.pdf)));
 }
 
 // One point, spot or sun light: f Li T cos; a soft one's direction from the point u, weighted against the
-// BSDF sample by MIS (its pdf pmf * the cone's, pmf the light's choice: 1 when evaluated once); its visibility as a
-// light sample's (QueueSurfaceLightSample).
+// BSDF sample by MIS (its pdf pmf * the cone's, pmf the light's choice: 1 when evaluated once).
 template <bool kGlossy, bool kMedium>
 static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceShadingPoint& sp, const DeltaLight& d,
                                           Point2<float> u, float pmf, const ShadowSink& sink) {
     const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p, u);
     if (IsBlack(di.li)) return;
+    if (!d.vis.IsDefault())
+        return QueueLightWithVisibility<kGlossy, kMedium>(c, sp, di.wi, di.dist, di.li, di.pdf > 0 ? pmf * di.pdf : 0,
+                                                          1, d.vis, sink);
     const Vec3f wi = sp.frame.ToLocal(di.wi);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, wi, di.wi, origin)) return;
-    Spectrum f;
-    float bsdf_pdf = -1;  // < 0: not evaluated yet
-    if ((d.vis.rays & kRayBsdfClasses) == kRayBsdfClasses) {
-        f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
-        if (IsBlack(f)) return;
-    } else if (!EvalLobesLitBy<kGlossy>(sp.material, sp.wo, wi, d.vis.rays, f, bsdf_pdf)) {
-        return;
-    }
-    const float w =
-        di.pdf > 0 && c.mis != MisMode::None && d.vis.use_mis
-            ? MisWeight(c.mis, pmf * di.pdf, bsdf_pdf >= 0 ? bsdf_pdf : BsdfPDF<kGlossy>(sp.material, sp.wo, wi))
-            : 1.0f;
+    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+    if (IsBlack(f)) return;
+    const float w = di.pdf > 0 && c.mis != MisMode::None
+                        ? MisWeight(c.mis, pmf * di.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi))
+                        : 1.0f;
     sink.Add(origin, di.wi, di.dist,
-             f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * (std::abs(wi.z) * w),
-             d.vis.ShadowMask());
+             f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * (std::abs(wi.z) * w));
 }
 
 // The delta lights evaluated once per camera sample (ForEachDeltaLightEvaluatedOnce: all with "power",

@@ -26,19 +26,32 @@ struct ScatteringPoint {
     Vec3f ray_dir;
 };
 
-// Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample; none from a light hidden from
-// volume scatter (Cycles' SHADER_EXCLUDE_SCATTER), weight 1 without its Multiple Importance, no shadow ray without
-// its Cast Shadow (ray_visibility.h).
+// A light sample in the medium of a light whose visibility is not the default (LightVisibility): none from a light
+// hidden from volume scatter (Cycles' SHADER_EXCLUDE_SCATTER), weight 1 without Multiple Importance (pdf_light 0: no
+// MIS), no shadow ray without Cast Shadow.  QueueMediumLightSample's value (pdf_div: its pdf) or
+// QueueMediumDeltaLight's (1), in their order.  Out of line: scenes whose lights are all visible never come here.
+[[gnu::noinline, gnu::cold]] static void QueueMediumLightWithVisibility(const ShadeContext& c,
+                                                                        const ScatteringPoint& sp, const Vec3f& dir,
+                                                                        float dist, const Spectrum& le, float pdf_light,
+                                                                        float pdf_div, const LightVisibility& vis,
+                                                                        const ShadowSink& sink) {
+    if (!(vis.rays() & kRayVolumeScatter)) return;
+    const float phase = HenyeyGreenstein(Dot(dir, sp.ray_dir), c.scene.medium.g);
+    const float w = pdf_light > 0 && vis.use_mis() ? MisWeight(c.mis, pdf_light, phase) : 1.0f;
+    sink.Add(sp.x, dir, dist, le * Transmittance(c.scene.medium, dist) * (phase * w / pdf_div), vis.ShadowMask());
+}
+
+// Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample.
 template <Technique K>
 static inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
                                           TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, light.u, light_sampling);
     if (!e.valid) return;
-    const LightVisibility& vis = c.scene.area_lights[light.index].vis;
-    if (!(vis.rays & kRayVolumeScatter)) return;
+    if (const LightVisibility& vis = c.scene.area_lights[light.index].vis; !vis.IsDefault())
+        return QueueMediumLightWithVisibility(c, sp, e.dir, e.dist, e.le, e.pdf, e.pdf, vis, sink);
     const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
-    const float w = vis.use_mis ? MisWeight(c.mis, e.pdf, phase) : 1.0f;
-    sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf), vis.ShadowMask());
+    const float w = MisWeight(c.mis, e.pdf, phase);
+    sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf));
 }
 
 // Phase sampling (the weight phase / pdf is 1): finds the area lights and the background.
@@ -52,16 +65,18 @@ static inline void QueueMediumPhaseSample(const ShadeContext& c, const Scatterin
 }
 
 // One point, spot or sun light: phase Li T; a soft one's direction from the point u, weighted against the phase
-// sample by MIS (pmf: the light's choice, 1 when evaluated once); its visibility as QueueMediumLightSample's.
+// sample by MIS (pmf: the light's choice, 1 when evaluated once).
 static inline void QueueMediumDeltaLight(const ShadeContext& c, const ScatteringPoint& sp, const DeltaLight& d,
                                          Point2<float> u, float pmf, const ShadowSink& sink) {
     const HomogeneousMedium& med = c.scene.medium;
-    if (!(d.vis.rays & kRayVolumeScatter)) return;
     const DeltaIllumination di = IlluminateFromDelta(d, sp.x, u);
     if (IsBlack(di.li)) return;
+    if (!d.vis.IsDefault())
+        return QueueMediumLightWithVisibility(c, sp, di.wi, di.dist, di.li, di.pdf > 0 ? pmf * di.pdf : 0, 1, d.vis,
+                                              sink);
     const float phase = HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g);
-    const float w = di.pdf > 0 && d.vis.use_mis ? MisWeight(c.mis, pmf * di.pdf, phase) : 1.0f;
-    sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * (phase * w), d.vis.ShadowMask());
+    const float w = di.pdf > 0 ? MisWeight(c.mis, pmf * di.pdf, phase) : 1.0f;
+    sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * (phase * w));
 }
 
 // The delta lights evaluated once (ForEachDeltaLightEvaluatedOnce); soft ones sampled with the point u.
