@@ -360,3 +360,23 @@ def test_ray_visibility_is_exported(empty_scene):
     scene, _ = export()
     by_type = {type(l).__name__: l for l in scene.lights}
     assert by_type["PointLight"].invisible_to == ("glossy",) and by_type["SunLight"].invisible_to == ("glossy",)
+
+
+def test_visibility_settings_not_simulated_are_warned(empty_scene):
+    """The world's Ray Visibility and an emissive material's Multiple Importance off are not simulated: warned,
+    naming them; at their defaults, not."""
+    lit_test_scene(empty_scene)
+    mat = builders.material("Glow", (0.1, 0.1, 0.1))
+    mat.node_tree.nodes.clear()
+    out = mat.node_tree.nodes.new("ShaderNodeOutputMaterial")
+    emission = mat.node_tree.nodes.new("ShaderNodeEmission")
+    mat.node_tree.links.new(emission.outputs[0], out.inputs["Surface"])
+    builders.mesh_object("Panel", "plane", mat, location=(0, 0, 3), size=0.5)
+    text = export()[1].warning_text()
+    assert "ray visibility" not in text and "Multiple Importance" not in text
+    empty_scene.world.cycles_visibility.diffuse = False
+    mat.cycles.sample_as_light = False
+    empty_scene.world.update_tag()  # the depsgraph's copies follow only when tagged
+    mat.update_tag()
+    text = export()[1].warning_text()
+    assert "world ray visibility" in text and "Multiple Importance off" in text and "Glow" in text

@@ -12,7 +12,7 @@ from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
 from .textures import TextureExport, coordinates_needed, has_normal_map, is_anisotropic
-from .visibility import invisible_to
+from .visibility import invisible_to, warn_unhonoured
 
 
 class _Materials:
@@ -33,6 +33,7 @@ class _Materials:
         if key not in self.index:
             self.index[key] = len(self.list)
             self.list.append(export_material(self.sphrect, mat, self.log, self.textures))
+            warn_unhonoured(self.log, material=mat, exported=self.list[-1])
             self.coordinates.append(coordinates_needed(self.list[-1]))
         return self.index[key]
 
@@ -62,6 +63,7 @@ def scene_from_depsgraph(depsgraph):
     cam = bl_scene.camera.evaluated_get(depsgraph) if bl_scene.camera is not None else None
     scene.camera = export_camera(sphrect, bl_scene, cam, log)
     scene.world = export_world(sphrect, bl_scene.world, log)
+    warn_unhonoured(log, world=bl_scene.world)
     materials = _Materials(sphrect, log)
     cache = {}
     skipped_types = set()

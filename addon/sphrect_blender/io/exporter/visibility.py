@@ -14,3 +14,16 @@ LIGHT_RAY_KINDS = ("diffuse", "glossy", "transmission", "volume_scatter")
 # The panel's order of them (Cycles' Ray Visibility panel's): a mesh's, a light's.
 PANEL_RAY_KINDS = ("camera", "diffuse", "glossy", "transmission", "volume_scatter", "shadow")
 PANEL_LIGHT_RAY_KINDS = ("camera",) + LIGHT_RAY_KINDS
+
+
+def warn_unhonoured(log, world=None, material=None, exported=None):
+    """Warn of the visibility settings Cycles 3.4 honours that SPHRECT does not: the world's Ray Visibility (the world
+    is seen by every ray), an emissive material's Multiple Importance off (Cycles then finds its emission only with
+    BSDF rays, unweighted; SPHRECT samples it as a light). `exported`: the sphrect.Material made of `material`."""
+    visibility = getattr(world, "cycles_visibility", None)
+    if visibility is not None and not all(getattr(visibility, k, True)
+                                          for k in ("camera", "diffuse", "glossy", "transmission", "scatter")):
+        log.unsupported_feature("world ray visibility (the world seen by every ray)", world.name)
+    if material is not None and exported is not None and any(c > 0 for c in exported.emission) \
+            and not getattr(getattr(material, "cycles", None), "sample_as_light", True):
+        log.unsupported_feature("emission with Multiple Importance off (sampled as a light)", material.name)
