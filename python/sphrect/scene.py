@@ -11,7 +11,7 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
 * ``scene.json`` -- a UTF-8 JSON document: ``{"format": "sphrect-scene",
   "version": 5, "camera": {...}, "world": {...}, "materials": [...],
   "lights": [{"type": "rect"|"ellipse"|"point"|"spot"|"sun", ...}, ...],
-  "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
+  "meshes": [{"name": ..., "arrays": "mesh0"[, "invisible_to": [...]]}, ...]}`` with the fields of the
   dataclasses below (version 1, before Material.emission, loads with emission 0;
   version 2, before the 'principled' kind, with its fields at their defaults; version 3, before the
   'glass' kind and Material.ior, distribution; version 4, before the 'glossy_bsdf' and 'mix' kinds and
