@@ -272,6 +272,11 @@ def test_modifiers_instances_and_transforms(empty_scene):
     # Mirroring (negative scale) keeps the triangles facing outward.
     m = meshes["Mirrored"]
     assert _outward_fraction(m.vertices, m.triangles, np.array([5, 0, 0])) == 1.0
+    # An instance hides from what its instancing object or itself hides from (Cycles' sync_object).
+    bpy.data.objects["Instance0"].visible_shadow = False
+    piece.visible_glossy = False
+    hidden = sorted(m.invisible_to for m in export()[0].meshes if "/Piece" in m.name)
+    assert hidden == [("glossy",), ("shadow", "glossy")]
 
 
 def test_smooth_meshes_get_unit_normals(empty_scene):

@@ -71,7 +71,7 @@ def scene_from_depsgraph(depsgraph):
         obj = inst.object
         name = obj.name if not inst.is_instance else f"{inst.parent.name}/{obj.name}#{inst.random_id & 0xffff}"
         if obj.type == "LIGHT":
-            light = export_light(sphrect, obj, inst.matrix_world, name, log)
+            light = export_light(sphrect, obj, inst.matrix_world, name, log, inst.parent if inst.is_instance else None)
             if light is not None:
                 scene.lights.append(light)
             continue
@@ -110,7 +110,8 @@ def scene_from_depsgraph(depsgraph):
         scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
                                          material_ids=material_ids, name=name, uvs=local.uvs,
                                          generated=local.generated, object_linear=object_linear,
-                                         invisible_to=invisible_to(obj, sphrect.scene.RAY_KINDS)))
+                                         invisible_to=invisible_to(obj, sphrect.scene.RAY_KINDS,
+                                                                      inst.parent if inst.is_instance else None)))
     scene.materials = materials.list
     scene.textures = materials.textures.list
     emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}

@@ -60,17 +60,19 @@ def area_light_edges(light, matrix_world):
     return centre, ex, ey, direction
 
 
-def light_visibility(obj):
-    """The light's visibility fields (sphrect.scene.LightVisibility): the ray kinds it hides from (Object >
-    Visibility), its Cast Shadow and Multiple Importance (Light > Cycles' settings), as Cycles 3.4 syncs them."""
+def light_visibility(obj, parent=None):
+    """The light's visibility fields (sphrect.scene.LightVisibility): the ray kinds it (or the object instancing it,
+    `parent`) hides from (Object > Visibility), its Cast Shadow and Multiple Importance (Light > Cycles' settings), as
+    Cycles 3.4 syncs them."""
     cycles = getattr(obj.data, "cycles", None)
-    return dict(invisible_to=invisible_to(obj, LIGHT_RAY_KINDS),
+    return dict(invisible_to=invisible_to(obj, LIGHT_RAY_KINDS, parent),
                 cast_shadow=bool(getattr(cycles, "cast_shadow", True)),
                 use_mis=bool(getattr(cycles, "use_multiple_importance_sampling", True)))
 
 
-def export_light(sphrect, obj, matrix_world, name, log):
-    """The sphrect light for a Blender light object, or None (with a logged reason) if it emits nothing."""
+def export_light(sphrect, obj, matrix_world, name, log, parent=None):
+    """The sphrect light for a Blender light object (instanced by `parent`, or None), or None (with a logged reason)
+    if it emits nothing."""
     light = obj.data
     color = np.array(light.color, dtype=np.float64)
     power = float(light.energy)
@@ -85,7 +87,7 @@ def export_light(sphrect, obj, matrix_world, name, log):
     if not np.isfinite(np.array(matrix_world)).all():
         log.problem(f"light '{name}' has a transform that is not finite (NaN or infinite): skipped")
         return None
-    vis = light_visibility(obj)
+    vis = light_visibility(obj, parent)
     if light.type == "AREA":
         return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log, vis)
     _, _, z, position = _axes(matrix_world)

@@ -2,9 +2,10 @@
 kinds (sphrect.scene.RAY_KINDS) an object hides from, which the renderer honours as Cycles 3.4 does."""
 
 
-def invisible_to(obj, kinds):
-    """The kinds of `kinds` whose obj.visible_<kind> is off, in their order (a tuple; empty: visible to all)."""
-    return tuple(k for k in kinds if not getattr(obj, f"visible_{k}", True))
+def invisible_to(obj, kinds, parent=None):
+    """The kinds of `kinds` whose obj.visible_<kind> is off, in their order (a tuple; empty: visible to all); for an
+    instance, those of its instancing `parent` too (Cycles 3.4's sync_object: the child's flags and the parent's)."""
+    return tuple(k for k in kinds if not all(getattr(o, f"visible_{k}", True) for o in (obj, parent) if o is not None))
 
 
 # The kinds a light's visibility can hide it from besides the camera (its `visible`): Blender shows no Shadow
