@@ -1,11 +1,14 @@
-"""Render Properties panels for scene.sphrect, the light panel (two-sided switch, settings ignored) and the
-material panel (what SPHRECT ignores or approximates in the active material)."""
+"""Render Properties panels for scene.sphrect, the light panel (two-sided switch, Cast Shadow, Multiple Importance,
+settings ignored), the object's Ray Visibility and the material panel (what SPHRECT ignores or approximates in the
+active material)."""
 import textwrap
 
 import bpy
 
 from . import material_notes
+from .io.exporter.geometry import MESH_LIKE
 from .io.exporter.lights import ignored_light_settings
+from .io.exporter.visibility import PANEL_LIGHT_RAY_KINDS, PANEL_RAY_KINDS
 from .light_notes import light_shape_notes
 from .names import ELLIPSE_TECHNIQUES, ENGINE_ID, LIGHT_SELECTIONS, TECHNIQUES
 from .properties import compare_ellipse_technique_switch, compare_light_selection_switch, compare_switch
@@ -143,6 +146,9 @@ class DATA_PT_sphrect_light(SphrectPanel, bpy.types.Panel):
             layout.prop(light.sphrect, "two_sided")
             layout.prop(light, "spread")  # Cycles' (its own panel is not shown for SPHRECT)
             layout.prop(context.object, "visible_camera", text="Visible to Camera")
+        if hasattr(light, "cycles"):  # Cycles' own settings (its Light panel is not shown for SPHRECT)
+            layout.prop(light.cycles, "cast_shadow")
+            layout.prop(light.cycles, "use_multiple_importance_sampling", text="Multiple Importance")
         ignored = ignored_light_settings(light)
         if ignored:
             col = layout.column(align=True)
@@ -151,6 +157,27 @@ class DATA_PT_sphrect_light(SphrectPanel, bpy.types.Panel):
                 row = col.row()
                 row.alert = differs  # set away from what SPHRECT assumes: the render differs from Cycles'
                 row.label(text=label, icon="ERROR" if differs else "DOT")
+
+
+class OBJECT_PT_sphrect_ray_visibility(SphrectPanel, bpy.types.Panel):
+    """Object > Visibility > Ray Visibility, as Cycles shows it (its panel is Cycles' own): SPHRECT honours it."""
+    bl_label = "Ray Visibility"
+    bl_context = "object"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return context.engine in cls.COMPAT_ENGINES and obj is not None and obj.type in MESH_LIKE | {"LIGHT"}
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.use_property_decorate = False
+        obj = context.object
+        col = layout.column()
+        for kind in PANEL_RAY_KINDS if obj.type != "LIGHT" else PANEL_LIGHT_RAY_KINDS:
+            col.prop(obj, f"visible_{kind}", text=kind.replace("_", " ").title())
 
 
 class MATERIAL_PT_sphrect_material(SphrectPanel, bpy.types.Panel):
@@ -179,7 +206,7 @@ class MATERIAL_PT_sphrect_material(SphrectPanel, bpy.types.Panel):
 
 
 classes = (RENDER_PT_sphrect_sampling, RENDER_PT_sphrect_film, RENDER_PT_sphrect_viewport, RENDER_PT_sphrect_compare,
-           DATA_PT_sphrect_light, MATERIAL_PT_sphrect_material)
+           DATA_PT_sphrect_light, OBJECT_PT_sphrect_ray_visibility, MATERIAL_PT_sphrect_material)
 
 
 def register():

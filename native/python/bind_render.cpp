@@ -43,9 +43,28 @@ CArray<float> VertexAttribute(const py::object& obj, py::ssize_t columns, py::ss
     return a;
 }
 
+// The ray kinds not named in `hidden` (render::kRayKindNames): a mesh's or light's visibility bits.
+uint8_t VisibleTo(const std::vector<std::string>& hidden) {
+    uint8_t bits = render::kRayAll;
+    for (const std::string& name : hidden)
+        bits &= uint8_t(~(1u << ParseNameOrThrow<int>("ray kind", "ray kinds", name, render::kRayKindNames)));
+    return bits;
+}
+
+// A light's visibility (render/ray_visibility.h): `invisible_to` names the ray kinds it does not light (camera: not
+// seen, as visible = false); shadow is no light's (Cycles' lights cast no shadow of their own: cast_shadow is theirs).
+render::LightVisibility LightVisibilityOf(const std::vector<std::string>& invisible_to, bool cast_shadow,
+                                          bool use_mis) {
+    const uint8_t rays = VisibleTo(invisible_to);
+    if (!(rays & render::kRayShadow))
+        throw py::value_error("a light's invisible_to cannot name 'shadow' (its own shadows are cast_shadow)");
+    return {rays, cast_shadow, use_mis};
+}
+
 void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices, const py::object& triangles,
              const py::object& normals, const py::object& material_ids, const py::object& uvs,
-             const py::object& generated) {
+             const py::object& generated, const std::vector<std::string>& invisible_to) {
+    const uint8_t visibility = VisibleTo(invisible_to);
     const auto v = RowsOf<float>(vertices, 3, "vertices");
     const auto t = RowsOf<int32_t>(triangles, 3, "triangles");
     CArray<float> n;
@@ -64,7 +83,7 @@ void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices
     py::gil_scoped_release release;  // validation and the copies into Embree's buffers
     s.AddMesh(name, v.data(), size_t(v.shape(0)), t.data(), size_t(t.shape(0)), normals.is_none() ? nullptr : n.data(),
               material_ids.is_none() ? nullptr : m.data(), uvs.is_none() ? nullptr : uv.data(),
-              generated.is_none() ? nullptr : gen.data());
+              generated.is_none() ? nullptr : gen.data(), visibility);
 }
 
 // An image from a [H, W, C] uint8 or float32 array (C in 1..4, rows bottom to top).
@@ -399,36 +418,62 @@ void BindRender(py::module_& m) {
 
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none(), py::arg("uvs") = py::none(),
-             py::arg("generated") = py::none())
-        .def("add_rect_light",
-             [](RenderScene& s, V3 corner, V3 ex, V3 ey, V3 radiance, bool two_sided, bool visible, float spread) {
-                 return s.AddRectLight(ToVec(corner), ToVec(ex), ToVec(ey), ToVec(radiance), two_sided, visible,
-                                       spread);
-             })
-        .def("add_ellipse_light",
-             [](RenderScene& s, V3 center, V3 ax, V3 ay, V3 radiance, bool two_sided, bool visible, float spread) {
-                 return s.AddEllipseLight(ToVec(center), ToVec(ax), ToVec(ay), ToVec(radiance), two_sided, visible,
-                                          spread);
-             })
+             py::arg("generated") = py::none(), py::arg("invisible_to") = std::vector<std::string>{})
+        // Every light: invisible_to, cast_shadow, use_mis (LightVisibilityOf).
+        .def(
+            "add_rect_light",
+            [](RenderScene& s, V3 corner, V3 ex, V3 ey, V3 radiance, bool two_sided, bool visible, float spread,
+               const std::vector<std::string>& invisible_to, bool cast_shadow, bool use_mis) {
+                const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
+                return s.AddRectLight(ToVec(corner), ToVec(ex), ToVec(ey), ToVec(radiance), two_sided,
+                                      visible && (vis.rays() & render::kRayCamera), spread, vis);
+            },
+            py::arg("corner"), py::arg("edge_x"), py::arg("edge_y"), py::arg("radiance"), py::arg("two_sided"),
+            py::arg("visible"), py::arg("spread"), py::arg("invisible_to") = std::vector<std::string>{},
+            py::arg("cast_shadow") = true, py::arg("use_mis") = true)
+        .def(
+            "add_ellipse_light",
+            [](RenderScene& s, V3 center, V3 ax, V3 ay, V3 radiance, bool two_sided, bool visible, float spread,
+               const std::vector<std::string>& invisible_to, bool cast_shadow, bool use_mis) {
+                const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
+                return s.AddEllipseLight(ToVec(center), ToVec(ax), ToVec(ay), ToVec(radiance), two_sided,
+                                         visible && (vis.rays() & render::kRayCamera), spread, vis);
+            },
+            py::arg("center"), py::arg("axis_x"), py::arg("axis_y"), py::arg("radiance"), py::arg("two_sided"),
+            py::arg("visible"), py::arg("spread"), py::arg("invisible_to") = std::vector<std::string>{},
+            py::arg("cast_shadow") = true, py::arg("use_mis") = true)
         .def(
             "add_point_light",
-            [](RenderScene& s, V3 p, V3 i, float radius, bool visible) {
-                s.AddPointLight(ToVec(p), ToVec(i), radius, visible);
+            [](RenderScene& s, V3 p, V3 i, float radius, bool visible, const std::vector<std::string>& invisible_to,
+               bool cast_shadow, bool use_mis) {
+                const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
+                s.AddPointLight(ToVec(p), ToVec(i), radius, visible && (vis.rays() & render::kRayCamera), vis);
             },
-            py::arg("position"), py::arg("intensity"), py::arg("radius") = 0.0f, py::arg("visible") = true)
+            py::arg("position"), py::arg("intensity"), py::arg("radius") = 0.0f, py::arg("visible") = true,
+            py::arg("invisible_to") = std::vector<std::string>{}, py::arg("cast_shadow") = true,
+            py::arg("use_mis") = true)
         .def(
             "add_spot_light",
-            [](RenderScene& s, V3 p, V3 d, V3 i, float size, float blend, float radius, bool visible) {
-                s.AddSpotLight(ToVec(p), ToVec(d), ToVec(i), size, blend, radius, visible);
+            [](RenderScene& s, V3 p, V3 d, V3 i, float size, float blend, float radius, bool visible,
+               const std::vector<std::string>& invisible_to, bool cast_shadow, bool use_mis) {
+                const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
+                s.AddSpotLight(ToVec(p), ToVec(d), ToVec(i), size, blend, radius,
+                               visible && (vis.rays() & render::kRayCamera), vis);
             },
             py::arg("position"), py::arg("direction"), py::arg("intensity"), py::arg("spot_size"),
-            py::arg("spot_blend"), py::arg("radius") = 0.0f, py::arg("visible") = true)
+            py::arg("spot_blend"), py::arg("radius") = 0.0f, py::arg("visible") = true,
+            py::arg("invisible_to") = std::vector<std::string>{}, py::arg("cast_shadow") = true,
+            py::arg("use_mis") = true)
         .def(
             "add_sun_light",
-            [](RenderScene& s, V3 d, V3 e, float angle, bool visible) {
-                s.AddSunLight(ToVec(d), ToVec(e), angle, visible);
+            [](RenderScene& s, V3 d, V3 e, float angle, bool visible, const std::vector<std::string>& invisible_to,
+               bool cast_shadow, bool use_mis) {
+                const auto vis = LightVisibilityOf(invisible_to, cast_shadow, use_mis);
+                s.AddSunLight(ToVec(d), ToVec(e), angle, visible && (vis.rays() & render::kRayCamera), vis);
             },
-            py::arg("direction"), py::arg("irradiance"), py::arg("angle") = 0.0f, py::arg("visible") = true)
+            py::arg("direction"), py::arg("irradiance"), py::arg("angle") = 0.0f, py::arg("visible") = true,
+            py::arg("invisible_to") = std::vector<std::string>{}, py::arg("cast_shadow") = true,
+            py::arg("use_mis") = true)
         .def("commit", &RenderScene::Commit, py::call_guard<py::gil_scoped_release>())
         .def_property_readonly("features", [](const RenderScene& s) { return s.features().Names(); })
         .def_property_readonly("warnings", [](const RenderScene& s) { return s.warnings; })
@@ -546,6 +591,7 @@ void BindRender(py::module_& m) {
     m.attr("mis_modes") = NameTuple(render::kAllMisModes, render::MisModeName);
     m.attr("medium_samplings") = NameTuple(render::kAllMediumSamplings, render::MediumSamplingName);
     m.attr("light_selections") = NameTuple(render::kAllLightSelections, render::LightSelectionName);
+    m.attr("ray_kinds") = NameTuple(render::kRayKindNames, [](const char* n) { return n; });
 }
 
 #undef CAMERA_ARGS

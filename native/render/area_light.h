@@ -17,6 +17,7 @@
 #include "core/spherical_triangle.h"
 #include "core/triangles.h"  // kTrianglesStableAreaAbove
 #include "light_bounds.h"
+#include "ray_visibility.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -39,6 +40,7 @@ struct AreaLight {
     float area = 0;
     bool two_sided = false;
     bool visible = true;  // seen by camera rays
+    LightVisibility vis;  // what it lights, its shadows, MIS (ray_visibility.h)
     // Part of an emissive mesh (a triangle, or a rectangle made of two): Embree geometry, so
     // camera and BSDF rays find it through their hit, not through IntersectAreaLight.
     bool on_mesh = false;

@@ -21,6 +21,7 @@
 #include "bsdf/mix.h"
 #include "bsdf/principled.h"
 #include "core/rng.h"
+#include "ray_visibility.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -109,6 +110,62 @@ inline BsdfSample SampleBsdf(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
     }
     s.f = m.diffuse * kInvPi;
     return s;
+}
+
+// --- A light that lights some closure classes only (ray_visibility.h) ----------------------------
+
+// The lobes of m that a light visible to `classes` (kRayDiffuse, kRayGlossy) lights, for EvalBsdf: Cycles evaluates
+// only those closures for its samples (_surface_shader_exclude).  Transmission is no lobe here (refraction is not
+// simulated): it changes nothing.
+[[gnu::cold, gnu::noinline]] inline Bsdf LobesLitBy(const Bsdf& m, uint8_t classes) {
+    Bsdf out = m;
+    if (!(classes & kRayDiffuse)) {  // Lambert, Burley, sheen, translucent: CLOSURE_IS_BSDF_DIFFUSE
+        out.diffuse = out.lambert = out.sheen = out.translucent = {};
+        out.has_sheen = false;
+    }
+    if (!(classes & kRayGlossy)) {  // the microfacet reflections: CLOSURE_IS_BSDF_GLOSSY
+        out.has_specular = out.has_clearcoat = false;
+        out.num_lobes = 0;
+        if (!out.principled) out.glossy = false;  // the 'glossy' model's GGX lobe
+    }
+    return out;
+}
+
+// The pdf of the lobes of m that a light visible to `classes` lights, by their own probabilities (not renormalised):
+// Cycles' pdf for such a light's MIS weight (_surface_shader_bsdf_eval_mis skips the others' pdfs).
+template <bool kGlossy>
+inline float BsdfPDFOfClasses(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, uint8_t classes) {
+    const bool diffuse = classes & kRayDiffuse, reflection = classes & kRayGlossy;
+    if constexpr (kGlossy) {
+        if ((m.has_translucent && wi.z < 0 && wo.z > 0) || (m.principled && wi.z > 0 && wo.z > 0))
+            return PrincipledPDFOfClasses(m, wo, wi, classes);
+    }
+    if (wi.z <= 0 || wo.z <= 0) return 0;
+    const float cosine = diffuse ? CosineHemispherePDF(wi.z) : 0.0f;
+    if constexpr (kGlossy) {
+        if (m.glossy) {
+            const float ps = m.specular_probability;
+            return (reflection ? ps * GgxReflectionPDF(wo, wi, m.alpha) : 0.0f) + (1 - ps) * cosine;
+        }
+    }
+    return cosine;
+}
+
+// The ray kind (ray_visibility.h) of SampleBsdf's sample from u: the class of the lobe u.u picks, by SampleBsdf's and
+// SamplePrincipledDirection's thresholds (the same sums in the same order).  Apart from them, so that sampling
+// costs nothing more where no mesh or light hides from a kind.
+template <bool kGlossy>
+inline uint8_t SampledRayKind(const Bsdf& m, Point2<float> u) {
+    if constexpr (kGlossy) {
+        if (m.glossy) {
+            if (!m.principled) return u.u < m.specular_probability ? kRayGlossy : kRayDiffuse;
+            float start = m.specular_probability + m.clearcoat_probability;
+            for (int i = 0; i < m.num_lobes; ++i) start += m.lobes[i].probability;
+            if (u.u < start) return kRayGlossy;
+            return u.u < start + m.translucent_probability ? kRayDiffuse | kRayTransmission : kRayDiffuse;
+        }
+    }
+    return kRayDiffuse;
 }
 
 }  // namespace sphrect::render

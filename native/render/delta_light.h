@@ -16,6 +16,7 @@
 
 #include "core/cone.h"
 #include "light_bounds.h"
+#include "ray_visibility.h"
 #include "sampling_util.h"
 
 namespace sphrect::render {
@@ -31,6 +32,7 @@ struct DeltaLight {
     float radius = 0;                            // Point, Spot: the disc's radius; 0: a delta light
     float sun_one_minus_cos = 0;                 // Sun: 1 - cos(angle / 2); 0: a delta light
     bool visible = true;                         // soft: seen by camera rays (Blender's Visibility > Camera)
+    LightVisibility vis;                         // what it lights, its shadows, MIS (ray_visibility.h)
 };
 
 inline bool IsSoft(const DeltaLight& l) { return l.kind == DeltaKind::Sun ? l.sun_one_minus_cos > 0 : l.radius > 0; }

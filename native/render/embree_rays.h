@@ -18,14 +18,15 @@ inline float ShadowRayLength(float dist) { return std::isinf(dist) ? kInf : dist
 // Shadow-ray origin pushed off the surface along the geometric normal (scale-aware).
 inline Vec3f OffsetOrigin(const Vec3f& p, const Vec3f& ng) { return p + ng * (1e-4f * (1 + MaxAbsComponent(p))); }
 
-// Embree's ray (and ray + empty hit) for the segment (tnear, tfar) of o + t d.
-inline RTCRay MakeRTCRay(const Vec3f& o, const Vec3f& d, float tnear, float tfar) {
-    return {o.x, o.y, o.z, tnear, d.x, d.y, d.z, 0, tfar, 0xffffffffu, 0, 0};
+// Embree's ray (and ray + empty hit) for the segment (tnear, tfar) of o + t d; `mask`: the kinds of the ray
+// (ray_visibility.h), which meshes hidden from all of them let through (their geometry mask).
+inline RTCRay MakeRTCRay(const Vec3f& o, const Vec3f& d, float tnear, float tfar, unsigned mask = 0xffffffffu) {
+    return {o.x, o.y, o.z, tnear, d.x, d.y, d.z, 0, tfar, mask, 0, 0};
 }
 
-inline RTCRayHit MakeRTCRayHit(const Vec3f& o, const Vec3f& d, float tnear, float tfar) {
+inline RTCRayHit MakeRTCRayHit(const Vec3f& o, const Vec3f& d, float tnear, float tfar, unsigned mask = 0xffffffffu) {
     RTCRayHit rh;
-    rh.ray = MakeRTCRay(o, d, tnear, tfar);
+    rh.ray = MakeRTCRay(o, d, tnear, tfar, mask);
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;

@@ -129,6 +129,10 @@ void RenderScene::Commit() {
     LetRaysThroughTransparentMeshes();
     rtcCommitScene(rtc_scene);
     AddMeshLights();
+    ray_visibility = false;
+    for (const MeshData& m : meshes) ray_visibility |= m.visibility != kRayAll;
+    for (const AreaLight& l : area_lights) ray_visibility |= !l.vis.IsDefault();
+    for (const DeltaLight& d : delta_lights) ray_visibility |= !d.vis.IsDefault();
     analytic_light_finder.Build(device_, area_lights, num_analytic_lights);
     std::vector<double> powers;
     for (const AreaLight& l : area_lights) {

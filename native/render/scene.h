@@ -17,6 +17,7 @@
 #include "light_tree.h"
 #include "lights.h"
 #include "medium.h"
+#include "ray_visibility.h"
 #include "texture.h"
 #include "material.h"
 
@@ -47,6 +48,7 @@ struct MeshData {
     // The linear part L of its object's matrix and L^-1 (row-major), for normal maps applied in object space.
     bool has_object_linear = false;
     float object_linear[3][3], object_linear_inverse[3][3];
+    uint8_t visibility = kRayAll;  // the ray kinds that see it (ray_visibility.h): its Embree geometry mask
 };
 
 // What a scene asks of the integrator; each flag selects a specialised kernel or a feature name.
@@ -111,19 +113,22 @@ class RenderScene {
     // null.  A mesh without triangles is validated and then ignored.
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,
                  size_t num_triangles, const float* normals, const int32_t* material_ids, const float* uvs = nullptr,
-                 const float* generated = nullptr);
+                 const float* generated = nullptr, uint8_t visibility = kRayAll);
     // Area lights return "" when added, or why the light was skipped (zero area, black).  spread: Blender's
-    // Spread, radians in [0, pi] (pi: none; area_light.h, SetAreaSpread).
+    // Spread, radians in [0, pi] (pi: none; area_light.h, SetAreaSpread).  vis: what every light lights and how
+    // (ray_visibility.h); its camera visibility is `visible`.
     std::string AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
-                             bool two_sided, bool visible, float spread = kPi);
+                             bool two_sided, bool visible, float spread = kPi, const LightVisibility& vis = {});
     std::string AddEllipseLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay, const Spectrum& radiance,
-                                bool two_sided, bool visible, float spread = kPi);
+                                bool two_sided, bool visible, float spread = kPi, const LightVisibility& vis = {});
     // radius (point, spot) and angle (the sun's angular diameter, in [0, pi]): soft lights as Cycles 3.4's
     // (delta_light.h); 0: delta lights.  visible: a soft light is seen by camera rays.
-    void AddPointLight(const Vec3f& position, const Spectrum& intensity, float radius = 0, bool visible = true);
+    void AddPointLight(const Vec3f& position, const Spectrum& intensity, float radius = 0, bool visible = true,
+                       const LightVisibility& vis = {});
     void AddSpotLight(const Vec3f& position, const Vec3f& direction, const Spectrum& intensity, float spot_size,
-                      float spot_blend, float radius = 0, bool visible = true);
-    void AddSunLight(const Vec3f& direction, const Spectrum& irradiance, float angle = 0, bool visible = true);
+                      float spot_blend, float radius = 0, bool visible = true, const LightVisibility& vis = {});
+    void AddSunLight(const Vec3f& direction, const Spectrum& irradiance, float angle = 0, bool visible = true,
+                     const LightVisibility& vis = {});
     void Commit();
 
     bool committed() const { return committed_; }
@@ -157,6 +162,9 @@ class RenderScene {
     LightSelector light_selector;           // over area_lights, by power
     bool has_mesh_lights = false;           // some area light is on_mesh
     bool has_transparency = false;          // Commit(): some triangle's material may let rays through
+    // Commit(): some mesh hides from some ray kind, or some light's visibility is not the default (ray_visibility.h):
+    // BSDF rays then need their lobe's kind.
+    bool ray_visibility = false;
     // Whether triangle `prim` of `mesh` has a material that may let rays through (integrator/transparency.h).
     bool MayBeTransparent(const MeshData& mesh, uint32_t prim) const {
         const int32_t material = mesh.material_ids.empty() ? 0 : mesh.material_ids[prim];

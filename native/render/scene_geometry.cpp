@@ -25,7 +25,7 @@ void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float 
 
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
                           size_t nt, const float* normals, const int32_t* material_ids, const float* uvs,
-                          const float* generated) {
+                          const float* generated, uint8_t visibility) {
     RequireNotCommitted();
     const std::string who = "mesh '" + name + "'";
     if (nv > (size_t(1) << 31) || nt > (size_t(1) << 31)) Fail(who + " is too large");
@@ -74,6 +74,8 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
         for (size_t i = 0; i < nt; ++i)
             if (material_ids[i] < 0) Fail(who + ": triangle " + std::to_string(i) + " has a negative material id");
     }
+    if (visibility > kRayAll) Fail(who + ": visibility has bits beyond the ray kinds'");
+    m.visibility = visibility;
     if (nt == 0) return;  // nothing to intersect (Embree refuses empty buffers)
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree pads its own buffers for its SIMD loads; one memcpy each.
@@ -89,6 +91,8 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
     if (nt) std::memcpy(ib, triangles, 3 * nt * sizeof(uint32_t));
     m.vertices = vb;
     m.triangles = ib;
+    // Every bit for a mesh visible to every ray kind: whatever a ray's mask, it sees it.
+    rtcSetGeometryMask(geom, visibility == kRayAll ? 0xffffffffu : visibility);
     rtcCommitGeometry(geom);
     const unsigned id = rtcAttachGeometry(rtc_scene, geom);
     rtcReleaseGeometry(geom);

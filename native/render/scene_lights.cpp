@@ -26,7 +26,7 @@ void CheckSpread(const std::string& what, float spread) {
 }  // namespace
 
 std::string RenderScene::AddRectLight(const Vec3f& corner, const Vec3f& ex, const Vec3f& ey, const Spectrum& radiance,
-                                      bool two_sided, bool visible, float spread) {
+                                      bool two_sided, bool visible, float spread, const LightVisibility& vis) {
     RequireNotCommitted();
     CheckColor("rectangle light radiance", radiance);
     CheckSpread("rectangle light", spread);
@@ -37,11 +37,13 @@ std::string RenderScene::AddRectLight(const Vec3f& corner, const Vec3f& ex, cons
     if (IsBlack(radiance)) return "rectangle light with zero radiance skipped";
     area_lights.push_back(MakeRectAreaLight(corner, ex, ey, radiance, two_sided, visible));
     SetAreaSpread(area_lights.back(), spread);
+    area_lights.back().vis = vis;
     return {};
 }
 
 std::string RenderScene::AddEllipseLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay,
-                                         const Spectrum& radiance, bool two_sided, bool visible, float spread) {
+                                         const Spectrum& radiance, bool two_sided, bool visible, float spread,
+                                         const LightVisibility& vis) {
     RequireNotCommitted();
     CheckColor("ellipse light radiance", radiance);
     CheckSpread("ellipse light", spread);
@@ -56,6 +58,7 @@ std::string RenderScene::AddEllipseLight(const Vec3f& center, const Vec3f& ax, c
     if (IsBlack(radiance)) return "ellipse light with zero radiance skipped";
     area_lights.push_back(MakeEllipseAreaLight(center, ax, ay, radiance, two_sided, visible));
     SetAreaSpread(area_lights.back(), spread);
+    area_lights.back().vis = vis;
     return {};
 }
 
@@ -67,7 +70,8 @@ static void CheckLightRadius(const char* what, float radius) {
         Fail(std::string(what) + " radius must be 0 or at least 1e-18");
 }
 
-void RenderScene::AddPointLight(const Vec3f& position, const Spectrum& intensity, float radius, bool visible) {
+void RenderScene::AddPointLight(const Vec3f& position, const Spectrum& intensity, float radius, bool visible,
+                                const LightVisibility& vis) {
     RequireNotCommitted();
     CheckVector("point light position", position);
     CheckColor("point light intensity", intensity);
@@ -78,11 +82,13 @@ void RenderScene::AddPointLight(const Vec3f& position, const Spectrum& intensity
     l.power = intensity;
     l.radius = radius;
     l.visible = visible;
+    l.vis = vis;
     delta_lights.push_back(l);
 }
 
 void RenderScene::AddSpotLight(const Vec3f& position, const Vec3f& direction, const Spectrum& intensity,
-                               float spot_size, float spot_blend, float radius, bool visible) {
+                               float spot_size, float spot_blend, float radius, bool visible,
+                               const LightVisibility& vis) {
     RequireNotCommitted();
     CheckVector("spot light position", position);
     CheckColor("spot light intensity", intensity);
@@ -99,10 +105,12 @@ void RenderScene::AddSpotLight(const Vec3f& position, const Vec3f& direction, co
     l.spot_smooth = (1 - l.cos_half_angle) * spot_blend;
     l.radius = radius;
     l.visible = visible;
+    l.vis = vis;
     delta_lights.push_back(l);
 }
 
-void RenderScene::AddSunLight(const Vec3f& direction, const Spectrum& irradiance, float angle, bool visible) {
+void RenderScene::AddSunLight(const Vec3f& direction, const Spectrum& irradiance, float angle, bool visible,
+                              const LightVisibility& vis) {
     RequireNotCommitted();
     CheckColor("sun irradiance", irradiance);
     if (!IsFinite(direction) || !(Length(direction) > 0)) Fail("sun direction must be a non-zero vector");
@@ -115,6 +123,7 @@ void RenderScene::AddSunLight(const Vec3f& direction, const Spectrum& irradiance
     const double s = std::sin(double(angle) / 4);
     l.sun_one_minus_cos = float(2 * s * s);
     l.visible = visible;
+    l.vis = vis;
     delta_lights.push_back(l);
 }
 

@@ -77,7 +77,9 @@ void RenderScene::AddMeshLights() {
         auto material_of = [&](size_t i) { return m.material_ids.empty() ? 0 : m.material_ids[i]; };
         bool emits = false;
         for (size_t i = 0; i < m.num_triangles && !emits; ++i) emits = !IsBlack(bsdfs[material_of(i)].emission);
-        if (!emits) continue;
+        // Cycles 3.4 makes no light of a mesh that no BSDF ray sees (object_usable_as_light).
+        if (!emits || !(m.visibility & kRayBsdfClasses)) continue;
+        const size_t first_light = area_lights.size();
         auto triangle = [&](size_t i) {
             Triangle t;
             for (int k = 0; k < 3; ++k) {
@@ -109,6 +111,9 @@ void RenderScene::AddMeshLights() {
             area_lights.push_back(l);
             m.triangle_light[i] = index;
         }
+        // It lights the closures its object is visible to (light.cpp's mesh_light.shader_flag).
+        for (size_t i = first_light; i < area_lights.size(); ++i)
+            area_lights[i].vis = LightVisibility(m.visibility, true, true);
     }
     has_mesh_lights = area_lights.size() > num_analytic_lights;
     if (skipped)

@@ -236,29 +236,32 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
             linear = np.asarray(mesh.object_linear, dtype=np.float64)
             if linear.shape != (3, 3) or not np.all(np.isfinite(linear)) or not abs(np.linalg.det(linear)) > 0:
                 raise ValueError(f"mesh '{mesh.name}': object_linear must be an invertible finite 3x3 matrix")
-        native.add_mesh(mesh.name, v, t, mesh.normals, ids, mesh.uvs, mesh.generated)
+        native.add_mesh(mesh.name, v, t, mesh.normals, ids, mesh.uvs, mesh.generated, list(mesh.invisible_to))
         if linear is not None and len(t):  # a mesh without triangles is not kept
             native.set_last_mesh_object_linear(linear, np.linalg.inv(linear))
     for light in scene.lights:
         msg = ""
+        # What every light lights and how (scene.LightVisibility's fields).
+        vis = dict(invisible_to=list(getattr(light, "invisible_to", ())),
+                   cast_shadow=bool(getattr(light, "cast_shadow", True)), use_mis=bool(getattr(light, "use_mis", True)))
         if isinstance(light, RectLight):
             msg = native.add_rect_light(rgb(light.corner, "corner"), rgb(light.edge_x, "edge_x"),
                                         rgb(light.edge_y, "edge_y"), rgb(light.radiance, "radiance"),
-                                        bool(light.two_sided), bool(light.visible), float(light.spread))
+                                        bool(light.two_sided), bool(light.visible), float(light.spread), **vis)
         elif isinstance(light, EllipseLight):
             msg = native.add_ellipse_light(rgb(light.center, "center"), rgb(light.axis_x, "axis_x"),
                                            rgb(light.axis_y, "axis_y"), rgb(light.radiance, "radiance"),
-                                           bool(light.two_sided), bool(light.visible), float(light.spread))
+                                           bool(light.two_sided), bool(light.visible), float(light.spread), **vis)
         elif isinstance(light, PointLight):
             native.add_point_light(rgb(light.position, "position"), rgb(light.intensity, "intensity"),
-                                   float(light.radius), bool(light.visible))
+                                   float(light.radius), bool(light.visible), **vis)
         elif isinstance(light, SpotLight):
             native.add_spot_light(rgb(light.position, "position"), rgb(light.direction, "direction"),
                                   rgb(light.intensity, "intensity"), float(light.spot_size), float(light.spot_blend),
-                                  float(light.radius), bool(light.visible))
+                                  float(light.radius), bool(light.visible), **vis)
         elif isinstance(light, SunLight):
             native.add_sun_light(rgb(light.direction, "direction"), rgb(light.irradiance, "irradiance"),
-                                 float(light.angle), bool(light.visible))
+                                 float(light.angle), bool(light.visible), **vis)
         else:
             raise ValueError(f"unknown light type {type(light).__name__}")
         if msg:

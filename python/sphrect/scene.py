@@ -11,7 +11,7 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
 * ``scene.json`` -- a UTF-8 JSON document: ``{"format": "sphrect-scene",
   "version": 5, "camera": {...}, "world": {...}, "materials": [...],
   "lights": [{"type": "rect"|"ellipse"|"point"|"spot"|"sun", ...}, ...],
-  "meshes": [{"name": ..., "arrays": "mesh0"}, ...]}`` with the fields of the
+  "meshes": [{"name": ..., "arrays": "mesh0"[, "invisible_to": [...]]}, ...]}`` with the fields of the
   dataclasses below (version 1, before Material.emission, loads with emission 0;
   version 2, before the 'principled' kind, with its fields at their defaults; version 3, before the
   'glass' kind and Material.ior, distribution; version 4, before the 'glossy_bsdf' and 'mix' kinds and
@@ -61,7 +61,9 @@ FORMAT_NAME = "sphrect-scene"
 # files load as before: radius and angle 0, delta lights.
 # 11: RectLight.spread, EllipseLight.spread (Blender's Spread, radians).  Older files load with spread = pi (none).
 # 12: World.environment (an equirectangular image world).  Older files load without one (the constant background).
-FORMAT_VERSION = 12
+# 14: Mesh.invisible_to and every light's invisible_to, cast_shadow, use_mis (Blender's Ray Visibility, a light's
+# Cast Shadow and Multiple Importance, as Cycles 3.4 honours them).  Older files load with everything visible.
+FORMAT_VERSION = 14
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -88,6 +90,11 @@ TEXTURE_OUTPUTS = tuple(_native.texture_outputs)  # ("color", "alpha")
 # as is, Alpha as grey), the others scalars (Color as its luminance, Cycles' rgb_to_gray, or Alpha).
 TEXTURED_INPUTS = tuple(_native.textured_inputs)  # ("base_color", "roughness", "metallic", "specular")
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
+# Blender's Ray Visibility (Object Properties > Visibility), the renderer's ray kinds (render/ray_visibility.h):
+# ("camera", "shadow", "diffuse", "glossy", "transmission", "volume_scatter").  A mesh's invisible_to names the rays
+# that pass through it; a light's the ones it does not light (camera: not seen, as visible = False; never "shadow":
+# its cast_shadow).
+RAY_KINDS = tuple(_native.ray_kinds)
 
 
 # Blender's light power -> radiometric units, with Cycles 3.4's conventions (power P in Blender's watts,
@@ -235,10 +242,21 @@ class Mesh:
     # identity): tangent-space normal maps are applied in the object's space, as Cycles does, which differs from
     # world space where L scales non-uniformly.
     object_linear: Optional[List[List[float]]] = None
+    invisible_to: Tuple[str, ...] = ()        # RAY_KINDS that pass through it (camera: not seen; shadow: casts none)
+
+
+# Every light's visibility fields, as Cycles 3.4's light shader flags (scene/light.cpp): the RAY_KINDS it does not
+# light (its closures of that class, BSDF rays of that kind, the medium for "volume_scatter"), whether its samples
+# trace shadow rays (Cast Shadow), whether BSDF rays find it and weigh against its samples (Multiple Importance).
+@dataclass(kw_only=True)  # after each light's own fields, keyword-only
+class LightVisibility:
+    invisible_to: Tuple[str, ...] = ()
+    cast_shadow: bool = True
+    use_mis: bool = True
 
 
 @dataclass
-class RectLight:
+class RectLight(LightVisibility):
     """Corner + two orthogonal edges. A one-sided light emits on the side cross(edge_x, edge_y) points to."""
     corner: V3
     edge_x: V3
@@ -268,7 +286,7 @@ class RectLight:
 
 
 @dataclass
-class EllipseLight:
+class EllipseLight(LightVisibility):
     """Ellipse (disc when the semi-axes are equal): centre and two orthogonal semi-axis vectors."""
     center: V3
     axis_x: V3
@@ -281,7 +299,7 @@ class EllipseLight:
 
 
 @dataclass
-class PointLight:
+class PointLight(LightVisibility):
     """A point, or with a radius Cycles 3.4's soft point light: a disc of that radius facing the shading point,
     of radiance intensity / (pi radius^2), sampled by the cone it subtends."""
     position: V3
@@ -292,7 +310,7 @@ class PointLight:
 
 
 @dataclass
-class SpotLight:
+class SpotLight(LightVisibility):
     """Cycles 3.4 spot: intensity * cos(angle to axis) * smoothstep blend inside the cone."""
     position: V3
     direction: V3                    # unit, the cone's axis
@@ -305,7 +323,7 @@ class SpotLight:
 
 
 @dataclass
-class SunLight:
+class SunLight(LightVisibility):
     """A sun; with an angle Cycles 3.4's: the cone of directions within angle / 2 of it, of radiance
     irradiance / (pi tan^2(angle / 2) cos^3(theta)) at theta from its direction, sampled uniformly in that cone."""
     direction: V3                    # unit, the direction light travels
@@ -433,6 +451,8 @@ def save_scene(scene: Scene, path: str) -> None:
     for i, m in enumerate(scene.meshes):
         key = f"mesh{i}"
         meta["meshes"].append({"name": m.name, "arrays": key})
+        if m.invisible_to:
+            meta["meshes"][-1]["invisible_to"] = list(m.invisible_to)
         if m.object_linear is not None:
             meta["meshes"][-1]["object_linear"] = np.asarray(m.object_linear, dtype=np.float64).tolist()
         arrays[f"{key}.vertices"] = np.asarray(m.vertices, dtype=np.float32)
@@ -489,6 +509,8 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
         cls = _LIGHT_TYPES.get(l.pop("type", None))
         if cls is None:
             raise ValueError(f"{path}: unknown light type")
+        if "invisible_to" in l:
+            l["invisible_to"] = tuple(l["invisible_to"])
         scene.lights.append(cls(**l))
     for m in meta["meshes"]:
         key = m["arrays"]
@@ -498,7 +520,8 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
         get = lambda name: data[f"{key}.{name}"] if f"{key}.{name}" in data.files else None
         scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
                                  material_ids=get("material_ids"), name=m["name"], uvs=get("uvs"),
-                                 generated=get("generated"), object_linear=m.get("object_linear")))
+                                 generated=get("generated"), object_linear=m.get("object_linear"),
+                                 invisible_to=tuple(m.get("invisible_to", ()))))
     for t in meta.get("textures", []):
         key = t.get("arrays")
         if key is not None and not isinstance(key, str):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import sphrect
-from conftest import builders, export
+from conftest import builders, export, lit_test_scene
 
 
 def _unit(v):
@@ -272,6 +272,11 @@ def test_modifiers_instances_and_transforms(empty_scene):
     # Mirroring (negative scale) keeps the triangles facing outward.
     m = meshes["Mirrored"]
     assert _outward_fraction(m.vertices, m.triangles, np.array([5, 0, 0])) == 1.0
+    # An instance hides from what its instancing object or itself hides from (Cycles' sync_object).
+    bpy.data.objects["Instance0"].visible_shadow = False
+    piece.visible_glossy = False
+    hidden = sorted(m.invisible_to for m in export()[0].meshes if "/Piece" in m.name)
+    assert hidden == [("glossy",), ("shadow", "glossy")]
 
 
 def test_smooth_meshes_get_unit_normals(empty_scene):
@@ -328,3 +333,55 @@ def test_scene_file_round_trip(empty_scene, tmp_path):
     op_path = str(tmp_path / "op.sphrect.npz")
     assert bpy.ops.export_scene.sphrect(filepath=op_path) == {"FINISHED"}
     assert len(sphrect.load_scene(op_path).meshes) == len(original.meshes)
+
+
+def test_ray_visibility_is_exported(empty_scene):
+    """Object > Visibility > Ray Visibility of meshes and lights, a light's Cast Shadow and Multiple Importance:
+    exported as the scene's invisible_to / cast_shadow / use_mis (simulated, so not warned about); everything
+    visible exports as before."""
+    lit_test_scene(empty_scene)
+    scene, log = export()
+    assert all(m.invisible_to == () for m in scene.meshes)
+    assert [(l.invisible_to, l.cast_shadow, l.use_mis) for l in scene.lights] == [((), True, True)]
+    box, light = bpy.data.objects["Box"], bpy.data.objects["Light"]
+    box.visible_camera = box.visible_shadow = box.visible_volume_scatter = False
+    light.visible_diffuse = light.visible_transmission = False
+    light.data.cycles.cast_shadow = False
+    light.data.cycles.use_multiple_importance_sampling = False
+    light.data.update_tag()  # an add-on's property: the depsgraph's copy follows only when tagged
+    scene, log = export()
+    by_name = {m.name: m for m in scene.meshes}
+    assert by_name["Box"].invisible_to == ("camera", "shadow", "volume_scatter")
+    assert by_name["Ground"].invisible_to == ()
+    (exported,) = scene.lights
+    assert exported.invisible_to == ("diffuse", "transmission")
+    assert not exported.cast_shadow and not exported.use_mis
+    assert "visibility" not in log.warning_text()
+    for kind, data in (("POINT", {}), ("SUN", {"angle": 0.1})):
+        obj = builders.other_light(kind, kind, 10.0)
+        obj.visible_glossy = False
+        for key, value in data.items():
+            setattr(obj.data, key, value)
+    scene, _ = export()
+    by_type = {type(l).__name__: l for l in scene.lights}
+    assert by_type["PointLight"].invisible_to == ("glossy",) and by_type["SunLight"].invisible_to == ("glossy",)
+
+
+def test_visibility_settings_not_simulated_are_warned(empty_scene):
+    """The world's Ray Visibility and an emissive material's Multiple Importance off are not simulated: warned,
+    naming them; at their defaults, not."""
+    lit_test_scene(empty_scene)
+    mat = builders.material("Glow", (0.1, 0.1, 0.1))
+    mat.node_tree.nodes.clear()
+    out = mat.node_tree.nodes.new("ShaderNodeOutputMaterial")
+    emission = mat.node_tree.nodes.new("ShaderNodeEmission")
+    mat.node_tree.links.new(emission.outputs[0], out.inputs["Surface"])
+    builders.mesh_object("Panel", "plane", mat, location=(0, 0, 3), size=0.5)
+    text = export()[1].warning_text()
+    assert "ray visibility" not in text and "Multiple Importance" not in text
+    empty_scene.world.cycles_visibility.diffuse = False
+    mat.cycles.sample_as_light = False
+    empty_scene.world.update_tag()  # the depsgraph's copies follow only when tagged
+    mat.update_tag()
+    text = export()[1].warning_text()
+    assert "world ray visibility" in text and "Multiple Importance off" in text and "Glow" in text

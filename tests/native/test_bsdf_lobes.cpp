@@ -231,5 +231,50 @@ TEST(BsdfLobes, PrincipledMultiscatterAboveCyclesRoughnessSwitch) {
     EXPECT_GT(multi, 1.1 * one);
 }
 
+// Ray visibility (render/ray_visibility.h): a light lighting only the diffuse or only the glossy closures gets the
+// lobes of that class, whose values and pdfs (each lobe at its own probability) sum to the whole BSDF's; SampledRayKind
+// names the sampled lobe's ray kind (translucent: diffuse and transmission, below the surface).
+TEST(BsdfLobes, ClosureClassesSplitTheBsdfAndItsPdf) {
+    PrincipledInputs sheen_coat;
+    sheen_coat.sheen = 0.8f;
+    sheen_coat.clearcoat = 0.6f;
+    sheen_coat.clearcoat_roughness = 0.2f;
+    std::vector<NamedMaterial> materials = Materials();
+    materials.push_back({"principled sheen clearcoat", MakePrincipledBsdf(sheen_coat)});
+    materials.push_back({"lambert + ggx", MakeLambertGgxBsdf({0.5f, 0.4f, 0.3f}, 0.3f, 0.2f, 0.5f)});
+    PCG32 rng(0x7151b1u, 3);
+    for (const auto& [name, m] : materials) {
+        for (int i = 0; i < 2000; ++i) {
+            const Vec3f wo = SampleCosineHemisphere({rng.NextFloat(), rng.NextFloat()});
+            Vec3f wi = SampleCosineHemisphere({rng.NextFloat(), rng.NextFloat()});
+            if (i % 4 == 0) wi.z = -wi.z;
+            if (!(wo.z > 1e-3f) || !(std::abs(wi.z) > 1e-3f)) continue;
+            const float all = BsdfPDF<true>(m, wo, wi);
+            EXPECT_EQ(BsdfPDFOfClasses<true>(m, wo, wi, kRayAll), all) << name;
+            const float diffuse = BsdfPDFOfClasses<true>(m, wo, wi, kRayAll & ~kRayGlossy);
+            const float glossy = BsdfPDFOfClasses<true>(m, wo, wi, kRayAll & ~kRayDiffuse);
+            EXPECT_NEAR(diffuse + glossy, all, 1e-5f * all + 1e-7f) << name;
+            const Spectrum f = EvalBsdf<true>(m, wo, wi);
+            const Spectrum split = EvalBsdf<true>(LobesLitBy(m, kRayAll & ~kRayGlossy), wo, wi) +
+                                   EvalBsdf<true>(LobesLitBy(m, kRayAll & ~kRayDiffuse), wo, wi);
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(split[c], f[c], 1e-4f * f[c] + 1e-7f) << name;
+        }
+        for (int i = 0; i < 2000; ++i) {
+            const Vec3f wo = SampleCosineHemisphere({rng.NextFloat(), rng.NextFloat()});
+            const Point2<float> u{rng.NextFloat(), rng.NextFloat()};
+            const BsdfSample s = SampleBsdf<true>(m, wo, u);
+            if (!(s.pdf > 0)) continue;
+            const uint8_t ray = SampledRayKind<true>(m, u);
+            if (s.wi.z < 0) {
+                EXPECT_EQ(ray, kRayDiffuse | kRayTransmission) << name;
+            } else {
+                EXPECT_TRUE(ray == kRayDiffuse || ray == kRayGlossy) << name;
+                // The lobe it came from is of that class: the class's pdf is positive there.
+                EXPECT_GT(BsdfPDFOfClasses<true>(m, wo, s.wi, ray), 0.0f) << name;
+            }
+        }
+    }
+}
+
 }  // namespace
 }  // namespace sphrect::render

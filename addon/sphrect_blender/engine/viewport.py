@@ -100,7 +100,8 @@ class ViewportSession:
             self.scene_version += 1
         else:
             if LIGHTS in kinds:
-                lights = (export_light(sphrect, i.object, i.matrix_world, i.object.name, log)
+                lights = (export_light(sphrect, i.object, i.matrix_world, i.object.name, log,
+                                       i.parent if i.is_instance else None)
                           for i in depsgraph.object_instances if i.object.type == "LIGHT")
                 self.scene = dataclasses.replace(self.scene, lights=[l for l in lights if l is not None])
             if WORLD in kinds:

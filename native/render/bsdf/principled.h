@@ -11,6 +11,7 @@
 #include "microfacet.h"
 #include "multiscatter_ggx.h"
 #include "principled_lobes.h"
+#include "render/ray_visibility.h"
 
 namespace sphrect::render {
 
@@ -106,6 +107,32 @@ inline float PrincipledPDF(const Bsdf& m, const Vec3f& wo, const Vec3f& wi) {
                                     : GgxReflectionPDF(wo, wi, l.alpha));
     }
     return pdf + std::max(p_cos, 0.0f) * CosineHemispherePDF(wi.z);
+}
+
+// PrincipledPDF of the lobes of some closure classes (ray_visibility.h; kRayDiffuse: the cosine and translucent lobes,
+// kRayGlossy: the microfacet reflections), each at its own probability: Cycles' pdf of the closures a light lights
+// (_surface_shader_bsdf_eval_mis).  The same sums in the same order as PrincipledPDF, which stays the hot path's
+// (test_bsdf_lobes.cpp checks that all classes give its value bit for bit).
+inline float PrincipledPDFOfClasses(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, uint8_t classes) {
+    const bool diffuse = classes & kRayDiffuse, reflection = classes & kRayGlossy;
+    if (wi.z < 0) return diffuse ? m.translucent_probability * CosineHemispherePDF(-wi.z) : 0.0f;
+    const float ps = m.specular_probability, pc = m.clearcoat_probability;
+    float p_cos = 1 - ps - pc - m.translucent_probability;
+    float pdf = 0;
+    if (reflection && ps > 0)
+        pdf += ps * (m.alpha == m.specular_alpha_y ? GgxReflectionPDF(wo, wi, m.alpha)
+                                                   : GgxAnisotropicPDF(wo, wi, m.alpha, m.specular_alpha_y,
+                                                                       m.specular_tangent_cos, m.specular_tangent_sin));
+    if (reflection && pc > 0) pdf += pc * ClearcoatReflectionPDF(wo, wi, m.clearcoat_alpha);
+    for (int i = 0; i < m.num_lobes; ++i) {
+        const MicrofacetLobe& l = m.lobes[i];
+        p_cos -= l.probability;
+        if (reflection)
+            pdf += l.probability * (l.anisotropic()
+                                        ? GgxAnisotropicPDF(wo, wi, l.alpha, l.alpha_y, l.tangent_cos, l.tangent_sin)
+                                        : GgxReflectionPDF(wo, wi, l.alpha));
+    }
+    return diffuse ? pdf + std::max(p_cos, 0.0f) * CosineHemispherePDF(wi.z) : pdf;
 }
 
 // wo mirrored about the microfacet normal h, or the zero direction (no sample: its pdf is 0) when that falls

@@ -78,7 +78,7 @@ static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk&
 // Traces the camera rays of hits[0..n) into rtc_hits[0..n), as one stream (IntersectCameraRays).
 static inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_t n, RTCRayHit* rtc_hits) {
     for (size_t i = 0; i < n; ++i)
-        rtc_hits[i] = MakeRTCRayHit(hits[i].ray.o, hits[i].ray.d, hits[i].ray.tmin, hits[i].ray.tmax);
+        rtc_hits[i] = MakeRTCRayHit(hits[i].ray.o, hits[i].ray.d, hits[i].ray.tmin, hits[i].ray.tmax, kRayCamera);
     IntersectCameraRays(scene, rtc_hits, n);
 }
 
@@ -135,7 +135,7 @@ template <bool kGlossy, bool kMedium>
             return;
         }
         const float t_begin = out.t_end;
-        RTCRayHit rh = MakeRTCRayHit(out.ray.o, out.ray.d, BeyondHit(out.t_end), out.ray.tmax);
+        RTCRayHit rh = MakeRTCRayHit(out.ray.o, out.ray.d, BeyondHit(out.t_end), out.ray.tmax, kRayCamera);
         rtcIntersect1(scene.rtc_scene, &ctx, &rh);
         out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         out.t_end = out.hit ? rh.ray.tfar : kInf;

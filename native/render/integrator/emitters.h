@@ -58,8 +58,9 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
 // it goes through; one extra ray per hit, kept for one path through the shadow queue).
 template <Technique K, bool kMedium>
 static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                            TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
-    RTCRayHit rh = MakeRTCRayHit(o, d, 0, kInf);
+                                            uint8_t ray, TimedLightSamplingAt<K>& light_sampling,
+                                            const ShadowSink& sink) {
+    RTCRayHit rh = MakeRTCRayHit(o, d, 0, kInf, ray);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
@@ -68,7 +69,7 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
                           c.scene.MayBeTransparent(c.scene.meshes[rh.hit.geomID], rh.hit.primID);
          ++crossed) {
         if (crossed == kMaxTransparentHits) return;
-        rh = MakeRTCRayHit(o, d, BeyondHit(rh.ray.tfar), kInf);
+        rh = MakeRTCRayHit(o, d, BeyondHit(rh.ray.tfar), kInf, ray);
         rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
     }
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
@@ -80,7 +81,8 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
     const Spectrum le = EmittedRadiance(c.scene.area_lights[i], -d);
     if (IsBlack(le)) return;
     const float pdf_light = light_sampling.PDF(i, o + d * t);
-    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light));
+    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),
+             ray);
 }
 
 // A light sample of the image world (environment_light.h; c.environment set): its direction, radiance and
@@ -94,42 +96,47 @@ static inline EmitterSample SampleEnvironmentEmitter(const ShadeContext& c, Poin
     return {true, s.wi, kInf, le, s.pdf};
 }
 
-// The image world a BSDF or phase ray (o, d) finds if it escapes, weighted against its light sample (Le T w).
+// The image world a BSDF or phase ray (o, d) of kind `ray` finds if it escapes, weighted against its light sample
+// (Le T w).
 static inline void QueueEnvironmentAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                            const ShadowSink& sink) {
+                                            uint8_t ray, const ShadowSink& sink) {
     const EnvironmentLight& e = *c.environment;
     const Spectrum le = EnvironmentRadiance(e, c.scene.images[size_t(e.image)], d);
     if (IsBlack(le)) return;
-    sink.Add(o, d, kInf, le * c.environment_transmittance * MisWeight(c.mis, pdf_dir, EnvironmentPDF(e, d)));
+    sink.Add(o, d, kInf, le * c.environment_transmittance * MisWeight(c.mis, pdf_dir, EnvironmentPDF(e, d)), ray);
 }
 
 // For the ray (o, d): the background where the ray escapes, and with MIS the image world and every area light it
 // crosses, weighted against light sampling (Le T w).  A light counts when no surface lies
 // before it -- the same test as for its light samples -- so a ray that reaches no emitter is
 // not traced at all.  pdf_dir: the direction's pdf under BSDF/phase sampling; `sink` carries
-// its weight f cos / pdf.
+// its weight f cos / pdf.  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.
 template <Technique K, bool kMedium>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                         TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
-    if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky);
+                                         uint8_t ray, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky, ray);
     if (c.mis == MisMode::None) return;  // the image world and the lights: their light samples alone
-    if (c.environment) QueueEnvironmentAlongRay(c, o, d, pdf_dir, sink);
-    if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, light_sampling, sink);
+    if (c.environment) QueueEnvironmentAlongRay(c, o, d, pdf_dir, ray, sink);
+    if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, ray, light_sampling, sink);
     // The analytic lights (the rest are QueueMeshEmitterAlongRay's).
     c.scene.analytic_light_finder.ForEachCrossing(o, d, 0, kInf, LightsSought::All, [&](int i, float t) {
-        const Spectrum le = EmittedRadiance(c.scene.area_lights[i], -d);
+        const AreaLight& l = c.scene.area_lights[i];
+        if (!l.vis.FoundBy(ray)) return;
+        const Spectrum le = EmittedRadiance(l, -d);
         if (IsBlack(le)) return;
         const float pdf_light = light_sampling.PDF(i, o + d * t);
-        sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light));
+        sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),
+                 ray);
     });
     // Soft point, spot and sun lights (delta_light.h): the cone each subtends at o.
     for (const SoftLightRef& s : c.scene.soft_lights) {
         const DeltaLight& l = c.scene.delta_lights[s.delta];
+        if (!l.vis.FoundBy(ray)) continue;
         const SoftLightCrossing x = CrossSoftLight(l, o, d);
         if (!x.hit) continue;
         const float pdf_light = light_sampling.SoftLightPDF(l, s.tree_emitter);
         sink.Add(o, d, x.t,
-                 x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light));
+                 x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light), ray);
     }
 }
 

@@ -94,7 +94,7 @@ static inline int CameraRaysToScreenLight(const RenderScene& scene, const Camera
         if (!InsideScreenLight(s, fx[k], fy[k])) continue;
         const Ray r = GenerateCameraRay<false>(view.camera, fx[k], fy[k], {});
         const float t = IntersectAreaLight(light, r.o, r.d, r.tmax);
-        if (t < kInf && t > r.tmin) rays[n++] = MakeRTCRay(r.o, r.d, r.tmin, t);
+        if (t < kInf && t > r.tmin) rays[n++] = MakeRTCRay(r.o, r.d, r.tmin, t, kRayCamera);
     }
     OccludeShadowRays(scene.rtc_scene, rays, size_t(n), sizeof(RTCRay));
     return n;

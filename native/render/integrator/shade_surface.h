@@ -42,6 +42,30 @@ static inline bool RayOriginTowards(const SurfaceShadingPoint& sp, const Vec3f& 
     return false;
 }
 
+// A light sample of a light whose visibility is not the default (LightVisibility): f of the lobes it lights, with
+// their pdf alone for the MIS weight against pdf_light (0: none), 1 for a light without Multiple Importance; no
+// shadow ray without Cast Shadow.  The value is QueueSurfaceLightSample's (pdf_div: its pdf) or
+// QueueSurfaceDeltaLight's (1), computed in their order, so that a light that lights every class gives theirs bit for
+// bit.  Out of line: scenes whose lights are all visible never come here.
+template <bool kGlossy, bool kMedium>
+[[gnu::noinline, gnu::cold]] static void QueueLightWithVisibility(const ShadeContext& c, const SurfaceShadingPoint& sp,
+                                                                  const Vec3f& dir, float dist, const Spectrum& le,
+                                                                  float pdf_light, float pdf_div,
+                                                                  const LightVisibility& vis, const ShadowSink& sink) {
+    const Vec3f wi = sp.frame.ToLocal(dir);
+    Vec3f origin;
+    if (!RayOriginTowards<kGlossy>(sp, wi, dir, origin)) return;
+    const uint8_t classes = vis.rays() & kRayBsdfClasses;
+    const Spectrum f = EvalBsdf<kGlossy>(LobesLitBy(sp.material, classes), sp.wo, wi);
+    if (IsBlack(f)) return;
+    const float w = pdf_light > 0 && c.mis != MisMode::None && vis.use_mis()
+                        ? MisWeight(c.mis, pdf_light, BsdfPDFOfClasses<kGlossy>(sp.material, sp.wo, wi, classes))
+                        : 1.0f;
+    sink.Add(origin, dir, dist,
+             f * le * SegmentTransmittance<kMedium>(c.scene.medium, dist) * (std::abs(wi.z) * w / pdf_div),
+             vis.ShadowMask());
+}
+
 // Light sampling: f Le T cos w / (pmf pdf) for a point on the chosen light, w its MIS weight
 // against the BSDF sample.
 template <Technique K, bool kGlossy, bool kMedium>
@@ -49,6 +73,8 @@ static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceS
                                            TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, light.u, light_sampling);
     if (!e.valid) return;
+    if (const LightVisibility& vis = c.scene.area_lights[light.index].vis; !vis.IsDefault())
+        return QueueLightWithVisibility<kGlossy, kMedium>(c, sp, e.dir, e.dist, e.le, e.pdf, e.pdf, vis, sink);
     const Vec3f wi = sp.frame.ToLocal(e.dir);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
@@ -69,7 +95,9 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
     const Vec3f wi_world = sp.frame.FromLocal(bs.wi);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, bs.wi, wi_world, origin)) return;
-    QueueEmittersAlongRay<K, kMedium>(c, origin, wi_world, bs.pdf, light_sampling,
+    // The ray's kind matters only where a mesh or light hides from some (RenderScene::ray_visibility).
+    const uint8_t ray = c.scene.ray_visibility ? SampledRayKind<kGlossy>(sp.material, u) : kRayDiffuse;
+    QueueEmittersAlongRay<K, kMedium>(c, origin, wi_world, bs.pdf, ray, light_sampling,
                                       sink.Scaled(bs.f * (std::abs(bs.wi.z) / bs.pdf)));
 }
 
@@ -95,6 +123,9 @@ static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceSh
                                           Point2<float> u, float pmf, const ShadowSink& sink) {
     const DeltaIllumination di = IlluminateFromDelta(d, sp.hit.p, u);
     if (IsBlack(di.li)) return;
+    if (!d.vis.IsDefault())
+        return QueueLightWithVisibility<kGlossy, kMedium>(c, sp, di.wi, di.dist, di.li, di.pdf > 0 ? pmf * di.pdf : 0,
+                                                          1, d.vis, sink);
     const Vec3f wi = sp.frame.ToLocal(di.wi);
     Vec3f origin;
     if (!RayOriginTowards<kGlossy>(sp, wi, di.wi, origin)) return;

@@ -26,12 +26,29 @@ struct ScatteringPoint {
     Vec3f ray_dir;
 };
 
+// A light sample in the medium of a light whose visibility is not the default (LightVisibility): none from a light
+// hidden from volume scatter (Cycles' SHADER_EXCLUDE_SCATTER), weight 1 without Multiple Importance (pdf_light 0: no
+// MIS), no shadow ray without Cast Shadow.  QueueMediumLightSample's value (pdf_div: its pdf) or
+// QueueMediumDeltaLight's (1), in their order.  Out of line: scenes whose lights are all visible never come here.
+[[gnu::noinline, gnu::cold]] static void QueueMediumLightWithVisibility(const ShadeContext& c,
+                                                                        const ScatteringPoint& sp, const Vec3f& dir,
+                                                                        float dist, const Spectrum& le, float pdf_light,
+                                                                        float pdf_div, const LightVisibility& vis,
+                                                                        const ShadowSink& sink) {
+    if (!(vis.rays() & kRayVolumeScatter)) return;
+    const float phase = HenyeyGreenstein(Dot(dir, sp.ray_dir), c.scene.medium.g);
+    const float w = pdf_light > 0 && vis.use_mis() ? MisWeight(c.mis, pdf_light, phase) : 1.0f;
+    sink.Add(sp.x, dir, dist, le * Transmittance(c.scene.medium, dist) * (phase * w / pdf_div), vis.ShadowMask());
+}
+
 // Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample.
 template <Technique K>
 static inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
                                           TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const EmitterSample e = SampleChosenEmitter<K>(c, light, light.u, light_sampling);
     if (!e.valid) return;
+    if (const LightVisibility& vis = c.scene.area_lights[light.index].vis; !vis.IsDefault())
+        return QueueMediumLightWithVisibility(c, sp, e.dir, e.dist, e.le, e.pdf, e.pdf, vis, sink);
     const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
     const float w = MisWeight(c.mis, e.pdf, phase);
     sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf));
@@ -44,7 +61,7 @@ static inline void QueueMediumPhaseSample(const ShadeContext& c, const Scatterin
     const float g = c.scene.medium.g;
     const Vec3f wi = SampleHenyeyGreenstein(sp.ray_dir, g, u);
     const float pdf_phase = HenyeyGreenstein(Dot(wi, sp.ray_dir), g);
-    QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, light_sampling, sink);
+    QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, kRayVolumeScatter, light_sampling, sink);
 }
 
 // Light sampling of the image world: phase Le T w / pdf, w its MIS weight against the phase sample.
@@ -64,6 +81,9 @@ static inline void QueueMediumDeltaLight(const ShadeContext& c, const Scattering
     const HomogeneousMedium& med = c.scene.medium;
     const DeltaIllumination di = IlluminateFromDelta(d, sp.x, u);
     if (IsBlack(di.li)) return;
+    if (!d.vis.IsDefault())
+        return QueueMediumLightWithVisibility(c, sp, di.wi, di.dist, di.li, di.pdf > 0 ? pmf * di.pdf : 0, 1, d.vis,
+                                              sink);
     const float phase = HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g);
     const float w = di.pdf > 0 ? MisWeight(c.mis, pmf * di.pdf, phase) : 1.0f;
     sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * (phase * w));

@@ -74,7 +74,7 @@ static inline Spectrum ShadowTransmittance(const RenderScene& scene, const RTCRa
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     for (int hits = 0;; ++hits) {
-        RTCRayHit rh = MakeRTCRayHit(ray.o, ray.d, tnear, shadow.tfar);
+        RTCRayHit rh = MakeRTCRayHit(ray.o, ray.d, tnear, shadow.tfar, shadow.mask);
         rtcIntersect1(scene.rtc_scene, &ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return kept;
         if (hits == kMaxTransparentHits) return {};

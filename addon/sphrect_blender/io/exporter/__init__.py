@@ -12,6 +12,7 @@ from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
 from .textures import TextureExport, coordinates_needed, has_normal_map, is_anisotropic
+from .visibility import invisible_to, warn_unhonoured
 
 
 class _Materials:
@@ -32,6 +33,7 @@ class _Materials:
         if key not in self.index:
             self.index[key] = len(self.list)
             self.list.append(export_material(self.sphrect, mat, self.log, self.textures))
+            warn_unhonoured(self.log, material=mat, exported=self.list[-1])
             self.coordinates.append(coordinates_needed(self.list[-1]))
         return self.index[key]
 
@@ -62,13 +64,14 @@ def scene_from_depsgraph(depsgraph):
     scene.camera = export_camera(sphrect, bl_scene, cam, log)
     materials = _Materials(sphrect, log)
     scene.world = export_world(sphrect, bl_scene.world, log, materials.textures)
+    warn_unhonoured(log, world=bl_scene.world)
     cache = {}
     skipped_types = set()
     for inst in depsgraph.object_instances:
         obj = inst.object
         name = obj.name if not inst.is_instance else f"{inst.parent.name}/{obj.name}#{inst.random_id & 0xffff}"
         if obj.type == "LIGHT":
-            light = export_light(sphrect, obj, inst.matrix_world, name, log)
+            light = export_light(sphrect, obj, inst.matrix_world, name, log, inst.parent if inst.is_instance else None)
             if light is not None:
                 scene.lights.append(light)
             continue
@@ -80,8 +83,6 @@ def scene_from_depsgraph(depsgraph):
         for psys in getattr(obj, "particle_systems", ()):
             if psys.settings.type == "HAIR" and psys.settings.render_type == "PATH":
                 log.unsupported_feature("hair particles", obj.name)
-        if not getattr(obj, "visible_camera", True) or not getattr(obj, "visible_shadow", True):
-            log.unsupported_feature("per-object ray visibility (object rendered as visible)", obj.name)
         key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
         if key not in cache:  # instances share the triangulation and the material ids
             slots = materials.slot_ids(obj)
@@ -108,7 +109,9 @@ def scene_from_depsgraph(depsgraph):
         object_linear = np.array(inst.matrix_world)[:3, :3].tolist() if object_space else None
         scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
                                          material_ids=material_ids, name=name, uvs=local.uvs,
-                                         generated=local.generated, object_linear=object_linear))
+                                         generated=local.generated, object_linear=object_linear,
+                                         invisible_to=invisible_to(obj, sphrect.scene.RAY_KINDS,
+                                                                      inst.parent if inst.is_instance else None)))
     scene.materials = materials.list
     scene.textures = materials.textures.list
     emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}

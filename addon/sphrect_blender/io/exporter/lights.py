@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 
+from .visibility import LIGHT_RAY_KINDS, invisible_to
+
 
 # The light settings SPHRECT does not simulate, per light type: (attribute, the value SPHRECT assumes, the
 # panel's label, the export warning). One source for the exporter's warnings (given when a light's value is
@@ -58,8 +60,19 @@ def area_light_edges(light, matrix_world):
     return centre, ex, ey, direction
 
 
-def export_light(sphrect, obj, matrix_world, name, log):
-    """The sphrect light for a Blender light object, or None (with a logged reason) if it emits nothing."""
+def light_visibility(obj, parent=None):
+    """The light's visibility fields (sphrect.scene.LightVisibility): the ray kinds it (or the object instancing it,
+    `parent`) hides from (Object > Visibility), its Cast Shadow and Multiple Importance (Light > Cycles' settings), as
+    Cycles 3.4 syncs them."""
+    cycles = getattr(obj.data, "cycles", None)
+    return dict(invisible_to=invisible_to(obj, LIGHT_RAY_KINDS, parent),
+                cast_shadow=bool(getattr(cycles, "cast_shadow", True)),
+                use_mis=bool(getattr(cycles, "use_multiple_importance_sampling", True)))
+
+
+def export_light(sphrect, obj, matrix_world, name, log, parent=None):
+    """The sphrect light for a Blender light object (instanced by `parent`, or None), or None (with a logged reason)
+    if it emits nothing."""
     light = obj.data
     color = np.array(light.color, dtype=np.float64)
     power = float(light.energy)
@@ -74,8 +87,9 @@ def export_light(sphrect, obj, matrix_world, name, log):
     if not np.isfinite(np.array(matrix_world)).all():
         log.problem(f"light '{name}' has a transform that is not finite (NaN or infinite): skipped")
         return None
+    vis = light_visibility(obj, parent)
     if light.type == "AREA":
-        return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log)
+        return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log, vis)
     _, _, z, position = _axes(matrix_world)
     visible = bool(getattr(obj, "visible_camera", True))
     if light.type in {"POINT", "SPOT"}:
@@ -84,14 +98,14 @@ def export_light(sphrect, obj, matrix_world, name, log):
         radius = max(float(getattr(light, "shadow_soft_size", 0.0)), 0.0)
         if light.type == "POINT":
             return sphrect.PointLight(position=_tuple(position), intensity=intensity, name=name, radius=radius,
-                                      visible=visible)
+                                      visible=visible, **vis)
         direction = _unit(-z)
         if direction is None:
             log.problem(f"spot light '{name}' has zero scale along Z: skipped")
             return None
         return sphrect.SpotLight(position=_tuple(position), direction=_tuple(direction), intensity=intensity,
                                  spot_size=float(light.spot_size), spot_blend=float(light.spot_blend), name=name,
-                                 radius=radius, visible=visible)
+                                 radius=radius, visible=visible, **vis)
     if light.type == "SUN":
         direction = _unit(-z)
         if direction is None:
@@ -99,14 +113,13 @@ def export_light(sphrect, obj, matrix_world, name, log):
             return None
         angle = min(max(float(getattr(light, "angle", 0.0)), 0.0), math.pi)
         # Cycles 3.4 finds a sun on escaping rays only with its Multiple Importance on (light_sample_from_distant_ray).
-        use_mis = bool(getattr(getattr(light, "cycles", None), "use_multiple_importance_sampling", True))
         return sphrect.SunLight(direction=_tuple(direction), irradiance=sphrect.scene.sun_irradiance(power, color),
-                                name=name, angle=angle, visible=visible and use_mis)
+                                name=name, angle=angle, visible=visible and vis["use_mis"], **vis)
     log.unsupported_feature(f"{light.type.lower()} lights", light.name)
     return None
 
 
-def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log):
+def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log, vis):
     centre, ex, ey, direction = area_light_edges(light, matrix_world)
     rect_area = float(np.linalg.norm(np.cross(ex, ey)))
     if not rect_area > 1e-12 or direction is None:
@@ -123,8 +136,10 @@ def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, lo
     if light.shape in {"SQUARE", "RECTANGLE"}:
         radiance = sphrect.scene.area_light_radiance(power, color, rect_area)
         return sphrect.RectLight(corner=_tuple(centre - 0.5 * ex - 0.5 * ey), edge_x=_tuple(ex), edge_y=_tuple(ey),
-                                 radiance=radiance, two_sided=two_sided, visible=visible, name=name, spread=spread)
+                                 radiance=radiance, two_sided=two_sided, visible=visible, name=name, spread=spread,
+                                 **vis)
     ellipse_area = 0.25 * math.pi * rect_area  # pi * a * b with semi-axes a, b = half the edges
     radiance = sphrect.scene.area_light_radiance(power, color, ellipse_area)
     return sphrect.EllipseLight(center=_tuple(centre), axis_x=_tuple(0.5 * ex), axis_y=_tuple(0.5 * ey),
-                                radiance=radiance, two_sided=two_sided, visible=visible, name=name, spread=spread)
+                                radiance=radiance, two_sided=two_sided, visible=visible, name=name, spread=spread,
+                                 **vis)

@@ -1,0 +1,30 @@
+"""Blender's Object Properties > Visibility > Ray Visibility (obj.visible_<kind>) as the scene's invisible_to: the ray
+kinds (sphrect.scene.RAY_KINDS) an object hides from, which the renderer honours as Cycles 3.4 does."""
+
+
+def invisible_to(obj, kinds, parent=None):
+    """The kinds of `kinds` whose obj.visible_<kind> is off, in their order (a tuple; empty: visible to all); for an
+    instance, those of its instancing `parent` too (Cycles 3.4's sync_object: the child's flags and the parent's)."""
+    return tuple(k for k in kinds if not all(getattr(o, f"visible_{k}", True) for o in (obj, parent) if o is not None))
+
+
+# The kinds a light's visibility can hide it from besides the camera (its `visible`): Blender shows no Shadow
+# toggle for lights (their own shadows are the light's Cast Shadow).
+LIGHT_RAY_KINDS = ("diffuse", "glossy", "transmission", "volume_scatter")
+
+# The panel's order of them (Cycles' Ray Visibility panel's): a mesh's, a light's.
+PANEL_RAY_KINDS = ("camera", "diffuse", "glossy", "transmission", "volume_scatter", "shadow")
+PANEL_LIGHT_RAY_KINDS = ("camera",) + LIGHT_RAY_KINDS
+
+
+def warn_unhonoured(log, world=None, material=None, exported=None):
+    """Warn of the visibility settings Cycles 3.4 honours that SPHRECT does not: the world's Ray Visibility (the world
+    is seen by every ray), an emissive material's Multiple Importance off (Cycles then finds its emission only with
+    BSDF rays, unweighted; SPHRECT samples it as a light). `exported`: the sphrect.Material made of `material`."""
+    visibility = getattr(world, "cycles_visibility", None)
+    if visibility is not None and not all(getattr(visibility, k, True)
+                                          for k in ("camera", "diffuse", "glossy", "transmission", "scatter")):
+        log.unsupported_feature("world ray visibility (the world seen by every ray)", world.name)
+    if material is not None and exported is not None and any(c > 0 for c in exported.emission) \
+            and not getattr(getattr(material, "cycles", None), "sample_as_light", True):
+        log.unsupported_feature("emission with Multiple Importance off (sampled as a light)", material.name)
