@@ -133,6 +133,48 @@ int AddImage(RenderScene& s, const std::string& name, const py::array& pixels, b
     return s.AddImage(ImageOfArray(name, pixels, srgb));
 }
 
+// A 3x3 rotation (row-major) from Python, or ValueError naming `what`.
+void RotationOf(const py::object& obj, const std::string& what, float out[3][3]) {
+    const auto a = ArrayOf<double>(obj, what);
+    if (a.ndim() != 2 || a.shape(0) != 3 || a.shape(1) != 3)
+        throw py::value_error(what + " must be a 3x3 matrix, got shape " + ShapeString(a));
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) out[r][c] = float(a.at(r, c));
+}
+
+render::TextureInterpolation InterpolationOf(const std::string& name) {
+    return ParseNameOrThrow<render::TextureInterpolation>("world environment interpolation", "interpolations", name,
+                                                          render::kTextureInterpolationNames);
+}
+
+// The image world on its own, for tests of its sampling (environment_light.h): its image given as pixels.
+struct EnvironmentSampler {
+    render::Image image;
+    render::EnvironmentLight light;
+};
+
+EnvironmentSampler MakeEnvironmentSampler(const py::array& pixels, const py::object& to_world, V3 strength,
+                                          const std::string& interpolation) {
+    EnvironmentSampler s;
+    s.image = ImageOfArray("environment", pixels, false);
+    if (!to_world.is_none()) RotationOf(to_world, "to_world", s.light.to_world);
+    s.light.strength = ToVec(strength);
+    s.light.interpolation = InterpolationOf(interpolation);
+    s.light.image = 0;
+    render::BuildEnvironmentDistribution(s.light, s.image);
+    return s;
+}
+
+// f(row i of the (N, 3) directions) for each row, as an (N, width) float64 array.
+template <class F>
+py::array_t<double> PerDirection(const py::object& dirs, int width, F&& f) {
+    const auto d = RowsOf<float>(dirs, 3, "directions");
+    py::array_t<double> out({d.shape(0), py::ssize_t(width)});
+    auto o = out.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < d.shape(0); ++i) f(Vec3f{d.at(i, 0), d.at(i, 1), d.at(i, 2)}, &o(i, 0));
+    return out;
+}
+
 render::CameraModel MakeCameraModel(int width, int height, const py::object& to_world, bool orthographic,
                                     float half_width, float half_height, float offset_x, float offset_y,
                                     float aperture_radius, float focus_distance, float clip_start, float clip_end,
@@ -345,6 +387,15 @@ void BindRender(py::module_& m) {
             [](RenderScene& s, const py::handle& fields) { return s.AddMaterial(MaterialFromFields(fields)); },
             py::arg("fields"), "Adds a sphrect.Material given as dataclasses.asdict(material); returns its index")
         .def("set_film_transparent", &RenderScene::SetFilmTransparent, py::arg("transparent"))
+        .def(
+            "set_environment",
+            [](RenderScene& s, int texture, V3 strength, const py::object& to_world, const std::string& interpolation) {
+                float m[3][3];
+                RotationOf(to_world, "world environment to_world", m);
+                s.SetEnvironment(texture, ToVec(strength), m, InterpolationOf(interpolation));
+            },
+            py::arg("texture"), py::arg("strength"), py::arg("to_world"), py::arg("interpolation"),
+            "The image world (sphrect.Environment): an image added before, which replaces the background")
         .def("add_image", &AddImage, py::arg("name"), py::arg("pixels"), py::arg("srgb"))
         .def("load_image", &RenderScene::LoadImage, py::arg("name"), py::arg("path"), py::arg("srgb"),
              py::call_guard<py::gil_scoped_release>())
@@ -428,6 +479,50 @@ void BindRender(py::module_& m) {
         .def_property_readonly("warnings", [](const RenderScene& s) { return s.warnings; })
         .def_property_readonly("num_area_lights", [](const RenderScene& s) { return s.area_lights.size(); })
         .def_property_readonly("num_triangles", &RenderScene::NumTriangles);
+
+    py::class_<EnvironmentSampler>(m, "EnvironmentSampler",
+                                   "An image world's radiance and importance sampling (render/environment_light.h), "
+                                   "for tests: pixels [H, W, C] floats, rows bottom to top")
+        .def(py::init(&MakeEnvironmentSampler), py::arg("pixels"), py::arg("to_world") = py::none(),
+             py::arg("strength") = V3{1, 1, 1}, py::arg("interpolation") = "linear")
+        .def(
+            "sample",
+            [](const EnvironmentSampler& s, const py::object& u) {
+                const auto a = RowsOf<float>(u, 2, "u");
+                py::array_t<double> dirs({a.shape(0), py::ssize_t(3)}), pdf(a.shape(0));
+                auto d = dirs.mutable_unchecked<2>();
+                auto p = pdf.mutable_unchecked<1>();
+                for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+                    const render::EnvironmentSample e = render::SampleEnvironment(s.light, {a.at(i, 0), a.at(i, 1)});
+                    d(i, 0) = e.wi.x, d(i, 1) = e.wi.y, d(i, 2) = e.wi.z, p(i) = e.pdf;
+                }
+                return py::make_tuple(dirs, pdf);
+            },
+            py::arg("u"), "(directions [N, 3], solid-angle pdfs [N]) of SampleEnvironment at the points u [N, 2]")
+        .def(
+            "pdf",
+            [](const EnvironmentSampler& s, const py::object& dirs) {
+                return PerDirection(dirs, 1, [&](Vec3f w, double* o) { o[0] = render::EnvironmentPDF(s.light, w); });
+            },
+            py::arg("directions"), "EnvironmentPDF (per steradian) of unit directions [N, 3], as [N, 1]")
+        .def(
+            "invert",
+            [](const EnvironmentSampler& s, const py::object& dirs) {
+                return PerDirection(dirs, 2, [&](Vec3f w, double* o) {
+                    const Point2<float> u = render::InvertEnvironmentSample(s.light, w);
+                    o[0] = u.u, o[1] = u.v;
+                });
+            },
+            py::arg("directions"), "InvertEnvironmentSample of unit directions [N, 3]: the points u [N, 2]")
+        .def(
+            "radiance",
+            [](const EnvironmentSampler& s, const py::object& dirs) {
+                return PerDirection(dirs, 3, [&](Vec3f w, double* o) {
+                    const Spectrum c = render::EnvironmentRadiance(s.light, s.image, w);
+                    o[0] = c.x, o[1] = c.y, o[2] = c.z;
+                });
+            },
+            py::arg("directions"), "EnvironmentRadiance of unit directions [N, 3], as [N, 3] RGB");
 
     py::class_<Renderer>(m, "_Renderer", "Native renderer; use sphrect.Renderer")
         .def(py::init(&MakeRenderer), py::arg("scene"), py::arg("techniques"), py::arg("light_samples"),

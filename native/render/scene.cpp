@@ -5,6 +5,8 @@
 #include "scene.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <stdexcept>
 
 #include "scene_checks.h"
@@ -26,6 +28,7 @@ std::vector<std::string> SceneFeatures::Names() const {
     if (textures) n.push_back("textures");
     if (normal_maps) n.push_back("normal_maps");
     if (transparency) n.push_back("transparency");
+    if (environment) n.push_back("environment");
     return n;
 }
 
@@ -50,6 +53,42 @@ void RenderScene::SetBackground(const Spectrum& radiance) {
     RequireNotCommitted();
     CheckColor("world background", radiance);
     background = radiance;
+}
+
+void RenderScene::SetEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
+                                 TextureInterpolation interpolation) {
+    RequireNotCommitted();
+    if (image < 0 || size_t(image) >= images.size())
+        Fail("world environment: texture " + std::to_string(image) + " is not one of the scene's " +
+             std::to_string(images.size()) + " images");
+    CheckColor("world environment strength", strength);
+    // A rotation: orthonormal rows and determinant +1 (float input: within 1e-4).
+    const float(*m)[3] = to_world;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            const float dot = m[i][0] * m[j][0] + m[i][1] * m[j][1] + m[i][2] * m[j][2];
+            if (!(std::abs(dot - (i == j ? 1.0f : 0.0f)) <= 1e-4f))
+                Fail("world environment to_world must be a rotation (orthonormal, determinant +1)");
+        }
+    const float det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
+                      m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                      m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if (!(det > 0)) Fail("world environment to_world must be a rotation (orthonormal, determinant +1)");
+    // Its sampling distribution counts against the images' memory (replacing an earlier one's).
+    const Image& im = images[size_t(image)];
+    const uint64_t bytes = EnvironmentDistributionBytes(im.width, im.height);
+    image_memory_bytes_ -= environment_memory_bytes_;
+    environment_memory_bytes_ = 0;
+    CheckImageMemory("the world environment's sampling distribution", bytes);
+    image_memory_bytes_ += bytes;
+    environment_memory_bytes_ = bytes;
+    has_environment = true;
+    environment = {};
+    environment.image = image;
+    environment.strength = strength;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) environment.to_world[i][j] = m[i][j];
+    environment.interpolation = interpolation;
 }
 
 void RenderScene::SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g) {
@@ -78,7 +117,7 @@ size_t RenderScene::NumTriangles() const {
 void RenderScene::Commit() {
     RequireNotCommitted();
     if (!camera_set_) Fail("the scene has no camera");
-    if (NumTriangles() == 0 && area_lights.empty() && delta_lights.empty())
+    if (NumTriangles() == 0 && area_lights.empty() && delta_lights.empty() && !has_environment)
         Fail("empty scene: no triangles and no lights");
     if (bsdfs.empty()) AddMaterial(Material{});
     for (const auto& m : meshes)
@@ -141,6 +180,11 @@ void RenderScene::Commit() {
         features_.area_spread |= l.HasSpread();
     }
     features_.delta_lights = !delta_lights.empty();
+    if (has_environment) {  // it replaces the background
+        background = {};
+        BuildEnvironmentDistribution(environment, images[size_t(environment.image)]);
+        features_.environment = true;
+    }
     features_.background = !IsBlack(background);
     features_.emissive_meshes = has_mesh_lights;
     features_.soft_lights = !soft_lights.empty();

@@ -13,6 +13,7 @@
 #include "area_light_finder.h"
 #include "bsdf.h"
 #include "camera.h"
+#include "environment_light.h"
 #include "light_tree.h"
 #include "lights.h"
 #include "medium.h"
@@ -56,6 +57,7 @@ struct SceneFeatures {
     bool ellipse_lights = false, delta_lights = false, orthographic = false, background = false;
     bool emissive_meshes = false, soft_lights = false, area_spread = false;
     bool textures = false, normal_maps = false, transparency = false;
+    bool environment = false;  // an image world (environment_light.h)
     std::vector<std::string> Names() const;
 };
 
@@ -82,6 +84,11 @@ class RenderScene {
     // Blender's Film > Transparent: camera rays that escape see nothing and give alpha 0 (the background still
     // lights the scene).
     void SetFilmTransparent(bool transparent);
+    // An image world (environment_light.h) on image `image` (added before), replacing the background: strength
+    // finite and non-negative, to_world a rotation (row-major).  Commit() builds its sampling distribution, whose
+    // memory counts against SetImageMemoryLimit (std::invalid_argument here where it would pass it).
+    void SetEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
+                        TextureInterpolation interpolation);
     void SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
     // Checks the material (std::invalid_argument naming it and the field) and adds it with its Bsdf; returns its
     // index.  Emissive triangles of its meshes become area lights at Commit().
@@ -131,7 +138,11 @@ class RenderScene {
     // Read by the integrator after Commit().
     RTCScene rtc_scene = nullptr;
     CameraModel camera;
-    Spectrum background;
+    Spectrum background;  // black where the scene has an environment (it replaces the background)
+    // The image world, if has_environment: a light of its own, sampled once per light sample (its distribution
+    // empty, and it lights nothing, for an all-black image).
+    bool has_environment = false;
+    EnvironmentLight environment;
     bool film_transparent = false;
     bool film_alpha = false;  // Commit(): the film's alpha can differ from 1 (transparent film, or a holdout used)
     bool has_medium = false;
@@ -193,6 +204,7 @@ class RenderScene {
     RTCDevice device_ = nullptr;
     bool committed_ = false, camera_set_ = false;
     uint64_t image_memory_limit_ = 0, image_memory_bytes_ = 0;
+    uint64_t environment_memory_bytes_ = 0;  // the image world's sampling distribution, in image_memory_bytes_
     SceneFeatures features_;
 };
 

@@ -61,8 +61,9 @@ import numpy as np
 from . import _native
 from .arguments import int_argument, one_of, rgb
 from .sample_ranges import Accumulation, sample_ranges
-from .scene import (CAMERA_TYPES, PIXEL_FILTERS, SENSOR_FITS, TEXTURE_COLORSPACES, Camera, EllipseLight, Material,
-                    PointLight, RectLight, Scene, SpotLight, SunLight, Texture, World)
+from .scene import (CAMERA_TYPES, PIXEL_FILTERS, SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS, Camera,
+                    EllipseLight, Environment, Material, PointLight, RectLight, Scene, SpotLight, SunLight, Texture,
+                    World)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -152,6 +153,28 @@ def _add_textures(native, scene: Scene) -> None:
         native.add_image(t.name, np.ascontiguousarray(pixels), srgb)
 
 
+def _set_environment(native, env, n_textures: int) -> None:
+    """The image world (scene.world.environment) to the native scene, after its textures."""
+    if not isinstance(env, Environment):
+        raise ValueError(f"scene.world.environment must be a sphrect.Environment, got {type(env).__name__}")
+    if isinstance(env.texture, bool) or not isinstance(env.texture, numbers.Integral) \
+            or not 0 <= int(env.texture) < n_textures:
+        raise ValueError(f"world environment texture must be an index into scene.textures (it has {n_textures}), "
+                         f"got {env.texture!r}")
+    if env.interpolation not in TEXTURE_INTERPOLATIONS:
+        raise ValueError(f"world environment interpolation must be {one_of(TEXTURE_INTERPOLATIONS)}, "
+                         f"got {env.interpolation!r}")
+    try:
+        m = np.asarray(env.to_world, dtype=np.float64)
+    except (TypeError, ValueError):
+        m = None
+    if m is None or m.shape != (3, 3) or not np.all(np.isfinite(m)) or not np.allclose(m @ m.T, np.eye(3), atol=1e-5) \
+            or not np.linalg.det(m) > 0:
+        raise ValueError(f"world environment to_world must be a 3x3 rotation (orthonormal, determinant +1), "
+                         f"got {env.to_world!r}")
+    native.set_environment(int(env.texture), rgb(env.strength, "world environment strength"), m, env.interpolation)
+
+
 def _add_material(native, mat, index: int) -> None:
     """scene.materials[index] to the native scene: its fields, read and checked there (render/material.h)."""
     if not isinstance(mat, Material):
@@ -195,6 +218,8 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
         native.set_medium(rgb(med.sigma_s, "medium sigma_s"), rgb(med.sigma_a, "medium sigma_a"), float(med.g))
     native.set_image_memory_limit(max(0, int(image_memory_limit)))
     _add_textures(native, scene)
+    if scene.world.environment is not None:
+        _set_environment(native, scene.world.environment, len(scene.textures))
     for i, mat in enumerate(scene.materials):
         _add_material(native, mat, i)
     n_materials = max(1, len(scene.materials))

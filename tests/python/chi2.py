@@ -347,3 +347,55 @@ def ellipse_chi2_test(technique: str, config: EllipseConfig, dtype: str = "float
     return Chi2Result(technique, config.name, dtype, statistic, dof, p_value, sidak_alpha(significance, test_count),
                       int(probability.size), pooled, int(np.count_nonzero(~valid)), int(np.count_nonzero(off)),
                       float(probability.sum()), worst)
+
+
+# ---------------------------------------------------------------------------------------------
+# Image worlds (render/environment_light.h): the same test through sphrect.EnvironmentSampler.  A direction is
+# histogrammed at its equirectangular coordinates (u, v) in the image's own frame (to_world^T w, Cycles'
+# direction_to_equirectangular), over which d omega = 2 pi^2 sin(theta) du dv, theta = pi (1 - v).
+
+def equirectangular_direction(u, v):
+    """Unit directions of the image's frame at (u, v) (arrays), and sin(theta)."""
+    theta, phi = np.pi * (1 - v), np.pi * (1 - 2 * u)
+    s = np.sin(theta)
+    return np.stack([s * np.cos(phi), s * np.sin(phi), np.cos(theta)], axis=-1), s
+
+
+def equirectangular_coordinates(d):
+    """(u, v) of directions d [N, 3] of the image's frame."""
+    theta = np.arctan2(np.hypot(d[:, 0], d[:, 1]), d[:, 2])
+    return np.mod((np.pi - np.arctan2(d[:, 1], d[:, 0])) / (2 * np.pi), 1.0), 1 - theta / np.pi
+
+
+def environment_chi2_test(sampler, name: str, to_world=None, sample_count: int = 500_000,
+                          resolution=(25, 13), seed: int = 1, significance: float = 1e-3, test_count: int = 1,
+                          pdf_factor: Optional[Callable] = None) -> Chi2Result:
+    """SampleEnvironment against EnvironmentPDF (times `pdf_factor(world directions)` when given) for the
+    sampler (an EnvironmentSampler built with `to_world`), on a uniform grid of `resolution` (u, v) cells (by
+    default not a divisor of the tests' image sizes: a sample rounded onto a pixel's edge then never lands in a
+    cell of zero expected count)."""
+    R = np.eye(3) if to_world is None else np.asarray(to_world, np.float64)
+    u_edges = np.linspace(0.0, 1.0, resolution[0] + 1)
+    v_edges = np.linspace(0.0, 1.0, resolution[1] + 1)
+
+    def integrand(u, v):
+        d, sin_theta = equirectangular_direction(u, v)
+        w = d @ R.T
+        pdf = sampler.pdf(w)[:, 0]
+        if pdf_factor is not None:
+            pdf = pdf * pdf_factor(w)
+        return pdf * 2 * np.pi ** 2 * sin_theta
+
+    probability = adaptive_cell_integrals(integrand, u_edges, v_edges)
+    uv = sphrect.pattern("independent", sample_count, seed=seed)
+    dirs, pdf = sampler.sample(uv)
+    valid = pdf > 0
+    u, v = equirectangular_coordinates(dirs[valid] @ R)
+    norms = np.linalg.norm(dirs[valid], axis=1)
+    off = ~np.isfinite(u) | ~np.isfinite(v) | (np.abs(norms - 1) > 1e-4)
+    observed, _, _ = np.histogram2d(np.clip(u[~off], 0, 1), np.clip(v[~off], 0, 1), bins=[u_edges, v_edges])
+    statistic, dof, p_value, pooled, worst = pearson(observed, probability, int(np.count_nonzero(~valid)),
+                                                     sample_count)
+    return Chi2Result("environment", name, "float32", statistic, dof, p_value, sidak_alpha(significance, test_count),
+                      int(probability.size), pooled, int(np.count_nonzero(~valid)), int(np.count_nonzero(off)),
+                      float(probability.sum()), worst)

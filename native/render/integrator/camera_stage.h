@@ -144,6 +144,11 @@ template <bool kGlossy, bool kMedium>
     }
 }
 
+// The image world's radiance a camera ray that escapes towards d sees.  Out of line: scenes without one skip it.
+[[gnu::noinline]] static Spectrum EnvironmentSeen(const RenderScene& scene, const Vec3f& d) {
+    return EnvironmentRadiance(scene.environment, scene.images[size_t(scene.environment.image)], d);
+}
+
 // The camera ray's hit that shading takes (its first, or past transparent surfaces), its throughput, and what it
 // sees directly (shared by all techniques).
 template <bool kGlossy, bool kMedium>
@@ -154,8 +159,11 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     Spectrum seen = out.seen;  // the coverage offset GenerateCameraSamples set
     AddSeenAlongSegment<kMedium, false>(scene, out, out.ray.tmin, seen);
     if (scene.has_transparency && out.hit) FollowThroughTransparent<kGlossy, kMedium>(scene, out, seen);
-    if (!out.hit && !scene.film_transparent)
-        seen += out.throughput * scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf);
+    if (!out.hit && !scene.film_transparent) {
+        // The image world (environment_light.h) replaces the background (black then).
+        const Spectrum sky = scene.has_environment ? EnvironmentSeen(scene, out.ray.d) : scene.background;
+        seen += out.throughput * sky * SegmentTransmittance<kMedium>(scene.medium, kInf);
+    }
     if (scene.film_alpha) {
         // 1 - the share of the pixel that is a hole: the holdout at the hit, or the escape through a transparent film.
         const float through = Average(out.throughput);

@@ -85,7 +85,28 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
              ray);
 }
 
-// For the ray (o, d): the background where the ray escapes, and with MIS every area light it
+// A light sample of the image world (environment_light.h; c.environment set): its direction, radiance and
+// solid-angle pdf, the light evaluated once per light sample (no choice).  Its occlusion ray goes to infinity.
+static inline EmitterSample SampleEnvironmentEmitter(const ShadeContext& c, Point2<float> u) {
+    const EnvironmentLight& e = *c.environment;
+    const EnvironmentSample s = SampleEnvironment(e, u);
+    if (!(s.pdf > 0 && std::isfinite(s.pdf))) return {};
+    const Spectrum le = EnvironmentRadiance(e, c.scene.images[size_t(e.image)], s.wi);
+    if (IsBlack(le)) return {};
+    return {true, s.wi, kInf, le, s.pdf};
+}
+
+// The image world a BSDF or phase ray (o, d) of kind `ray` finds if it escapes, weighted against its light sample
+// (Le T w).
+static inline void QueueEnvironmentAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
+                                            uint8_t ray, const ShadowSink& sink) {
+    const EnvironmentLight& e = *c.environment;
+    const Spectrum le = EnvironmentRadiance(e, c.scene.images[size_t(e.image)], d);
+    if (IsBlack(le)) return;
+    sink.Add(o, d, kInf, le * c.environment_transmittance * MisWeight(c.mis, pdf_dir, EnvironmentPDF(e, d)), ray);
+}
+
+// For the ray (o, d): the background where the ray escapes, and with MIS the image world and every area light it
 // crosses, weighted against light sampling (Le T w).  A light counts when no surface lies
 // before it -- the same test as for its light samples -- so a ray that reaches no emitter is
 // not traced at all.  pdf_dir: the direction's pdf under BSDF/phase sampling; `sink` carries
@@ -94,7 +115,8 @@ template <Technique K, bool kMedium>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
                                          uint8_t ray, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky, ray);
-    if (c.mis == MisMode::None) return;
+    if (c.mis == MisMode::None) return;  // the image world and the lights: their light samples alone
+    if (c.environment) QueueEnvironmentAlongRay(c, o, d, pdf_dir, ray, sink);
     if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, ray, light_sampling, sink);
     // The analytic lights (the rest are QueueMeshEmitterAlongRay's).
     c.scene.analytic_light_finder.ForEachCrossing(o, d, 0, kInf, LightsSought::All, [&](int i, float t) {

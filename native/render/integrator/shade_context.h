@@ -18,6 +18,11 @@ struct ShadeContext {
     // Purely diffuse hits may take light samples alone (shade_surface.h, LightSamplesAlone): MIS on,
     // not RenderOptions::bsdf_samples_on_diffuse, and no ellipse light sampled by area.
     bool diffuse_light_samples_alone;
+    // The image world where it can light anything (null: none, all black, or nothing of it crosses the medium):
+    // sampled once per light sample, and found by BSDF/phase rays that escape (MIS).  environment_transmittance:
+    // the medium's transmittance to infinity.
+    const EnvironmentLight* environment;
+    Spectrum environment_transmittance;
 };
 
 template <bool kMedium>
@@ -31,7 +36,12 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
             scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf),
             opt.ellipse_technique,
             opt.mis != MisMode::None && !opt.bsdf_samples_on_diffuse &&
-                !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights)};
+                !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights),
+            scene.has_environment && !scene.environment.distribution.Empty() &&
+                    !IsBlack(SegmentTransmittance<kMedium>(scene.medium, kInf))
+                ? &scene.environment
+                : nullptr,
+            SegmentTransmittance<kMedium>(scene.medium, kInf)};
 }
 
 // The same context without MIS: light samples alone, and BSDF samples only to find the background.

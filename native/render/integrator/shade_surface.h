@@ -101,6 +101,21 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
                                       sink.Scaled(bs.f * (std::abs(bs.wi.z) / bs.pdf)));
 }
 
+// Light sampling of the image world: f Le T cos w / pdf, w its MIS weight against the BSDF sample.
+template <bool kGlossy>
+static inline void QueueSurfaceEnvironmentSample(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
+                                                 const ShadowSink& sink) {
+    const EmitterSample e = SampleEnvironmentEmitter(c, u);
+    if (!e.valid) return;
+    const Vec3f wi = sp.frame.ToLocal(e.dir);
+    Vec3f origin;
+    if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
+    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+    if (IsBlack(f)) return;
+    const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
+    sink.Add(origin, e.dir, kInf, f * e.le * c.environment_transmittance * (std::abs(wi.z) * w / e.pdf));
+}
+
 // One point, spot or sun light: f Li T cos; a soft one's direction from the point u, weighted against the
 // BSDF sample by MIS (its pdf pmf * the cone's, pmf the light's choice: 1 when evaluated once).
 template <bool kGlossy, bool kMedium>
@@ -193,9 +208,9 @@ static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
 }
 
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
-// pairs averaged, then the delta lights evaluated once (soft ones once per light sample).  Light sample j's emitter and
-// its point come from light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that may follow.
-// light_ticks counts the time in light sampling.
+// pairs averaged, as many light samples of the image world, then the delta lights evaluated once (soft ones once per
+// light sample).  Light sample j's emitter and its point come from light_points[j] (LightSamplingAt::Choose); rng is
+// only advanced for the medium that may follow. light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h, const Vec3f& wo_world,
                                 const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
@@ -229,6 +244,10 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
         if (c.sample_bsdf)
             QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);
     }
+    // The image world, a light of its own: sampled once per light sample whatever the light selection.
+    if (c.environment)
+        for (int j = 0; j < c.light_samples; ++j)
+            QueueSurfaceEnvironmentSample<kGlossy>(c, sp, light_points[j], pair_sink);
     QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, light_points, sink);
 }
 

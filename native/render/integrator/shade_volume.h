@@ -64,6 +64,16 @@ static inline void QueueMediumPhaseSample(const ShadeContext& c, const Scatterin
     QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, kRayVolumeScatter, light_sampling, sink);
 }
 
+// Light sampling of the image world: phase Le T w / pdf, w its MIS weight against the phase sample.
+static inline void QueueMediumEnvironmentSample(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
+                                                const ShadowSink& sink) {
+    const EmitterSample e = SampleEnvironmentEmitter(c, u);
+    if (!e.valid) return;
+    const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
+    const float w = MisWeight(c.mis, e.pdf, phase);
+    sink.Add(sp.x, e.dir, kInf, e.le * c.environment_transmittance * (phase * w / e.pdf));
+}
+
 // One point, spot or sun light: phase Li T; a soft one's direction from the point u, weighted against the phase
 // sample by MIS (pmf: the light's choice, 1 when evaluated once).
 static inline void QueueMediumDeltaLight(const ShadeContext& c, const ScatteringPoint& sp, const DeltaLight& d,
@@ -103,6 +113,7 @@ static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint
     QueueMediumLightSample<MK>(c, sp, light, light_sampling, out);
     if (c.sample_bsdf) QueueMediumPhaseSample<MK>(c, sp, phase_point, light_sampling, out);
     QueueMediumDeltaLights(c, sp, light_point, out);
+    if (c.environment) QueueMediumEnvironmentSample(c, sp, light_point, out);
 }
 
 // A scattering distance on the camera ray's segment [0, t_end) and its pdf (0: none).

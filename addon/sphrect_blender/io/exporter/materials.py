@@ -22,6 +22,7 @@ them (node_groups.py: muted and invalid links left out, muted nodes passing thei
 and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it (_closures)."""
 import dataclasses
 
+import mathutils
 import numpy as np
 
 from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
@@ -658,7 +659,11 @@ def _normal_map(node, textures, log, owner):
     return {"normal_map": textures.lookup(*image, owner), "normal_map_strength": float(strength.default_value)}
 
 
-def export_world(sphrect, world, log):
+def export_world(sphrect, world, log, textures=None):
+    """sphrect.World of a Blender world: a constant Background, or an image world (sphrect.Environment, its image
+    added to `textures`, a TextureExport: Scene.textures) where Cycles evaluates the Background's Color as an
+    equirectangular Environment Texture (_environment_world); every other world surface through
+    _world_not_representable."""
     if world is None:
         return sphrect.World()
     if not world.use_nodes or world.node_tree is None:
@@ -667,28 +672,164 @@ def export_world(sphrect, world, log):
     out = _active_output(world.node_tree, "ShaderNodeOutputWorld")
     if out is None:
         return sphrect.World()
-    background = (0.0, 0.0, 0.0)
+    background, environment = (0.0, 0.0, 0.0), None
     surface = _linked_node(out.inputs["Surface"])
     if surface is not None:
-        if surface.bl_idname == "ShaderNodeBackground":
-            color = np.array(_world_color(sphrect, surface, log, world.name))
-            background = _rgb(color * _value(surface, "Strength", log, world.name))
+        if textures is None:
+            textures = TextureExport(sphrect, log)
+        direct = _direct_world(sphrect, surface, textures, log, world.name)
+        if direct is not None:
+            background, environment = direct
         else:
-            log.unsupported_feature(f"'{surface.bl_label}' world surface (black used)", world.name)
+            background, environment = _world_not_representable(sphrect, world, surface, textures, log)
     medium = _export_medium(sphrect, _linked_node(out.inputs["Volume"]), world.name, log)
-    return sphrect.World(background=background, medium=medium)
+    return sphrect.World(background=background, medium=medium, environment=environment)
+
+
+def _world_not_representable(sphrect, world, surface, textures, log):
+    """(background, environment) for a world surface the renderer cannot take as it is: a Sky Texture, gradients,
+    mixes of textures, a mirror-ball projection, a Mapping with a translation or an unequal scale, an Image
+    Texture, another shader.  The one place for such worlds (e.g. baking the tree with Cycles into an
+    equirectangular image, world_bake.py); here the constant approximation: the Background's own Color (an
+    Environment or Image Texture's image's mean colour) x Strength, a linked input warned; another shader black."""
+    if surface.bl_idname != "ShaderNodeBackground":
+        log.unsupported_feature(f"'{surface.bl_label}' world surface (black used)", world.name)
+        return (0.0, 0.0, 0.0), None
+    color = np.array(_world_color(sphrect, surface, log, world.name))
+    return _rgb(color * _value(surface, "Strength", log, world.name)), None
 
 
 def _world_color(sphrect, background, log, owner):
-    """The Background's Color; from an Environment or Image Texture, that image's mean colour (the world is a
-    constant radiance here; a missing image Cycles' magenta), warned."""
+    """The Background's Color; from an Environment or Image Texture, that image's mean colour (a constant
+    radiance; a missing image Cycles' magenta), warned."""
     source, _ = follow_reroutes(background.inputs["Color"])
     if source is None or source.bl_idname not in {"ShaderNodeTexEnvironment", "ShaderNodeTexImage"}:
         return _value(background, "Color", log, owner)[:3]
     log.unsupported_feature(f"world {source.bl_label} (its image's mean colour used: a constant background)", owner)
-    textures = TextureExport(sphrect, log)
-    index = textures.texture_of(source.image, owner)
-    return textures.color_mean(sphrect.TextureLookup(texture=index))
+    own = TextureExport(sphrect, log)  # not the scene's: nothing renders the image itself
+    return own.color_mean(sphrect.TextureLookup(texture=own.texture_of(source.image, owner)))
+
+
+def _direct_world(sphrect, surface, textures, log, owner):
+    """(background, environment) of a Background the renderer takes as Cycles evaluates it, or None: a constant
+    Color, or an Environment Texture (equirectangular) behind optional Mapping / Vector Rotate nodes and a Texture
+    Coordinate
+    (Generated, or Object: the ray's direction in a world) whose affine map is a rotation times a positive
+    uniform scale without translation, its Color times a constant colour (a MixRGB Multiply) and the Strength."""
+    if surface.bl_idname != "ShaderNodeBackground" or surface.inputs["Strength"].is_linked:
+        return None
+    strength = float(_own_value(surface.inputs["Strength"]))
+    color_socket = surface.inputs["Color"]
+    if not color_socket.is_linked:
+        return _rgb(np.array(_own_value(color_socket)[:3]) * strength), None
+    source, output = follow_reroutes(color_socket)
+    factor = np.ones(3)
+    if source is not None and source.bl_idname in {"ShaderNodeMixRGB", "ShaderNodeMix"}:
+        source, output, factor = _constant_multiply(source)
+    if source is None or source.bl_idname != "ShaderNodeTexEnvironment" or output.identifier != "Color" \
+            or source.projection != "EQUIRECTANGULAR":
+        return None
+    rotation = _environment_rotation(source, textures, owner)
+    if rotation is None:
+        return None
+    interpolation = _ENVIRONMENT_INTERPOLATIONS.get(source.interpolation)
+    if interpolation is None:
+        log.unsupported_feature(f"Environment Texture interpolation '{source.interpolation}' (Linear used)", owner)
+        interpolation = "linear"
+    environment = sphrect.Environment(texture=textures.texture_of(source.image, owner),
+                                      strength=_rgb(factor * strength), to_world=rotation.T.tolist(),
+                                      interpolation=interpolation)
+    return (0.0, 0.0, 0.0), environment
+
+
+_ENVIRONMENT_INTERPOLATIONS = {"Linear": "linear", "Closest": "closest"}  # Cubic and Smart: 'linear', warned
+
+
+def _mix_color_sockets(mix):
+    """(factor, A, B, blend type, clamped) of a legacy MixRGB node or a 3.4 Mix node of colours, else None."""
+    if mix.bl_idname == "ShaderNodeMixRGB":
+        return mix.inputs["Fac"], mix.inputs["Color1"], mix.inputs["Color2"], mix.blend_type, mix.use_clamp
+    if mix.bl_idname == "ShaderNodeMix" and mix.data_type == "RGBA" and mix.factor_mode == "UNIFORM":
+        by_id = {socket.identifier: socket for socket in mix.inputs}
+        return by_id["Factor_Float"], by_id["A_Color"], by_id["B_Color"], mix.blend_type, mix.clamp_result
+    return None
+
+
+def _constant_multiply(mix):
+    """(source node, its output, the constant colour factor) of a Multiply mix of a linked A by an unlinked B,
+    mix(a, a b, fac) = a (1 - fac + fac b), or of an unlinked A by a linked B at factor 1 (a b); (None, None, None)
+    for any other mix (clamped, a linked factor, another blend)."""
+    none = (None, None, None)
+    sockets = _mix_color_sockets(mix)
+    if sockets is None:
+        return none
+    fac, a, b, blend, clamp = sockets
+    if blend != "MULTIPLY" or clamp or fac.is_linked or a.is_linked == b.is_linked:
+        return none
+    f = min(max(float(_own_value(fac)), 0.0), 1.0)
+    if a.is_linked:
+        source, output = follow_reroutes(a)
+        return source, output, 1.0 - f + f * np.array(_own_value(b)[:3])
+    if f != 1.0:
+        return none
+    source, output = follow_reroutes(b)
+    return source, output, np.array(_own_value(a)[:3])
+
+
+def _vector_rotate(node):
+    """4x4 matrix of a Vector Rotate node (Cycles' svm_node_vector_rotate: about its Center, by Angle about Axis or
+    X / Y / Z, or by an XYZ Euler rotation; Invert the inverse rotation), None where an input is linked."""
+    if any(socket.is_linked for socket in node.inputs if socket.identifier != "Vector"):
+        return None
+    values = {socket.identifier: _own_value(socket) for socket in node.inputs if socket.identifier != "Vector"}
+    kind = node.rotation_type
+    if kind == "EULER_XYZ":
+        rotation = np.array(mathutils.Euler(values["Rotation"], "XYZ").to_matrix(), dtype=np.float64)
+        if node.invert:
+            rotation = rotation.T
+    else:
+        axis = {"X_AXIS": (1.0, 0.0, 0.0), "Y_AXIS": (0.0, 1.0, 0.0), "Z_AXIS": (0.0, 0.0, 1.0)}.get(kind)
+        axis = mathutils.Vector(axis if axis is not None else values["Axis"])
+        if axis.length == 0:
+            return np.eye(4)  # Cycles leaves the vector as it is
+        angle = -values["Angle"] if node.invert else values["Angle"]
+        rotation = np.array(mathutils.Matrix.Rotation(angle, 3, axis.normalized()), dtype=np.float64)
+    center = np.array(values["Center"], dtype=np.float64)
+    m = np.eye(4)
+    m[:3, :3] = rotation
+    m[:3, 3] = center - rotation @ center
+    return m
+
+
+def _environment_rotation(node, textures, owner):
+    """The rotation Q (3x3) under which Environment Texture `node` looks the ray direction w up at Q w (Cycles
+    normalises its vector), or None: its Vector through Mapping and Vector Rotate nodes from nothing (the
+    direction), a Texture Coordinate's Generated or Object output (in a world both the direction; Object of an
+    object: its inverse matrix) must be an affine map s Q with s > 0 and no translation."""
+    transform = np.eye(4)
+    source, output = follow_reroutes(node.inputs["Vector"])
+    while source is not None and source.bl_idname in {"ShaderNodeMapping", "ShaderNodeVectorRotate"}:
+        mapping = textures._mapping(source, owner) if source.bl_idname == "ShaderNodeMapping" else \
+            _vector_rotate(source)
+        if mapping is None:
+            return None
+        transform = transform @ mapping
+        source, output = follow_reroutes(source.inputs["Vector"])
+        if source is None:
+            return None  # an unlinked Vector is its own constant value
+    if source is not None:
+        if source.bl_idname != "ShaderNodeTexCoord" or output.identifier not in {"Generated", "Object"}:
+            return None
+        if output.identifier == "Object" and source.object is not None:
+            transform = transform @ np.array(source.object.matrix_world.inverted(), dtype=np.float64)
+    linear, translation = transform[:3, :3], transform[:3, 3]
+    scale = abs(np.linalg.det(linear)) ** (1 / 3)
+    if not scale > 1e-12 or np.linalg.det(linear) <= 0 or np.any(np.abs(translation) > 1e-6 * scale):
+        return None
+    q = linear / scale
+    if not np.allclose(q @ q.T, np.eye(3), atol=1e-5):
+        return None
+    return q
 
 
 def _export_medium(sphrect, node, owner, log):
