@@ -104,7 +104,12 @@ class ViewportSession:
                           for i in depsgraph.object_instances if i.object.type == "LIGHT")
                 self.scene = dataclasses.replace(self.scene, lights=[l for l in lights if l is not None])
             if WORLD in kinds:
-                self.scene = dataclasses.replace(self.scene, world=export_world(sphrect, bl_scene.world, log))
+                world = export_world(sphrect, bl_scene.world, log)
+                if world.environment is None and self.scene.world.environment is None:
+                    self.scene = dataclasses.replace(self.scene, world=world)
+                else:  # an image world's texture goes into Scene.textures: export all (a bake is cached)
+                    self.scene, log = scene_from_depsgraph(depsgraph)
+                    self.contents = contents_signature(depsgraph)
             if kinds & {LIGHTS, WORLD}:
                 self.scene_version += 1  # (the scene camera's alone keeps the native scene: the view replaces it)
             if CAMERA in kinds:

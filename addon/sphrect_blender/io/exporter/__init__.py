@@ -60,8 +60,8 @@ def scene_from_depsgraph(depsgraph):
     scene = sphrect.Scene()
     cam = bl_scene.camera.evaluated_get(depsgraph) if bl_scene.camera is not None else None
     scene.camera = export_camera(sphrect, bl_scene, cam, log)
-    scene.world = export_world(sphrect, bl_scene.world, log)
     materials = _Materials(sphrect, log)
+    scene.world = export_world(sphrect, bl_scene.world, log, materials.textures)  # a baked world's image first
     cache = {}
     skipped_types = set()
     for inst in depsgraph.object_instances:
@@ -113,7 +113,8 @@ def scene_from_depsgraph(depsgraph):
     scene.textures = materials.textures.list
     emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}
     lit_by_meshes = any(np.isin(m.material_ids, list(emissive)).any() for m in scene.meshes) if emissive else False
-    if not scene.lights and not lit_by_meshes and not any(c > 0 for c in scene.world.background):
+    lit_by_world = any(c > 0 for c in scene.world.background)  # (a baked world's: its image's mean)
+    if not scene.lights and not lit_by_meshes and not lit_by_world:
         log.problem("the scene has no lights: the image will be black")
     return scene, log
 

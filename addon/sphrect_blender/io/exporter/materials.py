@@ -24,6 +24,7 @@ import dataclasses
 
 import numpy as np
 
+from . import world_bake
 from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
 from .textures import TextureExport, follow_reroutes, image_texture_source
 
@@ -658,7 +659,11 @@ def _normal_map(node, textures, log, owner):
     return {"normal_map": textures.lookup(*image, owner), "normal_map_strength": float(strength.default_value)}
 
 
-def export_world(sphrect, world, log):
+def export_world(sphrect, world, log, textures=None):
+    """The World: a Background of constant Color and Strength as its radiance; one whose Color an Environment or
+    Image Texture gives as that image's mean; any other Surface (a Sky Texture, gradients, mixes and adds of
+    backgrounds...) baked by Cycles into World.environment (world_bake.py), its image added to `textures` (a
+    TextureExport; none given: one of the world's own, whose list the caller then lacks)."""
     if world is None:
         return sphrect.World()
     if not world.use_nodes or world.node_tree is None:
@@ -667,23 +672,73 @@ def export_world(sphrect, world, log):
     out = _active_output(world.node_tree, "ShaderNodeOutputWorld")
     if out is None:
         return sphrect.World()
-    background = (0.0, 0.0, 0.0)
+    background, environment = (0.0, 0.0, 0.0), None
     surface = _linked_node(out.inputs["Surface"])
     if surface is not None:
-        if surface.bl_idname == "ShaderNodeBackground":
+        if world_needs_bake(surface):
+            environment, background = _baked_world(sphrect, world, log, textures)
+        else:
             color = np.array(_world_color(sphrect, surface, log, world.name))
             background = _rgb(color * _value(surface, "Strength", log, world.name))
-        else:
-            log.unsupported_feature(f"'{surface.bl_label}' world surface (black used)", world.name)
     medium = _export_medium(sphrect, _linked_node(out.inputs["Volume"]), world.name, log)
-    return sphrect.World(background=background, medium=medium)
+    return sphrect.World(background=background, medium=medium, environment=environment)
+
+
+def world_needs_bake(surface):
+    """Whether the world's Surface (its node, wrapped) is left to Cycles (world_bake.py): anything but a Background
+    whose Color and Strength are its own values or whose Color is an image the exporter maps itself
+    (_is_mapped_image_world)."""
+    if surface.bl_idname != "ShaderNodeBackground":
+        return True
+    if _linked_node(surface.inputs["Strength"]) is not None:
+        return True
+    color = _linked_node(surface.inputs["Color"])
+    return color is not None and not _is_mapped_image_world(color)
+
+
+def _is_mapped_image_world(color_source):
+    """An Environment / Image Texture feeding the Background's Color: the image-world path's (_world_color), not
+    baked.  (Where that path cannot map the nodes in front of the texture exactly, this is where to say so: such a
+    world is then baked.)"""
+    return color_source.bl_idname in {"ShaderNodeTexEnvironment", "ShaderNodeTexImage"}
+
+
+def _baked_world(sphrect, world, log, textures):
+    """(Environment, background) of a world Cycles bakes: the image as a linear float texture, strength 1 (the
+    Background's Strength is in the image), identity to_world; background the image's mean radiance over the
+    sphere (what a renderer without environments shows).  A failed bake: a black world, said."""
+    if _uses_light_path(world.node_tree, set()):
+        log.unsupported_feature("Light Path node in a world (baked as camera rays see it, used for all rays)",
+                                world.name)
+    try:
+        pixels = world_bake.bake_world(world)
+    except world_bake.BakeError as e:
+        log.problem(f"world '{world.name}' could not be baked by Cycles (black used): {e}")
+        return None, (0.0, 0.0, 0.0)
+    if textures is None:
+        textures = TextureExport(sphrect, log)
+    textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
+    environment = sphrect.Environment(texture=len(textures.list) - 1)
+    return environment, _rgb(world_bake.sphere_mean(pixels))
+
+
+def _uses_light_path(tree, seen):
+    """Whether a node tree (or a group inside it) holds a Light Path node."""
+    seen.add(tree.name_full)
+    for node in tree.nodes:
+        if node.bl_idname == "ShaderNodeLightPath":
+            return True
+        group = getattr(node, "node_tree", None)
+        if group is not None and group.name_full not in seen and _uses_light_path(group, seen):
+            return True
+    return False
 
 
 def _world_color(sphrect, background, log, owner):
     """The Background's Color; from an Environment or Image Texture, that image's mean colour (the world is a
     constant radiance here; a missing image Cycles' magenta), warned."""
     source, _ = follow_reroutes(background.inputs["Color"])
-    if source is None or source.bl_idname not in {"ShaderNodeTexEnvironment", "ShaderNodeTexImage"}:
+    if source is None or not _is_mapped_image_world(source):
         return _value(background, "Color", log, owner)[:3]
     log.unsupported_feature(f"world {source.bl_label} (its image's mean colour used: a constant background)", owner)
     textures = TextureExport(sphrect, log)

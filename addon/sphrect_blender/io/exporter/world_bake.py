@@ -1,0 +1,293 @@
+"""A world node tree Cycles 3.4 evaluates, baked into an equirectangular image (sphrect.Environment's convention).
+
+    pixels = bake_world(bl_world)   # float32 [H, W, 3], rows bottom to top (Texture.pixels), linear radiance
+
+Cycles itself renders the world: a Blender child process (`blender -b --factory-startup`) appends the world from a
+.blend this process writes, renders it alone (no objects, no lights) through an equirectangular panoramic camera
+at the origin, and saves the radiance; so a Sky Texture (Nishita, Preetham, Hosek-Wilkie), gradients, noise,
+mixes and adds of backgrounds are what Cycles shows, whatever the node.  A child process rather than this one's
+render operator: the add-on's own render (F12) cannot start a Cycles render inside it, and the user's file gains no
+scene, camera or image.  The result is cached on disk by the tree's content (world_signature).
+
+This file runs in the child too (`--python world_bake.py -- <json>`): it imports nothing from the add-on.
+"""
+import hashlib
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+
+import numpy as np
+
+# Measured (docs/addon.md, "World"): a Nishita sky at 1024x512 bakes in ~4 s the first time on 2 cores (Blender's
+# start and the sky's precomputation included), then loads from the cache in ~10 ms.  0.35 degree pixels: Blender's
+# default sun disc (0.545 degrees) spans about two of them.
+BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
+# Samples per pixel, by Cycles' adaptive sampling: a sky is smooth over most pixels (16 samples), but the few that
+# the sun disc's edge crosses (or a noise texture's detail) vary within them and get up to 1024.  The disc is
+# ~85% of the light on the ground under a sun 15 degrees high and ~2 pixels wide: 16 samples everywhere leave
+# its power ~1% off, 64 ~4% on some pixel sizes; these settings ~0.3% (docs/addon.md).
+BAKE_SAMPLES = 1024
+BAKE_MIN_SAMPLES = 16
+BAKE_ADAPTIVE_THRESHOLD = 0.002
+# Cycles' panoramic camera looks along the Blender camera's view direction rotated so that pointing it at +X shows
+# the environment texture's middle (blender/camera.cpp); Blender's camera looks down local -Z with +Y up, so this
+# rotation points it at +X with +Z up: the bake's pixel (u, v) then sees sphrect.Environment's direction at (u, v)
+# with to_world = identity (test_world_bake.py pins it).
+CAMERA_ROTATION = (math.pi / 2, 0.0, -math.pi / 2)
+CACHE_DIR = os.path.join(tempfile.gettempdir(), "sphrect_world_bake")
+CACHE_ENTRIES = 32   # the newest kept (~6 MB each at the default size)
+CHILD_TIMEOUT = 600  # seconds
+# Bumped whenever what a bake holds changes, so that no older cache entry is used.
+_BAKE_VERSION = 1
+
+
+class BakeError(RuntimeError):
+    pass
+
+
+# ------------------------------------------------------------------------------------------ the tree's signature
+# Node properties that say where a node is drawn, not what it computes.
+_LAYOUT = {"rna_type", "location", "width", "width_hidden", "height", "dimensions", "label", "parent",
+           "use_custom_color", "color", "select", "show_options", "show_preview", "hide", "show_texture",
+           "internal_links", "inputs", "outputs", "bl_description", "bl_icon", "bl_width_default", "bl_width_min",
+           "bl_width_max", "bl_height_default", "bl_height_min", "bl_height_max", "is_active_output"}
+
+
+def _image_identity(image):
+    """What decides an image's pixels: its file (path, size, time), its packed bytes, or its edited pixels."""
+    import bpy
+    parts = [image.source, image.filepath, image.colorspace_settings.name, image.alpha_mode,
+             tuple(image.size), image.use_view_as_render, image.generated_type, tuple(image.generated_color),
+             image.generated_width, image.generated_height, image.use_generated_float]
+    if image.packed_file is not None:
+        parts.append(hashlib.sha256(bytes(image.packed_file.data)).hexdigest())
+    else:
+        path = bpy.path.abspath(image.filepath, library=image.library)
+        try:
+            stat = os.stat(path)
+            parts += [os.path.realpath(path), stat.st_size, stat.st_mtime_ns]
+        except OSError:
+            parts.append("missing")
+    if image.is_dirty and image.has_data:  # painted or changed in Blender, not yet saved
+        pixels = np.empty(len(image.pixels), dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        parts.append(hashlib.sha256(pixels.tobytes()).hexdigest())
+    return parts
+
+
+def _rna(value, trees, depth=0):
+    """A plain, reproducible description of an RNA value (nested structs followed, IDs by their identity)."""
+    import bpy
+    if isinstance(value, bpy.types.ID):
+        if isinstance(value, bpy.types.Image):
+            return ["image", value.name_full] + _image_identity(value)
+        if isinstance(value, bpy.types.NodeTree):
+            return ["tree", _tree(value, trees)]
+        if isinstance(value, bpy.types.Object):  # a Texture Coordinate node's object: where it is
+            return ["object", value.name_full, [list(r) for r in value.matrix_world]]
+        return [type(value).__name__, value.name_full]
+    if isinstance(value, bpy.types.bpy_struct):
+        if depth > 4:
+            return "deep"
+        return [[p.identifier, _rna(getattr(value, p.identifier), trees, depth + 1)]
+                for p in value.bl_rna.properties if p.identifier != "rna_type" and p.type != "COLLECTION"]
+    if isinstance(value, str) or value is None or isinstance(value, (bool, int, float)):
+        return value
+    try:
+        return [_rna(v, trees, depth) for v in value]
+    except TypeError:
+        return repr(value)
+
+
+def _tree(tree, trees):
+    """A node tree's content: every node's type, properties and inputs' own values, and every link; a group's tree
+    once (by name), however often it is used."""
+    key = tree.name_full
+    if key in trees:
+        return key
+    trees[key] = None  # (a group used inside itself stops here)
+    nodes = []
+    for node in sorted(tree.nodes, key=lambda n: n.name):
+        props = [[p.identifier, _rna(getattr(node, p.identifier), trees)] for p in node.bl_rna.properties
+                 if p.identifier not in _LAYOUT and p.type != "COLLECTION"]
+        if node.bl_idname == "ShaderNodeOutputWorld":
+            props.append(["is_active_output", node.is_active_output])
+        inputs = [[s.identifier, s.enabled, _rna(getattr(s, "default_value", None), trees)] for s in node.inputs]
+        nodes.append([node.bl_idname, node.name, props, inputs])
+    links = sorted([l.from_node.name, l.from_socket.identifier, l.to_node.name, l.to_socket.identifier,
+                    l.is_valid, l.is_muted] for l in tree.links)
+    trees[key] = [nodes, links]
+    return key
+
+
+def world_signature(world, width, height, samples):
+    """A hash of everything the bake of `world` depends on: its node tree (and the groups, images and objects it
+    reads), the resolution and samples, Blender's version and the bake's own."""
+    import bpy
+    trees = {}
+    root = _tree(world.node_tree, trees)
+    content = [_BAKE_VERSION, bpy.app.version_string, width, height, samples, BAKE_MIN_SAMPLES,
+               BAKE_ADAPTIVE_THRESHOLD, root, sorted(trees.items())]
+    return hashlib.sha256(json.dumps(content, default=repr).encode()).hexdigest()
+
+
+def row_solid_angles(height, width):
+    """The solid angle of one pixel of each row (row 0 the bottom) of a width x height equirectangular image."""
+    z = np.cos(np.pi * (1.0 - np.arange(height + 1) / height))  # d.z at the rows' edges, bottom (-1) first
+    return (2.0 * np.pi / width) * np.diff(z)
+
+
+def sphere_mean(pixels):
+    """The mean radiance over the sphere of directions of an equirectangular image (rows bottom to top)."""
+    height, width = pixels.shape[:2]
+    weights = row_solid_angles(height, width)
+    return (pixels * weights[:, None, None]).sum(axis=(0, 1)) / (4.0 * np.pi)
+
+
+# ------------------------------------------------------------------------------------------ the bake
+_memory = {}  # signature -> pixels: the last bakes of this session (the viewport re-exports often)
+
+
+def bake_world(world, width=None, height=None, samples=None, cache_dir=CACHE_DIR):
+    """float32 [height, width, 3], rows bottom to top: the radiance Cycles 3.4 gives camera rays that escape into
+    `world` (a bpy World with nodes; evaluated or original), in direction d at pixel (u, v) as sphrect.Environment
+    maps it with to_world = identity, Strength included.  Each pixel is the mean over its area in (u, v) (Cycles' box
+    filter of 1 pixel), so a sun disc smaller than a pixel keeps its power.  Cached by world_signature in
+    `cache_dir` (None: no cache).  The size and samples default to BAKE_WIDTH, BAKE_HEIGHT and BAKE_SAMPLES."""
+    width, height = width or BAKE_WIDTH, height or BAKE_HEIGHT
+    samples = samples or BAKE_SAMPLES
+    signature = world_signature(world, width, height, samples)
+    if signature in _memory:
+        return _memory[signature]
+    path = os.path.join(cache_dir, signature + ".npy") if cache_dir else None
+    if path is not None and os.path.isfile(path):
+        pixels = np.load(path)
+    else:
+        pixels = _render_world(world, width, height, samples)
+        if path is not None:
+            _store(path, pixels, cache_dir)
+    _memory.clear()
+    _memory[signature] = pixels
+    return pixels
+
+
+def _store(path, pixels, cache_dir):
+    try:
+        os.makedirs(cache_dir, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=cache_dir, suffix=".tmp", delete=False) as f:
+            np.save(f, pixels)
+        os.replace(f.name, path)  # whole or not at all: a reader never sees half an entry
+        entries = sorted((e for e in os.scandir(cache_dir) if e.name.endswith(".npy")),
+                         key=lambda e: e.stat().st_mtime, reverse=True)
+        for old in entries[CACHE_ENTRIES:]:
+            os.remove(old.path)
+    except OSError:
+        pass  # no cache: the next export bakes again
+
+
+def _render_world(world, width, height, samples):
+    import bpy
+    original = getattr(world, "original", world)
+    frame = bpy.context.scene.frame_current if bpy.context.scene is not None else 1
+    with tempfile.TemporaryDirectory(prefix="sphrect_world_bake_") as folder:
+        blend = os.path.join(folder, "world.blend")
+        _on_main_thread(lambda: bpy.data.libraries.write(blend, {original}, path_remap="ABSOLUTE", fake_user=True))
+        out = os.path.join(folder, "world.npy")
+        job = dict(blend=blend, world=original.name, out=out, exr=os.path.join(folder, "world.exr"), width=width,
+                   height=height, samples=samples, frame=frame)
+        command = [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
+                   "--python", os.path.abspath(__file__), "--", json.dumps(job)]
+        env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
+        try:
+            run = subprocess.run(command, capture_output=True, text=True, timeout=CHILD_TIMEOUT, env=env)
+        except (OSError, subprocess.TimeoutExpired) as e:
+            raise BakeError(f"the world bake did not run: {e}") from None
+        if run.returncode != 0 or not os.path.isfile(out):
+            tail = "\n".join((run.stdout + run.stderr).strip().splitlines()[-5:])
+            raise BakeError(f"the world bake failed (Blender exit code {run.returncode}): {tail}")
+        return np.load(out)
+
+
+def _on_main_thread(call, timeout=60.0):
+    """Run `call` on Blender's main thread: writing a .blend moves IDs between Main's lists for a moment, which the
+    interface's drawing must not see.  F12 renders on a job thread (then a timer runs it there, and this thread
+    waits); a headless render or a script runs on the main thread."""
+    if threading.current_thread() is threading.main_thread():
+        return call()
+    import bpy
+    done, outcome = threading.Event(), {}
+
+    def run():
+        try:
+            outcome["value"] = call()
+        except Exception as e:  # handed to the waiting thread
+            outcome["error"] = e
+        done.set()
+        return None
+
+    bpy.app.timers.register(run, first_interval=0.0)
+    if not done.wait(timeout):
+        raise BakeError("the world could not be saved for its bake: Blender's main thread did not answer")
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome.get("value")
+
+
+# ------------------------------------------------------------------------------------------ in the child Blender
+def _child(job):
+    import bpy
+    with bpy.data.libraries.load(job["blend"]) as (source, target):
+        target.worlds = [job["world"]]
+    scene = bpy.context.scene
+    for obj in list(scene.objects):
+        bpy.data.objects.remove(obj)
+    scene.world = target.worlds[0]
+    scene.render.engine = "CYCLES"
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.samples = job["samples"]
+    cycles.use_adaptive_sampling = True
+    cycles.adaptive_threshold = BAKE_ADAPTIVE_THRESHOLD
+    cycles.adaptive_min_samples = BAKE_MIN_SAMPLES
+    cycles.use_denoising = False
+    cycles.seed = 0
+    cycles.use_animated_seed = False
+    cycles.pixel_filter_type = "BOX"
+    cycles.filter_width = 1.0
+    cycles.film_exposure = 1.0
+    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
+    render = scene.render
+    render.resolution_x, render.resolution_y, render.resolution_percentage = job["width"], job["height"], 100
+    render.film_transparent = False
+    render.use_border = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure, scene.view_settings.gamma = 0.0, 1.0
+    settings = render.image_settings
+    settings.file_format, settings.color_depth, settings.exr_codec = "OPEN_EXR", "32", "NONE"
+    settings.color_mode = "RGB"
+    camera = bpy.data.cameras.new("sphrect_world_bake")
+    camera.type = "PANO"
+    camera.cycles.panorama_type = "EQUIRECTANGULAR"
+    camera.cycles.latitude_min, camera.cycles.latitude_max = -math.pi / 2, math.pi / 2
+    camera.cycles.longitude_min, camera.cycles.longitude_max = -math.pi, math.pi
+    obj = bpy.data.objects.new("sphrect_world_bake", camera)
+    obj.rotation_euler = CAMERA_ROTATION
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    scene.frame_set(job["frame"])
+    render.filepath = job["exr"]
+    bpy.ops.render.render(write_still=True)
+    image = bpy.data.images.load(job["exr"])
+    image.colorspace_settings.name = "Linear"  # the EXR holds linear radiance: read it back unchanged
+    pixels = np.empty(job["width"] * job["height"] * 4, dtype=np.float32)
+    image.pixels.foreach_get(pixels)
+    np.save(job["out"], np.ascontiguousarray(pixels.reshape(job["height"], job["width"], 4)[:, :, :3]))
+
+
+if __name__ == "__main__":
+    _child(json.loads(sys.argv[sys.argv.index("--") + 1]))
