@@ -1,7 +1,11 @@
 """World node trees baked by Cycles into sphrect.Environment images (issue 28; exporter/world_bake.py): the bake's
 convention (an Environment Texture world bakes into its own image), a Nishita sky against Cycles' own render of
 it, the cache, the user's file left as it was, and the export.  Cycles renders with fixed seeds: deterministic."""
+import json
 import math
+import os
+import shutil
+import subprocess
 import sys
 
 import bpy
@@ -107,19 +111,18 @@ def test_pixel_directions_follow_the_environment_convention():
     assert np.allclose(np.arctan2(mid[:, 1], mid[:, 0]), [3 * np.pi / 4, np.pi / 4, -np.pi / 4, -3 * np.pi / 4])
 
 
-SKY_VIEWS = {  # (camera rotation (Blender's XYZ Euler)): away from the sun, up high, above the sun, the horizon
-    "away": (math.radians(75), 0.0, math.radians(180)),
-    "zenith": (0.0, 0.0, 0.3),
-    "above_sun": (math.radians(50), 0.0, math.radians(0)),
-    "horizon": (math.radians(92), 0.0, math.radians(-100)),
-}
+# Camera rotations (Blender's XYZ Euler: X = 90 degrees looks at the horizon, along +Y for Z = 0); the sun of
+# Blender's default sky is 15 degrees above the horizon towards -Y.
+SKY_VIEWS = {"away": (math.radians(105), 0.0, 0.0), "zenith": (math.pi, 0.0, 0.3),
+             "above_sun": (math.radians(135), 0.0, math.pi), "horizon": (math.radians(95), 0.0, math.radians(-100))}
 
 
 @pytest.mark.slow
 def test_nishita_sky_bake_matches_cycles_views_of_it(fresh, tmp_path):
     """Blender's default Nishita sky baked at the default size: the upper hemisphere is lit (the bug was a ~60x too
     dark world), and four perspective Cycles renders of the sky (32x24, box filter, 64 samples; the sun out of
-    view) match the bake looked up at their pixels' centres within 1.5% per pixel on average (measured ~0.3%)."""
+    view) match the bake looked up at their pixels' centres within 1% per pixel on average (measured 0.01-0.65%,
+    the most where the view crosses the horizon, where Nishita's sky turns into its ground)."""
     world = sky_world()
     baked = world_bake().bake_world(world)
     height = baked.shape[0]
@@ -138,7 +141,7 @@ def test_nishita_sky_bake_matches_cycles_views_of_it(fresh, tmp_path):
         ours = lookup(baked, view_directions(camera, 32, 24))
         difference = float(np.mean(np.abs(ours - cycles) / cycles))
         print(f"sky view {name}: mean relative difference {difference:.4f}")
-        assert difference < 0.015, name
+        assert difference < 0.01, name
 
 
 def view_directions(camera, width, height):
@@ -306,3 +309,20 @@ def test_floor_lit_by_a_nishita_sky_matches_cycles(fresh, tmp_path):
     difference = mean_relative_difference(ours, cycles)
     print(f"Nishita sky floor: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
     assert difference <= 0.01
+
+
+@pytest.mark.gui
+@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt install xvfb)")
+def test_f12_in_a_window_bakes_the_world_from_the_render_thread():
+    """F12 in a real window (xvfb): the export runs on the render job's thread; the bake writes the world through
+    the main thread (a timer) and the render completes without errors, the user's data-blocks unchanged."""
+    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", bpy.app.binary_path, "--factory-startup",
+                          "--python", os.path.join(os.path.dirname(__file__), "gui_world_bake.py")],
+                         capture_output=True, text=True, timeout=300, env=dict(os.environ))
+    lines = [l for l in run.stdout.splitlines() if l.startswith("GUI_RESULT ")]
+    assert lines, run.stdout[-2000:] + run.stderr[-2000:]
+    result = json.loads(lines[0][len("GUI_RESULT "):])
+    assert "timeout" not in result, result
+    assert result["bakes_on_main_thread"] == [False], result  # baked once, from the render thread
+    assert result["errors"] == [] and not any("bake" in w for w in result["warnings"]), result
+    assert result["data_unchanged"] and result["scene"], result
