@@ -96,8 +96,10 @@ def test_environment_texture_world_bakes_into_its_own_image(fresh, tmp_path):
     tree.links.new(environment.outputs["Color"], tree.nodes["Background"].inputs["Color"])
     baked = world_bake().bake_world(world, width, height, cache_dir=str(tmp_path))
     assert baked.shape == (height, width, 3) and baked.dtype == np.float32
-    # (A sample within float rounding of a pixel's edge may read the next texel: a few pixels off by < 1%.)
-    assert np.abs(baked - rgba[..., :3]).mean() < 1e-4 and np.abs(baked - rgba[..., :3]).max() < 0.02
+    # A sample within float rounding of a pixel's edge may read the next texel (1 of its pixel's 8 samples): a few
+    # pixels differ.
+    off = np.abs(baked - rgba[..., :3]).max(axis=2) > 1e-5
+    assert off.mean() < 0.01 and np.abs(baked - rgba[..., :3]).mean() < 1e-4
     for wrong in (rgba[::-1], rgba[:, ::-1], np.roll(rgba, 1, axis=1), np.roll(rgba, width // 4, axis=1)):
         assert np.abs(baked - wrong[..., :3]).mean() > 0.1
 
@@ -112,17 +114,18 @@ def test_pixel_directions_follow_the_environment_convention():
 
 
 # Camera rotations (Blender's XYZ Euler: X = 90 degrees looks at the horizon, along +Y for Z = 0); the sun of
-# Blender's default sky is 15 degrees above the horizon towards -Y.
-SKY_VIEWS = {"away": (math.radians(105), 0.0, 0.0), "zenith": (math.pi, 0.0, 0.3),
-             "above_sun": (math.radians(135), 0.0, math.pi), "horizon": (math.radians(95), 0.0, math.radians(-100))}
+# Blender's default sky is 15 degrees above the horizon towards +Y.
+SKY_VIEWS = {"sun": (math.radians(105), 0.0, 0.0), "zenith": (math.pi, 0.0, 0.3),
+             "away_from_sun": (math.radians(135), 0.0, math.pi),
+             "horizon": (math.radians(95), 0.0, math.radians(-100))}
 
 
 @pytest.mark.slow
 def test_nishita_sky_bake_matches_cycles_views_of_it(fresh, tmp_path):
     """Blender's default Nishita sky baked at the default size: the upper hemisphere is lit (the bug was a ~60x too
-    dark world), and four perspective Cycles renders of the sky (32x24, box filter, 64 samples; the sun out of
-    view) match the bake looked up at their pixels' centres within 1% per pixel on average (measured 0.01-0.65%,
-    the most where the view crosses the horizon, where Nishita's sky turns into its ground)."""
+    dark world), and four perspective Cycles renders of the sky (32x24, box filter, 64 samples; the sun in the
+    middle of one) match the bake looked up at their pixels' centres within 1% per pixel on average (measured
+    0.02-0.67%, the most where the view crosses the horizon, where Nishita's sky turns into its ground)."""
     world = sky_world()
     baked = world_bake().bake_world(world)
     height = baked.shape[0]
@@ -242,7 +245,6 @@ def test_export_of_a_sky_world_is_a_baked_environment(fresh, monkeypatch):
     environment = exported.world.environment
     assert environment is not None
     texture = exported.textures[environment.texture]
-    bake = world_bake()
     assert texture.pixels.shape == (32, 64, 3) and texture.pixels.dtype == np.float32
     assert texture.colorspace == "linear"
     assert tuple(environment.strength) == (1.0, 1.0, 1.0) and np.allclose(environment.to_world, np.eye(3))

@@ -26,13 +26,17 @@ import numpy as np
 # start and the sky's precomputation included), then loads from the cache in ~10 ms.  0.35 degree pixels: Blender's
 # default sun disc (0.545 degrees) spans about two of them.
 BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
-# Samples per pixel, by Cycles' adaptive sampling: a sky is smooth over most pixels (16 samples), but the few that
-# the sun disc's edge crosses (or a noise texture's detail) vary within them and get up to 1024.  The disc is
-# ~85% of the light on the ground under a sun 15 degrees high and ~2 pixels wide: 16 samples everywhere leave
-# its power ~1% off, 64 ~4% on some pixel sizes; these settings ~0.3% (docs/addon.md).
-BAKE_SAMPLES = 1024
-BAKE_MIN_SAMPLES = 16
-BAKE_ADAPTIVE_THRESHOLD = 0.002
+# Samples per pixel.  A sky is smooth over nearly every pixel, where 8 samples leave its light within ~0.01%;
+# but the sun disc (~2 pixels wide; ~85% of the light on the ground under Blender's default sky) varies within its
+# pixels, and 8 or 16 samples leave its power 1-10% off.  So the pixels around a peak (brighter than PEAK_RATIO x
+# the image's mean, and PEAK_MARGIN pixels about them) are rendered again with PEAK_SAMPLES (a region render of
+# a few pixels): the disc's power then within ~0.3% (docs/addon.md).  Cycles' adaptive sampling does the same in
+# twice the time (its rounds over the whole image while a few pixels go on).
+BAKE_SAMPLES = 8
+PEAK_SAMPLES = 4096
+PEAK_RATIO = 20.0
+PEAK_MARGIN = 2
+PEAK_MAX_AREA = 0.01  # peaks covering more of the image than this are none: the image is left as rendered
 # Cycles' panoramic camera looks along the Blender camera's view direction rotated so that pointing it at +X shows
 # the environment texture's middle (blender/camera.cpp); Blender's camera looks down local -Z with +Y up, so this
 # rotation points it at +X with +Z up: the bake's pixel (u, v) then sees sphrect.Environment's direction at (u, v)
@@ -130,8 +134,8 @@ def world_signature(world, width, height, samples):
     import bpy
     trees = {}
     root = _tree(world.node_tree, trees)
-    content = [_BAKE_VERSION, bpy.app.version_string, width, height, samples, BAKE_MIN_SAMPLES,
-               BAKE_ADAPTIVE_THRESHOLD, root, sorted(trees.items())]
+    content = [_BAKE_VERSION, bpy.app.version_string, width, height, samples, PEAK_SAMPLES, PEAK_RATIO, PEAK_MARGIN,
+               PEAK_MAX_AREA, root, sorted(trees.items())]
     return hashlib.sha256(json.dumps(content, default=repr).encode()).hexdigest()
 
 
@@ -156,8 +160,8 @@ def bake_world(world, width=None, height=None, samples=None, cache_dir=CACHE_DIR
     """float32 [height, width, 3], rows bottom to top: the radiance Cycles 3.4 gives camera rays that escape into
     `world` (a bpy World with nodes; evaluated or original), in direction d at pixel (u, v) as sphrect.Environment
     maps it with to_world = identity, Strength included.  Each pixel is the mean over its area in (u, v) (Cycles' box
-    filter of 1 pixel), so a sun disc smaller than a pixel keeps its power.  Cached by world_signature in
-    `cache_dir` (None: no cache).  The size and samples default to BAKE_WIDTH, BAKE_HEIGHT and BAKE_SAMPLES."""
+    filter of 1 pixel; PEAK_SAMPLES about its peaks), so a sun disc smaller than a pixel keeps its power.  Cached by
+    world_signature in `cache_dir` (None: no cache).  The size and samples default to BAKE_WIDTH, BAKE_HEIGHT and BAKE_SAMPLES."""
     width, height = width or BAKE_WIDTH, height or BAKE_HEIGHT
     samples = samples or BAKE_SAMPLES
     signature = world_signature(world, width, height, samples)
@@ -198,7 +202,7 @@ def _render_world(world, width, height, samples):
         _on_main_thread(lambda: bpy.data.libraries.write(blend, {original}, path_remap="ABSOLUTE", fake_user=True))
         out = os.path.join(folder, "world.npy")
         job = dict(blend=blend, world=original.name, out=out, exr=os.path.join(folder, "world.exr"), width=width,
-                   height=height, samples=samples, frame=frame)
+                   height=height, samples=samples, peak_samples=PEAK_SAMPLES, frame=frame)
         command = [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
                    "--python", os.path.abspath(__file__), "--", json.dumps(job)]
         env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
@@ -237,6 +241,23 @@ def _on_main_thread(call, timeout=60.0):
     return outcome.get("value")
 
 
+def peak_boxes(pixels, ratio=PEAK_RATIO, margin=PEAK_MARGIN):
+    """Boxes (x0, y0, x1, y1), ends excluded, around the pixels brighter than `ratio` x the image's mean (a sun
+    disc), `margin` pixels wider (its edge pixels that few samples missed); one per run of such columns."""
+    height, width = pixels.shape[:2]
+    luminance = pixels.mean(axis=2)
+    rows, cols = np.nonzero(luminance > ratio * luminance.mean())
+    if len(cols) == 0:
+        return []
+    occupied = np.unique(cols)
+    boxes = []
+    for run in np.split(occupied, np.nonzero(np.diff(occupied) > 2 * margin + 1)[0] + 1):
+        inside = rows[(cols >= run[0]) & (cols <= run[-1])]
+        boxes.append((max(int(run[0]) - margin, 0), max(int(inside.min()) - margin, 0),
+                      min(int(run[-1]) + margin + 1, width), min(int(inside.max()) + margin + 1, height)))
+    return boxes
+
+
 # ------------------------------------------------------------------------------------------ in the child Blender
 def _child(job):
     import bpy
@@ -249,10 +270,7 @@ def _child(job):
     scene.render.engine = "CYCLES"
     cycles = scene.cycles
     cycles.device = "CPU"
-    cycles.samples = job["samples"]
-    cycles.use_adaptive_sampling = True
-    cycles.adaptive_threshold = BAKE_ADAPTIVE_THRESHOLD
-    cycles.adaptive_min_samples = BAKE_MIN_SAMPLES
+    cycles.use_adaptive_sampling = False
     cycles.use_denoising = False
     cycles.seed = 0
     cycles.use_animated_seed = False
@@ -261,9 +279,10 @@ def _child(job):
     cycles.film_exposure = 1.0
     cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
     render = scene.render
-    render.resolution_x, render.resolution_y, render.resolution_percentage = job["width"], job["height"], 100
+    width, height = job["width"], job["height"]
+    render.resolution_x, render.resolution_y, render.resolution_percentage = width, height, 100
     render.film_transparent = False
-    render.use_border = False
+    render.use_crop_to_border = False
     scene.view_settings.view_transform = "Standard"
     scene.view_settings.look = "None"
     scene.view_settings.exposure, scene.view_settings.gamma = 0.0, 1.0
@@ -280,13 +299,30 @@ def _child(job):
     scene.collection.objects.link(obj)
     scene.camera = obj
     scene.frame_set(job["frame"])
-    render.filepath = job["exr"]
-    bpy.ops.render.render(write_still=True)
-    image = bpy.data.images.load(job["exr"])
-    image.colorspace_settings.name = "Linear"  # the EXR holds linear radiance: read it back unchanged
-    pixels = np.empty(job["width"] * job["height"] * 4, dtype=np.float32)
-    image.pixels.foreach_get(pixels)
-    np.save(job["out"], np.ascontiguousarray(pixels.reshape(job["height"], job["width"], 4)[:, :, :3]))
+
+    def rendered(samples, box, name):
+        """[H, W, 3] rows bottom to top; with a box, only its pixels (and a pixel about it) rendered."""
+        cycles.samples = samples
+        render.use_border = box is not None
+        if box is not None:  # a pixel wider, whatever Blender's rounding of the border to pixels
+            x0, y0, x1, y1 = box
+            render.border_min_x, render.border_max_x = max(x0 - 1, 0) / width, min(x1 + 1, width) / width
+            render.border_min_y, render.border_max_y = max(y0 - 1, 0) / height, min(y1 + 1, height) / height
+        render.filepath = os.path.join(os.path.dirname(job["exr"]), name + ".exr")
+        bpy.ops.render.render(write_still=True)
+        image = bpy.data.images.load(render.filepath)
+        image.colorspace_settings.name = "Linear"  # the EXR holds linear radiance: read it back unchanged
+        rgba = np.empty(width * height * 4, dtype=np.float32)
+        image.pixels.foreach_get(rgba)
+        bpy.data.images.remove(image)
+        return rgba.reshape(height, width, 4)[:, :, :3]
+
+    pixels = rendered(job["samples"], None, "world")
+    boxes = peak_boxes(pixels)
+    if sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) <= PEAK_MAX_AREA * width * height:
+        for i, (x0, y0, x1, y1) in enumerate(boxes):
+            pixels[y0:y1, x0:x1] = rendered(job["peak_samples"], (x0, y0, x1, y1), f"peak{i}")[y0:y1, x0:x1]
+    np.save(job["out"], np.ascontiguousarray(pixels))
 
 
 if __name__ == "__main__":
