@@ -161,7 +161,8 @@ def bake_world(world, width=None, height=None, samples=None, cache_dir=CACHE_DIR
     `world` (a bpy World with nodes; evaluated or original), in direction d at pixel (u, v) as sphrect.Environment
     maps it with to_world = identity, Strength included.  Each pixel is the mean over its area in (u, v) (Cycles' box
     filter of 1 pixel; PEAK_SAMPLES about its peaks), so a sun disc smaller than a pixel keeps its power.  Cached by
-    world_signature in `cache_dir` (None: no cache).  The size and samples default to BAKE_WIDTH, BAKE_HEIGHT and BAKE_SAMPLES."""
+    world_signature in `cache_dir` (None: no cache).  The size and samples default to BAKE_WIDTH, BAKE_HEIGHT and
+    BAKE_SAMPLES."""
     width, height = width or BAKE_WIDTH, height or BAKE_HEIGHT
     samples = samples or BAKE_SAMPLES
     signature = world_signature(world, width, height, samples)
