@@ -113,6 +113,20 @@ def test_pixel_directions_follow_the_environment_convention():
     assert np.allclose(np.arctan2(mid[:, 1], mid[:, 0]), [3 * np.pi / 4, np.pi / 4, -np.pi / 4, -3 * np.pi / 4])
 
 
+def test_peak_boxes_surround_a_sun_disc():
+    """The region rendered again with many samples: the bright pixels and PEAK_MARGIN about them, one box per run of
+    columns (a disc across the image's seam: two), none in a smooth image."""
+    bake = world_bake()
+    pixels = np.ones((64, 128, 3), np.float32)
+    assert bake.peak_boxes(pixels) == []
+    pixels[40, 30:32] = 1e5
+    pixels[41, 31] = 1e4
+    m = bake.PEAK_MARGIN
+    assert bake.peak_boxes(pixels) == [(30 - m, 40 - m, 32 + m, 42 + m)]
+    pixels[40, 127] = pixels[40, 0] = 1e5
+    assert len(bake.peak_boxes(pixels)) == 3
+
+
 # Camera rotations (Blender's XYZ Euler: X = 90 degrees looks at the horizon, along +Y for Z = 0); the sun of
 # Blender's default sky is 15 degrees above the horizon towards +Y.
 SKY_VIEWS = {"sun": (math.radians(105), 0.0, 0.0), "zenith": (math.pi, 0.0, 0.3),

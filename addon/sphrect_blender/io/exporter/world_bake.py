@@ -22,16 +22,16 @@ import threading
 
 import numpy as np
 
-# Measured (docs/addon.md, "World"): a Nishita sky at 1024x512 bakes in ~4 s the first time on 2 cores (Blender's
-# start and the sky's precomputation included), then loads from the cache in ~10 ms.  0.35 degree pixels: Blender's
-# default sun disc (0.545 degrees) spans about two of them.
+# Measured (docs/addon.md, "World"): Blender's default Nishita sky at 1024x512 bakes in ~6 s the first time on 2
+# busy cores (Blender's start and the sky's precomputation included; 512x256 ~3.5 s, 2048x1024 ~14 s), then loads
+# from the cache in a few ms.  0.35 degree pixels: its sun disc (0.545 degrees) spans about two of them.
 BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
 # Samples per pixel.  A sky is smooth over nearly every pixel, where 8 samples leave its light within ~0.01%;
 # but the sun disc (~2 pixels wide; ~85% of the light on the ground under Blender's default sky) varies within its
 # pixels, and 8 or 16 samples leave its power 1-10% off.  So the pixels around a peak (brighter than PEAK_RATIO x
 # the image's mean, and PEAK_MARGIN pixels about them) are rendered again with PEAK_SAMPLES (a region render of
-# a few pixels): the disc's power then within ~0.3% (docs/addon.md).  Cycles' adaptive sampling does the same in
-# twice the time (its rounds over the whole image while a few pixels go on).
+# a few pixels): the disc's power then within ~0.1% of a 16384-sample render's.  Cycles' adaptive sampling gets
+# there in three times the time (its rounds go over the whole image while a few pixels go on).
 BAKE_SAMPLES = 8
 PEAK_SAMPLES = 4096
 PEAK_RATIO = 20.0
