@@ -13,7 +13,8 @@ and a white Transparent BSDF make a transparent surface, left out by geometry.tr
 'transparent'; emission with Cycles 3.4's conventions -- an Emission shader emits
 radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength adds to
 its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
-|Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume Absorption or Principled Volume on the
+|Ng . wi| > 0); Background for the world colour, any other world Surface (a Sky Texture, gradients, mixes...)
+baked by Cycles into an environment image (world_bake.py); Volume Scatter, Volume Absorption or Principled Volume on the
 World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
 Roughness, Metallic and Specular, the Color of Diffuse, Glossy, Glass and Translucent BSDFs and the Roughness of
 Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; every other
