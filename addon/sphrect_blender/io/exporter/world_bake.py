@@ -64,6 +64,7 @@ _LAYOUT = {"rna_type", "location", "width", "width_hidden", "height", "dimension
 def _image_identity(image):
     """What decides an image's pixels: its file (path, size, time), its packed bytes, or its edited pixels."""
     import bpy
+    image = getattr(image, "original", image)  # (an evaluated copy does not know the user's unsaved edits)
     parts = [image.source, image.filepath, image.colorspace_settings.name, image.alpha_mode,
              tuple(image.size), image.use_view_as_render, image.generated_type, tuple(image.generated_color),
              image.generated_width, image.generated_height, image.use_generated_float]
@@ -108,7 +109,7 @@ def _rna(value, trees, depth=0):
 
 
 def _tree(tree, trees):
-    """A node tree's content: every node's type, properties and inputs' own values, and every link; a group's tree
+    """A node tree's content: every node's type, properties and sockets' own values, and every link; a group's tree
     once (by name), however often it is used."""
     key = tree.name_full
     if key in trees:
@@ -120,8 +121,10 @@ def _tree(tree, trees):
                  if p.identifier not in _LAYOUT and p.type != "COLLECTION"]
         if node.bl_idname == "ShaderNodeOutputWorld":
             props.append(["is_active_output", node.is_active_output])
-        inputs = [[s.identifier, s.enabled, _rna(getattr(s, "default_value", None), trees)] for s in node.inputs]
-        nodes.append([node.bl_idname, node.name, props, inputs])
+        # (RGB and Value nodes keep their value in their output)
+        sockets = [[s.is_output, s.identifier, s.enabled, _rna(getattr(s, "default_value", None), trees)]
+                   for s in list(node.inputs) + list(node.outputs)]
+        nodes.append([node.bl_idname, node.name, props, sockets])
     links = sorted([l.from_node.name, l.from_socket.identifier, l.to_node.name, l.to_socket.identifier,
                     l.is_valid, l.is_muted] for l in tree.links)
     trees[key] = [nodes, links]
