@@ -11,7 +11,6 @@ import sys
 import time
 
 import bpy
-import numpy as np
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(REPO, "addon"))
