@@ -24,7 +24,8 @@ import numpy as np
 
 # Measured (docs/addon.md, "World"; experiments/measure_world_bake.py): Blender's default Nishita sky at 1024x512
 # bakes in 4-6 s the first time on 2 busy cores (Blender's start and the sky's precomputation included; 512x256
-# ~3.5 s, 2048x1024 ~14 s), then loads from the cache in a few ms.  0.35 degree pixels: its sun disc (0.545 degrees) spans about two of them.
+# ~3.5 s, 2048x1024 ~14 s), then loads from the cache in a few ms.  0.35 degree pixels: its sun disc (0.545
+# degrees) spans about two of them.
 BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
 # Samples per pixel.  A sky is smooth over nearly every pixel, where 8 samples leave its light within ~0.01%;
 # but the sun disc (~2 pixels wide; ~85% of the light on the ground under Blender's default sky) varies within its
