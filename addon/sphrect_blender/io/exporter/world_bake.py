@@ -210,9 +210,8 @@ def _render_world(world, width, height, samples):
                    height=height, samples=samples, peak_samples=PEAK_SAMPLES, frame=frame)
         command = [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
                    "--python", os.path.abspath(__file__), "--", json.dumps(job)]
-        env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
         try:
-            run = subprocess.run(command, capture_output=True, text=True, timeout=CHILD_TIMEOUT, env=env)
+            run = subprocess.run(command, capture_output=True, text=True, timeout=CHILD_TIMEOUT)
         except (OSError, subprocess.TimeoutExpired) as e:
             raise BakeError(f"the world bake did not run: {e}") from None
         if run.returncode != 0 or not os.path.isfile(out):
