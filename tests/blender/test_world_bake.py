@@ -396,3 +396,33 @@ def test_f12_in_a_window_bakes_the_world_from_the_render_thread():
     assert result["bakes_on_main_thread"] == [False], result  # baked once, from the render thread
     assert result["errors"] == [] and not any("bake" in w for w in result["warnings"]), result
     assert result["data_unchanged"] and result["scene"], result
+
+
+def test_viewport_reexports_a_world_turned_into_a_sky(empty_scene, monkeypatch):
+    """The Rendered viewport's update: a world edited into a Sky Texture world gets its baked environment and
+    texture (the whole scene re-exported: the texture joins Scene.textures); edited back to a constant, neither."""
+    viewport = sys.modules["sphrect_blender.engine.viewport"]
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w: np.full((4, 8, 3), 0.5, np.float32))
+    builders.mesh_object("Ground", "plane", builders.material("Ground"), size=8)
+    builders.area_light("Light", power=50.0, location=(0, 0, 2))
+    session = viewport.ViewportSession()
+    session.update(bpy.context.evaluated_depsgraph_get())
+    assert session.scene.world.environment is None
+
+    def handler(_scene, depsgraph):
+        session.update(depsgraph)
+
+    tree = empty_scene.world.node_tree
+    bpy.app.handlers.depsgraph_update_post.append(handler)
+    try:
+        sky = tree.nodes.new("ShaderNodeTexSky")
+        link = tree.links.new(sky.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+        bpy.context.evaluated_depsgraph_get().update()
+        environment = session.scene.world.environment
+        assert environment is not None and session.scene.textures[environment.texture].pixels.shape == (4, 8, 3)
+        tree.links.remove(link)
+        bpy.context.evaluated_depsgraph_get().update()
+        assert session.scene.world.environment is None and session.scene.textures == []
+    finally:
+        bpy.app.handlers.depsgraph_update_post.remove(handler)
+        session.free()
