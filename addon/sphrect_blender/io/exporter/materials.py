@@ -677,7 +677,7 @@ def export_world(sphrect, world, log, textures=None):
     surface = _linked_node(out.inputs["Surface"])
     if surface is not None:
         if world_needs_bake(surface):
-            environment, background = _baked_world(sphrect, world, log, textures)
+            background, environment = _world_not_representable(sphrect, world, surface, textures, log)
         else:
             color = np.array(_world_color(sphrect, surface, log, world.name))
             background = _rgb(color * _value(surface, "Strength", log, world.name))
@@ -704,10 +704,11 @@ def _is_mapped_image_world(color_source):
     return color_source.bl_idname in {"ShaderNodeTexEnvironment", "ShaderNodeTexImage"}
 
 
-def _baked_world(sphrect, world, log, textures):
-    """(Environment, background) of a world Cycles bakes: the image as a linear float texture, strength 1 (the
-    Background's Strength is in the image), identity to_world; background the image's mean radiance over the
-    sphere (what a renderer without environments shows).  A failed bake: a black world, said."""
+def _world_not_representable(sphrect, world, surface, textures, log):
+    """(background, environment) of a world surface the renderer cannot take as it is (world_needs_bake), baked by
+    Cycles (world_bake.py): the image as a linear float texture added to `textures`, strength 1 (the Background's
+    Strength is in the image), identity to_world; background the image's mean radiance over the sphere (what a
+    renderer without environments shows).  A failed bake: a black world, said."""
     if _uses_light_path(world.node_tree, set()):
         log.unsupported_feature("Light Path node in a world (baked as camera rays see it, used for all rays)",
                                 world.name)
@@ -715,12 +716,12 @@ def _baked_world(sphrect, world, log, textures):
         pixels = world_bake.bake_world(world)
     except world_bake.BakeError as e:
         log.problem(f"world '{world.name}' could not be baked by Cycles (black used): {e}")
-        return None, (0.0, 0.0, 0.0)
+        return (0.0, 0.0, 0.0), None
     if textures is None:
         textures = TextureExport(sphrect, log)
     textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
     environment = sphrect.Environment(texture=len(textures.list) - 1)
-    return environment, _rgb(world_bake.sphere_mean(pixels))
+    return _rgb(world_bake.sphere_mean(pixels)), environment
 
 
 def _uses_light_path(tree, seen):
