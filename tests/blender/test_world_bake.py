@@ -281,10 +281,12 @@ def test_export_of_a_sky_world_is_a_baked_environment(fresh, monkeypatch):
     monkeypatch.setattr(world_bake(), "BAKE_HEIGHT", 32)
     builders.camera((0, -6, 2), (0, 0, 0.3))
     builders.mesh_object("Ground", "plane", builders.material("Ground"), size=8)
-    sky_world()
+    world = sky_world()
     before, active = user_data(), bpy.context.window.scene if bpy.context.window else bpy.context.scene
+    world_state = (world.users, world.use_fake_user)
     exported, log = export()
     assert user_data() == before and bpy.context.scene == active == scene
+    assert (world.users, world.use_fake_user) == world_state
     environment = exported.world.environment
     assert environment is not None
     texture = exported.textures[environment.texture]
