@@ -1,6 +1,6 @@
 """Image worlds (issue 28): the exporter's Background from an equirectangular Environment Texture ->
 sphrect.Environment (the image a Texture, the Mapping / Vector Rotate / Texture Coordinate rotation its to_world,
-Strength and a constant Multiply its strength), the worlds it cannot take as they are kept on the constant fallback
+Strength and a constant Multiply its strength), the worlds it cannot take as they are baked by Cycles
 (_world_not_representable), and Cycles parity of a scene lit by an HDR-like float image (a bright blob and a sky
 gradient) and of Blender's own HDR photographs (its studio-light worlds): mean relative difference over lit
 4x4-pixel blocks, as test_cycles_parity.py measures (Cycles 2048 spp, SPHRECT 512 spp).  Fixed seeds:
@@ -140,15 +140,32 @@ def test_vector_rotate_is_the_environment_rotation(empty_scene, invert):
     mapping = np.array(mathutils.Euler((0, 0, 0.3), "XYZ").to_matrix())
     np.testing.assert_allclose(np.array(e.to_world), (turn @ mapping).T, atol=1e-6)
     rotate.inputs["Center"].default_value = (0.0, 0.0, 1.0)  # a rotation about a point off the origin: not one
-    assert export()[0].world.environment is None
+    with stand_in_bake() as baked:
+        e = export()[0].world.environment
+    assert baked == [world.name] and e.to_world == np.eye(3).tolist()
+
+
+class stand_in_bake:
+    """world_bake.bake_world replaced by a 2 x 4 image of its own while exporting (the bake itself is
+    test_world_bake.py's): the worlds it is asked to bake, by name, and the image it gave."""
+    PIXELS = np.arange(24, dtype=np.float32).reshape(2, 4, 3) / 24
+
+    def __enter__(self):
+        from sphrect_blender.io.exporter import world_bake
+        self.module, self.original, self.names = world_bake, world_bake.bake_world, []
+        world_bake.bake_world = lambda world, *a, **kw: self.names.append(world.name) or self.PIXELS.copy()
+        return self.names
+
+    def __exit__(self, *exc):
+        self.module.bake_world = self.original
 
 
 @pytest.mark.parametrize("change", ["mirror_ball", "translation", "unequal_scale", "sky"])
-def test_worlds_not_representable_keep_the_constant_fallback(empty_scene, change):
-    """A mirror-ball projection, a Mapping with a translation or an unequal scale, a Sky Texture: today's constant
-    approximation (the image's mean colour, warned), no Environment."""
-    pixels = hdr_pixels(4, 8)
-    world, env = image_world(pixels, strength=2.0, rotation_z=0.3)
+def test_worlds_not_representable_are_baked(empty_scene, change):
+    """A mirror-ball projection, a Mapping with a translation or an unequal scale, a Sky Texture: not mapped
+    directly but baked by Cycles (world_bake.py) into an Environment of identity to_world and strength 1, its
+    background the bake's mean over the sphere; no warning of a mean colour."""
+    world, env = image_world(hdr_pixels(4, 8), strength=2.0, rotation_z=0.3)
     nodes = world.node_tree.nodes
     if change == "mirror_ball":
         env.projection = "MIRROR_BALL"
@@ -160,15 +177,17 @@ def test_worlds_not_representable_keep_the_constant_fallback(empty_scene, change
         sky = nodes.new("ShaderNodeTexSky")
         world.node_tree.links.new(sky.outputs["Color"], nodes["Background"].inputs["Color"])
     ground()
-    scene, log = export()
-    assert scene.world.environment is None
-    assert scene.textures == []  # the fallback's image is not the scene's
-    if change == "sky":
-        assert "linked 'Color' input" in log.warning_text()
-    else:
-        assert "world Environment Texture (its image's mean colour used" in log.warning_text()
-        stored = np.array(env.image.pixels[:], np.float64).reshape(pixels.shape)
-        assert scene.world.background == pytest.approx(tuple(2.0 * stored[..., :3].mean(axis=(0, 1))), rel=1e-5)
+    with stand_in_bake() as baked:
+        scene, log = export()
+    assert baked == [world.name]
+    e = scene.world.environment
+    assert e.to_world == np.eye(3).tolist() and tuple(e.strength) == (1.0, 1.0, 1.0)
+    texture = scene.textures[e.texture]
+    assert texture.colorspace == "linear"
+    np.testing.assert_array_equal(texture.pixels, stand_in_bake.PIXELS)
+    from sphrect_blender.io.exporter import world_bake
+    assert scene.world.background == pytest.approx(tuple(world_bake.sphere_mean(stand_in_bake.PIXELS)), rel=1e-6)
+    assert "mean colour" not in log.warning_text()
 
 
 def test_missing_environment_image_is_magenta(empty_scene):

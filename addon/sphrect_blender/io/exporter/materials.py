@@ -13,7 +13,8 @@ and a white Transparent BSDF make a transparent surface, left out by geometry.tr
 'transparent'; emission with Cycles 3.4's conventions -- an Emission shader emits
 radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength adds to
 its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
-|Ng . wi| > 0); Background for the world colour; Volume Scatter, Volume Absorption or Principled Volume on the
+|Ng . wi| > 0); Background for the world colour, any other world Surface (a Sky Texture, gradients, mixes...)
+baked by Cycles into an environment image (world_bake.py); Volume Scatter, Volume Absorption or Principled Volume on the
 World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
 Roughness, Metallic and Specular, the Color of Diffuse, Glossy, Glass and Translucent BSDFs and the Roughness of
 Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; every other
@@ -25,6 +26,7 @@ import dataclasses
 import mathutils
 import numpy as np
 
+from . import world_bake
 from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
 from .textures import TextureExport, follow_reroutes, image_texture_source
 
@@ -662,8 +664,8 @@ def _normal_map(node, textures, log, owner):
 def export_world(sphrect, world, log, textures=None):
     """sphrect.World of a Blender world: a constant Background, or an image world (sphrect.Environment, its image
     added to `textures`, a TextureExport: Scene.textures) where Cycles evaluates the Background's Color as an
-    equirectangular Environment Texture (_environment_world); every other world surface through
-    _world_not_representable."""
+    equirectangular Environment Texture (_environment_world); every other world surface baked by
+    Cycles through _world_not_representable (world_bake.py)."""
     if world is None:
         return sphrect.World()
     if not world.use_nodes or world.node_tree is None:
@@ -687,27 +689,35 @@ def export_world(sphrect, world, log, textures=None):
 
 
 def _world_not_representable(sphrect, world, surface, textures, log):
-    """(background, environment) for a world surface the renderer cannot take as it is: a Sky Texture, gradients,
-    mixes of textures, a mirror-ball projection, a Mapping with a translation or an unequal scale, an Image
-    Texture, another shader.  The one place for such worlds (e.g. baking the tree with Cycles into an
-    equirectangular image, world_bake.py); here the constant approximation: the Background's own Color (an
-    Environment or Image Texture's image's mean colour) x Strength, a linked input warned; another shader black."""
-    if surface.bl_idname != "ShaderNodeBackground":
-        log.unsupported_feature(f"'{surface.bl_label}' world surface (black used)", world.name)
+    """(background, environment) of a world surface the renderer cannot take as it is (_direct_world), baked by
+    Cycles (world_bake.py): the image as a linear float texture added to `textures`, strength 1 (the Background's
+    Strength is in the image), identity to_world; background the image's mean radiance over the sphere (what a
+    renderer without environments shows).  A failed bake: a black world, said."""
+    if _uses_light_path(world.node_tree, set()):
+        log.unsupported_feature("Light Path node in a world (baked as camera rays see it, used for all rays)",
+                                world.name)
+    try:
+        pixels = world_bake.bake_world(world)
+    except world_bake.BakeError as e:
+        log.problem(f"world '{world.name}' could not be baked by Cycles (black used): {e}")
         return (0.0, 0.0, 0.0), None
-    color = np.array(_world_color(sphrect, surface, log, world.name))
-    return _rgb(color * _value(surface, "Strength", log, world.name)), None
+    if textures is None:
+        textures = TextureExport(sphrect, log)
+    textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
+    environment = sphrect.Environment(texture=len(textures.list) - 1)
+    return _rgb(world_bake.sphere_mean(pixels)), environment
 
 
-def _world_color(sphrect, background, log, owner):
-    """The Background's Color; from an Environment or Image Texture, that image's mean colour (a constant
-    radiance; a missing image Cycles' magenta), warned."""
-    source, _ = follow_reroutes(background.inputs["Color"])
-    if source is None or source.bl_idname not in {"ShaderNodeTexEnvironment", "ShaderNodeTexImage"}:
-        return _value(background, "Color", log, owner)[:3]
-    log.unsupported_feature(f"world {source.bl_label} (its image's mean colour used: a constant background)", owner)
-    own = TextureExport(sphrect, log)  # not the scene's: nothing renders the image itself
-    return own.color_mean(sphrect.TextureLookup(texture=own.texture_of(source.image, owner)))
+def _uses_light_path(tree, seen):
+    """Whether a node tree (or a group inside it) holds a Light Path node."""
+    seen.add(tree.name_full)
+    for node in tree.nodes:
+        if node.bl_idname == "ShaderNodeLightPath":
+            return True
+        group = getattr(node, "node_tree", None)
+        if group is not None and group.name_full not in seen and _uses_light_path(group, seen):
+            return True
+    return False
 
 
 def _direct_world(sphrect, surface, textures, log, owner):

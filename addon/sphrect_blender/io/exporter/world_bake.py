@@ -1,0 +1,333 @@
+"""A world node tree Cycles 3.4 evaluates, baked into an equirectangular image (sphrect.Environment's convention).
+
+    pixels = bake_world(bl_world)   # float32 [H, W, 3], rows bottom to top (Texture.pixels), linear radiance
+
+Cycles itself renders the world: a Blender child process (`blender -b --factory-startup`) appends the world from a
+.blend this process writes, renders it alone (no objects, no lights) through an equirectangular panoramic camera
+at the origin, and saves the radiance; so a Sky Texture (Nishita, Preetham, Hosek-Wilkie), gradients, noise,
+mixes and adds of backgrounds are what Cycles shows, whatever the node.  A child process rather than this one's
+render operator: the add-on's own render (F12) cannot start a Cycles render inside it, and the user's file gains no
+scene, camera or image.  The result is cached on disk by the tree's content (world_signature).
+
+This file runs in the child too (`--python world_bake.py -- <json>`): it imports nothing from the add-on.
+"""
+import hashlib
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+
+import numpy as np
+
+# Measured (docs/addon.md, "World"; experiments/measure_world_bake.py): Blender's default Nishita sky at 1024x512
+# bakes in 4-6 s the first time on 2 busy cores (Blender's start and the sky's precomputation included; 512x256
+# ~3.5 s, 2048x1024 ~14 s), then loads from the cache in a few ms.  0.35 degree pixels: its sun disc (0.545
+# degrees) spans about two of them.
+BAKE_WIDTH, BAKE_HEIGHT = 1024, 512
+# Samples per pixel.  A sky is smooth over nearly every pixel, where 8 samples leave its light within ~0.01%;
+# but the sun disc (~2 pixels wide; ~85% of the light on the ground under Blender's default sky) varies within its
+# pixels, and 8 or 16 samples leave its power 1-10% off.  So the pixels around a peak (brighter than PEAK_RATIO x
+# the image's mean, and PEAK_MARGIN pixels about them) are rendered again with PEAK_SAMPLES (a region render of
+# a few pixels): the disc's power then within ~0.1% of a 16384-sample render's.  Cycles' adaptive sampling gets
+# there in three times the time (its rounds go over the whole image while a few pixels go on).
+BAKE_SAMPLES = 8
+PEAK_SAMPLES = 4096
+PEAK_RATIO = 20.0
+PEAK_MARGIN = 2
+PEAK_MAX_AREA = 0.01  # peaks covering more of the image than this are none: the image is left as rendered
+# Cycles' panoramic camera looks along the Blender camera's view direction rotated so that pointing it at +X shows
+# the environment texture's middle (blender/camera.cpp); Blender's camera looks down local -Z with +Y up, so this
+# rotation points it at +X with +Z up: the bake's pixel (u, v) then sees sphrect.Environment's direction at (u, v)
+# with to_world = identity (test_world_bake.py pins it).
+CAMERA_ROTATION = (math.pi / 2, 0.0, -math.pi / 2)
+CACHE_DIR = os.path.join(tempfile.gettempdir(), "sphrect_world_bake")
+CACHE_ENTRIES = 32   # the newest kept (~6 MB each at the default size)
+CHILD_TIMEOUT = 600  # seconds
+# Bumped whenever what a bake holds changes, so that no older cache entry is used.
+_BAKE_VERSION = 1
+
+
+class BakeError(RuntimeError):
+    pass
+
+
+# ------------------------------------------------------------------------------------------ the tree's signature
+# Node properties that say where a node is drawn, not what it computes.
+_LAYOUT = {"rna_type", "location", "width", "width_hidden", "height", "dimensions", "label", "parent",
+           "use_custom_color", "color", "select", "show_options", "show_preview", "hide", "show_texture",
+           "internal_links", "inputs", "outputs", "bl_description", "bl_icon", "bl_width_default", "bl_width_min",
+           "bl_width_max", "bl_height_default", "bl_height_min", "bl_height_max", "is_active_output"}
+
+
+def _image_identity(image):
+    """What decides an image's pixels: its file (path, size, time), its packed bytes, or its edited pixels."""
+    import bpy
+    image = getattr(image, "original", image)  # (an evaluated copy does not know the user's unsaved edits)
+    parts = [image.source, image.filepath, image.colorspace_settings.name, image.alpha_mode,
+             tuple(image.size), image.use_view_as_render, image.generated_type, tuple(image.generated_color),
+             image.generated_width, image.generated_height, image.use_generated_float]
+    if image.packed_file is not None:
+        parts.append(hashlib.sha256(bytes(image.packed_file.data)).hexdigest())
+    else:
+        path = bpy.path.abspath(image.filepath, library=image.library)
+        try:
+            stat = os.stat(path)
+            parts += [os.path.realpath(path), stat.st_size, stat.st_mtime_ns]
+        except OSError:
+            parts.append("missing")
+    if image.is_dirty and image.has_data:  # painted or changed in Blender, not yet saved
+        pixels = np.empty(len(image.pixels), dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        parts.append(hashlib.sha256(pixels.tobytes()).hexdigest())
+    return parts
+
+
+def _rna(value, trees, depth=0):
+    """A plain, reproducible description of an RNA value (nested structs followed, IDs by their identity)."""
+    import bpy
+    if isinstance(value, bpy.types.ID):
+        if isinstance(value, bpy.types.Image):
+            return ["image", value.name_full] + _image_identity(value)
+        if isinstance(value, bpy.types.NodeTree):
+            return ["tree", _tree(value, trees)]
+        if isinstance(value, bpy.types.Object):  # a Texture Coordinate node's object: where it is
+            return ["object", value.name_full, [list(r) for r in value.matrix_world]]
+        return [type(value).__name__, value.name_full]
+    if isinstance(value, bpy.types.bpy_struct):
+        if depth > 4:
+            return "deep"
+        return [[p.identifier, _rna(getattr(value, p.identifier), trees, depth + 1)]
+                for p in value.bl_rna.properties if p.identifier != "rna_type" and p.type != "COLLECTION"]
+    if isinstance(value, str) or value is None or isinstance(value, (bool, int, float)):
+        return value
+    try:
+        return [_rna(v, trees, depth) for v in value]
+    except TypeError:
+        return repr(value)
+
+
+def _tree(tree, trees):
+    """A node tree's content: every node's type, properties and sockets' own values, and every link; a group's tree
+    once (by name), however often it is used."""
+    key = tree.name_full
+    if key in trees:
+        return key
+    trees[key] = None  # (a group used inside itself stops here)
+    nodes = []
+    for node in sorted(tree.nodes, key=lambda n: n.name):
+        props = [[p.identifier, _rna(getattr(node, p.identifier), trees)] for p in node.bl_rna.properties
+                 if p.identifier not in _LAYOUT and p.type != "COLLECTION"]
+        if node.bl_idname == "ShaderNodeOutputWorld":
+            props.append(["is_active_output", node.is_active_output])
+        # (RGB and Value nodes keep their value in their output)
+        sockets = [[s.is_output, s.identifier, s.enabled, _rna(getattr(s, "default_value", None), trees)]
+                   for s in list(node.inputs) + list(node.outputs)]
+        nodes.append([node.bl_idname, node.name, props, sockets])
+    links = sorted([l.from_node.name, l.from_socket.identifier, l.to_node.name, l.to_socket.identifier,
+                    l.is_valid, l.is_muted] for l in tree.links)
+    trees[key] = [nodes, links]
+    return key
+
+
+def world_signature(world, width, height, samples):
+    """A hash of everything the bake of `world` depends on: its node tree (and the groups, images and objects it
+    reads), the resolution and samples, Blender's version and the bake's own."""
+    import bpy
+    trees = {}
+    root = _tree(world.node_tree, trees)
+    content = [_BAKE_VERSION, bpy.app.version_string, width, height, samples, PEAK_SAMPLES, PEAK_RATIO, PEAK_MARGIN,
+               PEAK_MAX_AREA, root, sorted(trees.items())]
+    return hashlib.sha256(json.dumps(content, default=repr).encode()).hexdigest()
+
+
+def row_solid_angles(height, width):
+    """The solid angle of one pixel of each row (row 0 the bottom) of a width x height equirectangular image."""
+    z = np.cos(np.pi * (1.0 - np.arange(height + 1) / height))  # d.z at the rows' edges, bottom (-1) first
+    return (2.0 * np.pi / width) * np.diff(z)
+
+
+def sphere_mean(pixels):
+    """The mean radiance over the sphere of directions of an equirectangular image (rows bottom to top)."""
+    height, width = pixels.shape[:2]
+    weights = row_solid_angles(height, width)
+    return (pixels * weights[:, None, None]).sum(axis=(0, 1)) / (4.0 * np.pi)
+
+
+# ------------------------------------------------------------------------------------------ the bake
+_memory = {}  # signature -> pixels: the last bakes of this session (the viewport re-exports often)
+
+
+def bake_world(world, width=None, height=None, samples=None, cache_dir=CACHE_DIR):
+    """float32 [height, width, 3], rows bottom to top: the radiance Cycles 3.4 gives camera rays that escape into
+    `world` (a bpy World with nodes; evaluated or original), in direction d at pixel (u, v) as sphrect.Environment
+    maps it with to_world = identity, Strength included.  Each pixel is the mean over its area in (u, v) (Cycles' box
+    filter of 1 pixel; PEAK_SAMPLES about its peaks), so a sun disc smaller than a pixel keeps its power.  Cached by
+    world_signature in `cache_dir` (None: no cache).  The size and samples default to BAKE_WIDTH, BAKE_HEIGHT and
+    BAKE_SAMPLES."""
+    width, height = width or BAKE_WIDTH, height or BAKE_HEIGHT
+    samples = samples or BAKE_SAMPLES
+    signature = world_signature(world, width, height, samples)
+    if signature in _memory:
+        return _memory[signature]
+    path = os.path.join(cache_dir, signature + ".npy") if cache_dir else None
+    if path is not None and os.path.isfile(path):
+        pixels = np.load(path)
+    else:
+        pixels = _render_world(world, width, height, samples)
+        if path is not None:
+            _store(path, pixels, cache_dir)
+    _memory.clear()
+    _memory[signature] = pixels
+    return pixels
+
+
+def _store(path, pixels, cache_dir):
+    try:
+        os.makedirs(cache_dir, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=cache_dir, suffix=".tmp", delete=False) as f:
+            np.save(f, pixels)
+        os.replace(f.name, path)  # whole or not at all: a reader never sees half an entry
+        entries = sorted((e for e in os.scandir(cache_dir) if e.name.endswith(".npy")),
+                         key=lambda e: e.stat().st_mtime, reverse=True)
+        for old in entries[CACHE_ENTRIES:]:
+            os.remove(old.path)
+    except OSError:
+        pass  # no cache: the next export bakes again
+
+
+def _render_world(world, width, height, samples):
+    import bpy
+    original = getattr(world, "original", world)
+    frame = bpy.context.scene.frame_current if bpy.context.scene is not None else 1
+    with tempfile.TemporaryDirectory(prefix="sphrect_world_bake_") as folder:
+        blend = os.path.join(folder, "world.blend")
+        _on_main_thread(lambda: bpy.data.libraries.write(blend, {original}, path_remap="ABSOLUTE", fake_user=True))
+        out = os.path.join(folder, "world.npy")
+        job = dict(blend=blend, world=original.name, out=out, exr=os.path.join(folder, "world.exr"), width=width,
+                   height=height, samples=samples, peak_samples=PEAK_SAMPLES, frame=frame)
+        command = [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
+                   "--python", os.path.abspath(__file__), "--", json.dumps(job)]
+        try:
+            run = subprocess.run(command, capture_output=True, text=True, timeout=CHILD_TIMEOUT)
+        except (OSError, subprocess.TimeoutExpired) as e:
+            raise BakeError(f"the world bake did not run: {e}") from None
+        if run.returncode != 0 or not os.path.isfile(out):
+            tail = "\n".join((run.stdout + run.stderr).strip().splitlines()[-5:])
+            raise BakeError(f"the world bake failed (Blender exit code {run.returncode}): {tail}")
+        return np.load(out)
+
+
+def _on_main_thread(call, timeout=60.0):
+    """Run `call` on Blender's main thread: writing a .blend moves IDs between Main's lists for a moment, which the
+    interface's drawing must not see.  F12 renders on a job thread (then a timer runs it there, and this thread
+    waits); a headless render or a script runs on the main thread."""
+    if threading.current_thread() is threading.main_thread():
+        return call()
+    import bpy
+    done, outcome = threading.Event(), {}
+
+    def run():
+        try:
+            outcome["value"] = call()
+        except Exception as e:  # handed to the waiting thread
+            outcome["error"] = e
+        done.set()
+        return None
+
+    bpy.app.timers.register(run, first_interval=0.0)
+    if not done.wait(timeout):
+        raise BakeError("the world could not be saved for its bake: Blender's main thread did not answer")
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome.get("value")
+
+
+def peak_boxes(pixels, ratio=PEAK_RATIO, margin=PEAK_MARGIN):
+    """Boxes (x0, y0, x1, y1), ends excluded, around the pixels brighter than `ratio` x the image's mean (a sun
+    disc), `margin` pixels wider (its edge pixels that few samples missed); one per run of such columns."""
+    height, width = pixels.shape[:2]
+    luminance = pixels.mean(axis=2)
+    rows, cols = np.nonzero(luminance > ratio * luminance.mean())
+    if len(cols) == 0:
+        return []
+    occupied = np.unique(cols)
+    boxes = []
+    for run in np.split(occupied, np.nonzero(np.diff(occupied) > 2 * margin + 1)[0] + 1):
+        inside = rows[(cols >= run[0]) & (cols <= run[-1])]
+        boxes.append((max(int(run[0]) - margin, 0), max(int(inside.min()) - margin, 0),
+                      min(int(run[-1]) + margin + 1, width), min(int(inside.max()) + margin + 1, height)))
+    return boxes
+
+
+# ------------------------------------------------------------------------------------------ in the child Blender
+def _child(job):
+    import bpy
+    with bpy.data.libraries.load(job["blend"]) as (source, target):
+        target.worlds = [job["world"]]
+    scene = bpy.context.scene
+    for obj in list(scene.objects):
+        bpy.data.objects.remove(obj)
+    scene.world = target.worlds[0]
+    scene.render.engine = "CYCLES"
+    cycles = scene.cycles
+    cycles.device = "CPU"
+    cycles.use_adaptive_sampling = False
+    cycles.use_denoising = False
+    cycles.seed = 0
+    cycles.use_animated_seed = False
+    cycles.pixel_filter_type = "BOX"
+    cycles.filter_width = 1.0
+    cycles.film_exposure = 1.0
+    cycles.sample_clamp_direct = cycles.sample_clamp_indirect = 0.0
+    render = scene.render
+    width, height = job["width"], job["height"]
+    render.resolution_x, render.resolution_y, render.resolution_percentage = width, height, 100
+    render.film_transparent = False
+    render.use_crop_to_border = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure, scene.view_settings.gamma = 0.0, 1.0
+    settings = render.image_settings
+    settings.file_format, settings.color_depth, settings.exr_codec = "OPEN_EXR", "32", "NONE"
+    settings.color_mode = "RGB"
+    camera = bpy.data.cameras.new("sphrect_world_bake")
+    camera.type = "PANO"
+    camera.cycles.panorama_type = "EQUIRECTANGULAR"
+    camera.cycles.latitude_min, camera.cycles.latitude_max = -math.pi / 2, math.pi / 2
+    camera.cycles.longitude_min, camera.cycles.longitude_max = -math.pi, math.pi
+    obj = bpy.data.objects.new("sphrect_world_bake", camera)
+    obj.rotation_euler = CAMERA_ROTATION
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    scene.frame_set(job["frame"])
+
+    def rendered(samples, box, name):
+        """[H, W, 3] rows bottom to top; with a box, only its pixels (and a pixel about it) rendered."""
+        cycles.samples = samples
+        render.use_border = box is not None
+        if box is not None:  # a pixel wider, whatever Blender's rounding of the border to pixels
+            x0, y0, x1, y1 = box
+            render.border_min_x, render.border_max_x = max(x0 - 1, 0) / width, min(x1 + 1, width) / width
+            render.border_min_y, render.border_max_y = max(y0 - 1, 0) / height, min(y1 + 1, height) / height
+        render.filepath = os.path.join(os.path.dirname(job["exr"]), name + ".exr")
+        bpy.ops.render.render(write_still=True)
+        image = bpy.data.images.load(render.filepath)
+        image.colorspace_settings.name = "Linear"  # the EXR holds linear radiance: read it back unchanged
+        rgba = np.empty(width * height * 4, dtype=np.float32)
+        image.pixels.foreach_get(rgba)
+        bpy.data.images.remove(image)
+        return rgba.reshape(height, width, 4)[:, :, :3]
+
+    pixels = rendered(job["samples"], None, "world")
+    boxes = peak_boxes(pixels)
+    if sum((x1 - x0) * (y1 - y0) for x0, y0, x1, y1 in boxes) <= PEAK_MAX_AREA * width * height:
+        for i, (x0, y0, x1, y1) in enumerate(boxes):
+            pixels[y0:y1, x0:x1] = rendered(job["peak_samples"], (x0, y0, x1, y1), f"peak{i}")[y0:y1, x0:x1]
+    np.save(job["out"], np.ascontiguousarray(pixels))
+
+
+if __name__ == "__main__":
+    _child(json.loads(sys.argv[sys.argv.index("--") + 1]))
