@@ -102,7 +102,7 @@ def test_scaled_mapping_and_multiply_are_an_environment(empty_scene):
 @pytest.mark.parametrize("location", [(0.0, 0.0, 0.0), (0.0, 2.0, 0.0)])
 def test_object_coordinates_of_a_rotated_empty(empty_scene, location):
     """A Texture Coordinate's Object output of an object: Cycles looks the direction up at the object's inverse
-    matrix, a rotation for an empty at the origin (to_world its rotation), not one where it is moved."""
+    matrix, a rotation for an empty at the origin (to_world its rotation), not one where it is moved (baked)."""
     world, env = image_world(hdr_pixels(4, 8))
     empty = builders.link(bpy.data.objects.new("Frame", None))
     empty.rotation_euler = (0.2, 0.0, 0.9)
@@ -113,11 +113,13 @@ def test_object_coordinates_of_a_rotated_empty(empty_scene, location):
     links.new(coords.outputs["Object"], env.inputs["Vector"])
     ground()
     bpy.context.view_layer.update()
-    e = export()[0].world.environment
+    with stand_in_bake() as baked:
+        e = export()[0].world.environment
     if location == (0.0, 0.0, 0.0):
+        assert baked == []
         np.testing.assert_allclose(np.array(e.to_world), np.array(empty.matrix_world.to_3x3()), atol=1e-6)
-    else:
-        assert e is None
+    else:  # baked
+        assert baked == [world.name] and e.to_world == np.eye(3).tolist()
 
 
 @pytest.mark.parametrize("invert", [False, True])
