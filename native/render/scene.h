@@ -18,6 +18,7 @@
 #include "medium.h"
 #include "texture.h"
 #include "material.h"
+#include "textured_emitter.h"
 
 namespace sphrect::render {
 
@@ -145,6 +146,7 @@ class RenderScene {
     AreaLightFinder analytic_light_finder;  // of lights [0, num_analytic_lights): which a ray crosses
     LightSelector light_selector;           // over area_lights, by power
     bool has_mesh_lights = false;           // some area light is on_mesh
+    std::vector<TexturedEmitter> textured_emitters;  // the area lights' of texture >= 0 (textured_emission.h)
     bool has_transparency = false;          // Commit(): some triangle's material may let rays through
     // Whether triangle `prim` of `mesh` has a material that may let rays through (integrator/transparency.h).
     bool MayBeTransparent(const MeshData& mesh, uint32_t prim) const {
@@ -180,6 +182,9 @@ class RenderScene {
     mutable std::vector<TreeEmitterRef> light_tree_refs_;
     void RequireNotCommitted() const;
     void AddMeshLights();
+    // AddMeshLights: area_lights.back(), of material `material`, made of `count` triangles of meshes[mesh] from
+    // `first`, takes its emission from the material's image (scene_textured_emitters.cpp).
+    void AddTexturedEmitter(int material, uint32_t mesh, uint32_t first, int count);
     void LetRaysThroughTransparentMeshes();  // Commit(): sets has_transparency and the meshes' occlusion filters
     RTCDevice device_ = nullptr;
     bool committed_ = false, camera_set_ = false;

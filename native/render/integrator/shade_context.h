@@ -18,6 +18,7 @@ struct ShadeContext {
     // Purely diffuse hits may take light samples alone (shade_surface.h, LightSamplesAlone): MIS on,
     // not RenderOptions::bsdf_samples_on_diffuse, and no ellipse light sampled by area.
     bool diffuse_light_samples_alone;
+    bool emission_blocks;  // RenderOptions::emission_blocks
 };
 
 template <bool kMedium>
@@ -31,7 +32,8 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
             scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf),
             opt.ellipse_technique,
             opt.mis != MisMode::None && !opt.bsdf_samples_on_diffuse &&
-                !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights)};
+                !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights),
+            opt.emission_blocks};
 }
 
 // The same context without MIS: light samples alone, and BSDF samples only to find the background.
