@@ -60,7 +60,9 @@ FORMAT_NAME = "sphrect-scene"
 # 10: PointLight.radius, SpotLight.radius, SunLight.angle (soft lights, as Cycles 3.4's) and their visible.  Older
 # files load as before: radius and angle 0, delta lights.
 # 11: RectLight.spread, EllipseLight.spread (Blender's Spread, radians).  Older files load with spread = pi (none).
-FORMAT_VERSION = 11
+# 13: Material.textures["emission"] (TEXTURED_INPUTS' 'emission'): an image that multiplies the emission at each point
+# of the emitter (textured emitters).  Older files load unchanged (constant emission).
+FORMAT_VERSION = 13
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -152,9 +154,11 @@ class Material:
     distribution: str = "ggx"
     layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only
     # Radiance (W/m^2/sr) from both sides, Cycles' colour x strength; every emissive triangle is a light (files
-    # without it load as 0).
+    # without it load as 0).  With textures["emission"], the radiance at each point is this times the image's colour
+    # there (a mix's emission texture is its own: none of its layers may emit then).
     emission: RGB = (0.0, 0.0, 0.0)
-    # Image textures driving inputs (keys from TEXTURED_INPUTS; the value replaces the field of that name), and a
+    # Image textures driving inputs (keys from TEXTURED_INPUTS; the value replaces the field of that name, but for
+    # 'emission', which it multiplies), and a
     # Normal Map node's tangent-space map (its Color read as 2 c - 1 in the frame of the UVs' tangent, the
     # bitangent and the shading normal; strength as the node's); none of a mix's layers has its own normal map.
     textures: Dict[str, "TextureLookup"] = field(default_factory=dict)
