@@ -676,68 +676,65 @@ name is one of sphrect.patterns; different seeds give decorrelated point sets.)d
 
 
     // The block sampler of textured rectangle lights (core/rectangle_blocks.h), float32: for its chi-square test.
-    struct Blocks {
-        std::vector<float> pmf, cdf;
+    struct BlocksSetup {
+        std::vector<float> radiance;
         RectangleBlocks b;
+        RectLightFrame<float> frame;
+        Vec3f origin;
+        RectangleBlocksAt at;
     };
-    auto read_blocks = [](const py::object& weights_obj) {
-        const ArrayD w = ArrayOf<double>(weights_obj, "weights");
-        if (w.ndim() != 2 || w.shape(0) < 1 || w.shape(1) < 1)
-            throw py::value_error("weights must have shape (ny, nx), got " + ShapeString(w));
-        auto out = std::make_shared<Blocks>();
-        double total = 0;
+    auto setup = [](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                    const py::object& radiance_obj) {
+        const ArrayD w = ArrayOf<double>(radiance_obj, "radiance");
+        if (w.ndim() != 2 || w.shape(0) < 1 || w.shape(1) < 1 || w.shape(0) > kMaxRectangleBlocksPerSide ||
+            w.shape(1) > kMaxRectangleBlocksPerSide)
+            throw py::value_error("radiance must have shape (ny, nx), each in 1.." +
+                                  std::to_string(kMaxRectangleBlocksPerSide) + ", got " + ShapeString(w));
+        auto s = std::make_unique<BlocksSetup>();
         for (py::ssize_t k = 0; k < w.size(); ++k) {
-            if (!(w.data()[k] >= 0) || !std::isfinite(w.data()[k])) throw py::value_error("weights must be >= 0");
-            total += w.data()[k];
+            if (!(w.data()[k] >= 0) || !std::isfinite(w.data()[k])) throw py::value_error("radiance must be >= 0");
+            s->radiance.push_back(float(w.data()[k]));
         }
-        if (!(total > 0)) throw py::value_error("weights must not all be 0");
-        out->cdf.push_back(0);
-        double running = 0;
-        for (py::ssize_t k = 0; k < w.size(); ++k) {
-            out->pmf.push_back(float(w.data()[k] / total));
-            running += w.data()[k];
-            out->cdf.push_back(float(running / total));
-        }
-        out->cdf.back() = 1;
-        out->b = {int(w.shape(1)), int(w.shape(0)), out->pmf.data(), out->cdf.data()};
-        return out;
+        s->b = {int(w.shape(1)), int(w.shape(0)), s->radiance.data()};
+        s->frame = MakeRectLightFrame(ReadLight<float>(corner, ex, ey, true));
+        s->origin = ReadVec3s<float>(origin, "origin", false)[0];
+        MakeRectangleBlocksAt(s->origin, s->frame, s->b, s->at);
+        return s;
     };
     m.def(
         "sample_rectangle_blocks",
-        [read_blocks](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
-                      const py::object& weights, const py::object& uv_obj) {
-            const Vec3f o = ReadVec3s<float>(origin, "origin", false)[0];
-            const RectLightFrame<float> f = MakeRectLightFrame(ReadLight<float>(corner, ex, ey, true));
-            const auto blocks = read_blocks(weights);
+        [setup](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                const py::object& radiance, const py::object& uv_obj) {
+            const auto s = setup(origin, corner, ex, ey, radiance);
             const auto uv = ReadUV<float>(uv_obj);
             py::array_t<float> points = NewArray<float>(uv.size(), 3), pdf = NewArray<float>(uv.size(), 0);
             float* P = points.mutable_data();
             float* Q = pdf.mutable_data();
             for (size_t i = 0; i < uv.size(); ++i) {
-                const LightSample<float> ls = SampleRectangleBlocks(o, f, blocks->b, Point2<float>{uv[i][0], uv[i][1]});
+                const LightSample<float> ls =
+                    SampleRectangleBlocks(s->origin, s->frame, s->b, s->at, Point2<float>{uv[i][0], uv[i][1]});
                 P[3 * i] = ls.point.x, P[3 * i + 1] = ls.point.y, P[3 * i + 2] = ls.point.z;
                 Q[i] = ls.pdf;
             }
             return py::make_tuple(points, pdf);
         },
-        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("weights"), arg("uv"),
-        "Points of the rectangle by block (weights [ny, nx], block (i, j) along (edge_x, edge_y)) then by solid "
-        "angle in the block: (points [N, 3], solid-angle pdf [N]).  The sampler of textured rectangle lights.");
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("radiance"), arg("uv"),
+        "Points of the rectangle by block (radiance [ny, nx]: block (i, j) along (edge_x, edge_y)) by radiance x "
+        "estimated solid angle, then by solid angle in the block: (points [N, 3], solid-angle pdf [N]).  The sampler "
+        "of textured rectangle lights.");
     m.def(
         "rectangle_blocks_pdf",
-        [read_blocks](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
-                      const py::object& weights, const py::object& points_obj) {
-            const Vec3f o = ReadVec3s<float>(origin, "origin", false)[0];
-            const RectLightFrame<float> f = MakeRectLightFrame(ReadLight<float>(corner, ex, ey, true));
-            const auto blocks = read_blocks(weights);
+        [setup](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                const py::object& radiance, const py::object& points_obj) {
+            const auto s = setup(origin, corner, ex, ey, radiance);
             const auto pts = ReadRows<float, 3>(points_obj, "points", false);
             py::array_t<float> pdf = NewArray<float>(pts.size(), 0);
             float* Q = pdf.mutable_data();
             for (size_t i = 0; i < pts.size(); ++i)
-                Q[i] = RectangleBlocksPDF(o, f, blocks->b, Vec3f(pts[i][0], pts[i][1], pts[i][2]));
+                Q[i] = RectangleBlocksPDF(s->origin, s->frame, s->b, s->at, Vec3f(pts[i][0], pts[i][1], pts[i][2]));
             return pdf;
         },
-        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("weights"), arg("points"),
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("radiance"), arg("points"),
         "Solid-angle pdf of sample_rectangle_blocks at points of the rectangle.");
 }
 

@@ -10,9 +10,9 @@ namespace sphrect::render {
 
 namespace {
 
-// Share of the mean block power every block gets on top of its own: a block whose lookups all read black may still
+// Share of the mean block radiance every block gets on top of its own: a block whose lookups all read black may still
 // emit between them (a thin bright line, bilinear filtering), and must keep a pdf > 0 for the estimate to stay
-// unbiased; a black block then takes ~1% of a mean block's samples.
+// unbiased; a black block then takes ~1% of the samples a mean block of its solid angle takes.
 constexpr double kBlockPowerFloor = 0.01;
 // Lookups per light side at most, when measuring its emission (texel density above this is averaged over).
 constexpr int kMaxLookupsPerSide = 1024;
@@ -33,7 +33,9 @@ double TexelsBetween(const RenderScene& scene, const TexturedEmitter& e, const V
     return std::isfinite(texels) ? texels : 1.0;
 }
 
-int LookupsAlong(double texels) { return std::clamp(int(std::ceil(texels)), 1, kMaxLookupsPerSide); }
+// Two lookups per texel: at texel centres alone, a black block beside a bright texel would read black where bilinear
+// filtering brings the bright one in over half a texel -- light its block's floor would sample rarely (high variance).
+int LookupsAlong(double texels) { return std::clamp(int(std::ceil(2 * texels)), 1, kMaxLookupsPerSide); }
 
 }  // namespace
 
@@ -55,8 +57,8 @@ void RenderScene::AddTexturedEmitter(int material, uint32_t mesh, uint32_t first
         const RectLight<float>& r = l.frame.light;
         const double tx = TexelsBetween(*this, e, r.corner, r.corner + r.ex);
         const double ty = TexelsBetween(*this, e, r.corner, r.corner + r.ey);
-        e.nx = std::clamp(int(std::ceil(tx)), 1, kMaxEmissionBlocks);
-        e.ny = std::clamp(int(std::ceil(ty)), 1, kMaxEmissionBlocks);
+        e.nx = std::clamp(int(std::ceil(tx)), 1, kMaxRectangleBlocksPerSide);
+        e.ny = std::clamp(int(std::ceil(ty)), 1, kMaxRectangleBlocksPerSide);
         const int sx = (LookupsAlong(tx) + e.nx - 1) / e.nx, sy = (LookupsAlong(ty) + e.ny - 1) / e.ny;
         std::vector<double> power(size_t(e.nx * e.ny), 0.0);
         for (int j = 0; j < e.ny * sy; ++j)
@@ -71,17 +73,9 @@ void RenderScene::AddTexturedEmitter(int material, uint32_t mesh, uint32_t first
         double total = 0;
         for (double p : power) total += p;
         const double floor = total > 0 ? kBlockPowerFloor * total / double(power.size()) : 1.0;
-        total = 0;
-        for (double& p : power) total += (p += floor);
-        e.block_pmf.resize(power.size());
-        e.block_cdf.assign(power.size() + 1, 0.0f);
-        double running = 0;
-        for (size_t k = 0; k < power.size(); ++k) {
-            e.block_pmf[k] = float(power[k] / total);
-            running += power[k];
-            e.block_cdf[k + 1] = float(running / total);
-        }
-        e.block_cdf.back() = 1;
+        // Relative to the largest (only ratios matter): any emission's magnitude stays within float.
+        const double largest = *std::max_element(power.begin(), power.end()) + floor;
+        for (double p : power) e.block_radiance.push_back(float((p + floor) / largest));
     } else {
         // Cell centres of an s x s grid through the square-to-triangle map that is uniform by area (SampleTriangleArea).
         const int s = std::min(LookupsAlong(std::max(TexelsBetween(*this, e, l.v0, l.v0 + l.e1),

@@ -11,19 +11,16 @@
 
 namespace sphrect::render {
 
-// Blocks of a textured rectangle light along each edge, at most (core/rectangle_blocks.h): a 16 x 16 grid finds
-// the bright parts of a window, a screen or a logo, and costs one lookup of 256 floats per light sample.
-constexpr int kMaxEmissionBlocks = 16;
-
 struct TexturedEmitter {
     int material = 0;  // its Material: the lookup is textures[kEmission], the multiplier `emission`
     uint32_t mesh = 0;
     uint32_t triangles[2] = {0, 0};  // the light's triangles of that mesh (a rectangle: two)
     int num_triangles = 1;
-    // Rectangles: nx x ny blocks, their probabilities (each block's share of the power, with a floor) and CDF.
+    // Rectangles: nx x ny blocks (at most kMaxRectangleBlocksPerSide per side) and each one's mean luminance, with a
+    // floor (scene_textured_emitters.cpp).
     int nx = 0, ny = 0;
-    std::vector<float> block_pmf, block_cdf;
-    RectangleBlocks Blocks() const { return {nx, ny, block_pmf.data(), block_cdf.data()}; }
+    std::vector<float> block_radiance;
+    RectangleBlocks Blocks() const { return {nx, ny, block_radiance.data()}; }
 };
 
 }  // namespace sphrect::render

@@ -154,7 +154,7 @@ def test_blocks_and_whole_light_sampling_converge_to_the_same_image(technique):
 def test_block_sampler_chi_square():
     """sphrect.sample_rectangle_blocks against its own pdf (rectangle_blocks_pdf) through chi2.py's cells and
     Pearson statistic, on lights seen from above, from the side and grazing; and a wrong pdf fails."""
-    weights = np.array([[0.0, 1.0, 3.0], [0.5, 0.0, 2.0]])  # 3 x 2 blocks, two of them never chosen
+    weights = np.array([[0.0, 1.0, 3.0], [0.5, 0.0, 2.0]])  # radiance of 3 x 2 blocks, two of them black
     configs = [LightConfig("above", (0.2, 0.3, 1.0), (-0.5, -0.5, 0.0), (1.2, 0.0, 0.0), (0.0, 0.8, 0.0)),
                LightConfig("side", (2.0, 0.1, 0.4), (-0.5, -0.5, 0.0), (1.2, 0.0, 0.0), (0.0, 0.8, 0.0)),
                LightConfig("grazing", (0.3, 0.2, 1e-3), (-0.5, -0.5, 0.0), (1.2, 0.0, 0.0), (0.0, 0.8, 0.0))]

@@ -147,13 +147,23 @@ class LightSamplingAt {
         return s.Valid() ? s.PDF(p) : 0.0f;
     }
 
-    // A textured rectangle light: a block by its power, a point in it by the rectangle map (core/rectangle_blocks.h).
-    // Out of line and cold, as the textured emission it goes with (textured_emission.h).
-    [[gnu::noinline, gnu::cold]] LightSample<float> SampleEmissionBlocks(const AreaLight& l, Point2<float> u) const {
-        return SampleRectangleBlocks(origin_, l.frame, scene_.textured_emitters[size_t(l.texture)].Blocks(), u);
+    // A textured rectangle light: a block by its radiance and solid angle, a point in it by the rectangle map
+    // (core/rectangle_blocks.h); the blocks' table set up once per (point, light), like a rectangle's sampler.  Out
+    // of line and cold, as the textured emission it goes with (textured_emission.h).
+    [[gnu::noinline, gnu::cold]] LightSample<float> SampleEmissionBlocks(const AreaLight& l, Point2<float> u) {
+        const RectangleBlocks b = scene_.textured_emitters[size_t(l.texture)].Blocks();
+        return SampleRectangleBlocks(origin_, l.frame, b, BlocksAt(l, b), u);
     }
-    [[gnu::noinline, gnu::cold]] float EmissionBlocksPDF(const AreaLight& l, const Vec3f& p) const {
-        return RectangleBlocksPDF(origin_, l.frame, scene_.textured_emitters[size_t(l.texture)].Blocks(), p);
+    [[gnu::noinline, gnu::cold]] float EmissionBlocksPDF(const AreaLight& l, const Vec3f& p) {
+        const RectangleBlocks b = scene_.textured_emitters[size_t(l.texture)].Blocks();
+        return RectangleBlocksPDF(origin_, l.frame, b, BlocksAt(l, b), p);
+    }
+    const RectangleBlocksAt& BlocksAt(const AreaLight& l, const RectangleBlocks& b) {
+        if (blocks_texture_ != l.texture) {
+            MakeRectangleBlocksAt(origin_, l.frame, b, blocks_at_);
+            blocks_texture_ = l.texture;
+        }
+        return blocks_at_;
     }
 
     // Rectangle light `index`'s sampler at this point: a kept one, or set up in the oldest slot.
@@ -201,6 +211,8 @@ class LightSamplingAt {
     int set_up_ = 0;                      // samplers set up at this point
     TriangleSolidAngleSetup triangle_;    // set up for triangle light `triangle_index_`
     int triangle_index_ = -1;
+    RectangleBlocksAt blocks_at_;  // (uninitialised) set up for the textured rectangle of texture `blocks_texture_`
+    int blocks_texture_ = -1;
 };
 
 }  // namespace sphrect::render
