@@ -3,11 +3,11 @@
 // blocks along its edges, each of a mean radiance L_b (the caller's, from its texture).  At a shading point a block
 // is chosen with probability P(b) = w_b / sum w, w_b = L_b x Omega~_b, Omega~_b a cheap estimate of the solid angle
 // the block subtends (its area x cosine / distance^2 at its centre, at most 2 pi: MakeRectangleBlocksAt); then a point
-// in it by the rectangle map (rectangle.h) of that block's sub-rectangle.  The pdf of a point p in block b is P(b) / Omega(b) -- P(b)
-// times the map's pdf, which is the area fallback's where the map falls back (21).  Were Omega~ exact, the pdf would
-// be L_b / sum L Omega: the piecewise-constant radiance over the solid angle, sampled exactly.  Any P(b) > 0 keeps
-// the estimate unbiased (Omega~ only steers the choice); every block needs L_b > 0 wherever the light emits (the
-// caller's floor).  With one block it is the rectangle map itself.
+// in it by the rectangle map (rectangle.h) of that block's sub-rectangle.  The pdf of a point p in block b is P(b) /
+// Omega(b) -- P(b) times the map's pdf, which is the area fallback's where the map falls back (21).  Were Omega~ exact,
+// the pdf would be L_b / sum L Omega: the piecewise-constant radiance over the solid angle, sampled exactly.  Any P(b)
+// > 0 keeps the estimate unbiased (Omega~ only steers the choice); every block needs L_b > 0 wherever the light emits
+// (the caller's floor).  With one block it is the rectangle map itself.
 #pragma once
 
 #include <algorithm>

@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "core/rectangle_blocks.h"
 #include "core/ellipse_technique.h"
 #include "core/patterns.h"
 #include "name_tuple.h"
 #include "numpy_arrays.h"
 #include "core/rect_light.h"
 #include "core/rectangle.h"
+#include "core/rectangle_blocks.h"
 #include "core/technique.h"
 
 namespace py = pybind11;
@@ -673,7 +673,6 @@ plane or behind a one-sided light) are NaN.)doc");
           R"doc(n points of a 2D sample pattern in [0,1)^2, float32 [n, 2].
 
 name is one of sphrect.patterns; different seeds give decorrelated point sets.)doc");
-
 
     // The block sampler of textured rectangle lights (core/rectangle_blocks.h), float32: for its chi-square test.
     struct BlocksSetup {

@@ -143,11 +143,11 @@ class RenderScene {
     // then the emissive meshes' (on_mesh), which those rays find through Embree.
     std::vector<AreaLight> area_lights;
     size_t num_analytic_lights = 0;
-    AreaLightFinder analytic_light_finder;  // of lights [0, num_analytic_lights): which a ray crosses
-    LightSelector light_selector;           // over area_lights, by power
-    bool has_mesh_lights = false;           // some area light is on_mesh
+    AreaLightFinder analytic_light_finder;           // of lights [0, num_analytic_lights): which a ray crosses
+    LightSelector light_selector;                    // over area_lights, by power
+    bool has_mesh_lights = false;                    // some area light is on_mesh
     std::vector<TexturedEmitter> textured_emitters;  // the area lights' of texture >= 0 (textured_emission.h)
-    bool has_transparency = false;          // Commit(): some triangle's material may let rays through
+    bool has_transparency = false;                   // Commit(): some triangle's material may let rays through
     // Whether triangle `prim` of `mesh` has a material that may let rays through (integrator/transparency.h).
     bool MayBeTransparent(const MeshData& mesh, uint32_t prim) const {
         const int32_t material = mesh.material_ids.empty() ? 0 : mesh.material_ids[prim];

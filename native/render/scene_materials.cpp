@@ -93,7 +93,8 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
             }
         }
         if (m.textures[int(TexturedInput::kEmission)].bound() && !IsBlack(bsdf.emission - m.emission))
-            Fail("a mix with an emission texture cannot have emitting layers (the texture multiplies its own emission)");
+            Fail(
+                "a mix with an emission texture cannot have emitting layers (the texture multiplies its own emission)");
     } else {
         bsdf = MakeBsdfFromInputs(m, m.inputs);
         bsdf.emission = m.emission;
@@ -106,7 +107,7 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
         } catch (const std::invalid_argument& e) {
             Fail("texture '" + std::string(kTexturedInputNames[i]) + "': " + e.what());
         }
-        bsdf.textured = true;  // the hit's texture coordinates are needed
+        bsdf.textured = true;                                        // the hit's texture coordinates are needed
         if (TexturedInput(i) == TexturedInput::kEmission) continue;  // any kind that emits (textured_emission.h)
         if (m.kind == MaterialKind::kMix) Fail("a mix's textures are its layers' (but for its emission)");
         if (m.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no textures (use 'principled')");

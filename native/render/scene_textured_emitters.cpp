@@ -64,8 +64,8 @@ void RenderScene::AddTexturedEmitter(int material, uint32_t mesh, uint32_t first
         for (int j = 0; j < e.ny * sy; ++j)
             for (int i = 0; i < e.nx * sx; ++i) {
                 const float s = (i + 0.5f) / float(e.nx * sx), t = (j + 0.5f) / float(e.ny * sy);
-                const Spectrum c = EmissionAtCoordinates(*this, material,
-                                                         EmitterCoordinatesAt(*this, e, r.corner + r.ex * s + r.ey * t));
+                const Spectrum c = EmissionAtCoordinates(
+                    *this, material, EmitterCoordinatesAt(*this, e, r.corner + r.ex * s + r.ey * t));
                 add(c);
                 power[size_t((j / sy) * e.nx + i / sx)] += std::max(double(Luminance(c)), 0.0);
             }
@@ -77,15 +77,16 @@ void RenderScene::AddTexturedEmitter(int material, uint32_t mesh, uint32_t first
         const double largest = *std::max_element(power.begin(), power.end()) + floor;
         for (double p : power) e.block_radiance.push_back(float((p + floor) / largest));
     } else {
-        // Cell centres of an s x s grid through the square-to-triangle map that is uniform by area (SampleTriangleArea).
+        // Cell centres of an s x s grid through the square-to-triangle map that is uniform by area
+        // (SampleTriangleArea).
         const int s = std::min(LookupsAlong(std::max(TexelsBetween(*this, e, l.v0, l.v0 + l.e1),
                                                      TexelsBetween(*this, e, l.v0, l.v0 + l.e2))),
                                64);
         for (int j = 0; j < s; ++j)
             for (int i = 0; i < s; ++i) {
                 const float su = std::sqrt((i + 0.5f) / s), v = (j + 0.5f) / s;
-                add(EmissionAtCoordinates(*this, material,
-                                          EmitterCoordinatesAt(*this, e, l.v0 + l.e1 * (su * (1 - v)) + l.e2 * (su * v))));
+                add(EmissionAtCoordinates(
+                    *this, material, EmitterCoordinatesAt(*this, e, l.v0 + l.e1 * (su * (1 - v)) + l.e2 * (su * v))));
             }
         n = size_t(s) * size_t(s);
     }

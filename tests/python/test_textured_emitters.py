@@ -54,7 +54,8 @@ def test_a_textured_quad_is_one_rectangle_light_and_textured():
 
 # Its right half at a quarter of the left: every block keeps a power of its own, so that the per-pixel t-test sees
 # the block sampler's usual noise (a black block is chosen with the floor's ~1% probability only: a rare event that
-# 12 replicates of 32 light samples cannot average, which test_half_black_texture_halves_the_irradiance measures instead).
+# 12 replicates of 32 light samples cannot average, which test_half_black_texture_halves_the_irradiance measures
+# instead).
 TWO_TONE = [[[1, 1, 1], [0.25, 0.25, 0.25]]]
 RIGHT_HALF = [[0.05, -0.4, 1], [0.6, -0.4, 1], [0.6, 0.5, 1], [0.05, 0.5, 1]]
 

@@ -109,7 +109,8 @@ static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHi
     // only the analytic lights, so they are not counted twice.
     if (out.hit && scene.has_mesh_lights) {
         if (!IsBlack(scene.bsdfs[out.surface.material].emission))
-            seen += weighted(EmissionSeenAtHit(scene, out.surface) * SegmentTransmittance<kMedium>(scene.medium, out.t_end));
+            seen += weighted(EmissionSeenAtHit(scene, out.surface) *
+                             SegmentTransmittance<kMedium>(scene.medium, out.t_end));
     }
     scene.analytic_light_finder.ForEachCrossing(out.ray.o, out.ray.d, t_begin, std::min(out.t_end, out.ray.tmax),
                                                 LightsSought::VisibleToCamera, [&](int i, float t) {

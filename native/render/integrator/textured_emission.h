@@ -35,7 +35,9 @@ inline TextureCoordinates EmitterCoordinatesAt(const RenderScene& scene, const T
     float best_depth = -kInf, best_b1 = 0, best_b2 = 0;
     for (int k = 0; k < e.num_triangles; ++k) {
         const uint32_t* t = &m.triangles[3 * size_t(e.triangles[k])];
-        auto vertex = [&](uint32_t v) { return Vec3f(m.vertices[3 * v], m.vertices[3 * v + 1], m.vertices[3 * v + 2]); };
+        auto vertex = [&](uint32_t v) {
+            return Vec3f(m.vertices[3 * v], m.vertices[3 * v + 1], m.vertices[3 * v + 2]);
+        };
         const Vec3f v0 = vertex(t[0]), e1 = vertex(t[1]) - v0, e2 = vertex(t[2]) - v0, q = p - v0;
         const float g11 = Dot(e1, e1), g12 = Dot(e1, e2), g22 = Dot(e2, e2);
         const float r1 = Dot(q, e1), r2 = Dot(q, e2), det = g11 * g22 - g12 * g12;
@@ -64,7 +66,8 @@ inline TextureCoordinates EmitterCoordinatesAt(const RenderScene& scene, const T
 // Camera rays: the emission of the hit's material, at its texture coordinates when an image drives it.
 static inline Spectrum EmissionSeenAtHit(const RenderScene& scene, const SurfaceHit& h) {
     const Spectrum& le = scene.bsdfs[size_t(h.material)].emission;
-    if (scene.textured_emitters.empty() || !scene.materials[size_t(h.material)].textures[int(TexturedInput::kEmission)].bound())
+    if (scene.textured_emitters.empty() ||
+        !scene.materials[size_t(h.material)].textures[int(TexturedInput::kEmission)].bound())
         return le;
     return EmissionAtCoordinates(scene, h.material, h.tc);
 }
