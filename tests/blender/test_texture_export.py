@@ -231,10 +231,12 @@ def test_interpolation_extension_output_and_what_is_approximated(empty_scene):
 
 
 def principled_textured(image):
-    """A Principled BSDF of Base Color, Roughness, Metallic and Specular each from an Image Texture (one image)."""
+    """A Principled BSDF of Base Color, Roughness, Metallic, Specular and Emission each from an Image Texture (one
+    image)."""
     t = Tree("PBR")
     bsdf = t.node("ShaderNodeBsdfPrincipled")
-    for socket in ("Base Color", "Roughness", "Metallic", "Specular"):
+    bsdf.inputs["Emission Strength"].default_value = 0.5
+    for socket in ("Base Color", "Roughness", "Metallic", "Specular", "Emission"):
         reroute = t.node("NodeReroute")  # links through reroutes are followed
         t.link(t.image(image).outputs["Color"], reroute.inputs[0])
         t.link(reroute.outputs[0], bsdf.inputs[socket])
