@@ -17,6 +17,7 @@
 #include "numpy_arrays.h"
 #include "core/rect_light.h"
 #include "core/rectangle.h"
+#include "core/rectangle_blocks.h"
 #include "core/technique.h"
 
 namespace py = pybind11;
@@ -672,6 +673,68 @@ plane or behind a one-sided light) are NaN.)doc");
           R"doc(n points of a 2D sample pattern in [0,1)^2, float32 [n, 2].
 
 name is one of sphrect.patterns; different seeds give decorrelated point sets.)doc");
+
+    // The block sampler of textured rectangle lights (core/rectangle_blocks.h), float32: for its chi-square test.
+    struct BlocksSetup {
+        std::vector<float> radiance;
+        RectangleBlocks b;
+        RectLightFrame<float> frame;
+        Vec3f origin;
+        RectangleBlocksAt at;
+    };
+    auto setup = [](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                    const py::object& radiance_obj) {
+        const ArrayD w = ArrayOf<double>(radiance_obj, "radiance");
+        if (w.ndim() != 2 || w.shape(0) < 1 || w.shape(1) < 1 || w.shape(0) > kMaxRectangleBlocksPerSide ||
+            w.shape(1) > kMaxRectangleBlocksPerSide)
+            throw py::value_error("radiance must have shape (ny, nx), each in 1.." +
+                                  std::to_string(kMaxRectangleBlocksPerSide) + ", got " + ShapeString(w));
+        auto s = std::make_unique<BlocksSetup>();
+        for (py::ssize_t k = 0; k < w.size(); ++k) {
+            if (!(w.data()[k] >= 0) || !std::isfinite(w.data()[k])) throw py::value_error("radiance must be >= 0");
+            s->radiance.push_back(float(w.data()[k]));
+        }
+        s->b = {int(w.shape(1)), int(w.shape(0)), s->radiance.data()};
+        s->frame = MakeRectLightFrame(ReadLight<float>(corner, ex, ey, true));
+        s->origin = ReadVec3s<float>(origin, "origin", false)[0];
+        MakeRectangleBlocksAt(s->origin, s->frame, s->b, s->at);
+        return s;
+    };
+    m.def(
+        "sample_rectangle_blocks",
+        [setup](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                const py::object& radiance, const py::object& uv_obj) {
+            const auto s = setup(origin, corner, ex, ey, radiance);
+            const auto uv = ReadUV<float>(uv_obj);
+            py::array_t<float> points = NewArray<float>(uv.size(), 3), pdf = NewArray<float>(uv.size(), 0);
+            float* P = points.mutable_data();
+            float* Q = pdf.mutable_data();
+            for (size_t i = 0; i < uv.size(); ++i) {
+                const LightSample<float> ls =
+                    SampleRectangleBlocks(s->origin, s->frame, s->b, s->at, Point2<float>{uv[i][0], uv[i][1]});
+                P[3 * i] = ls.point.x, P[3 * i + 1] = ls.point.y, P[3 * i + 2] = ls.point.z;
+                Q[i] = ls.pdf;
+            }
+            return py::make_tuple(points, pdf);
+        },
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("radiance"), arg("uv"),
+        "Points of the rectangle by block (radiance [ny, nx]: block (i, j) along (edge_x, edge_y)) by radiance x "
+        "estimated solid angle, then by solid angle in the block: (points [N, 3], solid-angle pdf [N]).  The sampler "
+        "of textured rectangle lights.");
+    m.def(
+        "rectangle_blocks_pdf",
+        [setup](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                const py::object& radiance, const py::object& points_obj) {
+            const auto s = setup(origin, corner, ex, ey, radiance);
+            const auto pts = ReadRows<float, 3>(points_obj, "points", false);
+            py::array_t<float> pdf = NewArray<float>(pts.size(), 0);
+            float* Q = pdf.mutable_data();
+            for (size_t i = 0; i < pts.size(); ++i)
+                Q[i] = RectangleBlocksPDF(s->origin, s->frame, s->b, s->at, Vec3f(pts[i][0], pts[i][1], pts[i][2]));
+            return pdf;
+        },
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("radiance"), arg("points"),
+        "Solid-angle pdf of sample_rectangle_blocks at points of the rectangle.");
 }
 
 }  // namespace sphrect::python

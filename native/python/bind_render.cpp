@@ -224,7 +224,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
                                        const std::string& medium_sampling, const std::string& light_selection,
                                        const std::string& ellipse_technique, uint64_t seed, int threads, int tile_size,
                                        bool analytic_light_coverage, bool bsdf_samples_on_diffuse,
-                                       uint64_t memory_limit) {
+                                       uint64_t memory_limit, bool emission_blocks) {
     if (!scene->committed()) throw py::value_error("the scene must be committed before rendering");
     render::RenderOptions o;
     o.techniques.clear();
@@ -248,6 +248,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
     o.analytic_light_coverage = analytic_light_coverage;
     o.bsdf_samples_on_diffuse = bsdf_samples_on_diffuse;
     o.memory_limit = memory_limit;
+    o.emission_blocks = emission_blocks;
     return std::make_unique<Renderer>(std::move(scene), std::move(o));
 }
 
@@ -333,6 +334,7 @@ py::dict RenderDefaults() {
     d["ellipse_technique"] = EllipseTechniqueName(o.ellipse_technique);
     d["analytic_light_coverage"] = o.analytic_light_coverage;
     d["bsdf_samples_on_diffuse"] = o.bsdf_samples_on_diffuse;
+    d["emission_blocks"] = o.emission_blocks;
     d["memory_limit"] = o.memory_limit ? py::object(py::int_(o.memory_limit)) : py::object(py::none());
     return d;
 }
@@ -528,7 +530,8 @@ void BindRender(py::module_& m) {
         .def(py::init(&MakeRenderer), py::arg("scene"), py::arg("techniques"), py::arg("light_samples"),
              py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("light_selection"),
              py::arg("ellipse_technique"), py::arg("seed"), py::arg("threads"), py::arg("tile_size"),
-             py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"), py::arg("memory_limit"))
+             py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"), py::arg("memory_limit"),
+             py::arg("emission_blocks") = render::RenderOptions{}.emission_blocks)
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
         .def("cancel", &Renderer::Cancel)
         .def("set_camera", &SetCamera<Renderer>, CAMERA_ARGS)

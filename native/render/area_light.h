@@ -48,6 +48,9 @@ struct AreaLight {
     // spread_cot 0 (a spread of 180 degrees) is a light without spread.
     float spread_cot = 0;
     float spread_normalization = 1;
+    // Textured emission (an emissive mesh's): index into RenderScene::textured_emitters, -1 for none.  `radiance` is
+    // then its mean over the light, which light selection uses (textured_emission.h).
+    int texture = -1;
     bool HasSpread() const { return spread_cot > 0; }
 };
 

@@ -32,10 +32,13 @@ constexpr const char* kGlassDistributionNames[] = {"ggx", "beckmann"};
 constexpr const char* kPrincipledDistributionNames[] = {"ggx", "multiscatter_ggx"};
 constexpr const char* kGlossyDistributionNames[] = {"ggx", "beckmann", "multiscatter_ggx"};
 
-// The inputs a lookup can drive (the scene format's TEXTURED_INPUTS, in order; bindings export the names).
-enum class TexturedInput { kBaseColor, kRoughness, kMetallic, kSpecular, kCount };
+// The inputs a lookup can drive (the scene format's TEXTURED_INPUTS, in order; bindings export the names).  The
+// emission's lookup multiplies Material::emission (Cycles' colour x strength, the colour an image's) at each point
+// of the emitter (textured_emission.h); the others replace their input.
+enum class TexturedInput { kBaseColor, kRoughness, kMetallic, kSpecular, kEmission, kCount };
 constexpr int kNumTexturedInputs = int(TexturedInput::kCount);
-constexpr const char* kTexturedInputNames[kNumTexturedInputs] = {"base_color", "roughness", "metallic", "specular"};
+constexpr const char* kTexturedInputNames[kNumTexturedInputs] = {"base_color", "roughness", "metallic", "specular",
+                                                                 "emission"};
 constexpr const char* kTextureInterpolationNames[] = {"linear", "closest"};     // TextureInterpolation's order
 constexpr const char* kTextureExtensionNames[] = {"repeat", "extend", "clip"};  // TextureExtension's order
 constexpr const char* kTextureOutputNames[] = {"color", "alpha"};               // TextureLookup::alpha_output
@@ -63,7 +66,8 @@ struct Material {
     PrincipledInputs inputs;  // base_color, roughness, metallic, specular used by every kind that has them
     float ior = 1.45f;        // glass
     bool beckmann = false;    // glass, glossy BSDF
-    Spectrum emission;        // radiance from both sides; a mix adds its layers' (each times its weight)
+    Spectrum emission;        // radiance from both sides (times its lookup's colour when textured); a mix adds its
+                              // layers' (each times its weight)
     TextureLookup textures[kNumTexturedInputs];
     NormalMap normal_map;               // lookup unbound: none
     std::vector<MaterialLayer> layers;  // kMix
@@ -146,7 +150,7 @@ inline std::vector<int> MixLobeSlots(const std::vector<Material>& parts) {
 // The Material's Bsdf at texture coordinates tc: each bound input replaced by its lookup (colours as
 // RGB, scalars as luminance; Cycles' closure setup clamps them as the Make*Bsdf functions do), a mix
 // rebuilt from its layers with the factors' weights (clamped to [0, 1], as svm_node_mix_closure does).
-// Emission is not textured: the caller keeps the material's own.
+// Emission is not part of a Bsdf: the caller keeps the material's own (a textured one is textured_emission.h's).
 inline Bsdf EvaluateTexturedBsdf(const Material& r, const std::vector<Image>& images, const TextureCoordinates& tc) {
     if (r.kind == MaterialKind::kMix) {
         Bsdf mix = MakeEmptyMixBsdf();

@@ -44,6 +44,9 @@ struct RenderOptions {
     // With MIS, also BSDF samples at purely diffuse (Lambert) hits when the lights are sampled by
     // solid angle; off, such hits take light samples alone (integrator/shade_surface.h).
     bool bsdf_samples_on_diffuse = false;
+    // Textured rectangle lights (an image on an emissive quad) sampled by their blocks' power and solid angle
+    // (core/rectangle_blocks.h) under every technique but `area`; off, by the technique over the whole light.
+    bool emission_blocks = true;
     // The most bytes the renderer's images may take (RenderMemoryBytes); 0: DefaultMemoryLimit().
     uint64_t memory_limit = 0;
     // Benchmarks only: run the kernel with every feature compiled in (medium, glossy, depth of

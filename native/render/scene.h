@@ -20,6 +20,7 @@
 #include "ray_visibility.h"
 #include "texture.h"
 #include "material.h"
+#include "textured_emitter.h"
 
 namespace sphrect::render {
 
@@ -158,10 +159,11 @@ class RenderScene {
     // then the emissive meshes' (on_mesh), which those rays find through Embree.
     std::vector<AreaLight> area_lights;
     size_t num_analytic_lights = 0;
-    AreaLightFinder analytic_light_finder;  // of lights [0, num_analytic_lights): which a ray crosses
-    LightSelector light_selector;           // over area_lights, by power
-    bool has_mesh_lights = false;           // some area light is on_mesh
-    bool has_transparency = false;          // Commit(): some triangle's material may let rays through
+    AreaLightFinder analytic_light_finder;           // of lights [0, num_analytic_lights): which a ray crosses
+    LightSelector light_selector;                    // over area_lights, by power
+    bool has_mesh_lights = false;                    // some area light is on_mesh
+    std::vector<TexturedEmitter> textured_emitters;  // the area lights' of texture >= 0 (textured_emission.h)
+    bool has_transparency = false;                   // Commit(): some triangle's material may let rays through
     // Commit(): some mesh hides from some ray kind, or some light's visibility is not the default (ray_visibility.h):
     // BSDF rays then need their lobe's kind.
     bool ray_visibility = false;
@@ -200,6 +202,9 @@ class RenderScene {
     mutable std::vector<TreeEmitterRef> light_tree_refs_;
     void RequireNotCommitted() const;
     void AddMeshLights();
+    // AddMeshLights: area_lights.back(), of material `material`, made of `count` triangles of meshes[mesh] from
+    // `first`, takes its emission from the material's image (scene_textured_emitters.cpp).
+    void AddTexturedEmitter(int material, uint32_t mesh, uint32_t first, int count);
     void LetRaysThroughTransparentMeshes();  // Commit(): sets has_transparency and the meshes' occlusion filters
     RTCDevice device_ = nullptr;
     bool committed_ = false, camera_set_ = false;

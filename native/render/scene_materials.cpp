@@ -77,6 +77,8 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
                 for (const MixFactorLookup& f : layer.factors) CheckLookup(f.lookup);
                 if (layer.material.normal_map.lookup.bound())
                     Fail("a mix layer cannot have a normal map of its own (the mix's has)");
+                if (layer.material.textures[int(TexturedInput::kEmission)].bound())
+                    Fail("a mix layer cannot have an emission texture of its own (the mix's has)");
                 const Bsdf part = MakeMaterialBsdf(layer.material);
                 if (!layer.factors.empty() && !IsBlack(part.emission))
                     Fail(
@@ -90,6 +92,9 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
                 Fail("layer " + std::to_string(i) + " ('" + layer.material.name + "'): " + e.what());
             }
         }
+        if (m.textures[int(TexturedInput::kEmission)].bound() && !IsBlack(bsdf.emission - m.emission))
+            Fail(
+                "a mix with an emission texture cannot have emitting layers (the texture multiplies its own emission)");
     } else {
         bsdf = MakeBsdfFromInputs(m, m.inputs);
         bsdf.emission = m.emission;
@@ -102,9 +107,10 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
         } catch (const std::invalid_argument& e) {
             Fail("texture '" + std::string(kTexturedInputNames[i]) + "': " + e.what());
         }
-        if (m.kind == MaterialKind::kMix) Fail("a mix's textures are its layers'");
+        bsdf.textured = true;                                        // the hit's texture coordinates are needed
+        if (TexturedInput(i) == TexturedInput::kEmission) continue;  // any kind that emits (textured_emission.h)
+        if (m.kind == MaterialKind::kMix) Fail("a mix's textures are its layers' (but for its emission)");
         if (m.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no textures (use 'principled')");
-        bsdf.textured = true;
         if (m.kind == MaterialKind::kTransparent && TexturedInput(i) == TexturedInput::kBaseColor) {
             // May let rays through wherever its image is not black: the hit evaluates it (integrator/transparency.h).
             bsdf.transparency = {1, 1, 1};

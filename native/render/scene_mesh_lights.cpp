@@ -89,6 +89,10 @@ void RenderScene::AddMeshLights() {
             return t;
         };
         m.triangle_light.assign(m.num_triangles, -1);
+        auto textured = [&](size_t i) {
+            return materials[material_of(i)].textures[int(TexturedInput::kEmission)].bound();
+        };
+        const uint32_t mesh_index = uint32_t(&m - meshes.data());
         for (size_t i = 0; i < m.num_triangles; ++i) {
             const Spectrum& le = bsdfs[material_of(i)].emission;
             if (IsBlack(le)) continue;
@@ -98,6 +102,7 @@ void RenderScene::AddMeshLights() {
                 if (const auto rect = RectangleOfPair(t, triangle(i + 1))) {
                     area_lights.push_back(MakeRectAreaLight(rect->corner, rect->ex, rect->ey, le, true, true));
                     area_lights.back().on_mesh = true;
+                    if (textured(i)) AddTexturedEmitter(material_of(i), mesh_index, uint32_t(i), 2);
                     m.triangle_light[i] = m.triangle_light[i + 1] = index;
                     ++i;
                     continue;
@@ -109,6 +114,7 @@ void RenderScene::AddMeshLights() {
                 continue;
             }
             area_lights.push_back(l);
+            if (textured(i)) AddTexturedEmitter(material_of(i), mesh_index, uint32_t(i), 1);
             m.triangle_light[i] = index;
         }
         // It lights the closures its object is visible to (light.cpp's mesh_light.shader_flag).

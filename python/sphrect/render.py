@@ -33,6 +33,11 @@ solid angle (every technique but "area", and ellipse_technique "spherical_ellips
 diffuse (Lambert) material takes light samples alone, and BSDF samples only to find the background;
 glossy and Principled hits keep both.  True gives diffuse hits their BSDF samples too.
 
+Textured emitters (an emissive mesh whose Material.textures["emission"] drives its colour): evaluated per point
+for camera rays, BSDF rays and light samples.  A textured rectangle (an image on a quad) is sampled by the power of
+its blocks and the solid angle of each (emission_blocks, default True; every technique but "area"); False samples it
+by the technique over the whole light.
+
 Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=2: best at equal time over
 the blend_scenes, the lights in view and their edges' coverage exact): docs/renderer.md, "Light selection and
 defaults".
@@ -289,7 +294,8 @@ class Renderer:
                  ellipse_technique: str = _DEFAULTS["ellipse_technique"],
                  analytic_light_coverage: bool = _DEFAULTS["analytic_light_coverage"],
                  bsdf_samples_on_diffuse: bool = _DEFAULTS["bsdf_samples_on_diffuse"],
-                 memory_limit: Optional[int] = _DEFAULTS["memory_limit"]):
+                 memory_limit: Optional[int] = _DEFAULTS["memory_limit"],
+                 emission_blocks: bool = _DEFAULTS["emission_blocks"]):
         if not isinstance(scene, Scene):
             raise ValueError(f"expected a sphrect.Scene, got {type(scene).__name__}")
         if isinstance(techniques, str):
@@ -319,7 +325,8 @@ class Renderer:
         self._film_transparent = bool(scene.camera.film_transparent)
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
                                     str(light_selection), str(ellipse_technique), seed, threads, tile_size,
-                                    bool(analytic_light_coverage), bool(bsdf_samples_on_diffuse), memory_limit)
+                                    bool(analytic_light_coverage), bool(bsdf_samples_on_diffuse), memory_limit,
+                                    bool(emission_blocks))
         self._techniques = techniques
         self._memory_limit = memory_limit
 

@@ -61,6 +61,8 @@ FORMAT_NAME = "sphrect-scene"
 # files load as before: radius and angle 0, delta lights.
 # 11: RectLight.spread, EllipseLight.spread (Blender's Spread, radians).  Older files load with spread = pi (none).
 # 12: World.environment (an equirectangular image world).  Older files load without one (the constant background).
+# 13: Material.textures["emission"] (TEXTURED_INPUTS' 'emission'): an image that multiplies the emission at each point
+# of the emitter (textured emitters).  Older files load unchanged (constant emission).
 # 14: Mesh.invisible_to and every light's invisible_to, cast_shadow, use_mis (Blender's Ray Visibility, a light's
 # Cast Shadow and Multiple Importance, as Cycles 3.4 honours them).  Older files load with everything visible.
 FORMAT_VERSION = 14
@@ -160,9 +162,11 @@ class Material:
     distribution: str = "ggx"
     layers: List["MaterialLayer"] = field(default_factory=list)  # 'mix' only
     # Radiance (W/m^2/sr) from both sides, Cycles' colour x strength; every emissive triangle is a light (files
-    # without it load as 0).
+    # without it load as 0).  With textures["emission"], the radiance at each point is this times the image's colour
+    # there (a mix's emission texture is its own: none of its layers may emit then).
     emission: RGB = (0.0, 0.0, 0.0)
-    # Image textures driving inputs (keys from TEXTURED_INPUTS; the value replaces the field of that name), and a
+    # Image textures driving inputs (keys from TEXTURED_INPUTS; the value replaces the field of that name, but for
+    # 'emission', which it multiplies), and a
     # Normal Map node's tangent-space map (its Color read as 2 c - 1 in the frame of the UVs' tangent, the
     # bitangent and the shading normal; strength as the node's); none of a mix's layers has its own normal map.
     textures: Dict[str, "TextureLookup"] = field(default_factory=dict)

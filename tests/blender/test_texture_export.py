@@ -231,10 +231,12 @@ def test_interpolation_extension_output_and_what_is_approximated(empty_scene):
 
 
 def principled_textured(image):
-    """A Principled BSDF of Base Color, Roughness, Metallic and Specular each from an Image Texture (one image)."""
+    """A Principled BSDF of Base Color, Roughness, Metallic, Specular and Emission each from an Image Texture (one
+    image)."""
     t = Tree("PBR")
     bsdf = t.node("ShaderNodeBsdfPrincipled")
-    for socket in ("Base Color", "Roughness", "Metallic", "Specular"):
+    bsdf.inputs["Emission Strength"].default_value = 0.5
+    for socket in ("Base Color", "Roughness", "Metallic", "Specular", "Emission"):
         reroute = t.node("NodeReroute")  # links through reroutes are followed
         t.link(t.image(image).outputs["Color"], reroute.inputs[0])
         t.link(reroute.outputs[0], bsdf.inputs[socket])
@@ -581,10 +583,10 @@ def test_textures_survive_the_scene_file(empty_scene, tmp_path):
     np.testing.assert_array_equal(mesh_named(loaded, "Plane").uvs, mesh_named(scene, "Plane").uvs)
 
 
-def test_an_emitters_image_colour_is_its_mean(empty_scene):
-    """An Emission shader whose Color an Image Texture drives (a lit logo, a screen): every emissive triangle is a
-    light of constant radiance, so the image's mean colour (decoded as the renderer decodes it) x Strength, warned;
-    a missing image is Cycles' magenta (a third-party studio file was 2.6x too dark with the default colour)."""
+def test_an_emitters_image_colour_is_a_lookup(empty_scene):
+    """An Emission shader whose Color an Image Texture drives (a lit logo, a screen): the lookup on the emission
+    (Material.textures["emission"]), the Strength its multiplier, unwarned; a missing image is Cycles' magenta (the
+    lookup of a missing texture) -- a third-party studio file was 2.6x too dark with the default colour."""
     pixels = random_pixels(4, 6)
     for name, image in (("Screen", new_image("Img", pixels, colorspace="Non-Color")), ("Lost", None)):
         t = Tree(name)
@@ -594,12 +596,13 @@ def test_an_emitters_image_colour_is_its_mean(empty_scene):
         t.link(image_node.outputs["Color"], emission.inputs["Color"])
         on_plane(t.surface(emission), name=name, location=(3.0 * len(bpy.data.objects), 0.0, 0.0))
     scene, log = export()
-    stored = np.array(bpy.data.images["Img"].pixels[:], dtype=np.float64).reshape(4, 6, 4)  # bytes: quantised
-    assert material_named(scene, "Screen").emission == pytest.approx(tuple(3.0 * stored[..., :3].mean(axis=(0, 1))),
-                                                                    rel=1e-5)
-    assert material_named(scene, "Lost").emission == pytest.approx((3.0, 0.0, 3.0))
-    assert ("'Color' of an emitter from an Image Texture (the image's mean colour used) (Screen, Lost)"
-            in log.warning_text())
+    for name in ("Screen", "Lost"):
+        m = material_named(scene, name)
+        assert m.emission == pytest.approx((3.0, 3.0, 3.0)) and "emission" in m.textures
+    lost = scene.textures[material_named(scene, "Lost").textures["emission"].texture]
+    assert sphrect.texture_color_mean(lost.pixels, lost.colorspace == "srgb") == pytest.approx((1.0, 0.0, 1.0)) \
+        if lost.pixels is not None else lost.path == ""
+    assert "emitter" not in log.warning_text()
 
 
 def test_a_world_mirror_ball_image_is_baked(empty_scene):

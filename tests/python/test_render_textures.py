@@ -343,7 +343,7 @@ def test_missing_uvs_are_warned():
     (lambda s: setattr(s.materials[0].textures["base_color"], "interpolation", "cubic"), "interpolation"),
     (lambda s: setattr(s.materials[0].textures["base_color"], "extension", "mirror"), "extension"),
     (lambda s: setattr(s.materials[0].textures["base_color"], "transform", np.eye(3)), "3x4"),
-    (lambda s: s.materials[0].textures.update(emission=sphrect.TextureLookup(0)), "no input 'emission'"),
+    (lambda s: s.materials[0].textures.update(sheen=sphrect.TextureLookup(0)), "no input 'sheen'"),
     (lambda s: setattr(s.materials[0], "textures", [LOOKUP]), "textures must be a dict"),
     (lambda s: setattr(s.materials[0], "kind", "mix"), "material 'default': a mix's textures are its layers'"),
     (lambda s: setattr(s.textures[0], "colorspace", "aces"), "colorspace"),

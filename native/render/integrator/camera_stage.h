@@ -16,6 +16,7 @@
 #include "render/kernel.h"
 #include "sample_dimensions.h"
 #include "surface_hit.h"
+#include "textured_emission.h"
 #include "transparency.h"
 
 namespace sphrect::render {
@@ -107,8 +108,9 @@ static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHi
     // Emissive meshes are seen at their hit (two-sided, like their lights); the loop below covers
     // only the analytic lights, so they are not counted twice.
     if (out.hit && scene.has_mesh_lights) {
-        const Spectrum& le = scene.bsdfs[out.surface.material].emission;
-        if (!IsBlack(le)) seen += weighted(le * SegmentTransmittance<kMedium>(scene.medium, out.t_end));
+        if (!IsBlack(scene.bsdfs[out.surface.material].emission))
+            seen += weighted(EmissionSeenAtHit(scene, out.surface) *
+                             SegmentTransmittance<kMedium>(scene.medium, out.t_end));
     }
     scene.analytic_light_finder.ForEachCrossing(out.ray.o, out.ray.d, t_begin, std::min(out.t_end, out.ray.tmax),
                                                 LightsSought::VisibleToCamera, [&](int i, float t) {

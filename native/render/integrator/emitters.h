@@ -7,6 +7,7 @@
 
 #include "shade_context.h"
 #include "shadow_queue.h"
+#include "textured_emission.h"
 #include "timed_light_sampling.h"
 
 namespace sphrect::render {
@@ -47,7 +48,7 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
     if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return {};
     const AreaLight& l = c.scene.area_lights[light.index];
     if (l.on_mesh) PullOffMeshLight(l, ls);
-    const Spectrum le = EmittedRadiance(l, -ls.dir);
+    const Spectrum le = l.texture < 0 ? EmittedRadiance(l, -ls.dir) : TexturedEmissionAtPoint(c.scene, l, ls.point);
     if (IsBlack(le)) return {};
     return {true, ls.dir, ls.dist, le, light.pmf * ls.pdf};
 }
@@ -78,7 +79,9 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
     const int i = m.triangle_light[rh.hit.primID];
     if (i < 0) return;
     const float t = rh.ray.tfar;
-    const Spectrum le = EmittedRadiance(c.scene.area_lights[i], -d);
+    const AreaLight& l = c.scene.area_lights[i];
+    const Spectrum le =
+        l.texture < 0 ? EmittedRadiance(l, -d) : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v);
     if (IsBlack(le)) return;
     const float pdf_light = light_sampling.PDF(i, o + d * t);
     sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),

@@ -82,16 +82,18 @@ class LightSamplingAt {
     // normal: the techniques' (the cosine technique's horizon); tree_normal: the light tree's
     // receiver normal, (0,0,0) in a medium; light_samples: how many light samples the point will
     // draw (several: the tree keeps its nodes' probabilities for them, LightTreeAt); ellipse_technique:
-    // how ellipse lights are sampled.
+    // how ellipse lights are sampled; emission_blocks: textured rectangles by their blocks (RenderOptions).
     LightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin, const Vec3f& normal,
                     const Vec3f& tree_normal, int light_samples,
-                    EllipseTechnique ellipse_technique = RenderOptions{}.ellipse_technique)
+                    EllipseTechnique ellipse_technique = RenderOptions{}.ellipse_technique,
+                    bool emission_blocks = RenderOptions{}.emission_blocks)
         : scene_(scene),
           selection_(selection),
           origin_(origin),
           normal_(normal),
           tree_(scene.light_tree(), origin, tree_normal, light_samples > 1),
-          ellipse_(ellipse_technique) {}
+          ellipse_(ellipse_technique),
+          emission_blocks_(K != Technique::Area && emission_blocks) {}
 
     // The emitter of the light sample with pattern point light_point, at this receiver.
     ChosenLight Choose(Point2<float> light_point) {
@@ -106,6 +108,7 @@ class LightSamplingAt {
             if (K == Technique::Area) return SampleTriangleArea(l, origin_, u);
             return SampleTriangleSolidAngle(TriangleSetup(index), l, origin_, u);
         }
+        if (l.texture >= 0 && emission_blocks_) return SampleEmissionBlocks(l, u);
         const LightSampler<K, float>& s = RectangleSampler(index);
         return s.Valid() ? s.Sample(u) : LightSample<float>{};
     }
@@ -139,8 +142,28 @@ class LightSamplingAt {
             if (index == triangle_index_) return TriangleSolidAnglePDF(triangle_, l, origin_, p);
             return TriangleSolidAnglePDF(MakeTriangleSolidAngleSetup(l, origin_), l, origin_, p);
         }
+        if (l.texture >= 0 && emission_blocks_) return EmissionBlocksPDF(l, p);
         const LightSampler<K, float>& s = RectangleSampler(index);
         return s.Valid() ? s.PDF(p) : 0.0f;
+    }
+
+    // A textured rectangle light: a block by its radiance and solid angle, a point in it by the rectangle map
+    // (core/rectangle_blocks.h); the blocks' table set up once per (point, light), like a rectangle's sampler.  Out
+    // of line and cold, as the textured emission it goes with (textured_emission.h).
+    [[gnu::noinline, gnu::cold]] LightSample<float> SampleEmissionBlocks(const AreaLight& l, Point2<float> u) {
+        const RectangleBlocks b = scene_.textured_emitters[size_t(l.texture)].Blocks();
+        return SampleRectangleBlocks(origin_, l.frame, b, BlocksAt(l, b), u);
+    }
+    [[gnu::noinline, gnu::cold]] float EmissionBlocksPDF(const AreaLight& l, const Vec3f& p) {
+        const RectangleBlocks b = scene_.textured_emitters[size_t(l.texture)].Blocks();
+        return RectangleBlocksPDF(origin_, l.frame, b, BlocksAt(l, b), p);
+    }
+    const RectangleBlocksAt& BlocksAt(const AreaLight& l, const RectangleBlocks& b) {
+        if (blocks_texture_ != l.texture) {
+            MakeRectangleBlocksAt(origin_, l.frame, b, blocks_at_);
+            blocks_texture_ = l.texture;
+        }
+        return blocks_at_;
     }
 
     // Rectangle light `index`'s sampler at this point: a kept one, or set up in the oldest slot.
@@ -174,6 +197,7 @@ class LightSamplingAt {
     Vec3f origin_, normal_;
     LightTreeAt tree_;  // at (origin, tree_normal)
     EllipseSamplingAt ellipse_;
+    bool emission_blocks_;
     static constexpr int kKeptSamplers = 4;
     // A sampler's storage, left uninitialised until it is set up (std::optional's slots were
     // zeroed with every LightSamplingAt: docs/architecture.md, measured choices).
@@ -187,6 +211,8 @@ class LightSamplingAt {
     int set_up_ = 0;                      // samplers set up at this point
     TriangleSolidAngleSetup triangle_;    // set up for triangle light `triangle_index_`
     int triangle_index_ = -1;
+    RectangleBlocksAt blocks_at_;  // (uninitialised) set up for the textured rectangle of texture `blocks_texture_`
+    int blocks_texture_ = -1;
 };
 
 }  // namespace sphrect::render

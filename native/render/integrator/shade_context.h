@@ -23,6 +23,7 @@ struct ShadeContext {
     // the medium's transmittance to infinity.
     const EnvironmentLight* environment;
     Spectrum environment_transmittance;
+    bool emission_blocks;  // RenderOptions::emission_blocks
 };
 
 template <bool kMedium>
@@ -41,7 +42,8 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
                     !IsBlack(SegmentTransmittance<kMedium>(scene.medium, kInf))
                 ? &scene.environment
                 : nullptr,
-            SegmentTransmittance<kMedium>(scene.medium, kInf)};
+            SegmentTransmittance<kMedium>(scene.medium, kInf),
+            opt.emission_blocks};
 }
 
 // The same context without MIS: light samples alone, and BSDF samples only to find the background.

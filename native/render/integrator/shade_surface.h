@@ -233,7 +233,7 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     const Vec3f technique_normal =
         K == Technique::RectangleProjected && kGlossy && sp.material.has_translucent ? Vec3f() : h.ns;
     TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, technique_normal, tree_normal, n_pairs,
-                                           c.ellipse_technique, light_ticks);
+                                           c.ellipse_technique, light_ticks, c.emission_blocks);
     for (int j = 0; j < n_pairs; ++j) {
         const ChosenLight light = light_sampling.Choose(light_points[j]);
         if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow

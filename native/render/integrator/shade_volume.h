@@ -105,7 +105,7 @@ static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint
     constexpr Technique MK = kMediumTechnique<K>;
     const ShadowSink out = sink.Scaled(c.scene.medium.sigma_s);
     TimedLightSamplingAt<MK> light_sampling(c.scene, c.light_selection, sp.x, sp.ray_dir, Vec3f(0, 0, 0), 1,
-                                            c.ellipse_technique, light_ticks);
+                                            c.ellipse_technique, light_ticks, c.emission_blocks);
     const ChosenLight light = light_sampling.Choose(light_point);
     if (light.delta >= 0)  // a point or spot light the tree chose: phase Li T / pmf
         QueueMediumDeltaLight(c, sp, c.scene.delta_lights[light.delta], light.u, light.pmf,

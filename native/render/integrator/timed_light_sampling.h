@@ -15,8 +15,9 @@ class TimedLightSamplingAt {
   public:
     TimedLightSamplingAt(const RenderScene& scene, LightSelection selection, const Vec3f& origin, const Vec3f& normal,
                          const Vec3f& tree_normal, int light_samples, EllipseTechnique ellipse_technique,
-                         uint64_t& ticks)
-        : sampling_(scene, selection, origin, normal, tree_normal, light_samples, ellipse_technique), ticks_(ticks) {}
+                         uint64_t& ticks, bool emission_blocks = true)
+        : sampling_(scene, selection, origin, normal, tree_normal, light_samples, ellipse_technique, emission_blocks),
+          ticks_(ticks) {}
 
     ChosenLight Choose(Point2<float> light_point) {
         const uint64_t t0 = ReadTicks();

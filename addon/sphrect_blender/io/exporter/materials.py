@@ -189,23 +189,55 @@ def export_material(sphrect, mat, log, textures=None):
     return _shader(sphrect, node, textures, log, name)
 
 
-def _emission(node, color_input, strength_input, weight, log, owner, textures=None):
-    """weight x colour x strength (Cycles' emission closure weight); a negative strength is logged and
-    read as 0 (Cycles 3.4 does not clamp it: its emission would be negative).  A colour an Image Texture drives
-    takes the image's mean (an emitter's radiance is constant over it here), warned."""
+def _emission_term(node, color_input, strength_input, weight, log, owner, textures=None):
+    """(weight x colour x strength, None) -- Cycles' emission closure weight -- or, for a colour an Image Texture
+    drives, (weight x strength, its TextureLookup): the renderer multiplies the emission by the image's colour at each
+    point of the emitter (Material.textures["emission"]).  A negative strength is logged and read as 0 (Cycles 3.4
+    does not clamp it: its emission would be negative)."""
     socket = node.inputs.get(color_input)
     source = image_texture_source(socket) if textures is not None and socket is not None and socket.is_linked else None
-    if source is not None:
-        log.unsupported_feature(f"'{color_input}' of an emitter from an Image Texture (the image's mean colour used)",
-                                owner)
-        color = np.asarray(textures.color_mean(textures.lookup(*source, owner)), dtype=float)
-    else:
-        color = np.asarray(_value(node, color_input, log, owner)[:3], dtype=float)
+    lookup = textures.lookup(*source, owner) if source is not None else None
+    color = np.ones(3) if lookup is not None else np.asarray(_value(node, color_input, log, owner)[:3], dtype=float)
     strength = _value(node, strength_input, log, owner)
     if strength < 0:
         log.unsupported_feature("negative emission strength (0 used)", owner)
         strength = 0.0
-    return _rgb(np.clip(color, 0, None) * strength * weight)
+    return _rgb(np.clip(color, 0, None) * strength * weight), lookup
+
+
+def _emission(node, color_input, strength_input, weight, log, owner, textures=None):
+    """_emission_term's emission as one constant: an image's colour taken as its mean, warned (where the renderer
+    cannot vary it: under a texture-driven Mix Shader factor)."""
+    emission, lookup = _emission_term(node, color_input, strength_input, weight, log, owner, textures)
+    if lookup is None:
+        return emission
+    log.unsupported_feature(f"'{color_input}' of an emitter from an Image Texture under a texture-driven Mix Shader "
+                            "factor (the image's mean colour used)", owner)
+    return _rgb(np.asarray(emission) * np.asarray(textures.color_mean(lookup)))
+
+
+def _textured_emission(material):
+    """(emission, its lookup or None) of a material from _bsdf, and the material without its emission."""
+    lookup = material.textures.get("emission")
+    plain = dataclasses.replace(material, emission=(0.0, 0.0, 0.0),
+                                textures={k: v for k, v in material.textures.items() if k != "emission"})
+    return material.emission, lookup, plain
+
+
+def _with_emission(material, constant, textured, textures, log, name):
+    """The material with the summed emission: constant (RGB) plus the textured terms [(scale, lookup)].  One image
+    alone is the material's emission texture; an image beside another or beside a constant emission is taken as its
+    mean (warned: the renderer's emission is one image times a constant)."""
+    constant = np.asarray(constant, dtype=float)
+    if len(textured) == 1 and not np.any(constant > 0):
+        scale, lookup = textured[0]
+        return dataclasses.replace(material, emission=_rgb(scale), textures={**material.textures, "emission": lookup})
+    if textured:
+        log.unsupported_feature("emission from several Image Textures, or from one beside a constant emission (the "
+                                "images' mean colours used)", name)
+        for scale, lookup in textured:
+            constant = constant + np.asarray(scale) * np.asarray(textures.color_mean(lookup))
+    return dataclasses.replace(material, emission=_rgb(constant))
 
 
 # Distinct lists of texture-driven Mix Shader factors a material's shaders may sit under (_closures): past it,
@@ -351,9 +383,10 @@ def _shader(sphrect, node, textures, log, name):
     if leaves is None:  # warned
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.8, 0.8, 0.8))
     emission = np.zeros(3)
+    textured_emission = []  # [(scale, TextureLookup)]: emission an image drives (_with_emission)
     layers = []
-    # Emission is constant over a surface (every emissive triangle is a light): under a texture-driven factor it
-    # takes the factor's mean over its image.
+    # An emitter's emission is one image times a constant (Material.textures["emission"]): under a texture-driven
+    # factor it takes the factor's mean over its image.
     constant_emission = "emission under a texture-driven Mix Shader factor (the factor's image mean used)"
     for weight, leaf, factors in leaves:
         if leaf is WHITE_TRANSPARENT or leaf.bl_idname == "ShaderNodeBsdfTransparent":
@@ -362,8 +395,15 @@ def _shader(sphrect, node, textures, log, name):
         elif leaf.bl_idname == "ShaderNodeEmission":
             if factors:
                 log.unsupported_feature(constant_emission, name)
-            emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name,
-                                  textures)
+            if factors:
+                emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name,
+                                      textures)
+            else:
+                term, lookup = _emission_term(leaf, "Color", "Strength", weight, log, name, textures)
+                if lookup is None:
+                    emission += term
+                else:
+                    textured_emission.append((term, lookup))
         elif leaf.bl_idname == "ShaderNodeHoldout":  # black, and a hole in the film's alpha (1 - its weight)
             if factors:  # the film's alpha is made at the camera hit from the material's constant holdout
                 log.unsupported_feature("Holdout under a texture-driven Mix Shader factor (the factor's image mean "
@@ -371,24 +411,31 @@ def _shader(sphrect, node, textures, log, name):
             layers.append(sphrect.MaterialLayer(weight=weight * textures.factor_mean(factors),
                                                 material=sphrect.Material(name=name, kind="holdout")))
         else:
-            bsdf = _bsdf(sphrect, leaf, textures, log, name)
-            if factors and any(c > 0 for c in bsdf.emission):
+            own, lookup, plain = _textured_emission(_bsdf(sphrect, leaf, textures, log, name))
+            if factors and any(c > 0 for c in own):
                 log.unsupported_feature(constant_emission, name)
-                emission += weight * textures.factor_mean(factors) * np.asarray(bsdf.emission)
-                bsdf = dataclasses.replace(bsdf, emission=(0.0, 0.0, 0.0))
-            layers.append(sphrect.MaterialLayer(weight=weight, material=bsdf, factors=factors))
+                if lookup is not None:
+                    log.unsupported_feature("an emission Image Texture under a texture-driven Mix Shader factor (the "
+                                            "image's mean colour used)", name)
+                    own = np.asarray(own) * np.asarray(textures.color_mean(lookup))
+                emission += weight * textures.factor_mean(factors) * np.asarray(own)
+            elif lookup is not None:
+                textured_emission.append((weight * np.asarray(own), lookup))
+            else:
+                emission += weight * np.asarray(own)
+            layers.append(sphrect.MaterialLayer(weight=weight, material=plain, factors=factors))
     layers = _fit_mix(sphrect, layers, textures, log, name)
+    with_emission = lambda m: _with_emission(m, emission, textured_emission, textures, log, name)  # noqa: E731
     if not layers:
-        return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=_rgb(emission))
+        return with_emission(sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0)))
     if all(l.material.kind == "diffuse" and not _is_textured(l) for l in layers):
         # Lambert is linear in its colour: one diffuse, exactly
         color = sum(l.weight * np.asarray(l.material.base_color) for l in layers)
-        return sphrect.Material(name=name, kind="diffuse", base_color=_rgb(color), emission=_rgb(emission))
+        return with_emission(sphrect.Material(name=name, kind="diffuse", base_color=_rgb(color)))
     if len(layers) == 1 and layers[0].weight == 1 and not layers[0].factors:
-        bsdf = layers[0].material
-        return dataclasses.replace(bsdf, emission=_rgb(np.asarray(bsdf.emission) + emission))
+        return with_emission(layers[0].material)
     normal_map = _mix_normal_map(layers, log, name)
-    return sphrect.Material(name=name, kind="mix", layers=layers, emission=_rgb(emission), **normal_map)
+    return with_emission(sphrect.Material(name=name, kind="mix", layers=layers, **normal_map))
 
 
 def _mix_normal_map(layers, log, name):
@@ -577,10 +624,11 @@ def _principled(sphrect, node, inputs, textures, log, name):
     if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
         log.unsupported_feature("linked 'Clearcoat Normal' input", name)
     values.update(_anisotropy(node, inputs, "Anisotropic", "Anisotropic Rotation", log, name))
-    emission = _emission(node, "Emission", "Emission Strength", 1.0, log, name, textures)
+    emission, lookup = _emission_term(node, "Emission", "Emission Strength", 1.0, log, name, textures)
     _unmodelled_alpha(node, log, name)
     return sphrect.Material(name=name, kind="principled", base_color=color, emission=emission,
-                            textures=inputs.textures, **_normal_map(node, textures, log, name), **values)
+                            textures={**inputs.textures, **({"emission": lookup} if lookup else {})},
+                            **_normal_map(node, textures, log, name), **values)
 
 
 def _principled_transmission(node, inputs, values, log, name):
@@ -621,10 +669,11 @@ def _principled_glass(sphrect, node, inputs, textures, log, name):
     log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
                             "except behind open surfaces)", name)
     _unmodelled_alpha(node, log, name)
+    emission, lookup = _emission_term(node, "Emission", "Emission Strength", 1.0, log, name, textures)
     return sphrect.Material(name=name, kind="glass", base_color=(1.0, 1.0, 1.0), roughness=roughness,
-                            ior=float(inputs.value("IOR")),
-                            emission=_emission(node, "Emission", "Emission Strength", 1.0, log, name, textures),
-                            textures={k: v for k, v in inputs.textures.items() if k == "roughness"}, **normal_map)
+                            ior=float(inputs.value("IOR")), emission=emission,
+                            textures={**{k: v for k, v in inputs.textures.items() if k == "roughness"},
+                                      **({"emission": lookup} if lookup else {})}, **normal_map)
 
 
 # Blender's Normal Map node Color when nothing is linked to it: the unperturbed normal.

@@ -1,0 +1,101 @@
+// Mesh lights whose emission an image drives (textured_emitter.h): their mean radiance, which light selection uses,
+// and for rectangles the power of their blocks, by which light samples choose where to go (core/rectangle_blocks.h).
+#include <algorithm>
+#include <cmath>
+
+#include "integrator/textured_emission.h"
+#include "scene.h"
+
+namespace sphrect::render {
+
+namespace {
+
+// Share of the mean block radiance every block gets on top of its own: a block whose lookups all read black may still
+// emit between them (a thin bright line, bilinear filtering), and must keep a pdf > 0 for the estimate to stay
+// unbiased; a black block then takes ~1% of the samples a mean block of its solid angle takes.
+constexpr double kBlockPowerFloor = 0.01;
+// Lookups per light side at most, when measuring its emission (texel density above this is averaged over).
+constexpr int kMaxLookupsPerSide = 1024;
+
+// How many texels of the emitter's image lie between points a and b of it (its lookup's mapped coordinates).
+double TexelsBetween(const RenderScene& scene, const TexturedEmitter& e, const Vec3f& a, const Vec3f& b) {
+    const TextureLookup& t = scene.materials[size_t(e.material)].textures[int(TexturedInput::kEmission)];
+    const Image& im = scene.images[size_t(t.image)];
+    auto mapped = [&](const Vec3f& p) {
+        const TextureCoordinates tc = EmitterCoordinatesAt(scene, e, p);
+        const Vec3f c = t.generated ? tc.generated : tc.uv;
+        const float(&m)[3][4] = t.transform;
+        return Point2<float>{m[0][0] * c.x + m[0][1] * c.y + m[0][2] * c.z + m[0][3],
+                             m[1][0] * c.x + m[1][1] * c.y + m[1][2] * c.z + m[1][3]};
+    };
+    const Point2<float> pa = mapped(a), pb = mapped(b);
+    const double texels = std::max(std::abs(double(pb.u) - pa.u) * im.width, std::abs(double(pb.v) - pa.v) * im.height);
+    return std::isfinite(texels) ? texels : 1.0;
+}
+
+// Two lookups per texel: at texel centres alone, a black block beside a bright texel would read black where bilinear
+// filtering brings the bright one in over half a texel -- light its block's floor would sample rarely (high variance).
+int LookupsAlong(double texels) { return std::clamp(int(std::ceil(2 * texels)), 1, kMaxLookupsPerSide); }
+
+}  // namespace
+
+// The light's mean radiance and, for a rectangle, its blocks' powers: from lookups at cell centres about one per
+// texel the light covers (at most kMaxLookupsPerSide per side).  Light selection only changes the variance, so the
+// mean needs no more precision than this; the block floor keeps the block sampler unbiased whatever the lookups miss.
+void RenderScene::AddTexturedEmitter(int material, uint32_t mesh, uint32_t first, int count) {
+    AreaLight& l = area_lights.back();
+    TexturedEmitter e;
+    e.material = material;
+    e.mesh = mesh;
+    e.num_triangles = count;
+    for (int k = 0; k < count; ++k) e.triangles[k] = first + uint32_t(k);
+    const Spectrum scale = l.radiance;  // the material's emission: the image's multiplier
+    double sum[3] = {0, 0, 0};
+    auto add = [&](const Spectrum& c) { sum[0] += c.x, sum[1] += c.y, sum[2] += c.z; };
+    size_t n = 0;
+    if (l.shape == AreaShape::Rectangle) {
+        const RectLight<float>& r = l.frame.light;
+        const double tx = TexelsBetween(*this, e, r.corner, r.corner + r.ex);
+        const double ty = TexelsBetween(*this, e, r.corner, r.corner + r.ey);
+        e.nx = std::clamp(int(std::ceil(tx)), 1, kMaxRectangleBlocksPerSide);
+        e.ny = std::clamp(int(std::ceil(ty)), 1, kMaxRectangleBlocksPerSide);
+        const int sx = (LookupsAlong(tx) + e.nx - 1) / e.nx, sy = (LookupsAlong(ty) + e.ny - 1) / e.ny;
+        std::vector<double> power(size_t(e.nx * e.ny), 0.0);
+        for (int j = 0; j < e.ny * sy; ++j)
+            for (int i = 0; i < e.nx * sx; ++i) {
+                const float s = (i + 0.5f) / float(e.nx * sx), t = (j + 0.5f) / float(e.ny * sy);
+                const Spectrum c = EmissionAtCoordinates(
+                    *this, material, EmitterCoordinatesAt(*this, e, r.corner + r.ex * s + r.ey * t));
+                add(c);
+                power[size_t((j / sy) * e.nx + i / sx)] += std::max(double(Luminance(c)), 0.0);
+            }
+        n = size_t(e.nx * sx) * size_t(e.ny * sy);
+        double total = 0;
+        for (double p : power) total += p;
+        const double floor = total > 0 ? kBlockPowerFloor * total / double(power.size()) : 1.0;
+        // Relative to the largest (only ratios matter): any emission's magnitude stays within float.
+        const double largest = *std::max_element(power.begin(), power.end()) + floor;
+        for (double p : power) e.block_radiance.push_back(float((p + floor) / largest));
+    } else {
+        // Cell centres of an s x s grid through the square-to-triangle map that is uniform by area
+        // (SampleTriangleArea).
+        const int s = std::min(LookupsAlong(std::max(TexelsBetween(*this, e, l.v0, l.v0 + l.e1),
+                                                     TexelsBetween(*this, e, l.v0, l.v0 + l.e2))),
+                               64);
+        for (int j = 0; j < s; ++j)
+            for (int i = 0; i < s; ++i) {
+                const float su = std::sqrt((i + 0.5f) / s), v = (j + 0.5f) / s;
+                add(EmissionAtCoordinates(
+                    *this, material, EmitterCoordinatesAt(*this, e, l.v0 + l.e1 * (su * (1 - v)) + l.e2 * (su * v))));
+            }
+        n = size_t(s) * size_t(s);
+    }
+    Spectrum mean(float(sum[0] / double(n)), float(sum[1] / double(n)), float(sum[2] / double(n)));
+    // A light whose lookups all read black may still emit between them: a small power keeps it selectable.
+    if (!(Luminance(mean) > 0)) mean = scale * 1e-6f;
+    l.radiance = mean;
+    l.texture = int(textured_emitters.size());
+    textured_emitters.push_back(std::move(e));
+}
+
+}  // namespace sphrect::render
