@@ -74,13 +74,16 @@ def test_study_on_the_renderer(tmp_path):
 
 def test_study_of_both_light_selections_from_the_command_line(tmp_path):
     """The command line with the add-on's defaults (4 light samples, MIS power, sobol) and both light selections,
-    on the rectangle plus two point lights: both are rendered (the renderer gets the job's selection: with the
-    tree a point light is one of the tree's emitters, with power it is evaluated on every sample, so the images
+    on the rectangle plus more point lights than stay beside the tree: both are rendered (the renderer gets the job's
+    selection: with the tree a point light is one of the tree's emitters, with power it is evaluated on every sample, so the images
     differ), every run is finite and converges, and the report compares them."""
     from sphrect.study import cli
     scene = paper_like_scene()
     scene.lights += [sphrect.PointLight(position=(1.5, 1.0, 1.2), intensity=(2.0, 2.0, 2.0)),
                      sphrect.PointLight(position=(-1.5, 0.5, 0.8), intensity=(0.5, 0.5, 0.5))]
+    # More point lights than stay beside the tree, so that the tree chooses among them.
+    scene.lights += [sphrect.PointLight(position=(-2.0 + 0.5 * i, -1.5, 1.0), intensity=(0.1, 0.1, 0.1))
+                     for i in range(sphrect.MAX_DELTA_LIGHTS_BESIDE_TREE - 1)]
     scene_path = str(tmp_path / "lights.sphrect.npz")
     sphrect.save_scene(scene, scene_path)
     out = tmp_path / "study"
