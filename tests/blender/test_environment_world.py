@@ -201,19 +201,24 @@ def test_missing_environment_image_is_magenta(empty_scene):
     np.testing.assert_array_equal(texture.pixels.reshape(-1)[:3], [1.0, 0.0, 1.0])
 
 
-@pytest.mark.slow
-def test_environment_lit_scene_matches_cycles(empty_scene, tmp_path):
-    """A floor, a box and a sphere lit only by an HDR-like image world rotated by a Mapping (a sun-like blob 60x
-    the sky, ~40 degrees up), the camera seeing the sky above the horizon."""
-    image_world(hdr_pixels(), strength=1.5, rotation_z=0.8)
+def floor_box_and_ball(scene):
+    """The parity tests' scene under the world: the ground, a box and a smooth ball, at the parity resolution."""
     ground()
     builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.6, 0.5, 0.5),
                          size=1.0, rotation=(0, 0, 0.4))
     sphere = builders.mesh_object("Ball", "uv_sphere", builders.material("Ball", (0.3, 0.6, 0.8)),
                                   location=(-0.9, -0.2, 0.6), radius=0.6)
     builders.smooth(sphere)
-    set_resolution(empty_scene, WIDTH, HEIGHT)
+    set_resolution(scene, WIDTH, HEIGHT)
     bpy.context.view_layer.update()
+
+
+@pytest.mark.slow
+def test_environment_lit_scene_matches_cycles(empty_scene, tmp_path):
+    """A floor, a box and a sphere lit only by an HDR-like image world rotated by a Mapping (a sun-like blob 60x
+    the sky, ~40 degrees up), the camera seeing the sky above the horizon."""
+    image_world(hdr_pixels(), strength=1.5, rotation_z=0.8)
+    floor_box_and_ball(empty_scene)
     difference, ours, cycles = difference_to_cycles(empty_scene, "image world", tmp_path, light_samples=2)
     assert difference <= 0.01
     # The comparison can fail: the world unrotated is caught.
@@ -230,14 +235,7 @@ def test_blenders_own_hdris_match_cycles(empty_scene, name, tmp_path):
     path = os.path.join(bpy.utils.system_resource("DATAFILES", path="studiolights/world"), name)
     world, env = image_world(hdr_pixels(2, 4), rotation_z=2.0, name=name)
     env.image = bpy.data.images.load(path)
-    ground()
-    builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.6, 0.5, 0.5),
-                         size=1.0, rotation=(0, 0, 0.4))
-    sphere = builders.mesh_object("Ball", "uv_sphere", builders.material("Ball", (0.3, 0.6, 0.8)),
-                                  location=(-0.9, -0.2, 0.6), radius=0.6)
-    builders.smooth(sphere)
-    set_resolution(empty_scene, WIDTH, HEIGHT)
-    bpy.context.view_layer.update()
+    floor_box_and_ball(empty_scene)
     scene, _ = export()
     assert scene.world.environment is not None
     difference, _, _ = difference_to_cycles(empty_scene, f"Blender's {name}", tmp_path, light_samples=2)

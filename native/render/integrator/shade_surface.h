@@ -66,6 +66,20 @@ template <bool kGlossy, bool kMedium>
              vis.ShadowMask());
 }
 
+// A light sample e seen through transmittance t: f Le t cos w / pdf, w its MIS weight against the BSDF sample (an area
+// light's point, or a direction of the image world: e.dist kInf).
+template <bool kGlossy>
+static inline void QueueSurfaceEmitterSample(const ShadeContext& c, const SurfaceShadingPoint& sp,
+                                             const EmitterSample& e, const Spectrum& t, const ShadowSink& sink) {
+    const Vec3f wi = sp.frame.ToLocal(e.dir);
+    Vec3f origin;
+    if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
+    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
+    if (IsBlack(f)) return;
+    const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
+    sink.Add(origin, e.dir, e.dist, f * e.le * t * (std::abs(wi.z) * w / e.pdf));
+}
+
 // Light sampling: f Le T cos w / (pmf pdf) for a point on the chosen light, w its MIS weight
 // against the BSDF sample.
 template <Technique K, bool kGlossy, bool kMedium>
@@ -75,14 +89,7 @@ static inline void QueueSurfaceLightSample(const ShadeContext& c, const SurfaceS
     if (!e.valid) return;
     if (const LightVisibility& vis = c.scene.area_lights[light.index].vis; !vis.IsDefault())
         return QueueLightWithVisibility<kGlossy, kMedium>(c, sp, e.dir, e.dist, e.le, e.pdf, e.pdf, vis, sink);
-    const Vec3f wi = sp.frame.ToLocal(e.dir);
-    Vec3f origin;
-    if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
-    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
-    if (IsBlack(f)) return;
-    const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
-    sink.Add(origin, e.dir, e.dist,
-             f * e.le * SegmentTransmittance<kMedium>(c.scene.medium, e.dist) * (std::abs(wi.z) * w / e.pdf));
+    QueueSurfaceEmitterSample<kGlossy>(c, sp, e, SegmentTransmittance<kMedium>(c.scene.medium, e.dist), sink);
 }
 
 // BSDF sampling: finds the area lights (MIS partner of the light sample) and the background,
@@ -106,14 +113,7 @@ template <bool kGlossy>
 static inline void QueueSurfaceEnvironmentSample(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
                                                  const ShadowSink& sink) {
     const EmitterSample e = SampleEnvironmentEmitter(c, u);
-    if (!e.valid) return;
-    const Vec3f wi = sp.frame.ToLocal(e.dir);
-    Vec3f origin;
-    if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
-    const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
-    if (IsBlack(f)) return;
-    const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
-    sink.Add(origin, e.dir, kInf, f * e.le * c.environment_transmittance * (std::abs(wi.z) * w / e.pdf));
+    if (e.valid) QueueSurfaceEmitterSample<kGlossy>(c, sp, e, c.environment_transmittance, sink);
 }
 
 // One point, spot or sun light: f Li T cos; a soft one's direction from the point u, weighted against the
