@@ -1,0 +1,91 @@
+#!/usr/bin/env python3
+"""SPHRECT and Cycles 3.4 side by side on .blend files: each exported by the add-on and rendered by both (Cycles in
+the study's direct-light settings), one row per file -- ours, Cycles', and their difference -- with the image totals'
+ratio and the mean relative difference over lit 4 x 4-pixel blocks (the parity tests' measure) in the row's title.
+
+    PYTHONPATH=build/python /usr/bin/python3 experiments/side_by_side_cycles.py --out out/side_by_side \\
+        --samples 256 --cycles-samples 1024 --resolution 160x90 A.blend B.blend ...
+
+Writes OUT/side_by_side.png and OUT/side_by_side.json (the figures)."""
+import argparse
+import json
+import os
+import sys
+
+import numpy as np
+
+import sphrect
+from sphrect.study.cycles import export_blend, render_cycles
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+HEADLESS = os.path.join(os.path.dirname(HERE), "addon", "sphrect_blender", "headless.py")
+BLOCK = 4
+
+
+def block_difference(ours, cycles, lit_fraction=0.05):
+    """Mean |ours - cycles| / cycles over the 4 x 4 blocks whose Cycles mean exceeds lit_fraction x the image's."""
+    h, w = (s - s % BLOCK for s in cycles.shape[:2])
+
+    def blocks(image):
+        lum = image[:h, :w, :3].astype(np.float64).mean(axis=2)
+        return lum.reshape(h // BLOCK, BLOCK, w // BLOCK, BLOCK).mean(axis=(1, 3))
+    a, b = blocks(ours), blocks(cycles)
+    lit = b > lit_fraction * b.mean()
+    return float(np.mean(np.abs(a[lit] - b[lit]) / b[lit]))
+
+
+def display(image, scale):
+    return np.clip(image[..., :3] / scale, 0, 1) ** (1 / 2.2)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("blends", nargs="+")
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--samples", type=int, default=256)
+    ap.add_argument("--cycles-samples", type=int, default=1024)
+    ap.add_argument("--resolution", default="160x90")
+    a = ap.parse_args()
+    width, height = (int(x) for x in a.resolution.split("x"))
+    os.makedirs(a.out, exist_ok=True)
+    rows = []
+    for blend in a.blends:
+        name = os.path.splitext(os.path.basename(blend))[0]
+        scene_path = os.path.join(a.out, name + ".sphrect.npz")
+        warnings = export_blend(blend, scene_path, (width, height), blender_script=HEADLESS)
+        renderer = sphrect.Renderer(sphrect.load_scene(scene_path), techniques=["rectangle"], seed=1)
+        renderer.render(a.samples)
+        ours = renderer.image("rectangle")
+        cycles, _ = render_cycles(blend, a.cycles_samples, width, height, seed=1, threads=2, blender_script=HEADLESS)
+        total = float(ours[..., :3].sum() / cycles[..., :3].sum())
+        rows.append({"name": name, "block_difference": block_difference(ours, cycles), "total_ratio": total,
+                     "warnings": warnings, "ours": ours, "cycles": cycles})
+        print(f"{name:40} blocks {100 * rows[-1]['block_difference']:.2f}%  totals {total:.4f}  "
+              f"warnings: {warnings or 'none'}", flush=True)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(len(rows), 3, figsize=(9, 1.9 * len(rows) * height / width * 1.7 + 0.3),
+                             squeeze=False)
+    for r, ax in zip(rows, axes):
+        scale = np.percentile(r["cycles"][..., :3], 99.5) or 1.0
+        diff = np.abs(r["ours"][..., :3] - r["cycles"][..., :3]).mean(axis=2)
+        panels = [(display(r["ours"], scale), "SPHRECT"), (display(r["cycles"], scale), "Cycles 3.4"),
+                  (np.clip(4 * diff / scale, 0, 1), "|difference| x 4")]
+        for a_, (img, label) in zip(ax, panels):
+            a_.imshow(img, cmap="magma" if img.ndim == 2 else None, vmin=0, vmax=1)
+            a_.set_xticks([])
+            a_.set_yticks([])
+            a_.set_title(label, fontsize=8)
+        ax[0].set_ylabel(r["name"], fontsize=7)
+        ax[2].set_title(f"|difference| x 4: blocks {100 * r['block_difference']:.2f}%, totals {r['total_ratio']:.3f}",
+                        fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "side_by_side.png"), dpi=110)
+    with open(os.path.join(a.out, "side_by_side.json"), "w") as f:
+        json.dump([{k: v for k, v in r.items() if k not in ("ours", "cycles")} for r in rows], f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
