@@ -6,7 +6,8 @@ ratio and the mean relative difference over lit 4 x 4-pixel blocks (the parity t
     PYTHONPATH=build/python /usr/bin/python3 experiments/side_by_side_cycles.py --out out/side_by_side \\
         --samples 256 --cycles-samples 1024 --resolution 160x90 A.blend B.blend ...
 
-Writes OUT/side_by_side.png and OUT/side_by_side.json (the figures)."""
+Writes OUT/side_by_side.png, OUT/side_by_side.json (the figures) and each file's images as NAME.sphrect.npy and
+NAME.cycles.npy (linear float [H, W, 4], row 0 at the top)."""
 import argparse
 import json
 import os
@@ -57,6 +58,8 @@ def main():
         renderer.render(a.samples)
         ours = renderer.image("rectangle")
         cycles, _ = render_cycles(blend, a.cycles_samples, width, height, seed=1, threads=2, blender_script=HEADLESS)
+        np.save(os.path.join(a.out, name + ".sphrect.npy"), ours)
+        np.save(os.path.join(a.out, name + ".cycles.npy"), cycles)
         total = float(ours[..., :3].sum() / cycles[..., :3].sum())
         rows.append({"name": name, "block_difference": block_difference(ours, cycles), "total_ratio": total,
                      "warnings": warnings, "ours": ours, "cycles": cycles})
