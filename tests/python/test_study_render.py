@@ -75,8 +75,8 @@ def test_study_on_the_renderer(tmp_path):
 def test_study_of_both_light_selections_from_the_command_line(tmp_path):
     """The command line with the add-on's defaults (4 light samples, MIS power, sobol) and both light selections,
     on the rectangle plus more point lights than stay beside the tree: both are rendered (the renderer gets the job's
-    selection: with the tree a point light is one of the tree's emitters, with power it is evaluated on every sample, so the images
-    differ), every run is finite and converges, and the report compares them."""
+    selection: with the tree a point light is one of the tree's emitters, with power it is evaluated on every sample,
+    so the images differ), every run is finite and converges, and the report compares them."""
     from sphrect.study import cli
     scene = paper_like_scene()
     scene.lights += [sphrect.PointLight(position=(1.5, 1.0, 1.2), intensity=(2.0, 2.0, 2.0)),
