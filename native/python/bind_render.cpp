@@ -403,6 +403,8 @@ void BindRender(py::module_& m) {
              py::call_guard<py::gil_scoped_release>())
         .def("set_image_memory_limit", &RenderScene::SetImageMemoryLimit, py::arg("bytes"))
         .def_property_readonly("image_memory_bytes", &RenderScene::ImageMemoryBytes)
+        .def("set_last_mesh_shadow_terminator_offset", &RenderScene::SetLastMeshShadowTerminatorOffset,
+             py::arg("offset"))
         .def(
             "set_last_mesh_object_linear",
             [](RenderScene& s, const py::object& linear, const py::object& inverse) {

@@ -48,6 +48,9 @@ struct MeshData {
     std::vector<Vec3f> generated;
     // The linear part L of its object's matrix and L^-1 (row-major), for normal maps applied in object space.
     bool has_object_linear = false;
+    // Blender's Shadow Terminator Geometry Offset (0: none): near the terminator a light sample's shadow ray leaves
+    // from the smooth surface the mesh's normals describe, as Cycles 3.4's shadow_ray_offset (integrator/terminator.h).
+    float shadow_terminator_offset = 0;
     float object_linear[3][3], object_linear_inverse[3][3];
     uint8_t visibility = kRayAll;  // the ray kinds that see it (ray_visibility.h): its Embree geometry mask
 };
@@ -110,6 +113,8 @@ class RenderScene {
     uint64_t ImageMemoryBytes() const { return image_memory_bytes_; }  // shared pixels counted too
     // The mesh added last: its object's linear map and inverse (meshes without triangles are not kept: ignored).
     void SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]);
+    // The mesh added last: Blender's Shadow Terminator Geometry Offset, in [0, 1] (MeshData::shadow_terminator_offset).
+    void SetLastMeshShadowTerminatorOffset(float offset);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids / uvs / generated may be
     // null.  A mesh without triangles is validated and then ignored.
     void AddMesh(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,

@@ -10,6 +10,14 @@
 
 namespace sphrect::render {
 
+void RenderScene::SetLastMeshShadowTerminatorOffset(float offset) {
+    RequireNotCommitted();
+    if (meshes.empty()) Fail("no mesh to set the shadow terminator offset of");
+    if (!(offset >= 0 && offset <= 1))
+        Fail("mesh '" + meshes.back().name + "': shadow_terminator_offset must be in [0, 1]");
+    meshes.back().shadow_terminator_offset = offset;
+}
+
 void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]) {
     RequireNotCommitted();
     if (meshes.empty()) return;

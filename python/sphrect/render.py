@@ -241,9 +241,14 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
             linear = np.asarray(mesh.object_linear, dtype=np.float64)
             if linear.shape != (3, 3) or not np.all(np.isfinite(linear)) or not abs(np.linalg.det(linear)) > 0:
                 raise ValueError(f"mesh '{mesh.name}': object_linear must be an invertible finite 3x3 matrix")
+        offset = mesh.shadow_terminator_offset
+        if isinstance(offset, bool) or not isinstance(offset, (int, float)) or not 0 <= offset <= 1:
+            raise ValueError(f"mesh '{mesh.name}': shadow_terminator_offset must be a number in [0, 1], got {offset!r}")
         native.add_mesh(mesh.name, v, t, mesh.normals, ids, mesh.uvs, mesh.generated, list(mesh.invisible_to))
         if linear is not None and len(t):  # a mesh without triangles is not kept
             native.set_last_mesh_object_linear(linear, np.linalg.inv(linear))
+        if offset and len(t):
+            native.set_last_mesh_shadow_terminator_offset(float(offset))
     for light in scene.lights:
         msg = ""
         # What every light lights and how (scene.LightVisibility's fields).

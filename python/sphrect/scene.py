@@ -65,7 +65,8 @@ FORMAT_NAME = "sphrect-scene"
 # of the emitter (textured emitters).  Older files load unchanged (constant emission).
 # 14: Mesh.invisible_to and every light's invisible_to, cast_shadow, use_mis (Blender's Ray Visibility, a light's
 # Cast Shadow and Multiple Importance, as Cycles 3.4 honours them).  Older files load with everything visible.
-FORMAT_VERSION = 14
+# 15: Mesh.shadow_terminator_offset (Blender's Shadow Terminator Geometry Offset).  Older files load with 0 (none).
+FORMAT_VERSION = 15
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -247,6 +248,10 @@ class Mesh:
     # world space where L scales non-uniformly.
     object_linear: Optional[List[List[float]]] = None
     invisible_to: Tuple[str, ...] = ()        # RAY_KINDS that pass through it (camera: not seen; shadow: casts none)
+    # Blender's Object > Shading > Shadow Terminator > Geometry Offset, in [0, 1] (0: none; Blender's default 0.1): a
+    # smooth-shaded mesh's light samples near its terminator leave from the smooth surface its triangles approximate,
+    # as Cycles 3.4 does (docs/renderer.md, shadow terminator).  Needs normals.
+    shadow_terminator_offset: float = 0.0
 
 
 # Every light's visibility fields, as Cycles 3.4's light shader flags (scene/light.cpp): the RAY_KINDS it does not
@@ -457,6 +462,8 @@ def save_scene(scene: Scene, path: str) -> None:
         meta["meshes"].append({"name": m.name, "arrays": key})
         if m.invisible_to:
             meta["meshes"][-1]["invisible_to"] = list(m.invisible_to)
+        if m.shadow_terminator_offset:
+            meta["meshes"][-1]["shadow_terminator_offset"] = float(m.shadow_terminator_offset)
         if m.object_linear is not None:
             meta["meshes"][-1]["object_linear"] = np.asarray(m.object_linear, dtype=np.float64).tolist()
         arrays[f"{key}.vertices"] = np.asarray(m.vertices, dtype=np.float32)
@@ -525,7 +532,8 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
         scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
                                  material_ids=get("material_ids"), name=m["name"], uvs=get("uvs"),
                                  generated=get("generated"), object_linear=m.get("object_linear"),
-                                 invisible_to=tuple(m.get("invisible_to", ()))))
+                                 invisible_to=tuple(m.get("invisible_to", ())),
+                                 shadow_terminator_offset=float(m.get("shadow_terminator_offset", 0.0))))
     for t in meta.get("textures", []):
         key = t.get("arrays")
         if key is not None and not isinstance(key, str):

@@ -1,4 +1,4 @@
-"""Blender's own panels that SPHRECT also uses: light, material, world, camera and output settings."""
+"""Blender's own panels that SPHRECT also uses: light, material, world, camera, output, shadow terminator."""
 import bpy
 
 from ..names import ENGINE_ID
@@ -8,6 +8,8 @@ _EXTRA_PANELS = (
     "DATA_PT_EEVEE_light", "DATA_PT_spot", "DATA_PT_context_light", "EEVEE_MATERIAL_PT_context_material",
     "EEVEE_MATERIAL_PT_surface", "EEVEE_MATERIAL_PT_volume", "EEVEE_WORLD_PT_surface", "EEVEE_WORLD_PT_volume",
     "WORLD_PT_context_world", "DATA_PT_camera_dof", "DATA_PT_camera_dof_aperture",
+    # Cycles' Object > Shading > Shadow Terminator (its Geometry Offset is simulated, docs/renderer.md).
+    "CYCLES_OBJECT_PT_shading", "CYCLES_OBJECT_PT_shading_shadow_terminator",
 )
 
 

@@ -42,6 +42,38 @@ static inline bool RayOriginTowards(const SurfaceShadingPoint& sp, const Vec3f& 
     return false;
 }
 
+// A light sample's shadow ray.
+struct ShadowRay {
+    Vec3f origin, dir;
+    float dist;
+};
+
+// The shadow ray of a light sample towards `dir` (wi in the shading frame), `dist` away: from RayOriginTowards' origin,
+// or, near the terminator of a smooth mesh with a shadow terminator offset, from the smooth surface, towards the same
+// point of the light (the same direction for one infinitely far), and then also for directions below the flat
+// triangle (terminator.h, as Cycles 3.4).  False where RayOriginTowards finds no origin.
+template <bool kGlossy>
+static inline bool ShadowRayTowards(const SurfaceShadingPoint& sp, const Vec3f& wi, const Vec3f& dir, float dist,
+                                    ShadowRay& ray) {
+    if (sp.hit.terminator_offset > 0 && wi.z > 0) {
+        const float cos_ng = Dot(dir, sp.hit.ng);
+        const float amount = TerminatorOffsetAmount(wi.z, cos_ng, sp.hit.terminator_offset);
+        if (amount > 0) {
+            ray = {TerminatorShadowOrigin(sp.hit.p, sp.hit.ng, sp.hit.terminator_lift, amount, cos_ng), dir, dist};
+            if (dist < kInf) {
+                const Vec3f to_light = sp.hit.p + dir * dist - ray.origin;
+                ray.dist = Length(to_light);
+                if (!(ray.dist > 0)) return false;
+                ray.dir = to_light / ray.dist;
+            }
+            return true;
+        }
+    }
+    ray.dir = dir;
+    ray.dist = dist;
+    return RayOriginTowards<kGlossy>(sp, wi, dir, ray.origin);
+}
+
 // A light sample of a light whose visibility is not the default (LightVisibility): f of the lobes it lights, with
 // their pdf alone for the MIS weight against pdf_light (0: none), 1 for a light without Multiple Importance; no
 // shadow ray without Cast Shadow.  The value is QueueSurfaceLightSample's (pdf_div: its pdf) or
@@ -53,15 +85,15 @@ template <bool kGlossy, bool kMedium>
                                                                   float pdf_light, float pdf_div,
                                                                   const LightVisibility& vis, const ShadowSink& sink) {
     const Vec3f wi = sp.frame.ToLocal(dir);
-    Vec3f origin;
-    if (!RayOriginTowards<kGlossy>(sp, wi, dir, origin)) return;
+    ShadowRay ray;
+    if (!ShadowRayTowards<kGlossy>(sp, wi, dir, dist, ray)) return;
     const uint8_t classes = vis.rays() & kRayBsdfClasses;
     const Spectrum f = EvalBsdf<kGlossy>(LobesLitBy(sp.material, classes), sp.wo, wi);
     if (IsBlack(f)) return;
     const float w = pdf_light > 0 && c.mis != MisMode::None && vis.use_mis()
                         ? MisWeight(c.mis, pdf_light, BsdfPDFOfClasses<kGlossy>(sp.material, sp.wo, wi, classes))
                         : 1.0f;
-    sink.Add(origin, dir, dist,
+    sink.Add(ray.origin, ray.dir, ray.dist,
              f * le * SegmentTransmittance<kMedium>(c.scene.medium, dist) * (std::abs(wi.z) * w / pdf_div),
              vis.ShadowMask());
 }
@@ -72,12 +104,12 @@ template <bool kGlossy>
 static inline void QueueSurfaceEmitterSample(const ShadeContext& c, const SurfaceShadingPoint& sp,
                                              const EmitterSample& e, const Spectrum& t, const ShadowSink& sink) {
     const Vec3f wi = sp.frame.ToLocal(e.dir);
-    Vec3f origin;
-    if (!RayOriginTowards<kGlossy>(sp, wi, e.dir, origin)) return;
+    ShadowRay ray;
+    if (!ShadowRayTowards<kGlossy>(sp, wi, e.dir, e.dist, ray)) return;
     const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
     if (IsBlack(f)) return;
     const float w = c.mis == MisMode::None ? 1.0f : MisWeight(c.mis, e.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi));
-    sink.Add(origin, e.dir, e.dist, f * e.le * t * (std::abs(wi.z) * w / e.pdf));
+    sink.Add(ray.origin, ray.dir, ray.dist, f * e.le * t * (std::abs(wi.z) * w / e.pdf));
 }
 
 // Light sampling: f Le T cos w / (pmf pdf) for a point on the chosen light, w its MIS weight
@@ -127,14 +159,14 @@ static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceSh
         return QueueLightWithVisibility<kGlossy, kMedium>(c, sp, di.wi, di.dist, di.li, di.pdf > 0 ? pmf * di.pdf : 0,
                                                           1, d.vis, sink);
     const Vec3f wi = sp.frame.ToLocal(di.wi);
-    Vec3f origin;
-    if (!RayOriginTowards<kGlossy>(sp, wi, di.wi, origin)) return;
+    ShadowRay ray;
+    if (!ShadowRayTowards<kGlossy>(sp, wi, di.wi, di.dist, ray)) return;
     const Spectrum f = EvalBsdf<kGlossy>(sp.material, sp.wo, wi);
     if (IsBlack(f)) return;
     const float w = di.pdf > 0 && c.mis != MisMode::None
                         ? MisWeight(c.mis, pmf * di.pdf, BsdfPDF<kGlossy>(sp.material, sp.wo, wi))
                         : 1.0f;
-    sink.Add(origin, di.wi, di.dist,
+    sink.Add(ray.origin, ray.dir, ray.dist,
              f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * (std::abs(wi.z) * w));
 }
 

@@ -5,6 +5,7 @@
 #include "render/camera.h"
 #include "render/embree_rays.h"
 #include "render/scene.h"
+#include "terminator.h"
 
 namespace sphrect::render {
 
@@ -18,6 +19,10 @@ struct SurfaceHit {
     Vec3f ns_unmapped;        // normal-mapped materials: the shading normal before the map (flipped with ns)
     bool backfacing = false;  // materials with a dielectric lobe: the ray hit the side its winding faces away from
     Vec3f tangent;            // anisotropic materials: the mesh's radial tangent (RadialTangent; zero without one)
+    // A smooth mesh with a shadow terminator offset (MeshData::shadow_terminator_offset, terminator.h): the offset
+    // (0: none) and the smooth surface's lift above p.
+    float terminator_offset = 0;
+    Vec3f terminator_lift;
 };
 
 // The mesh's texture coordinates at barycentrics (b0, b1, b2) of triangle (i0, i1, i2); zero where it has none.
@@ -153,6 +158,12 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
             if (Dot(ns, ng) < 0) ns = -ns;  // shading normal on the geometric normal's side
         }
         if (extras) AddHitExtras(scene, m, *extras, i, p, b0, b1, b2, ray, ng, ns, s);
+        if (m.shadow_terminator_offset > 0 && !m.normals.empty()) {
+            const Vec3f n[3] = {m.normals[i[0]], m.normals[i[1]], m.normals[i[2]]};
+            const float b[3] = {b0, b1, b2};
+            s.terminator_offset = m.shadow_terminator_offset;
+            s.terminator_lift = SmoothSurfaceLift(p, n, b, Dot(ng, ray.d) > 0 ? -ng : ng);
+        }
     }
     // Surfaces are two-sided: both normals face the incoming ray.
     if (Dot(ng, ray.d) > 0) {

@@ -7,7 +7,7 @@ import numpy as np
 
 from ...native import load_sphrect
 from .camera import export_camera
-from .geometry import MESH_LIKE, render_uv_layer, to_world, triangulate
+from .geometry import MESH_LIKE, render_uv_layer, shadow_terminator_offset, to_world, triangulate
 from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
@@ -111,7 +111,8 @@ def scene_from_depsgraph(depsgraph):
                                          material_ids=material_ids, name=name, uvs=local.uvs,
                                          generated=local.generated, object_linear=object_linear,
                                          invisible_to=invisible_to(obj, sphrect.scene.RAY_KINDS,
-                                                                      inst.parent if inst.is_instance else None)))
+                                                                      inst.parent if inst.is_instance else None),
+                                         shadow_terminator_offset=shadow_terminator_offset(obj, normals, log)))
     scene.materials = materials.list
     scene.textures = materials.textures.list
     emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}

@@ -150,3 +150,14 @@ def to_world(local, matrix_world):
         length = np.linalg.norm(normals, axis=1, keepdims=True)
         normals = np.divide(normals, length, out=np.zeros_like(normals), where=length > 0)
     return np.ascontiguousarray(vertices, dtype=np.float32), np.ascontiguousarray(triangles), normals
+
+
+def shadow_terminator_offset(obj, normals, log):
+    """The object's Shadow Terminator Geometry Offset (Object > Shading, `obj.cycles`; Cycles 3.4 applies it to
+    smooth-shaded triangles: a mesh with normals), clamped to its [0, 1].  Its Shading Offset (which softens the
+    shading itself) is not simulated: warned."""
+    settings = getattr(getattr(obj, "original", obj), "cycles", None)  # an evaluated copy may hold stale settings
+    if getattr(settings, "shadow_terminator_offset", 0.0) > 0:
+        log.unsupported_feature("Shadow Terminator Shading Offset (ignored)", obj.name)
+    offset = getattr(settings, "shadow_terminator_geometry_offset", 0.0)
+    return 0.0 if normals is None else float(min(max(offset, 0.0), 1.0))
