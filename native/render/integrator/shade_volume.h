@@ -41,6 +41,15 @@ struct ScatteringPoint {
     sink.Add(sp.x, dir, dist, le * Transmittance(c.scene.medium, dist) * (phase * w / pdf_div), vis.ShadowMask());
 }
 
+// A light sample e seen through transmittance t: phase Le t w / pdf, w its MIS weight against the phase sample (an
+// area light's point, or a direction of the image world: e.dist kInf).
+static inline void QueueMediumEmitterSample(const ShadeContext& c, const ScatteringPoint& sp, const EmitterSample& e,
+                                            const Spectrum& t, const ShadowSink& sink) {
+    const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
+    const float w = MisWeight(c.mis, e.pdf, phase);
+    sink.Add(sp.x, e.dir, e.dist, e.le * t * (phase * w / e.pdf));
+}
+
 // Light sampling: phase Le T w / (pmf pdf), w its MIS weight against the phase sample.
 template <Technique K>
 static inline void QueueMediumLightSample(const ShadeContext& c, const ScatteringPoint& sp, ChosenLight light,
@@ -49,9 +58,7 @@ static inline void QueueMediumLightSample(const ShadeContext& c, const Scatterin
     if (!e.valid) return;
     if (const LightVisibility& vis = c.scene.area_lights[light.index].vis; !vis.IsDefault())
         return QueueMediumLightWithVisibility(c, sp, e.dir, e.dist, e.le, e.pdf, e.pdf, vis, sink);
-    const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
-    const float w = MisWeight(c.mis, e.pdf, phase);
-    sink.Add(sp.x, e.dir, e.dist, e.le * Transmittance(c.scene.medium, e.dist) * (phase * w / e.pdf));
+    QueueMediumEmitterSample(c, sp, e, Transmittance(c.scene.medium, e.dist), sink);
 }
 
 // Phase sampling (the weight phase / pdf is 1): finds the area lights and the background.
@@ -68,10 +75,7 @@ static inline void QueueMediumPhaseSample(const ShadeContext& c, const Scatterin
 static inline void QueueMediumEnvironmentSample(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
                                                 const ShadowSink& sink) {
     const EmitterSample e = SampleEnvironmentEmitter(c, u);
-    if (!e.valid) return;
-    const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
-    const float w = MisWeight(c.mis, e.pdf, phase);
-    sink.Add(sp.x, e.dir, kInf, e.le * c.environment_transmittance * (phase * w / e.pdf));
+    if (e.valid) QueueMediumEmitterSample(c, sp, e, c.environment_transmittance, sink);
 }
 
 // One point, spot or sun light: phase Li T; a soft one's direction from the point u, weighted against the phase

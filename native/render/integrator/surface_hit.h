@@ -134,7 +134,8 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
     const float len = Length(ng);
     ng = len > 0 ? ng / len : -ray.d;
     Vec3f ns = ng;
-    const Bsdf* extras = nullptr;  // the material, when it needs AddHitExtras
+    const bool from_behind = Dot(ng, ray.d) > 0;  // the normals are turned to face the ray at the end
+    const Bsdf* extras = nullptr;                 // the material, when it needs AddHitExtras
     if constexpr (kGlossy) {
         const Bsdf& material = scene.bsdfs[size_t(s.material)];
         if (material.textured || material.normal_mapped || material.has_dielectric || material.anisotropic)
@@ -162,11 +163,11 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
             const Vec3f n[3] = {m.normals[i[0]], m.normals[i[1]], m.normals[i[2]]};
             const float b[3] = {b0, b1, b2};
             s.terminator_offset = m.shadow_terminator_offset;
-            s.terminator_lift = SmoothSurfaceLift(p, n, b, Dot(ng, ray.d) > 0 ? -ng : ng);
+            s.terminator_lift = SmoothSurfaceLift(p, n, b, from_behind ? -ng : ng);
         }
     }
     // Surfaces are two-sided: both normals face the incoming ray.
-    if (Dot(ng, ray.d) > 0) {
+    if (from_behind) {
         ng = -ng;
         ns = -ns;
         s.ns_unmapped = -s.ns_unmapped;
