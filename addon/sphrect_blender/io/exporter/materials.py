@@ -395,7 +395,6 @@ def _shader(sphrect, node, textures, log, name):
         elif leaf.bl_idname == "ShaderNodeEmission":
             if factors:
                 log.unsupported_feature(constant_emission, name)
-            if factors:
                 emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name,
                                       textures)
             else:
@@ -713,7 +712,7 @@ def _normal_map(node, textures, log, owner):
 def export_world(sphrect, world, log, textures=None):
     """sphrect.World of a Blender world: a constant Background, or an image world (sphrect.Environment, its image
     added to `textures`, a TextureExport: Scene.textures) where Cycles evaluates the Background's Color as an
-    equirectangular Environment Texture (_environment_world); every other world surface baked by
+    equirectangular Environment Texture (_direct_world); every other world surface baked by
     Cycles through _world_not_representable (world_bake.py)."""
     if world is None:
         return sphrect.World()
@@ -750,8 +749,6 @@ def _world_not_representable(sphrect, world, surface, textures, log):
     except world_bake.BakeError as e:
         log.problem(f"world '{world.name}' could not be baked by Cycles (black used): {e}")
         return (0.0, 0.0, 0.0), None
-    if textures is None:
-        textures = TextureExport(sphrect, log)
     textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
     environment = sphrect.Environment(texture=len(textures.list) - 1)
     return _rgb(world_bake.sphere_mean(pixels)), environment
@@ -772,8 +769,7 @@ def _uses_light_path(tree, seen):
 def _direct_world(sphrect, surface, textures, log, owner):
     """(background, environment) of a Background the renderer takes as Cycles evaluates it, or None: a constant
     Color, or an Environment Texture (equirectangular) behind optional Mapping / Vector Rotate nodes and a Texture
-    Coordinate
-    (Generated, or Object: the ray's direction in a world) whose affine map is a rotation times a positive
+    Coordinate (Generated, or Object: the ray's direction in a world) whose affine map is a rotation times a positive
     uniform scale without translation, its Color times a constant colour (a MixRGB Multiply) and the Strength."""
     if surface.bl_idname != "ShaderNodeBackground" or surface.inputs["Strength"].is_linked:
         return None
