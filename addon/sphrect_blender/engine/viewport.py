@@ -9,7 +9,9 @@
 
 The rendering itself runs on a ViewportSession's worker thread (viewport_worker). A main-thread timer
 redraws the rendered views when a worker has a new image and stops sessions no view shows any more;
-F12 renders pause every worker (render_init .. render_complete / render_cancel)."""
+F12 renders pause every worker (render_init .. render_complete / render_cancel).  A world that needs a bake
+(io/exporter/world_bake.py) is not waited for: the exports run within world_bake.in_background, a stand-in is
+rendered while the child Blender bakes, the timer polls it, and the next draw exports the world again with it."""
 import dataclasses
 import threading
 import time
@@ -65,9 +67,12 @@ class ViewportSession:
         self.drawn_at = None
         self._stats_text = None
         self.error = None          # why the last update failed (shown instead of an image)
+        self.bakes = _background_bakes()  # the world's bake running in the background (world_bake.BackgroundBakes)
+        self.world_stale = False   # a background bake ended: the next draw exports the world again
 
     def free(self):
-        """Stop the worker (the engine is freed or no view shows SPHRECT any more)."""
+        """Stop the worker and kill the world's bake (the engine is freed or no view shows SPHRECT any more)."""
+        self.bakes.cancel()
         if self.worker is not None:
             self.worker.stop()
         self._textures = None
@@ -76,6 +81,37 @@ class ViewportSession:
     # ---------------------------------------------------------------- view_update
     def update(self, depsgraph):
         start = time.perf_counter()
+        settings = depsgraph.scene.sphrect
+        updates = list(depsgraph.updates)
+        kinds = {EVERYTHING} if self.scene is None else reexport_kinds(updates)
+        if EVERYTHING not in kinds and scene_updated(updates) and contents_signature(depsgraph) != self.contents:
+            kinds = {EVERYTHING}  # an object was hidden or shown, the world or the camera replaced
+        signature = settings_signature(settings)
+        if not kinds and signature == self.settings:
+            return
+        self.settings, self.techniques = signature, viewport_techniques(settings)
+        from ..io.exporter import world_bake
+        with world_bake.in_background(self.bakes):
+            self._export(depsgraph, kinds)
+        self.last_update = (sorted(kinds), time.perf_counter() - start)
+
+    def poll_bake(self):
+        """Whether the world's background bake has ended since the last call (then the next draw exports the world
+        again, with the bake or, if it failed, the stand-in and a warning).  Called by the timer."""
+        if not self.bakes.poll():
+            return False
+        self.world_stale = True
+        return True
+
+    def refresh_world(self, depsgraph):
+        """Export the world again after its background bake ended (the draw calls it)."""
+        self.world_stale = False
+        from ..io.exporter import world_bake
+        with world_bake.in_background(self.bakes):
+            self._export(depsgraph, {WORLD} if self.scene is not None else {EVERYTHING})
+
+    def _export(self, depsgraph, kinds):
+        """Export what `kinds` (viewport_updates) names into self.scene; the worker restarts at the next draw."""
         sphrect = load_sphrect()
         from ..io.exporter import scene_from_depsgraph
         from ..io.exporter.camera import export_camera
@@ -84,15 +120,7 @@ class ViewportSession:
         from ..io.exporter.materials import export_world
 
         bl_scene = depsgraph.scene
-        settings = bl_scene.sphrect
-        updates = list(depsgraph.updates)
-        kinds = {EVERYTHING} if self.scene is None else reexport_kinds(updates)
-        if EVERYTHING not in kinds and scene_updated(updates) and contents_signature(depsgraph) != self.contents:
-            kinds = {EVERYTHING}  # an object was hidden or shown, the world or the camera replaced
-        signature = settings_signature(settings)
-        if not kinds and signature == self.settings:
-            return
-        self.settings, self.techniques, self.changed = signature, viewport_techniques(settings), True
+        self.changed = True
         log = ExportLog()
         if EVERYTHING in kinds:
             self.scene, log = scene_from_depsgraph(depsgraph)
@@ -116,7 +144,6 @@ class ViewportSession:
             if CAMERA in kinds:
                 cam = bl_scene.camera.evaluated_get(depsgraph) if bl_scene.camera is not None else None
                 self.scene = dataclasses.replace(self.scene, camera=export_camera(sphrect, bl_scene, cam, log))
-        self.last_update = (sorted(kinds), time.perf_counter() - start)
         text = log.warning_text()
         if text and text != self._reported:
             print(text)
@@ -124,6 +151,8 @@ class ViewportSession:
 
     # ---------------------------------------------------------------- view_draw
     def draw(self, engine, context, depsgraph):
+        if self.world_stale:
+            _guarded(self, lambda: self.refresh_world(depsgraph))
         if self.error:
             self._stats(engine, self.error)
             return
@@ -147,7 +176,7 @@ class ViewportSession:
                                                     pixel_size, self.scene_version))
         frame = self.worker.latest
         if frame is None:
-            self._stats(engine, "SPHRECT | Starting")
+            self._stats(engine, f"SPHRECT | Starting{self._bake_state()}")
             return
         if frame.error:
             self._stats(engine, f"SPHRECT | {frame.error}")
@@ -159,7 +188,15 @@ class ViewportSession:
             _draw_labels(region, self.techniques)
         state = "Preview" if frame.preview else f"Sample {frame.samples}/{frame.total_samples}"
         skipped = f" | skipped: {'; '.join(frame.warnings)}" if frame.warnings else ""  # lights it cannot render
-        self._stats(engine, f"SPHRECT | {state} | {frame.seconds:.1f} s{skipped}")
+        self._stats(engine, f"SPHRECT | {state} | {frame.seconds:.1f} s{self._bake_state()}{skipped}")
+
+    def _bake_state(self):
+        """The world's bake in the status text: running (a stand-in shown), or failed (said on the console)."""
+        if self.bakes.pending:
+            return " | Baking world…"
+        if self.bakes.failed_world:
+            return " | World bake failed (see the console)"
+        return ""
 
     def _stats(self, engine, text):
         """The view's status text; set only when it changes (setting it redraws the view)."""
@@ -232,19 +269,30 @@ def viewport_pixel_size(bl_scene, context):
     return int(value)
 
 
-def view_update(engine, context, depsgraph):
-    session = getattr(engine, "_viewport_session", None)
-    if session is None:
-        session = engine._viewport_session = ViewportSession()
+def _background_bakes():
+    from ..io.exporter.world_bake import BackgroundBakes
+    return BackgroundBakes()
+
+
+def _guarded(session, export):
+    """Run an export of the session; a failure is shown in the view (as F12 reports it), not a traceback at every
+    edit."""
     try:
-        session.update(depsgraph)
+        export()
         session.error = None
-    except Exception as e:  # shown in the view (as F12 reports it), not a traceback at every edit
+    except Exception as e:
         message = f"SPHRECT: {e}" if isinstance(e, ImportError) else f"SPHRECT export failed: {type(e).__name__}: {e}"
         if message != session.error:
             import traceback
             traceback.print_exc()
         session.error, session.changed = message, True
+
+
+def view_update(engine, context, depsgraph):
+    session = getattr(engine, "_viewport_session", None)
+    if session is None:
+        session = engine._viewport_session = ViewportSession()
+    _guarded(session, lambda: session.update(depsgraph))
 
 
 def view_draw(engine, context, depsgraph):
@@ -270,7 +318,8 @@ def _rendered_views():
 
 
 def _refresh():
-    """Redraw the rendered views when a worker has a new image; stop sessions no view shows."""
+    """Redraw the rendered views when a worker has a new image or a world's bake ended; stop sessions no view
+    shows."""
     sessions = list(_sessions)
     if not sessions:
         return None
@@ -279,7 +328,8 @@ def _refresh():
         for session in sessions:
             session.free()
         return None
-    if any(s.frame_ready.is_set() for s in sessions):
+    baked = [s for s in sessions if s.poll_bake()]  # (each polled)
+    if baked or any(s.frame_ready.is_set() for s in sessions):
         for session in sessions:
             session.frame_ready.clear()
         for area in views:

@@ -740,18 +740,34 @@ def _world_not_representable(sphrect, world, surface, textures, log):
     """(background, environment) of a world surface the renderer cannot take as it is (_direct_world), baked by
     Cycles (world_bake.py): the image as a linear float texture added to `textures`, strength 1 (the Background's
     Strength is in the image), identity to_world; background the image's mean radiance over the sphere (what a
-    renderer without environments shows).  A failed bake: a black world, said."""
+    renderer without environments shows).  A failed bake: a black world, said.  A Rendered viewport's export does
+    not wait for a bake (world_bake.in_background): a stand-in meanwhile, the world's last bake it showed or else
+    _stand_in_constant."""
     if _uses_light_path(world.node_tree, set()):
         log.unsupported_feature("Light Path node in a world (baked as camera rays see it, used for all rays)",
                                 world.name)
     try:
         pixels = world_bake.bake_world(world)
+    except world_bake.BakeNotReady as not_ready:
+        if not_ready.error is not None:
+            log.problem(f"world '{world.name}' could not be baked by Cycles (a stand-in used): {not_ready.error}")
+        if not_ready.stand_in is None:
+            return _stand_in_constant(surface), None
+        pixels = not_ready.stand_in
     except world_bake.BakeError as e:
         log.problem(f"world '{world.name}' could not be baked by Cycles (black used): {e}")
         return (0.0, 0.0, 0.0), None
     textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
     environment = sphrect.Environment(texture=len(textures.list) - 1)
     return _rgb(world_bake.sphere_mean(pixels)), environment
+
+
+def _stand_in_constant(surface):
+    """The constant radiance a world shows while its first bake runs: a Background's or Emission's own Color x
+    Strength (its node's values, whatever is linked to them), else black."""
+    if surface.bl_idname not in {"ShaderNodeBackground", "ShaderNodeEmission"}:
+        return (0.0, 0.0, 0.0)
+    return _rgb(np.array(_own_value(surface.inputs["Color"])[:3]) * float(_own_value(surface.inputs["Strength"])))
 
 
 def _uses_light_path(tree, seen):

@@ -1,20 +1,28 @@
 """A world node tree Cycles 3.4 evaluates, baked into an equirectangular image (sphrect.Environment's convention).
 
     pixels = bake_world(bl_world)   # float32 [H, W, 3], rows bottom to top (Texture.pixels), linear radiance
+    with in_background(bakes):      # a Rendered viewport's export: an uncached world raises BakeNotReady at once,
+        bake_world(bl_world)         # its bake runs on (BackgroundBakes), a stand-in is shown meanwhile
 
 Cycles itself renders the world: a Blender child process (`blender -b --factory-startup`) appends the world from a
 .blend this process writes, renders it alone (no objects, no lights) through an equirectangular panoramic camera
 at the origin, and saves the radiance; so a Sky Texture (Nishita, Preetham, Hosek-Wilkie), gradients, noise,
 mixes and adds of backgrounds are what Cycles shows, whatever the node.  A child process rather than this one's
 render operator: the add-on's own render (F12) cannot start a Cycles render inside it, and the user's file gains no
-scene, camera or image.  The result is cached on disk by the tree's content (world_signature).
+scene, camera or image.  The result is cached on disk by the tree's content (world_signature).  A render waits for
+the child; the Rendered viewport does not (in_background, BackgroundBakes: its timer polls the child).  No child
+outlives this Blender: a viewport kills its own when it ends or a newer bake supersedes it, an exit kills any left
+(atexit), and the child dies with its parent (Linux's parent-death signal) if this Blender crashes.
 
 This file runs in the child too (`--python world_bake.py -- <json>`): it imports nothing from the add-on.
 """
+import atexit
+import contextlib
 import hashlib
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -52,6 +60,16 @@ _BAKE_VERSION = 1
 
 class BakeError(RuntimeError):
     pass
+
+
+class BakeNotReady(Exception):
+    """Raised by bake_world within in_background() when the world's bake is not at hand: it runs in the background
+    (`error` None) or it failed (`error` says why; not tried again until the world changes).  `stand_in`: the pixels
+    of the world's last bake this viewport showed, or None."""
+
+    def __init__(self, stand_in, error=None):
+        super().__init__(error or "the world is being baked")
+        self.stand_in, self.error = stand_in, error
 
 
 # ------------------------------------------------------------------------------------------ the tree's signature
@@ -158,30 +176,57 @@ def sphere_mean(pixels):
 
 # ------------------------------------------------------------------------------------------ the bake
 _memory = {}  # signature -> pixels: the last bakes of this session (the viewport re-exports often)
+_thread = threading.local()  # .bakes: the BackgroundBakes of an export within in_background()
+_DEFAULT = object()  # bake_world's cache folder when none is given: CACHE_DIR as it is then (tests set it)
 
 
-def bake_world(world, width=None, height=None, samples=None, cache_dir=CACHE_DIR):
+def bake_world(world, width=None, height=None, samples=None, cache_dir=_DEFAULT):
     """float32 [height, width, 3], rows bottom to top: the radiance Cycles 3.4 gives camera rays that escape into
     `world` (a bpy World with nodes; evaluated or original), in direction d at pixel (u, v) as sphrect.Environment
     maps it with to_world = identity, Strength included.  Each pixel is the mean over its area in (u, v) (Cycles' box
     filter of 1 pixel; PEAK_SAMPLES about its peaks), so a sun disc smaller than a pixel keeps its power.  Cached by
-    world_signature in `cache_dir` (None: no cache).  The size and samples default to BAKE_WIDTH, BAKE_HEIGHT and
-    BAKE_SAMPLES."""
+    world_signature in `cache_dir` (CACHE_DIR unless given; None: no cache).  The size and samples default to
+    BAKE_WIDTH, BAKE_HEIGHT and BAKE_SAMPLES.  Within in_background() a world not cached raises BakeNotReady
+    instead of waiting; outside, a viewport's background bake of the same world is waited for, not started again."""
     width, height = width or BAKE_WIDTH, height or BAKE_HEIGHT
     samples = samples or BAKE_SAMPLES
+    cache_dir = CACHE_DIR if cache_dir is _DEFAULT else cache_dir
     signature = world_signature(world, width, height, samples)
+    background = getattr(_thread, "bakes", None)
+    pixels = _cached(signature, cache_dir)
+    if pixels is None:
+        if background is not None:
+            background.request(world, signature, width, height, samples, cache_dir)  # raises BakeNotReady
+        pixels = _result_of_running(signature)
+        if pixels is None:
+            pixels = _render_world(world, width, height, samples)
+        _keep(signature, pixels, cache_dir)
+    if background is not None:
+        background.showing(world, pixels)
+    return pixels
+
+
+def _cached(signature, cache_dir):
+    """The pixels of a bake done before (this session's last ones, or the cache folder's), else None."""
     if signature in _memory:
         return _memory[signature]
     path = os.path.join(cache_dir, signature + ".npy") if cache_dir else None
-    if path is not None and os.path.isfile(path):
+    if path is None or not os.path.isfile(path):
+        return None
+    try:
         pixels = np.load(path)
-    else:
-        pixels = _render_world(world, width, height, samples)
-        if path is not None:
-            _store(path, pixels, cache_dir)
+    except (OSError, ValueError):  # a damaged entry: baked again
+        return None
     _memory.clear()
     _memory[signature] = pixels
     return pixels
+
+
+def _keep(signature, pixels, cache_dir):
+    if cache_dir:
+        _store(os.path.join(cache_dir, signature + ".npy"), pixels, cache_dir)
+    _memory.clear()
+    _memory[signature] = pixels
 
 
 def _store(path, pixels, cache_dir):
@@ -199,25 +244,218 @@ def _store(path, pixels, cache_dir):
 
 
 def _render_world(world, width, height, samples):
+    """Bake `world` in a child Blender and wait for it (a render, a script)."""
+    return start_bake(world, None, width, height, samples).wait(CHILD_TIMEOUT)
+
+
+# ------------------------------------------------------------------------------------------ the child process
+_running = {}  # signature -> BakeJob: the background bakes running (a render of the same world waits for its)
+_children = set()  # every BakeJob whose child may still run (killed at exit)
+_running_lock = threading.Lock()
+
+
+class BakeJob:
+    """One child Blender baking a world (start_bake): done() asks without waiting, join() / wait() wait, kill() ends
+    it.  Any thread may wait while another polls: the result is read once."""
+
+    def __init__(self, signature, process, folder, out):
+        self.signature, self.process, self._folder, self._out = signature, process, folder, out
+        self._lock = threading.Lock()
+        self._outcome = None  # ("pixels", array) or ("error", message), once read
+
+    def done(self):
+        return self.process.poll() is not None
+
+    def join(self, timeout=None):
+        """Wait until the child ends (at most `timeout` seconds); whether it has."""
+        try:
+            self.process.wait(timeout)
+        except subprocess.TimeoutExpired:
+            return False
+        return True
+
+    def wait(self, timeout=CHILD_TIMEOUT):
+        """The baked pixels; BakeError if the child failed, was killed, or ran past `timeout` (then it is killed)."""
+        if not self.join(timeout):
+            self._end("error", f"the world bake did not run: it took more than {timeout} s")
+        with self._lock:
+            if self._outcome is None:
+                self._outcome = self._read()
+                self._forget()
+        kind, value = self._outcome
+        if kind == "error":
+            raise BakeError(value)
+        return value
+
+    def kill(self):
+        """End the child now (a newer bake supersedes it, the viewport ends, Blender quits); its result is dropped."""
+        self._end("error", "the world bake was cancelled")
+
+    def _end(self, kind, value):
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.wait()  # reaped: no zombie
+        with self._lock:
+            if self._outcome is None:
+                self._outcome = (kind, value)
+                self._forget()
+
+    def _read(self):
+        code = self.process.returncode
+        if code == 0 and os.path.isfile(self._out):
+            try:
+                return "pixels", np.load(self._out)
+            except (OSError, ValueError) as e:
+                return "error", f"the world bake's image could not be read: {e}"
+        try:
+            with open(os.path.join(self._folder, "output.txt"), errors="replace") as f:
+                tail = "\n".join(f.read().strip().splitlines()[-5:])
+        except OSError:
+            tail = ""
+        return "error", f"the world bake failed (Blender exit code {code}): {tail}"
+
+    def _forget(self):
+        """The child has ended: its folder and its place in the registries go."""
+        shutil.rmtree(self._folder, ignore_errors=True)
+        with _running_lock:
+            _children.discard(self)
+            if _running.get(self.signature) is self:
+                del _running[self.signature]
+
+
+def start_bake(world, signature, width, height, samples):
+    """A BakeJob: the child Blender started on `world` (its .blend written on the main thread), not waited for.  With
+    a `signature`, a render of the same world waits for this child (bake_world) instead of starting its own."""
     import bpy
     original = getattr(world, "original", world)
     frame = bpy.context.scene.frame_current if bpy.context.scene is not None else 1
-    with tempfile.TemporaryDirectory(prefix="sphrect_world_bake_") as folder:
+    folder = tempfile.mkdtemp(prefix="sphrect_world_bake_")
+    try:
         blend = os.path.join(folder, "world.blend")
         _on_main_thread(lambda: bpy.data.libraries.write(blend, {original}, path_remap="ABSOLUTE", fake_user=True))
         out = os.path.join(folder, "world.npy")
         job = dict(blend=blend, world=original.name, out=out, exr=os.path.join(folder, "world.exr"), width=width,
-                   height=height, samples=samples, peak_samples=PEAK_SAMPLES, frame=frame)
-        command = [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
-                   "--python", os.path.abspath(__file__), "--", json.dumps(job)]
+                   height=height, samples=samples, peak_samples=PEAK_SAMPLES, frame=frame, parent=os.getpid())
+        # Its output to a file, not a pipe nobody reads while it runs (Cycles' progress lines would fill it).
+        with open(os.path.join(folder, "output.txt"), "wb") as output:
+            process = subprocess.Popen(_child_command(job), stdin=subprocess.DEVNULL, stdout=output,
+                                       stderr=subprocess.STDOUT)
+    except OSError as e:
+        shutil.rmtree(folder, ignore_errors=True)
+        raise BakeError(f"the world bake did not run: {e}") from None
+    except BaseException:
+        shutil.rmtree(folder, ignore_errors=True)
+        raise
+    bake = BakeJob(signature, process, folder, out)
+    with _running_lock:
+        _children.add(bake)
+        if signature is not None:
+            _running[signature] = bake
+    return bake
+
+
+def _child_command(job):
+    import bpy
+    return [bpy.app.binary_path, "-b", "--factory-startup", "--python-exit-code", "1",
+            "--python", os.path.abspath(__file__), "--", json.dumps(job)]
+
+
+def _result_of_running(signature):
+    """The pixels of a background bake of this signature that is running (a render started while the viewport
+    bakes the same world), None when there is none or it did not succeed (killed by a newer edit, failed)."""
+    with _running_lock:
+        job = _running.get(signature)
+    if job is None:
+        return None
+    try:
+        return job.wait(CHILD_TIMEOUT)
+    except BakeError:
+        return None
+
+
+@atexit.register
+def kill_children():
+    """Blender quits (or the add-on is disabled): no bake outlives it."""
+    with _running_lock:
+        jobs = list(_children)
+    for job in jobs:
+        job.kill()
+
+
+# ------------------------------------------------------------------------------------------ in the background
+@contextlib.contextmanager
+def in_background(bakes):
+    """Exports on this thread within the block do not wait for a bake: bake_world raises BakeNotReady and `bakes`
+    (a BackgroundBakes) runs the child.  Other threads (an F12 render's) still wait."""
+    outer = getattr(_thread, "bakes", None)
+    _thread.bakes = bakes
+    bakes.failed_world = None
+    try:
+        yield bakes
+    finally:
+        _thread.bakes = outer
+
+
+def _world_key(world):
+    return getattr(world, "original", world).name_full
+
+
+class BackgroundBakes:
+    """The bakes of one Rendered viewport (main thread only).  One child at a time, the newest request's: a request
+    of another world or tree supersedes the running bake (killed, its result never used).  The last bake shown per
+    world is its stand-in while the next one runs; a failed bake is remembered and not tried again until the world
+    changes.  poll() (the viewport's timer) says when the running bake has ended: its pixels are then in the cache,
+    and the next export of the world (within in_background) uses them."""
+
+    def __init__(self):
+        self.job = None             # the BakeJob running
+        self.failure = None         # (signature, message): the last bake that failed
+        self.failed_world = None    # the message of a failed bake the last export within in_background used
+        self._cache_dir = None      # the running bake's
+        self._shown = {}            # world -> pixels of its last bake shown (one world kept)
+
+    @property
+    def pending(self):
+        return self.job is not None
+
+    def request(self, world, signature, width, height, samples, cache_dir):
+        """bake_world of a world not cached: its bake started unless it runs already; raises BakeNotReady."""
+        stand_in = self._shown.get(_world_key(world))
+        if self.failure is not None and self.failure[0] == signature:
+            self.failed_world = self.failure[1]
+            raise BakeNotReady(stand_in, self.failure[1])
+        if self.job is None or self.job.signature != signature:
+            self.cancel()
+            try:
+                self.job = start_bake(world, signature, width, height, samples)
+            except BakeError as e:
+                self.failure = (signature, str(e))
+                self.failed_world = str(e)
+                raise BakeNotReady(stand_in, str(e)) from None
+            self._cache_dir = cache_dir
+        raise BakeNotReady(stand_in)
+
+    def showing(self, world, pixels):
+        """An export used this bake of `world`: its stand-in while a later edit's bake runs."""
+        self._shown = {_world_key(world): pixels}
+
+    def poll(self):
+        """Whether the running bake has ended since the last call (its pixels cached, or its failure kept): the
+        world is then to be exported again.  Costs a waitpid: called by the viewport's timer."""
+        if self.job is None or not self.job.done():
+            return False
+        job, self.job = self.job, None
         try:
-            run = subprocess.run(command, capture_output=True, text=True, timeout=CHILD_TIMEOUT)
-        except (OSError, subprocess.TimeoutExpired) as e:
-            raise BakeError(f"the world bake did not run: {e}") from None
-        if run.returncode != 0 or not os.path.isfile(out):
-            tail = "\n".join((run.stdout + run.stderr).strip().splitlines()[-5:])
-            raise BakeError(f"the world bake failed (Blender exit code {run.returncode}): {tail}")
-        return np.load(out)
+            _keep(job.signature, job.wait(0), self._cache_dir)
+        except BakeError as e:
+            self.failure = (job.signature, str(e))
+        return True
+
+    def cancel(self):
+        """Kill the running child (a newer bake, the viewport ends)."""
+        if self.job is not None:
+            self.job.kill()
+            self.job = None
 
 
 def _on_main_thread(call, timeout=60.0):
@@ -263,8 +501,23 @@ def peak_boxes(pixels, ratio=PEAK_RATIO, margin=PEAK_MARGIN):
 
 
 # ------------------------------------------------------------------------------------------ in the child Blender
+def _die_with_parent(parent):
+    """Linux: this process is killed when the Blender that started it ends, even by a crash (PR_SET_PDEATHSIG);
+    if that Blender is gone already, end now."""
+    try:
+        import ctypes
+        import signal
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return
+    if os.getppid() != parent:
+        os._exit(1)
+
+
 def _child(job):
     import bpy
+    if "parent" in job:
+        _die_with_parent(job["parent"])
     with bpy.data.libraries.load(job["blend"]) as (source, target):
         target.worlds = [job["world"]]
     scene = bpy.context.scene
