@@ -3,6 +3,7 @@ its export of a world not yet baked returns with a stand-in and the bake running
 ends, the world is exported again with the bake; a newer edit supersedes a running bake; a failed one keeps the
 stand-in; no child outlives the viewport or Blender.  Small gradient worlds (32 x 16) baked into a cache folder of the
 test's own; every wait on a child is bounded (WAIT_SECONDS), none is a fixed sleep."""
+import json
 import os
 import shutil
 import signal
@@ -217,8 +218,8 @@ def process_gone(pid):
 @pytest.mark.parametrize("how", ["quit", "crash"])
 def test_no_bake_outlives_blender(tmp_path, how):
     """A Blender that quits while its background bake renders kills it (atexit, which also removes its folder); one
-    that is killed takes its child with it (the child's parent-death signal).  (A child whose Blender ended before the child's own start
-    ends itself as it starts: its parent is not the one it was given.)"""
+    that is killed takes its child with it (the child's parent-death signal).  (A child whose Blender ended before
+    the child's own start ends itself as it starts: its parent is not the one it was given.)"""
     script = tmp_path / "start_bake.py"
     script.write_text(QUIT_SCRIPT)
     addon = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "addon")
@@ -244,3 +245,26 @@ def test_no_bake_outlives_blender(tmp_path, how):
             os.kill(pid, signal.SIGKILL)
         shutil.rmtree(folder, ignore_errors=True)  # (left by the killed Blender)
     assert not (tmp_path / "cache").exists() or list((tmp_path / "cache").glob("*.npy")) == []
+
+
+@pytest.mark.gui
+@pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt install xvfb)")
+def test_rendered_view_of_a_sky_in_a_window(tmp_path):
+    """In a real window (xvfb): the view's first image is drawn while the sky's bake runs, its status saying so; the
+    timer notices the bake's end and the view then shows the baked world; an edit of the sky shows the previous bake
+    while the new one runs; leaving Rendered shading kills that child."""
+    run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x800x24", bpy.app.binary_path, "--factory-startup",
+                          "--python", os.path.join(os.path.dirname(__file__), "gui_viewport_world_bake.py")],
+                         capture_output=True, text=True, timeout=600,
+                         env=dict(os.environ, SPHRECT_BAKE_CACHE=str(tmp_path)))
+    lines = [l for l in run.stdout.splitlines() if l.startswith("GUI_RESULT ")]
+    assert lines, run.stdout[-2000:] + run.stderr[-2000:]
+    r = json.loads(lines[0][len("GUI_RESULT "):])
+    print(r)
+    assert "timeout" not in r and "error" not in r, r
+    assert r["first_export"][0] == ["everything"]
+    assert r["drawn_while_baking"] and "Baking world" in r["status_while_baking"], r
+    assert not r["stand_in_environment"]  # the first view's stand-in: a constant
+    assert "Baking world" not in r["landed_status"] and r["landed_export"][0] == ["world"], r
+    assert r["edit_stand_in_is_previous_bake"], r
+    assert r["child_after_solid"] == -signal.SIGKILL and r["sessions_after_solid"] == 0, r

@@ -105,10 +105,13 @@ class ViewportSession:
 
     def refresh_world(self, depsgraph):
         """Export the world again after its background bake ended (the draw calls it)."""
+        start = time.perf_counter()
         self.world_stale = False
+        kinds = {WORLD} if self.scene is not None else {EVERYTHING}
         from ..io.exporter import world_bake
         with world_bake.in_background(self.bakes):
-            self._export(depsgraph, {WORLD} if self.scene is not None else {EVERYTHING})
+            self._export(depsgraph, kinds)
+        self.last_update = (sorted(kinds), time.perf_counter() - start)
 
     def _export(self, depsgraph, kinds):
         """Export what `kinds` (viewport_updates) names into self.scene; the worker restarts at the next draw."""
