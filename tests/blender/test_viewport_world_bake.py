@@ -165,6 +165,19 @@ def test_leaving_the_viewport_kills_its_bake(sky_scene, tmp_path):
     assert list(tmp_path.glob("*.npy")) == []
 
 
+def test_a_world_that_needs_no_bake_any_more_ends_the_running_one(sky_scene):
+    """The world edited into a constant while its bake runs: the child is killed, the constant shown, the status
+    clear."""
+    scene, world, session = sky_scene
+    session.update(depsgraph())
+    job = session.bakes.job
+    tree = world.node_tree
+    edited(session, lambda: tree.links.remove(tree.nodes["Background"].inputs["Color"].links[0]))
+    assert job.done() and not session.bakes.pending and session._bake_state() == ""
+    assert session.scene.world.environment is None
+    assert session.scene.world.background == pytest.approx((0.2, 0.4, 0.6))
+
+
 @pytest.mark.slow
 def test_a_render_waits_for_the_viewport_bake_of_the_same_world(sky_scene, monkeypatch):
     """A render (outside in_background) of a world the viewport is baking waits for that child instead of starting

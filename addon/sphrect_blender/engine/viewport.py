@@ -147,6 +147,8 @@ class ViewportSession:
             if CAMERA in kinds:
                 cam = bl_scene.camera.evaluated_get(depsgraph) if bl_scene.camera is not None else None
                 self.scene = dataclasses.replace(self.scene, camera=export_camera(sphrect, bl_scene, cam, log))
+        if kinds & {EVERYTHING, WORLD}:
+            self.bakes.world_exported()
         text = log.warning_text()
         if text and text != self._reported:
             print(text)

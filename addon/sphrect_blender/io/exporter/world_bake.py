@@ -202,7 +202,7 @@ def bake_world(world, width=None, height=None, samples=None, cache_dir=_DEFAULT)
             pixels = _render_world(world, width, height, samples)
         _keep(signature, pixels, cache_dir)
     if background is not None:
-        background.showing(world, pixels)
+        background.showing(world, signature, pixels)
     return pixels
 
 
@@ -389,7 +389,7 @@ def in_background(bakes):
     (a BackgroundBakes) runs the child.  Other threads (an F12 render's) still wait."""
     outer = getattr(_thread, "bakes", None)
     _thread.bakes = bakes
-    bakes.failed_world = None
+    bakes.asked = False
     try:
         yield bakes
     finally:
@@ -410,7 +410,8 @@ class BackgroundBakes:
     def __init__(self):
         self.job = None             # the BakeJob running
         self.failure = None         # (signature, message): the last bake that failed
-        self.failed_world = None    # the message of a failed bake the last export within in_background used
+        self.failed_world = None    # why the bake of the world last exported failed, or None
+        self.asked = False          # bake_world was called since in_background() began
         self._cache_dir = None      # the running bake's
         self._shown = {}            # world -> pixels of its last bake shown (one world kept)
 
@@ -420,10 +421,12 @@ class BackgroundBakes:
 
     def request(self, world, signature, width, height, samples, cache_dir):
         """bake_world of a world not cached: its bake started unless it runs already; raises BakeNotReady."""
+        self.asked = True
         stand_in = self._shown.get(_world_key(world))
         if self.failure is not None and self.failure[0] == signature:
             self.failed_world = self.failure[1]
             raise BakeNotReady(stand_in, self.failure[1])
+        self.failed_world = None
         if self.job is None or self.job.signature != signature:
             self.cancel()
             try:
@@ -435,9 +438,20 @@ class BackgroundBakes:
             self._cache_dir = cache_dir
         raise BakeNotReady(stand_in)
 
-    def showing(self, world, pixels):
-        """An export used this bake of `world`: its stand-in while a later edit's bake runs."""
+    def showing(self, world, signature, pixels):
+        """An export used this bake of `world` (cached): its stand-in while a later edit's bake runs; a bake of
+        another state of the world (an edit undone) is of no use any more."""
+        self.asked, self.failed_world = True, None
         self._shown = {_world_key(world): pixels}
+        if self.job is not None and self.job.signature != signature:
+            self.cancel()
+
+    def world_exported(self):
+        """The world was exported (within in_background): if it asked for no bake (a constant or an image world
+        now), the running bake is of no use any more."""
+        if not self.asked:
+            self.cancel()
+            self.failed_world = None
 
     def poll(self):
         """Whether the running bake has ended since the last call (its pixels cached, or its failure kept): the
@@ -452,7 +466,7 @@ class BackgroundBakes:
         return True
 
     def cancel(self):
-        """Kill the running child (a newer bake, the viewport ends)."""
+        """Kill the running child (a newer bake, a world that needs none, the viewport ends)."""
         if self.job is not None:
             self.job.kill()
             self.job = None
