@@ -181,6 +181,10 @@ Material ReadMaterial(const py::dict& d) {
 
 }  // namespace
 
+render::TextureLookup LookupFromFields(const py::handle& fields, const std::string& what) {
+    return Lookup(fields, what);
+}
+
 Material MaterialFromFields(const py::handle& fields) {
     return ReadMaterialNamed(Fields(fields, "a material must be a sphrect.Material"));
 }

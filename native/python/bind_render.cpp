@@ -23,6 +23,8 @@ namespace sphrect::python {
 
 // bind_material.cpp: a sphrect.Material (its dataclasses.asdict fields) as the renderer takes it.
 render::Material MaterialFromFields(const py::handle& fields);
+// bind_material.cpp: a sphrect.TextureLookup (its dataclasses.asdict fields); `what` names it in errors.
+render::TextureLookup LookupFromFields(const py::handle& fields, const std::string& what);
 
 namespace {
 
@@ -403,6 +405,12 @@ void BindRender(py::module_& m) {
              py::call_guard<py::gil_scoped_release>())
         .def("set_image_memory_limit", &RenderScene::SetImageMemoryLimit, py::arg("bytes"))
         .def_property_readonly("image_memory_bytes", &RenderScene::ImageMemoryBytes)
+        .def(
+            "set_last_light_texture",
+            [](RenderScene& s, const py::handle& fields) {
+                s.SetLastLightTexture(LookupFromFields(fields, "a light's texture"));
+            },
+            py::arg("lookup"))
         .def("set_last_mesh_shadow_terminator_offset", &RenderScene::SetLastMeshShadowTerminatorOffset,
              py::arg("offset"))
         .def(

@@ -48,8 +48,8 @@ struct AreaLight {
     // spread_cot 0 (a spread of 180 degrees) is a light without spread.
     float spread_cot = 0;
     float spread_normalization = 1;
-    // Textured emission (an emissive mesh's): index into RenderScene::textured_emitters, -1 for none.  `radiance` is
-    // then its mean over the light, which light selection uses (textured_emission.h).
+    // Textured emission (an emissive mesh's, or the light's own): index into RenderScene::textured_emitters, -1 for
+    // none.  `radiance` is then its mean over the light, which light selection uses (textured_emission.h).
     int texture = -1;
     bool HasSpread() const { return spread_cot > 0; }
 };
@@ -146,6 +146,12 @@ inline Spectrum EmittedRadiance(const AreaLight& l, const Vec3f& toward) {
     return l.HasSpread() ? l.radiance * SpreadAttenuation(l, toward) : l.radiance;
 }
 
+// The share of its radiance a rectangle or ellipse light sends towards `toward`: 0 behind a one-sided light, its
+// spread's attenuation (EmittedRadiance's factor, for a light whose radiance varies over it: textured_emission.h).
+inline float EmissionTowards(const AreaLight& l, const Vec3f& toward) {
+    if (!(l.two_sided || Dot(l.n, toward) > 0)) return 0;
+    return l.HasSpread() ? SpreadAttenuation(l, toward) : 1.0f;
+}
 // Whether the point p of the ellipse light's plane lies on the ellipse.
 inline bool OnEllipse(const AreaLight& l, const Vec3f& p) {
     const Vec3f q = p - l.center;

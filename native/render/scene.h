@@ -127,6 +127,10 @@ class RenderScene {
                              bool two_sided, bool visible, float spread = kPi, const LightVisibility& vis = {});
     std::string AddEllipseLight(const Vec3f& center, const Vec3f& ax, const Vec3f& ay, const Spectrum& radiance,
                                 bool two_sided, bool visible, float spread = kPi, const LightVisibility& vis = {});
+    // The light just added (AddRectLight or AddEllipseLight returned ""), its radiance then varying over it as the
+    // lookup's colour x that radiance: the lookup reads (a, b, 0), the point's fractions along the light's edges (an
+    // ellipse's bounding rectangle's) from its corner, through its transform (a Blender light's node tree).
+    void SetLastLightTexture(const TextureLookup& lookup);
     // radius (point, spot) and angle (the sun's angular diameter, in [0, pi]): soft lights as Cycles 3.4's
     // (delta_light.h); 0: delta lights.  visible: a soft light is seen by camera rays.
     void AddPointLight(const Vec3f& position, const Spectrum& intensity, float radius = 0, bool visible = true,
@@ -209,8 +213,9 @@ class RenderScene {
     void AddMeshLights();
     // AddMeshLights: area_lights.back(), of material `material`, made of `count` triangles of meshes[mesh] from
     // `first`, takes its emission from the material's image (scene_textured_emitters.cpp).
-    void AddTexturedEmitter(int material, uint32_t mesh, uint32_t first, int count);
-    void LetRaysThroughTransparentMeshes();  // Commit(): sets has_transparency and the meshes' occlusion filters
+    void AddMeshTexturedEmitter(int material, uint32_t mesh, uint32_t first, int count);
+    void AddTexturedEmitter(TexturedEmitter e);  // area_lights.back()'s: its mean radiance, its blocks
+    void LetRaysThroughTransparentMeshes();      // Commit(): sets has_transparency and the meshes' occlusion filters
     RTCDevice device_ = nullptr;
     bool committed_ = false, camera_set_ = false;
     uint64_t image_memory_limit_ = 0, image_memory_bytes_ = 0;

@@ -102,7 +102,7 @@ void RenderScene::AddMeshLights() {
                 if (const auto rect = RectangleOfPair(t, triangle(i + 1))) {
                     area_lights.push_back(MakeRectAreaLight(rect->corner, rect->ex, rect->ey, le, true, true));
                     area_lights.back().on_mesh = true;
-                    if (textured(i)) AddTexturedEmitter(material_of(i), mesh_index, uint32_t(i), 2);
+                    if (textured(i)) AddMeshTexturedEmitter(material_of(i), mesh_index, uint32_t(i), 2);
                     m.triangle_light[i] = m.triangle_light[i + 1] = index;
                     ++i;
                     continue;
@@ -114,7 +114,7 @@ void RenderScene::AddMeshLights() {
                 continue;
             }
             area_lights.push_back(l);
-            if (textured(i)) AddTexturedEmitter(material_of(i), mesh_index, uint32_t(i), 1);
+            if (textured(i)) AddMeshTexturedEmitter(material_of(i), mesh_index, uint32_t(i), 1);
             m.triangle_light[i] = index;
         }
         // It lights the closures its object is visible to (light.cpp's mesh_light.shader_flag).

@@ -203,8 +203,9 @@ std::vector<ScreenLight> BuildScreenLights(const CameraModel& camera, const std:
     const V3 view_dir = {camera.to_world[0][2], camera.to_world[1][2], camera.to_world[2][2]};  // camera +Z
     for (size_t i = 0; i < std::min(count, lights.size()); ++i) {
         const AreaLight& l = lights[i];
-        // A light with spread is not seen uniformly (its attenuation varies over its image): camera rays see it.
-        if (!l.visible || l.on_mesh || l.shape == AreaShape::Triangle || l.HasSpread()) continue;
+        // A light with spread or a texture is not seen uniformly (its radiance varies over its image): camera rays see
+        // it.
+        if (!l.visible || l.on_mesh || l.shape == AreaShape::Triangle || l.HasSpread() || l.texture >= 0) continue;
         // Towards the camera, from the light: the eye (perspective) or the view direction reversed
         // (orthographic, whose rays are parallel): one side of the light for the whole image.
         const V3 toward = camera.orthographic ? view_dir : Sub(frame.origin, D(l.center));

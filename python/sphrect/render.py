@@ -68,7 +68,7 @@ from .arguments import int_argument, one_of, rgb
 from .sample_ranges import Accumulation, sample_ranges
 from .scene import (CAMERA_TYPES, PIXEL_FILTERS, SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS, Camera,
                     EllipseLight, Environment, Material, PointLight, RectLight, Scene, SpotLight, SunLight, Texture,
-                    World)
+                    TextureLookup, World)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -274,6 +274,12 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
                                  float(light.angle), bool(light.visible), **vis)
         else:
             raise ValueError(f"unknown light type {type(light).__name__}")
+        texture = getattr(light, "texture", None)  # a rectangle's or an ellipse's (RectLight.texture)
+        if texture is not None and not msg:
+            if not isinstance(texture, TextureLookup):
+                raise ValueError(f"light '{light.name}': texture must be a sphrect.TextureLookup or None, got "
+                                 f"{type(texture).__name__}")
+            native.set_last_light_texture(dataclasses.asdict(texture))
         if msg:
             skipped.append(f"light '{getattr(light, 'name', '?')}': {msg}")
     native.commit()

@@ -66,7 +66,9 @@ FORMAT_NAME = "sphrect-scene"
 # 14: Mesh.invisible_to and every light's invisible_to, cast_shadow, use_mis (Blender's Ray Visibility, a light's
 # Cast Shadow and Multiple Importance, as Cycles 3.4 honours them).  Older files load with everything visible.
 # 15: Mesh.shadow_terminator_offset (Blender's Shadow Terminator Geometry Offset).  Older files load with 0 (none).
-FORMAT_VERSION = 15
+# 16: RectLight.texture, EllipseLight.texture (an image over the light: a Blender light's node tree).  Older files load
+# without (uniform lights).
+FORMAT_VERSION = 16
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -278,6 +280,10 @@ class RectLight(LightVisibility):
     # normal (max(1 - tan(angle) / tan(spread / 2), 0), normalised to keep the power; at least 1 degree), each
     # shading point sampling only the sub-rectangle it receives light from (docs/renderer.md).
     spread: float = math.pi
+    # An image over the light: the radiance at a point is `radiance` x the lookup's colour there, the lookup reading
+    # coordinates 'uv' = (a, b, 0), the point's fractions along edge_x and edge_y from the corner, through its
+    # transform (a Blender light's node tree: Geometry > Parametric, Texture Coordinate > Object...).
+    texture: Optional["TextureLookup"] = None
 
     @property
     def area(self) -> float:
@@ -305,6 +311,9 @@ class EllipseLight(LightVisibility):
     visible: bool = True
     name: str = "ellipse"
     spread: float = math.pi          # as RectLight.spread (sampled on its bounding rectangle's sub-rectangle)
+    # As RectLight.texture, (a, b) the fractions along its bounding rectangle's edges 2 axis_x and 2 axis_y from its
+    # corner center - axis_x - axis_y.
+    texture: Optional["TextureLookup"] = None
 
 
 @dataclass
@@ -522,6 +531,8 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
             raise ValueError(f"{path}: unknown light type")
         if "invisible_to" in l:
             l["invisible_to"] = tuple(l["invisible_to"])
+        if l.get("texture") is not None:
+            l["texture"] = _lookup_from_dict(l["texture"])
         scene.lights.append(cls(**l))
     for m in meta["meshes"]:
         key = m["arrays"]

@@ -118,7 +118,7 @@ class ViewportSession:
         sphrect = load_sphrect()
         from ..io.exporter import scene_from_depsgraph
         from ..io.exporter.camera import export_camera
-        from ..io.exporter.lights import export_light
+        from ..io.exporter.lights import export_light, has_image_texture
         from ..io.exporter.log import ExportLog
         from ..io.exporter.materials import export_world
 
@@ -130,7 +130,13 @@ class ViewportSession:
             self.contents = contents_signature(depsgraph)
             self.scene_version += 1
         else:
-            if LIGHTS in kinds:
+            if LIGHTS in kinds and (any(getattr(l, "texture", None) is not None for l in self.scene.lights) or
+                                    any(has_image_texture(i.object.data) for i in depsgraph.object_instances
+                                        if i.object.type == "LIGHT")):
+                # A light's image is one of the scene's textures: everything again.
+                self.scene, log = scene_from_depsgraph(depsgraph)
+                self.contents = contents_signature(depsgraph)
+            elif LIGHTS in kinds:
                 lights = (export_light(sphrect, i.object, i.matrix_world, i.object.name, log,
                                        i.parent if i.is_instance else None)
                           for i in depsgraph.object_instances if i.object.type == "LIGHT")

@@ -112,12 +112,13 @@ static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHi
             seen += weighted(EmissionSeenAtHit(scene, out.surface) *
                              SegmentTransmittance<kMedium>(scene.medium, out.t_end));
     }
-    scene.analytic_light_finder.ForEachCrossing(out.ray.o, out.ray.d, t_begin, std::min(out.t_end, out.ray.tmax),
-                                                LightsSought::VisibleToCamera, [&](int i, float t) {
-                                                    if (i == out.light_seen_by_estimate) return;
-                                                    seen += weighted(EmittedRadiance(scene.area_lights[i], -out.ray.d) *
-                                                                     SegmentTransmittance<kMedium>(scene.medium, t));
-                                                });
+    scene.analytic_light_finder.ForEachCrossing(
+        out.ray.o, out.ray.d, t_begin, std::min(out.t_end, out.ray.tmax), LightsSought::VisibleToCamera,
+        [&](int i, float t) {
+            if (i == out.light_seen_by_estimate) return;
+            seen += weighted(RadianceOfCrossedLight(scene, scene.area_lights[i], out.ray.o, out.ray.d, t) *
+                             SegmentTransmittance<kMedium>(scene.medium, t));
+        });
     if (!scene.soft_lights.empty()) AddSoftLightsSeen<kMedium>(scene, out, t_begin, weighted, seen);
 }
 

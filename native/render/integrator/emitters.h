@@ -48,7 +48,8 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
     if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return {};
     const AreaLight& l = c.scene.area_lights[light.index];
     if (l.on_mesh) PullOffMeshLight(l, ls);
-    const Spectrum le = l.texture < 0 ? EmittedRadiance(l, -ls.dir) : TexturedEmissionAtPoint(c.scene, l, ls.point);
+    const Spectrum le =
+        l.texture < 0 ? EmittedRadiance(l, -ls.dir) : TexturedEmissionAtPoint(c.scene, l, ls.point, -ls.dir);
     if (IsBlack(le)) return {};
     return {true, ls.dir, ls.dist, le, light.pmf * ls.pdf};
 }
@@ -125,7 +126,7 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
     c.scene.analytic_light_finder.ForEachCrossing(o, d, 0, kInf, LightsSought::All, [&](int i, float t) {
         const AreaLight& l = c.scene.area_lights[i];
         if (!l.vis.FoundBy(ray)) return;
-        const Spectrum le = EmittedRadiance(l, -d);
+        const Spectrum le = RadianceOfCrossedLight(c.scene, l, o, d, t);
         if (IsBlack(le)) return;
         const float pdf_light = light_sampling.PDF(i, o + d * t);
         sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),

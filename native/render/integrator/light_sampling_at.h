@@ -108,7 +108,7 @@ class LightSamplingAt {
             if (K == Technique::Area) return SampleTriangleArea(l, origin_, u);
             return SampleTriangleSolidAngle(TriangleSetup(index), l, origin_, u);
         }
-        if (l.texture >= 0 && emission_blocks_) return SampleEmissionBlocks(l, u);
+        if (SampledByBlocks(l)) return SampleEmissionBlocks(l, u);
         const LightSampler<K, float>& s = RectangleSampler(index);
         return s.Valid() ? s.Sample(u) : LightSample<float>{};
     }
@@ -142,9 +142,15 @@ class LightSamplingAt {
             if (index == triangle_index_) return TriangleSolidAnglePDF(triangle_, l, origin_, p);
             return TriangleSolidAnglePDF(MakeTriangleSolidAngleSetup(l, origin_), l, origin_, p);
         }
-        if (l.texture >= 0 && emission_blocks_) return EmissionBlocksPDF(l, p);
+        if (SampledByBlocks(l)) return EmissionBlocksPDF(l, p);
         const LightSampler<K, float>& s = RectangleSampler(index);
         return s.Valid() ? s.PDF(p) : 0.0f;
+    }
+
+    // Whether rectangle light l is sampled by its blocks: textured, with blocks (not a light with spread, sampled on
+    // its clipped part), and the option on.
+    bool SampledByBlocks(const AreaLight& l) const {
+        return l.texture >= 0 && emission_blocks_ && scene_.textured_emitters[size_t(l.texture)].HasBlocks();
     }
 
     // A textured rectangle light: a block by its radiance and solid angle, a point in it by the rectangle map

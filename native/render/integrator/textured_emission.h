@@ -1,8 +1,9 @@
-// Emission an image drives (Material::textures[kEmission]): the radiance Material::emission x the lookup's colour at
-// a point of the emitter, as Cycles 3.4 evaluates the emission closure's colour per shading point.  Camera rays read
-// it at their hit's texture coordinates, BSDF rays at the barycentrics of the triangle they hit, light samples at
-// their point (its triangle's barycentrics).  Out of line and cold, as HitSpecificBsdf: scenes without textured
-// emission pay one test of AreaLight::texture per light sample and BSDF hit on an emitter.
+// Emission an image drives (textured_emitter.h): the radiance multiplier x the lookup's colour at a point of the
+// emitter, as Cycles 3.4 evaluates the emission closure's colour per shading point.  An emissive mesh's
+// (Material::textures[kEmission]) is read by camera rays at their hit's texture coordinates, by BSDF rays at the
+// barycentrics of the triangle they hit, by light samples at their point (its triangle's barycentrics); a rectangle or
+// ellipse light's own at the point's coordinates along the light's edges.  Out of line and cold, as HitSpecificBsdf:
+// scenes without textured emission pay one test of AreaLight::texture per light sample and emitter a ray finds.
 #pragma once
 
 #include <algorithm>
@@ -12,11 +13,21 @@
 
 namespace sphrect::render {
 
-// Material `material`'s emitted radiance at texture coordinates tc (the colour clamped to >= 0, as a base colour).
+// A lookup's colour times the emitter's multiplier (the colour clamped to >= 0, as a base colour).
+inline Spectrum ScaledEmission(const Spectrum& multiplier, const Rgba& lookup) {
+    const Spectrum c = TextureColor(lookup);
+    return multiplier * Spectrum(std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f));
+}
+
+// Material `material`'s emitted radiance at texture coordinates tc.
 inline Spectrum EmissionAtCoordinates(const RenderScene& scene, int material, const TextureCoordinates& tc) {
     const Material& r = scene.materials[size_t(material)];
-    const Spectrum c = TextureColor(EvalTextureAt(scene.images, r.textures[int(TexturedInput::kEmission)], tc));
-    return r.emission * Spectrum(std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f));
+    return ScaledEmission(r.emission, EvalTextureAt(scene.images, r.textures[int(TexturedInput::kEmission)], tc));
+}
+
+// Emitter e's radiance where its lookup's input coordinates are `coords`.
+inline Spectrum EmitterRadianceAt(const RenderScene& scene, const TexturedEmitter& e, const Vec3f& coords) {
+    return ScaledEmission(e.multiplier, EvalTextureLookup(scene.images, e.lookup, coords));
 }
 
 // The texture coordinates at barycentrics (b1, b2) of triangle `prim` of the emitter's mesh.
@@ -27,8 +38,8 @@ inline TextureCoordinates EmitterCoordinates(const RenderScene& scene, const Tex
     return InterpolateTextureCoordinates(m, t[0], t[1], t[2], 1 - b1 - b2, b1, b2);
 }
 
-// The texture coordinates at point p of the emitter: in the triangle of the light that holds it (of a rectangle's two,
-// the one p lies deeper in), from its barycentrics (the 2x2 Gram system of its edges, as IntersectAreaLight).
+// The texture coordinates at point p of a mesh emitter: in the triangle of the light that holds it (of a rectangle's
+// two, the one p lies deeper in), from its barycentrics (the 2x2 Gram system of its edges, as IntersectAreaLight).
 inline TextureCoordinates EmitterCoordinatesAt(const RenderScene& scene, const TexturedEmitter& e, const Vec3f& p) {
     const MeshData& m = scene.meshes[e.mesh];
     uint32_t best = e.triangles[0];
@@ -49,18 +60,45 @@ inline TextureCoordinates EmitterCoordinatesAt(const RenderScene& scene, const T
     return EmitterCoordinates(scene, e, best, best_b1, best_b2);
 }
 
-// Light samples: the radiance a textured mesh light l sends from its point p (both sides, as every mesh light).
+// A rectangle or ellipse light's coordinates at point p of its plane: (a, b, 0), p's fractions along its edges from
+// its corner (an ellipse's: along its bounding rectangle's), [0, 1]^2 on the light.
+inline Vec3f LightPlaneCoordinates(const AreaLight& l, const Vec3f& p) {
+    const float k = l.shape == AreaShape::Ellipse ? 0.5f : 1.0f;  // inv_x, inv_y: an ellipse's semi-axes
+    const Vec3f q = p - l.center;
+    return {k * Dot(q, l.inv_x) + 0.5f, k * Dot(q, l.inv_y) + 0.5f, 0.0f};
+}
+
+// The lookup's input coordinates at point p of textured emitter e (area light l).
+inline Vec3f EmitterLookupCoordinates(const RenderScene& scene, const TexturedEmitter& e, const AreaLight& l,
+                                      const Vec3f& p) {
+    if (e.on_light_plane) return LightPlaneCoordinates(l, p);
+    const TextureCoordinates tc = EmitterCoordinatesAt(scene, e, p);
+    return e.lookup.generated ? tc.generated : tc.uv;
+}
+
+// The radiance textured light l sends from its point p towards `toward` (pointing away from the light): a mesh's on
+// both sides, a light's own on the sides it emits on, with its spread (as EmittedRadiance).  Light samples, and the
+// BSDF and camera rays that cross a rectangle or ellipse light.
 [[gnu::noinline, gnu::cold]] inline Spectrum TexturedEmissionAtPoint(const RenderScene& scene, const AreaLight& l,
-                                                                     const Vec3f& p) {
+                                                                     const Vec3f& p, const Vec3f& toward) {
     const TexturedEmitter& e = scene.textured_emitters[size_t(l.texture)];
-    return EmissionAtCoordinates(scene, e.material, EmitterCoordinatesAt(scene, e, p));
+    if (!e.on_light_plane) return EmitterRadianceAt(scene, e, EmitterLookupCoordinates(scene, e, l, p));
+    const float share = EmissionTowards(l, toward);
+    return share > 0 ? EmitterRadianceAt(scene, e, LightPlaneCoordinates(l, p)) * share : Spectrum();
 }
 
 // BSDF rays: the radiance of textured mesh light l at barycentrics (b1, b2) of its triangle `prim` (Embree's hit).
 [[gnu::noinline, gnu::cold]] inline Spectrum TexturedEmissionAtHit(const RenderScene& scene, const AreaLight& l,
                                                                    uint32_t prim, float b1, float b2) {
     const TexturedEmitter& e = scene.textured_emitters[size_t(l.texture)];
-    return EmissionAtCoordinates(scene, e.material, EmitterCoordinates(scene, e, prim, b1, b2));
+    const TextureCoordinates tc = EmitterCoordinates(scene, e, prim, b1, b2);
+    return EmitterRadianceAt(scene, e, e.lookup.generated ? tc.generated : tc.uv);
+}
+
+// What a ray from o along d finds of rectangle or ellipse light l crossed at distance t.
+inline Spectrum RadianceOfCrossedLight(const RenderScene& scene, const AreaLight& l, const Vec3f& o, const Vec3f& d,
+                                       float t) {
+    return l.texture < 0 ? EmittedRadiance(l, -d) : TexturedEmissionAtPoint(scene, l, o + d * t, -d);
 }
 
 // Camera rays: the emission of the hit's material, at its texture coordinates when an image drives it.

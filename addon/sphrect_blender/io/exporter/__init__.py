@@ -71,7 +71,8 @@ def scene_from_depsgraph(depsgraph):
         obj = inst.object
         name = obj.name if not inst.is_instance else f"{inst.parent.name}/{obj.name}#{inst.random_id & 0xffff}"
         if obj.type == "LIGHT":
-            light = export_light(sphrect, obj, inst.matrix_world, name, log, inst.parent if inst.is_instance else None)
+            light = export_light(sphrect, obj, inst.matrix_world, name, log, inst.parent if inst.is_instance else None,
+                                 materials.textures)
             if light is not None:
                 scene.lights.append(light)
             continue

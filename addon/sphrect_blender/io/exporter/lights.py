@@ -1,11 +1,14 @@
 """Blender lights -> sphrect lights. Power becomes radiance, intensity or irradiance by Cycles 3.4's
 conventions in `sphrect.scene` (area_light_radiance, point_light_intensity, sun_irradiance), an area
-measured after the object's scale. Every light emits along its object's local -Z axis.
+measured after the object's scale. Every light emits along its object's local -Z axis.  A light's node tree
+(light_shader): its Emission's colour x strength multiplies the light's; an Image Texture on that colour is a
+rectangle or ellipse light's texture, read where Cycles 3.4 reads it on a light (_coordinate_maps).
 """
 import math
 
 import numpy as np
 
+from .materials import _active_output, _emission_term, _linked_node
 from .visibility import LIGHT_RAY_KINDS, invisible_to
 
 
@@ -70,26 +73,83 @@ def light_visibility(obj, parent=None):
                 use_mis=bool(getattr(cycles, "use_multiple_importance_sampling", True)))
 
 
-def export_light(sphrect, obj, matrix_world, name, log, parent=None):
+def light_shader(light, log, textures=None, light_coordinates=None):
+    """(colour factor, TextureLookup or None) of a light's node tree as Cycles 3.4 shades a light: the Emission on its
+    active Light Output emits colour x strength (svm_node_emission_weight), times the light's own colour and power; for
+    a rectangle or ellipse light (light_coordinates: _coordinate_maps'), an Image Texture on that colour is the light's
+    texture.  Without nodes (1, 1, 1); with no shader on the output (0, 0, 0), as Cycles, which then emits nothing;
+    any other shader warned, the light's colour and power alone used."""
+    if not light.use_nodes or light.node_tree is None:
+        return (1.0, 1.0, 1.0), None
+    out = _active_output(light.node_tree, "ShaderNodeOutputLight")
+    node = _linked_node(out.inputs["Surface"]) if out is not None else None
+    if node is None:
+        return (0.0, 0.0, 0.0), None
+    if node.bl_idname != "ShaderNodeEmission":
+        log.unsupported_feature(f"light shader '{node.bl_label or node.bl_idname}' (the light's colour and power used)",
+                                light.name)
+        return (1.0, 1.0, 1.0), None
+    return _emission_term(node, "Color", "Strength", 1.0, log, light.name, textures, light_coordinates)
+
+
+def has_image_texture(light):
+    """Whether a light's node tree holds an Image Texture node (which its export may read as the light's texture)."""
+    tree = light.node_tree if light.use_nodes else None
+    return tree is not None and any(n.bl_idname == "ShaderNodeTexImage" for n in tree.nodes)
+
+
+def _coordinate_maps(corner, edge_x, edge_y, axis_u, axis_v):
+    """4x4 maps from a rectangle or ellipse light's own coordinates (a, b, 0, 1) -- its point corner + a edge_x +
+    b edge_y (an ellipse's bounding rectangle's) -- to what its node tree reads there (TextureExport._light_source):
+    'position' the point in world space; 'parametric' Cycles 3.4's (0.5 + light_u, 0.5 + light_v, 0), light_u = (P -
+    centre) . axis_u / |axis_u|^2 along the axes Cycles gives the light (the object's X and Y times the sizes:
+    kernel/light/light.h), as Geometry > Parametric reads it (svm_node_geometry's (1 - u - v, u)); 'uv' (0, 0, 0),
+    the UV map a light lacks."""
+    corner, edge_x, edge_y = (np.asarray(v, dtype=np.float64) for v in (corner, edge_x, edge_y))
+    position = np.zeros((4, 4))
+    position[:3, 0], position[:3, 1], position[:3, 3], position[3, 3] = edge_x, edge_y, corner, 1.0
+    centre = corner + 0.5 * edge_x + 0.5 * edge_y
+    to_parametric = np.zeros((4, 4))
+    to_parametric[3, 3] = 1.0
+    for row, axis in ((0, np.asarray(axis_u, dtype=np.float64)), (1, np.asarray(axis_v, dtype=np.float64))):
+        k = axis / max(float(np.dot(axis, axis)), 1e-300)
+        to_parametric[row, :3], to_parametric[row, 3] = k, 0.5 - float(np.dot(centre, k))
+    uv = np.zeros((4, 4))
+    uv[3, 3] = 1.0
+    return {"position": position, "parametric": to_parametric @ position, "uv": uv}
+
+
+def export_light(sphrect, obj, matrix_world, name, log, parent=None, textures=None):
     """The sphrect light for a Blender light object (instanced by `parent`, or None), or None (with a logged reason)
-    if it emits nothing."""
+    if it emits nothing.  `textures`: the scene's TextureExport, for a rectangle or ellipse light's texture."""
     light = obj.data
     color = np.array(light.color, dtype=np.float64)
     power = float(light.energy)
-    if light.use_nodes and light.node_tree is not None and len(light.node_tree.nodes) > 2:
-        log.unsupported_feature("light node trees (colour and power used)", light.name)
+    if light.type == "AREA":
+        return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log, textures, parent)
+    color = color * np.asarray(light_shader(light, log)[0])
+    return _export_light_of_a_point(sphrect, obj, light, matrix_world, name, color, power, log, parent)
+
+
+def _emits(light, name, color, power, matrix_world, log):
+    """Whether the light emits (else logged: skipped) and its settings SPHRECT ignores are warned."""
     for _, warning, differs in ignored_light_settings(light):
         if differs:
             log.unsupported_feature(warning, light.name)
     if power <= 0 or not np.any(color > 0):
         log.problem(f"light '{name}' has no power: skipped")
-        return None
+        return False
     if not np.isfinite(np.array(matrix_world)).all():
         log.problem(f"light '{name}' has a transform that is not finite (NaN or infinite): skipped")
+        return False
+    return True
+
+
+def _export_light_of_a_point(sphrect, obj, light, matrix_world, name, color, power, log, parent):
+    """A point, spot or sun light (Cycles' own: a disc facing the shading point, a cone of directions)."""
+    if not _emits(light, name, color, power, matrix_world, log):
         return None
     vis = light_visibility(obj, parent)
-    if light.type == "AREA":
-        return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log, vis)
     _, _, z, position = _axes(matrix_world)
     visible = bool(getattr(obj, "visible_camera", True))
     if light.type in {"POINT", "SPOT"}:
@@ -119,7 +179,7 @@ def export_light(sphrect, obj, matrix_world, name, log, parent=None):
     return None
 
 
-def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log, vis):
+def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log, textures, parent):
     centre, ex, ey, direction = area_light_edges(light, matrix_world)
     rect_area = float(np.linalg.norm(np.cross(ex, ey)))
     if not rect_area > 1e-12 or direction is None:
@@ -130,16 +190,25 @@ def _export_area_light(sphrect, obj, light, matrix_world, name, color, power, lo
         # plane's normal, which local -Z no longer is), make the edges orthogonal.
         log.unsupported_feature("sheared area lights (edges made orthogonal)", light.name)
         ey = np.cross(np.cross(ex, ey) / rect_area, ex) * (rect_area / np.linalg.norm(ex) ** 2)
+    corner = centre - 0.5 * ex - 0.5 * ey
+    x, y, _, _ = _axes(matrix_world)
+    # Cycles' axes (blender/light.cpp): the object's X and Y times the light's sizes.
+    axis_u, axis_v = x * light.size, y * (light.size if light.shape in {"SQUARE", "DISK"} else light.size_y)
+    maps = _coordinate_maps(corner, ex, ey, axis_u, axis_v) if textures is not None else None
+    factor, texture = light_shader(light, log, textures, maps)
+    color = color * np.asarray(factor)
+    if not _emits(light, name, color, power, matrix_world, log):
+        return None
+    vis = light_visibility(obj, parent)
     two_sided = bool(getattr(getattr(light, "sphrect", None), "two_sided", False))
     visible = bool(getattr(obj, "visible_camera", True))
     spread = float(light.spread)  # Cycles 3.4's Spread, simulated as it evaluates it (sphrect.RectLight.spread)
     if light.shape in {"SQUARE", "RECTANGLE"}:
         radiance = sphrect.scene.area_light_radiance(power, color, rect_area)
-        return sphrect.RectLight(corner=_tuple(centre - 0.5 * ex - 0.5 * ey), edge_x=_tuple(ex), edge_y=_tuple(ey),
-                                 radiance=radiance, two_sided=two_sided, visible=visible, name=name, spread=spread,
-                                 **vis)
+        return sphrect.RectLight(corner=_tuple(corner), edge_x=_tuple(ex), edge_y=_tuple(ey), radiance=radiance,
+                                 two_sided=two_sided, visible=visible, name=name, spread=spread, texture=texture, **vis)
     ellipse_area = 0.25 * math.pi * rect_area  # pi * a * b with semi-axes a, b = half the edges
     radiance = sphrect.scene.area_light_radiance(power, color, ellipse_area)
     return sphrect.EllipseLight(center=_tuple(centre), axis_x=_tuple(0.5 * ex), axis_y=_tuple(0.5 * ey),
                                 radiance=radiance, two_sided=two_sided, visible=visible, name=name, spread=spread,
-                                 **vis)
+                                texture=texture, **vis)

@@ -189,14 +189,15 @@ def export_material(sphrect, mat, log, textures=None):
     return _shader(sphrect, node, textures, log, name)
 
 
-def _emission_term(node, color_input, strength_input, weight, log, owner, textures=None):
+def _emission_term(node, color_input, strength_input, weight, log, owner, textures=None, light_coordinates=None):
     """(weight x colour x strength, None) -- Cycles' emission closure weight -- or, for a colour an Image Texture
     drives, (weight x strength, its TextureLookup): the renderer multiplies the emission by the image's colour at each
-    point of the emitter (Material.textures["emission"]).  A negative strength is logged and read as 0 (Cycles 3.4
-    does not clamp it: its emission would be negative)."""
+    point of the emitter (Material.textures["emission"], or a light's texture: light_coordinates as
+    TextureExport.lookup's).  A negative strength is logged and read as 0 (Cycles 3.4 does not clamp it: its emission
+    would be negative)."""
     socket = node.inputs.get(color_input)
     source = image_texture_source(socket) if textures is not None and socket is not None and socket.is_linked else None
-    lookup = textures.lookup(*source, owner) if source is not None else None
+    lookup = textures.lookup(*source, owner, light_coordinates) if source is not None else None
     color = np.ones(3) if lookup is not None else np.asarray(_value(node, color_input, log, owner)[:3], dtype=float)
     strength = _value(node, strength_input, log, owner)
     if strength < 0:

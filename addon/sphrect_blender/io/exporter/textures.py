@@ -113,8 +113,9 @@ class TextureExport:
         self._reached = {}  # material node tree -> the outputs its Material Output reaches (_reached_outputs)
         self._means = {}  # (texture, output) -> its scalar's mean (factor_mean)
 
-    def lookup(self, node, output, owner):
-        """The TextureLookup of Image Texture `node`'s output ('color' / 'alpha') read by material `owner`."""
+    def lookup(self, node, output, owner, light_coordinates=None):
+        """The TextureLookup of Image Texture `node`'s output ('color' / 'alpha') read by material `owner`, or by a
+        light's node tree (light_coordinates: _light_source's maps from the light's own coordinates)."""
         node = wrap_node(node)
         interpolation = _INTERPOLATIONS.get(node.interpolation)
         if interpolation is None:
@@ -122,7 +123,7 @@ class TextureExport:
             interpolation = "linear"
         if node.projection != "FLAT":
             self.log.unsupported_feature(f"Image Texture projection '{node.projection}' (Flat used)", owner)
-        coordinates, transform = self._vector(node.inputs["Vector"], owner)
+        coordinates, transform = self._vector(node.inputs["Vector"], owner, light_coordinates)
         # Cycles divides the colour by the alpha when the node's Alpha output is used (NODE_IMAGE_ALPHA_UNASSOCIATE)
         # by a node its graph keeps: one the material's output reaches.
         tree = node.groups[0].id_data if node.groups else node.id_data
@@ -137,7 +138,7 @@ class TextureExport:
         reaches along the links Cycles follows (Cycles drops the rest of the graph); each node visited once."""
         key = tree.as_pointer()  # an embedded tree's name is its kind's ('Shader Nodetree')
         if key not in self._reached:
-            outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+            outputs = [n for n in tree.nodes if n.bl_idname in {"ShaderNodeOutputMaterial", "ShaderNodeOutputLight"}]
             active = [n for n in outputs if getattr(n, "is_active_output", False)] or outputs[:1]
             reached, stack = set(), [wrap_node(n) for n in active if not n.mute]
             visited = {n.key for n in stack}
@@ -254,20 +255,25 @@ class TextureExport:
         pixels = np.array(MISSING_IMAGE_RGBA, dtype=np.float32).reshape(1, 1, 4)
         return self.sphrect.Texture(name=name, pixels=pixels, colorspace="linear")
 
-    def _vector(self, socket, owner):
+    def _vector(self, socket, owner, light_coordinates=None):
         """(coordinates, 4x4 transform) of an Image Texture's Vector input: the coordinates it reads and the
-        Mapping nodes' affine maps between them and the node (composed, the one nearest the image last)."""
+        Mapping nodes' affine maps between them and the node (composed, the one nearest the image last).  For a
+        light's own texture ('uv' -- the light's coordinates -- and the map from them through the source)."""
+        fallback = ("uv", np.eye(4) if light_coordinates is None else light_coordinates["uv"])
         transform = np.eye(4)
         node, output = follow_reroutes(socket)
         while node is not None and node.bl_idname == "ShaderNodeMapping":
             mapping = self._mapping(node, owner)
             if mapping is None:
-                return "uv", np.eye(4)
+                return fallback
             transform = transform @ mapping
             node, output = follow_reroutes(node.inputs["Vector"])
             if node is None:
                 self.log.unsupported_feature("Mapping node with an unlinked Vector input (UV used)", owner)
-                return "uv", np.eye(4)
+                return fallback
+        if light_coordinates is not None:
+            source = self._light_source(node, output, owner, light_coordinates)
+            return ("uv", transform @ source) if source is not None else fallback
         if node is None:
             return "uv", transform  # Cycles' default for an unlinked Image Texture vector: the UV map
         if node.bl_idname == "ShaderNodeTexCoord" and output.identifier in {"UV", "Generated"}:
@@ -282,6 +288,28 @@ class TextureExport:
         label = output.name if node.bl_idname == "ShaderNodeTexCoord" else node.bl_label or node.bl_idname
         self.log.unsupported_feature(f"Image Texture vector from '{label}' (UV used)", owner)
         return "uv", np.eye(4)
+
+    def _light_source(self, node, output, owner, maps):
+        """The 4x4 map from a light's own coordinates to what the node feeding its Image Texture's vector gives,
+        as Cycles 3.4 shades a light (no object, svm_node_tex_coord and svm_node_attr): Geometry > Parametric its
+        coordinates along its axes (maps['parametric']); Texture Coordinate > Object and Generated the point in world
+        space (maps['position']; an Object node's object: in that object's space); UV, a UV Map node or nothing the
+        UV attribute a light lacks, (0, 0, 0) (maps['uv']).  None (warned) for any other source."""
+        if node is None or node.bl_idname == "ShaderNodeUVMap":
+            return maps["uv"]
+        if node.bl_idname == "ShaderNodeNewGeometry" and output.identifier == "Parametric":
+            return maps["parametric"]
+        if node.bl_idname == "ShaderNodeTexCoord":
+            if output.identifier == "UV":
+                return maps["uv"]
+            if output.identifier == "Generated" or (output.identifier == "Object" and node.object is None):
+                return maps["position"]
+            if output.identifier == "Object":
+                return np.linalg.pinv(np.array(node.object.matrix_world, dtype=np.float64)) @ maps["position"]
+        label = output.name if node.bl_idname in {"ShaderNodeTexCoord", "ShaderNodeNewGeometry"} else \
+            node.bl_label or node.bl_idname
+        self.log.unsupported_feature(f"Image Texture vector of a light from '{label}' (UV used)", owner)
+        return None
 
     def _mapping(self, node, owner):
         """4x4 matrix of a Mapping node (svm_mapping: Point T R S, Texture its inverse S^-1 R^T (v - T), Vector
