@@ -197,7 +197,7 @@ def bake_world(world, width=None, height=None, samples=None, cache_dir=_DEFAULT)
     if pixels is None:
         if background is not None:
             background.request(world, signature, width, height, samples, cache_dir)  # raises BakeNotReady
-        pixels = _result_of_running(signature)
+        pixels = _result_of_running(signature, cache_dir)
         if pixels is None:
             pixels = _render_world(world, width, height, samples)
         _keep(signature, pixels, cache_dir)
@@ -208,8 +208,9 @@ def bake_world(world, width=None, height=None, samples=None, cache_dir=_DEFAULT)
 
 def _cached(signature, cache_dir):
     """The pixels of a bake done before (this session's last ones, or the cache folder's), else None."""
-    if signature in _memory:
-        return _memory[signature]
+    pixels = _memory.get(signature)  # (one lookup: another thread may replace the entry)
+    if pixels is not None:
+        return pixels
     path = os.path.join(cache_dir, signature + ".npy") if cache_dir else None
     if path is None or not os.path.isfile(path):
         return None
@@ -249,7 +250,7 @@ def _render_world(world, width, height, samples):
 
 
 # ------------------------------------------------------------------------------------------ the child process
-_running = {}  # signature -> BakeJob: the background bakes running (a render of the same world waits for its)
+_running = {}  # signature -> BakeJob: the background bakes not yet in the cache (a render of the world waits for it)
 _children = set()  # every BakeJob whose child may still run (killed at exit)
 _running_lock = threading.Lock()
 
@@ -315,10 +316,14 @@ class BakeJob:
         return "error", f"the world bake failed (Blender exit code {code}): {tail}"
 
     def _forget(self):
-        """The child has ended: its folder and its place in the registries go."""
+        """The child has ended: its folder goes (its place in _running only once its pixels are cached: unlisted)."""
         shutil.rmtree(self._folder, ignore_errors=True)
         with _running_lock:
             _children.discard(self)
+
+    def unlist(self):
+        """A render of the same world no longer waits for this bake (its pixels are cached, or it failed)."""
+        with _running_lock:
             if _running.get(self.signature) is self:
                 del _running[self.signature]
 
@@ -360,13 +365,13 @@ def _child_command(job):
             "--python", os.path.abspath(__file__), "--", json.dumps(job)]
 
 
-def _result_of_running(signature):
-    """The pixels of a background bake of this signature that is running (a render started while the viewport
-    bakes the same world), None when there is none or it did not succeed (killed by a newer edit, failed)."""
+def _result_of_running(signature, cache_dir):
+    """The pixels of a background bake of this signature (a render started while the viewport bakes the same world),
+    None when there is none or it did not succeed (killed by a newer edit, failed)."""
     with _running_lock:
         job = _running.get(signature)
-    if job is None:
-        return None
+    if job is None:  # (or it was cached since this thread looked: a bake leaves _running once cached)
+        return _cached(signature, cache_dir)
     try:
         return job.wait(CHILD_TIMEOUT)
     except BakeError:
@@ -463,12 +468,14 @@ class BackgroundBakes:
             _keep(job.signature, job.wait(0), self._cache_dir)
         except BakeError as e:
             self.failure = (job.signature, str(e))
+        job.unlist()
         return True
 
     def cancel(self):
         """Kill the running child (a newer bake, a world that needs none, the viewport ends)."""
         if self.job is not None:
             self.job.kill()
+            self.job.unlist()
             self.job = None
 
 
