@@ -385,6 +385,12 @@ void BindRender(py::module_& m) {
         .def(py::init<>())
         .def("set_camera", &SetCamera<RenderScene>, CAMERA_ARGS)
         .def("set_background", [](RenderScene& s, V3 c) { s.SetBackground(ToVec(c)); })
+        .def(
+            "set_world_visibility",
+            [](RenderScene& s, const std::vector<std::string>& invisible_to) {
+                s.SetWorldVisibility(LightVisibilityOf(invisible_to, true, true));
+            },
+            py::arg("invisible_to"))
         .def("set_medium", [](RenderScene& s, V3 ss, V3 sa, float g) { s.SetMedium(ToVec(ss), ToVec(sa), g); })
         .def(
             "add_material",

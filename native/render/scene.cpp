@@ -55,6 +55,11 @@ void RenderScene::SetBackground(const Spectrum& radiance) {
     background = radiance;
 }
 
+void RenderScene::SetWorldVisibility(const LightVisibility& vis) {
+    RequireNotCommitted();
+    world_visibility = vis;
+}
+
 void RenderScene::SetEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
                                  TextureInterpolation interpolation) {
     RequireNotCommitted();
@@ -133,6 +138,7 @@ void RenderScene::Commit() {
     for (const MeshData& m : meshes) ray_visibility |= m.visibility != kRayAll;
     for (const AreaLight& l : area_lights) ray_visibility |= !l.vis.IsDefault();
     for (const DeltaLight& d : delta_lights) ray_visibility |= !d.vis.IsDefault();
+    ray_visibility |= !world_visibility.IsDefault();
     analytic_light_finder.Build(device_, area_lights, num_analytic_lights);
     std::vector<double> powers;
     for (const AreaLight& l : area_lights) {

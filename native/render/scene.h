@@ -88,6 +88,10 @@ class RenderScene {
     // Blender's Film > Transparent: camera rays that escape see nothing and give alpha 0 (the background still
     // lights the scene).
     void SetFilmTransparent(bool transparent);
+    // The world's Ray Visibility (Blender's World > Ray Visibility: camera, diffuse, glossy, transmission, volume
+    // scatter), for the background and the image world alike, as a light's (ray_visibility.h): the kinds of
+    // `vis.rays()` see and are lit by it.
+    void SetWorldVisibility(const LightVisibility& vis);
     // An image world (environment_light.h) on image `image` (added before), replacing the background: strength
     // finite and non-negative, to_world a rotation (row-major).  Commit() builds its sampling distribution, whose
     // memory counts against SetImageMemoryLimit (std::invalid_argument here where it would pass it).
@@ -154,6 +158,7 @@ class RenderScene {
     bool has_environment = false;
     EnvironmentLight environment;
     bool film_transparent = false;
+    LightVisibility world_visibility;  // SetWorldVisibility; the default: seen by every ray
     bool film_alpha = false;  // Commit(): the film's alpha can differ from 1 (transparent film, or a holdout used)
     bool has_medium = false;
     HomogeneousMedium medium;

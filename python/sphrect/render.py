@@ -66,7 +66,8 @@ import numpy as np
 from . import _native
 from .arguments import int_argument, one_of, rgb
 from .sample_ranges import Accumulation, sample_ranges
-from .scene import (CAMERA_TYPES, PIXEL_FILTERS, SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS, Camera,
+from .scene import (CAMERA_TYPES, PIXEL_FILTERS, SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS,
+                    WORLD_RAY_KINDS, Camera,
                     EllipseLight, Environment, Material, PointLight, RectLight, Scene, SpotLight, SunLight, Texture,
                     TextureLookup, World)
 
@@ -217,6 +218,11 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
     skipped = []
     _set_camera(native, scene.camera)
     native.set_background(rgb(scene.world.background, "world background"))
+    hidden = tuple(scene.world.invisible_to)
+    if any(k not in WORLD_RAY_KINDS for k in hidden):
+        raise ValueError(f"world invisible_to must name kinds of {one_of(WORLD_RAY_KINDS)}, got {hidden!r}")
+    if hidden:
+        native.set_world_visibility(list(hidden))
     native.set_film_transparent(bool(scene.camera.film_transparent))
     med = scene.world.medium
     if med is not None:

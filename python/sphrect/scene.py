@@ -68,7 +68,8 @@ FORMAT_NAME = "sphrect-scene"
 # 15: Mesh.shadow_terminator_offset (Blender's Shadow Terminator Geometry Offset).  Older files load with 0 (none).
 # 16: RectLight.texture, EllipseLight.texture (an image over the light: a Blender light's node tree).  Older files load
 # without (uniform lights).
-FORMAT_VERSION = 16
+# 17: World.invisible_to (Blender's World > Ray Visibility).  Older files load with the world seen by every ray.
+FORMAT_VERSION = 17
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -100,6 +101,8 @@ SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 # that pass through it; a light's the ones it does not light (camera: not seen, as visible = False; never "shadow":
 # its cast_shadow).
 RAY_KINDS = tuple(_native.ray_kinds)
+# The kinds a world can hide from (all but 'shadow': Blender's World > Ray Visibility).
+WORLD_RAY_KINDS = tuple(k for k in RAY_KINDS if k != "shadow")
 
 
 # Blender's light power -> radiometric units, with Cycles 3.4's conventions (power P in Blender's watts,
@@ -380,6 +383,10 @@ class World:
     medium: Optional[Medium] = None
     # An image world: where set, rays that escape see it instead of `background`.
     environment: Optional[Environment] = None
+    # Blender's World > Ray Visibility, for the background and the image world alike: the kinds of WORLD_RAY_KINDS that
+    # do not see it -- camera rays that escape show black; BSDF and phase rays of a hidden kind find nothing, and it
+    # lights none of the closures of a hidden class (as a light's LightVisibility.invisible_to).
+    invisible_to: Tuple[str, ...] = ()
 
 
 @dataclass
@@ -518,6 +525,8 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
     world = dict(meta["world"])
     medium = world.pop("medium", None)
     environment = world.pop("environment", None)
+    if "invisible_to" in world:
+        world["invisible_to"] = tuple(world["invisible_to"])
     scene = Scene(
         camera=Camera(**meta["camera"]),
         world=World(medium=Medium(**medium) if medium else None,

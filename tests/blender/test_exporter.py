@@ -368,8 +368,8 @@ def test_ray_visibility_is_exported(empty_scene):
 
 
 def test_visibility_settings_not_simulated_are_warned(empty_scene):
-    """The world's Ray Visibility and an emissive material's Multiple Importance off are not simulated: warned,
-    naming them; at their defaults, not."""
+    """An emissive material's Multiple Importance off is not simulated: warned, naming it; at its default, not.  The
+    world's Ray Visibility is exported (World.invisible_to, 'scatter' as 'volume_scatter'), unwarned."""
     lit_test_scene(empty_scene)
     mat = builders.material("Glow", (0.1, 0.1, 0.1))
     mat.node_tree.nodes.clear()
@@ -383,5 +383,8 @@ def test_visibility_settings_not_simulated_are_warned(empty_scene):
     mat.cycles.sample_as_light = False
     empty_scene.world.update_tag()  # the depsgraph's copies follow only when tagged
     mat.update_tag()
-    text = export()[1].warning_text()
-    assert "world ray visibility" in text and "Multiple Importance off" in text and "Glow" in text
+    empty_scene.world.cycles_visibility.scatter = False
+    scene, log = export()
+    text = log.warning_text()
+    assert "Multiple Importance off" in text and "Glow" in text and "ray visibility" not in text
+    assert scene.world.invisible_to == ("diffuse", "volume_scatter")

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import sphrect
-from render_testing import plane_mesh, top_camera
+from render_testing import plane_mesh, save_as_older_version, top_camera
 
 ALBEDO = 0.5
 SAMPLES = 8
@@ -242,3 +242,52 @@ def test_scene_file_round_trip_and_older_files(tmp_path):
     older = sphrect.load_scene(old)
     assert older.meshes[1].invisible_to == ()
     assert all(l.invisible_to == () and l.cast_shadow and l.use_mis for l in older.lights)
+
+
+def sky_world(environment, **kw):
+    """A constant sky, or (environment) a two-tone image world: brighter above the horizon."""
+    if not environment:
+        return sphrect.World(background=(0.8, 0.8, 0.8), **kw), []
+    pixels = np.ones((8, 16, 3), np.float32) * 0.2
+    pixels[4:] = 1.5  # rows 4.. : the upper half
+    return (sphrect.World(environment=sphrect.Environment(texture=0), **kw),
+            [sphrect.Texture(name="sky", pixels=pixels, colorspace="linear")])
+
+
+@pytest.mark.parametrize("environment", [False, True])
+def test_world_ray_visibility(environment):
+    """World.invisible_to: hidden from the camera, the escaping rays show black while the floor is lit bit for bit as
+    before; hidden from diffuse, a diffuse floor gets nothing from it (every MIS mode, BSDF samples on the floor too);
+    hidden from glossy, the diffuse floor is lit bit for bit as before."""
+    cam = top_camera(half=1.0, height_above=0.5)
+    narrow = sphrect.Mesh(**{k: getattr(plane_mesh(size=0.5), k) for k in ("vertices", "triangles")})
+    narrow.material_ids = np.zeros(2, np.int32)
+
+    def scene(**kw):
+        world, textures = sky_world(environment, **kw)
+        return sphrect.Scene(camera=cam, meshes=[narrow], lights=[], textures=textures,
+                             materials=[sphrect.Material(base_color=(ALBEDO,) * 3)], world=world)
+
+    seen = render(scene())
+    hidden = render(scene(invisible_to=("camera",)))
+    floor = seen.mean(axis=2) < seen.max() * 0.9  # the floor's pixels; the rest is sky
+    assert (~floor).any() and floor.any()
+    np.testing.assert_array_equal(hidden[floor], seen[floor])
+    assert hidden[~floor].max() == 0 and seen[~floor].min() > 0.1
+    for kw in ({}, {"mis": "power", "bsdf_samples_on_diffuse": True}, {"mis": "none"}):
+        np.testing.assert_array_equal(render(scene(invisible_to=("diffuse",)), **kw)[floor], 0)
+        np.testing.assert_array_equal(render(scene(invisible_to=("glossy", "volume_scatter")), **kw),
+                                      render(scene(), **kw))
+
+
+def test_world_visibility_names_and_file(tmp_path):
+    scene = floor_scene(world=sphrect.World(background=(0.5, 0.5, 0.5), invisible_to=("camera", "glossy")))
+    path = tmp_path / "w.sphrect.npz"
+    sphrect.save_scene(scene, path)
+    assert sphrect.load_scene(path).world.invisible_to == ("camera", "glossy")
+    old = tmp_path / "old.sphrect.npz"
+    save_as_older_version(path, old, 16, lambda meta: meta["world"].pop("invisible_to"))
+    assert sphrect.load_scene(old).world.invisible_to == ()
+    scene.world.invisible_to = ("shadow",)
+    with pytest.raises(ValueError, match="world invisible_to must name kinds of"):
+        sphrect.Renderer(scene)

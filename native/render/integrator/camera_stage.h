@@ -162,7 +162,7 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     Spectrum seen = out.seen;  // the coverage offset GenerateCameraSamples set
     AddSeenAlongSegment<kMedium, false>(scene, out, out.ray.tmin, seen);
     if (scene.has_transparency && out.hit) FollowThroughTransparent<kGlossy, kMedium>(scene, out, seen);
-    if (!out.hit && !scene.film_transparent) {
+    if (!out.hit && !scene.film_transparent && (scene.world_visibility.rays() & kRayCamera)) {
         // The image world (environment_light.h) replaces the background (black then).
         const Spectrum sky = scene.has_environment ? EnvironmentSeen(scene, out.ray.d) : scene.background;
         seen += out.throughput * sky * SegmentTransmittance<kMedium>(scene.medium, kInf);

@@ -118,9 +118,10 @@ static inline void QueueEnvironmentAlongRay(const ShadeContext& c, const Vec3f& 
 template <Technique K, bool kMedium>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
                                          uint8_t ray, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
-    if (!IsBlack(c.sky)) sink.Add(o, d, kInf, c.sky, ray);
+    const bool world_found = c.scene.world_visibility.FoundBy(ray);  // the world's Ray Visibility
+    if (!IsBlack(c.sky) && world_found) sink.Add(o, d, kInf, c.sky, ray);
     if (c.mis == MisMode::None) return;  // the image world and the lights: their light samples alone
-    if (c.environment) QueueEnvironmentAlongRay(c, o, d, pdf_dir, ray, sink);
+    if (c.environment && world_found) QueueEnvironmentAlongRay(c, o, d, pdf_dir, ray, sink);
     if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, ray, light_sampling, sink);
     // The analytic lights (the rest are QueueMeshEmitterAlongRay's).
     c.scene.analytic_light_finder.ForEachCrossing(o, d, 0, kInf, LightsSought::All, [&](int i, float t) {

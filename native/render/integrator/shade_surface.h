@@ -141,11 +141,14 @@ static inline void QueueSurfaceBsdfSample(const ShadeContext& c, const SurfaceSh
 }
 
 // Light sampling of the image world: f Le T cos w / pdf, w its MIS weight against the BSDF sample.
-template <bool kGlossy>
+template <bool kGlossy, bool kMedium>
 static inline void QueueSurfaceEnvironmentSample(const ShadeContext& c, const SurfaceShadingPoint& sp, Point2<float> u,
                                                  const ShadowSink& sink) {
     const EmitterSample e = SampleEnvironmentEmitter(c, u);
-    if (e.valid) QueueSurfaceEmitterSample<kGlossy>(c, sp, e, c.environment_transmittance, sink);
+    if (!e.valid) return;
+    if (const LightVisibility& vis = c.scene.world_visibility; !vis.IsDefault())
+        return QueueLightWithVisibility<kGlossy, kMedium>(c, sp, e.dir, e.dist, e.le, e.pdf, e.pdf, vis, sink);
+    QueueSurfaceEmitterSample<kGlossy>(c, sp, e, c.environment_transmittance, sink);
 }
 
 // One point, spot or sun light: f Li T cos; a soft one's direction from the point u, weighted against the
@@ -279,7 +282,7 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     // The image world, a light of its own: sampled once per light sample whatever the light selection.
     if (c.environment)
         for (int j = 0; j < c.light_samples; ++j)
-            QueueSurfaceEnvironmentSample<kGlossy>(c, sp, light_points[j], pair_sink);
+            QueueSurfaceEnvironmentSample<kGlossy, kMedium>(c, sp, light_points[j], pair_sink);
     QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, light_points, sink);
 }
 

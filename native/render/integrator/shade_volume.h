@@ -75,7 +75,10 @@ static inline void QueueMediumPhaseSample(const ShadeContext& c, const Scatterin
 static inline void QueueMediumEnvironmentSample(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
                                                 const ShadowSink& sink) {
     const EmitterSample e = SampleEnvironmentEmitter(c, u);
-    if (e.valid) QueueMediumEmitterSample(c, sp, e, c.environment_transmittance, sink);
+    if (!e.valid) return;
+    if (const LightVisibility& vis = c.scene.world_visibility; !vis.IsDefault())
+        return QueueMediumLightWithVisibility(c, sp, e.dir, e.dist, e.le, e.pdf, e.pdf, vis, sink);
+    QueueMediumEmitterSample(c, sp, e, c.environment_transmittance, sink);
 }
 
 // One point, spot or sun light: phase Li T; a soft one's direction from the point u, weighted against the phase

@@ -64,7 +64,6 @@ def scene_from_depsgraph(depsgraph):
     scene.camera = export_camera(sphrect, bl_scene, cam, log)
     materials = _Materials(sphrect, log)
     scene.world = export_world(sphrect, bl_scene.world, log, materials.textures)
-    warn_unhonoured(log, world=bl_scene.world)
     cache = {}
     skipped_types = set()
     for inst in depsgraph.object_instances:

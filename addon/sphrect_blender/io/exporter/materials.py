@@ -29,6 +29,7 @@ import numpy as np
 from . import world_bake
 from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
 from .textures import TextureExport, follow_reroutes, image_texture_source
+from .visibility import world_invisible_to
 
 
 def _active_output(tree, node_type):
@@ -714,9 +715,17 @@ def export_world(sphrect, world, log, textures=None):
     """sphrect.World of a Blender world: a constant Background, or an image world (sphrect.Environment, its image
     added to `textures`, a TextureExport: Scene.textures) where Cycles evaluates the Background's Color as an
     equirectangular Environment Texture (_direct_world); every other world surface baked by
-    Cycles through _world_not_representable (world_bake.py)."""
+    Cycles through _world_not_representable (world_bake.py); its Ray Visibility as World.invisible_to."""
     if world is None:
         return sphrect.World()
+    hidden = world_invisible_to(world, sphrect.scene.WORLD_RAY_KINDS)
+    if "diffuse" in hidden:  # measured: docs/renderer.md, Ray visibility
+        log.unsupported_feature("world hidden from diffuse rays (simulated as a light's; a Principled floor's glossy "
+                                "light from it ~10% dimmer than Cycles')", world.name)
+    return dataclasses.replace(_world_shading(sphrect, world, log, textures), invisible_to=hidden)
+
+
+def _world_shading(sphrect, world, log, textures):
     if not world.use_nodes or world.node_tree is None:
         return sphrect.World(background=_rgb(world.color))
     _warn_of_deep_groups(world.node_tree, log, world.name)

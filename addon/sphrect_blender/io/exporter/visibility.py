@@ -17,14 +17,19 @@ PANEL_RAY_KINDS = ("camera", "diffuse", "glossy", "transmission", "volume_scatte
 PANEL_LIGHT_RAY_KINDS = ("camera",) + LIGHT_RAY_KINDS
 
 
-def warn_unhonoured(log, world=None, material=None, exported=None):
-    """Warn of the visibility settings Cycles 3.4 honours that SPHRECT does not: the world's Ray Visibility (the world
-    is seen by every ray), an emissive material's Multiple Importance off (Cycles then finds its emission only with
-    BSDF rays, unweighted; SPHRECT samples it as a light). `exported`: the sphrect.Material made of `material`."""
+def world_invisible_to(world, kinds):
+    """The kinds of `kinds` (sphrect.scene.WORLD_RAY_KINDS) the world's Ray Visibility (world.cycles_visibility, its
+    'scatter' the renderer's 'volume_scatter') hides it from."""
     visibility = getattr(world, "cycles_visibility", None)
-    if visibility is not None and not all(getattr(visibility, k, True)
-                                          for k in ("camera", "diffuse", "glossy", "transmission", "scatter")):
-        log.unsupported_feature("world ray visibility (the world seen by every ray)", world.name)
+    if visibility is None:
+        return ()
+    return tuple(k for k in kinds if not getattr(visibility, "scatter" if k == "volume_scatter" else k, True))
+
+
+def warn_unhonoured(log, material=None, exported=None):
+    """Warn of the visibility settings Cycles 3.4 honours that SPHRECT does not: an emissive material's Multiple
+    Importance off (Cycles then finds its emission only with BSDF rays, unweighted; SPHRECT samples it as a light).
+    `exported`: the sphrect.Material made of `material`."""
     if material is not None and exported is not None and any(c > 0 for c in exported.emission) \
             and not getattr(getattr(material, "cycles", None), "sample_as_light", True):
         log.unsupported_feature("emission with Multiple Importance off (sampled as a light)", material.name)

@@ -545,6 +545,7 @@ def _child(job):
     for obj in list(scene.objects):
         bpy.data.objects.remove(obj)
     scene.world = target.worlds[0]
+    scene.world.cycles_visibility.camera = True  # the bake's camera sees the world, whatever the scene's camera may
     scene.render.engine = "CYCLES"
     cycles = scene.cycles
     cycles.device = "CPU"
