@@ -720,8 +720,8 @@ def export_world(sphrect, world, log, textures=None):
         return sphrect.World()
     hidden = world_invisible_to(world, sphrect.scene.WORLD_RAY_KINDS)
     if "diffuse" in hidden:  # measured: docs/renderer.md, Ray visibility
-        log.unsupported_feature("world hidden from diffuse rays (simulated as a light's; a Principled floor's glossy "
-                                "light from it ~10% dimmer than Cycles')", world.name)
+        log.unsupported_feature("world hidden from diffuse rays (the visible lobes lit exactly, where Cycles' glossy "
+                                "rays also carry some diffuse reflection: docs/renderer.md)", world.name)
     return dataclasses.replace(_world_shading(sphrect, world, log, textures), invisible_to=hidden)
 
 
