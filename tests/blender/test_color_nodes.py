@@ -536,3 +536,63 @@ def test_normal_node(tmp_path):
     cycles, _, _ = render_grid(tmp_path, build)
     ours = svm().normal_dot(built["params"]["direction"], flat(built["normal"]))
     compare("Normal (Dot)", cycles, ours.reshape(H, W))
+
+
+# ---- Bump ------------------------------------------------------------------------------------------------------
+
+BUMP_CASES = {"flat": (0.0, False), "tilted_inverted": (0.7, True)}
+
+
+@pytest.mark.parametrize("case", sorted(BUMP_CASES))
+def test_bump(tmp_path, case):
+    """Bump of a height of the Object coordinates (o): 0.03 o.x + 0.1 sin(0.15 o.y), with Strength over
+    [-0.2, 1.4] across the image and Distance over [-1, 3] down it, on the plane facing the camera or tilted by
+    0.7 rad (inverted).  The heights at the point and at P + dx, P + dy (BumpDifferentials of the geometric normal
+    and the orthographic camera's differential radius: one pixel's width on the film) are computed here in float64
+    from the hit points; Cycles' rays are jittered by up to 0.005 pixel, which moves the height's gradient by
+    < 2e-4 here (its curvature is small)."""
+    tilt, invert = BUMP_CASES[case]
+    built = {}
+
+    def build(grid):
+        sep = grid.separate
+        lin = grid.node("ShaderNodeMath", operation="MULTIPLY")
+        grid.nt.links.new(sep.outputs[0], lin.inputs[0])
+        lin.inputs[1].default_value = 0.03
+        arg = grid.node("ShaderNodeMath", operation="MULTIPLY")
+        grid.nt.links.new(sep.outputs[1], arg.inputs[0])
+        arg.inputs[1].default_value = 0.15
+        sine = grid.node("ShaderNodeMath", operation="SINE")
+        grid.nt.links.new(arg.outputs[0], sine.inputs[0])
+        height = grid.node("ShaderNodeMath", operation="MULTIPLY_ADD")
+        grid.nt.links.new(sine.outputs[0], height.inputs[0])
+        height.inputs[1].default_value = 0.1
+        grid.nt.links.new(lin.outputs[0], height.inputs[2])
+        strength = grid.affine(1.6 / (W - 1), 0.0, -0.2)
+        distance = grid.affine(0.0, 4.0 / (H - 1), -1.0)
+        bump = grid.node("ShaderNodeBump", invert=invert)
+        grid.nt.links.new(height.outputs[0], bump.inputs["Height"])
+        grid.link(strength, bump.inputs["Strength"])
+        grid.link(distance, bump.inputs["Distance"])
+        built.update(strength=strength[1], distance=distance[1], params=params_module().node_params(bump))
+        return bump.outputs["Normal"]
+
+    cycles, grid, hits = render_grid(tmp_path, build, tilt=tilt)
+    obj = bpy.data.objects["Grid"]
+    m = np.array(obj.matrix_world, dtype=np.float64)
+    inverse = np.linalg.inv(m)
+    ng = m[:3, :3] @ np.array([0.0, 0.0, 1.0])  # the plane's normal, towards the camera
+    ng = ng / np.linalg.norm(ng)
+    f = svm()
+    n = H * W
+    P = hits["P"].reshape(n, 3)
+    dx, dy = f.bump_differentials(np.tile(ng, (n, 1)), np.full(n, 2.0 / W))
+
+    def height(points):
+        o = points @ inverse[:3, :3].T + inverse[:3, 3]
+        return 0.03 * o[:, 0] + 0.1 * np.sin(0.15 * o[:, 1])
+
+    h_c, h_x, h_y = height(P), height(P + dx), height(P + dy)
+    ours = f.bump(np.tile(ng, (n, 1)), np.tile(ng, (n, 1)), (0.0, 0.0, 1.0), dx, dy, h_c, h_x, h_y,
+                  flat(built["strength"]), flat(built["distance"]), built["params"]["invert"])
+    compare(f"Bump ({case})", cycles, ours.reshape(H, W, 3))
