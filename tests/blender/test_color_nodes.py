@@ -89,18 +89,7 @@ def render_grid(tmp_path, build, back=False, tilt=0.0, name="grid"):
     """Render the grid plane whose Emission colour `build(grid)` returns (an output socket); returns (Cycles'
     RGB [H, W, 3] float64, grid, hits) with hits: dict of the world hit point per pixel and the ray length.
     back: the camera sees the plane's back face; tilt: the plane turned about the X axis by that many radians."""
-    bpy.ops.wm.read_homefile(use_empty=True)
-    ensure_addon()
-    scene = bpy.context.scene
-    set_resolution(scene, W, H)
-    scene.view_settings.view_transform = "Standard"
-    builders.black_world(scene)
-    cam_data = bpy.data.cameras.new("Camera")
-    cam_data.type, cam_data.ortho_scale, cam_data.clip_start, cam_data.clip_end = "ORTHO", 2.0, CLIP_START, 100.0
-    cam = bpy.data.objects.new("Camera", cam_data)
-    scene.collection.objects.link(cam)
-    cam.location = (0.0, 0.0, CAMERA_Z)
-    scene.camera = cam
+    scene = _ortho_scene()
 
     # The plane spans [0, W] x [0, H] in object space (Object coordinates = pixel numbers + 0.5 at the centres) and
     # is scaled by 2 / W about the view's centre, tilted by `tilt` about X (then stretched by 1 / cos to fill the
@@ -153,6 +142,28 @@ def render_grid(tmp_path, build, back=False, tilt=0.0, name="grid"):
     nt.links.new(emission.outputs[0], out.inputs["Surface"])
     obj.data.materials.append(mat)
 
+    return _render_cycles(scene, tmp_path / f"{name}.exr"), grid, hits
+
+
+def _ortho_scene():
+    """An empty scene, black world, seen by an orthographic camera at z = CAMERA_Z looking down -Z (view 2 wide)."""
+    bpy.ops.wm.read_homefile(use_empty=True)
+    ensure_addon()
+    scene = bpy.context.scene
+    set_resolution(scene, W, H)
+    scene.view_settings.view_transform = "Standard"
+    builders.black_world(scene)
+    cam_data = bpy.data.cameras.new("Camera")
+    cam_data.type, cam_data.ortho_scale, cam_data.clip_start, cam_data.clip_end = "ORTHO", 2.0, CLIP_START, 100.0
+    cam = bpy.data.objects.new("Camera", cam_data)
+    scene.collection.objects.link(cam)
+    cam.location = (0.0, 0.0, CAMERA_Z)
+    scene.camera = cam
+    return scene
+
+
+def _render_cycles(scene, path):
+    """Cycles' RGB [H, W, 3] (float64, row 0 = top): 1 sample through the pixel centres, no bounces, float EXR."""
     scene.render.engine = "CYCLES"
     c = scene.cycles
     c.device, c.samples, c.use_adaptive_sampling, c.use_denoising = "CPU", 1, False, False
@@ -161,10 +172,9 @@ def render_grid(tmp_path, build, back=False, tilt=0.0, name="grid"):
     scene.render.film_transparent = False
     settings = scene.render.image_settings
     settings.file_format, settings.color_mode, settings.color_depth = "OPEN_EXR", "RGBA", "32"
-    scene.render.filepath = str(tmp_path / f"{name}.exr")
+    scene.render.filepath = str(path)
     bpy.ops.render.render(write_still=True)
-    image = addon_module("images").read_image_rgba(scene.render.filepath)[..., :3].astype(np.float64)
-    return image, grid, hits
+    return addon_module("images").read_image_rgba(scene.render.filepath)[..., :3].astype(np.float64)
 
 
 def as_color(values):
@@ -174,10 +184,11 @@ def as_color(values):
 
 
 def compare(label, cycles, ours, tolerance=TOLERANCE):
+    """Assert that `ours` (the function's values) is within `tolerance` of Cycles' image (or part of it); print
+    the largest difference and where it is."""
     ours = np.asarray(ours, dtype=np.float64)
     if ours.shape != cycles.shape:
         ours = as_color(ours).reshape(cycles.shape)
-    cycles, ours = cycles.reshape(H, W, -1), ours.reshape(H, W, -1)
     assert np.isfinite(cycles).all()
     # Cycles' film drops a sample that is not finite (kernel/film: the pixel stays black).
     assert (cycles[~np.isfinite(ours)] == 0).all()
@@ -185,10 +196,9 @@ def compare(label, cycles, ours, tolerance=TOLERANCE):
     assert np.ptp(cycles) > 0.05  # the grid varies: the comparison sees a wrong function
     diff = np.abs(ours - cycles)
     worst = float(diff.max())
-    row, col, ch = np.unravel_index(int(diff.argmax()), diff.shape)
-    print(f"{label}: max |ours - Cycles| = {worst:.2e} (at row {row}, column {col}, channel {ch}: "
-          f"ours {ours[row, col, ch]:.6g}, Cycles {cycles[row, col, ch]:.6g}); values span "
-          f"[{cycles.min():.3g}, {cycles.max():.3g}]")
+    at = np.unravel_index(int(diff.argmax()), diff.shape)
+    print(f"{label}: max |ours - Cycles| = {worst:.2e} (at {tuple(int(i) for i in at)}: ours {ours[at]:.6g}, "
+          f"Cycles {cycles[at]:.6g}); values span [{cycles.min():.3g}, {cycles.max():.3g}]")
     assert worst <= tolerance
     return worst
 
@@ -236,6 +246,42 @@ def test_layer_weight_and_fresnel(tmp_path, back):
     compare(f"Layer Weight Fresnel ({side})", cycles[..., 0], fresnel.reshape(H, W))
     compare(f"Layer Weight Facing ({side})", cycles[..., 1], facing.reshape(H, W))
     compare(f"Fresnel ({side})", cycles[..., 2], fac.reshape(H, W))
+
+
+def test_layer_weight_and_fresnel_on_a_sphere(tmp_path):
+    """Layer Weight and Fresnel with the Normal input unlinked (the shading normal) on a smooth sphere, where the
+    incidence runs from normal to grazing.  The shading normal at each pixel is Cycles' own (a first render of the
+    Geometry node's Normal); the second render's nodes are compared with the functions at that normal."""
+    scene = _ortho_scene()
+    bpy.ops.mesh.primitive_uv_sphere_add(segments=48, ring_count=24, radius=0.5)
+    bpy.ops.object.shade_smooth()
+    sphere = bpy.context.object
+    mat = bpy.data.materials.new("Sphere")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    emission = nt.nodes.new("ShaderNodeEmission")
+    nt.links.new(emission.outputs[0], nt.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+    sphere.data.materials.append(mat)
+    nt.links.new(nt.nodes.new("ShaderNodeNewGeometry").outputs["Normal"], emission.inputs["Color"])
+    normals = _render_cycles(scene, tmp_path / "normals.exr")
+    hit = np.linalg.norm(normals, axis=-1) > 0.5
+    assert hit.sum() > 100 and (normals[hit][:, 2] < 0.2).any()  # grazing incidence reached
+
+    lw, fr, comb = (nt.nodes.new(t) for t in ("ShaderNodeLayerWeight", "ShaderNodeFresnel", "ShaderNodeCombineXYZ"))
+    lw.inputs["Blend"].default_value, fr.inputs["IOR"].default_value = 0.3, 1.45
+    for i, out in enumerate((lw.outputs["Fresnel"], lw.outputs["Facing"], fr.outputs["Fac"])):
+        nt.links.new(out, comb.inputs[i])
+    nt.links.new(comb.outputs[0], emission.inputs["Color"])
+    cycles = _render_cycles(scene, tmp_path / "weights.exr")
+    f = svm()
+    n = normals[hit].astype(np.float32)
+    fresnel, facing = f.layer_weight(0.3, (0.0, 0.0, 1.0), n)
+    fac = f.fresnel(1.45, (0.0, 0.0, 1.0), n)
+    assert (cycles[~hit] == 0).all()
+    compare("Layer Weight Fresnel (sphere)", cycles[hit][:, 0], fresnel.reshape(-1))
+    compare("Layer Weight Facing (sphere)", cycles[hit][:, 1], facing.reshape(-1))
+    compare("Fresnel (sphere)", cycles[hit][:, 2], fac.reshape(-1))
 
 
 # ---- Light Falloff ----------------------------------------------------------------------------------------------
