@@ -308,6 +308,33 @@ def test_light_falloff(tmp_path):
         compare(f"Light Falloff {kind}", cycles[..., channel], ours.reshape(H, W), tolerance=TOLERANCE)
 
 
+def test_light_falloff_ray_length_perspective(tmp_path):
+    """The camera ray's length Light Falloff reads through a perspective camera: Cycles starts the ray on the near
+    clipping plane, so at a pixel whose ray makes angle theta with the optical axis the length to a plane at
+    distance d is (d - clip_start) / cos(theta).  Linear with Strength 1 shows the length itself."""
+    scene = _ortho_scene()
+    cam = scene.camera.data
+    cam.type, cam.lens, cam.sensor_width, cam.sensor_fit = "PERSP", 50.0, 36.0, "AUTO"
+    bpy.ops.mesh.primitive_plane_add(size=40.0)
+    mat = bpy.data.materials.new("Falloff")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    lf, emission = nt.nodes.new("ShaderNodeLightFalloff"), nt.nodes.new("ShaderNodeEmission")
+    lf.inputs["Strength"].default_value, lf.inputs["Smooth"].default_value = 1.0, 0.0
+    nt.links.new(lf.outputs["Linear"], emission.inputs["Color"])
+    nt.links.new(emission.outputs[0], nt.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+    bpy.context.object.data.materials.append(mat)
+    cycles = _render_cycles(scene, tmp_path / "perspective.exr")
+    half = 18.0 / 50.0  # the half-width of the view at unit distance (sensor width 36 mm, lens 50 mm)
+    u = (-1 + (np.arange(W) + 0.5) * (2.0 / W)) * half
+    v = (1 - (np.arange(H) + 0.5) * (2.0 / H)) * half * H / W
+    uu, vv = np.meshgrid(u, v)
+    length = (CAMERA_Z - CLIP_START) * np.sqrt(1 + uu * uu + vv * vv)
+    ours = svm().light_falloff("Linear", 1.0, 0.0, flat(length)).reshape(H, W)
+    compare("Light Falloff ray length (perspective)", cycles, ours)
+
+
 # ---- Colour nodes ------------------------------------------------------------------------------------------------
 
 def test_blackbody(tmp_path):
@@ -642,3 +669,63 @@ def test_bump(tmp_path, case):
     ours = f.bump(np.tile(ng, (n, 1)), np.tile(ng, (n, 1)), (0.0, 0.0, 1.0), dx, dy, h_c, h_x, h_y,
                   flat(built["strength"]), flat(built["distance"]), built["params"]["invert"])
     compare(f"Bump ({case})", cycles, ours.reshape(H, W, 3))
+
+
+def test_bump_perspective(tmp_path):
+    """Bump through a perspective camera, where the differential radius grows with the distance from the eye:
+    dP = |P - eye| dD, dD the mean length of the unit direction's change over one pixel in x and in y (Cycles'
+    camera_sample_perspective).  Height 0.5 x + 0.3 sin(0.5 y) of the world position, Strength and Distance 1."""
+    scene = _ortho_scene()
+    cam = scene.camera.data
+    cam.type, cam.lens, cam.sensor_width, cam.sensor_fit = "PERSP", 50.0, 36.0, "AUTO"
+    bpy.ops.mesh.primitive_plane_add(size=40.0)
+    mat = bpy.data.materials.new("Bumped")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    nt.nodes.clear()
+    tc, sep = nt.nodes.new("ShaderNodeTexCoord"), nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(tc.outputs["Object"], sep.inputs[0])
+    arg, sine, height = (nt.nodes.new("ShaderNodeMath") for _ in range(3))
+    arg.operation, sine.operation, height.operation = "MULTIPLY", "SINE", "MULTIPLY_ADD"
+    nt.links.new(sep.outputs[1], arg.inputs[0])
+    arg.inputs[1].default_value = 0.5
+    nt.links.new(arg.outputs[0], sine.inputs[0])
+    lin = nt.nodes.new("ShaderNodeMath")
+    lin.operation = "MULTIPLY"
+    nt.links.new(sep.outputs[0], lin.inputs[0])
+    lin.inputs[1].default_value = 0.5
+    nt.links.new(sine.outputs[0], height.inputs[0])
+    height.inputs[1].default_value = 0.3
+    nt.links.new(lin.outputs[0], height.inputs[2])
+    bump, emission = nt.nodes.new("ShaderNodeBump"), nt.nodes.new("ShaderNodeEmission")
+    nt.links.new(height.outputs[0], bump.inputs["Height"])
+    nt.links.new(bump.outputs["Normal"], emission.inputs["Color"])
+    nt.links.new(emission.outputs[0], nt.nodes.new("ShaderNodeOutputMaterial").inputs["Surface"])
+    bpy.context.object.data.materials.append(mat)
+    cycles = _render_cycles(scene, tmp_path / "bump_perspective.exr")
+
+    half = 18.0 / 50.0
+    step = 2 * half / W  # one pixel on the plane at unit distance
+    u = (-1 + (np.arange(W) + 0.5) * (2.0 / W)) * half
+    v = (1 - (np.arange(H) + 0.5) * (2.0 / H)) * half * H / W
+    uu, vv = np.meshgrid(u, v)
+    d = np.stack([uu, vv, -np.ones_like(uu)], axis=-1).reshape(-1, 3)
+
+    def unit(x):
+        return x / np.linalg.norm(x, axis=-1, keepdims=True)
+
+    d_dx = np.linalg.norm(unit(d + [step, 0, 0]) - unit(d), axis=-1)
+    d_dy = np.linalg.norm(unit(d + [0, step, 0]) - unit(d), axis=-1)
+    P = np.array([0.0, 0.0, CAMERA_Z]) + d * CAMERA_Z  # the hits on z = 0
+    dp = np.linalg.norm(P - [0.0, 0.0, CAMERA_Z], axis=-1) * 0.5 * (d_dx + d_dy)
+    n = len(P)
+    f = svm()
+    ng = np.tile([0.0, 0.0, 1.0], (n, 1))
+    dx, dy = f.bump_differentials(ng, dp)
+
+    def h(points):
+        return 0.5 * points[:, 0] + 0.3 * np.sin(0.5 * points[:, 1])
+
+    incoming = -unit(d)
+    ours = f.bump(ng, ng, incoming, dx, dy, h(P), h(P + dx), h(P + dy), 1.0, 1.0, False)
+    compare("Bump (perspective)", cycles, ours.reshape(H, W, 3))

@@ -81,9 +81,10 @@ inline void MakeOrthonormals(const Vec3f& n, Vec3f* a, Vec3f* b) {
 
 // The surface differentials Cycles 3.4 bumps with.  Its ray differentials are compact (a radius, not two vectors):
 // the point's dP = ray dP + t ray dD (camera rays: orthographic dP = the length of one pixel's step on the film,
-// dD = 0; perspective dP = 0 after the near-plane offset, dD = the mean length of a pixel's change of the unit
-// direction; BSDF and light rays carry their own), and the differentials are dP times the two vectors
-// MakeOrthonormals gives the (flipped) geometric normal Ng.  The Bump node's height input is evaluated three times:
+// dD = 0; perspective: dD = the mean length of a pixel's change of the unit direction, dP its part up to the near
+// plane, so that the point's dP = (its distance from the eye) dD; BSDF and light rays carry their own), and the
+// differentials are dP times the two vectors MakeOrthonormals gives the (flipped) geometric normal Ng.  The Bump
+// node's height input is evaluated three times:
 // at the point (centre) and with every position-dependent input (Texture Coordinate Object/Generated/Camera/Window,
 // Geometry Position, Attribute) read at P + dx and at P + dy (UVs likewise shifted by their du/dv).
 struct BumpOffsets {
