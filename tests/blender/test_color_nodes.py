@@ -729,3 +729,21 @@ def test_bump_perspective(tmp_path):
     incoming = -unit(d)
     ours = f.bump(ng, ng, incoming, dx, dy, h(P), h(P + dx), h(P + dy), 1.0, 1.0, False)
     compare("Bump (perspective)", cycles, ours.reshape(H, W, 3))
+
+
+def test_node_params_reads_every_node():
+    """color_node_params.node_params gives every node it lists the keyword arguments of its function, and refuses
+    a node it does not read."""
+    mod = params_module()
+    mat = bpy.data.materials.new("Params")
+    mat.use_nodes = True
+    for kind in mod.NODES:
+        params = mod.node_params(mat.node_tree.nodes.new(kind))
+        assert isinstance(params, dict)
+    curve = mod.node_params(mat.node_tree.nodes.new("ShaderNodeFloatCurve"))
+    np.testing.assert_allclose(curve["table"], np.linspace(0, 1, 256), atol=1e-6)  # the default: identity
+    assert (curve["min_x"], curve["max_x"], curve["extrapolate"]) == (0.0, 1.0, True)  # a new node extrapolates
+    assert mod.node_params(mat.node_tree.nodes.new("ShaderNodeVectorRotate")) == dict(type="AXIS_ANGLE",
+                                                                                       invert=False)
+    with pytest.raises(ValueError, match="is not a node color_node_params reads"):
+        mod.node_params(mat.node_tree.nodes.new("ShaderNodeTexNoise"))
