@@ -486,11 +486,13 @@ CURVE_POINTS = [
 ]
 
 
+@pytest.mark.parametrize("wide", [False, True], ids=["unit", "wide"])
 @pytest.mark.parametrize("extend", ["EXTRAPOLATED", "HORIZONTAL"])
 @pytest.mark.parametrize("kind", ["rgb", "vector", "float"])
-def test_curves(tmp_path, kind, extend):
+def test_curves(tmp_path, kind, extend, wide):
     """RGB Curves, Vector Curves and Float Curve with shaped curves (one smooth handle each), inputs from -0.2 to
-    1.4 (outside the curves' range: extrapolated or held), Fac over [0, 1.2] down the image."""
+    1.4 (outside the curves' range: extrapolated or held), Fac over [0, 1.2] down the image; `wide`: clipping off
+    and the first curve's points spread over x in [-0.3, 1.1] (the table's range)."""
     built = {}
     node_type = {"rgb": "ShaderNodeRGBCurve", "vector": "ShaderNodeVectorCurve", "float": "ShaderNodeFloatCurve"}
 
@@ -498,8 +500,10 @@ def test_curves(tmp_path, kind, extend):
         node = grid.node(node_type[kind])
         mapping = node.mapping
         mapping.extend = extend
-        for curve, points in zip(mapping.curves, CURVE_POINTS if kind == "rgb" else CURVE_POINTS[:3]):
-            _shape_curve(curve, points)
+        if wide:
+            mapping.use_clip = False
+        for i, (curve, points) in enumerate(zip(mapping.curves, CURVE_POINTS if kind == "rgb" else CURVE_POINTS[:3])):
+            _shape_curve(curve, [(1.4 * x - 0.3, y) for x, y in points] if wide and i == 0 else points)
         mapping.curves[0].points[1].handle_type = "VECTOR"
         mapping.update()
         fac = grid.affine(0.0, 1.2 / (H - 1))
@@ -524,7 +528,9 @@ def test_curves(tmp_path, kind, extend):
     else:
         ours = f.curves_rgb(p["table"], p["min_x"], p["max_x"], p["extrapolate"], flat(built["fac"]),
                             flat(built["color"])).reshape(H, W, 3)
-    compare(f"{node_type[kind][len('ShaderNode'):]} ({extend.lower()})", cycles, ours)
+    if wide:
+        assert p["min_x"] == pytest.approx(-0.3) and p["max_x"] == pytest.approx(1.1)
+    compare(f"{node_type[kind][len('ShaderNode'):]} ({extend.lower()}, {'wide' if wide else 'unit'})", cycles, ours)
 
 
 # ---- Vector Math, Vector Rotate, Normal ---------------------------------------------------------------------
