@@ -149,7 +149,8 @@ inline Vec3f BlackbodyRec709(float t) {
 inline Vec3f Blackbody(float temperature) { return MaxZero(BlackbodyRec709(temperature)); }
 
 // Wavelength node: the CIE 1931 colour-matching functions tabulated every 5 nm from 380 nm (81 rows), interpolated,
-// to RGB, scaled by 1 / 2.52 and clamped at 0; black outside [380, 780) nm.
+// to RGB, scaled by 1 / 2.52 and clamped at 0; black outside (375, 780) nm (Cycles truncates the table position
+// towards zero, so (375, 380) extends the first segment).
 inline Vec3f Wavelength(float nm) {
     static constexpr float kCie[81][3] = {
         {0.0014f, 0.0000f, 0.0065f}, {0.0022f, 0.0001f, 0.0105f}, {0.0042f, 0.0001f, 0.0201f},
@@ -183,7 +184,6 @@ inline Vec3f Wavelength(float nm) {
     // Cycles' float_to_int truncates; a NaN or huge x gives a value outside [0, 80) there too.
     if (!(x > -1.0f && x < 80.0f)) return {};
     const int i = int(x);
-    if (i < 0 || i >= 80) return {};
     x -= float(i);
     const float* a = kCie[i];
     const float* b = kCie[i + 1];
