@@ -241,6 +241,29 @@ def test_world_colour_and_volume(empty_scene):
     assert medium.sigma_a == pytest.approx((1.0, 1.0, 1.0))  # density * (1 - colour), black absorption colour
 
 
+def test_world_filtered_out_of_the_view_layer_is_not_exported(empty_scene):
+    """Cycles renders no world (none seen, none lighting, no volume) when the view layer's Filter > Environment is
+    off (use_sky; its background shader is then the empty one): the black world, without the world's warnings.
+    Back on, the world is exported again. (A third-party file, natronics/kaleidospace, lit only by its sky with the
+    filter off, rendered lit here and black in Cycles.)"""
+    tree = empty_scene.world.node_tree
+    bg = tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.1, 0.2, 0.3, 1)
+    bg.inputs["Strength"].default_value = 2.0
+    scatter = tree.nodes.new("ShaderNodeVolumeScatter")
+    tree.links.new(scatter.outputs[0], tree.nodes["World Output"].inputs["Volume"])
+    empty_scene.world.cycles_visibility.diffuse = False
+    empty_scene.world.update_tag()
+    bpy.context.view_layer.use_sky = False
+    scene, log = export()
+    assert scene.world == sphrect.World()
+    assert "world ray visibility" not in log.warning_text()
+    bpy.context.view_layer.use_sky = True
+    scene, log = export()
+    assert scene.world.background == pytest.approx((0.2, 0.4, 0.6)) and scene.world.medium is not None
+    assert "world ray visibility" in log.warning_text()
+
+
 def _outward_fraction(vertices, triangles, centre):
     v = np.asarray(vertices, dtype=np.float64)[np.asarray(triangles)]
     n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])

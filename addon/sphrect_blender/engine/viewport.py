@@ -77,7 +77,7 @@ class ViewportSession:
     def update(self, depsgraph):
         start = time.perf_counter()
         sphrect = load_sphrect()
-        from ..io.exporter import scene_from_depsgraph
+        from ..io.exporter import rendered_world, scene_from_depsgraph
         from ..io.exporter.camera import export_camera
         from ..io.exporter.lights import export_light
         from ..io.exporter.log import ExportLog
@@ -105,7 +105,7 @@ class ViewportSession:
                           for i in depsgraph.object_instances if i.object.type == "LIGHT")
                 self.scene = dataclasses.replace(self.scene, lights=[l for l in lights if l is not None])
             if WORLD in kinds:
-                world = export_world(sphrect, bl_scene.world, log)
+                world = export_world(sphrect, rendered_world(depsgraph), log)
                 if world.environment is None and self.scene.world.environment is None:
                     self.scene = dataclasses.replace(self.scene, world=world)
                 else:  # an image world's image is one of the scene's textures: everything again
