@@ -75,7 +75,7 @@ def scene_from_depsgraph(depsgraph):
     materials = _Materials(sphrect, log)
     world = rendered_world(depsgraph)
     scene.world = export_world(sphrect, world, log, materials.textures)
-    warn_unhonoured(log, world=world)
+    warn_unhonoured(log, world=world, exported=scene.world)
     cache = {}
     skipped_types = set()
     for inst in depsgraph.object_instances:

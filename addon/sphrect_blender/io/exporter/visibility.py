@@ -19,12 +19,17 @@ PANEL_LIGHT_RAY_KINDS = ("camera",) + LIGHT_RAY_KINDS
 
 def warn_unhonoured(log, world=None, material=None, exported=None):
     """Warn of the visibility settings Cycles 3.4 honours that SPHRECT does not: the world's Ray Visibility (the world
-    is seen by every ray), an emissive material's Multiple Importance off (Cycles then finds its emission only with
-    BSDF rays, unweighted; SPHRECT samples it as a light). `exported`: the sphrect.Material made of `material`."""
+    is seen by every ray), an image world's Settings > Surface > Sampling None and an emissive material's Multiple
+    Importance off (Cycles then finds that light only with BSDF rays, unweighted; SPHRECT samples it as a light: the
+    same image but where a shadow terminator offset lets light samples through that BSDF rays never take).
+    `exported`: the sphrect.World made of `world`, or the sphrect.Material made of `material`."""
     visibility = getattr(world, "cycles_visibility", None)
     if visibility is not None and not all(getattr(visibility, k, True)
                                           for k in ("camera", "diffuse", "glossy", "transmission", "scatter")):
         log.unsupported_feature("world ray visibility (the world seen by every ray)", world.name)
+    if world is not None and getattr(exported, "environment", None) is not None \
+            and getattr(getattr(world, "cycles", None), "sampling_method", "AUTOMATIC") == "NONE":
+        log.unsupported_feature("world Sampling None (sampled as a light)", world.name)
     if material is not None and exported is not None and any(c > 0 for c in exported.emission) \
             and not getattr(getattr(material, "cycles", None), "sample_as_light", True):
         log.unsupported_feature("emission with Multiple Importance off (sampled as a light)", material.name)
