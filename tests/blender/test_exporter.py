@@ -1,6 +1,7 @@
 """Exporter numbers: lights (Cycles' power conventions), camera, materials, world, meshes, instances and
 the scene-file round trip. No rendering here."""
 import dataclasses
+import importlib
 import math
 
 import bpy
@@ -263,6 +264,36 @@ def test_world_filtered_out_of_the_view_layer_is_not_exported(empty_scene):
     assert scene.world.background == pytest.approx((0.2, 0.4, 0.6)) and scene.world.medium is not None
     assert "world ray visibility" in log.warning_text()
 
+
+
+def test_headless_export_is_what_a_render_evaluates(empty_scene, tmp_path):
+    """The headless export (the study's and side_by_side_cycles.py's) takes the depsgraph a render evaluates, as F12
+    and Cycles do: a collection disabled in renders but shown in the viewport is left out, and a Subdivision
+    modifier exports at its render level. (BlenderKit's model_thumbnailer.blend keeps four backdrops in collections
+    disabled in renders: exported from the viewport's depsgraph they hid the world Cycles shows, 18% apart.)"""
+    lit_test_scene(empty_scene)
+    hidden = bpy.data.collections.new("Hidden")
+    empty_scene.collection.children.link(hidden)
+    hidden.hide_render = True
+    bpy.ops.mesh.primitive_cube_add(location=(3, 3, 1))
+    cube = bpy.context.active_object
+    cube.name = "InHidden"
+    for c in cube.users_collection:
+        c.objects.unlink(cube)
+    hidden.objects.link(cube)
+    bpy.ops.mesh.primitive_cube_add(location=(-3, 3, 1))
+    subdivided = bpy.context.active_object
+    subdivided.name = "Subdivided"
+    modifier = subdivided.modifiers.new("Subdivision", "SUBSURF")
+    modifier.levels, modifier.render_levels = 0, 1
+    bpy.context.view_layer.update()
+    viewport = {m.name: len(m.triangles) for m in export()[0].meshes}
+    assert "InHidden" in viewport and viewport["Subdivided"] == 12  # the viewport's depsgraph
+    out = str(tmp_path / "scene.sphrect.npz")
+    importlib.import_module("sphrect_blender.headless").run("export", {"out": out, "warnings": str(tmp_path / "warnings.json")})
+    meshes = {m.name: len(m.triangles) for m in sphrect.load_scene(out).meshes}
+    assert "InHidden" not in meshes and meshes["Subdivided"] == 48
+    assert empty_scene.render.engine == "SPHRECT"  # the engine the export borrowed is given back
 
 def _outward_fraction(vertices, triangles, centre):
     v = np.asarray(vertices, dtype=np.float64)[np.asarray(triangles)]
