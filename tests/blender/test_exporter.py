@@ -265,7 +265,6 @@ def test_world_filtered_out_of_the_view_layer_is_not_exported(empty_scene):
     assert "world ray visibility" in log.warning_text()
 
 
-
 def test_headless_export_is_what_a_render_evaluates(empty_scene, tmp_path):
     """The headless export (the study's and side_by_side_cycles.py's) takes the depsgraph a render evaluates, as F12
     and Cycles do: a collection disabled in renders but shown in the viewport is left out, and a Subdivision
@@ -290,10 +289,12 @@ def test_headless_export_is_what_a_render_evaluates(empty_scene, tmp_path):
     viewport = {m.name: len(m.triangles) for m in export()[0].meshes}
     assert "InHidden" in viewport and viewport["Subdivided"] == 12  # the viewport's depsgraph
     out = str(tmp_path / "scene.sphrect.npz")
-    importlib.import_module("sphrect_blender.headless").run("export", {"out": out, "warnings": str(tmp_path / "warnings.json")})
+    headless = importlib.import_module("sphrect_blender.headless")
+    headless.run("export", {"out": out, "warnings": str(tmp_path / "warnings.json")})
     meshes = {m.name: len(m.triangles) for m in sphrect.load_scene(out).meshes}
     assert "InHidden" not in meshes and meshes["Subdivided"] == 48
     assert empty_scene.render.engine == "SPHRECT"  # the engine the export borrowed is given back
+
 
 def _outward_fraction(vertices, triangles, centre):
     v = np.asarray(vertices, dtype=np.float64)[np.asarray(triangles)]
