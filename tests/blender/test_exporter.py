@@ -258,11 +258,11 @@ def test_world_filtered_out_of_the_view_layer_is_not_exported(empty_scene):
     bpy.context.view_layer.use_sky = False
     scene, log = export()
     assert scene.world == sphrect.World()
-    assert "world ray visibility" not in log.warning_text()
+    assert "world hidden from diffuse" not in log.warning_text()
     bpy.context.view_layer.use_sky = True
     scene, log = export()
     assert scene.world.background == pytest.approx((0.2, 0.4, 0.6)) and scene.world.medium is not None
-    assert "world ray visibility" in log.warning_text()
+    assert scene.world.invisible_to == ("diffuse",) and "world hidden from diffuse" in log.warning_text()
 
 
 def test_headless_export_is_what_a_render_evaluates(empty_scene, tmp_path):
