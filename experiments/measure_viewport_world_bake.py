@@ -21,7 +21,9 @@ parser.add_argument("--runs", type=int, default=3)
 parser.add_argument("--addon", default=os.path.join(REPO, "addon"))
 args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
 sys.path.insert(0, args.addon)
+sys.path.insert(0, os.path.join(REPO, "scripts"))
 import addon_utils  # noqa: E402
+import make_scenes  # noqa: E402
 
 addon_utils.enable("sphrect_blender", default_set=True, handle_error=None)
 viewport = sys.modules["sphrect_blender.engine.viewport"]
@@ -32,19 +34,7 @@ def sky_scene(elevation):
     bpy.ops.wm.read_homefile(use_empty=True)
     scene = bpy.context.scene
     scene.render.engine = "SPHRECT"
-    floor = bpy.data.meshes.new("Floor")
-    floor.from_pydata([(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], [], [(0, 1, 2, 3)])
-    scene.collection.objects.link(bpy.data.objects.new("Floor", floor))
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    scene.collection.objects.link(camera)
-    camera.location, camera.rotation_euler = (0, -5, 1), (1.4, 0, 0)
-    scene.camera = camera
-    world = bpy.data.worlds.new("Sky")
-    world.use_nodes = True
-    sky = world.node_tree.nodes.new("ShaderNodeTexSky")
-    sky.sun_elevation = elevation
-    world.node_tree.links.new(sky.outputs["Color"], world.node_tree.nodes["Background"].inputs["Color"])
-    scene.world = world
+    make_scenes.sky_floor_scene(scene, elevation)
     bpy.context.view_layer.update()
 
 

@@ -50,6 +50,25 @@ def enable_addon():
     addon_utils.enable("sphrect_blender", default_set=True)
 
 
+def sky_floor_scene(scene, elevation):
+    """A 10 m floor, a camera 1 m above it looking at the horizon, and a Nishita sky of sun `elevation` (radians) as
+    the world: the world-bake scripts' scene (a world no earlier run baked when the elevation is new)."""
+    floor = bpy.data.meshes.new("Floor")
+    floor.from_pydata([(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], [], [(0, 1, 2, 3)])
+    scene.collection.objects.link(bpy.data.objects.new("Floor", floor))
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(cam)
+    cam.location, cam.rotation_euler = (0, -5, 1), (1.4, 0, 0)
+    scene.camera = cam
+    world = bpy.data.worlds.new("Sky")
+    world.use_nodes = True
+    sky = world.node_tree.nodes.new("ShaderNodeTexSky")
+    sky.sun_elevation = elevation
+    world.node_tree.links.new(sky.outputs["Color"], world.node_tree.nodes["Background"].inputs["Color"])
+    scene.world = world
+    return world
+
+
 def black_world(scene):
     """A world whose background emits nothing (only the scene's lights light it)."""
     world = bpy.data.worlds.new("World")

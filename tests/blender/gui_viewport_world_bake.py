@@ -13,7 +13,9 @@ import numpy as np
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(REPO, "addon"))
+sys.path.insert(0, os.path.join(REPO, "scripts"))
 import addon_utils  # noqa: E402
+import make_scenes  # noqa: E402
 
 PHASE_TIMEOUT = 120.0  # seconds per phase before giving up (a bake takes a few)
 
@@ -28,19 +30,8 @@ scene.render.engine = "SPHRECT"
 scene.sphrect.viewport_samples = 4
 for obj in list(scene.objects):
     bpy.data.objects.remove(obj)
-floor = bpy.data.meshes.new("Floor")
-floor.from_pydata([(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], [], [(0, 1, 2, 3)])
-scene.collection.objects.link(bpy.data.objects.new("Floor", floor))
-camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-scene.collection.objects.link(camera)
-camera.location, camera.rotation_euler = (0, -5, 1), (1.4, 0, 0)
-scene.camera = camera
-world = bpy.data.worlds.new("Sky")
-world.use_nodes = True
-sky = world.node_tree.nodes.new("ShaderNodeTexSky")
-sky.sun_elevation = random.uniform(0.2, 1.2)
-world.node_tree.links.new(sky.outputs["Color"], world.node_tree.nodes["Background"].inputs["Color"])
-scene.world = world
+world = make_scenes.sky_floor_scene(scene, random.uniform(0.2, 1.2))
+sky = next(n for n in world.node_tree.nodes if n.bl_idname == "ShaderNodeTexSky")
 result = {}
 state = {"phase": "start", "t": time.time()}
 

@@ -12,7 +12,9 @@ import bpy
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(REPO, "addon"))
+sys.path.insert(0, os.path.join(REPO, "scripts"))
 import addon_utils  # noqa: E402
+import make_scenes  # noqa: E402
 
 addon_utils.enable("sphrect_blender", default_set=True, handle_error=None)
 bake = sys.modules["sphrect_blender.io.exporter.world_bake"]
@@ -26,19 +28,7 @@ scene = bpy.context.scene
 scene.render.engine = "SPHRECT"
 scene.render.resolution_x, scene.render.resolution_y = 32, 24
 scene.sphrect.samples = 4
-floor = bpy.data.meshes.new("Floor")
-floor.from_pydata([(-5, -5, 0), (5, -5, 0), (5, 5, 0), (-5, 5, 0)], [], [(0, 1, 2, 3)])
-scene.collection.objects.link(bpy.data.objects.new("Floor", floor))
-camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-scene.collection.objects.link(camera)
-camera.location, camera.rotation_euler = (0, -5, 1), (1.4, 0, 0)
-scene.camera = camera
-world = bpy.data.worlds.new("Sky")
-world.use_nodes = True
-sky = world.node_tree.nodes.new("ShaderNodeTexSky")
-sky.sun_elevation = random.uniform(0.2, 1.2)  # a world no earlier run has baked: not in the cache
-world.node_tree.links.new(sky.outputs["Color"], world.node_tree.nodes["Background"].inputs["Color"])
-scene.world = world
+world = make_scenes.sky_floor_scene(scene, random.uniform(0.2, 1.2))  # a world no earlier run has baked
 before = {k: len(getattr(bpy.data, k)) for k in ("scenes", "objects", "cameras", "worlds", "images", "meshes")}
 state = {"phase": "start", "t": time.time()}
 
