@@ -17,6 +17,7 @@
 #include "numpy_arrays.h"
 #include "core/rect_light.h"
 #include "core/rectangle.h"
+#include "core/cone.h"
 #include "core/rectangle_blocks.h"
 #include "core/technique.h"
 
@@ -700,6 +701,25 @@ name is one of sphrect.patterns; different seeds give decorrelated point sets.)d
         MakeRectangleBlocksAt(s->origin, s->frame, s->b, s->at);
         return s;
     };
+    // The soft lights' sampler (core/cone.h): for measurements against other strategies.
+    m.def(
+        "sample_uniform_cone",
+        [](double one_minus_cos, const py::object& uv_obj) {
+            if (!(one_minus_cos > 0 && one_minus_cos <= 2)) throw py::value_error("one_minus_cos must be in (0, 2]");
+            const auto uv = ReadUV<double>(uv_obj);
+            py::array_t<double> dirs = NewArray<double>(uv.size(), 3), pdf = NewArray<double>(uv.size(), 0);
+            double* D = dirs.mutable_data();
+            double* Q = pdf.mutable_data();
+            for (size_t i = 0; i < uv.size(); ++i) {
+                const Vec3<double> w = SampleUniformCone(Point2<double>{uv[i][0], uv[i][1]}, one_minus_cos);
+                D[3 * i] = w.x, D[3 * i + 1] = w.y, D[3 * i + 2] = w.z;
+                Q[i] = UniformConePDF(one_minus_cos);
+            }
+            return py::make_tuple(dirs, pdf);
+        },
+        arg("one_minus_cos"), arg("uv"),
+        "Directions uniform in the cone about +z of 1 - cos(half-angle) = one_minus_cos (core/cone.h, double): "
+        "(directions [N, 3], solid-angle pdf [N]).  The sampler of soft point, spot and sun lights.");
     m.def(
         "sample_rectangle_blocks",
         [setup](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
