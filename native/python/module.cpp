@@ -3,10 +3,11 @@
 #include <pybind11/pybind11.h>
 
 namespace sphrect::python {
-void BindCore(pybind11::module_& m);      // bind_core.cpp: techniques, patterns
-void BindRender(pybind11::module_& m);    // bind_render.cpp: the renderer
-void BindMaterial(pybind11::module_& m);  // bind_material.cpp: materials
-void BindStudy(pybind11::module_& m);     // bind_study.cpp: baselines for the study's accuracy table
+void BindCore(pybind11::module_& m);         // bind_core.cpp: techniques, patterns
+void BindRender(pybind11::module_& m);       // bind_render.cpp: the renderer
+void BindMaterial(pybind11::module_& m);     // bind_material.cpp: materials
+void BindStudy(pybind11::module_& m);        // bind_study.cpp: baselines for the study's accuracy table
+void BindSvmTextures(pybind11::module_& m);  // bind_svm_textures.cpp: Cycles' procedural textures, for tests
 }  // namespace sphrect::python
 
 PYBIND11_MODULE(_native, m) {
@@ -15,4 +16,5 @@ PYBIND11_MODULE(_native, m) {
     sphrect::python::BindRender(m);
     sphrect::python::BindMaterial(m);
     sphrect::python::BindStudy(m);
+    sphrect::python::BindSvmTextures(m);
 }
