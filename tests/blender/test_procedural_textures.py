@@ -231,15 +231,15 @@ def compare_with_cycles(cases, tmp_path):
         identical = float(np.mean(np.all(ours == theirs, axis=1)))
         print(f"{case['label']}: max |sphrect - Cycles| = {results[case['label']][0]:.2e}, "
               f"{identical:.0%} of pixels identical" + (f", {boundary.sum()} on a boundary" if boundary.any() else ""))
-    for node in sorted({c["node"] for c in cases}):
-        labels = [c["label"] for c in cases if c["node"] == node]
-        worst = max(labels, key=lambda k: results[k][0])
-        print(f"{node}: worst {worst} {results[worst][0]:.2e} over {len(labels)} settings")
     return results
 
 
 def check(cases, tmp_path):
     results = compare_with_cycles(cases, tmp_path)
+    for node in sorted({c["node"] for c in cases}):
+        labels = [c["label"] for c in cases if c["node"] == node]
+        worst = max(labels, key=lambda k: results[k][0])
+        print(f"{node}: worst {worst} {results[worst][0]:.2e} over {len(labels)} settings")
     assert all(d <= TOLERANCE for d, _ in results.values()), results
     # Boundary pixels are rare: a discontinuity within BOUNDARY_EPS of a pixel centre.
     assert all(b <= MAX_BOUNDARY_PIXELS for _, b in results.values()), results

@@ -46,14 +46,14 @@ TexVec<N> DivideByScalar(TexVec<N> a, float s) {
 }
 // Cycles' dot: float2/float3 summed in order, float4 in pairs (as _mm_dp_ps adds).
 template <int N>
-float Dot(const TexVec<N>& a, const TexVec<N>& b) {
+[[gnu::always_inline]] inline float Dot(const TexVec<N>& a, const TexVec<N>& b) {
     if constexpr (N == 4) return (a[0] * b[0] + a[1] * b[1]) + (a[2] * b[2] + a[3] * b[3]);
     float s = a[0] * b[0];
     for (int i = 1; i < N; ++i) s += a[i] * b[i];
     return s;
 }
 template <int N>
-float Length(const TexVec<N>& a) {
+[[gnu::always_inline]] inline float Length(const TexVec<N>& a) {
     if constexpr (N == 1) return std::fabs(a[0]);
     return std::sqrt(Dot(a, a));
 }
@@ -393,7 +393,7 @@ float MusgraveN(const MusgraveTextureParams& params, const TexVec<N>& p) {
 
 // A cell's feature point in [0, 1)^N (hash_floatN_to_floatN).
 template <int N>
-TexVec<N> HashToPoint(const TexVec<N>& c) {
+[[gnu::always_inline]] inline TexVec<N> HashToPoint(const TexVec<N>& c) {
     if constexpr (N == 1) return {{HashFloatToFloat(c[0])}};
     if constexpr (N == 2) return {{HashFloat2ToFloat(c[0], c[1]), HashFloat3ToFloat(c[0], c[1], 1.0f)}};
     if constexpr (N == 3) {
@@ -406,7 +406,7 @@ TexVec<N> HashToPoint(const TexVec<N>& c) {
 }
 // A cell's colour (hash_floatN_to_float3).
 template <int N>
-Vec3f HashToColor(const TexVec<N>& c) {
+[[gnu::always_inline]] inline Vec3f HashToColor(const TexVec<N>& c) {
     if constexpr (N == 1) return HashFloatToFloat3(c[0]);
     if constexpr (N == 2) return HashFloat2ToFloat3(c[0], c[1]);
     if constexpr (N == 3) return HashFloat3ToFloat3(c[0], c[1], c[2]);
@@ -415,7 +415,8 @@ Vec3f HashToColor(const TexVec<N>& c) {
 
 // Distance of a to b under the metric (1D: always |b - a|).
 template <int N>
-float VoronoiDistance(const TexVec<N>& a, const TexVec<N>& b, VoronoiMetric metric, float exponent) {
+[[gnu::always_inline]] inline float VoronoiDistance(const TexVec<N>& a, const TexVec<N>& b, VoronoiMetric metric,
+                                                    float exponent) {
     if constexpr (N == 1) return std::fabs(b[0] - a[0]);
     switch (metric) {
         case VoronoiMetric::kEuclidean: return Length(a - b);
