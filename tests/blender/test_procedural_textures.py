@@ -377,3 +377,22 @@ def test_white_noise_gradient_checker_match_cycles(tmp_path):
 
 def test_wave_magic_brick_match_cycles(tmp_path):
     check(WAVE + MAGIC + BRICK, tmp_path)
+
+
+def test_defaults_are_blenders():
+    """A new node's settings, as the exporter reads them, give what the functions give with no settings: the params
+    structs' defaults are Blender's."""
+    from sphrect import _native
+    read = importlib.import_module("sphrect_blender.io.exporter.procedural_params")
+    mat = bpy.data.materials.new("defaults")
+    mat.use_nodes = True
+    points = np.random.default_rng(1).uniform(-2, 2, (256, 3)).astype(np.float32)
+    w = np.linspace(-2, 2, 256, dtype=np.float32)
+    for bl_idname, (name, _) in read.PROCEDURAL_NODES.items():
+        got_name, params = read.procedural_params(mat.node_tree.nodes.new(bl_idname))
+        assert got_name == name and name in _native.procedural_textures
+        ours = _native.procedural_texture(name, points, w, **params)
+        defaults = _native.procedural_texture(name, points, w)
+        for output in ours:
+            assert np.array_equal(ours[output], defaults[output]), (name, output, params)
+    assert set(_native.procedural_textures) == {n for n, _ in read.PROCEDURAL_NODES.values()}
