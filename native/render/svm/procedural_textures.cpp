@@ -640,7 +640,6 @@ NoiseTextureOutput NoiseTexture(const NoiseTextureParams& params, Vec3f p, float
 }
 
 float MusgraveTexture(const MusgraveTextureParams& params, Vec3f p, float w) {
-    // Cycles scales the 4D point as a float4 (by the reciprocal-free product), like the others.
     const float s = params.scale;
     switch (params.dimensions) {
         case 1: return MusgraveN<1>(params, Vec1(w * s));
