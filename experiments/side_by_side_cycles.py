@@ -4,23 +4,63 @@ the study's direct-light settings), one row per file -- ours, Cycles', and their
 ratio and the mean relative difference over lit 4 x 4-pixel blocks (the parity tests' measure) in the row's title.
 
     PYTHONPATH=build/python /usr/bin/python3 experiments/side_by_side_cycles.py --out out/side_by_side \\
-        --samples 256 --cycles-samples 1024 --resolution 160x90 A.blend B.blend ...
+        --samples 256 --cycles-samples 1024 --resolution 160x90 A.blend B.blend:clay ...
+
+A file named with ":clay" is compared as a clay render: a copy in which every material without emission is a grey
+Diffuse BSDF (0.8) in both renders (lights, emitters, world, camera, visibility as authored), which sets apart
+what the lights and the world do from material features SPHRECT does not model. --reuse takes the rows already in
+OUT (NAME.sphrect.npy, NAME.cycles.npy, NAME.json) instead of rendering them again, to redraw a figure.
 
 Writes OUT/side_by_side.png, OUT/side_by_side.json (the figures) and each file's images as NAME.sphrect.npy and
 NAME.cycles.npy (linear float [H, W, 4], row 0 at the top)."""
 import argparse
 import json
 import os
+import subprocess
 import sys
+import tempfile
 
 import numpy as np
 
 import sphrect
-from sphrect.study.cycles import export_blend, render_cycles
+from sphrect.study.cycles import export_blend, find_blender, render_cycles
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 HEADLESS = os.path.join(os.path.dirname(HERE), "addon", "sphrect_blender", "headless.py")
 BLOCK = 4
+CLAY = """
+import bpy, sys
+def emissive(mat):
+    if mat is None or not mat.use_nodes or mat.node_tree is None:
+        return False
+    for node in mat.node_tree.nodes:
+        if node.type == "EMISSION" and (node.inputs["Strength"].is_linked or node.inputs["Strength"].default_value > 0):
+            return True
+        if node.type == "BSDF_PRINCIPLED" and node.inputs["Emission Strength"].default_value > 0 and (
+                node.inputs["Emission"].is_linked or any(node.inputs["Emission"].default_value[:3])):
+            return True
+    return False
+clay = bpy.data.materials.new("clay")
+clay.use_nodes = True
+nodes = clay.node_tree.nodes
+nodes.clear()
+diffuse = nodes.new("ShaderNodeBsdfDiffuse")
+diffuse.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+diffuse.inputs["Roughness"].default_value = 0.0
+out = nodes.new("ShaderNodeOutputMaterial")
+clay.node_tree.links.new(diffuse.outputs["BSDF"], out.inputs["Surface"])
+for obj in bpy.data.objects:
+    for slot in obj.material_slots:
+        if not emissive(slot.material):
+            slot.material = clay
+bpy.ops.wm.save_as_mainfile(filepath=sys.argv[-1], compress=True, copy=True)
+"""
+
+
+def clay_copy(blend, path):
+    """Write to `path` a copy of `blend` whose materials without emission are a grey Diffuse BSDF (CLAY)."""
+    subprocess.run([find_blender(), "-b", "--factory-startup", blend, "--python-exit-code", "1", "--python-expr",
+                    CLAY, "--", path], check=True, capture_output=True, timeout=600)
 
 
 def block_difference(ours, cycles, lit_fraction=0.05):
@@ -46,20 +86,36 @@ def main():
     ap.add_argument("--samples", type=int, default=256)
     ap.add_argument("--cycles-samples", type=int, default=1024)
     ap.add_argument("--resolution", default="160x90")
+    ap.add_argument("--reuse", action="store_true", help="take the rows already rendered in OUT")
     a = ap.parse_args()
     width, height = (int(x) for x in a.resolution.split("x"))
     os.makedirs(a.out, exist_ok=True)
     rows = []
     for blend in a.blends:
-        name = os.path.splitext(os.path.basename(blend))[0]
-        scene_path = os.path.join(a.out, name + ".sphrect.npz")
-        warnings = export_blend(blend, scene_path, (width, height), blender_script=HEADLESS)
-        renderer = sphrect.Renderer(sphrect.load_scene(scene_path), techniques=["rectangle"], seed=1)
-        renderer.render(a.samples)
-        ours = renderer.image("rectangle")
-        cycles, _ = render_cycles(blend, a.cycles_samples, width, height, seed=1, threads=2, blender_script=HEADLESS)
-        np.save(os.path.join(a.out, name + ".sphrect.npy"), ours)
-        np.save(os.path.join(a.out, name + ".cycles.npy"), cycles)
+        clay = blend.endswith(":clay")
+        blend = blend[:-len(":clay")] if clay else blend
+        name = os.path.splitext(os.path.basename(blend))[0] + (" (clay)" if clay else "")
+        files = {k: os.path.join(a.out, name + k) for k in (".sphrect.npz", ".sphrect.npy", ".cycles.npy", ".json")}
+        if a.reuse and all(os.path.exists(f) for f in files.values()):
+            ours, cycles = np.load(files[".sphrect.npy"]), np.load(files[".cycles.npy"])
+            with open(files[".json"]) as f:
+                warnings = json.load(f)["warnings"]
+        else:
+            with tempfile.TemporaryDirectory() as tmp:
+                if clay:
+                    clay_copy(blend, os.path.join(tmp, "clay.blend"))
+                    blend = os.path.join(tmp, "clay.blend")
+                warnings = export_blend(blend, files[".sphrect.npz"], (width, height), blender_script=HEADLESS)
+                renderer = sphrect.Renderer(sphrect.load_scene(files[".sphrect.npz"]), techniques=["rectangle"],
+                                            seed=1)
+                renderer.render(a.samples)
+                ours = renderer.image("rectangle")
+                cycles, _ = render_cycles(blend, a.cycles_samples, width, height, seed=1, threads=2,
+                                          blender_script=HEADLESS)
+            np.save(files[".sphrect.npy"], ours)
+            np.save(files[".cycles.npy"], cycles)
+            with open(files[".json"], "w") as f:
+                json.dump({"warnings": warnings}, f)
         total = float(ours[..., :3].sum() / cycles[..., :3].sum())
         rows.append({"name": name, "block_difference": block_difference(ours, cycles), "total_ratio": total,
                      "warnings": warnings, "ours": ours, "cycles": cycles})

@@ -3,7 +3,8 @@
 
     blender -b --factory-startup scene.blend --python-exit-code 1 --python <add-on>/headless.py -- COMMAND JSON
 
-    export         write the open scene as a sphrect scene file (.sphrect.npz) with the add-on's exporter.
+    export         write the open scene as a sphrect scene file (.sphrect.npz) with the add-on's exporter, from the
+                   depsgraph a render evaluates (what F12 and Cycles render: Disable in Renders, render levels).
                    JSON: out; warnings (a JSON file to receive the exporter's warnings and Blender's version);
                    width and height (optional: the resolution to export instead of the .blend's)
     render_cycles  render the open scene with Cycles 3.4 in direct-lighting settings (see cycles_peer.py)
@@ -29,9 +30,37 @@ def export(args):
         bpy.context.scene.render.resolution_x = int(args["width"])
         bpy.context.scene.render.resolution_y = int(args["height"])
         bpy.context.scene.render.resolution_percentage = 100
-    log = export_scene(bpy.context.evaluated_depsgraph_get(), args["out"])
+    log = _export_from_render_depsgraph(bpy.context.scene, args["out"], export_scene)
     with open(args["warnings"], "w") as f:
         json.dump({"warnings": log.warning_text(), "blender_version": bpy.app.version_string}, f)
+
+
+def _export_from_render_depsgraph(scene, out, export_scene):
+    """export_scene of the depsgraph a render of `scene` evaluates (its first view layer rendered): Python can make
+    only viewport depsgraphs, which keep what Disable in Renders hides and use the modifiers' viewport levels, so a
+    render engine of the moment is given it by a render (which draws nothing). Returns the ExportLog."""
+    import bpy
+    logs = []
+
+    class ExportEngine(bpy.types.RenderEngine):
+        bl_idname = "SPHRECT_HEADLESS_EXPORT"
+        bl_label = "SPHRECT headless export"
+
+        def render(self, depsgraph):
+            if not logs:
+                logs.append(export_scene(depsgraph, out))
+
+    bpy.utils.register_class(ExportEngine)
+    engine = scene.render.engine
+    try:
+        scene.render.engine = ExportEngine.bl_idname
+        bpy.ops.render.render()
+    finally:
+        scene.render.engine = engine
+        bpy.utils.unregister_class(ExportEngine)
+    if not logs:
+        raise RuntimeError("the render exported nothing (no view layer is rendered)")
+    return logs[0]
 
 
 def render_cycles(args):

@@ -81,6 +81,24 @@ def test_diffuse_scene_matches_cycles(empty_scene, tmp_path):
     assert mean_relative_difference(1.05 * ours, cycles) > 0.03
 
 
+def test_world_filtered_out_of_the_view_layer_lights_nothing_in_either(empty_scene, tmp_path):
+    """With the view layer's Filter > Environment off, Cycles 3.4 neither shows the world nor is lit by it (its
+    background shader is then the empty one), and neither is SPHRECT; on, both are (the check can fail)."""
+    scene = lit_test_scene(empty_scene)
+    bpy.data.objects.remove(bpy.data.objects["Light"])  # the world alone lights the scene
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
+    set_resolution(scene, 16, 12)
+    scene.sphrect.samples, scene.sphrect.passes = 16, 1
+    images = {}
+    for use_sky in (False, True):
+        bpy.context.view_layer.use_sky = use_sky
+        cycles = render_cycles(scene, str(tmp_path / f"cycles_{use_sky}.exr"), samples=16)
+        scene.render.engine = "SPHRECT"
+        images[use_sky] = cycles[..., :3], render()["images"]["rectangle"][..., :3]
+    assert images[False][0].max() == 0 and images[False][1].max() == 0
+    assert images[True][0].min() > 0 and images[True][1].min() > 0
+
+
 @pytest.mark.parametrize("light", ["Square", "Rectangle", "Disk", "Ellipse", "Point", "Spot", "Sun"])
 def test_every_light_type_matches_cycles(light, tmp_path):
     """Cycles' conventions for each light (power -> radiance / intensity / irradiance, shapes, object scale,

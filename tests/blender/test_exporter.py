@@ -1,6 +1,7 @@
 """Exporter numbers: lights (Cycles' power conventions), camera, materials, world, meshes, instances and
 the scene-file round trip. No rendering here."""
 import dataclasses
+import importlib
 import math
 
 import bpy
@@ -239,6 +240,60 @@ def test_world_colour_and_volume(empty_scene):
     medium = export()[0].world.medium
     assert medium.sigma_s == pytest.approx((1.0, 1.0, 1.0))
     assert medium.sigma_a == pytest.approx((1.0, 1.0, 1.0))  # density * (1 - colour), black absorption colour
+
+
+def test_world_filtered_out_of_the_view_layer_is_not_exported(empty_scene):
+    """Cycles renders no world (none seen, none lighting, no volume) when the view layer's Filter > Environment is
+    off (use_sky; its background shader is then the empty one): the black world, without the world's warnings.
+    Back on, the world is exported again. (A third-party file, natronics/kaleidospace, lit only by its sky with the
+    filter off, rendered lit here and black in Cycles.)"""
+    tree = empty_scene.world.node_tree
+    bg = tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.1, 0.2, 0.3, 1)
+    bg.inputs["Strength"].default_value = 2.0
+    scatter = tree.nodes.new("ShaderNodeVolumeScatter")
+    tree.links.new(scatter.outputs[0], tree.nodes["World Output"].inputs["Volume"])
+    empty_scene.world.cycles_visibility.diffuse = False
+    empty_scene.world.update_tag()
+    bpy.context.view_layer.use_sky = False
+    scene, log = export()
+    assert scene.world == sphrect.World()
+    assert "world hidden from diffuse" not in log.warning_text()
+    bpy.context.view_layer.use_sky = True
+    scene, log = export()
+    assert scene.world.background == pytest.approx((0.2, 0.4, 0.6)) and scene.world.medium is not None
+    assert scene.world.invisible_to == ("diffuse",) and "world hidden from diffuse" in log.warning_text()
+
+
+def test_headless_export_is_what_a_render_evaluates(empty_scene, tmp_path):
+    """The headless export (the study's and side_by_side_cycles.py's) takes the depsgraph a render evaluates, as F12
+    and Cycles do: a collection disabled in renders but shown in the viewport is left out, and a Subdivision
+    modifier exports at its render level. (BlenderKit's model_thumbnailer.blend keeps four backdrops in collections
+    disabled in renders: exported from the viewport's depsgraph they hid the world Cycles shows, 18% apart.)"""
+    lit_test_scene(empty_scene)
+    hidden = bpy.data.collections.new("Hidden")
+    empty_scene.collection.children.link(hidden)
+    hidden.hide_render = True
+    bpy.ops.mesh.primitive_cube_add(location=(3, 3, 1))
+    cube = bpy.context.active_object
+    cube.name = "InHidden"
+    for c in cube.users_collection:
+        c.objects.unlink(cube)
+    hidden.objects.link(cube)
+    bpy.ops.mesh.primitive_cube_add(location=(-3, 3, 1))
+    subdivided = bpy.context.active_object
+    subdivided.name = "Subdivided"
+    modifier = subdivided.modifiers.new("Subdivision", "SUBSURF")
+    modifier.levels, modifier.render_levels = 0, 1
+    bpy.context.view_layer.update()
+    viewport = {m.name: len(m.triangles) for m in export()[0].meshes}
+    assert "InHidden" in viewport and viewport["Subdivided"] == 12  # the viewport's depsgraph
+    out = str(tmp_path / "scene.sphrect.npz")
+    headless = importlib.import_module("sphrect_blender.headless")
+    headless.run("export", {"out": out, "warnings": str(tmp_path / "warnings.json")})
+    meshes = {m.name: len(m.triangles) for m in sphrect.load_scene(out).meshes}
+    assert "InHidden" not in meshes and meshes["Subdivided"] == 48
+    assert empty_scene.render.engine == "SPHRECT"  # the engine the export borrowed is given back
 
 
 def _outward_fraction(vertices, triangles, centre):

@@ -312,11 +312,43 @@ def test_other_world_trees_are_baked(fresh, kind, monkeypatch):
         tree.links.new(tree.nodes.new("ShaderNodeEmission").outputs[0], output.inputs["Surface"])
     else:
         tree.links.new(tree.nodes.new("ShaderNodeValue").outputs[0], background.inputs["Strength"])
-    baked = []
-    monkeypatch.setattr(world_bake(), "bake_world", lambda w: baked.append(w) or np.ones((4, 8, 3), np.float32))
+    baked, pixels = [], np.ones((4, 8, 3), np.float32)
+    pixels[2:] = 3.0  # the upper half brighter (the sphere's mean: 2)
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w: baked.append(w) or pixels)
     exported, log = export()
     assert len(baked) == 1 and exported.world.environment is not None
-    assert np.allclose(exported.world.background, 1.0)
+    assert np.allclose(exported.world.background, 2.0)
+
+
+def test_a_world_baked_to_one_colour_is_a_constant_background(fresh, monkeypatch):
+    """A tree that bakes into one colour (here an RGB node into the Background's Color, as in old files such as
+    Mike Pan's BMW27 benchmark) exports as that constant Background, no image: as if typed in (and so, like
+    Cycles with the world's Sampling None there, the renderer meets it with BSDF rays alone)."""
+    world, tree = node_world()
+    rgb = tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.2, 0.4, 0.6, 1.0)
+    tree.links.new(rgb.outputs[0], tree.nodes["Background"].inputs["Color"])
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w: np.full((4, 8, 3), (0.2, 0.4, 0.6), np.float32))
+    exported, log = export()
+    assert exported.world.environment is None and not exported.textures
+    assert exported.world.background == pytest.approx((0.2, 0.4, 0.6))
+
+
+def test_an_image_world_with_sampling_none_is_warned(fresh, monkeypatch):
+    """Settings > Surface > Sampling None: Cycles finds the world with BSDF rays alone, SPHRECT samples an image world
+    as a light (the same image but where a shadow terminator offset lets light samples through): said for an image
+    world, not for a constant one (met by BSDF rays alone here too)."""
+    world, tree = node_world()
+    world.cycles.sampling_method = "NONE"
+    tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.4, 0.6, 1.0)
+    assert "Sampling None" not in export()[1].warning_text()
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w: np.arange(96, dtype=np.float32).reshape(4, 8, 3))
+    tree.links.new(tree.nodes.new("ShaderNodeTexGradient").outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    exported, log = export()
+    assert exported.world.environment is not None and "world Sampling None (sampled as a light)" in log.warning_text()
+    world.cycles.sampling_method = "AUTOMATIC"
+    world.update_tag()  # the depsgraph's copy follows only when tagged
+    assert "Sampling None" not in export()[1].warning_text()
 
 
 def test_constant_and_image_worlds_are_not_baked(fresh, monkeypatch):
@@ -406,7 +438,8 @@ def test_viewport_reexports_a_world_turned_into_a_sky(empty_scene, monkeypatch):
     """The Rendered viewport's update: a world edited into a Sky Texture world gets its baked environment and
     texture (the whole scene re-exported: the texture joins Scene.textures); edited back to a constant, neither."""
     viewport = sys.modules["sphrect_blender.engine.viewport"]
-    monkeypatch.setattr(world_bake(), "bake_world", lambda w: np.full((4, 8, 3), 0.5, np.float32))
+    sky_pixels = np.linspace(0.1, 1, 96, dtype=np.float32).reshape(4, 8, 3)
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w: sky_pixels)
     builders.mesh_object("Ground", "plane", builders.material("Ground"), size=8)
     builders.area_light("Light", power=50.0, location=(0, 0, 2))
     session = viewport.ViewportSession()

@@ -116,7 +116,7 @@ class ViewportSession:
     def _export(self, depsgraph, kinds):
         """Export what `kinds` (viewport_updates) names into self.scene; the worker restarts at the next draw."""
         sphrect = load_sphrect()
-        from ..io.exporter import scene_from_depsgraph
+        from ..io.exporter import rendered_world, scene_from_depsgraph
         from ..io.exporter.camera import export_camera
         from ..io.exporter.lights import export_light, has_image_texture
         from ..io.exporter.log import ExportLog
@@ -142,7 +142,7 @@ class ViewportSession:
                           for i in depsgraph.object_instances if i.object.type == "LIGHT")
                 self.scene = dataclasses.replace(self.scene, lights=[l for l in lights if l is not None])
             if WORLD in kinds:
-                world = export_world(sphrect, bl_scene.world, log)
+                world = export_world(sphrect, rendered_world(depsgraph), log)
                 if world.environment is None and self.scene.world.environment is None:
                     self.scene = dataclasses.replace(self.scene, world=world)
                 else:  # an image world's image is one of the scene's textures: everything again

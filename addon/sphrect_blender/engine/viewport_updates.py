@@ -46,7 +46,9 @@ def scene_updated(updates):
 
 def contents_signature(depsgraph):
     """What a Scene update may change without naming the objects: which objects are shown (hiding one in the
-    view layer updates only the Scene), the world and the camera. Compared on Scene updates."""
+    view layer updates only the Scene), the world (and the view layer's Environment filter) and the camera.
+    Compared on Scene updates."""
     scene = depsgraph.scene
     shown = tuple((i.object.name, i.is_instance) for i in depsgraph.object_instances)
-    return shown, scene.world.name if scene.world else None, scene.camera.name if scene.camera else None
+    world = scene.world.name if scene.world and depsgraph.view_layer.use_sky else None
+    return shown, world, scene.camera.name if scene.camera else None

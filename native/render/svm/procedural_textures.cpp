@@ -361,7 +361,7 @@ float MusgraveRidgedMultifractal(TexVec<N> p, float H, float lacunarity, float o
     float value = signal, weight = 1.0f;
     for (int i = 1; i < FloatToInt(octaves); ++i) {
         p = p * lacunarity;
-        weight = Saturate(signal * gain);
+        weight = Clamp(signal * gain, 0.0f, 1.0f);
         signal = offset - std::fabs(SignedNoise(p));
         signal *= signal;
         signal *= weight;
@@ -693,7 +693,7 @@ float GradientTexture(const GradientTextureParams& params, Vec3f p) {
             break;
         }
     }
-    return Saturate(f);
+    return Clamp(f, 0.0f, 1.0f);
 }
 
 ColorFacOutput CheckerTexture(const CheckerTextureParams& params, Vec3f p) {
@@ -828,7 +828,7 @@ ColorFacOutput BrickTexture(const BrickTextureParams& params, Vec3f p) {
     const int brick = FloorToInt((p.x + offset) / brick_width);
     const float x = (p.x + offset) - brick_width * float(brick);
     const float y = p.y - row_height * float(row);
-    const float tint = Saturate(BrickNoise((uint32_t(row) << 16) + uint32_t(brick & 0xFFFF)) + params.bias);
+    const float tint = Clamp(BrickNoise((uint32_t(row) << 16) + uint32_t(brick & 0xFFFF)) + params.bias, 0.0f, 1.0f);
     float min_dist = std::min(std::min(x, y), std::min(brick_width - x, row_height - y));
     float mortar;
     if (min_dist >= params.mortar_size) {

@@ -42,8 +42,12 @@ inline uint32_t FloatBits(float f) {
 
 // Cycles' isfinite_safe / ensure_finite: written for fast math; with IEEE semantics std::isfinite is the same.
 inline float EnsureFinite(float v) { return std::isfinite(v) ? v : 0.0f; }
-inline float Clamp(float a, float lo, float hi) { return std::fmin(std::fmax(a, lo), hi); }
-inline float Saturate(float a) { return Clamp(a, 0.0f, 1.0f); }
+// Cycles' clamp: min(max(a, lo), hi) with its comparisons, so NaN gives lo.  (Cycles' saturatef is Clamp(a, 0, 1);
+// svm/color_nodes.h has its own Saturate.)
+inline float Clamp(float a, float lo, float hi) {
+    const float above = a > lo ? a : lo;
+    return above < hi ? above : hi;
+}
 // Cycles' scalar mix (util/math.h): a + t (b - a).
 inline float Mix(float a, float b, float t) { return a + t * (b - a); }
 // Cycles' SSE mix (util/ssef.h), which its noise runs on x86: t b + (1 - t) a.

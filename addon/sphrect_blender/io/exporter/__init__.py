@@ -54,6 +54,16 @@ class _Materials:
         return needed
 
 
+def rendered_world(depsgraph):
+    """The world Cycles 3.4 renders for the depsgraph's view layer: none (black, lighting nothing) when the view
+    layer's Filter > Environment is off (Cycles' sync_view_layer: use_sky, the background shader then empty)."""
+    view_layer = getattr(depsgraph, "view_layer", None)
+    if view_layer is not None and not view_layer.use_sky:
+        return None
+    scene = depsgraph.scene_eval if hasattr(depsgraph, "scene_eval") else depsgraph.scene
+    return scene.world
+
+
 def scene_from_depsgraph(depsgraph):
     """(sphrect.Scene, ExportLog) for an evaluated depsgraph (render or viewport)."""
     sphrect = load_sphrect()
@@ -63,7 +73,9 @@ def scene_from_depsgraph(depsgraph):
     cam = bl_scene.camera.evaluated_get(depsgraph) if bl_scene.camera is not None else None
     scene.camera = export_camera(sphrect, bl_scene, cam, log)
     materials = _Materials(sphrect, log)
-    scene.world = export_world(sphrect, bl_scene.world, log, materials.textures)
+    world = rendered_world(depsgraph)
+    scene.world = export_world(sphrect, world, log, materials.textures)
+    warn_unhonoured(log, world=world, exported=scene.world)
     cache = {}
     skipped_types = set()
     for inst in depsgraph.object_instances:

@@ -720,8 +720,8 @@ def export_world(sphrect, world, log, textures=None):
         return sphrect.World()
     hidden = world_invisible_to(world, sphrect.scene.WORLD_RAY_KINDS)
     if "diffuse" in hidden:  # measured: docs/renderer.md, Ray visibility
-        log.unsupported_feature("world hidden from diffuse rays (simulated as a light's; a Principled floor's glossy "
-                                "light from it ~10% dimmer than Cycles')", world.name)
+        log.unsupported_feature("world hidden from diffuse rays (the visible lobes lit exactly, where Cycles' glossy "
+                                "rays also carry some diffuse reflection: docs/renderer.md)", world.name)
     return dataclasses.replace(_world_shading(sphrect, world, log, textures), invisible_to=hidden)
 
 
@@ -750,9 +750,10 @@ def _world_not_representable(sphrect, world, surface, textures, log):
     """(background, environment) of a world surface the renderer cannot take as it is (_direct_world), baked by
     Cycles (world_bake.py): the image as a linear float texture added to `textures`, strength 1 (the Background's
     Strength is in the image), identity to_world; background the image's mean radiance over the sphere (what a
-    renderer without environments shows).  A failed bake: a black world, said.  A Rendered viewport's export does
-    not wait for a bake (world_bake.in_background): a stand-in meanwhile, the world's last bake it showed or else
-    _stand_in_constant."""
+    renderer without environments shows).  A failed bake: a black world, said.  A bake of one colour (an RGB or
+    Value node, a Mix of constants...) is that constant Background, as if typed in: no image to sample.  A Rendered
+    viewport's export does not wait for a bake (world_bake.in_background): a stand-in meanwhile, the world's last
+    bake it showed or else _stand_in_constant."""
     if _uses_light_path(world.node_tree, set()):
         log.unsupported_feature("Light Path node in a world (baked as camera rays see it, used for all rays)",
                                 world.name)
@@ -767,6 +768,8 @@ def _world_not_representable(sphrect, world, surface, textures, log):
     except world_bake.BakeError as e:
         log.problem(f"world '{world.name}' could not be baked by Cycles (black used): {e}")
         return (0.0, 0.0, 0.0), None
+    if np.all(pixels == pixels[0, 0]):
+        return _rgb(pixels[0, 0]), None
     textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
     environment = sphrect.Environment(texture=len(textures.list) - 1)
     return _rgb(world_bake.sphere_mean(pixels)), environment

@@ -26,10 +26,15 @@ def world_invisible_to(world, kinds):
     return tuple(k for k in kinds if not getattr(visibility, "scatter" if k == "volume_scatter" else k, True))
 
 
-def warn_unhonoured(log, material=None, exported=None):
-    """Warn of the visibility settings Cycles 3.4 honours that SPHRECT does not: an emissive material's Multiple
-    Importance off (Cycles then finds its emission only with BSDF rays, unweighted; SPHRECT samples it as a light).
-    `exported`: the sphrect.Material made of `material`."""
+def warn_unhonoured(log, world=None, material=None, exported=None):
+    """Warn of the settings Cycles 3.4 honours that SPHRECT does not: an image world's Settings > Surface > Sampling
+    None and an emissive material's Multiple Importance off (Cycles then finds that light only with BSDF rays,
+    unweighted; SPHRECT samples it as a light: the same image but where a shadow terminator offset lets light samples
+    through that BSDF rays never take).  `exported`: the sphrect.World made of `world`, or the sphrect.Material made
+    of `material`."""
+    if world is not None and getattr(exported, "environment", None) is not None \
+            and getattr(getattr(world, "cycles", None), "sampling_method", "AUTOMATIC") == "NONE":
+        log.unsupported_feature("world Sampling None (sampled as a light)", world.name)
     if material is not None and exported is not None and any(c > 0 for c in exported.emission) \
             and not getattr(getattr(material, "cycles", None), "sample_as_light", True):
         log.unsupported_feature("emission with Multiple Importance off (sampled as a light)", material.name)
