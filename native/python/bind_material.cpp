@@ -122,6 +122,7 @@ Material ReadMaterial(const py::dict& d) {
     render::PrincipledInputs& in = m.inputs;
     in.base_color = Rgb(d["base_color"], "base_color");
     in.roughness = Number(d, "roughness");
+    in.diffuse_roughness = Number(d, "diffuse_roughness");
     in.metallic = Number(d, "metallic");
     in.specular = Number(d, "specular");
     in.specular_tint = Number(d, "specular_tint");

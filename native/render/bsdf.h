@@ -120,8 +120,8 @@ inline BsdfSample SampleBsdf(const Bsdf& m, const Vec3f& wo, Point2<float> u) {
 [[gnu::cold, gnu::noinline]] inline Bsdf LobesLitBy(const Bsdf& m, uint8_t classes) {
     Bsdf out = m;
     if (!(classes & kRayDiffuse)) {  // Lambert, Burley, sheen, translucent: CLOSURE_IS_BSDF_DIFFUSE
-        out.diffuse = out.lambert = out.sheen = out.translucent = {};
-        out.has_sheen = false;
+        out.diffuse = out.lambert = out.sheen = out.translucent = out.oren_nayar = {};
+        out.has_sheen = out.has_oren_nayar = false;
     }
     if (!(classes & kRayGlossy)) {  // the microfacet reflections: CLOSURE_IS_BSDF_GLOSSY
         out.has_specular = out.has_clearcoat = false;

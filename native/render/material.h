@@ -113,7 +113,7 @@ inline Rgba EvalTextureAt(const std::vector<Image>& images, const TextureLookup&
 // The Bsdf of a Material that is not a mix, with these inputs.
 inline Bsdf MakeBsdfFromInputs(const Material& r, const PrincipledInputs& in) {
     switch (r.kind) {
-        case MaterialKind::kDiffuse: return MakeDiffuseBsdf(in.base_color);
+        case MaterialKind::kDiffuse: return MakeDiffuseBsdf(in.base_color, in.diffuse_roughness);
         case MaterialKind::kGlossy: return MakeLambertGgxBsdf(in.base_color, in.roughness, in.metallic, in.specular);
         case MaterialKind::kPrincipled: return MakePrincipledBsdf(in);
         case MaterialKind::kGlass: return MakeGlassBsdf(in.base_color, in.roughness, r.ior, r.beckmann);

@@ -19,6 +19,9 @@ std::string KindName(MaterialKind kind) { return kMaterialKindNames[int(kind)]; 
 void CheckInputsFinite(const Material& m) {
     const PrincipledInputs& in = m.inputs;
     switch (m.kind) {
+        case MaterialKind::kDiffuse:
+            if (!std::isfinite(in.diffuse_roughness)) Fail("diffuse_roughness must be finite");
+            break;
         case MaterialKind::kGlossy:
             if (!std::isfinite(in.roughness) || !std::isfinite(in.metallic) || !std::isfinite(in.specular))
                 Fail("roughness, metallic and specular must be finite");

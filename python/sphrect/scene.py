@@ -69,7 +69,8 @@ FORMAT_NAME = "sphrect-scene"
 # 16: RectLight.texture, EllipseLight.texture (an image over the light: a Blender light's node tree).  Older files load
 # without (uniform lights).
 # 17: World.invisible_to (Blender's World > Ray Visibility).  Older files load with the world seen by every ray.
-FORMAT_VERSION = 17
+# 18: Material.diffuse_roughness (the Diffuse BSDF's Roughness: Oren-Nayar).  Older files load with 0 (Lambert).
+FORMAT_VERSION = 18
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -148,6 +149,9 @@ class Material:
     kind: str = "diffuse"            # one of MATERIAL_KINDS
     base_color: RGB = (0.8, 0.8, 0.8)
     roughness: float = 0.5           # Blender's roughness; GGX alpha = roughness**2
+    # 'diffuse' (and a mix's 'diffuse' layers): the Diffuse BSDF's Roughness, 0 Lambert, else Cycles 3.4's Oren-Nayar
+    # of sigma = min(diffuse_roughness, 1).
+    diffuse_roughness: float = 0.0
     metallic: float = 0.0
     specular: float = 0.5            # Principled 'Specular': F0 = 0.08 * specular for dielectrics
     specular_tint: float = 0.0       # 'principled' only, like the four below (Blender's defaults)

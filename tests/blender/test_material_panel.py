@@ -45,10 +45,11 @@ def drawn_labels(mat, width=300):
 
 
 def test_panel_lists_what_the_export_ignores(empty_scene):
-    rough, _ = builders.node_material("Rough Diffuse", "ShaderNodeBsdfDiffuse", Roughness=0.5)
+    rough, glossy = builders.node_material("Rough Glossy", "ShaderNodeBsdfGlossy")
+    glossy.distribution = "ASHIKHMIN_SHIRLEY"
     on_box(empty_scene, rough)
     notes = notes_module().material_notes(rough)
-    assert notes == ["Oren-Nayar roughness of Diffuse BSDF (Lambert used)"]
+    assert notes == ["Glossy BSDF distribution 'Ashikhmin-Shirley' (GGX used)"]
     labels = drawn_labels(rough, width=600)
     assert labels[0] == ("Ignored or approximated by SPHRECT:", "NONE")
     assert " ".join(text for text, _ in labels[1:]) == notes[0]  # wrapped to the panel's width, nothing lost
@@ -57,7 +58,7 @@ def test_panel_lists_what_the_export_ignores(empty_scene):
     assert len(narrow) > len(labels) and " ".join(text for text, _ in narrow) == " ".join(t for t, _ in labels)
     # One source: the render's warnings name the same thing for that material.
     _, log = export()
-    assert log.unsupported[notes[0]] == ["Rough Diffuse"]
+    assert log.unsupported[notes[0]] == ["Rough Glossy"]
 
     plain = builders.material("Plain", kind="principled")
     assert notes_module().material_notes(plain) == []
@@ -84,11 +85,12 @@ def test_left_out_surfaces_and_problems_are_listed(empty_scene):
 def test_notes_cached_until_the_material_changes(empty_scene):
     """draw() is called at every redraw: the export runs once per change of the material (a depsgraph update),
     not per draw."""
-    rough, bsdf = builders.node_material("Rough Diffuse", "ShaderNodeBsdfDiffuse", Roughness=0.5)
+    rough, bsdf = builders.node_material("Rough Glossy", "ShaderNodeBsdfGlossy")
+    bsdf.distribution = "ASHIKHMIN_SHIRLEY"
     on_box(empty_scene, rough)
     first = notes_module().material_notes(rough)
-    assert notes_module().material_notes(rough) is first  # not exported again
-    bsdf.inputs["Roughness"].default_value = 0.0
+    assert first and notes_module().material_notes(rough) is first  # not exported again
+    bsdf.distribution = "GGX"
     bpy.context.view_layer.update()  # the depsgraph update the UI's edit makes
     assert notes_module().material_notes(rough) == []
 

@@ -54,7 +54,12 @@ struct Bsdf {
     bool has_specular = false;
     bool has_sheen = false;
     bool has_clearcoat = false;
-    float burley_roughness = 0;       // the retro-reflection's roughness (Blender's, unsquared)
+    float burley_roughness = 0;  // the retro-reflection's roughness (Blender's, unsquared)
+    // Diffuse BSDF of Roughness sigma > 0: Cycles 3.4's Oren-Nayar closure (bsdf_oren_nayar.h), f cos = |n.l| (a + b
+    // t), its colour `oren_nayar`, a = 1 / (pi + (3 pi - 4) / 6 sigma), b = sigma a (OrenNayarFactor).  A diffuse lobe.
+    bool has_oren_nayar = false;
+    Spectrum oren_nayar;
+    float oren_nayar_a = 0, oren_nayar_b = 0;
     float specular_ior = 1;           // the Fresnel blend's IOR, from Specular
     float specular_f0 = 0;            // its normal-incidence reflectance (0.08 specular)
     Spectrum sheen;                   // sheen weight x sheen colour (f = sheen (1 - wi.h)^5)
@@ -119,6 +124,7 @@ struct PrincipledInputs {
     float anisotropic = 0;           // Cycles: alpha_x = r^2 / aspect, alpha_y = r^2 aspect, aspect = sqrt(1 - 0.9 a)
     float anisotropic_rotation = 0;  // turns about the normal
     bool multiscatter = false;       // the node's distribution Multiscatter GGX (else GGX)
+    float diffuse_roughness = 0;     // the Diffuse BSDF's Roughness: 0 Lambert, else Oren-Nayar (MakeDiffuseBsdf)
     // Transmission t: its glass part, of weight t (1 - metallic), shows at zero bounces as a Glass BSDF's reflection
     // (IOR `ior`, the Fresnel of the view); the diffuse and sheen take (1 - metallic)(1 - t), the specular 1 - that
     // glass weight (svm_node_closure_bsdf).
@@ -130,7 +136,7 @@ struct PrincipledInputs {
 // Fresnel starts at 0.04, a glass lobe's Fresnel at F0 or 0.04), each present lobe at least 10% of the samples;
 // the cosine (Lambert, Burley, sheen) takes the rest.  Sets specular_, clearcoat_ and each lobe's probability.
 inline void ChooseLobeProbabilities(Bsdf& m) {
-    float w_cos = Luminance(m.lambert) + Luminance(m.diffuse) + 0.1f * Luminance(m.sheen);
+    float w_cos = Luminance(m.lambert) + Luminance(m.diffuse) + 0.1f * Luminance(m.sheen) + Luminance(m.oren_nayar);
     float w_trans = m.has_translucent ? std::max(Luminance(m.translucent), 1e-6f) : 0.0f;
     float w_spec = m.has_specular ? std::max(Luminance(m.f0), 0.04f) * m.specular_weight : 0.0f;
     float w_coat = m.has_clearcoat ? std::max(0.1f * m.clearcoat, 1e-3f) : 0.0f;
@@ -164,9 +170,22 @@ inline void ChooseLobeProbabilities(Bsdf& m) {
 
 // Blender material parameters -> Bsdf.  Roughness is clamped to 0.03 (alpha ~ 1e-3): a
 // perfect mirror is a delta lobe that direct lighting from area lights cannot sample by lights.
-inline Bsdf MakeDiffuseBsdf(const Spectrum& base) {
+// A Diffuse BSDF: Lambert at Roughness 0 (exactly 0, as svm_node_closure_bsdf tests it), else Cycles 3.4's
+// Oren-Nayar (bsdf_oren_nayar_setup: sigma = saturate(roughness)), a lobe of the Principled evaluation (kGlossy
+// kernel).
+inline Bsdf MakeDiffuseBsdf(const Spectrum& base, float roughness = 0) {
     Bsdf m;
-    m.diffuse = base;
+    if (roughness == 0) {
+        m.diffuse = base;
+        return m;
+    }
+    const float sigma = std::clamp(roughness, 0.0f, 1.0f);
+    m.glossy = m.principled = true;
+    m.has_oren_nayar = true;
+    m.oren_nayar = base;
+    m.oren_nayar_a = 1 / (kPi + ((3 * kPi - 4) / 6) * sigma);
+    m.oren_nayar_b = sigma * m.oren_nayar_a;
+    ChooseLobeProbabilities(m);
     return m;
 }
 

@@ -50,6 +50,14 @@ inline void MixIntoBsdf(Bsdf& mix, const Bsdf& part, float weight) {
     }
     mix.glossy = mix.principled = true;
     mix.lambert += part.lambert * weight;
+    if (part.has_oren_nayar) {  // two of different roughness: their parameters weighted by their colours' luminance
+        const float w_mix = Luminance(mix.oren_nayar), w_part = Luminance(part.oren_nayar) * weight;
+        const float t = w_mix + w_part > 0 ? w_part / (w_mix + w_part) : 1.0f;
+        mix.oren_nayar_a += (part.oren_nayar_a - mix.oren_nayar_a) * (mix.has_oren_nayar ? t : 1.0f);
+        mix.oren_nayar_b += (part.oren_nayar_b - mix.oren_nayar_b) * (mix.has_oren_nayar ? t : 1.0f);
+        mix.oren_nayar += part.oren_nayar * weight;
+        mix.has_oren_nayar = true;
+    }
     mix.has_dielectric = mix.has_dielectric || part.has_dielectric;
     mix.anisotropic = mix.anisotropic || part.anisotropic;
     if (part.has_translucent) {

@@ -61,6 +61,7 @@ inline Spectrum EvalMicrofacetLobe(const MicrofacetLobe& l, const Vec3f& wo, con
 // walk does: multiscatter_ggx.h).
 inline Spectrum EvalPrincipled(const Bsdf& m, const Vec3f& wo, const Vec3f& wi, bool sampled = false) {
     Spectrum f = m.diffuse * BurleyDiffuse(wo, wi, m.burley_roughness) + m.lambert * kInvPi;
+    if (m.has_oren_nayar) f += m.oren_nayar * OrenNayarFactor(m.oren_nayar_a, m.oren_nayar_b, wo, wi);
     const Vec3f h = Normalize(wo + wi);
     const float cos_ih = Dot(wi, h), inv_4cos = 1 / (4 * wo.z * wi.z);
     if (m.has_sheen) f += m.sheen * SchlickWeight(cos_ih);

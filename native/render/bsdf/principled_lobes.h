@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "render/sampling_util.h"
 
@@ -35,6 +36,15 @@ inline float DielectricFresnel(float cos_i, float eta) {
 inline Spectrum InterpolatedFresnel(float cos_lh, float eta, float f0, const Spectrum& cspec0) {
     const float rise = (DielectricFresnel(cos_lh, eta) - f0) / (1 - f0);
     return cspec0 * (1 - rise) + Spectrum(rise, rise, rise);
+}
+
+// Cycles 3.4's Oren-Nayar (bsdf_oren_nayar_get_intensity, its f cos divided by the cosine): a + b t, t = (wi.wo -
+// cos_i cos_o) / max(cos_i, cos_o) where positive (the azimuthal term of Fujii's simplification), else unscaled.
+inline float OrenNayarFactor(float a, float b, const Vec3f& wo, const Vec3f& wi) {
+    const float nl = std::max(wi.z, 0.0f), nv = std::max(wo.z, 0.0f);
+    float t = Dot(wi, wo) - nl * nv;
+    if (t > 0) t /= std::max(nl, nv) + std::numeric_limits<float>::min();
+    return a + b * t;
 }
 
 // Burley's diffuse (Disney 2012) split as Cycles 3.4 does (Burley 2015, 2.3): a Lambert-like part

@@ -429,7 +429,7 @@ def _shader(sphrect, node, textures, log, name):
     with_emission = lambda m: _with_emission(m, emission, textured_emission, textures, log, name)  # noqa: E731
     if not layers:
         return with_emission(sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0)))
-    if all(l.material.kind == "diffuse" and not _is_textured(l) for l in layers):
+    if all(l.material.kind == "diffuse" and l.material.diffuse_roughness == 0 and not _is_textured(l) for l in layers):
         # Lambert is linear in its colour: one diffuse, exactly
         color = sum(l.weight * np.asarray(l.material.base_color) for l in layers)
         return with_emission(sphrect.Material(name=name, kind="diffuse", base_color=_rgb(color)))
@@ -522,10 +522,9 @@ def _bsdf(sphrect, node, textures, log, name):
     inputs = _Inputs(sphrect, node, textures, log, name)
     if node.bl_idname == "ShaderNodeBsdfDiffuse":
         color = _rgb(inputs.read("base_color"))
-        if inputs.value("Roughness") > 0:
-            log.unsupported_feature("Oren-Nayar roughness of Diffuse BSDF (Lambert used)", name)
-        return sphrect.Material(name=name, kind="diffuse", base_color=color, textures=inputs.textures,
-                                **_normal_map(node, textures, log, name))
+        roughness = float(inputs.value("Roughness"))  # Cycles' Oren-Nayar where not 0 (Material.diffuse_roughness)
+        return sphrect.Material(name=name, kind="diffuse", base_color=color, diffuse_roughness=roughness,
+                                textures=inputs.textures, **_normal_map(node, textures, log, name))
     if node.bl_idname == "ShaderNodeBsdfPrincipled":
         return _principled(sphrect, node, inputs, textures, log, name)
     if node.bl_idname in {"ShaderNodeBsdfGlass", "ShaderNodeBsdfRefraction"}:
