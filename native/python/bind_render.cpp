@@ -421,7 +421,8 @@ void BindRender(py::module_& m) {
              py::arg("offset"))
         .def(
             "set_last_mesh_object_linear",
-            [](RenderScene& s, const py::object& linear, const py::object& inverse) {
+            [](RenderScene& s, const py::object& linear, const py::object& inverse,
+               const std::array<double, 3>& translation) {
                 float l[3][3], li[3][3];
                 for (auto [obj, out] : {std::pair{&linear, &l}, std::pair{&inverse, &li}}) {
                     const auto a = CArray<double>::ensure(*obj);
@@ -430,9 +431,10 @@ void BindRender(py::module_& m) {
                     for (int r = 0; r < 3; ++r)
                         for (int c = 0; c < 3; ++c) (*out)[r][c] = float(a.at(r, c));
                 }
-                s.SetLastMeshObjectLinear(l, li);
+                s.SetLastMeshObjectLinear(
+                    l, li, Spectrum(float(translation[0]), float(translation[1]), float(translation[2])));
             },
-            py::arg("linear"), py::arg("inverse"))
+            py::arg("linear"), py::arg("inverse"), py::arg("translation") = std::array<double, 3>{0, 0, 0})
 
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none(), py::arg("uvs") = py::none(),
