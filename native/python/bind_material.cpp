@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <array>
+#include <optional>
 #include <cmath>
 #include <iterator>
 #include <string>
@@ -278,19 +279,21 @@ void BindMaterial(py::module_& m) {
     m.def(
         "_eval_node_program",
         [](const py::handle& program, const std::array<float, 3>& p, const std::array<float, 3>& uv,
-           const std::array<float, 3>& generated) {
+           const std::array<float, 3>& generated, const std::optional<std::array<float, 3>>& object) {
             const render::svm::NodeProgram prog = Program(program, "program");
             render::svm::CheckNodeProgram(prog, 0);
             render::svm::ShaderGlobals sg;
             sg.p = sg.object = {p[0], p[1], p[2]};
+            if (object) sg.object = {(*object)[0], (*object)[1], (*object)[2]};
             sg.uv = {uv[0], uv[1], uv[2]};
             sg.generated = {generated[0], generated[1], generated[2]};
             sg.n = sg.ng = sg.incoming = sg.object_normal = {0, 0, 1};
             const Spectrum v = render::svm::EvalNodeProgram(prog, {}, sg);
             return std::array<float, 3>{v.x, v.y, v.z};
         },
-        py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"),
-        "A node program (without images) at one point of a plane facing +z: for tests");
+        py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"), py::arg("object") = py::none(),
+        "A node program (without images) at point p of a plane facing +z seen from +z (object coordinates: p "
+        "unless given): for tests and the exporter's constants");
     m.def(
         "_mix_lobe_slots",
         [](const py::list& materials) {
