@@ -267,16 +267,17 @@ def test_other_linked_inputs_stay_warnings_naming_the_node(empty_scene):
     t.link(t.image(image).outputs["Color"], bsdf.inputs["Sheen Tint"])  # not one of TEXTURED_INPUTS
     math_node = t.node("ShaderNodeMath")
     t.link(t.image(image).outputs["Color"], math_node.inputs[0])
-    t.link(math_node.outputs[0], bsdf.inputs["Roughness"])  # a texture through another node: not followed
+    t.link(math_node.outputs[0], bsdf.inputs["Roughness"])  # a texture through another node: a node program
     t.link(math_node.outputs[0], bsdf.inputs["Alpha"])  # (an Image Texture's is a mix factor: test_transparent_parity)
     on_plane(t.surface(bsdf))
     scene, log = export()
     assert material_named(scene, "Other").textures == {}
+    assert list(material_named(scene, "Other").programs) == ["roughness"]  # test_node_programs.py
     text = log.warning_text()
     for warning in ("linked 'Base Color' input (Noise Texture)", "Principled Alpha linked from a node other than an "
-                    "Image Texture (1 used)", "linked 'Sheen Tint' input (Image Texture)",
-                    "linked 'Roughness' input (Math)"):
+                    "Image Texture (1 used)", "linked 'Sheen Tint' input (Image Texture)"):
         assert warning in text
+    assert "Roughness" not in text
 
 
 def mapped(name, image, vector_type, location, rotation, scale, source=("ShaderNodeTexCoord", "UV")):

@@ -243,8 +243,10 @@ def _emission(node, color_input, strength_input, weight, log, owner, textures=No
     emission, lookup = _emission_term(node, color_input, strength_input, weight, log, owner, textures)
     if lookup is None:
         return emission
-    log.unsupported_feature(f"'{color_input}' of an emitter from an Image Texture or a node graph under a "
-                            "texture-driven Mix Shader factor (its mean colour used)", owner)
+    source = "a node graph" if isinstance(lookup, textures.sphrect.NodeProgram) else "an Image Texture"
+    mean = "its mean colour over the UV square" if source == "a node graph" else "the image's mean colour"
+    log.unsupported_feature(f"'{color_input}' of an emitter from {source} under a texture-driven Mix Shader "
+                            f"factor ({mean} used)", owner)
     return _rgb(np.asarray(emission) * np.asarray(_color_mean(textures, lookup)))
 
 
