@@ -28,7 +28,7 @@ import numpy as np
 
 from . import world_bake
 from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
-from .node_program import compile_product, compile_socket, program_mean
+from .node_program import compile_product, compile_socket, emission_under_factors, program_mean
 from .textures import TextureExport, follow_reroutes, image_texture_source
 from .visibility import world_invisible_to
 
@@ -447,10 +447,15 @@ def _shader(sphrect, node, textures, log, name):
             transparent = _transparent(sphrect, leaf, textures, log, name)
             layers.append(sphrect.MaterialLayer(weight=weight, material=transparent, factors=factors))
         elif leaf.bl_idname == "ShaderNodeEmission":
-            if factors:
-                log.unsupported_feature(constant_emission, name)
-                emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name,
-                                      textures)
+            if factors:  # the factors' weights multiply the emission per point (a program)
+                term, lookup = _emission_term(leaf, "Color", "Strength", weight, log, name, textures)
+                program = emission_under_factors(sphrect, lookup, factors)
+                if program is not None:
+                    textured_emission.append((term, program))
+                else:
+                    log.unsupported_feature(constant_emission, name)
+                    emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log,
+                                          name, textures)
             else:
                 term, lookup = _emission_term(leaf, "Color", "Strength", weight, log, name, textures)
                 if lookup is None:
@@ -465,7 +470,11 @@ def _shader(sphrect, node, textures, log, name):
                                                 material=sphrect.Material(name=name, kind="holdout")))
         else:
             own, lookup, plain = _textured_emission(_bsdf(sphrect, leaf, textures, log, name))
-            if factors and any(c > 0 for c in own):
+            program = emission_under_factors(sphrect, lookup, factors) if factors and any(c > 0 for c in own) \
+                else None
+            if program is not None:
+                textured_emission.append((weight * np.asarray(own), program))
+            elif factors and any(c > 0 for c in own):
                 log.unsupported_feature(constant_emission, name)
                 if lookup is not None:
                     log.unsupported_feature("an emission Image Texture under a texture-driven Mix Shader factor (the "

@@ -438,3 +438,78 @@ def program_mean(sphrect, program, samples=8):
             uv = ((i + 0.5) / samples, (j + 0.5) / samples, 0.0)
             total += sphrect._native._eval_node_program(fields, uv, uv, uv)
     return tuple(float(x) for x in total / samples**2)
+
+
+class _Composer:
+    """Programs joined into one (their registers and tables moved past the ones before), and instructions on their
+    results: an emission under Mix Shader factors (emission_under_factors)."""
+
+    def __init__(self, sphrect):
+        self.sphrect, self.names = sphrect, sphrect.scene
+        self.code, self.data, self.registers = [], [], 0
+
+    def append(self, program):
+        """The register of `program`'s result once appended."""
+        base, data_base = self.registers, len(self.data)
+        for i in program.instructions:
+            regs = [r + base if r >= 0 else -1 for r in i.regs]
+            data = i.data + data_base if i.op in {"color_ramp", "transform"} else i.data
+            self.code.append(dataclasses.replace(i, regs=regs, data=data))
+        self.data.extend(program.data)
+        self.registers += program.num_registers
+        return program.output + base
+
+    def emit(self, op, inputs, outputs=1, mode=0, flags=0, data=0, value=(0.0, 0.0, 0.0)):
+        out = list(range(self.registers, self.registers + outputs))
+        self.registers += outputs
+        self.code.append(self.sphrect.NodeInstruction(op=op, regs=list(inputs) + out, mode=mode, flags=flags,
+                                                      data=data, value=tuple(float(v) for v in value)))
+        return out[0] if outputs == 1 else out
+
+    def lookup(self, lookup):
+        """(colour register, alpha register) of a TextureLookup at its coordinates through its transform."""
+        coords = self.emit("global", [], mode=self.names.NODE_GLOBALS.index(lookup.coordinates))
+        offset = len(self.data)
+        self.data.extend(float(v) for row in lookup.transform for v in row)
+        mapped = self.emit("transform", [coords], data=offset)
+        return self.emit("image", [mapped], 2, mode=self.names.TEXTURE_INTERPOLATIONS.index(lookup.interpolation),
+                         flags=self.names.TEXTURE_EXTENSIONS.index(lookup.extension), data=lookup.texture)
+
+    def factor(self, factor):
+        """The register of a MixFactor's weight: its scalar clamped to [0, 1] (svm_node_mix_closure), or 1 minus."""
+        if factor.program is not None:
+            value = self.append(factor.program)
+        else:
+            color, alpha = self.lookup(factor.lookup)
+            value = alpha if factor.lookup.output == "alpha" else \
+                self.emit("convert", [color], mode=self.names.NODE_CONVERSIONS.index("color_to_float"))
+        zero, one = self.emit("constant", [], value=(0, 0, 0)), self.emit("constant", [], value=(1, 0, 0))
+        value = self.emit("clamp", [value, zero, one], mode=self.names.NODE_CLAMP_TYPES.index("MINMAX"))
+        if factor.complement:
+            value = self.emit("math", [one, value, zero], mode=self.names.NODE_MATH_OPS.index("SUBTRACT"))
+        return value
+
+    def program(self, output):
+        if self.registers > self.names.MAX_NODE_REGISTERS:
+            return None
+        return self.sphrect.NodeProgram(instructions=self.code, output=output, num_registers=self.registers,
+                                        data=self.data)
+
+
+def emission_under_factors(sphrect, emission, factors):
+    """The NodeProgram of an emission (None: white; a TextureLookup's colour, its alpha as grey; a NodeProgram's
+    colour) times the weights of the texture- or graph-driven Mix Shader factors above it: the renderer varies it
+    per point, so an emitter under such a mix keeps its light (the factors' lobes keep theirs: MixFactor).  None
+    past MAX_NODE_REGISTERS."""
+    c = _Composer(sphrect)
+    if emission is None:
+        color = c.emit("constant", [], value=(1, 1, 1))
+    elif isinstance(emission, sphrect.NodeProgram):
+        color = c.append(emission)
+    else:
+        color, alpha = c.lookup(emission)
+        if emission.output == "alpha":
+            color = c.emit("convert", [alpha], mode=sphrect.scene.NODE_CONVERSIONS.index("float_to_vector"))
+    for f in factors:
+        color = c.emit("scale", [color, c.factor(f)])
+    return c.program(color)
