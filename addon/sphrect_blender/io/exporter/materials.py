@@ -17,8 +17,10 @@ its BSDF, a mix scales each side's closures by its weight, mesh emission is two-
 baked by Cycles into an environment image (world_bake.py); Volume Scatter, Volume Absorption or Principled Volume on the
 World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
 Roughness, Metallic and Specular, the Color of Diffuse, Glossy, Glass and Translucent BSDFs and the Roughness of
-Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; every other
-linked input and every other node is logged as unsupported, its own value used.  Links are read as Cycles follows
+Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; a graph of the
+nodes node_program.py compiles (Math, Mix, ColorRamp, Texture Coordinate, ...) drives the same inputs, the emission's
+Color and Strength and Mix Shader factors as a NodeProgram the renderer runs per hit (a graph of constants folds to
+its value); every other linked input and every other node is logged as unsupported, its own value used.  Links are read as Cycles follows
 them (node_groups.py: muted and invalid links left out, muted nodes passing their internal links, groups inlined),
 and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it (_closures)."""
 import dataclasses
