@@ -22,7 +22,8 @@ nodes node_program.py compiles (Math, Mix, ColorRamp, Texture Coordinate, ...) d
 Color and Strength and Mix Shader factors as a NodeProgram the renderer runs per hit (a graph of constants folds to
 its value); every other linked input and every other node is logged as unsupported, its own value used.  Links are
 read as Cycles follows them (node_groups.py: muted and invalid links left out, muted nodes passing their internal
-links, groups inlined), and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it (_closures)."""
+links, groups inlined), and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it
+(_closures)."""
 import dataclasses
 
 import mathutils
