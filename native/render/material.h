@@ -170,23 +170,31 @@ inline std::vector<int> MixLobeSlots(const std::vector<Material>& parts) {
     return slots;
 }
 
-// The Material's Bsdf at hit sg: each bound input replaced by its lookup or its program's result (colours as
-// RGB, scalars as luminance; Cycles' closure setup clamps them as the Make*Bsdf functions do), a mix rebuilt from its
-// layers with the factors' weights (clamped to [0, 1], as svm_node_mix_closure does).  Emission is not part of a Bsdf:
-// the caller keeps the material's own (a textured one is textured_emission.h's).
-inline Bsdf EvaluateBsdfAtHit(const Material& r, const std::vector<Image>& images, const svm::ShaderGlobals& sg) {
-    const TextureCoordinates tc{sg.uv, sg.generated};
+namespace material_detail {
+
+// The Material's Bsdf at texture coordinates tc (and, kPrograms, hit sg for its node programs): each bound input
+// replaced by its lookup or its program's result (colours as RGB, scalars as luminance; Cycles' closure setup clamps
+// them as the Make*Bsdf functions do), a mix rebuilt from its layers with the factors' weights (clamped to [0, 1], as
+// svm_node_mix_closure does).  Without kPrograms, the code of a textured material without programs: no test of them.
+template <bool kPrograms>
+Bsdf EvaluateAt(const Material& r, const std::vector<Image>& images, const TextureCoordinates& tc,
+                const svm::ShaderGlobals* sg) {
     if (r.kind == MaterialKind::kMix) {
         Bsdf mix = MakeEmptyMixBsdf();
         for (const MaterialLayer& l : r.layers) {
             float w = l.weight;
             for (const MixFactorLookup& f : l.factors) {
-                const float v = f.program.empty() ? TextureScalar(EvalTextureAt(images, f.lookup, tc))
-                                                  : svm::EvalNodeProgram(f.program, images, sg).x;
+                float v;
+                if constexpr (kPrograms) {
+                    v = f.program.empty() ? TextureScalar(EvalTextureAt(images, f.lookup, tc))
+                                          : svm::EvalNodeProgram(f.program, images, *sg).x;
+                } else {
+                    v = TextureScalar(EvalTextureAt(images, f.lookup, tc));
+                }
                 const float fac = std::clamp(v, 0.0f, 1.0f);
                 w *= f.complement ? 1 - fac : fac;
             }
-            MixIntoBsdf<MixOverflow::kLenient>(mix, EvaluateBsdfAtHit(l.material, images, sg), w);
+            MixIntoBsdf<MixOverflow::kLenient>(mix, EvaluateAt<kPrograms>(l.material, images, tc, sg), w);
         }
         return mix;
     }
@@ -194,23 +202,38 @@ inline Bsdf EvaluateBsdfAtHit(const Material& r, const std::vector<Image>& image
     auto scalar = [&](TexturedInput i, float& value) {
         const TextureLookup& t = r.textures[int(i)];
         if (t.bound()) value = TextureScalar(EvalTextureAt(images, t, tc));
-        if (const svm::NodeProgram& p = r.programs[int(i)]; !p.empty()) value = svm::EvalNodeProgram(p, images, sg).x;
+        if constexpr (kPrograms) {
+            if (const svm::NodeProgram& p = r.programs[int(i)]; !p.empty())
+                value = svm::EvalNodeProgram(p, images, *sg).x;
+        }
     };
     auto color = [&](const Spectrum& c) {
         in.base_color = {std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f)};
     };
     if (const TextureLookup& t = r.textures[int(TexturedInput::kBaseColor)]; t.bound())
         color(TextureColor(EvalTextureAt(images, t, tc)));
-    if (const svm::NodeProgram& p = r.programs[int(TexturedInput::kBaseColor)]; !p.empty())
-        color(svm::EvalNodeProgram(p, images, sg));
+    if constexpr (kPrograms) {
+        if (const svm::NodeProgram& p = r.programs[int(TexturedInput::kBaseColor)]; !p.empty())
+            color(svm::EvalNodeProgram(p, images, *sg));
+    }
     scalar(TexturedInput::kRoughness, in.roughness);
     scalar(TexturedInput::kMetallic, in.metallic);
     scalar(TexturedInput::kSpecular, in.specular);
     return MakeBsdfFromInputs(r, in);
 }
 
-// EvaluateBsdfAtHit where only texture coordinates are known (the other inputs of a program read zero).
+}  // namespace material_detail
+
+// A Material's Bsdf at hit sg (its programs read it; its lookups its coordinates).  Emission is not part of a Bsdf:
+// the caller keeps the material's own (a textured one is textured_emission.h's).
+inline Bsdf EvaluateBsdfAtHit(const Material& r, const std::vector<Image>& images, const svm::ShaderGlobals& sg) {
+    return material_detail::EvaluateAt<true>(r, images, TextureCoordinates{sg.uv, sg.generated}, &sg);
+}
+
+// A textured Material's Bsdf where only texture coordinates are known: a programmed one's programs (Material::
+// programmed, set by RenderScene::AddMaterial) read zero for the other inputs of the hit.
 inline Bsdf EvaluateTexturedBsdf(const Material& r, const std::vector<Image>& images, const TextureCoordinates& tc) {
+    if (!r.programmed) return material_detail::EvaluateAt<false>(r, images, tc, nullptr);
     svm::ShaderGlobals sg;
     sg.uv = tc.uv;
     sg.generated = tc.generated;

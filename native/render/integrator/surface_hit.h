@@ -114,9 +114,9 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
     // The side Blender's winding gives (Embree's Ng may point the other way).
     const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
     s.backfacing = Dot(ng, ray.d) * side > 0;
+    if (!material.textured && !material.normal_mapped && !material.anisotropic) return;
     s.mesh = &m;
     s.incoming[0] = -ray.d.x, s.incoming[1] = -ray.d.y, s.incoming[2] = -ray.d.z;
-    if (!material.textured && !material.normal_mapped && !material.anisotropic) return;
     s.tc = InterpolateTextureCoordinates(m, i[0], i[1], i[2], b0, b1, b2);
     if (material.anisotropic && !m.generated.empty()) s.tangent = RadialTangent(m, s.tc.generated, ns);
     if (material.normal_mapped && !m.uvs.empty()) {
