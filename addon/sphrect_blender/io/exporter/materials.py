@@ -31,7 +31,7 @@ import numpy as np
 
 from . import world_bake
 from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
-from .node_program import compile_product, compile_socket, emission_under_factors, program_mean
+from .node_program import compile_product, compile_socket, emission_sum, emission_under_factors, program_mean
 from .textures import TextureExport, follow_reroutes, image_texture_source
 from .visibility import world_invisible_to
 
@@ -271,14 +271,18 @@ def _textured_emission(material):
 
 
 def _with_emission(material, constant, textured, textures, log, name):
-    """The material with the summed emission: constant (RGB) plus the textured terms [(scale, lookup)].  One image
-    alone is the material's emission texture; an image beside another or beside a constant emission is taken as its
-    mean (warned: the renderer's emission is one image times a constant)."""
+    """The material with the summed emission: constant (RGB) plus the textured terms [(scale, TextureLookup or
+    NodeProgram)].  One alone is the material's emission texture or program; several, or one beside a constant
+    emission, are summed into one program (node_program.emission_sum)."""
     constant = np.asarray(constant, dtype=float)
     if len(textured) == 1 and not np.any(constant > 0):
         scale, lookup = textured[0]
         return dataclasses.replace(material, emission=_rgb(scale), textures={**material.textures, "emission": lookup})
-    if textured:
+    if textured:  # their sum as one program (the renderer's emitter is one program times a constant)
+        program = emission_sum(textures.sphrect, _rgb(constant), [(_rgb(scale), lookup) for scale, lookup in textured])
+        if program is not None:
+            return dataclasses.replace(material, emission=(1.0, 1.0, 1.0),
+                                       textures={**material.textures, "emission": program})
         log.unsupported_feature("emission from several Image Textures, or from one beside a constant emission (the "
                                 "images' mean colours used)", name)
         for scale, lookup in textured:

@@ -475,6 +475,15 @@ class _Composer:
         return self.emit("image", [mapped], 2, mode=self.names.TEXTURE_INTERPOLATIONS.index(lookup.interpolation),
                          flags=self.names.TEXTURE_EXTENSIONS.index(lookup.extension), data=lookup.texture)
 
+    def color(self, source):
+        """The register of a TextureLookup's colour (its alpha as grey) or a NodeProgram's result."""
+        if isinstance(source, self.sphrect.NodeProgram):
+            return self.append(source)
+        color, alpha = self.lookup(source)
+        if source.output != "alpha":
+            return color
+        return self.emit("convert", [alpha], mode=self.names.NODE_CONVERSIONS.index("float_to_vector"))
+
     def factor(self, factor):
         """The register of a MixFactor's weight: its scalar clamped to [0, 1] (svm_node_mix_closure), or 1 minus."""
         if factor.program is not None:
@@ -496,20 +505,28 @@ class _Composer:
                                         data=self.data)
 
 
+def emission_sum(sphrect, constant, terms):
+    """The NodeProgram of a constant emission (RGB) plus terms [(RGB scale, TextureLookup or NodeProgram)]: several
+    textured or graph-driven emissions of one material as one (the renderer's emitter is one program times a
+    constant).  None past MAX_NODE_REGISTERS."""
+    c = _Composer(sphrect)
+    blends = sphrect.scene.NODE_MIX_BLENDS
+    one = c.emit("constant", [], value=(1, 0, 0))
+    total = c.emit("constant", [], value=constant)
+    for scale, source in terms:
+        color = c.color(source)
+        scaled = c.emit("mix_color", [one, color, c.emit("constant", [], value=scale)], mode=blends.index("MULTIPLY"))
+        total = c.emit("mix_color", [one, total, scaled], mode=blends.index("ADD"))  # a + b at factor 1
+    return c.program(total)
+
+
 def emission_under_factors(sphrect, emission, factors):
     """The NodeProgram of an emission (None: white; a TextureLookup's colour, its alpha as grey; a NodeProgram's
     colour) times the weights of the texture- or graph-driven Mix Shader factors above it: the renderer varies it
     per point, so an emitter under such a mix keeps its light (the factors' lobes keep theirs: MixFactor).  None
     past MAX_NODE_REGISTERS."""
     c = _Composer(sphrect)
-    if emission is None:
-        color = c.emit("constant", [], value=(1, 1, 1))
-    elif isinstance(emission, sphrect.NodeProgram):
-        color = c.append(emission)
-    else:
-        color, alpha = c.lookup(emission)
-        if emission.output == "alpha":
-            color = c.emit("convert", [alpha], mode=sphrect.scene.NODE_CONVERSIONS.index("float_to_vector"))
+    color = c.emit("constant", [], value=(1, 1, 1)) if emission is None else c.color(emission)
     for f in factors:
         color = c.emit("scale", [color, c.factor(f)])
     return c.program(color)
