@@ -421,6 +421,8 @@ def compile_socket(sphrect, textures, log, owner, socket, want=None):
 
 def compile_product(sphrect, textures, log, owner, color_socket, strength_socket):
     """(NodeProgram of colour x strength, None), or (None, None) when neither varies: an emission's radiance."""
+    if not compilable(color_socket) and not compilable(strength_socket):
+        return None, None  # nothing known feeds them (the caller warns of what does)
     compiler = ProgramCompiler(sphrect, textures, log, owner)
     program = compiler.compile_product(color_socket, strength_socket)
     return (program, None) if program is not None and varies(program) else (None, None)
