@@ -18,13 +18,17 @@ namespace {
 constexpr double kBlockPowerFloor = 0.01;
 // Lookups per light side at most, when measuring its emission (texel density above this is averaged over).
 constexpr int kMaxLookupsPerSide = 1024;
-// A node program's emitter has no texels to count: measured as if it spanned this many per side.
-constexpr double kProgramTexelsPerSide = 16;
+// A node program's emitter has no texels to count: measured as if it spanned this many per side -- a rectangle 16
+// (32 x 32 evaluations, 16 x 16 blocks: with 8 x 8 the lava cracks of tests/blender/test_node_programs.py were twice
+// as noisy), a triangle or an ellipse 2 (16 evaluations: their mean only chooses among lights).  A program costs ~150
+// ns for 20 nodes (bench_node_program): 10^4 emissive quads take ~1.5 s to measure.
+constexpr double kProgramTexelsPerRectangleSide = 16;
+constexpr double kProgramTexelsPerSide = 2;
 
 // How many texels of the emitter's image lie between points a and b of light l (its lookup's mapped coordinates).
 double TexelsBetween(const RenderScene& scene, const TexturedEmitter& e, const AreaLight& l, const Vec3f& a,
                      const Vec3f& b) {
-    if (e.programmed) return kProgramTexelsPerSide;
+    if (e.programmed) return l.shape == AreaShape::Rectangle ? kProgramTexelsPerRectangleSide : kProgramTexelsPerSide;
     const TextureLookup& t = e.lookup;
     const Image& im = scene.images[size_t(t.image)];
     auto mapped = [&](const Vec3f& p) {
