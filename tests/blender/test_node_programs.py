@@ -7,6 +7,7 @@ read from a second render of the same grid and seed whose Emission is the Genera
 rays: the render is deterministic); the exported program is evaluated there (sphrect._native._eval_node_program)
 and compared: max abs difference <= 1e-3 relative to max(1, |value|) (values grow to ~10 in a few cases: exp, tan;
 float32 precision).  Deterministic: no statistical tolerance."""
+import dataclasses
 import math
 
 import bpy
@@ -111,7 +112,7 @@ def node_values_against_cycles(scene, cases, tmp_path):
     for k, case in enumerate(cases):
         material = material_named(exported, case.label)
         program = material.programs["emission"]
-        fields = __import__("dataclasses").asdict(program)
+        fields = dataclasses.asdict(program)
         row, col = k // COLUMNS, k % COLUMNS
         worst = 0.0
         for j in range(CELL):
@@ -355,7 +356,6 @@ def test_a_shared_sub_graph_is_compiled_once(empty_scene):
     assert sum(i.op == "separate" for i in program.instructions) == 1
     # The program doubles Generated x 30 times.
     sphrect = sphrect_module()
-    import dataclasses
     value = sphrect._native._eval_node_program(dataclasses.asdict(program), (0, 0, 0), (0, 0, 0), (1e-8, 0, 0))
     assert value[0] == pytest.approx(1e-8 * 2**30, rel=1e-5)
 
@@ -408,7 +408,6 @@ def test_a_cycle_groups_in_groups_muted_nodes_and_an_unknown_node(empty_scene):
     exported, log = export()
     program = emission_program(material_named(exported, "Graph"))
     assert [k for k in log.unsupported if "Brick Texture" in k and "own value" in k]
-    import dataclasses
     sphrect = sphrect_module()
     value = sphrect._native._eval_node_program(dataclasses.asdict(program), (0, 0, 0), (0, 0, 0), (0.2, 0, 0))
     # x 3 (the groups), the muted sine passes it on, + 0 (the cycle's input reads its own 0.5), + 0.25 (own value)

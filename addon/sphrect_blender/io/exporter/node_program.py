@@ -43,32 +43,30 @@ class ProgramCompiler:
 
     def compile(self, socket, want=None):
         """The NodeProgram of input `socket` (wrapped), its result of type `want` (default: the socket's own), or
-        None when nothing modelled drives it (the unknown nodes on the way warned)."""
-        self._code, self._data, self._outputs, self._constants, self._visiting = [], [], {}, {}, set()
-        self._registers = 0
-        try:
+        None past MAX_NODE_REGISTERS (warned); unknown nodes on the way are warned, their inputs' own values used."""
+        def body():
             reg, kind = self.input(socket)
-            reg = self._convert(reg, kind, want or socket_type(socket))
-        except _TooManyRegisters:
-            self.log.unsupported_feature(f"a node graph needing more than {self.names.MAX_NODE_REGISTERS} values on "
-                                         f"'{socket.name}' (its own value used)", self.owner)
-            return None
-        return self.sphrect.NodeProgram(instructions=self._code, output=reg, num_registers=self._registers,
-                                        data=self._data)
+            return self._convert(reg, kind, want or socket_type(socket))
+        return self._program(body, f"'{socket.name}'")
 
     def compile_product(self, color_socket, strength_socket):
-        """The program of colour x strength (an emission's), or None."""
+        """The program of colour x strength (an emission's), or None past MAX_NODE_REGISTERS (warned)."""
+        def body():
+            color, strength = self.input(color_socket, "color")[0], self.input(strength_socket, "float")[0]
+            return self.emit("scale", [color, strength], 1)[0]
+        return self._program(body, "an emission")
+
+    def _program(self, body, what):
+        """The NodeProgram whose instructions body() emits, returning its result's register."""
         self._code, self._data, self._outputs, self._constants, self._visiting = [], [], {}, {}, set()
         self._registers = 0
         try:
-            color = self.input(color_socket, "color")[0]
-            strength = self.input(strength_socket, "float")[0]
-            reg = self.emit("scale", [color, strength], 1)[0]
+            output = body()
         except _TooManyRegisters:
             self.log.unsupported_feature(f"a node graph needing more than {self.names.MAX_NODE_REGISTERS} values on "
-                                         "an emission (its own value used)", self.owner)
+                                         f"{what} (its own value used)", self.owner)
             return None
-        return self.sphrect.NodeProgram(instructions=self._code, output=reg, num_registers=self._registers,
+        return self.sphrect.NodeProgram(instructions=self._code, output=output, num_registers=self._registers,
                                         data=self._data)
 
     # -- building blocks ------------------------------------------------------------------------------------------
