@@ -4,8 +4,6 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <array>
-#include <optional>
 #include <cmath>
 #include <iterator>
 #include <string>
@@ -245,6 +243,10 @@ Material ReadMaterial(const py::dict& d) {
 
 }  // namespace
 
+render::svm::NodeProgram ProgramFromFields(const py::handle& fields, const std::string& what) {
+    return Program(fields, what);
+}
+
 render::TextureLookup LookupFromFields(const py::handle& fields, const std::string& what) {
     return Lookup(fields, what);
 }
@@ -276,24 +278,7 @@ void BindMaterial(py::module_& m) {
     m.attr("node_color_models") = names(render::svm::kColorModelNames);
     m.attr("node_mapping_types") = names(render::svm::kMappingTypeNames);
     m.attr("MAX_NODE_REGISTERS") = render::svm::kMaxNodeRegisters;
-    m.def(
-        "_eval_node_program",
-        [](const py::handle& program, const std::array<float, 3>& p, const std::array<float, 3>& uv,
-           const std::array<float, 3>& generated, const std::optional<std::array<float, 3>>& object) {
-            const render::svm::NodeProgram prog = Program(program, "program");
-            render::svm::CheckNodeProgram(prog, 0);
-            render::svm::ShaderGlobals sg;
-            sg.p = sg.object = {p[0], p[1], p[2]};
-            if (object) sg.object = {(*object)[0], (*object)[1], (*object)[2]};
-            sg.uv = {uv[0], uv[1], uv[2]};
-            sg.generated = {generated[0], generated[1], generated[2]};
-            sg.n = sg.ng = sg.incoming = sg.object_normal = {0, 0, 1};
-            const Spectrum v = render::svm::EvalNodeProgram(prog, {}, sg);
-            return std::array<float, 3>{v.x, v.y, v.z};
-        },
-        py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"), py::arg("object") = py::none(),
-        "A node program (without images) at point p of a plane facing +z seen from +z (object coordinates: p "
-        "unless given): for tests and the exporter's constants");
+
     m.def(
         "_mix_lobe_slots",
         [](const py::list& materials) {
