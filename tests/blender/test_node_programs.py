@@ -127,6 +127,10 @@ def node_values_against_cycles(scene, cases, tmp_path):
                 cycles = theirs[y, x, :3].astype(np.float64)
                 worst = max(worst, float(np.max(np.abs(ours - cycles) / np.maximum(1.0, np.abs(cycles)))))
         errors[case.label] = worst
+        cell = theirs[row * CELL:(row + 1) * CELL, col * CELL:(col + 1) * CELL, :3]
+        constant = ("Geometry Normal", "Geometry True Normal", "Geometry Incoming", "Geometry Backfacing",
+                    "Texture Coordinate Normal", "Texture Coordinate Reflection")  # on a plane seen orthographically
+        assert np.ptp(cell) > 0 or case.label in constant, f"{case.label}: Cycles' image does not vary"
     return errors
 
 
@@ -236,8 +240,10 @@ def converter_cases():
         def out(t, a, b, gx, gy):
             n = t.node("ShaderNodeClamp", clamp_type=kind)
             t.link(a, n.inputs["Value"])
-            n.inputs["Min"].default_value, n.inputs["Max"].default_value = 0.6, -0.4
-            t.link(b, n.inputs["Max"]) if kind == "RANGE" else None
+            n.inputs["Min"].default_value, n.inputs["Max"].default_value = (-0.4, 0.6) if kind == "MINMAX" else \
+                (0.6, -0.4)
+            if kind == "RANGE":  # the bounds reversed where b < 0.6
+                t.link(b, n.inputs["Max"])
             return n.outputs[0]
         return out
 
@@ -315,7 +321,7 @@ def converter_cases():
               for m in ("RGB", "HSV", "HSL")]
     cases += [Case(f"Mapping {k}", mapping(k)) for k in ("POINT", "TEXTURE", "VECTOR", "NORMAL")]
     cases += [Case(f"Texture Coordinate {o}", coordinate(o)) for o in ("Generated", "UV", "Object", "Normal",
-                                                                       "Reflection", "Camera")]
+                                                                       "Reflection", "Camera", "Window")]
     cases += [Case(f"Geometry {o}", geometry(o)) for o in ("Position", "Normal", "True Normal", "Incoming",
                                                             "Backfacing")]
     return cases

@@ -141,6 +141,17 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 break;
             }
             case NodeOp::kScale: put(a[2], r(a[0]) * r(a[1]).x); break;
+            case NodeOp::kProject: {
+                const float* m = program.data.data() + in.data;
+                const Vec3f v = r(a[0]);
+                const float w = m[12] * v.x + m[13] * v.y + m[14] * v.z + m[15];
+                const float inv = w != 0.0f ? 1.0f / w : 0.0f;
+                put(a[1],
+                    Vec3f(m[0] * v.x + m[1] * v.y + m[2] * v.z + m[3], m[4] * v.x + m[5] * v.y + m[6] * v.z + m[7],
+                          m[8] * v.x + m[9] * v.y + m[10] * v.z + m[11]) *
+                        inv);
+                break;
+            }
             case NodeOp::kCount: break;
         }
     }
@@ -179,6 +190,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             case NodeOp::kImage: return {2, 3};
             case NodeOp::kTransform: return {0, 2};
             case NodeOp::kScale: return {0, 3};
+            case NodeOp::kProject: return {0, 2};
             case NodeOp::kCount: break;
         }
         return {-1, 0};
@@ -197,7 +209,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
         }
         // Inputs must be given; the outputs may be kNoRegister (nobody reads them).
         const int inputs = in.op == NodeOp::kSeparate || in.op == NodeOp::kColorRamp || in.op == NodeOp::kImage ||
-                                   in.op == NodeOp::kConvert || in.op == NodeOp::kTransform
+                                   in.op == NodeOp::kConvert || in.op == NodeOp::kTransform || in.op == NodeOp::kProject
                                ? 1
                                : s.operands - 1;
         const int num_inputs = in.op == NodeOp::kConstant || in.op == NodeOp::kGlobal ? 0 : inputs;
@@ -216,6 +228,8 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             fail(i, "ramp table out of range");
         if (in.op == NodeOp::kTransform && (in.data < 0 || size_t(in.data) + 12 > p.data.size()))
             fail(i, "transform out of range");
+        if (in.op == NodeOp::kProject && (in.data < 0 || size_t(in.data) + 16 > p.data.size()))
+            fail(i, "projection out of range");
         if (in.op == NodeOp::kConstant &&
             !(std::isfinite(in.value.x) && std::isfinite(in.value.y) && std::isfinite(in.value.z)))
             fail(i, "constant must be finite");

@@ -37,11 +37,12 @@ enum class NodeOp : uint8_t {
     kImage,      // out1 colour, out2 alpha of image `data` at in0 (mode: interpolation, flags: extension)
     kTransform,  // out1 = the 3x4 affine map at data (12 floats, row-major) applied to point in0
     kScale,      // out2 = in0 * in1.x (an emission's colour times its strength)
+    kProject,    // out1 = (M (in0, 1)).xyz / (M (in0, 1)).w, M the 4x4 map at data (16 floats, row-major)
     kCount
 };
 constexpr const char* kNodeOpNames[] = {"constant",   "global",     "convert", "math",      "mix_color", "mix_float",
                                         "mix_vector", "color_ramp", "invert",  "clamp",     "map_range", "separate",
-                                        "combine",    "mapping",    "image",   "transform", "scale"};
+                                        "combine",    "mapping",    "image",   "transform", "scale",     "project"};
 static_assert(sizeof(kNodeOpNames) / sizeof(*kNodeOpNames) == size_t(NodeOp::kCount));
 
 // What a hit gives a program (kGlobal's mode), as Cycles' ShaderData does: position, shading normal (facing the

@@ -200,21 +200,42 @@ def _texture_coordinate(c, node):
         inverse = np.linalg.pinv(np.array(node.object.matrix_world, dtype=np.float64))
         reg = c.emit("transform", [c.global_input("position")], 1, data=c.table(inverse[:3].ravel()))[0]
         outputs["Object"] = (reg, "vector")
-    camera = _camera_to_world()
+    camera = _scene_camera()
     if camera is not None:  # Cycles' camera space: Blender's camera matrix with z flipped (+z ahead)
-        world_to_camera = np.diag([1.0, 1.0, -1.0, 1.0]) @ np.linalg.inv(camera)
+        world_to_camera = np.diag([1.0, 1.0, -1.0, 1.0]) @ np.linalg.inv(np.array(camera.matrix_world, np.float64))
         reg = c.emit("transform", [c.global_input("position")], 1, data=c.table(world_to_camera[:3].ravel()))[0]
         outputs["Camera"] = (reg, "vector")
+        reg = c.emit("project", [c.global_input("position")], 1, data=c.table(_world_to_window(camera).ravel()))[0]
+        outputs["Window"] = (reg, "vector")
     return outputs
 
 
-def _camera_to_world():
+def _scene_camera():
+    """The scene's camera (Camera and Window coordinates are the render camera's), or None."""
     try:
         import bpy
-        camera = bpy.context.scene.camera
+        return bpy.context.scene.camera
     except (ImportError, AttributeError):
         return None
-    return None if camera is None else np.array(camera.matrix_world, dtype=np.float64)
+
+
+def _world_to_window(camera):
+    """The 4x4 map from the world to Window coordinates (Cycles' camera_world_to_ndc: the frame [0, 1]^2 from its
+    bottom left, z 0) after the division by its last row: Blender's view and projection of the render's frame."""
+    import bpy
+    scene = bpy.context.scene
+    render = scene.render
+    width, height = render.resolution_x * render.resolution_percentage / 100, \
+        render.resolution_y * render.resolution_percentage / 100
+    projection = np.array(camera.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=int(width),
+                                                    y=int(height), scale_x=render.pixel_aspect_x,
+                                                    scale_y=render.pixel_aspect_y), np.float64)
+    clip = projection @ np.linalg.inv(np.array(camera.matrix_world, np.float64))
+    window = np.zeros((4, 4))
+    window[0] = 0.5 * (clip[0] + clip[3])  # x in [-1, 1] -> [0, 1]
+    window[1] = 0.5 * (clip[1] + clip[3])
+    window[3] = clip[3]
+    return window
 
 
 def _uv_map(c, node):
