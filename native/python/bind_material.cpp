@@ -12,6 +12,9 @@
 #include "core/enum_names.h"
 #include "numpy_arrays.h"
 #include "render/material.h"
+#include "render/svm/math_nodes.h"
+#include "render/svm/mix_nodes.h"
+#include "render/svm/vector_nodes.h"
 
 namespace py = pybind11;
 
@@ -100,6 +103,54 @@ render::TextureLookup Lookup(const py::handle& value, const std::string& what) {
     return t;
 }
 
+// A sphrect.NodeProgram (its instructions' op names kNodeOpNames'; registers -1: an output nobody reads).  The
+// scene checks the rest (svm::CheckNodeProgram).
+render::svm::NodeProgram Program(const py::handle& value, const std::string& what) {
+    namespace svm = render::svm;
+    const py::dict d = Fields(
+        value, what + " must be a sphrect.NodeProgram, got " + std::string(py::str(value.get_type().attr("__name__"))));
+    auto integer = [&](const py::handle& v, const std::string& field, long long lo, long long hi) {
+        if (py::isinstance<py::bool_>(v) || !py::isinstance<py::int_>(v) || v.cast<long long>() < lo ||
+            v.cast<long long>() > hi)
+            throw py::value_error(what + ": " + field + " must be an integer in [" + std::to_string(lo) + ", " +
+                                  std::to_string(hi) + "], got " + Repr(v));
+        return v.cast<long long>();
+    };
+    svm::NodeProgram p;
+    p.output = int(integer(d["output"], "output", 0, svm::kMaxNodeRegisters - 1));
+    p.num_registers = int(integer(d["num_registers"], "num_registers", 1, svm::kMaxNodeRegisters));
+    p.data = d["data"].cast<std::vector<float>>();
+    size_t i = 0;
+    for (const py::handle h : d["instructions"]) {
+        const std::string iwhat = what + " instruction " + std::to_string(i++);
+        const py::dict f = Fields(h, iwhat + " is not a sphrect.NodeInstruction");
+        svm::NodeInstruction in;
+        in.op = svm::NodeOp(IndexOf(f["op"], svm::kNodeOpNames, iwhat + " op", "ops"));
+        in.mode = uint8_t(integer(f["mode"], "mode", 0, 255));
+        in.flags = uint8_t(integer(f["flags"], "flags", 0, 255));
+        in.data = int32_t(integer(f["data"], "data", 0, (1LL << 31) - 1));
+        in.size = int32_t(integer(f["size"], "size", 0, (1LL << 31) - 1));
+        in.value = Rgb(f["value"], iwhat + " value");
+        size_t k = 0;
+        for (const py::handle r : f["regs"]) {
+            if (k == size_t(svm::kMaxNodeOperands)) throw py::value_error(iwhat + ": too many registers");
+            const long long reg = integer(r, "regs", -1, svm::kMaxNodeRegisters - 1);
+            in.reg[k++] = reg < 0 ? svm::kNoRegister : uint16_t(reg);
+        }
+        p.code.push_back(in);
+    }
+    if (p.code.empty()) throw py::value_error(what + ": a program needs instructions");
+    return p;
+}
+
+// Which input a key of Material.textures or Material.programs names.
+int TexturedInputOf(const py::handle& key, const char* what) {
+    for (int i = 0; i < render::kNumTexturedInputs; ++i)
+        if (py::isinstance<py::str>(key) && key.cast<std::string>() == render::kTexturedInputNames[i]) return i;
+    throw py::value_error("no input " + Repr(key) + " takes " + what + " (expected " +
+                          OneOf(render::kTexturedInputNames) + ")");
+}
+
 Material ReadMaterial(const py::dict& d);
 
 Material ReadMaterialNamed(const py::dict& d) {
@@ -146,13 +197,18 @@ Material ReadMaterial(const py::dict& d) {
         Fields(textures, "textures must be a dict of input name -> sphrect.TextureLookup, got " +
                              std::string(py::str(textures.get_type().attr("__name__"))));
     for (const auto& [key, lookup] : texture_fields) {
-        int input = -1;
-        for (int i = 0; i < render::kNumTexturedInputs; ++i)
-            if (py::isinstance<py::str>(key) && key.cast<std::string>() == render::kTexturedInputNames[i]) input = i;
-        if (input < 0)
-            throw py::value_error("no input " + Repr(key) + " takes a texture (expected " +
-                                  OneOf(render::kTexturedInputNames) + ")");
+        const int input = TexturedInputOf(key, "a texture");
         m.textures[input] = Lookup(lookup, "texture '" + std::string(render::kTexturedInputNames[input]) + "'");
+    }
+    if (d.contains("programs")) {  // sphrect.Material.programs (scene format 18)
+        const py::handle programs = d["programs"];
+        const py::dict program_fields =
+            Fields(programs, "programs must be a dict of input name -> sphrect.NodeProgram, got " +
+                                 std::string(py::str(programs.get_type().attr("__name__"))));
+        for (const auto& [key, program] : program_fields) {
+            const int input = TexturedInputOf(key, "a node program");
+            m.programs[input] = Program(program, "program '" + std::string(render::kTexturedInputNames[input]) + "'");
+        }
     }
     if (!d["normal_map"].is_none()) {
         m.normal_map.lookup = Lookup(d["normal_map"], "normal_map");
@@ -172,7 +228,13 @@ Material ReadMaterial(const py::dict& d) {
         for (const py::handle factor : l["factors"]) {
             const std::string fwhat = what + " factor " + std::to_string(j++);
             const py::dict f = Fields(factor, fwhat + " is not a sphrect.MixFactor");
-            out.factors.push_back({Lookup(f["lookup"], fwhat), py::bool_(f["complement"]).cast<bool>()});
+            render::MixFactorLookup factor_out;
+            factor_out.complement = py::bool_(f["complement"]).cast<bool>();
+            if (f.contains("program") && !f["program"].is_none())
+                factor_out.program = Program(f["program"], fwhat);
+            else
+                factor_out.lookup = Lookup(f["lookup"], fwhat);
+            out.factors.push_back(std::move(factor_out));
         }
         m.layers.push_back(std::move(out));
         ++i;
@@ -181,6 +243,10 @@ Material ReadMaterial(const py::dict& d) {
 }
 
 }  // namespace
+
+render::svm::NodeProgram ProgramFromFields(const py::handle& fields, const std::string& what) {
+    return Program(fields, what);
+}
 
 render::TextureLookup LookupFromFields(const py::handle& fields, const std::string& what) {
     return Lookup(fields, what);
@@ -202,6 +268,18 @@ void BindMaterial(py::module_& m) {
     m.attr("glossy_distributions") = names(render::kGlossyDistributionNames);
     m.attr("texture_outputs") = names(render::kTextureOutputNames);
     m.attr("texture_coordinates") = names(render::kTextureCoordinateNames);
+    // Node programs (render/svm): the ops, and the names of each op's modes the exporter compiles to.
+    m.attr("node_ops") = names(render::svm::kNodeOpNames);
+    m.attr("node_globals") = names(render::svm::kShaderGlobalNames);
+    m.attr("node_conversions") = names(render::svm::kNodeConversionNames);
+    m.attr("node_math_ops") = names(render::svm::kMathOpNames);
+    m.attr("node_mix_blends") = names(render::svm::kMixBlendNames);
+    m.attr("node_clamp_types") = names(render::svm::kClampTypeNames);
+    m.attr("node_map_range_types") = names(render::svm::kMapRangeNames);
+    m.attr("node_color_models") = names(render::svm::kColorModelNames);
+    m.attr("node_mapping_types") = names(render::svm::kMappingTypeNames);
+    m.attr("MAX_NODE_REGISTERS") = render::svm::kMaxNodeRegisters;
+
     m.def(
         "_mix_lobe_slots",
         [](const py::list& materials) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -25,6 +26,7 @@ namespace sphrect::python {
 render::Material MaterialFromFields(const py::handle& fields);
 // bind_material.cpp: a sphrect.TextureLookup (its dataclasses.asdict fields); `what` names it in errors.
 render::TextureLookup LookupFromFields(const py::handle& fields, const std::string& what);
+render::svm::NodeProgram ProgramFromFields(const py::handle& fields, const std::string& what);
 
 namespace {
 
@@ -364,6 +366,27 @@ void BindRender(py::module_& m) {
         py::arg("pixels"), py::arg("srgb"),
         "Mean over an image's texels ([H, W, C] uint8 or float32) of the decoded colour (r, g, b), as a material's "
         "Color input reads it.");
+    m.def(
+        "_eval_node_program",
+        [](const py::handle& program, const V3& p, const V3& uv, const V3& generated, const std::optional<V3>& object,
+           const std::vector<std::pair<py::array, bool>>& textures) {
+            const render::svm::NodeProgram prog = ProgramFromFields(program, "program");
+            std::vector<render::Image> images;
+            for (const auto& [pixels, srgb] : textures) images.push_back(ImageOfArray("texture", pixels, srgb, true));
+            render::svm::CheckNodeProgram(prog, images.size());
+            render::svm::ShaderGlobals sg;
+            sg.p = sg.object = {p[0], p[1], p[2]};
+            if (object) sg.object = {(*object)[0], (*object)[1], (*object)[2]};
+            sg.uv = {uv[0], uv[1], uv[2]};
+            sg.generated = {generated[0], generated[1], generated[2]};
+            sg.n = sg.ng = sg.incoming = sg.object_normal = {0, 0, 1};
+            const Spectrum v = render::svm::EvalNodeProgram(prog, images, sg);
+            return V3{v.x, v.y, v.z};
+        },
+        py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"), py::arg("object") = py::none(),
+        py::arg("textures") = std::vector<std::pair<py::array, bool>>{},
+        "A node program at point p of a plane facing +z seen from +z (object coordinates: p unless given; textures: "
+        "(pixels, srgb) of the scene's, as Texture holds them): for tests and the exporter's constants");
     m.attr("textured_inputs") = names(render::kTexturedInputNames);
     m.attr("texture_interpolations") = names(render::kTextureInterpolationNames);
     m.attr("texture_extensions") = names(render::kTextureExtensionNames);
@@ -421,7 +444,8 @@ void BindRender(py::module_& m) {
              py::arg("offset"))
         .def(
             "set_last_mesh_object_linear",
-            [](RenderScene& s, const py::object& linear, const py::object& inverse) {
+            [](RenderScene& s, const py::object& linear, const py::object& inverse,
+               const std::array<double, 3>& translation) {
                 float l[3][3], li[3][3];
                 for (auto [obj, out] : {std::pair{&linear, &l}, std::pair{&inverse, &li}}) {
                     const auto a = CArray<double>::ensure(*obj);
@@ -430,9 +454,10 @@ void BindRender(py::module_& m) {
                     for (int r = 0; r < 3; ++r)
                         for (int c = 0; c < 3; ++c) (*out)[r][c] = float(a.at(r, c));
                 }
-                s.SetLastMeshObjectLinear(l, li);
+                s.SetLastMeshObjectLinear(
+                    l, li, Spectrum(float(translation[0]), float(translation[1]), float(translation[2])));
             },
-            py::arg("linear"), py::arg("inverse"))
+            py::arg("linear"), py::arg("inverse"), py::arg("translation") = std::array<double, 3>{0, 0, 0})
 
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none(), py::arg("uvs") = py::none(),

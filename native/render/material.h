@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bsdf.h"
+#include "svm/evaluate.h"
 #include "texture.h"
 
 namespace sphrect::render {
@@ -44,10 +45,12 @@ constexpr const char* kTextureExtensionNames[] = {"repeat", "extend", "clip"};  
 constexpr const char* kTextureOutputNames[] = {"color", "alpha"};               // TextureLookup::alpha_output
 constexpr const char* kTextureCoordinateNames[] = {"uv", "generated"};          // TextureLookup::generated
 
-// A Mix Shader factor from a texture: the layer's weight times fac, or 1 - fac (the node's first shader).
+// A Mix Shader factor from a texture or a node program (when `program` is not empty): the layer's weight times fac,
+// or 1 - fac (the node's first shader).
 struct MixFactorLookup {
     TextureLookup lookup;
     bool complement = false;
+    svm::NodeProgram program;
 };
 
 // A material's Normal Map node (tangent space): its image lookup, strength, read in the frame of the
@@ -69,10 +72,19 @@ struct Material {
     Spectrum emission;        // radiance from both sides (times its lookup's colour when textured); a mix adds its
                               // layers' (each times its weight)
     TextureLookup textures[kNumTexturedInputs];
+    // Node programs driving inputs (svm/program.h; empty: none), as textures do: a program's result replaces its input
+    // (a colour, or a float in x), but for the emission's, which multiplies Material::emission as its lookup would.
+    svm::NodeProgram programs[kNumTexturedInputs];
     NormalMap normal_map;               // lookup unbound: none
+    bool programmed = false;            // HasPrograms(), set by RenderScene::AddMaterial
     std::vector<MaterialLayer> layers;  // kMix
 
     bool ReadsCoordinates(bool generated) const;  // some lookup reads 'generated' (true) or 'uv' (false)
+    bool HasPrograms() const;                     // some input or mix factor (of any layer) is a node program
+    // The emission varies over the surface: an image or a program drives it (a textured emitter).
+    bool EmissionVaries() const {
+        return textures[int(TexturedInput::kEmission)].bound() || !programs[int(TexturedInput::kEmission)].empty();
+    }
 };
 
 struct MaterialLayer {
@@ -94,8 +106,19 @@ inline bool Material::ReadsCoordinates(bool generated) const {
         if (t.bound() && t.generated == generated) return true;
     for (const MaterialLayer& l : layers) {
         for (const MixFactorLookup& f : l.factors)
-            if (f.lookup.generated == generated) return true;
+            if (f.program.empty() && f.lookup.generated == generated) return true;
         if (l.material.ReadsCoordinates(generated)) return true;
+    }
+    return false;
+}
+
+inline bool Material::HasPrograms() const {
+    for (const svm::NodeProgram& p : programs)
+        if (!p.empty()) return true;
+    for (const MaterialLayer& l : layers) {
+        for (const MixFactorLookup& f : l.factors)
+            if (!f.program.empty()) return true;
+        if (l.material.HasPrograms()) return true;
     }
     return false;
 }
@@ -147,20 +170,31 @@ inline std::vector<int> MixLobeSlots(const std::vector<Material>& parts) {
     return slots;
 }
 
-// The Material's Bsdf at texture coordinates tc: each bound input replaced by its lookup (colours as
-// RGB, scalars as luminance; Cycles' closure setup clamps them as the Make*Bsdf functions do), a mix
-// rebuilt from its layers with the factors' weights (clamped to [0, 1], as svm_node_mix_closure does).
-// Emission is not part of a Bsdf: the caller keeps the material's own (a textured one is textured_emission.h's).
-inline Bsdf EvaluateTexturedBsdf(const Material& r, const std::vector<Image>& images, const TextureCoordinates& tc) {
+namespace material_detail {
+
+// The Material's Bsdf at texture coordinates tc (and, kPrograms, hit sg for its node programs): each bound input
+// replaced by its lookup or its program's result (colours as RGB, scalars as luminance; Cycles' closure setup clamps
+// them as the Make*Bsdf functions do), a mix rebuilt from its layers with the factors' weights (clamped to [0, 1], as
+// svm_node_mix_closure does).  Without kPrograms, the code of a textured material without programs: no test of them.
+template <bool kPrograms>
+Bsdf EvaluateAt(const Material& r, const std::vector<Image>& images, const TextureCoordinates& tc,
+                const svm::ShaderGlobals* sg) {
     if (r.kind == MaterialKind::kMix) {
         Bsdf mix = MakeEmptyMixBsdf();
         for (const MaterialLayer& l : r.layers) {
             float w = l.weight;
             for (const MixFactorLookup& f : l.factors) {
-                const float fac = std::clamp(TextureScalar(EvalTextureAt(images, f.lookup, tc)), 0.0f, 1.0f);
+                float v;
+                if constexpr (kPrograms) {
+                    v = f.program.empty() ? TextureScalar(EvalTextureAt(images, f.lookup, tc))
+                                          : svm::EvalNodeProgram(f.program, images, *sg).x;
+                } else {
+                    v = TextureScalar(EvalTextureAt(images, f.lookup, tc));
+                }
+                const float fac = std::clamp(v, 0.0f, 1.0f);
                 w *= f.complement ? 1 - fac : fac;
             }
-            MixIntoBsdf<MixOverflow::kLenient>(mix, EvaluateTexturedBsdf(l.material, images, tc), w);
+            MixIntoBsdf<MixOverflow::kLenient>(mix, EvaluateAt<kPrograms>(l.material, images, tc, sg), w);
         }
         return mix;
     }
@@ -168,15 +202,42 @@ inline Bsdf EvaluateTexturedBsdf(const Material& r, const std::vector<Image>& im
     auto scalar = [&](TexturedInput i, float& value) {
         const TextureLookup& t = r.textures[int(i)];
         if (t.bound()) value = TextureScalar(EvalTextureAt(images, t, tc));
+        if constexpr (kPrograms) {
+            if (const svm::NodeProgram& p = r.programs[int(i)]; !p.empty())
+                value = svm::EvalNodeProgram(p, images, *sg).x;
+        }
     };
-    if (const TextureLookup& t = r.textures[int(TexturedInput::kBaseColor)]; t.bound()) {
-        const Spectrum c = TextureColor(EvalTextureAt(images, t, tc));
+    auto color = [&](const Spectrum& c) {
         in.base_color = {std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f)};
+    };
+    if (const TextureLookup& t = r.textures[int(TexturedInput::kBaseColor)]; t.bound())
+        color(TextureColor(EvalTextureAt(images, t, tc)));
+    if constexpr (kPrograms) {
+        if (const svm::NodeProgram& p = r.programs[int(TexturedInput::kBaseColor)]; !p.empty())
+            color(svm::EvalNodeProgram(p, images, *sg));
     }
     scalar(TexturedInput::kRoughness, in.roughness);
     scalar(TexturedInput::kMetallic, in.metallic);
     scalar(TexturedInput::kSpecular, in.specular);
     return MakeBsdfFromInputs(r, in);
+}
+
+}  // namespace material_detail
+
+// A Material's Bsdf at hit sg (its programs read it; its lookups its coordinates).  Emission is not part of a Bsdf:
+// the caller keeps the material's own (a textured one is textured_emission.h's).
+inline Bsdf EvaluateBsdfAtHit(const Material& r, const std::vector<Image>& images, const svm::ShaderGlobals& sg) {
+    return material_detail::EvaluateAt<true>(r, images, TextureCoordinates{sg.uv, sg.generated}, &sg);
+}
+
+// A textured Material's Bsdf where only texture coordinates are known: a programmed one's programs (Material::
+// programmed, set by RenderScene::AddMaterial) read zero for the other inputs of the hit.
+inline Bsdf EvaluateTexturedBsdf(const Material& r, const std::vector<Image>& images, const TextureCoordinates& tc) {
+    if (!r.programmed) return material_detail::EvaluateAt<false>(r, images, tc, nullptr);
+    svm::ShaderGlobals sg;
+    sg.uv = tc.uv;
+    sg.generated = tc.generated;
+    return EvaluateBsdfAtHit(r, images, sg);
 }
 
 }  // namespace sphrect::render

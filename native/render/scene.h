@@ -52,6 +52,7 @@ struct MeshData {
     // from the smooth surface the mesh's normals describe, as Cycles 3.4's shadow_ray_offset (integrator/terminator.h).
     float shadow_terminator_offset = 0;
     float object_linear[3][3], object_linear_inverse[3][3];
+    Vec3f object_translation;      // its object's location (with object_linear: node programs' Object coordinates)
     uint8_t visibility = kRayAll;  // the ray kinds that see it (ray_visibility.h): its Embree geometry mask
 };
 
@@ -116,7 +117,7 @@ class RenderScene {
     void CheckImageMemory(const std::string& image, uint64_t bytes) const;
     uint64_t ImageMemoryBytes() const { return image_memory_bytes_; }  // shared pixels counted too
     // The mesh added last: its object's linear map and inverse (meshes without triangles are not kept: ignored).
-    void SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]);
+    void SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3], const Vec3f& translation = {});
     // The mesh added last: Blender's Shadow Terminator Geometry Offset, in [0, 1] (MeshData::shadow_terminator_offset).
     void SetLastMeshShadowTerminatorOffset(float offset);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids / uvs / generated may be

@@ -18,7 +18,8 @@ void RenderScene::SetLastMeshShadowTerminatorOffset(float offset) {
     meshes.back().shadow_terminator_offset = offset;
 }
 
-void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3]) {
+void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3],
+                                          const Vec3f& translation) {
     RequireNotCommitted();
     if (meshes.empty()) return;
     MeshData& m = meshes.back();
@@ -28,6 +29,9 @@ void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float 
             m.object_linear[r][c] = linear[r][c];
             m.object_linear_inverse[r][c] = inverse[r][c];
         }
+    if (!std::isfinite(translation.x) || !std::isfinite(translation.y) || !std::isfinite(translation.z))
+        Fail("object_translation must be finite");
+    m.object_translation = translation;
     m.has_object_linear = true;
 }
 

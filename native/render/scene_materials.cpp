@@ -77,10 +77,15 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
             const MaterialLayer& layer = m.layers[i];
             try {
                 if (!(layer.weight >= 0) || !std::isfinite(layer.weight)) Fail("mix weight must be finite and >= 0");
-                for (const MixFactorLookup& f : layer.factors) CheckLookup(f.lookup);
+                for (const MixFactorLookup& f : layer.factors) {
+                    if (f.program.empty())
+                        CheckLookup(f.lookup);
+                    else
+                        svm::CheckNodeProgram(f.program, images.size());
+                }
                 if (layer.material.normal_map.lookup.bound())
                     Fail("a mix layer cannot have a normal map of its own (the mix's has)");
-                if (layer.material.textures[int(TexturedInput::kEmission)].bound())
+                if (layer.material.EmissionVaries())
                     Fail("a mix layer cannot have an emission texture of its own (the mix's has)");
                 const Bsdf part = MakeMaterialBsdf(layer.material);
                 if (!layer.factors.empty() && !IsBlack(part.emission))
@@ -95,7 +100,7 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
                 Fail("layer " + std::to_string(i) + " ('" + layer.material.name + "'): " + e.what());
             }
         }
-        if (m.textures[int(TexturedInput::kEmission)].bound() && !IsBlack(bsdf.emission - m.emission))
+        if (m.EmissionVaries() && !IsBlack(bsdf.emission - m.emission))
             Fail(
                 "a mix with an emission texture cannot have emitting layers (the texture multiplies its own emission)");
     } else {
@@ -104,11 +109,17 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
     }
     for (int i = 0; i < kNumTexturedInputs; ++i) {
         const TextureLookup& lookup = m.textures[i];
-        if (!lookup.bound()) continue;
+        const svm::NodeProgram& program = m.programs[i];
+        if (!lookup.bound() && program.empty()) continue;
+        if (lookup.bound() && !program.empty())
+            Fail("input '" + std::string(kTexturedInputNames[i]) + "' has both a texture and a node program");
         try {
-            CheckLookup(lookup);
+            if (lookup.bound())
+                CheckLookup(lookup);
+            else
+                svm::CheckNodeProgram(program, images.size());
         } catch (const std::invalid_argument& e) {
-            Fail("texture '" + std::string(kTexturedInputNames[i]) + "': " + e.what());
+            Fail((lookup.bound() ? "texture '" : "program '") + std::string(kTexturedInputNames[i]) + "': " + e.what());
         }
         bsdf.textured = true;                                        // the hit's texture coordinates are needed
         if (TexturedInput(i) == TexturedInput::kEmission) continue;  // any kind that emits (textured_emission.h)
@@ -141,6 +152,7 @@ int RenderScene::AddMaterial(const Material& material) {
         Fail("material '" + material.name + "': " + e.what());
     }
     materials.push_back(material);
+    materials.back().programmed = material.HasPrograms();
     NormalMap normal_map = material.normal_map;
     normal_map.strength = std::max(normal_map.strength, 0.0f);  // Cycles: max(strength, 0)
     normal_maps.push_back(normal_map);

@@ -89,9 +89,7 @@ void RenderScene::AddMeshLights() {
             return t;
         };
         m.triangle_light.assign(m.num_triangles, -1);
-        auto textured = [&](size_t i) {
-            return materials[material_of(i)].textures[int(TexturedInput::kEmission)].bound();
-        };
+        auto textured = [&](size_t i) { return materials[material_of(i)].EmissionVaries(); };
         const uint32_t mesh_index = uint32_t(&m - meshes.data());
         for (size_t i = 0; i < m.num_triangles; ++i) {
             const Spectrum& le = bsdfs[material_of(i)].emission;

@@ -18,10 +18,17 @@ namespace {
 constexpr double kBlockPowerFloor = 0.01;
 // Lookups per light side at most, when measuring its emission (texel density above this is averaged over).
 constexpr int kMaxLookupsPerSide = 1024;
+// A node program's emitter has no texels to count: measured as if it spanned this many per side -- a rectangle 16
+// (32 x 32 evaluations, 16 x 16 blocks: with 8 x 8 the lava cracks of tests/blender/test_node_programs.py were twice
+// as noisy), a triangle or an ellipse 2 (16 evaluations: their mean only chooses among lights).  A program costs ~150
+// ns for 20 nodes (bench_node_program): 10^4 emissive quads take ~1.5 s to measure.
+constexpr double kProgramTexelsPerRectangleSide = 16;
+constexpr double kProgramTexelsPerSide = 2;
 
 // How many texels of the emitter's image lie between points a and b of light l (its lookup's mapped coordinates).
 double TexelsBetween(const RenderScene& scene, const TexturedEmitter& e, const AreaLight& l, const Vec3f& a,
                      const Vec3f& b) {
+    if (e.programmed) return l.shape == AreaShape::Rectangle ? kProgramTexelsPerRectangleSide : kProgramTexelsPerSide;
     const TextureLookup& t = e.lookup;
     const Image& im = scene.images[size_t(t.image)];
     auto mapped = [&](const Vec3f& p) {
@@ -51,6 +58,10 @@ void RenderScene::AddTexturedEmitter(TexturedEmitter e) {
     double sum[3] = {0, 0, 0};
     auto add = [&](const Spectrum& c) { sum[0] += c.x, sum[1] += c.y, sum[2] += c.z; };
     auto radiance = [&](const Vec3f& p) {
+        if (e.programmed) {  // seen from the front (the side the winding faces)
+            const EmitterTrianglePoint q = EmitterTrianglePointAt(*this, e, p);
+            return ProgramEmitterRadianceAt(*this, e, q.prim, q.b1, q.b2, p, TriangleNormal(meshes[e.mesh], q.prim), 0);
+        }
         return EmitterRadianceAt(*this, e, EmitterLookupCoordinates(*this, e, l, p));
     };
     size_t n = 0;
@@ -117,6 +128,7 @@ void RenderScene::AddTexturedEmitter(TexturedEmitter e) {
 void RenderScene::AddMeshTexturedEmitter(int material, uint32_t mesh, uint32_t first, int count) {
     TexturedEmitter e;
     e.lookup = materials[size_t(material)].textures[int(TexturedInput::kEmission)];
+    e.programmed = !materials[size_t(material)].programs[int(TexturedInput::kEmission)].empty();
     e.multiplier = area_lights.back().radiance;  // the material's emission: the image's multiplier
     e.material = material;
     e.mesh = mesh;

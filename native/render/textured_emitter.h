@@ -23,6 +23,9 @@ struct TexturedEmitter {
     // node tree's (the exporter's).  Otherwise a mesh's triangles, interpolating the mesh's coordinates.
     bool on_light_plane = false;
     int material = 0;  // a mesh's: its Material (camera rays read the emission through it)
+    // A mesh whose material's emission a node program drives (Material::programs[kEmission]; `lookup` unused): the
+    // radiance is multiplier x the program's colour at the point (textured_emission.h).
+    bool programmed = false;
     uint32_t mesh = 0;
     uint32_t triangles[2] = {0, 0};  // the light's triangles of that mesh (a rectangle: two)
     int num_triangles = 1;

@@ -2,6 +2,7 @@
 and a small Embree direct-lighting renderer built on it."""
 from ._native import *  # noqa: F401,F403  (sampling core and renderer, C++)
 from .scene import (Camera, EllipseLight, Environment, Material, MaterialLayer, Medium, Mesh, MixFactor,  # noqa: F401
+                    NodeInstruction, NodeProgram,
                     PointLight, RectLight, Scene, SpotLight, SunLight, Texture, TextureLookup, World, load_scene,
                     save_scene)
 from .render import RENDER_DEFAULTS, Renderer, dropped_samples_message, mix_lobe_slots, render  # noqa: E402,F401

@@ -252,7 +252,9 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
             raise ValueError(f"mesh '{mesh.name}': shadow_terminator_offset must be a number in [0, 1], got {offset!r}")
         native.add_mesh(mesh.name, v, t, mesh.normals, ids, mesh.uvs, mesh.generated, list(mesh.invisible_to))
         if linear is not None and len(t):  # a mesh without triangles is not kept
-            native.set_last_mesh_object_linear(linear, np.linalg.inv(linear))
+            translation = (0.0, 0.0, 0.0) if mesh.object_translation is None else mesh.object_translation
+            native.set_last_mesh_object_linear(linear, np.linalg.inv(linear),
+                                               tuple(float(x) for x in translation))
         if offset and len(t):
             native.set_last_mesh_shadow_terminator_offset(float(offset))
     for light in scene.lights:

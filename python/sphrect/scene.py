@@ -69,7 +69,9 @@ FORMAT_NAME = "sphrect-scene"
 # 16: RectLight.texture, EllipseLight.texture (an image over the light: a Blender light's node tree).  Older files load
 # without (uniform lights).
 # 17: World.invisible_to (Blender's World > Ray Visibility).  Older files load with the world seen by every ray.
-# 18: Material.diffuse_roughness (the Diffuse BSDF's Roughness: Oren-Nayar).  Older files load with 0 (Lambert).
+# 18: Material.programs and MixFactor.program (NodeProgram: a shader node graph compiled for the renderer, Cycles'
+# SVM), Mesh.object_translation.  Older files load unchanged (no programs).
+# Material.diffuse_roughness (the Diffuse BSDF's Roughness: Oren-Nayar); older files load with 0 (Lambert).
 FORMAT_VERSION = 18
 
 RGB = Tuple[float, float, float]
@@ -96,6 +98,17 @@ TEXTURE_OUTPUTS = tuple(_native.texture_outputs)  # ("color", "alpha")
 # The material inputs a texture can drive (Material.textures' keys): 'base_color' is a colour (its Color output
 # as is, Alpha as grey), the others scalars (Color as its luminance, Cycles' rgb_to_gray, or Alpha).
 TEXTURED_INPUTS = tuple(_native.textured_inputs)  # ("base_color", "roughness", "metallic", "specular")
+# Node programs (NodeProgram, render/svm/program.h): the ops, the hit inputs a 'global' reads, and each op's modes.
+NODE_OPS = tuple(_native.node_ops)
+NODE_GLOBALS = tuple(_native.node_globals)
+NODE_CONVERSIONS = tuple(_native.node_conversions)
+NODE_MATH_OPS = tuple(_native.node_math_ops)          # Blender's Math operations
+NODE_MIX_BLENDS = tuple(_native.node_mix_blends)      # Blender's blend types
+NODE_CLAMP_TYPES = tuple(_native.node_clamp_types)
+NODE_MAP_RANGE_TYPES = tuple(_native.node_map_range_types)
+NODE_COLOR_MODELS = tuple(_native.node_color_models)
+NODE_MAPPING_TYPES = tuple(_native.node_mapping_types)
+MAX_NODE_REGISTERS = int(_native.MAX_NODE_REGISTERS)
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 # Blender's Ray Visibility (Object Properties > Visibility), the renderer's ray kinds (render/ray_visibility.h):
 # ("camera", "shadow", "diffuse", "glossy", "transmission", "volume_scatter").  A mesh's invisible_to names the rays
@@ -182,6 +195,10 @@ class Material:
     textures: Dict[str, "TextureLookup"] = field(default_factory=dict)
     normal_map: Optional["TextureLookup"] = None
     normal_map_strength: float = 1.0
+    # Node programs driving inputs (keys from TEXTURED_INPUTS, none also in `textures`): a shader node graph evaluated
+    # per hit, its result replacing the field of that name (a colour, or a float), but for 'emission', which it
+    # multiplies as a texture does.
+    programs: Dict[str, "NodeProgram"] = field(default_factory=dict)
 
 
 @dataclass
@@ -199,11 +216,39 @@ class TextureLookup:
 
 
 @dataclass
+class NodeInstruction:
+    """One instruction of a NodeProgram (the renderer's render/svm/program.h documents each op's operands): its op
+    (one of NODE_OPS), the registers it reads then writes (-1: an output nobody reads), its mode (an index into the
+    op's name list: NODE_MATH_OPS, NODE_MIX_BLENDS, ...), option flags, a table's offset and rows in
+    NodeProgram.data (or an image: an index into Scene.textures), and a constant's value."""
+    op: str
+    regs: List[int]
+    mode: int = 0
+    flags: int = 0
+    data: int = 0
+    size: int = 0
+    value: V3 = (0.0, 0.0, 0.0)
+
+
+@dataclass
+class NodeProgram:
+    """A material input's shader node graph compiled once (the Blender exporter's node_program.py), run per hit as
+    Cycles runs SVM code: `instructions` in order over `num_registers` registers of three floats (at most
+    MAX_NODE_REGISTERS), tables in `data`; the result is register `output` (a float input reads its first
+    component)."""
+    instructions: List[NodeInstruction]
+    output: int
+    num_registers: int
+    data: List[float] = field(default_factory=list)
+
+
+@dataclass
 class MixFactor:
-    """A Mix Shader's factor read from a texture (its scalar, clamped to [0, 1] as Cycles does): the layer's
-    weight is multiplied by fac, or by 1 - fac for the node's first shader (complement)."""
-    lookup: TextureLookup
+    """A Mix Shader's factor read from a texture or a node program (its scalar, clamped to [0, 1] as Cycles does): the
+    layer's weight is multiplied by fac, or by 1 - fac for the node's first shader (complement)."""
+    lookup: Optional[TextureLookup] = None
     complement: bool = False
+    program: Optional[NodeProgram] = None
 
 
 @dataclass
@@ -231,13 +276,26 @@ def _lookup_from_dict(d) -> "TextureLookup":
     return TextureLookup(**d)
 
 
+def _program_from_dict(d) -> "NodeProgram":
+    d = dict(d)
+    d["instructions"] = [NodeInstruction(**{**i, "value": tuple(i.get("value", (0.0, 0.0, 0.0)))})
+                         for i in d["instructions"]]
+    return NodeProgram(**d)
+
+
+def _factor_from_dict(f) -> "MixFactor":
+    return MixFactor(lookup=_lookup_from_dict(f["lookup"]) if f.get("lookup") is not None else None,
+                     complement=f["complement"],
+                     program=_program_from_dict(f["program"]) if f.get("program") is not None else None)
+
+
 def _material_from_dict(d) -> Material:
     d = dict(d)
     d["layers"] = [MaterialLayer(weight=l["weight"], material=_material_from_dict(l["material"]),
-                                 factors=[MixFactor(lookup=_lookup_from_dict(f["lookup"]), complement=f["complement"])
-                                          for f in l.get("factors", [])])
+                                 factors=[_factor_from_dict(f) for f in l.get("factors", [])])
                    for l in d.get("layers", [])]
     d["textures"] = {k: _lookup_from_dict(v) for k, v in d.get("textures", {}).items()}
+    d["programs"] = {k: _program_from_dict(v) for k, v in d.get("programs", {}).items()}
     if d.get("normal_map") is not None:
         d["normal_map"] = _lookup_from_dict(d["normal_map"])
     return Material(**d)
@@ -256,6 +314,9 @@ class Mesh:
     # identity): tangent-space normal maps are applied in the object's space, as Cycles does, which differs from
     # world space where L scales non-uniformly.
     object_linear: Optional[List[List[float]]] = None
+    # With object_linear, the object's location (world = L local + object_translation), which node programs' Object
+    # coordinates undo; None: the origin.
+    object_translation: Optional[V3] = None
     invisible_to: Tuple[str, ...] = ()        # RAY_KINDS that pass through it (camera: not seen; shadow: casts none)
     # Blender's Object > Shading > Shadow Terminator > Geometry Offset, in [0, 1] (0: none; Blender's default 0.1): a
     # smooth-shaded mesh's light samples near its terminator leave from the smooth surface its triangles approximate,
@@ -486,6 +547,8 @@ def save_scene(scene: Scene, path: str) -> None:
             meta["meshes"][-1]["shadow_terminator_offset"] = float(m.shadow_terminator_offset)
         if m.object_linear is not None:
             meta["meshes"][-1]["object_linear"] = np.asarray(m.object_linear, dtype=np.float64).tolist()
+        if m.object_translation is not None:
+            meta["meshes"][-1]["object_translation"] = [float(x) for x in m.object_translation]
         arrays[f"{key}.vertices"] = np.asarray(m.vertices, dtype=np.float32)
         arrays[f"{key}.triangles"] = np.asarray(m.triangles, dtype=np.int32)
         if m.normals is not None:
@@ -556,6 +619,8 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
         scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
                                  material_ids=get("material_ids"), name=m["name"], uvs=get("uvs"),
                                  generated=get("generated"), object_linear=m.get("object_linear"),
+                                 object_translation=(tuple(m["object_translation"]) if "object_translation" in m
+                                                     else None),
                                  invisible_to=tuple(m.get("invisible_to", ())),
                                  shadow_terminator_offset=float(m.get("shadow_terminator_offset", 0.0))))
     for t in meta.get("textures", []):

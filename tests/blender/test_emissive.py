@@ -68,7 +68,10 @@ def test_emission_conventions(empty_scene):
     assert first.emission == pytest.approx((1.5, 3.0, 0.75)) and first.base_color == pytest.approx((0.2, 0.15, 0.1))
     assert exported_material(scene, "Negative").emission == pytest.approx((0.0, 0.0, 0.0))
     text = log.warning_text()
-    assert "linked Mix Shader factor (grey diffuse used) (Linked)" in text
+    # A Value node on the factor folds to its constant, 0 (node_program.py), as Cycles folds it: the diffuse alone.
+    linked = exported_material(scene, "Linked")
+    assert linked.emission == pytest.approx((0.0, 0.0, 0.0)) and linked.base_color == pytest.approx((0.8, 0.6, 0.4))
+    assert "(Linked)" not in text
     assert "negative emission strength (0 used) (Negative)" in text
     for name in ("Panel", "Glow", "Mix (", "MixFirst"):
         assert name not in text

@@ -267,16 +267,17 @@ def test_other_linked_inputs_stay_warnings_naming_the_node(empty_scene):
     t.link(t.image(image).outputs["Color"], bsdf.inputs["Sheen Tint"])  # not one of TEXTURED_INPUTS
     math_node = t.node("ShaderNodeMath")
     t.link(t.image(image).outputs["Color"], math_node.inputs[0])
-    t.link(math_node.outputs[0], bsdf.inputs["Roughness"])  # a texture through another node: not followed
+    t.link(math_node.outputs[0], bsdf.inputs["Roughness"])  # a texture through another node: a node program
     t.link(math_node.outputs[0], bsdf.inputs["Alpha"])  # (an Image Texture's is a mix factor: test_transparent_parity)
     on_plane(t.surface(bsdf))
     scene, log = export()
     assert material_named(scene, "Other").textures == {}
+    assert list(material_named(scene, "Other").programs) == ["roughness"]  # test_node_programs.py
     text = log.warning_text()
     for warning in ("linked 'Base Color' input (Noise Texture)", "Principled Alpha linked from a node other than an "
-                    "Image Texture (1 used)", "linked 'Sheen Tint' input (Image Texture)",
-                    "linked 'Roughness' input (Math)"):
+                    "Image Texture (1 used)", "linked 'Sheen Tint' input (Image Texture)"):
         assert warning in text
+    assert "Roughness" not in text
 
 
 def mapped(name, image, vector_type, location, rotation, scale, source=("ShaderNodeTexCoord", "UV")):
@@ -478,7 +479,7 @@ def test_textured_principled_layers_become_one_the_renderer_holds(empty_scene):
     sphrect.Renderer(scene, techniques="rectangle")  # builds: one Principled BSDF
 
 
-def test_emission_under_a_texture_factor_is_its_mean(empty_scene):
+def test_emission_under_a_texture_factor_is_a_program(empty_scene):
     pixels = random_pixels()
     image = new_image("Mask", pixels, colorspace="Non-Color")
     t = Tree("Glow")
@@ -498,11 +499,11 @@ def test_emission_under_a_texture_factor_is_its_mean(empty_scene):
     on_plane(t.surface(outer))
     scene, log = export()
     glow_material = material_named(scene, "Glow")
-    fac = luminance_mean(pixels)
-    expected = 4.0 * fac * fac + (1 - fac) * 2.0 * np.array([1.0, 0.5, 0.25])  # white emission x fac x fac
-    assert glow_material.emission == pytest.approx(expected, rel=1e-5)
+    # Both emissions vary with the mask (node programs of the image times the factors, summed: test_node_programs.py).
+    assert glow_material.emission == (1.0, 1.0, 1.0) and "emission" in glow_material.programs
+    assert sum(i.op == "image" for i in glow_material.programs["emission"].instructions) == 3  # fac, fac; 1 - fac
     assert all(l.material.emission == (0.0, 0.0, 0.0) for l in glow_material.layers)
-    assert "emission under a texture-driven Mix Shader factor (the factor's image mean used)" in log.warning_text()
+    assert "Glow" not in log.warning_text()
     sphrect.Renderer(scene, techniques="rectangle")  # builds: no layer under a factor emits
 
 

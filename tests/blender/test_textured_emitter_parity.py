@@ -4,7 +4,7 @@ rays, BSDF rays and light samples and samples the plane by its blocks' power and
 
 Render comparison as test_cycles_parity's (Cycles 2048 spp, SPHRECT 512, fixed seeds, mean relative difference over
 lit 4x4 blocks), bound 1% as the other exact models'.  Also the exporter's side: the lookup on the emission, no
-warning; the image's mean (warned) only where the renderer cannot vary it (under a texture-driven Mix factor)."""
+warning; under a texture-driven Mix factor a node program of the image times the factor."""
 import math
 
 import bpy
@@ -84,7 +84,8 @@ def test_emission_image_is_a_lookup_and_a_mix_factor_keeps_the_mean(empty_scene)
     assert direct.emission == pytest.approx((3.0,) * 3) and "emission" in direct.textures
     assert principled.emission == pytest.approx((2.0,) * 3) and "emission" in principled.textures
     under = material_named(scene, "UnderFactor")
-    assert "emission" not in under.textures and max(under.emission) > 0
+    # Under the factor: a node program of the image times the factor's (test_node_programs.py), unwarned.
+    assert "emission" not in under.textures and "emission" in under.programs and max(under.emission) > 0
     warnings = log.warning_text()
-    assert "(the image's mean colour used) (UnderFactor)" in warnings
+    assert "UnderFactor" not in warnings
     assert "Direct" not in warnings and "Principled" not in warnings

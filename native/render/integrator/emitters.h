@@ -81,8 +81,8 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
     if (i < 0) return;
     const float t = rh.ray.tfar;
     const AreaLight& l = c.scene.area_lights[i];
-    const Spectrum le =
-        l.texture < 0 ? EmittedRadiance(l, -d) : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v);
+    const Spectrum le = l.texture < 0 ? EmittedRadiance(l, -d)
+                                      : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t);
     if (IsBlack(le)) return;
     const float pdf_light = light_sampling.PDF(i, o + d * t);
     sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),

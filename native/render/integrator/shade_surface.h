@@ -9,6 +9,7 @@
 
 #include "emitters.h"
 #include "render/bsdf.h"
+#include "shader_globals.h"
 #include "surface_hit.h"
 
 namespace sphrect::render {
@@ -198,7 +199,9 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
     Bsdf out = m;
     if (m.textured) {
-        out = EvaluateTexturedBsdf(scene.materials[size_t(h.material)], scene.images, h.tc);
+        const Material& material = scene.materials[size_t(h.material)];
+        out = material.programmed ? EvaluateBsdfAtHit(material, scene.images, HitShaderGlobals(h))
+                                  : EvaluateTexturedBsdf(material, scene.images, h.tc);
         out.emission = m.emission;
     }
     if (m.normal_mapped) {

@@ -23,6 +23,10 @@ struct SurfaceHit {
     // (0: none) and the smooth surface's lift above p.
     float terminator_offset = 0;
     Vec3f terminator_lift;
+    // Textured materials (set by AddHitExtras, left uninitialised otherwise so that other hits pay nothing): the hit's
+    // mesh and the direction back along the ray, which node programs read (shader_globals.h).
+    const MeshData* mesh;
+    float incoming[3];
 };
 
 // The mesh's texture coordinates at barycentrics (b0, b1, b2) of triangle (i0, i1, i2); zero where it has none.
@@ -111,6 +115,8 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
     const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
     s.backfacing = Dot(ng, ray.d) * side > 0;
     if (!material.textured && !material.normal_mapped && !material.anisotropic) return;
+    s.mesh = &m;
+    s.incoming[0] = -ray.d.x, s.incoming[1] = -ray.d.y, s.incoming[2] = -ray.d.z;
     s.tc = InterpolateTextureCoordinates(m, i[0], i[1], i[2], b0, b1, b2);
     if (material.anisotropic && !m.generated.empty()) s.tangent = RadialTangent(m, s.tc.generated, ns);
     if (material.normal_mapped && !m.uvs.empty()) {

@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "render/scene.h"
+#include "shader_globals.h"
 #include "surface_hit.h"  // InterpolateTextureCoordinates
 
 namespace sphrect::render {
@@ -38,9 +39,13 @@ inline TextureCoordinates EmitterCoordinates(const RenderScene& scene, const Tex
     return InterpolateTextureCoordinates(m, t[0], t[1], t[2], 1 - b1 - b2, b1, b2);
 }
 
-// The texture coordinates at point p of a mesh emitter: in the triangle of the light that holds it (of a rectangle's
-// two, the one p lies deeper in), from its barycentrics (the 2x2 Gram system of its edges, as IntersectAreaLight).
-inline TextureCoordinates EmitterCoordinatesAt(const RenderScene& scene, const TexturedEmitter& e, const Vec3f& p) {
+// Where point p of a mesh emitter lies: the triangle of the light that holds it (of a rectangle's two, the one p lies
+// deeper in) and its barycentrics there (the 2x2 Gram system of its edges, as IntersectAreaLight).
+struct EmitterTrianglePoint {
+    uint32_t prim;
+    float b1, b2;
+};
+inline EmitterTrianglePoint EmitterTrianglePointAt(const RenderScene& scene, const TexturedEmitter& e, const Vec3f& p) {
     const MeshData& m = scene.meshes[e.mesh];
     uint32_t best = e.triangles[0];
     float best_depth = -kInf, best_b1 = 0, best_b2 = 0;
@@ -57,7 +62,27 @@ inline TextureCoordinates EmitterCoordinatesAt(const RenderScene& scene, const T
         const float depth = std::min({b1, b2, 1 - b1 - b2});
         if (depth > best_depth) best = e.triangles[k], best_depth = depth, best_b1 = b1, best_b2 = b2;
     }
-    return EmitterCoordinates(scene, e, best, best_b1, best_b2);
+    return {best, best_b1, best_b2};
+}
+
+// The texture coordinates at point p of a mesh emitter.
+inline TextureCoordinates EmitterCoordinatesAt(const RenderScene& scene, const TexturedEmitter& e, const Vec3f& p) {
+    const EmitterTrianglePoint q = EmitterTrianglePointAt(scene, e, p);
+    return EmitterCoordinates(scene, e, q.prim, q.b1, q.b2);
+}
+
+// A program's emission colour times the emitter's multiplier (the colour clamped to >= 0, as a lookup's).
+inline Spectrum ScaledProgramEmission(const Spectrum& multiplier, const Vec3f& c) {
+    return multiplier * Spectrum(std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f));
+}
+
+// A node program's emitter (TexturedEmitter::programmed): its radiance at point p, barycentrics (b1, b2) of triangle
+// `prim`, seen from direction `toward` at distance `distance` (0 where no ray measured one).
+inline Spectrum ProgramEmitterRadianceAt(const RenderScene& scene, const TexturedEmitter& e, uint32_t prim, float b1,
+                                         float b2, const Vec3f& p, const Vec3f& toward, float distance) {
+    const svm::NodeProgram& program = scene.materials[size_t(e.material)].programs[int(TexturedInput::kEmission)];
+    const svm::ShaderGlobals sg = TriangleShaderGlobals(scene.meshes[e.mesh], prim, b1, b2, p, toward, distance);
+    return ScaledProgramEmission(e.multiplier, svm::EvalNodeProgram(program, scene.images, sg));
 }
 
 // A rectangle or ellipse light's coordinates at point p of its plane: (a, b, 0), p's fractions along its edges from
@@ -82,15 +107,22 @@ inline Vec3f EmitterLookupCoordinates(const RenderScene& scene, const TexturedEm
 [[gnu::noinline, gnu::cold]] inline Spectrum TexturedEmissionAtPoint(const RenderScene& scene, const AreaLight& l,
                                                                      const Vec3f& p, const Vec3f& toward) {
     const TexturedEmitter& e = scene.textured_emitters[size_t(l.texture)];
+    if (e.programmed) {
+        const EmitterTrianglePoint q = EmitterTrianglePointAt(scene, e, p);
+        return ProgramEmitterRadianceAt(scene, e, q.prim, q.b1, q.b2, p, toward, 0);
+    }
     if (!e.on_light_plane) return EmitterRadianceAt(scene, e, EmitterLookupCoordinates(scene, e, l, p));
     const float share = EmissionTowards(l, toward);
     return share > 0 ? EmitterRadianceAt(scene, e, LightPlaneCoordinates(l, p)) * share : Spectrum();
 }
 
-// BSDF rays: the radiance of textured mesh light l at barycentrics (b1, b2) of its triangle `prim` (Embree's hit).
+// BSDF rays: the radiance of textured mesh light l at barycentrics (b1, b2) of its triangle `prim` (Embree's hit of
+// the ray from o along d at distance t).
 [[gnu::noinline, gnu::cold]] inline Spectrum TexturedEmissionAtHit(const RenderScene& scene, const AreaLight& l,
-                                                                   uint32_t prim, float b1, float b2) {
+                                                                   uint32_t prim, float b1, float b2, const Vec3f& o,
+                                                                   const Vec3f& d, float t) {
     const TexturedEmitter& e = scene.textured_emitters[size_t(l.texture)];
+    if (e.programmed) return ProgramEmitterRadianceAt(scene, e, prim, b1, b2, o + d * t, -d, t);
     const TextureCoordinates tc = EmitterCoordinates(scene, e, prim, b1, b2);
     return EmitterRadianceAt(scene, e, e.lookup.generated ? tc.generated : tc.uv);
 }
@@ -101,13 +133,19 @@ inline Spectrum RadianceOfCrossedLight(const RenderScene& scene, const AreaLight
     return l.texture < 0 ? EmittedRadiance(l, -d) : TexturedEmissionAtPoint(scene, l, o + d * t, -d);
 }
 
+// A camera ray's hit on a textured emitter: its image at the hit's texture coordinates, or its program at the hit.
+[[gnu::noinline, gnu::cold]] inline Spectrum EmissionSeenAtTexturedHit(const RenderScene& scene, const SurfaceHit& h) {
+    const Material& r = scene.materials[size_t(h.material)];
+    const svm::NodeProgram& program = r.programs[int(TexturedInput::kEmission)];
+    if (program.empty()) return EmissionAtCoordinates(scene, h.material, h.tc);
+    return ScaledProgramEmission(r.emission, svm::EvalNodeProgram(program, scene.images, HitShaderGlobals(h)));
+}
+
 // Camera rays: the emission of the hit's material, at its texture coordinates when an image drives it.
 static inline Spectrum EmissionSeenAtHit(const RenderScene& scene, const SurfaceHit& h) {
     const Spectrum& le = scene.bsdfs[size_t(h.material)].emission;
-    if (scene.textured_emitters.empty() ||
-        !scene.materials[size_t(h.material)].textures[int(TexturedInput::kEmission)].bound())
-        return le;
-    return EmissionAtCoordinates(scene, h.material, h.tc);
+    if (scene.textured_emitters.empty() || !scene.materials[size_t(h.material)].EmissionVaries()) return le;
+    return EmissionSeenAtTexturedHit(scene, h);
 }
 
 }  // namespace sphrect::render

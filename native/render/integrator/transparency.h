@@ -18,6 +18,7 @@
 
 #include "render/embree_rays.h"
 #include "render/scene.h"
+#include "shader_globals.h"
 #include "surface_hit.h"
 
 namespace sphrect::render {
@@ -30,9 +31,11 @@ struct SurfaceTransparency {
 
 // A textured material's transparency at texture coordinates tc: its Material evaluated there (mix factors from
 // alpha textures).  Out of line: untextured scenes never come here.
-[[gnu::noinline, gnu::cold]] static SurfaceTransparency TexturedTransparency(const RenderScene& scene, int material,
-                                                                             const TextureCoordinates& tc) {
-    const Bsdf m = EvaluateTexturedBsdf(scene.materials[size_t(material)], scene.images, tc);
+[[gnu::noinline, gnu::cold]] static SurfaceTransparency TexturedTransparency(const RenderScene& scene,
+                                                                             const SurfaceHit& h) {
+    const Material& material = scene.materials[size_t(h.material)];
+    const Bsdf m = material.programmed ? EvaluateBsdfAtHit(material, scene.images, HitShaderGlobals(h))
+                                       : EvaluateTexturedBsdf(material, scene.images, h.tc);
     return {m.transparency, m.opaque_weight};
 }
 
@@ -40,7 +43,7 @@ struct SurfaceTransparency {
 static inline SurfaceTransparency TransparencyAt(const RenderScene& scene, const SurfaceHit& h) {
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
     if (!m.has_transparency) return {};
-    if (m.textured) return TexturedTransparency(scene, h.material, h.tc);
+    if (m.textured) return TexturedTransparency(scene, h);
     return {m.transparency, m.opaque_weight};
 }
 

@@ -11,7 +11,7 @@ from .geometry import MESH_LIKE, render_uv_layer, shadow_terminator_offset, to_w
 from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
-from .textures import TextureExport, coordinates_needed, has_normal_map, is_anisotropic
+from .textures import TextureExport, coordinates_needed, has_normal_map, is_anisotropic, programs_of
 from .visibility import invisible_to, warn_unhonoured
 
 
@@ -102,7 +102,7 @@ def scene_from_depsgraph(depsgraph):
             local = triangulate(obj, log, uvs="uv" in needed, generated="generated" in needed)
             if local is not None:
                 object_space = any(has_normal_map(materials.list[i]) or is_anisotropic(materials.list[i])
-                                   for i in slots)
+                                   or programs_of(materials.list[i]) for i in slots)
                 cache[key] = (local, slots[np.clip(local.material_index, 0, len(slots) - 1)], object_space)
             else:
                 cache[key] = None
@@ -119,9 +119,12 @@ def scene_from_depsgraph(depsgraph):
         vertices, triangles, normals = world
         # Normal maps and the default tangent apply in the object's space (Cycles): the renderer needs its linear map.
         object_linear = np.array(inst.matrix_world)[:3, :3].tolist() if object_space else None
+        # Node programs' Object coordinates undo the whole transform.
+        object_translation = tuple(float(x) for x in np.array(inst.matrix_world)[:3, 3]) if object_space else None
         scene.meshes.append(sphrect.Mesh(vertices=vertices, triangles=triangles, normals=normals,
                                          material_ids=material_ids, name=name, uvs=local.uvs,
                                          generated=local.generated, object_linear=object_linear,
+                                         object_translation=object_translation,
                                          invisible_to=invisible_to(obj, sphrect.scene.RAY_KINDS,
                                                                       inst.parent if inst.is_instance else None),
                                          shadow_terminator_offset=shadow_terminator_offset(obj, normals, log)))

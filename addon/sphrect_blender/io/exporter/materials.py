@@ -17,10 +17,13 @@ its BSDF, a mix scales each side's closures by its weight, mesh emission is two-
 baked by Cycles into an environment image (world_bake.py); Volume Scatter, Volume Absorption or Principled Volume on the
 World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
 Roughness, Metallic and Specular, the Color of Diffuse, Glossy, Glass and Translucent BSDFs and the Roughness of
-Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; every other
-linked input and every other node is logged as unsupported, its own value used.  Links are read as Cycles follows
-them (node_groups.py: muted and invalid links left out, muted nodes passing their internal links, groups inlined),
-and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it (_closures)."""
+Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; a graph of the
+nodes node_program.py compiles (Math, Mix, ColorRamp, Texture Coordinate, ...) drives the same inputs, the emission's
+Color and Strength and Mix Shader factors as a NodeProgram the renderer runs per hit (a graph of constants folds to
+its value); every other linked input and every other node is logged as unsupported, its own value used.  Links are
+read as Cycles follows them (node_groups.py: muted and invalid links left out, muted nodes passing their internal
+links, groups inlined), and a Mix / Add Shader graph is walked once per node, whatever the number of paths across it
+(_closures)."""
 import dataclasses
 
 import mathutils
@@ -28,6 +31,7 @@ import numpy as np
 
 from . import world_bake
 from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
+from .node_program import compile_product, compile_socket, emission_sum, emission_under_factors, program_mean
 from .textures import TextureExport, follow_reroutes, image_texture_source
 from .visibility import world_invisible_to
 
@@ -99,23 +103,34 @@ class _Inputs:
         allowed = _TEXTURABLE.get(node.bl_idname, set())
         self.textured_fields = [f for f in sphrect.scene.TEXTURED_INPUTS if f in allowed]
         self.tex_export = textures
-        self.textures = {}
+        self.textures = {}  # field -> TextureLookup, or NodeProgram (moved to Material.programs: _split_programs)
+        self.folded = {}  # field -> the constant a graph of known nodes folds to
 
     def textured(self, field):
-        """Whether `field`'s input is linked from an Image Texture node (recorded on the first call)."""
+        """Whether `field`'s input is linked from an Image Texture node, or from a graph the renderer evaluates per
+        hit (node_program.py; recorded on the first call)."""
         if field in self.textures:
             return True
-        if field not in self.textured_fields:
+        if field not in self.textured_fields or field in self.folded:
             return False
-        source = image_texture_source(self.node.inputs.get(_socket_name(self.node, field)))
-        if source is None:
-            return False
-        self.textures[field] = self.tex_export.lookup(*source, self.owner)
-        return True
+        socket = self.node.inputs.get(_socket_name(self.node, field))
+        source = image_texture_source(socket)
+        if source is not None:
+            self.textures[field] = self.tex_export.lookup(*source, self.owner)
+            return True
+        program, constant = compile_socket(self.tex_export.sphrect, self.tex_export, self.log, self.owner, socket)
+        if program is not None:
+            self.textures[field] = program
+            return True
+        if constant is not None:
+            self.folded[field] = constant
+        return False
 
     def read(self, field):
         if self.textured(field):
             return _own_value(self.node.inputs[_socket_name(self.node, field)])
+        if field in self.folded:
+            return self.folded[field]
         return _value(self.node, _socket_name(self.node, field), self.log, self.owner)
 
     def value(self, name):
@@ -187,7 +202,18 @@ def export_material(sphrect, mat, log, textures=None):
     if node is None:
         log.unsupported_feature("materials without a surface shader (black)", name)
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
-    return _shader(sphrect, node, textures, log, name)
+    return _split_programs(sphrect, _shader(sphrect, node, textures, log, name))
+
+
+def _split_programs(sphrect, material):
+    """The material with the NodePrograms its inputs' `textures` hold (_Inputs) moved to `programs`, its layers'
+    too."""
+    programs = {k: v for k, v in material.textures.items() if isinstance(v, sphrect.NodeProgram)}
+    layers = [dataclasses.replace(l, material=_split_programs(sphrect, l.material)) for l in material.layers]
+    if not programs and not any(l.material is not k.material for l, k in zip(layers, material.layers)):
+        return material
+    return dataclasses.replace(material, layers=layers, programs={**material.programs, **programs},
+                               textures={k: v for k, v in material.textures.items() if k not in programs})
 
 
 def _emission_term(node, color_input, strength_input, weight, log, owner, textures=None, light_coordinates=None):
@@ -198,6 +224,13 @@ def _emission_term(node, color_input, strength_input, weight, log, owner, textur
     would be negative)."""
     socket = node.inputs.get(color_input)
     source = image_texture_source(socket) if textures is not None and socket is not None and socket.is_linked else None
+    strength_socket = node.inputs.get(strength_input)
+    if textures is not None and light_coordinates is None and socket is not None and strength_socket is not None \
+            and (source is None or strength_socket.is_linked) and (socket.is_linked or strength_socket.is_linked):
+        # A graph the renderer evaluates per hit: its colour x strength multiplies weight (the emitter's constant).
+        program, _ = compile_product(textures.sphrect, textures, log, owner, socket, strength_socket)
+        if program is not None:
+            return _rgb(np.full(3, weight)), program
     lookup = textures.lookup(*source, owner, light_coordinates) if source is not None else None
     color = np.ones(3) if lookup is not None else np.asarray(_value(node, color_input, log, owner)[:3], dtype=float)
     strength = _value(node, strength_input, log, owner)
@@ -213,32 +246,47 @@ def _emission(node, color_input, strength_input, weight, log, owner, textures=No
     emission, lookup = _emission_term(node, color_input, strength_input, weight, log, owner, textures)
     if lookup is None:
         return emission
-    log.unsupported_feature(f"'{color_input}' of an emitter from an Image Texture under a texture-driven Mix Shader "
-                            "factor (the image's mean colour used)", owner)
-    return _rgb(np.asarray(emission) * np.asarray(textures.color_mean(lookup)))
+    source = "a node graph" if isinstance(lookup, textures.sphrect.NodeProgram) else "an Image Texture"
+    mean = "its mean colour over the UV square" if source == "a node graph" else "the image's mean colour"
+    log.unsupported_feature(f"'{color_input}' of an emitter from {source} under a texture-driven Mix Shader "
+                            f"factor ({mean} used)", owner)
+    return _rgb(np.asarray(emission) * np.asarray(_color_mean(textures, lookup)))
+
+
+def _color_mean(textures, lookup):
+    """The mean colour of an emission's TextureLookup or NodeProgram (a program's over the UV square; one that reads
+    images: grey 1/2)."""
+    if isinstance(lookup, textures.sphrect.NodeProgram):
+        mean = program_mean(textures.sphrect, lookup)
+        return mean if mean is not None else (0.5, 0.5, 0.5)
+    return textures.color_mean(lookup)
 
 
 def _textured_emission(material):
     """(emission, its lookup or None) of a material from _bsdf, and the material without its emission."""
-    lookup = material.textures.get("emission")
+    lookup = material.textures.get("emission")  # a TextureLookup or a NodeProgram (_emission_term)
     plain = dataclasses.replace(material, emission=(0.0, 0.0, 0.0),
                                 textures={k: v for k, v in material.textures.items() if k != "emission"})
     return material.emission, lookup, plain
 
 
 def _with_emission(material, constant, textured, textures, log, name):
-    """The material with the summed emission: constant (RGB) plus the textured terms [(scale, lookup)].  One image
-    alone is the material's emission texture; an image beside another or beside a constant emission is taken as its
-    mean (warned: the renderer's emission is one image times a constant)."""
+    """The material with the summed emission: constant (RGB) plus the textured terms [(scale, TextureLookup or
+    NodeProgram)].  One alone is the material's emission texture or program; several, or one beside a constant
+    emission, are summed into one program (node_program.emission_sum)."""
     constant = np.asarray(constant, dtype=float)
     if len(textured) == 1 and not np.any(constant > 0):
         scale, lookup = textured[0]
         return dataclasses.replace(material, emission=_rgb(scale), textures={**material.textures, "emission": lookup})
-    if textured:
+    if textured:  # their sum as one program (the renderer's emitter is one program times a constant)
+        program = emission_sum(textures.sphrect, _rgb(constant), [(_rgb(scale), lookup) for scale, lookup in textured])
+        if program is not None:
+            return dataclasses.replace(material, emission=(1.0, 1.0, 1.0),
+                                       textures={**material.textures, "emission": program})
         log.unsupported_feature("emission from several Image Textures, or from one beside a constant emission (the "
                                 "images' mean colours used)", name)
         for scale, lookup in textured:
-            constant = constant + np.asarray(scale) * np.asarray(textures.color_mean(lookup))
+            constant = constant + np.asarray(scale) * np.asarray(_color_mean(textures, lookup))
     return dataclasses.replace(material, emission=_rgb(constant))
 
 
@@ -261,10 +309,19 @@ def _closure_sources(sphrect, node, textures, name):
             fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
             return [(n, w, None, False) for n, w in ((first, 1 - fac), (second, fac)) if n is not None and w > 0]
         source = image_texture_source(fac_socket)
+        program = None
         if source is None:
-            return None
+            program, constant = compile_socket(sphrect, textures, textures.log, name, fac_socket, "float")
+            if program is None and constant is None:
+                return None
+            if program is None:  # a graph of known nodes folding to a constant
+                fac = min(max(float(constant), 0.0), 1.0)
+                return [(n, w, None, False) for n, w in ((first, 1 - fac), (second, fac)) if n is not None and w > 0]
         if first is not None and first == second:  # (1 - fac) + fac of the same closures: exactly those
             return [(first, 1.0, None, False)]
+        if program is not None:
+            return [(n, 1.0, sphrect.MixFactor(program=program, complement=n is first), False)
+                    for n in (first, second) if n is not None]
         lookup = textures.lookup(*source, name)
         return [(n, 1.0, sphrect.MixFactor(lookup=lookup, complement=n is first), False)
                 for n in (first, second) if n is not None]
@@ -283,6 +340,8 @@ def _closure_sources(sphrect, node, textures, name):
 
 
 def _factor_key(factor):
+    if factor.program is not None:
+        return ("program", repr(factor.program), factor.complement)
     lookup = factor.lookup
     return (lookup.texture, lookup.output, lookup.coordinates, repr(lookup.transform), lookup.interpolation,
             lookup.extension, factor.complement)
@@ -395,10 +454,15 @@ def _shader(sphrect, node, textures, log, name):
             transparent = _transparent(sphrect, leaf, textures, log, name)
             layers.append(sphrect.MaterialLayer(weight=weight, material=transparent, factors=factors))
         elif leaf.bl_idname == "ShaderNodeEmission":
-            if factors:
-                log.unsupported_feature(constant_emission, name)
-                emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log, name,
-                                      textures)
+            if factors:  # the factors' weights multiply the emission per point (a program)
+                term, lookup = _emission_term(leaf, "Color", "Strength", weight, log, name, textures)
+                program = emission_under_factors(sphrect, lookup, factors)
+                if program is not None:
+                    textured_emission.append((term, program))
+                else:
+                    log.unsupported_feature(constant_emission, name)
+                    emission += _emission(leaf, "Color", "Strength", weight * textures.factor_mean(factors), log,
+                                          name, textures)
             else:
                 term, lookup = _emission_term(leaf, "Color", "Strength", weight, log, name, textures)
                 if lookup is None:
@@ -413,12 +477,16 @@ def _shader(sphrect, node, textures, log, name):
                                                 material=sphrect.Material(name=name, kind="holdout")))
         else:
             own, lookup, plain = _textured_emission(_bsdf(sphrect, leaf, textures, log, name))
-            if factors and any(c > 0 for c in own):
+            program = emission_under_factors(sphrect, lookup, factors) if factors and any(c > 0 for c in own) \
+                else None
+            if program is not None:
+                textured_emission.append((weight * np.asarray(own), program))
+            elif factors and any(c > 0 for c in own):
                 log.unsupported_feature(constant_emission, name)
                 if lookup is not None:
                     log.unsupported_feature("an emission Image Texture under a texture-driven Mix Shader factor (the "
                                             "image's mean colour used)", name)
-                    own = np.asarray(own) * np.asarray(textures.color_mean(lookup))
+                    own = np.asarray(own) * np.asarray(_color_mean(textures, lookup))
                 emission += weight * textures.factor_mean(factors) * np.asarray(own)
             elif lookup is not None:
                 textured_emission.append((weight * np.asarray(own), lookup))

@@ -16,6 +16,7 @@ channel count.  What Cycles 3.4 reads and how:
 import mathutils
 import numpy as np
 
+from ...native import load_sphrect
 from .node_groups import CyclesNode, CyclesSocket, resolve, wrap_node
 
 # Cycles' colour for an image it cannot read (kernel/svm/image.h TEX_IMAGE_MISSING_R/G/B/A).
@@ -50,8 +51,17 @@ def lookups_of(material):
     if material.normal_map is not None:
         found.append(material.normal_map)
     for layer in material.layers:
-        found.extend(f.lookup for f in layer.factors)
+        found.extend(f.lookup for f in layer.factors if f.lookup is not None)
         found.extend(lookups_of(layer.material))
+    return found
+
+
+def programs_of(material):
+    """Every NodeProgram a sphrect.Material runs (its inputs', its layers' and their mix factors')."""
+    found = list(material.programs.values())
+    for layer in material.layers:
+        found.extend(f.program for f in layer.factors if f.program is not None)
+        found.extend(programs_of(layer.material))
     return found
 
 
@@ -65,10 +75,18 @@ def is_anisotropic(material):
     return material.anisotropic != 0 or any(is_anisotropic(l.material) for l in material.layers)
 
 
+def _coordinates_read(program):
+    """The mesh coordinates ('uv', 'generated') a NodeProgram reads."""
+    names = load_sphrect().scene.NODE_GLOBALS
+    return {names[i.mode] for i in program.instructions if i.op == "global"} & {"uv", "generated"}
+
+
 def coordinates_needed(material):
     """The mesh coordinates ('uv', 'generated') a material reads; a normal map needs the UVs (its tangents), an
     anisotropic lobe the Generated coordinates (its radial tangent)."""
     needed = {lookup.coordinates for lookup in lookups_of(material)}
+    for program in programs_of(material):
+        needed |= _coordinates_read(program)
     if has_normal_map(material):
         needed.add("uv")
     if is_anisotropic(material):
@@ -159,6 +177,12 @@ class TextureExport:
         renderer cannot vary (an emission, a second Principled BSDF in a mix)."""
         result = 1.0
         for f in factors:
+            if f.program is not None:  # over the UV square (one reading images: 1/2)
+                from .node_program import program_mean
+                value = program_mean(self.sphrect, f.program)
+                mean = min(max(value[0], 0.0), 1.0) if value is not None else 0.5
+                result *= 1.0 - mean if f.complement else mean
+                continue
             mean = self._scalar_mean(f.lookup.texture, f.lookup.output)
             result *= 1.0 - mean if f.complement else mean
         return result

@@ -1,0 +1,553 @@
+"""A material input's shader node graph -> sphrect.NodeProgram, as Cycles 3.4 compiles a graph into SVM code
+(scene/svm.cpp, each node's compile in scene/shader_nodes.cpp) for the renderer to run per hit (render/svm/).
+
+The compiler walks the graph behind one input along the links Cycles follows (node_groups.py: reroutes, muted nodes,
+groups, invalid links left out), depth first from the input, and emits each node's instructions once, after those
+of the nodes it reads -- however many paths reach it (a shared sub-graph is one set of instructions; a graph of n
+nodes compiles in O(n)).  Every node output gets a register (three floats); a link between sockets of different
+types converts as Cycles' svm_node_convert does (a colour to a float by its luminance, a vector by its mean, a float
+to a colour or vector by repeating it).  An unlinked input is a constant instruction of its own value.
+
+A node the compiler does not know is warned, naming it and the value used instead: the input it feeds reads its
+own value, as before programs existed.  Adding a node: an entry in _NODE_COMPILERS (bl_idname -> a function of the
+compiler and the node returning its outputs' registers), emitting the op that render/svm/program.h defines for it
+(a new op there: its NodeOp, kNodeOpNames entry and evaluate.cpp case).  Node families other helpers add
+(procedural textures, shading inputs, colour nodes) go in the marked place at the end of this file."""
+import dataclasses
+
+import numpy as np
+
+from .textures import follow_reroutes
+
+# The renderer's value types: 'float' (a register's x), 'color' and 'vector' (its three floats).
+_SOCKET_TYPES = {"VALUE": "float", "INT": "float", "BOOLEAN": "float", "RGBA": "color", "VECTOR": "vector"}
+# Cycles' RAMP_TABLE_SIZE: a ColorRamp is baked into this many evenly spaced colours (blender/shader.cpp).
+RAMP_TABLE_SIZE = 256
+
+
+class NotCompiled(Exception):
+    """A node output the compiler cannot give (the message names it and why)."""
+
+
+def socket_type(socket):
+    return _SOCKET_TYPES.get(socket.type, "float")
+
+
+class ProgramCompiler:
+    """Compiles inputs of one material's node graph (compile); the images its Image Texture nodes read go to
+    `textures` (a TextureExport); `log` and `owner` for warnings."""
+
+    def __init__(self, sphrect, textures, log, owner):
+        self.sphrect, self.textures, self.log, self.owner = sphrect, textures, log, owner
+        self.names = sphrect.scene
+
+    def compile(self, socket, want=None):
+        """The NodeProgram of input `socket` (wrapped), its result of type `want` (default: the socket's own), or
+        None past MAX_NODE_REGISTERS (warned); unknown nodes on the way are warned, their inputs' own values used."""
+        def body():
+            reg, kind = self.input(socket)
+            return self._convert(reg, kind, want or socket_type(socket))
+        return self._program(body, f"'{socket.name}'")
+
+    def compile_product(self, color_socket, strength_socket):
+        """The program of colour x strength (an emission's), or None past MAX_NODE_REGISTERS (warned)."""
+        def body():
+            color, strength = self.input(color_socket, "color")[0], self.input(strength_socket, "float")[0]
+            return self.emit("scale", [color, strength], 1)[0]
+        return self._program(body, "an emission")
+
+    def _program(self, body, what):
+        """The NodeProgram whose instructions body() emits, returning its result's register."""
+        self._code, self._data, self._outputs, self._constants, self._visiting = [], [], {}, {}, set()
+        self._registers = 0
+        try:
+            output = body()
+        except _TooManyRegisters:
+            self.log.unsupported_feature(f"a node graph needing more than {self.names.MAX_NODE_REGISTERS} values on "
+                                         f"{what} (its own value used)", self.owner)
+            return None
+        return self.sphrect.NodeProgram(instructions=self._code, output=output, num_registers=self._registers,
+                                        data=self._data)
+
+    # -- building blocks ------------------------------------------------------------------------------------------
+
+    def register(self):
+        if self._registers >= self.names.MAX_NODE_REGISTERS:
+            raise _TooManyRegisters()
+        self._registers += 1
+        return self._registers - 1
+
+    def emit(self, op, inputs, outputs, mode=0, flags=0, data=0, size=0, value=(0.0, 0.0, 0.0)):
+        """Appends an instruction; `outputs` registers are allocated here (a count), returned as a list."""
+        out = [self.register() for _ in range(outputs)]
+        self._code.append(self.sphrect.NodeInstruction(op=op, regs=list(inputs) + out, mode=int(mode),
+                                                       flags=int(flags), data=int(data), size=int(size),
+                                                       value=tuple(float(v) for v in value)))
+        return out
+
+    def constant(self, value, kind):
+        """A register holding `value` (a float, or three floats), shared by equal constants."""
+        v = (float(value),) * 3 if np.ndim(value) == 0 else tuple(float(x) for x in list(value)[:3])
+        if kind == "float":
+            v = (v[0], 0.0, 0.0)
+        if v not in self._constants:
+            self._constants[v] = self.emit("constant", [], 1, value=v)[0]
+        return self._constants[v]
+
+    def global_input(self, name):
+        """A register holding the hit's input `name` (one of NODE_GLOBALS), read once per program."""
+        key = ("global", name)
+        if key not in self._outputs:
+            self._outputs[key] = self.emit("global", [], 1, mode=self.names.NODE_GLOBALS.index(name))[0]
+        return self._outputs[key]
+
+    def table(self, values):
+        """Offset of `values` appended to the program's data."""
+        offset = len(self._data)
+        self._data.extend(float(v) for v in values)
+        return offset
+
+    def _convert(self, reg, kind, want):
+        if kind == want or {kind, want} == {"color", "vector"}:
+            return reg
+        if want == "float":
+            mode = "color_to_float" if kind == "color" else "vector_to_float"
+        else:
+            mode = "float_to_vector"
+        return self.emit("convert", [reg], 1, mode=self.names.NODE_CONVERSIONS.index(mode))[0]
+
+    # -- the graph ------------------------------------------------------------------------------------------------
+
+    def input(self, socket, want=None):
+        """(register, type) of node input `socket` (wrapped): what feeds it, converted to the socket's type as the
+        link does, or its own value; then as `want` (default: the socket's type)."""
+        own = socket_type(socket)
+        want = want or own
+        node, output = follow_reroutes(socket)
+        if node is not None:
+            try:
+                reg, kind = self.output(node, output)
+                # The link converts to the input's type (svm_node_convert), the node then reads it as `want`.
+                return self._convert(self._convert(reg, kind, own), own, want), want
+            except NotCompiled as e:
+                self.log.unsupported_feature(f"{e} on '{socket.name}' (its own value used)", self.owner)
+        return self.constant(_own_value(socket), want), want
+
+    def input_named(self, node, identifier, want=None):
+        socket = next((s for s in node.inputs if s.identifier == identifier), None)
+        if socket is None:
+            raise NotCompiled(f"'{node.bl_label or node.bl_idname}' node without an input '{identifier}'")
+        return self.input(socket, want)[0]
+
+    def output(self, node, output):
+        """(register, type) of `output` of `node` (both wrapped), its node compiled on first use."""
+        key = (node.key, output.identifier)
+        if key not in self._outputs:
+            if node.key in self._visiting:  # Blender marks a cycle's closing link invalid: not reached normally
+                raise NotCompiled(f"a cycle through '{node.name}'")
+            compile_node = _NODE_COMPILERS.get(node.bl_idname)
+            if compile_node is None:
+                raise NotCompiled(f"'{node.bl_label or node.bl_idname}' node")
+            self._visiting.add(node.key)
+            try:
+                outputs = compile_node(self, node)
+            finally:
+                self._visiting.discard(node.key)
+            for identifier, value in outputs.items():
+                self._outputs[(node.key, identifier)] = value
+            if key not in self._outputs:
+                raise NotCompiled(f"'{node.bl_label or node.bl_idname}' node's output '{output.name}'")
+        return self._outputs[key]
+
+
+class _TooManyRegisters(Exception):
+    pass
+
+
+def _own_value(socket):
+    value = socket.default_value
+    try:
+        return tuple(float(v) for v in value)
+    except TypeError:
+        return float(value)
+
+
+def _index(names, value, what, node):
+    if value not in names:
+        raise NotCompiled(f"'{node.bl_label}' node's {what} '{value}'")
+    return names.index(value)
+
+
+# -- node compilers: (compiler, node) -> {output identifier: (register, type)} ----------------------------------------
+
+def _value(c, node):
+    return {"Value": (c.constant(node.outputs[0].default_value, "float"), "float")}
+
+
+def _rgb(c, node):
+    return {"Color": (c.constant(node.outputs[0].default_value, "color"), "color")}
+
+
+def _texture_coordinate(c, node):
+    if node.from_instancer:
+        c.log.unsupported_feature("Texture Coordinate 'From Instancer' (the object's own used)", c.owner)
+    outputs = {"Generated": (c.global_input("generated"), "vector"), "UV": (c.global_input("uv"), "vector"),
+               "Normal": (c.global_input("object_normal"), "vector"),
+               "Reflection": (c.global_input("reflection"), "vector")}
+    if node.object is None:
+        outputs["Object"] = (c.global_input("object"), "vector")
+    else:  # another object's space: its inverse transform of the position, a constant map
+        inverse = np.linalg.pinv(np.array(node.object.matrix_world, dtype=np.float64))
+        reg = c.emit("transform", [c.global_input("position")], 1, data=c.table(inverse[:3].ravel()))[0]
+        outputs["Object"] = (reg, "vector")
+    camera = _scene_camera()
+    if camera is not None:  # Cycles' camera space: Blender's camera matrix with z flipped (+z ahead)
+        world_to_camera = np.diag([1.0, 1.0, -1.0, 1.0]) @ np.linalg.inv(np.array(camera.matrix_world, np.float64))
+        reg = c.emit("transform", [c.global_input("position")], 1, data=c.table(world_to_camera[:3].ravel()))[0]
+        outputs["Camera"] = (reg, "vector")
+        reg = c.emit("project", [c.global_input("position")], 1, data=c.table(_world_to_window(camera).ravel()))[0]
+        outputs["Window"] = (reg, "vector")
+    return outputs
+
+
+def _scene_camera():
+    """The scene's camera (Camera and Window coordinates are the render camera's), or None."""
+    try:
+        import bpy
+        return bpy.context.scene.camera
+    except (ImportError, AttributeError):
+        return None
+
+
+def _world_to_window(camera):
+    """The 4x4 map from the world to Window coordinates (Cycles' camera_world_to_ndc: the frame [0, 1]^2 from its
+    bottom left, z 0) after the division by its last row: Blender's view and projection of the render's frame."""
+    import bpy
+    scene = bpy.context.scene
+    render = scene.render
+    width, height = render.resolution_x * render.resolution_percentage / 100, \
+        render.resolution_y * render.resolution_percentage / 100
+    projection = np.array(camera.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=int(width),
+                                                    y=int(height), scale_x=render.pixel_aspect_x,
+                                                    scale_y=render.pixel_aspect_y), np.float64)
+    clip = projection @ np.linalg.inv(np.array(camera.matrix_world, np.float64))
+    window = np.zeros((4, 4))
+    window[0] = 0.5 * (clip[0] + clip[3])  # x in [-1, 1] -> [0, 1]
+    window[1] = 0.5 * (clip[1] + clip[3])
+    window[3] = clip[3]
+    return window
+
+
+def _uv_map(c, node):
+    if node.from_instancer:
+        c.log.unsupported_feature("UV Map 'From Instancer' (the object's own used)", c.owner)
+    c.textures.name_uv_map(node.uv_map, c.owner)
+    return {"UV": (c.global_input("uv"), "vector")}
+
+
+def _geometry(c, node):
+    return {"Position": (c.global_input("position"), "vector"), "Normal": (c.global_input("normal"), "vector"),
+            "True Normal": (c.global_input("true_normal"), "vector"),
+            "Incoming": (c.global_input("incoming"), "vector"),
+            "Backfacing": (c.global_input("backfacing"), "float")}
+
+
+def _math(c, node):
+    a, b, d = (c.input(s, "float")[0] for s in list(node.inputs)[:3])
+    mode = _index(c.names.NODE_MATH_OPS, node.operation, "operation", node)
+    return {"Value": (c.emit("math", [a, b, d], 1, mode=mode, flags=node.use_clamp)[0], "float")}
+
+
+def _mix_rgb(c, node):
+    """The legacy Mix RGB node (Cycles' MixNode): its factor always clamped, the result when use_clamp."""
+    fac, a, b = c.input(node.inputs["Fac"], "float")[0], c.input(node.inputs["Color1"])[0], \
+        c.input(node.inputs["Color2"])[0]
+    mode = _index(c.names.NODE_MIX_BLENDS, node.blend_type, "blend type", node)
+    reg = c.emit("mix_color", [fac, a, b], 1, mode=mode, flags=1 | (2 if node.use_clamp else 0))[0]
+    return {"Color": (reg, "color")}
+
+
+def _mix(c, node):
+    """The Mix node (Cycles' MixColorNode, MixFloatNode, MixVectorNode, MixVectorNonUniformNode)."""
+    clamp = 1 if node.clamp_factor else 0
+    if node.data_type == "RGBA":
+        fac = c.input_named(node, "Factor_Float", "float")
+        a, b = c.input_named(node, "A_Color", "color"), c.input_named(node, "B_Color", "color")
+        mode = _index(c.names.NODE_MIX_BLENDS, node.blend_type, "blend type", node)
+        reg = c.emit("mix_color", [fac, a, b], 1, mode=mode, flags=clamp | (2 if node.clamp_result else 0))[0]
+        return {"Result_Color": (reg, "color")}
+    if node.data_type == "FLOAT":
+        fac = c.input_named(node, "Factor_Float", "float")
+        a, b = c.input_named(node, "A_Float", "float"), c.input_named(node, "B_Float", "float")
+        return {"Result_Float": (c.emit("mix_float", [fac, a, b], 1, flags=clamp)[0], "float")}
+    if node.data_type == "VECTOR":
+        uniform = node.factor_mode == "UNIFORM"
+        fac = c.input_named(node, "Factor_Float", "float") if uniform else \
+            c.input_named(node, "Factor_Vector", "vector")
+        a, b = c.input_named(node, "A_Vector", "vector"), c.input_named(node, "B_Vector", "vector")
+        reg = c.emit("mix_vector", [fac, a, b], 1, mode=0 if uniform else 1, flags=clamp)[0]
+        return {"Result_Vector": (reg, "vector")}
+    raise NotCompiled(f"Mix node of type '{node.data_type}'")
+
+
+def _color_ramp(c, node):
+    """Baked into RAMP_TABLE_SIZE colours at i / (size - 1) by Blender's own evaluation, as Cycles' sync does
+    (colorramp_to_array): every interpolation and colour mode; linear interpolation between the entries unless
+    Constant."""
+    ramp = node.color_ramp
+    rows = [ramp.evaluate(i / (RAMP_TABLE_SIZE - 1)) for i in range(RAMP_TABLE_SIZE)]
+    offset = c.table(np.asarray(rows, dtype=np.float64).ravel())
+    fac = c.input(node.inputs["Fac"], "float")[0]
+    color, alpha = c.emit("color_ramp", [fac], 2, flags=ramp.interpolation != "CONSTANT", data=offset,
+                          size=RAMP_TABLE_SIZE)
+    return {"Color": (color, "color"), "Alpha": (alpha, "float")}
+
+
+def _invert(c, node):
+    fac, color = c.input(node.inputs["Fac"], "float")[0], c.input(node.inputs["Color"], "color")[0]
+    return {"Color": (c.emit("invert", [fac, color], 1)[0], "color")}
+
+
+def _clamp(c, node):
+    value, lo, hi = (c.input(node.inputs[n], "float")[0] for n in ("Value", "Min", "Max"))
+    mode = _index(c.names.NODE_CLAMP_TYPES, node.clamp_type, "type", node)
+    return {"Result": (c.emit("clamp", [value, lo, hi], 1, mode=mode)[0], "float")}
+
+
+def _map_range(c, node):
+    if node.data_type != "FLOAT":
+        raise NotCompiled(f"Map Range of type '{node.data_type}'")
+    regs = [c.input_named(node, n, "float") for n in ("Value", "From Min", "From Max", "To Min", "To Max", "Steps")]
+    mode = _index(c.names.NODE_MAP_RANGE_TYPES, node.interpolation_type, "interpolation", node)
+    return {"Result": (c.emit("map_range", regs, 1, mode=mode, flags=node.clamp)[0], "float")}
+
+
+def _separate(model, input_name, output_names, input_type):
+    def compile_node(c, node):
+        mode = model if model is not None else node.mode
+        reg = c.input(node.inputs[input_name], input_type)[0]
+        outs = c.emit("separate", [reg], 3, mode=_index(c.names.NODE_COLOR_MODELS, mode, "mode", node))
+        return {name: (r, "float") for name, r in zip(output_names, outs)}
+    return compile_node
+
+
+def _combine(model, input_names, output_name, output_type):
+    def compile_node(c, node):
+        mode = model if model is not None else node.mode
+        regs = [c.input(node.inputs[n], "float")[0] for n in input_names]
+        reg = c.emit("combine", regs, 1, mode=_index(c.names.NODE_COLOR_MODELS, mode, "mode", node))[0]
+        return {output_name: (reg, output_type)}
+    return compile_node
+
+
+def _rgb_to_bw(c, node):
+    return {"Val": (c.input(node.inputs["Color"], "float")[0], "float")}  # the colour's luminance
+
+
+def _mapping(c, node):
+    regs = [c.input(node.inputs[n], "vector")[0] for n in ("Vector", "Location", "Rotation", "Scale")]
+    mode = _index(c.names.NODE_MAPPING_TYPES, node.vector_type, "type", node)
+    return {"Vector": (c.emit("mapping", regs, 1, mode=mode)[0], "vector")}
+
+
+_IMAGE_INTERPOLATIONS = {"Linear": "linear", "Closest": "closest"}  # Cubic and Smart: 'linear', warned
+
+
+def _image_texture(c, node):
+    """An Image Texture node (Cycles' svm_node_tex_image, flat projection): its image as TextureExport.lookup keeps it
+    (the colour unassociated from its alpha where Cycles does so), read at its Vector input (unlinked: the UVs)."""
+    interpolation = _IMAGE_INTERPOLATIONS.get(node.interpolation)
+    if interpolation is None:
+        c.log.unsupported_feature(f"Image Texture interpolation '{node.interpolation}' (Linear used)", c.owner)
+        interpolation = "linear"
+    if node.projection != "FLAT":
+        c.log.unsupported_feature(f"Image Texture projection '{node.projection}' (Flat used)", c.owner)
+    vector = node.inputs["Vector"]
+    coords = c.input(vector, "vector")[0] if follow_reroutes(vector)[0] is not None else c.global_input("uv")
+    tree = node.groups[0].id_data if node.groups else node.id_data
+    alpha_used = (node.key, "Alpha") in c.textures._reached_outputs(tree)
+    texture = c.textures.texture_of(node.image, c.owner, unassociated=alpha_used)
+    color, alpha = c.emit("image", [coords], 2, mode=c.names.TEXTURE_INTERPOLATIONS.index(interpolation),
+                          flags=c.names.TEXTURE_EXTENSIONS.index(node.extension.lower()), data=texture)
+    return {"Color": (color, "color"), "Alpha": (alpha, "float")}
+
+
+_NODE_COMPILERS = {
+    "ShaderNodeValue": _value,
+    "ShaderNodeRGB": _rgb,
+    "ShaderNodeTexCoord": _texture_coordinate,
+    "ShaderNodeUVMap": _uv_map,
+    "ShaderNodeNewGeometry": _geometry,
+    "ShaderNodeMath": _math,
+    "ShaderNodeMixRGB": _mix_rgb,
+    "ShaderNodeMix": _mix,
+    "ShaderNodeValToRGB": _color_ramp,
+    "ShaderNodeInvert": _invert,
+    "ShaderNodeClamp": _clamp,
+    "ShaderNodeMapRange": _map_range,
+    "ShaderNodeSeparateRGB": _separate("RGB", "Image", ("R", "G", "B"), "color"),
+    "ShaderNodeSeparateXYZ": _separate("RGB", "Vector", ("X", "Y", "Z"), "vector"),
+    "ShaderNodeSeparateHSV": _separate("HSV", "Color", ("H", "S", "V"), "color"),
+    "ShaderNodeSeparateColor": _separate(None, "Color", ("Red", "Green", "Blue"), "color"),
+    "ShaderNodeCombineRGB": _combine("RGB", ("R", "G", "B"), "Image", "color"),
+    "ShaderNodeCombineXYZ": _combine("RGB", ("X", "Y", "Z"), "Vector", "vector"),
+    "ShaderNodeCombineHSV": _combine("HSV", ("H", "S", "V"), "Color", "color"),
+    "ShaderNodeCombineColor": _combine(None, ("Red", "Green", "Blue"), "Color", "color"),
+    "ShaderNodeRGBToBW": _rgb_to_bw,
+    "ShaderNodeMapping": _mapping,
+    "ShaderNodeTexImage": _image_texture,
+    # Procedural textures (render/svm/procedural_textures.h), shading inputs (shading_nodes.h) and colour nodes
+    # (color_nodes.h) are added here: "ShaderNodeTexNoise": _noise_texture, ... -- each a function emitting its op.
+}
+
+
+def compilable(socket):
+    """Whether a node the compiler knows feeds input `socket` (wrapped)."""
+    node, _ = follow_reroutes(socket)
+    return node is not None and node.bl_idname in _NODE_COMPILERS
+
+
+def program_globals(sphrect, program):
+    """The NODE_GLOBALS a program reads (the exporter gives meshes the coordinates and object transform they need)."""
+    names = sphrect.scene.NODE_GLOBALS
+    return {names[i.mode] for i in program.instructions if i.op == "global"}
+
+
+def varies(program):
+    """Whether a program's result depends on the hit (it reads the hit or an image): else it is a constant."""
+    return any(i.op in {"global", "image"} for i in program.instructions)
+
+
+def constant_of(sphrect, program):
+    """The value of a program that does not vary (varies() false), as a float 3-tuple."""
+    return tuple(sphrect._native._eval_node_program(dataclasses.asdict(program), (0, 0, 0), (0, 0, 0),
+                                                    (0, 0, 0)))
+
+
+def compile_socket(sphrect, textures, log, owner, socket, want=None):
+    """(NodeProgram, None) for input `socket` (wrapped) when its graph varies over the surface, (None, value) when it
+    folds to a constant (a float, or an RGB tuple), (None, None) when nothing the compiler knows feeds it."""
+    if socket is None or not compilable(socket):
+        return None, None
+    program = ProgramCompiler(sphrect, textures, log, owner).compile(socket, want)
+    if program is None:
+        return None, None
+    if varies(program):
+        return program, None
+    value = constant_of(sphrect, program)
+    return None, value[0] if (want or socket_type(socket)) == "float" else value
+
+
+def compile_product(sphrect, textures, log, owner, color_socket, strength_socket):
+    """(NodeProgram of colour x strength, None), or (None, None) when neither varies: an emission's radiance."""
+    if not compilable(color_socket) and not compilable(strength_socket):
+        return None, None  # nothing known feeds them (the caller warns of what does)
+    compiler = ProgramCompiler(sphrect, textures, log, owner)
+    program = compiler.compile_product(color_socket, strength_socket)
+    return (program, None) if program is not None and varies(program) else (None, None)
+
+
+def program_mean(sphrect, program, samples=8):
+    """A program's mean colour over the UV and Generated square (samples^2 points), where it must stand for a
+    constant; None for a program that reads images (not evaluated here)."""
+    if any(i.op == "image" for i in program.instructions):
+        return None
+    fields = dataclasses.asdict(program)
+    total = np.zeros(3)
+    for j in range(samples):
+        for i in range(samples):
+            uv = ((i + 0.5) / samples, (j + 0.5) / samples, 0.0)
+            total += sphrect._native._eval_node_program(fields, uv, uv, uv)
+    return tuple(float(x) for x in total / samples**2)
+
+
+class _Composer:
+    """Programs joined into one (their registers and tables moved past the ones before), and instructions on their
+    results: an emission under Mix Shader factors (emission_under_factors)."""
+
+    def __init__(self, sphrect):
+        self.sphrect, self.names = sphrect, sphrect.scene
+        self.code, self.data, self.registers = [], [], 0
+
+    def append(self, program):
+        """The register of `program`'s result once appended."""
+        base, data_base = self.registers, len(self.data)
+        for i in program.instructions:
+            regs = [r + base if r >= 0 else -1 for r in i.regs]
+            data = i.data + data_base if i.op in {"color_ramp", "transform"} else i.data
+            self.code.append(dataclasses.replace(i, regs=regs, data=data))
+        self.data.extend(program.data)
+        self.registers += program.num_registers
+        return program.output + base
+
+    def emit(self, op, inputs, outputs=1, mode=0, flags=0, data=0, value=(0.0, 0.0, 0.0)):
+        out = list(range(self.registers, self.registers + outputs))
+        self.registers += outputs
+        self.code.append(self.sphrect.NodeInstruction(op=op, regs=list(inputs) + out, mode=mode, flags=flags,
+                                                      data=data, value=tuple(float(v) for v in value)))
+        return out[0] if outputs == 1 else out
+
+    def lookup(self, lookup):
+        """(colour register, alpha register) of a TextureLookup at its coordinates through its transform."""
+        coords = self.emit("global", [], mode=self.names.NODE_GLOBALS.index(lookup.coordinates))
+        offset = len(self.data)
+        self.data.extend(float(v) for row in lookup.transform for v in row)
+        mapped = self.emit("transform", [coords], data=offset)
+        return self.emit("image", [mapped], 2, mode=self.names.TEXTURE_INTERPOLATIONS.index(lookup.interpolation),
+                         flags=self.names.TEXTURE_EXTENSIONS.index(lookup.extension), data=lookup.texture)
+
+    def color(self, source):
+        """The register of a TextureLookup's colour (its alpha as grey) or a NodeProgram's result."""
+        if isinstance(source, self.sphrect.NodeProgram):
+            return self.append(source)
+        color, alpha = self.lookup(source)
+        if source.output != "alpha":
+            return color
+        return self.emit("convert", [alpha], mode=self.names.NODE_CONVERSIONS.index("float_to_vector"))
+
+    def factor(self, factor):
+        """The register of a MixFactor's weight: its scalar clamped to [0, 1] (svm_node_mix_closure), or 1 minus."""
+        if factor.program is not None:
+            value = self.append(factor.program)
+        else:
+            color, alpha = self.lookup(factor.lookup)
+            value = alpha if factor.lookup.output == "alpha" else \
+                self.emit("convert", [color], mode=self.names.NODE_CONVERSIONS.index("color_to_float"))
+        zero, one = self.emit("constant", [], value=(0, 0, 0)), self.emit("constant", [], value=(1, 0, 0))
+        value = self.emit("clamp", [value, zero, one], mode=self.names.NODE_CLAMP_TYPES.index("MINMAX"))
+        if factor.complement:
+            value = self.emit("math", [one, value, zero], mode=self.names.NODE_MATH_OPS.index("SUBTRACT"))
+        return value
+
+    def program(self, output):
+        if self.registers > self.names.MAX_NODE_REGISTERS:
+            return None
+        return self.sphrect.NodeProgram(instructions=self.code, output=output, num_registers=self.registers,
+                                        data=self.data)
+
+
+def emission_sum(sphrect, constant, terms):
+    """The NodeProgram of a constant emission (RGB) plus terms [(RGB scale, TextureLookup or NodeProgram)]: several
+    textured or graph-driven emissions of one material as one (the renderer's emitter is one program times a
+    constant).  None past MAX_NODE_REGISTERS."""
+    c = _Composer(sphrect)
+    blends = sphrect.scene.NODE_MIX_BLENDS
+    one = c.emit("constant", [], value=(1, 0, 0))
+    total = c.emit("constant", [], value=constant)
+    for scale, source in terms:
+        color = c.color(source)
+        scaled = c.emit("mix_color", [one, color, c.emit("constant", [], value=scale)], mode=blends.index("MULTIPLY"))
+        total = c.emit("mix_color", [one, total, scaled], mode=blends.index("ADD"))  # a + b at factor 1
+    return c.program(total)
+
+
+def emission_under_factors(sphrect, emission, factors):
+    """The NodeProgram of an emission (None: white; a TextureLookup's colour, its alpha as grey; a NodeProgram's
+    colour) times the weights of the texture- or graph-driven Mix Shader factors above it: the renderer varies it
+    per point, so an emitter under such a mix keeps its light (the factors' lobes keep theirs: MixFactor).  None
+    past MAX_NODE_REGISTERS."""
+    c = _Composer(sphrect)
+    color = c.emit("constant", [], value=(1, 1, 1)) if emission is None else c.color(emission)
+    for f in factors:
+        color = c.emit("scale", [color, c.factor(f)])
+    return c.program(color)

@@ -1,0 +1,71 @@
+// What a node program reads of a hit (svm::ShaderGlobals, as Cycles' ShaderData): from a camera ray's surface hit,
+// and from a point of an emissive mesh that a light sample or a BSDF ray finds.  Only materials with programs come
+// here (the cold per-hit material path).
+#pragma once
+
+#include "render/svm/program.h"
+#include "surface_hit.h"
+
+namespace sphrect::render {
+
+// The mesh's object coordinates of world point p: its object's inverse transform (the world's own without one).
+inline Vec3f ObjectPoint(const MeshData& m, const Vec3f& p) {
+    return m.has_object_linear ? Apply3x3(m.object_linear_inverse, p - m.object_translation) : p;
+}
+// A world normal n in the object's space, as Cycles' object_inverse_normal_transform: L^T n, normalised.
+inline Vec3f ObjectNormal(const MeshData& m, const Vec3f& n) {
+    if (!m.has_object_linear) return n;
+    const Vec3f o = Apply3x3Transposed(m.object_linear, n);
+    const float len = Length(o);
+    return len > 0 ? o / len : o;
+}
+
+// Hit h of a textured material (MakeSurfaceHit ran AddHitExtras: h.mesh and h.incoming are set).
+inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
+    svm::ShaderGlobals sg;
+    sg.p = h.p;
+    sg.n = h.ns;
+    sg.ng = h.ng;
+    sg.incoming = Vec3f(h.incoming[0], h.incoming[1], h.incoming[2]);
+    sg.uv = h.tc.uv;
+    sg.generated = h.tc.generated;
+    sg.object = ObjectPoint(*h.mesh, h.p);
+    sg.object_normal = ObjectNormal(*h.mesh, h.ns);
+    sg.backfacing = h.backfacing;
+    sg.ray_length = h.t;
+    return sg;
+}
+
+// The unit normal of triangle `prim` of mesh m, on the side Blender's winding gives.
+inline Vec3f TriangleNormal(const MeshData& m, uint32_t prim) {
+    const uint32_t* t = &m.triangles[3 * size_t(prim)];
+    auto vertex = [&](uint32_t v) { return Vec3f(m.vertices[3 * v], m.vertices[3 * v + 1], m.vertices[3 * v + 2]); };
+    const Vec3f v0 = vertex(t[0]);
+    const Vec3f n = Cross(vertex(t[1]) - v0, vertex(t[2]) - v0);
+    const float len = Length(n);
+    return len > 0 ? n / len : Vec3f(0, 0, 1);
+}
+
+// Point p at barycentrics (b1, b2) of triangle `prim` of mesh m, seen from direction `toward` (unit, from the
+// surface towards the viewer) at distance `distance`: the flat triangle's normal facing the viewer, as a light's
+// surface is set up in Cycles (shader_setup_from_sample: no smooth normal of an emitter's triangle here).
+inline svm::ShaderGlobals TriangleShaderGlobals(const MeshData& m, uint32_t prim, float b1, float b2, const Vec3f& p,
+                                                const Vec3f& toward, float distance) {
+    const uint32_t* t = &m.triangles[3 * size_t(prim)];
+    Vec3f n = TriangleNormal(m, prim);
+    svm::ShaderGlobals sg;
+    sg.backfacing = Dot(n, toward) < 0;
+    if (sg.backfacing) n = -n;
+    sg.p = p;
+    sg.n = sg.ng = n;
+    sg.incoming = toward;
+    const TextureCoordinates tc = InterpolateTextureCoordinates(m, t[0], t[1], t[2], 1 - b1 - b2, b1, b2);
+    sg.uv = tc.uv;
+    sg.generated = tc.generated;
+    sg.object = ObjectPoint(m, p);
+    sg.object_normal = ObjectNormal(m, n);
+    sg.ray_length = distance;
+    return sg;
+}
+
+}  // namespace sphrect::render

@@ -1,0 +1,111 @@
+// A node program: a material input's shader node graph compiled once (by the Blender exporter,
+// addon/sphrect_blender/io/exporter/node_program.py) into a flat list of instructions over a register file, which
+// the renderer runs per hit (evaluate.h), as Cycles 3.4 compiles a shader graph into SVM code (scene/svm.cpp) and
+// runs it per shading point (kernel/svm/svm.h).  Each register holds a float3 (a float in x); constants are
+// instructions of their own; every node is compiled once however many paths reach it.
+//
+// Adding a node: a value in NodeOp (and its name in kNodeOpNames, the scene format's), its operand layout in the
+// table below, a case in EvalNodeInstruction (evaluate.cpp) calling the node family's pure function (a header here:
+// math_nodes.h, mix_nodes.h, ... procedural_textures.h, shading_nodes.h, color_nodes.h), and a compiler function in
+// node_program.py's _NODE_COMPILERS.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "render/sampling_util.h"
+
+namespace sphrect::render::svm {
+
+// The instructions.  Operands are register indices in NodeInstruction::reg, inputs first, then outputs
+// (kNoRegister: an output nobody reads); `mode` selects the node's operation, `flags` its options.
+enum class NodeOp : uint8_t {
+    kConstant,   // out0 = value
+    kGlobal,     // out0 = the hit's input `mode` (ShaderGlobal)
+    kConvert,    // out1 = in0 converted (mode: NodeConversion), as Cycles converts a link between socket types
+    kMath,       // out3 = Math (mode: kMathOpNames) of in0, in1, in2; flags & 1: clamp to [0, 1]
+    kMixColor,   // out3 = Mix (mode: kMixBlendNames) of factor in0, colours in1, in2; flags: 1 clamp factor, 2 result
+    kMixFloat,   // out3 = in1 (1 - t) + in2 t, t = factor in0 (flags & 1: clamped)
+    kMixVector,  // out3 = in1 (1 - t) + in2 t per component, t = in0 (mode 1: per component); flags & 1: clamped
+    kColorRamp,  // out1 colour, out2 alpha of a ramp table (data: offset, size RGBA rows) at in0; flags & 1: lerp
+    kInvert,     // out2 = in1 mixed with 1 - in1 by factor in0
+    kClamp,      // out3 = in0 clamped to [in1, in2] (mode 1, 'RANGE': the bounds swapped if reversed)
+    kMapRange,   // out6 = Map Range (mode: kMapRangeNames) of value in0, from in1..in2 to in3..in4, steps in5
+    kSeparate,   // out1, out2, out3 = components of in0 (mode: kColorModelNames; XYZ and RGB are 'RGB')
+    kCombine,    // out3 = (in0, in1, in2) in colour model `mode` (kColorModelNames)
+    kMapping,    // out4 = Mapping (mode: kMappingTypeNames) of vector in0, location in1, rotation in2, scale in3
+    kImage,      // out1 colour, out2 alpha of image `data` at in0 (mode: interpolation, flags: extension)
+    kTransform,  // out1 = the 3x4 affine map at data (12 floats, row-major) applied to point in0
+    kScale,      // out2 = in0 * in1.x (an emission's colour times its strength)
+    kProject,    // out1 = (M (in0, 1)).xyz / (M (in0, 1)).w, M the 4x4 map at data (16 floats, row-major)
+    kCount
+};
+constexpr const char* kNodeOpNames[] = {"constant",   "global",     "convert", "math",      "mix_color", "mix_float",
+                                        "mix_vector", "color_ramp", "invert",  "clamp",     "map_range", "separate",
+                                        "combine",    "mapping",    "image",   "transform", "scale",     "project"};
+static_assert(sizeof(kNodeOpNames) / sizeof(*kNodeOpNames) == size_t(NodeOp::kCount));
+
+// What a hit gives a program (kGlobal's mode), as Cycles' ShaderData does: position, shading normal (facing the
+// incoming ray), true (geometric) normal, incoming direction I (towards where the ray came from), the mesh's UV
+// (u, v, 0) and Generated coordinates, the position and shading normal in the object's space (Texture Coordinate's
+// Object and Normal), the reflected incoming direction 2 (N.I) N - I, backfacing (1 or 0), the ray's length.
+enum class ShaderGlobal : uint8_t {
+    kPosition,
+    kNormal,
+    kTrueNormal,
+    kIncoming,
+    kUv,
+    kGenerated,
+    kObject,
+    kObjectNormal,
+    kReflection,
+    kBackfacing,
+    kRayLength,
+    kCount
+};
+constexpr const char* kShaderGlobalNames[] = {"position",   "normal",     "true_normal", "incoming",
+                                              "uv",         "generated",  "object",      "object_normal",
+                                              "reflection", "backfacing", "ray_length"};
+static_assert(sizeof(kShaderGlobalNames) / sizeof(*kShaderGlobalNames) == size_t(ShaderGlobal::kCount));
+
+// A link between sockets of different types (Cycles' svm_node_convert): a colour to a float by its luminance
+// (linear_rgb_to_gray), a vector to a float by its components' mean, a float to a colour or vector by repeating it.
+enum class NodeConversion : uint8_t { kColorToFloat, kVectorToFloat, kFloatToVector, kCount };
+constexpr const char* kNodeConversionNames[] = {"color_to_float", "vector_to_float", "float_to_vector"};
+
+constexpr uint16_t kNoRegister = 0xFFFF;
+constexpr int kMaxNodeOperands = 7;
+constexpr int kMaxNodeRegisters = 255;  // as Cycles' SVM_STACK_SIZE (floats there, float3s here)
+
+struct NodeInstruction {
+    NodeOp op = NodeOp::kConstant;
+    uint8_t mode = 0;
+    uint8_t flags = 0;
+    uint16_t reg[kMaxNodeOperands] = {kNoRegister, kNoRegister, kNoRegister, kNoRegister,
+                                      kNoRegister, kNoRegister, kNoRegister};
+    int32_t data = 0, size = 0;  // an image's index; a table's offset into NodeProgram::data and its rows
+    Vec3f value;                 // kConstant
+};
+
+// One material input's program: its instructions in order, their tables, the register holding the result (a float
+// input reads its x) and how many registers it uses.  Empty: the input is not driven by a program.
+struct NodeProgram {
+    std::vector<NodeInstruction> code;
+    std::vector<float> data;
+    int output = 0;
+    int num_registers = 0;
+    bool empty() const { return code.empty(); }
+};
+
+// A hit as a program sees it (the evaluator reads what its kGlobal instructions ask for).  Where a hit kind lacks
+// one, Cycles' choice: an emitter found by a light sample has I towards the shading point and ray length the
+// distance; missing coordinates read zero.
+struct ShaderGlobals {
+    Vec3f p, n, ng, incoming;
+    Vec3f uv, generated;
+    Vec3f object, object_normal;
+    bool backfacing = false;
+    float ray_length = 0;
+};
+
+}  // namespace sphrect::render::svm
