@@ -12,8 +12,10 @@
 #include "core/enum_names.h"
 #include "numpy_arrays.h"
 #include "render/material.h"
+#include "render/svm/color_nodes.h"
 #include "render/svm/math_nodes.h"
 #include "render/svm/mix_nodes.h"
+#include "render/svm/procedural_textures.h"
 #include "render/svm/vector_nodes.h"
 
 namespace py = pybind11;
@@ -278,6 +280,16 @@ void BindMaterial(py::module_& m) {
     m.attr("node_map_range_types") = names(render::svm::kMapRangeNames);
     m.attr("node_color_models") = names(render::svm::kColorModelNames);
     m.attr("node_mapping_types") = names(render::svm::kMappingTypeNames);
+    m.attr("node_musgrave_types") = names(render::svm::kMusgraveTypeNames);
+    m.attr("node_voronoi_features") = names(render::svm::kVoronoiFeatureNames);
+    m.attr("node_voronoi_metrics") = names(render::svm::kVoronoiMetricNames);
+    m.attr("node_gradient_types") = names(render::svm::kGradientTypeNames);
+    m.attr("node_wave_types") = names(render::svm::kWaveTypeNames);
+    m.attr("node_wave_bands_directions") = names(render::svm::kWaveBandsDirectionNames);
+    m.attr("node_wave_rings_directions") = names(render::svm::kWaveRingsDirectionNames);
+    m.attr("node_wave_profiles") = names(render::svm::kWaveProfileNames);
+    m.attr("node_vector_math_ops") = names(render::svm::kVectorMathOpNames);
+    m.attr("node_vector_rotate_types") = names(render::svm::kVectorRotateTypeNames);
     m.attr("MAX_NODE_REGISTERS") = render::svm::kMaxNodeRegisters;
 
     m.def(

@@ -10,6 +10,8 @@
 #include <cmath>
 
 #include "core/vec3.h"
+#include "math_nodes.h"  // Saturate, SafeDivide, SafeModulo, Wrap
+#include "mix_nodes.h"   // RgbToHsv, HsvToRgb
 
 namespace sphrect::render::svm {
 
@@ -33,45 +35,8 @@ inline Vec3f XyzToRgb(const Vec3f& xyz) {
 inline float RgbToBw(const Vec3f& c) { return Dot(c, kRgbToY); }
 
 inline Vec3f MaxZero(const Vec3f& c) { return {std::max(c.x, 0.0f), std::max(c.y, 0.0f), std::max(c.z, 0.0f)}; }
-inline float Saturate(float x) { return std::min(std::max(x, 0.0f), 1.0f); }
 
 // ---- HSV (util/color.h: rgb_to_hsv, hsv_to_rgb) ----------------------------------------------------------------
-
-inline Vec3f RgbToHsv(const Vec3f& rgb) {
-    const float cmax = std::max(rgb.x, std::max(rgb.y, rgb.z));
-    const float cmin = std::min(rgb.x, std::min(rgb.y, rgb.z));
-    const float delta = cmax - cmin;
-    const float s = cmax != 0.0f ? delta / cmax : 0.0f;
-    float h = 0.0f;
-    if (s != 0.0f) {
-        const Vec3f c = (Vec3f(cmax, cmax, cmax) - rgb) / delta;
-        if (rgb.x == cmax)
-            h = c.z - c.y;
-        else if (rgb.y == cmax)
-            h = 2.0f + c.x - c.z;
-        else
-            h = 4.0f + c.y - c.x;
-        h /= 6.0f;
-        if (h < 0.0f) h += 1.0f;
-    }
-    return {h, s, cmax};
-}
-
-inline Vec3f HsvToRgb(const Vec3f& hsv) {
-    float h = hsv.x;
-    const float s = hsv.y, v = hsv.z;
-    if (s == 0.0f) return {v, v, v};
-    if (h == 1.0f) h = 0.0f;
-    h *= 6.0f;
-    const float i = std::floor(h), f = h - i;
-    const float p = v * (1.0f - s), q = v * (1.0f - s * f), t = v * (1.0f - s * (1.0f - f));
-    if (i == 0.0f) return {v, t, p};
-    if (i == 1.0f) return {q, v, p};
-    if (i == 2.0f) return {p, v, t};
-    if (i == 3.0f) return {p, q, v};
-    if (i == 4.0f) return {t, p, v};
-    return {v, p, q};  // i == 5, and whatever a hue outside [0, 1] gives
-}
 
 // Hue/Saturation/Value: the hue turned by hue - 0.5 (fmodf: a negative sum stays negative, as in Cycles), the
 // saturation scaled and clamped to [0, 1], the value scaled; mixed with the input by fac; negatives clamped to 0.
@@ -298,12 +263,6 @@ struct VectorMathResult {
     Vec3f vector;
 };
 
-inline float SafeDivide(float a, float b) { return b != 0.0f ? a / b : 0.0f; }
-inline float SafeModulo(float a, float b) { return b != 0.0f ? std::fmod(a, b) : 0.0f; }
-inline float Wrap(float value, float max, float min) {
-    const float range = max - min;
-    return range != 0.0f ? value - range * std::floor((value - min) / range) : min;
-}
 inline Vec3f SafeNormalize(const Vec3f& a) {
     const float len = Length(a);
     return len != 0.0f ? a * (1.0f / len) : a;

@@ -5,8 +5,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "color_nodes.h"
 #include "math_nodes.h"
 #include "mix_nodes.h"
+#include "procedural_textures.h"
+#include "shading_nodes.h"
 #include "vector_nodes.h"
 
 namespace sphrect::render::svm {
@@ -152,6 +155,133 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                         inv);
                 break;
             }
+            case NodeOp::kNoiseTexture: {
+                const Vec3f a2 = r(a[2]);
+                NoiseTextureParams p;
+                p.dimensions = in.mode + 1;
+                p.scale = a2.x, p.detail = a2.y, p.roughness = a2.z, p.distortion = r(a[3]).x;
+                const NoiseTextureOutput o = NoiseTexture(p, r(a[0]), r(a[1]).x, a[5] != kNoRegister);
+                put(a[4], scalar(o.fac));
+                put(a[5], o.color);
+                break;
+            }
+            case NodeOp::kVoronoiTexture: {
+                const Vec3f a2 = r(a[2]);
+                VoronoiTextureParams p;
+                p.dimensions = in.mode % 4 + 1;
+                p.metric = VoronoiMetric(in.mode / 4 % 4);
+                p.feature = VoronoiFeature(in.mode / 16);
+                p.scale = a2.x, p.smoothness = a2.y, p.exponent = a2.z, p.randomness = r(a[3]).x;
+                const VoronoiTextureOutput o = VoronoiTexture(p, r(a[0]), r(a[1]).x);
+                const float s = p.feature == VoronoiFeature::kNSphereRadius ? o.radius
+                                : (in.flags & 1)                           ? o.w
+                                                                           : o.distance;
+                put(a[4], scalar(s));
+                put(a[5], o.color);
+                put(a[6], o.position);
+                break;
+            }
+            case NodeOp::kMusgraveTexture: {
+                const Vec3f a2 = r(a[2]), a3 = r(a[3]);
+                MusgraveTextureParams p;
+                p.dimensions = in.mode % 4 + 1;
+                p.type = MusgraveType(in.mode / 4);
+                p.scale = a2.x, p.detail = a2.y, p.dimension = a2.z;
+                p.lacunarity = a3.x, p.offset = a3.y, p.gain = a3.z;
+                put(a[4], scalar(MusgraveTexture(p, r(a[0]), r(a[1]).x)));
+                break;
+            }
+            case NodeOp::kWhiteNoiseTexture: {
+                const WhiteNoiseTextureOutput o = WhiteNoiseTexture({in.mode + 1}, r(a[0]), r(a[1]).x);
+                put(a[2], scalar(o.value));
+                put(a[3], o.color);
+                break;
+            }
+            case NodeOp::kGradientTexture:
+                put(a[1], scalar(GradientTexture({GradientType(in.mode)}, r(a[0]))));
+                break;
+            case NodeOp::kCheckerTexture: {
+                CheckerTextureParams p;
+                p.color1 = r(a[1]), p.color2 = r(a[2]), p.scale = r(a[3]).x;
+                const ColorFacOutput o = CheckerTexture(p, r(a[0]));
+                put(a[4], o.color);
+                put(a[5], scalar(o.fac));
+                break;
+            }
+            case NodeOp::kWaveTexture: {
+                const Vec3f a1 = r(a[1]), a2 = r(a[2]);
+                WaveTextureParams p;
+                p.type = WaveType(in.mode % 2);
+                p.bands_direction = WaveBandsDirection(in.mode / 2 % 4);
+                p.rings_direction = WaveRingsDirection(in.mode / 2 % 4);
+                p.profile = WaveProfile(in.mode / 8);
+                p.scale = a1.x, p.distortion = a1.y, p.detail = a1.z;
+                p.detail_scale = a2.x, p.detail_roughness = a2.y, p.phase_offset = a2.z;
+                put(a[3], scalar(WaveTexture(p, r(a[0]))));
+                break;
+            }
+            case NodeOp::kMagicTexture: {
+                const Vec3f a1 = r(a[1]);
+                MagicTextureParams p;
+                p.depth = in.mode, p.scale = a1.x, p.distortion = a1.y;
+                const ColorFacOutput o = MagicTexture(p, r(a[0]));
+                put(a[2], o.color);
+                put(a[3], scalar(o.fac));
+                break;
+            }
+            case NodeOp::kBrickTexture: {
+                const float* d = program.data.data() + in.data;
+                const Vec3f a4 = r(a[4]), a5 = r(a[5]);
+                BrickTextureParams p;
+                p.offset = d[0], p.offset_frequency = int(d[1]), p.squash = d[2], p.squash_frequency = int(d[3]);
+                p.color1 = r(a[1]), p.color2 = r(a[2]), p.mortar = r(a[3]);
+                p.scale = a4.x, p.mortar_size = a4.y, p.mortar_smooth = a4.z;
+                p.bias = a5.x, p.brick_width = a5.y, p.row_height = a5.z;
+                const ColorFacOutput o = BrickTexture(p, r(a[0]));
+                put(a[6], (in.flags & 1) ? scalar(o.fac) : o.color);
+                break;
+            }
+            case NodeOp::kLayerWeight: {
+                const float blend = r(a[0]).x;
+                const Vec3f n = r(a[1]);
+                put(a[2], scalar(LayerWeightFresnel(blend, sg.incoming, n, sg.backfacing)));
+                put(a[3], scalar(LayerWeightFacing(blend, sg.incoming, n)));
+                break;
+            }
+            case NodeOp::kFresnel: put(a[2], scalar(FresnelNode(r(a[0]).x, sg.incoming, r(a[1]), sg.backfacing))); break;
+            case NodeOp::kLightFalloff: {
+                const float strength = r(a[0]).x, smooth = r(a[1]).x;
+                put(a[2], scalar(LightFalloff(LightFalloffKind::kQuadratic, strength, smooth, sg.ray_length)));
+                put(a[3], scalar(LightFalloff(LightFalloffKind::kLinear, strength, smooth, sg.ray_length)));
+                put(a[4], scalar(LightFalloff(LightFalloffKind::kConstant, strength, smooth, sg.ray_length)));
+                break;
+            }
+            case NodeOp::kBlackbody: put(a[1], Blackbody(r(a[0]).x)); break;
+            case NodeOp::kWavelength: put(a[1], Wavelength(r(a[0]).x)); break;
+            case NodeOp::kHueSaturation:
+                put(a[5], HueSaturationValue(r(a[4]), r(a[0]).x, r(a[1]).x, r(a[2]).x, r(a[3]).x));
+                break;
+            case NodeOp::kBrightContrast: put(a[3], BrightContrast(r(a[0]), r(a[1]).x, r(a[2]).x)); break;
+            case NodeOp::kGamma: put(a[2], GammaColor(r(a[0]), r(a[1]).x)); break;
+            case NodeOp::kVectorMath: {
+                const VectorMathResult o = VectorMath(VectorMathOp(in.mode), r(a[0]), r(a[1]), r(a[2]), r(a[3]).x);
+                put(a[4], o.vector);
+                put(a[5], scalar(o.value));
+                break;
+            }
+            case NodeOp::kVectorRotate:
+                put(a[5], VectorRotate(VectorRotateType(in.mode), in.flags & 1, r(a[0]), r(a[1]), r(a[2]), r(a[3]).x,
+                                       r(a[4])));
+                break;
+            case NodeOp::kCurves: {
+                const float* d = program.data.data() + in.data;
+                CurveTable t;
+                t.min_x = d[0], t.max_x = d[1], t.extrapolate = d[2] != 0.0f;
+                t.values = d + 3, t.size = in.size, t.stride = in.mode == 0 ? 3 : 1;
+                const float fac = r(a[0]).x;
+                put(a[2], in.mode == 0 ? CurvesRgb(t, fac, r(a[1])) : scalar(CurveFloat(t, fac, r(a[1]).x)));
+                break;
+            }
             case NodeOp::kCount: break;
         }
     }
@@ -169,7 +299,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
         throw std::invalid_argument("node program: output is not one of its registers");
     // How many modes each op takes (0: mode unused), and its operand count.
     struct Shape {
-        int modes, operands;
+        int modes, operands, outputs = 1;
     };
     auto shape = [](NodeOp op) -> Shape {
         switch (op) {
@@ -191,6 +321,26 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             case NodeOp::kTransform: return {0, 2};
             case NodeOp::kScale: return {0, 3};
             case NodeOp::kProject: return {0, 2};
+            case NodeOp::kNoiseTexture: return {4, 6, 2};
+            case NodeOp::kVoronoiTexture: return {kVoronoiModes, 7, 3};
+            case NodeOp::kMusgraveTexture: return {4 * 5, 5};
+            case NodeOp::kWhiteNoiseTexture: return {4, 4, 2};
+            case NodeOp::kGradientTexture: return {7, 2};
+            case NodeOp::kCheckerTexture: return {0, 6, 2};
+            case NodeOp::kWaveTexture: return {2 * 4 * 3, 4};
+            case NodeOp::kMagicTexture: return {kMaxMagicDepth + 1, 4, 2};
+            case NodeOp::kBrickTexture: return {0, 7};
+            case NodeOp::kLayerWeight: return {0, 4, 2};
+            case NodeOp::kFresnel: return {0, 3};
+            case NodeOp::kLightFalloff: return {0, 5, 3};
+            case NodeOp::kBlackbody: return {0, 2};
+            case NodeOp::kWavelength: return {0, 2};
+            case NodeOp::kHueSaturation: return {0, 6};
+            case NodeOp::kBrightContrast: return {0, 4};
+            case NodeOp::kGamma: return {0, 3};
+            case NodeOp::kVectorMath: return {int(std::size(kVectorMathOpNames)), 6, 2};
+            case NodeOp::kVectorRotate: return {int(std::size(kVectorRotateTypeNames)), 6};
+            case NodeOp::kCurves: return {2, 3};
             case NodeOp::kCount: break;
         }
         return {-1, 0};
@@ -211,7 +361,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
         const int inputs = in.op == NodeOp::kSeparate || in.op == NodeOp::kColorRamp || in.op == NodeOp::kImage ||
                                    in.op == NodeOp::kConvert || in.op == NodeOp::kTransform || in.op == NodeOp::kProject
                                ? 1
-                               : s.operands - 1;
+                               : s.operands - s.outputs;
         const int num_inputs = in.op == NodeOp::kConstant || in.op == NodeOp::kGlobal ? 0 : inputs;
         for (int k = 0; k < num_inputs; ++k) {
             if (in.reg[k] == kNoRegister) fail(i, "an input has no register");
@@ -230,6 +380,14 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             fail(i, "transform out of range");
         if (in.op == NodeOp::kProject && (in.data < 0 || size_t(in.data) + 16 > p.data.size()))
             fail(i, "projection out of range");
+        if (in.op == NodeOp::kBrickTexture && (in.data < 0 || size_t(in.data) + 4 > p.data.size()))
+            fail(i, "brick settings out of range");
+        if (in.op == NodeOp::kCurves &&
+            (in.size < 2 || in.data < 0 ||
+             size_t(in.data) + 3 + size_t(in.size) * (in.mode == 0 ? 3 : 1) > p.data.size()))
+            fail(i, "curve table out of range");
+        if ((in.op == NodeOp::kBrickTexture || in.op == NodeOp::kVoronoiTexture) && in.flags > 1)
+            fail(i, "flags out of range");
         if (in.op == NodeOp::kConstant &&
             !(std::isfinite(in.value.x) && std::isfinite(in.value.y) && std::isfinite(in.value.z)))
             fail(i, "constant must be finite");

@@ -372,6 +372,229 @@ def _image_texture(c, node):
     return {"Color": (color, "color"), "Alpha": (alpha, "float")}
 
 
+# -- procedural textures (render/svm/procedural_textures.h; settings read by procedural_params.py) --------------------
+
+def _texture_vector(c, node):
+    """The register of a texture node's point: its Vector input (unlinked: the Generated coordinates, as Cycles'
+    LINK_TEXTURE_GENERATED), through the node's Texture Mapping as Cycles' TextureMapping::compile_begin applies it
+    (skipped when it is the identity; Blender's sync gives it no min/max)."""
+    vector = node.inputs["Vector"]
+    reg = c.input(vector, "vector")[0] if follow_reroutes(vector)[0] is not None else c.global_input("generated")
+    matrix = _texture_mapping_matrix(node)
+    if matrix is not None:
+        reg = c.emit("transform", [reg], 1, data=c.table(matrix[:3].ravel()))[0]
+    return reg
+
+
+def _texture_mapping_matrix(node):
+    """The 4x4 map of a node's Texture Mapping (TextureMapping::compute_transform), or None when Cycles skips it."""
+    m = getattr(node, "texture_mapping", None)
+    if m is None:
+        return None
+    axes = {"NONE": None, "X": 0, "Y": 1, "Z": 2}
+    mapping = (m.mapping_x, m.mapping_y, m.mapping_z)
+    translation, rotation, scale = (np.array(v, np.float64) for v in (m.translation, m.rotation, m.scale))
+    if not translation.any() and not rotation.any() and (scale == 1).all() and mapping == ("X", "Y", "Z"):
+        return None
+    project = np.zeros((4, 4))
+    project[3, 3] = 1
+    for row, axis in enumerate(mapping):
+        if axes[axis] is not None:
+            project[row, axes[axis]] = 1
+    if m.vector_type in ("TEXTURE", "NORMAL"):  # kept invertible
+        scale = np.where(np.abs(scale) < 1e-5, np.where(scale < 0, -1e-5, np.where(scale > 0, 1e-5, 0.0)), scale)
+    rx, ry, rz = (np.eye(4) for _ in range(3))
+    (cx, cy, cz), (sx, sy, sz) = np.cos(rotation), np.sin(rotation)
+    rx[1:3, 1:3] = [[cx, -sx], [sx, cx]]
+    ry[0, 0], ry[0, 2], ry[2, 0], ry[2, 2] = cy, sy, -sy, cy
+    rz[0:2, 0:2] = [[cz, -sz], [sz, cz]]
+    rot, scl, tra = rz @ ry @ rx, np.diag([*scale, 1.0]), np.eye(4)
+    tra[:3, 3] = translation
+    if m.vector_type == "TEXTURE":
+        mat = np.linalg.inv(tra @ rot @ scl)
+    elif m.vector_type == "POINT":
+        mat = tra @ rot @ scl
+    elif m.vector_type == "VECTOR":
+        mat = rot @ scl
+    else:
+        raise NotCompiled(f"'{node.bl_label}' node's Texture Mapping of type Normal")
+    return mat @ project
+
+
+def _packed(c, node, names):
+    """One register holding up to three float inputs of `node` (x, y, z): a constant when none is linked."""
+    sockets = [node.inputs[n] for n in names]
+    if all(follow_reroutes(s)[0] is None for s in sockets):
+        values = [float(s.default_value) for s in sockets] + [0.0] * (3 - len(sockets))
+        return c.constant(values, "vector")
+    regs = [c.input(s, "float")[0] for s in sockets]
+    regs += [c.constant(0.0, "float")] * (3 - len(regs))
+    return c.emit("combine", regs, 1, mode=c.names.NODE_COLOR_MODELS.index("RGB"))[0]
+
+
+def _w(c, node):
+    return c.input(node.inputs["W"], "float")[0]
+
+
+def _dimensions(value):
+    return int(value[0]) - 1  # '1D'..'4D'
+
+
+def _noise_texture(c, node):
+    regs = [_texture_vector(c, node), _w(c, node), _packed(c, node, ("Scale", "Detail", "Roughness")),
+            _packed(c, node, ("Distortion",))]
+    fac, color = c.emit("noise_texture", regs, 2, mode=_dimensions(node.noise_dimensions))
+    return {"Fac": (fac, "float"), "Color": (color, "color")}
+
+
+def _voronoi_texture(c, node):
+    n = c.sphrect._native
+    mode = _dimensions(node.voronoi_dimensions) + 4 * (
+        _index(n.node_voronoi_metrics, node.distance.lower(), "distance metric", node)
+        + 4 * _index(n.node_voronoi_features, node.feature.lower(), "feature", node))
+    regs = [_texture_vector(c, node), _w(c, node), _packed(c, node, ("Scale", "Smoothness", "Exponent")),
+            _packed(c, node, ("Randomness",))]
+    distance, color, position = c.emit("voronoi_texture", regs, 3, mode=mode)
+    outputs = {"Distance": (distance, "float"), "Radius": (distance, "float"), "Color": (color, "color"),
+               "Position": (position, "vector")}
+    if node.voronoi_dimensions in ("1D", "4D"):
+        outputs["W"] = (c.emit("voronoi_texture", regs, 1, mode=mode, flags=1)[0], "float")
+    return outputs
+
+
+def _musgrave_texture(c, node):
+    mode = _dimensions(node.musgrave_dimensions) + 4 * _index(c.sphrect._native.node_musgrave_types,
+                                                              node.musgrave_type.lower(), "type", node)
+    regs = [_texture_vector(c, node), _w(c, node), _packed(c, node, ("Scale", "Detail", "Dimension")),
+            _packed(c, node, ("Lacunarity", "Offset", "Gain"))]
+    return {"Fac": (c.emit("musgrave_texture", regs, 1, mode=mode)[0], "float")}
+
+
+def _white_noise_texture(c, node):
+    value, color = c.emit("white_noise_texture", [_texture_vector(c, node), _w(c, node)], 2,
+                          mode=_dimensions(node.noise_dimensions))
+    return {"Value": (value, "float"), "Color": (color, "color")}
+
+
+def _gradient_texture(c, node):
+    mode = _index(c.sphrect._native.node_gradient_types, node.gradient_type.lower(), "type", node)
+    fac = c.emit("gradient_texture", [_texture_vector(c, node)], 1, mode=mode)[0]
+    return {"Fac": (fac, "float"), "Color": (c._convert(fac, "float", "color"), "color")}
+
+
+def _checker_texture(c, node):
+    regs = [_texture_vector(c, node), c.input(node.inputs["Color1"], "color")[0],
+            c.input(node.inputs["Color2"], "color")[0], c.input(node.inputs["Scale"], "float")[0]]
+    color, fac = c.emit("checker_texture", regs, 2)
+    return {"Color": (color, "color"), "Fac": (fac, "float")}
+
+
+def _wave_texture(c, node):
+    n = c.sphrect._native
+    wave_type = _index(n.node_wave_types, node.wave_type.lower(), "type", node)
+    direction = _index(n.node_wave_bands_directions, node.bands_direction.lower(), "direction", node) \
+        if node.wave_type == "BANDS" else \
+        _index(n.node_wave_rings_directions, node.rings_direction.lower(), "direction", node)
+    profile = _index(n.node_wave_profiles, node.wave_profile.lower(), "profile", node)
+    regs = [_texture_vector(c, node), _packed(c, node, ("Scale", "Distortion", "Detail")),
+            _packed(c, node, ("Detail Scale", "Detail Roughness", "Phase Offset"))]
+    fac = c.emit("wave_texture", regs, 1, mode=wave_type + 2 * (direction + 4 * profile))[0]
+    return {"Fac": (fac, "float"), "Color": (c._convert(fac, "float", "color"), "color")}
+
+
+def _magic_texture(c, node):
+    regs = [_texture_vector(c, node), _packed(c, node, ("Scale", "Distortion"))]
+    color, fac = c.emit("magic_texture", regs, 2, mode=min(int(node.turbulence_depth), 10))
+    return {"Color": (color, "color"), "Fac": (fac, "float")}
+
+
+def _brick_texture(c, node):
+    regs = [_texture_vector(c, node)] + [c.input(node.inputs[n], "color")[0] for n in ("Color1", "Color2", "Mortar")]
+    regs += [_packed(c, node, ("Scale", "Mortar Size", "Mortar Smooth")),
+             _packed(c, node, ("Bias", "Brick Width", "Row Height"))]
+    data = c.table([node.offset, node.offset_frequency, node.squash, node.squash_frequency])
+    color = c.emit("brick_texture", regs, 1, data=data)[0]
+    fac = c.emit("brick_texture", regs, 1, data=data, flags=1)[0]
+    return {"Color": (color, "color"), "Fac": (fac, "float")}
+
+
+# -- shading inputs (render/svm/shading_nodes.h) and colour nodes (color_nodes.h; settings: color_node_params.py) ---
+
+def _normal_input(c, node):
+    """A node's Normal input: its link, else the shading normal (Cycles' LINK_NORMAL)."""
+    socket = node.inputs["Normal"]
+    return c.input(socket, "vector")[0] if follow_reroutes(socket)[0] is not None else c.global_input("normal")
+
+
+def _layer_weight(c, node):
+    fresnel, facing = c.emit("layer_weight", [c.input(node.inputs["Blend"], "float")[0], _normal_input(c, node)], 2)
+    return {"Fresnel": (fresnel, "float"), "Facing": (facing, "float")}
+
+
+def _fresnel(c, node):
+    return {"Fac": (c.emit("fresnel", [c.input(node.inputs["IOR"], "float")[0], _normal_input(c, node)], 1)[0],
+                    "float")}
+
+
+def _light_falloff(c, node):
+    regs = [c.input(node.inputs[n], "float")[0] for n in ("Strength", "Smooth")]
+    quadratic, linear, constant = c.emit("light_falloff", regs, 3)
+    return {"Quadratic": (quadratic, "float"), "Linear": (linear, "float"), "Constant": (constant, "float")}
+
+
+def _blackbody(c, node):
+    return {"Color": (c.emit("blackbody", [c.input(node.inputs["Temperature"], "float")[0]], 1)[0], "color")}
+
+
+def _wavelength(c, node):
+    return {"Color": (c.emit("wavelength", [c.input(node.inputs["Wavelength"], "float")[0]], 1)[0], "color")}
+
+
+def _hue_saturation(c, node):
+    regs = [c.input(node.inputs[n], "float")[0] for n in ("Hue", "Saturation", "Value", "Fac")]
+    regs.append(c.input(node.inputs["Color"], "color")[0])
+    return {"Color": (c.emit("hue_saturation", regs, 1)[0], "color")}
+
+
+def _bright_contrast(c, node):
+    regs = [c.input(node.inputs["Color"], "color")[0], c.input(node.inputs["Bright"], "float")[0],
+            c.input(node.inputs["Contrast"], "float")[0]]
+    return {"Color": (c.emit("bright_contrast", regs, 1)[0], "color")}
+
+
+def _gamma(c, node):
+    regs = [c.input(node.inputs["Color"], "color")[0], c.input(node.inputs["Gamma"], "float")[0]]
+    return {"Color": (c.emit("gamma", regs, 1)[0], "color")}
+
+
+def _vector_math(c, node):
+    sockets = {s.identifier: s for s in node.inputs}
+    regs = [c.input(sockets[n], "vector")[0] for n in ("Vector", "Vector_001", "Vector_002")]
+    regs.append(c.input(sockets["Scale"], "float")[0])
+    mode = _index(c.sphrect._native.node_vector_math_ops, node.operation, "operation", node)
+    vector, value = c.emit("vector_math", regs, 2, mode=mode)
+    return {"Vector": (vector, "vector"), "Value": (value, "float")}
+
+
+def _vector_rotate(c, node):
+    regs = [c.input(node.inputs[n], "vector")[0] for n in ("Vector", "Center", "Axis")]
+    regs += [c.input(node.inputs["Angle"], "float")[0], c.input(node.inputs["Rotation"], "vector")[0]]
+    mode = _index(c.sphrect._native.node_vector_rotate_types, node.rotation_type, "type", node)
+    return {"Vector": (c.emit("vector_rotate", regs, 1, mode=mode, flags=node.invert)[0], "vector")}
+
+
+def _curves(kind, value_name, output_name, value_type):
+    def compile_node(c, node):
+        from .color_node_params import curve_table
+        table = curve_table(node.mapping, kind)
+        data = c.table([table["min_x"], table["max_x"], float(table["extrapolate"])] +
+                       [float(v) for v in np.asarray(table["table"]).ravel()])
+        regs = [c.input(node.inputs[0], "float")[0], c.input(node.inputs[value_name], value_type)[0]]  # Fac, Factor
+        reg = c.emit("curves", regs, 1, mode=0 if kind != "float" else 1, data=data, size=len(table["table"]))[0]
+        return {output_name: (reg, value_type)}
+    return compile_node
+
+
 _NODE_COMPILERS = {
     "ShaderNodeValue": _value,
     "ShaderNodeRGB": _rgb,
@@ -396,8 +619,28 @@ _NODE_COMPILERS = {
     "ShaderNodeRGBToBW": _rgb_to_bw,
     "ShaderNodeMapping": _mapping,
     "ShaderNodeTexImage": _image_texture,
-    # Procedural textures (render/svm/procedural_textures.h), shading inputs (shading_nodes.h) and colour nodes
-    # (color_nodes.h) are added here: "ShaderNodeTexNoise": _noise_texture, ... -- each a function emitting its op.
+    "ShaderNodeTexNoise": _noise_texture,
+    "ShaderNodeTexVoronoi": _voronoi_texture,
+    "ShaderNodeTexMusgrave": _musgrave_texture,
+    "ShaderNodeTexWhiteNoise": _white_noise_texture,
+    "ShaderNodeTexGradient": _gradient_texture,
+    "ShaderNodeTexChecker": _checker_texture,
+    "ShaderNodeTexWave": _wave_texture,
+    "ShaderNodeTexMagic": _magic_texture,
+    "ShaderNodeTexBrick": _brick_texture,
+    "ShaderNodeLayerWeight": _layer_weight,
+    "ShaderNodeFresnel": _fresnel,
+    "ShaderNodeLightFalloff": _light_falloff,
+    "ShaderNodeBlackbody": _blackbody,
+    "ShaderNodeWavelength": _wavelength,
+    "ShaderNodeHueSaturation": _hue_saturation,
+    "ShaderNodeBrightContrast": _bright_contrast,
+    "ShaderNodeGamma": _gamma,
+    "ShaderNodeVectorMath": _vector_math,
+    "ShaderNodeVectorRotate": _vector_rotate,
+    "ShaderNodeRGBCurve": _curves("rgb", "Color", "Color", "color"),
+    "ShaderNodeVectorCurve": _curves("vector", "Vector", "Vector", "vector"),
+    "ShaderNodeFloatCurve": _curves("float", "Value", "Value", "float"),
 }
 
 
@@ -461,6 +704,9 @@ def program_mean(sphrect, program, samples=8):
     return tuple(float(x) for x in total / samples**2)
 
 
+_DATA_OPS = {"color_ramp", "transform", "project", "brick_texture", "curves"}  # ops whose `data` is an offset
+
+
 class _Composer:
     """Programs joined into one (their registers and tables moved past the ones before), and instructions on their
     results: an emission under Mix Shader factors (emission_under_factors)."""
@@ -474,7 +720,7 @@ class _Composer:
         base, data_base = self.registers, len(self.data)
         for i in program.instructions:
             regs = [r + base if r >= 0 else -1 for r in i.regs]
-            data = i.data + data_base if i.op in {"color_ramp", "transform"} else i.data
+            data = i.data + data_base if i.op in _DATA_OPS else i.data
             self.code.append(dataclasses.replace(i, regs=regs, data=data))
         self.data.extend(program.data)
         self.registers += program.num_registers
