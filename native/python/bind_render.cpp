@@ -369,7 +369,7 @@ void BindRender(py::module_& m) {
     m.def(
         "_eval_node_program",
         [](const py::handle& program, const V3& p, const V3& uv, const V3& generated, const std::optional<V3>& object,
-           const std::vector<std::pair<py::array, bool>>& textures) {
+           const std::vector<std::pair<py::array, bool>>& textures, float ray_length) {
             const render::svm::NodeProgram prog = ProgramFromFields(program, "program");
             std::vector<render::Image> images;
             for (const auto& [pixels, srgb] : textures) images.push_back(ImageOfArray("texture", pixels, srgb, true));
@@ -380,13 +380,15 @@ void BindRender(py::module_& m) {
             sg.uv = {uv[0], uv[1], uv[2]};
             sg.generated = {generated[0], generated[1], generated[2]};
             sg.n = sg.ng = sg.incoming = sg.object_normal = {0, 0, 1};
+            sg.ray_length = ray_length;
             const Spectrum v = render::svm::EvalNodeProgram(prog, images, sg);
             return V3{v.x, v.y, v.z};
         },
         py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"), py::arg("object") = py::none(),
-        py::arg("textures") = std::vector<std::pair<py::array, bool>>{},
+        py::arg("textures") = std::vector<std::pair<py::array, bool>>{}, py::arg("ray_length") = 0.0f,
         "A node program at point p of a plane facing +z seen from +z (object coordinates: p unless given; textures: "
-        "(pixels, srgb) of the scene's, as Texture holds them): for tests and the exporter's constants");
+        "(pixels, srgb) of the scene's, as Texture holds them; the ray's length): for tests and the exporter's "
+        "constants");
     m.attr("textured_inputs") = names(render::kTexturedInputNames);
     m.attr("texture_interpolations") = names(render::kTextureInterpolationNames);
     m.attr("texture_extensions") = names(render::kTextureExtensionNames);

@@ -187,7 +187,7 @@ def test_materials_and_slots(empty_scene):
 
 def test_unsupported_nodes_are_listed_once(empty_scene):
     textured = _principled_material("Textured")
-    tex = textured.node_tree.nodes.new("ShaderNodeTexChecker")  # Image Texture nodes are read (textures.py)
+    tex = textured.node_tree.nodes.new("ShaderNodeTexSky")  # not read: Image Textures and node programs are
     textured.node_tree.links.new(tex.outputs["Color"], textured.node_tree.nodes["Principled BSDF"].inputs[0])
     toon = bpy.data.materials.new("Toon")
     toon.use_nodes = True
@@ -207,7 +207,7 @@ def test_unsupported_nodes_are_listed_once(empty_scene):
     builders.mesh_object("Copy", "cube", textured, location=(0, 3, 0))
     scene, log = export()
     text = log.warning_text()
-    assert "linked 'Base Color' input (Checker Texture) (Textured)" in text
+    assert "linked 'Base Color' input (Sky Texture) (Textured)" in text
     assert "'Toon BSDF' shader node" in text and "(Toon)" in text
     # The Emission shader is read since issue 11 (was: logged as "emission on meshes (Lamp)").
     assert "Lamp" not in text

@@ -109,6 +109,8 @@ def node_values_against_cycles(scene, cases, tmp_path):
     scene.render.engine = "SPHRECT"
     exported, log = export()
     images = [(t.pixels, t.colorspace == "srgb") for t in exported.textures]
+    # Cycles' camera rays start on the near clipping plane: an orthographic ray's length to the planes (z = 0).
+    ray_length = scene.camera.location.z - scene.camera.data.clip_start
     errors = {}
     for k, case in enumerate(cases):
         material = material_named(exported, case.label)
@@ -123,7 +125,7 @@ def node_values_against_cycles(scene, cases, tmp_path):
                 local = (2 * g[0] - 1, 2 * g[1] - 1, 0.0)
                 world = (local[0] + 2.0 * col, local[1] - 2.0 * row, 0.0)
                 ours = np.array(sphrect._native._eval_node_program(fields, world, (g[0], g[1], 0.0), tuple(g),
-                                                                   local, images))
+                                                                   local, images, ray_length))
                 cycles = theirs[y, x, :3].astype(np.float64)
                 worst = max(worst, float(np.max(np.abs(ours - cycles) / np.maximum(1.0, np.abs(cycles)))))
         errors[case.label] = worst
@@ -513,6 +515,12 @@ def shading_color_cases():
                        {"Blend": lin(1.0, 0.0, "gy"), "Normal": tilted_normal}),
              node_case("Fresnel", "ShaderNodeFresnel", "Fac", None,
                        {"IOR": lin(2.0, 1.0, "gy"), "Normal": tilted_normal}),
+             node_case("Light Falloff Quadratic", "ShaderNodeLightFalloff", "Quadratic", None,
+                       {"Strength": lin(100.0, 1.0), "Smooth": lin(30.0, 0.0, "gy")}),
+             node_case("Light Falloff Linear", "ShaderNodeLightFalloff", "Linear", None,
+                       {"Strength": lin(1.0, 0.1), "Smooth": lin(30.0, 0.0, "gy")}),
+             node_case("Light Falloff Constant", "ShaderNodeLightFalloff", "Constant", None,
+                       {"Strength": lin(0.2, 0.01), "Smooth": lin(30.0, 0.0, "gy")}),
              node_case("Blackbody", "ShaderNodeBlackbody", "Color", None, {"Temperature": lin(9000.0, 800.0)}),
              node_case("Wavelength", "ShaderNodeWavelength", "Color", None, {"Wavelength": lin(420.0, 360.0)}),
              node_case("Hue Saturation Value", "ShaderNodeHueSaturation", "Color", None,

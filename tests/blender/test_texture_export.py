@@ -263,7 +263,7 @@ def test_other_linked_inputs_stay_warnings_naming_the_node(empty_scene):
     image = new_image("Img", random_pixels())
     t = Tree("Other")
     bsdf = t.node("ShaderNodeBsdfPrincipled")
-    t.link(t.node("ShaderNodeTexNoise").outputs["Color"], bsdf.inputs["Base Color"])
+    t.link(t.node("ShaderNodeTexSky").outputs["Color"], bsdf.inputs["Base Color"])  # not compiled
     t.link(t.image(image).outputs["Color"], bsdf.inputs["Sheen Tint"])  # not one of TEXTURED_INPUTS
     math_node = t.node("ShaderNodeMath")
     t.link(t.image(image).outputs["Color"], math_node.inputs[0])
@@ -274,7 +274,7 @@ def test_other_linked_inputs_stay_warnings_naming_the_node(empty_scene):
     assert material_named(scene, "Other").textures == {}
     assert list(material_named(scene, "Other").programs) == ["roughness"]  # test_node_programs.py
     text = log.warning_text()
-    for warning in ("linked 'Base Color' input (Noise Texture)", "Principled Alpha linked from a node other than an "
+    for warning in ("linked 'Base Color' input (Sky Texture)", "Principled Alpha linked from a node other than an "
                     "Image Texture (1 used)", "linked 'Sheen Tint' input (Image Texture)"):
         assert warning in text
     assert "Roughness" not in text
