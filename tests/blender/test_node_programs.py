@@ -719,6 +719,55 @@ def test_program_material_matches_cycles(empty_scene, tmp_path):
     assert difference <= 0.01
 
 
+def textured_glow_material():
+    """A Principled floor whose Base Color is a Voronoi cell colour and Roughness a Noise Fac, beside an Emission
+    panel whose colour is a Musgrave through a ColorRamp and whose Strength a Light Falloff (Linear): the camera sees
+    the glow scaled by its rays' length, from the near clipping plane as in Cycles."""
+    t = Tree("Procedural")
+    p = t.node("ShaderNodeBsdfPrincipled")
+    cells = t.node("ShaderNodeTexVoronoi")
+    cells.inputs["Scale"].default_value = 4.0
+    t.link(cells.outputs["Color"], p.inputs["Base Color"])
+    noise = t.node("ShaderNodeTexNoise")
+    t.link(noise.outputs["Fac"], p.inputs["Roughness"])
+    floor = t.surface(p)
+    g = Tree("Glow")
+    emission = g.node("ShaderNodeEmission")
+    musgrave = g.node("ShaderNodeTexMusgrave")
+    ramp = g.node("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[1].color = (1.0, 0.5, 0.1, 1)
+    g.link(musgrave.outputs["Fac"], ramp.inputs["Fac"])
+    g.link(ramp.outputs["Color"], emission.inputs["Color"])
+    falloff = g.node("ShaderNodeLightFalloff")
+    falloff.inputs["Strength"].default_value = 1.5
+    g.link(falloff.outputs["Linear"], emission.inputs["Strength"])
+    return floor, g.surface(emission)
+
+
+@pytest.mark.slow
+def test_procedural_textures_and_light_falloff_render_as_in_cycles(empty_scene, tmp_path):
+    """textured_glow_material's floor under a rectangle light, its glowing panel seen by the camera: mean relative
+    difference to Cycles (test_cycles_parity's measure) <= 1%, and nothing warned."""
+    from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles
+    import make_scenes as builders
+    scene = empty_scene
+    floor, glow = textured_glow_material()
+    bpy.ops.mesh.primitive_plane_add(size=4.0)
+    bpy.context.active_object.data.materials.append(floor)
+    bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.0, 1.0, 0.6), rotation=(1.2, 0.0, 0.0))
+    bpy.context.active_object.data.materials.append(glow)
+    builders.area_light("Light", "RECTANGLE", size=1.0, size_y=1.0, power=150.0, location=(0.5, 0.0, 2.0),
+                        rotation=(0.3, 0.0, 0.0))
+    builders.camera((0.0, -3.5, 3.0), (0.0, 0.0, 0.0), lens=30.0)
+    set_resolution(scene, WIDTH, HEIGHT)
+    scene.sphrect.technique = "RECTANGLE"
+    bpy.context.view_layer.update()
+    exported, log = export()
+    assert "Procedural" not in log.warning_text() and "Glow" not in log.warning_text()
+    difference, ours, cycles = difference_to_cycles(scene, "procedural textures and light falloff", tmp_path)
+    assert difference <= 0.01
+
+
 def lava_material():
     """Lava cracks: a Mix Shader of a dark Principled BSDF and an orange Emission whose factor is a ColorRamp (Constant
     interpolation: sharp cracks) of a Math wave of Generated x and y; both the factor and the glow's colour vary."""

@@ -32,7 +32,7 @@ inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
     sg.object = ObjectPoint(*h.mesh, h.p);
     sg.object_normal = ObjectNormal(*h.mesh, h.ns);
     sg.backfacing = h.backfacing;
-    sg.ray_length = h.t;
+    sg.ray_length = h.t - h.ray_start;  // Cycles' sd->ray_length: from where the ray starts (a camera's near plane)
     return sg;
 }
 
