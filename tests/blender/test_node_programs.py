@@ -131,7 +131,7 @@ def node_values_against_cycles(scene, cases, tmp_path):
         errors[case.label] = worst
         cell = theirs[row * CELL:(row + 1) * CELL, col * CELL:(col + 1) * CELL, :3]
         constant = ("Geometry Normal", "Geometry True Normal", "Geometry Incoming", "Geometry Backfacing",
-                    "Texture Coordinate Normal", "Texture Coordinate Reflection")  # on a plane seen orthographically
+                    "Texture Coordinate Normal", "Texture Coordinate Reflection", "Normal Normal")  # on a plane seen orthographically
         assert np.ptp(cell) > 0 or case.label in constant, f"{case.label}: Cycles' image does not vary"
     return errors
 
@@ -532,6 +532,14 @@ def shading_color_cases():
              curve_case("ShaderNodeRGBCurve", "Color", "Color"),
              curve_case("ShaderNodeVectorCurve", "Vector", "Vector"),
              curve_case("ShaderNodeFloatCurve", "Value", "Value")]
+    def normal_node(output):
+        def out(t, a, b, gx, gy):
+            n = t.node("ShaderNodeNormal")
+            n.outputs["Normal"].default_value = (0.3, -0.5, 0.8)
+            t.link(tilted_normal(t, a, b, gx, gy) if output == "Dot" else combine(t, a, b), n.inputs["Normal"])
+            return n.outputs[output]
+        return Case(f"Normal {output}", out)
+    cases += [normal_node("Dot"), normal_node("Normal")]
     value_ops = ("DOT_PRODUCT", "DISTANCE", "LENGTH")
     for op in [i.identifier for i in bpy.types.ShaderNodeVectorMath.bl_rna.properties["operation"].enum_items]:
         cases.append(node_case(f"Vector Math {op}", "ShaderNodeVectorMath", "Value" if op in value_ops else "Vector",

@@ -583,6 +583,19 @@ def _vector_rotate(c, node):
     return {"Vector": (c.emit("vector_rotate", regs, 1, mode=mode, flags=node.invert)[0], "vector")}
 
 
+def _normal(c, node):
+    """The Normal node: its direction normalised (a constant), Dot that with the Normal input normalised
+    (NormalNodeDot), through Vector Math's Normalize and Dot Product."""
+    direction = np.asarray(node.outputs["Normal"].default_value, np.float32)
+    length = np.sqrt(np.float32(np.dot(direction, direction)))
+    unit = c.constant(tuple(direction / length) if length > 0 else (0.0, 0.0, 0.0), "vector")
+    ops, zero = c.sphrect._native.node_vector_math_ops, c.constant(0.0, "float")
+    normal = c.input(node.inputs["Normal"], "vector")[0]
+    normal = c.emit("vector_math", [normal, normal, normal, zero], 2, mode=ops.index("NORMALIZE"))[0]
+    dot = c.emit("vector_math", [unit, normal, normal, zero], 2, mode=ops.index("DOT_PRODUCT"))[1]
+    return {"Normal": (unit, "vector"), "Dot": (dot, "float")}
+
+
 def _curves(kind, value_name, output_name, value_type):
     def compile_node(c, node):
         from .color_node_params import curve_table
@@ -638,6 +651,7 @@ _NODE_COMPILERS = {
     "ShaderNodeGamma": _gamma,
     "ShaderNodeVectorMath": _vector_math,
     "ShaderNodeVectorRotate": _vector_rotate,
+    "ShaderNodeNormal": _normal,
     "ShaderNodeRGBCurve": _curves("rgb", "Color", "Color", "color"),
     "ShaderNodeVectorCurve": _curves("vector", "Vector", "Vector", "vector"),
     "ShaderNodeFloatCurve": _curves("float", "Value", "Value", "float"),
