@@ -185,3 +185,45 @@ def test_bad_programs_are_refused():
         build_native_scene(lit_plane(sphrect.Material(programs={"base_color": image_program(0)},
                                                       textures={"base_color": sphrect.TextureLookup(texture=0)}),
                                      [CHECKER]))
+
+
+def _eval(program, generated):
+    return np.array(sphrect._native._eval_node_program(dataclasses.asdict(program), (0, 0, 0), (0, 0, 0), generated))
+
+
+def test_texture_ops_give_the_pure_functions_values():
+    """A noise_texture / voronoi_texture instruction (settings packed three to a register, mode the dimensions,
+    metric and feature) at Generated points gives what sphrect._native.procedural_texture does there."""
+    points = np.random.default_rng(7).uniform(-3, 3, (20, 3)).astype(np.float32)
+    noise = sphrect.NodeProgram(instructions=[
+        I(op="global", regs=[0], mode=OPS.NODE_GLOBALS.index("generated")),
+        I(op="constant", regs=[1], value=(0.3, 0, 0)),             # w
+        I(op="constant", regs=[2], value=(2.5, 3.0, 0.6)),         # scale, detail, roughness
+        I(op="constant", regs=[3], value=(0.4, 0, 0)),             # distortion
+        I(op="noise_texture", regs=[0, 1, 2, 3, 4, 5], mode=2)],   # 3D
+        output=5, num_registers=6)
+    want = sphrect._native.procedural_texture("noise", points, dimensions=3, scale=2.5, detail=3.0, roughness=0.6,
+                                              distortion=0.4)
+    got = np.array([_eval(noise, tuple(map(float, p))) for p in points])
+    assert np.array_equal(got.astype(np.float32), np.asarray(want["color"], np.float32).reshape(got.shape))
+    features, metrics = sphrect._native.node_voronoi_features, sphrect._native.node_voronoi_metrics
+    mode = 1 + 4 * (metrics.index("manhattan") + 4 * features.index("f2"))  # 2D
+    voronoi = sphrect.NodeProgram(instructions=noise.instructions[:4] + [
+        I(op="voronoi_texture", regs=[0, 1, 2, 3, 4, 5, 6], mode=mode)], output=4, num_registers=7)
+    want = sphrect._native.procedural_texture("voronoi", points, dimensions=2, feature="f2", metric="manhattan",
+                                              scale=2.5, smoothness=3.0, exponent=0.6, randomness=0.4)
+    got = np.array([_eval(voronoi, tuple(map(float, p)))[0] for p in points])
+    assert np.array_equal(got.astype(np.float32), np.asarray(want["distance"], np.float32).ravel())
+    assert np.ptp(got) > 0
+
+
+def test_bad_texture_and_curve_instructions_are_refused():
+    def refused(instructions, registers, match, data=()):
+        program = sphrect.NodeProgram(instructions=[I(op="constant", regs=[0])] + instructions, output=registers - 1,
+                                      num_registers=registers, data=list(data))
+        with pytest.raises(ValueError, match=match):
+            build_native_scene(lit_plane(sphrect.Material(programs={"base_color": program})))
+    refused([I(op="voronoi_texture", regs=[0, 0, 0, 0, 1, -1, -1], mode=80)], 2, "mode out of range")
+    refused([I(op="brick_texture", regs=[0, 0, 0, 0, 0, 0, 1], data=0)], 2, "brick settings", data=[0.5, 2, 1])
+    refused([I(op="curves", regs=[0, 0, 1], data=0, size=4)], 2, "curve table", data=[0, 1, 1] + [0.0] * 11)
+    refused([I(op="noise_texture", regs=[0, 0, 0, -1, 1, 2])], 3, "input has no register")
