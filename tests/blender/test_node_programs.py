@@ -131,7 +131,8 @@ def node_values_against_cycles(scene, cases, tmp_path):
         errors[case.label] = worst
         cell = theirs[row * CELL:(row + 1) * CELL, col * CELL:(col + 1) * CELL, :3]
         constant = ("Geometry Normal", "Geometry True Normal", "Geometry Incoming", "Geometry Backfacing",
-                    "Texture Coordinate Normal", "Texture Coordinate Reflection", "Normal Normal")  # on a plane seen orthographically
+                    "Texture Coordinate Normal", "Texture Coordinate Reflection",  # on a plane seen orthographically
+                    "Normal Normal")  # a constant direction
         assert np.ptp(cell) > 0 or case.label in constant, f"{case.label}: Cycles' image does not vary"
     return errors
 
@@ -532,6 +533,7 @@ def shading_color_cases():
              curve_case("ShaderNodeRGBCurve", "Color", "Color"),
              curve_case("ShaderNodeVectorCurve", "Vector", "Vector"),
              curve_case("ShaderNodeFloatCurve", "Value", "Value")]
+
     def normal_node(output):
         def out(t, a, b, gx, gy):
             n = t.node("ShaderNodeNormal")

@@ -174,8 +174,8 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 p.scale = a2.x, p.smoothness = a2.y, p.exponent = a2.z, p.randomness = r(a[3]).x;
                 const VoronoiTextureOutput o = VoronoiTexture(p, r(a[0]), r(a[1]).x);
                 const float s = p.feature == VoronoiFeature::kNSphereRadius ? o.radius
-                                : (in.flags & 1)                           ? o.w
-                                                                           : o.distance;
+                                : (in.flags & 1)                            ? o.w
+                                                                            : o.distance;
                 put(a[4], scalar(s));
                 put(a[5], o.color);
                 put(a[6], o.position);
@@ -197,9 +197,7 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[3], o.color);
                 break;
             }
-            case NodeOp::kGradientTexture:
-                put(a[1], scalar(GradientTexture({GradientType(in.mode)}, r(a[0]))));
-                break;
+            case NodeOp::kGradientTexture: put(a[1], scalar(GradientTexture({GradientType(in.mode)}, r(a[0])))); break;
             case NodeOp::kCheckerTexture: {
                 CheckerTextureParams p;
                 p.color1 = r(a[1]), p.color2 = r(a[2]), p.scale = r(a[3]).x;
@@ -248,7 +246,9 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[3], scalar(LayerWeightFacing(blend, sg.incoming, n)));
                 break;
             }
-            case NodeOp::kFresnel: put(a[2], scalar(FresnelNode(r(a[0]).x, sg.incoming, r(a[1]), sg.backfacing))); break;
+            case NodeOp::kFresnel:
+                put(a[2], scalar(FresnelNode(r(a[0]).x, sg.incoming, r(a[1]), sg.backfacing)));
+                break;
             case NodeOp::kLightFalloff: {
                 const float strength = r(a[0]).x, smooth = r(a[1]).x;
                 put(a[2], scalar(LightFalloff(LightFalloffKind::kQuadratic, strength, smooth, sg.ray_length)));

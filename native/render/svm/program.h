@@ -40,44 +40,74 @@ enum class NodeOp : uint8_t {
     kProject,    // out1 = (M (in0, 1)).xyz / (M (in0, 1)).w, M the 4x4 map at data (16 floats, row-major)
     // Procedural textures (procedural_textures.h) at point in0 (after the node's Texture Mapping); their float
     // inputs packed three to a register (a Combine or one constant), in their socket order.
-    kNoiseTexture,     // out4 fac, out5 colour of in0, w in1, (scale, detail, roughness) in2, (distortion) in3;
-                       // mode: dimensions - 1
-    kVoronoiTexture,   // out4 distance (flags & 1: W; n-sphere radius: radius), out5 colour, out6 position of in0, w
-                       // in1, (scale, smoothness, exponent) in2, (randomness) in3; mode: kVoronoiMode
-    kMusgraveTexture,  // out4 fac of in0, w in1, (scale, detail, dimension) in2, (lacunarity, offset, gain) in3;
-                       // mode: dimensions - 1 + 4 type
+    kNoiseTexture,       // out4 fac, out5 colour of in0, w in1, (scale, detail, roughness) in2, (distortion) in3;
+                         // mode: dimensions - 1
+    kVoronoiTexture,     // out4 distance (flags & 1: W; n-sphere radius: radius), out5 colour, out6 position of in0, w
+                         // in1, (scale, smoothness, exponent) in2, (randomness) in3; mode: kVoronoiMode
+    kMusgraveTexture,    // out4 fac of in0, w in1, (scale, detail, dimension) in2, (lacunarity, offset, gain) in3;
+                         // mode: dimensions - 1 + 4 type
     kWhiteNoiseTexture,  // out2 value, out3 colour of in0, w in1; mode: dimensions - 1
     kGradientTexture,    // out1 fac of in0; mode: GradientType
     kCheckerTexture,     // out4 colour, out5 fac of in0, colours in1, in2, scale in3
-    kWaveTexture,  // out3 fac of in0, (scale, distortion, detail) in1, (detail scale, roughness, phase) in2; mode:
-                   // type + 2 direction (bands' or rings') + 8 profile
+    kWaveTexture,   // out3 fac of in0, (scale, distortion, detail) in1, (detail scale, roughness, phase) in2; mode:
+                    // type + 2 direction (bands' or rings') + 8 profile
     kMagicTexture,  // out2 colour, out3 fac of in0, (scale, distortion) in1; mode: depth
     kBrickTexture,  // out6 colour (flags & 1: fac) of in0, colours in1, in2, mortar in3, (scale, mortar size, mortar
                     // smooth) in4, (bias, brick width, row height) in5; data: offset, its frequency, squash, its
                     // frequency (4 floats)
     // Shading inputs (shading_nodes.h) and colour nodes (color_nodes.h).
-    kLayerWeight,      // out2 fresnel, out3 facing of blend in0, normal in1
-    kFresnel,          // out2 of IOR in0, normal in1
-    kLightFalloff,     // out2 quadratic, out3 linear, out4 constant of strength in0, smooth in1
-    kBlackbody,        // out1 colour of temperature in0
-    kWavelength,       // out1 colour of wavelength in0
-    kHueSaturation,    // out5 = HSV of hue in0, saturation in1, value in2, fac in3, colour in4
-    kBrightContrast,   // out3 of colour in0, bright in1, contrast in2
-    kGamma,            // out2 of colour in0, gamma in1
-    kVectorMath,       // out4 vector, out5 value of in0, in1, in2, scale in3; mode: VectorMathOp
-    kVectorRotate,     // out5 of vector in0, center in1, axis in2, angle in3, rotation in4; mode: type, flags: invert
-    kCurves,           // out2 = curves (mode 0: 3 channels, RGB / Vector Curves; 1: Float Curve) of fac in0, value
-                       // in1; data: min x, max x, extrapolate, then `size` entries of 3 (or 1) floats
+    kLayerWeight,     // out2 fresnel, out3 facing of blend in0, normal in1
+    kFresnel,         // out2 of IOR in0, normal in1
+    kLightFalloff,    // out2 quadratic, out3 linear, out4 constant of strength in0, smooth in1
+    kBlackbody,       // out1 colour of temperature in0
+    kWavelength,      // out1 colour of wavelength in0
+    kHueSaturation,   // out5 = HSV of hue in0, saturation in1, value in2, fac in3, colour in4
+    kBrightContrast,  // out3 of colour in0, bright in1, contrast in2
+    kGamma,           // out2 of colour in0, gamma in1
+    kVectorMath,      // out4 vector, out5 value of in0, in1, in2, scale in3; mode: VectorMathOp
+    kVectorRotate,    // out5 of vector in0, center in1, axis in2, angle in3, rotation in4; mode: type, flags: invert
+    kCurves,          // out2 = curves (mode 0: 3 channels, RGB / Vector Curves; 1: Float Curve) of fac in0, value
+                      // in1; data: min x, max x, extrapolate, then `size` entries of 3 (or 1) floats
     kCount
 };
-constexpr const char* kNodeOpNames[] = {"constant",   "global",     "convert", "math",      "mix_color", "mix_float",
-                                        "mix_vector", "color_ramp", "invert",  "clamp",     "map_range", "separate",
-                                        "combine",    "mapping",    "image",   "transform", "scale",     "project",
-                                        "noise_texture", "voronoi_texture", "musgrave_texture", "white_noise_texture",
-                                        "gradient_texture", "checker_texture", "wave_texture", "magic_texture",
-                                        "brick_texture", "layer_weight", "fresnel", "light_falloff", "blackbody",
-                                        "wavelength", "hue_saturation", "bright_contrast", "gamma", "vector_math",
-                                        "vector_rotate", "curves"};
+constexpr const char* kNodeOpNames[] = {"constant",
+                                        "global",
+                                        "convert",
+                                        "math",
+                                        "mix_color",
+                                        "mix_float",
+                                        "mix_vector",
+                                        "color_ramp",
+                                        "invert",
+                                        "clamp",
+                                        "map_range",
+                                        "separate",
+                                        "combine",
+                                        "mapping",
+                                        "image",
+                                        "transform",
+                                        "scale",
+                                        "project",
+                                        "noise_texture",
+                                        "voronoi_texture",
+                                        "musgrave_texture",
+                                        "white_noise_texture",
+                                        "gradient_texture",
+                                        "checker_texture",
+                                        "wave_texture",
+                                        "magic_texture",
+                                        "brick_texture",
+                                        "layer_weight",
+                                        "fresnel",
+                                        "light_falloff",
+                                        "blackbody",
+                                        "wavelength",
+                                        "hue_saturation",
+                                        "bright_contrast",
+                                        "gamma",
+                                        "vector_math",
+                                        "vector_rotate",
+                                        "curves"};
 static_assert(sizeof(kNodeOpNames) / sizeof(*kNodeOpNames) == size_t(NodeOp::kCount));
 
 // What a hit gives a program (kGlobal's mode), as Cycles' ShaderData does: position, shading normal (facing the
