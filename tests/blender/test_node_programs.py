@@ -411,6 +411,14 @@ def noise_cases():
                               mapping={"vector_type": "TEXTURE", "translation": (0.3, -0.2, 0.1),
                                        "rotation": (0.4, 0.2, 1.1), "scale": (1.5, 0.7, 2.0),
                                        "mapping_x": "Y", "mapping_y": "X", "mapping_z": "NONE"}))
+    # Vector type: no translation; min / max set: Blender's sync does not pass them on, so Cycles ignores them.
+    cases.append(texture_case("Noise mapped vector min max", "ShaderNodeTexNoise", "Fac", vector=False,
+                              mapping={"vector_type": "VECTOR", "translation": (0.3, -0.2, 0.1),
+                                       "rotation": (0.4, 0.2, 1.1), "scale": (1.5, 0.7, 2.0), "use_min": True,
+                                       "use_max": True, "min": (0.5, 0.5, 0.5), "max": (0.6, 0.6, 0.6)}))
+    cases.append(texture_case("Noise mapped normal", "ShaderNodeTexNoise", "Fac", vector=False,
+                              mapping={"vector_type": "NORMAL", "rotation": (0.4, 0.2, 1.1),
+                                       "scale": (1.5, 0.7, 2.0)}))
     return cases
 
 

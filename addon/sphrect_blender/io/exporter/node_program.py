@@ -383,6 +383,10 @@ def _texture_vector(c, node):
     matrix = _texture_mapping_matrix(node)
     if matrix is not None:
         reg = c.emit("transform", [reg], 1, data=c.table(matrix[:3].ravel()))[0]
+        if node.texture_mapping.vector_type == "NORMAL":  # then normalised, as Cycles' mapping of normals
+            zero = c.constant(0.0, "float")
+            reg = c.emit("vector_math", [reg, reg, reg, zero], 2,
+                         mode=c.sphrect._native.node_vector_math_ops.index("NORMALIZE"))[0]
     return reg
 
 
@@ -416,8 +420,8 @@ def _texture_mapping_matrix(node):
         mat = tra @ rot @ scl
     elif m.vector_type == "VECTOR":
         mat = rot @ scl
-    else:
-        raise NotCompiled(f"'{node.bl_label}' node's Texture Mapping of type Normal")
+    else:  # NORMAL: the inverse transpose, no translation
+        mat = np.linalg.inv(rot @ scl).T
     return mat @ project
 
 
