@@ -88,8 +88,9 @@ def test_textured_area_light_matches_cycles(empty_scene, tmp_path, shape, source
 
 
 def test_emission_colour_and_strength_multiply_every_light(empty_scene):
-    """A point light's Emission (colour (0.5, 1, 1), strength 3) scales its intensity, unwarned; a Blackbody on the
-    colour is warned (its own value used); a tree without a surface on its output emits nothing (skipped)."""
+    """A point light's Emission (colour (0.5, 1, 1), strength 3) scales its intensity, unwarned; a Blackbody of 3000 K
+    on the colour folds to Cycles' colour (node programs), unwarned; a Noise Texture there varies over the light:
+    warned, the colour's own value used; a tree without a surface on its output emits nothing (skipped)."""
     point = builders.other_light("Plain", "POINT", 100.0)
     scaled = builders.other_light("Scaled", "POINT", 100.0, location=(2, 0, 0))
     emission = light_tree(scaled.data, strength=3.0)
@@ -98,7 +99,12 @@ def test_emission_colour_and_strength_multiply_every_light(empty_scene):
     tree = warm.data.node_tree if warm.data.use_nodes else None
     emission = light_tree(warm.data)
     blackbody = warm.data.node_tree.nodes.new("ShaderNodeBlackbody")
+    blackbody.inputs["Temperature"].default_value = 3000.0
     warm.data.node_tree.links.new(blackbody.outputs[0], emission.inputs["Color"])
+    noisy = builders.other_light("Noisy", "POINT", 100.0, location=(8, 0, 0))
+    emission = light_tree(noisy.data)
+    noise = noisy.data.node_tree.nodes.new("ShaderNodeTexNoise")
+    noisy.data.node_tree.links.new(noise.outputs["Color"], emission.inputs["Color"])
     dark = builders.other_light("Dark", "POINT", 100.0, location=(6, 0, 0))
     light_tree(dark.data)
     out = next(n for n in dark.data.node_tree.nodes if n.bl_idname == "ShaderNodeOutputLight")
@@ -107,11 +113,16 @@ def test_emission_colour_and_strength_multiply_every_light(empty_scene):
     del tree, point
     scene, log = export()
     lights = {l.name: l for l in scene.lights}
-    assert set(lights) == {"Plain", "Scaled", "Warm"}
-    assert np.allclose(lights["Scaled"].intensity, np.array([1.5, 3.0, 3.0]) * lights["Plain"].intensity[0])
+    assert set(lights) == {"Plain", "Scaled", "Warm", "Noisy"}
+    plain = lights["Plain"].intensity[0]
+    assert np.allclose(lights["Scaled"].intensity, np.array([1.5, 3.0, 3.0]) * plain)
+    import sphrect
+    warm_rgb = np.maximum(np.asarray(sphrect._native.svm_color.blackbody(3000.0), dtype=float).ravel()[:3], 0)
+    assert np.allclose(lights["Warm"].intensity, warm_rgb * plain, rtol=1e-5)
+    assert np.allclose(lights["Noisy"].intensity, plain)  # the Color socket's own white
     warnings = log.warning_text()
-    assert "Blackbody" in warnings and "(Warm)" in warnings
-    assert "Scaled" not in warnings and "Plain" not in warnings
+    assert "a node graph varying over a light on its 'Color' (its own value used) (Noisy)" in warnings
+    assert "Scaled" not in warnings and "Plain" not in warnings and "Warm" not in warnings
     assert "light 'Dark' has no power: skipped" in "\n".join(log.problems)
 
 

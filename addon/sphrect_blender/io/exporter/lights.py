@@ -8,7 +8,9 @@ import math
 
 import numpy as np
 
-from .materials import _active_output, _emission_term, _linked_node
+from .materials import _active_output, _linked_node, _own_value, _value
+from .node_program import compile_socket
+from .textures import image_texture_source
 from .visibility import LIGHT_RAY_KINDS, invisible_to
 
 
@@ -89,7 +91,32 @@ def light_shader(light, log, textures=None, light_coordinates=None):
         log.unsupported_feature(f"light shader '{node.bl_label or node.bl_idname}' (the light's colour and power used)",
                                 light.name)
         return (1.0, 1.0, 1.0), None
-    return _emission_term(node, "Color", "Strength", 1.0, log, light.name, textures, light_coordinates)
+    color_socket = node.inputs["Color"]
+    source = image_texture_source(color_socket) if light_coordinates is not None and color_socket.is_linked else None
+    texture = textures.lookup(*source, light.name, light_coordinates) if source is not None else None
+    color = np.ones(3) if texture is not None else np.asarray(_light_input(node, "Color", "color", textures, log,
+                                                                            light.name)[:3], dtype=float)
+    strength = float(_light_input(node, "Strength", "float", textures, log, light.name))
+    if strength < 0:
+        log.unsupported_feature("negative emission strength (0 used)", light.name)
+        strength = 0.0
+    return tuple(float(c) for c in np.clip(color, 0, None) * strength), texture
+
+
+def _light_input(node, name, want, textures, log, owner):
+    """An input of a light's Emission: its own value, or the constant its node graph folds to as Cycles folds it
+    (a Blackbody, RGB Curves, Math... of constants: node_program.compile_socket); a graph that varies over the light
+    (other than the Image Texture a rectangle or ellipse light takes) is warned, the input's own value used."""
+    socket = node.inputs[name]
+    if socket.is_linked and textures is not None:
+        program, value = compile_socket(textures.sphrect, textures, log, owner, socket, want)
+        if value is not None:
+            return value
+        if program is not None:
+            log.unsupported_feature(f"a node graph varying over a light on its '{socket.name}' (its own value used)",
+                                    owner)
+            return _own_value(socket)
+    return _value(node, name, log, owner)
 
 
 def has_image_texture(light):
@@ -127,7 +154,7 @@ def export_light(sphrect, obj, matrix_world, name, log, parent=None, textures=No
     power = float(light.energy)
     if light.type == "AREA":
         return _export_area_light(sphrect, obj, light, matrix_world, name, color, power, log, textures, parent)
-    color = color * np.asarray(light_shader(light, log)[0])
+    color = color * np.asarray(light_shader(light, log, textures)[0])
     return _export_light_of_a_point(sphrect, obj, light, matrix_world, name, color, power, log, parent)
 
 
