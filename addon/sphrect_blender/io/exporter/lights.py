@@ -8,7 +8,8 @@ import math
 
 import numpy as np
 
-from .materials import _active_output, _linked_node, _own_value, _value
+from .materials import _active_output, _linked_node, _value
+from .node_groups import own_value
 from .node_program import compile_socket
 from .textures import image_texture_source
 from .visibility import LIGHT_RAY_KINDS, invisible_to
@@ -115,7 +116,7 @@ def _light_input(node, name, want, textures, log, owner):
         if program is not None:
             log.unsupported_feature(f"a node graph varying over a light on its '{socket.name}' (its own value used)",
                                     owner)
-            return _own_value(socket)
+            return own_value(socket)
     return _value(node, name, log, owner)
 
 

@@ -30,7 +30,7 @@ import mathutils
 import numpy as np
 
 from . import world_bake
-from .node_groups import MAX_GROUP_DEPTH, read_links_anew, too_deep_groups, wrap_node
+from .node_groups import MAX_GROUP_DEPTH, own_value, read_links_anew, too_deep_groups, wrap_node
 from .node_program import compile_product, compile_socket, emission_sum, emission_under_factors, program_mean
 from .textures import TextureExport, follow_reroutes, image_texture_source
 from .visibility import world_invisible_to
@@ -57,14 +57,6 @@ def _linked_node(socket):
     return follow_reroutes(socket)[0]
 
 
-def _own_value(socket):
-    value = socket.default_value
-    try:
-        return tuple(float(v) for v in value)
-    except TypeError:
-        return float(value)
-
-
 def _value(node, name, log, owner):
     """An input's own value; a linked input is logged (its link is not followed)."""
     socket = node.inputs.get(name)
@@ -73,7 +65,7 @@ def _value(node, name, log, owner):
     if socket.is_linked:
         source = socket.links[0].from_node
         log.unsupported_feature(f"linked '{name}' input ({source.bl_label or source.bl_idname})", owner)
-    return _own_value(socket)
+    return own_value(socket)
 
 
 # The material inputs (sphrect.scene.TEXTURED_INPUTS) an Image Texture can drive on each shader node; the socket
@@ -128,7 +120,7 @@ class _Inputs:
 
     def read(self, field):
         if self.textured(field):
-            return _own_value(self.node.inputs[_socket_name(self.node, field)])
+            return own_value(self.node.inputs[_socket_name(self.node, field)])
         if field in self.folded:
             return self.folded[field]
         return _value(self.node, _socket_name(self.node, field), self.log, self.owner)
@@ -140,7 +132,7 @@ class _Inputs:
     def unwarned(self, name):
         """An input's own value, unwarned (for tests of which model applies; the value read later warns)."""
         socket = self.node.inputs.get(name)
-        return _own_value(socket) if socket is not None else None
+        return own_value(socket) if socket is not None else None
 
 
 def _rgb(v):
@@ -847,7 +839,7 @@ def _stand_in_constant(surface):
     Strength (its node's values, whatever is linked to them), else black."""
     if surface.bl_idname not in {"ShaderNodeBackground", "ShaderNodeEmission"}:
         return (0.0, 0.0, 0.0)
-    return _rgb(np.array(_own_value(surface.inputs["Color"])[:3]) * float(_own_value(surface.inputs["Strength"])))
+    return _rgb(np.array(own_value(surface.inputs["Color"])[:3]) * float(own_value(surface.inputs["Strength"])))
 
 
 def _uses_light_path(tree, seen):
@@ -869,10 +861,10 @@ def _direct_world(sphrect, surface, textures, log, owner):
     uniform scale without translation, its Color times a constant colour (a MixRGB Multiply) and the Strength."""
     if surface.bl_idname != "ShaderNodeBackground" or surface.inputs["Strength"].is_linked:
         return None
-    strength = float(_own_value(surface.inputs["Strength"]))
+    strength = float(own_value(surface.inputs["Strength"]))
     color_socket = surface.inputs["Color"]
     if not color_socket.is_linked:
-        return _rgb(np.array(_own_value(color_socket)[:3]) * strength), None
+        return _rgb(np.array(own_value(color_socket)[:3]) * strength), None
     source, output = follow_reroutes(color_socket)
     factor = np.ones(3)
     if source is not None and source.bl_idname in {"ShaderNodeMixRGB", "ShaderNodeMix"}:
@@ -917,14 +909,14 @@ def _constant_multiply(mix):
     fac, a, b, blend, clamp = sockets
     if blend != "MULTIPLY" or clamp or fac.is_linked or a.is_linked == b.is_linked:
         return none
-    f = min(max(float(_own_value(fac)), 0.0), 1.0)
+    f = min(max(float(own_value(fac)), 0.0), 1.0)
     if a.is_linked:
         source, output = follow_reroutes(a)
-        return source, output, 1.0 - f + f * np.array(_own_value(b)[:3])
+        return source, output, 1.0 - f + f * np.array(own_value(b)[:3])
     if f != 1.0:
         return none
     source, output = follow_reroutes(b)
-    return source, output, np.array(_own_value(a)[:3])
+    return source, output, np.array(own_value(a)[:3])
 
 
 def _vector_rotate(node):
@@ -932,7 +924,7 @@ def _vector_rotate(node):
     X / Y / Z, or by an XYZ Euler rotation; Invert the inverse rotation), None where an input is linked."""
     if any(socket.is_linked for socket in node.inputs if socket.identifier != "Vector"):
         return None
-    values = {socket.identifier: _own_value(socket) for socket in node.inputs if socket.identifier != "Vector"}
+    values = {socket.identifier: own_value(socket) for socket in node.inputs if socket.identifier != "Vector"}
     kind = node.rotation_type
     if kind == "EULER_XYZ":
         rotation = np.array(mathutils.Euler(values["Rotation"], "XYZ").to_matrix(), dtype=np.float64)

@@ -223,3 +223,12 @@ class CyclesNode:
 
     def __hash__(self):
         return hash(self.key)
+
+
+def own_value(socket):
+    """A socket's own (default) value: a float, or a tuple of floats (a colour, a vector)."""
+    value = socket.default_value
+    try:
+        return tuple(float(v) for v in value)
+    except TypeError:
+        return float(value)

@@ -17,6 +17,7 @@ import dataclasses
 
 import numpy as np
 
+from .node_groups import own_value
 from .textures import follow_reroutes
 
 # The renderer's value types: 'float' (a register's x), 'color' and 'vector' (its three floats).
@@ -131,7 +132,7 @@ class ProgramCompiler:
                 return self._convert(self._convert(reg, kind, own), own, want), want
             except NotCompiled as e:
                 self.log.unsupported_feature(f"{e} on '{socket.name}' (its own value used)", self.owner)
-        return self.constant(_own_value(socket), want), want
+        return self.constant(own_value(socket), want), want
 
     def input_named(self, node, identifier, want=None):
         socket = next((s for s in node.inputs if s.identifier == identifier), None)
@@ -162,14 +163,6 @@ class ProgramCompiler:
 
 class _TooManyRegisters(Exception):
     pass
-
-
-def _own_value(socket):
-    value = socket.default_value
-    try:
-        return tuple(float(v) for v in value)
-    except TypeError:
-        return float(value)
 
 
 def _index(names, value, what, node):
