@@ -14,7 +14,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import addon_module, export, render, set_resolution
+from conftest import addon_module, builders, export, render, set_resolution
 from test_texture_export import Tree, material_named, new_image
 
 TOLERANCE = 1e-3
@@ -717,22 +717,29 @@ def parity_material(t_name="Lava"):
     return t.surface(p)
 
 
+def parity_view(scene, light, target=(0.0, 0.0, 0.0)):
+    """The parity renders' set-up: a 1 m square light 2 m up (if `light`), the camera looking at `target`, the
+    parity tests' resolution, the rectangle technique."""
+    from test_cycles_parity import HEIGHT, WIDTH
+    if light:
+        builders.area_light("Light", "RECTANGLE", size=1.0, size_y=1.0, power=150.0, location=(0.5, 0.0, 2.0),
+                            rotation=(0.3, 0.0, 0.0))
+    builders.camera((0.0, -3.5, 3.0), target, lens=30.0)
+    set_resolution(scene, WIDTH, HEIGHT)
+    scene.sphrect.technique = "RECTANGLE"
+    bpy.context.view_layer.update()
+
+
 @pytest.mark.slow
 def test_program_material_matches_cycles(empty_scene, tmp_path):
     """A floor of parity_material (base colour, roughness and a glowing stripe from Math / ColorRamp / Mix RGB)
     under a rectangle light: mean relative difference to Cycles (test_cycles_parity's measure) <= 1%."""
-    from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles
+    from test_cycles_parity import difference_to_cycles
     scene = empty_scene
     bpy.ops.mesh.primitive_plane_add(size=4.0)
     bpy.context.active_object.data.materials.append(parity_material())
     addon_module("native")
-    import make_scenes as builders
-    builders.area_light("Light", "RECTANGLE", size=1.0, size_y=1.0, power=150.0, location=(0.5, 0.0, 2.0),
-                        rotation=(0.3, 0.0, 0.0))
-    builders.camera((0.0, -3.5, 3.0), (0.0, 0.0, 0.0), lens=30.0)
-    set_resolution(scene, WIDTH, HEIGHT)
-    scene.sphrect.technique = "RECTANGLE"
-    bpy.context.view_layer.update()
+    parity_view(scene, light=True)
     difference, ours, cycles = difference_to_cycles(scene, "node program material", tmp_path)
     assert difference <= 0.01
 
@@ -766,20 +773,14 @@ def textured_glow_material():
 def test_procedural_textures_and_light_falloff_render_as_in_cycles(empty_scene, tmp_path):
     """textured_glow_material's floor under a rectangle light, its glowing panel seen by the camera: mean relative
     difference to Cycles (test_cycles_parity's measure) <= 1%, and nothing warned."""
-    from test_cycles_parity import HEIGHT, WIDTH, difference_to_cycles
-    import make_scenes as builders
+    from test_cycles_parity import difference_to_cycles
     scene = empty_scene
     floor, glow = textured_glow_material()
     bpy.ops.mesh.primitive_plane_add(size=4.0)
     bpy.context.active_object.data.materials.append(floor)
     bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.0, 1.0, 0.6), rotation=(1.2, 0.0, 0.0))
     bpy.context.active_object.data.materials.append(glow)
-    builders.area_light("Light", "RECTANGLE", size=1.0, size_y=1.0, power=150.0, location=(0.5, 0.0, 2.0),
-                        rotation=(0.3, 0.0, 0.0))
-    builders.camera((0.0, -3.5, 3.0), (0.0, 0.0, 0.0), lens=30.0)
-    set_resolution(scene, WIDTH, HEIGHT)
-    scene.sphrect.technique = "RECTANGLE"
-    bpy.context.view_layer.update()
+    parity_view(scene, light=True)
     exported, log = export()
     assert "Procedural" not in log.warning_text() and "Glow" not in log.warning_text()
     difference, ours, cycles = difference_to_cycles(scene, "procedural textures and light falloff", tmp_path)
@@ -848,17 +849,13 @@ def test_lava_cracks_glow_as_in_cycles(empty_scene, tmp_path, two_glows):
     """The issue's lava: a graph-driven Mix Shader factor keeps the Principled lobe and the emission (a program of the
     glow's colour times the factor), which lights a white floor beside it and is seen by the camera: mean relative
     difference to Cycles <= 1%, no warning; with a second, graph-driven glow added, both summed in one program."""
-    from test_cycles_parity import HEIGHT, WIDTH, mean_relative_difference
+    from test_cycles_parity import mean_relative_difference
     from test_cycles_parity import render_cycles as parity_cycles
-    import make_scenes as builders
     scene = empty_scene
     bpy.ops.mesh.primitive_plane_add(size=2.0, location=(0.0, 0.0, 0.6), rotation=(math.radians(60), 0.0, 0.0))
     bpy.context.active_object.data.materials.append(add_faint_glow(lava_material()) if two_glows else lava_material())
     builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=6.0)
-    builders.camera((0.0, -3.5, 3.0), (0.0, 0.0, 0.3), lens=30.0)
-    set_resolution(scene, WIDTH, HEIGHT)
-    scene.sphrect.technique = "RECTANGLE"
-    bpy.context.view_layer.update()
+    parity_view(scene, light=False, target=(0.0, 0.0, 0.3))
     exported, log = export()
     lava = material_named(exported, "Lava")
     assert lava.kind == "mix" and "emission" in lava.programs
