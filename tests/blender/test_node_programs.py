@@ -260,6 +260,19 @@ def converter_cases():
             return n.outputs["Result"]
         return out
 
+    def vector_map_range(kind, clamp_on):
+        def out(t, a, b, gx, gy):
+            n = t.node("ShaderNodeMapRange", data_type="FLOAT_VECTOR", interpolation_type=kind, clamp=clamp_on)
+            sockets = {s.identifier: s for s in n.inputs}
+            t.link(combine(t, a, b, gx), sockets["Vector"])
+            sockets["From_Min_FLOAT3"].default_value = (-0.8, 0.9, 0.3)  # y reversed, z a zero range
+            sockets["From_Max_FLOAT3"].default_value = (1.1, -0.7, 0.3)
+            sockets["To_Min_FLOAT3"].default_value = (0.2, 1.5, 0.1)
+            sockets["To_Max_FLOAT3"].default_value = (2.5, 0.3, 0.9)
+            sockets["Steps_FLOAT3"].default_value = (4.0, 3.0, 0.0)
+            return n.outputs["Vector"]
+        return out
+
     def separate_combine(sep, comb, model=None):
         def out(t, a, b, gx, gy):
             s = t.node(sep)
@@ -317,6 +330,8 @@ def converter_cases():
     cases += [Case(f"Clamp {k}", clamp(k)) for k in ("MINMAX", "RANGE")]
     cases += [Case(f"Map Range {k} {c}", map_range(k, c)) for k in ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP")
               for c in (True, False)]
+    cases += [Case(f"Vector Map Range {k} {c}", vector_map_range(k, c))
+              for k in ("LINEAR", "STEPPED", "SMOOTHSTEP", "SMOOTHERSTEP") for c in (True, False)]
     cases += [Case("Separate Combine RGB", separate_combine("ShaderNodeSeparateRGB", "ShaderNodeCombineRGB")),
               Case("Separate Combine XYZ", separate_combine("ShaderNodeSeparateXYZ", "ShaderNodeCombineXYZ"))]
     cases += [Case(f"Separate Combine Color {m}", separate_combine("ShaderNodeSeparateColor",

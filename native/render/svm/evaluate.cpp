@@ -111,6 +111,11 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[3], scalar(EvalClamp(ClampType(in.mode), r(a[0]).x, r(a[1]).x, r(a[2]).x)));
                 break;
             case NodeOp::kMapRange:
+                if (in.flags & 2) {
+                    put(a[6], EvalVectorMapRange(MapRangeType(in.mode), in.flags & 1, r(a[0]), r(a[1]), r(a[2]),
+                                                 r(a[3]), r(a[4]), r(a[5])));
+                    break;
+                }
                 put(a[6], scalar(EvalMapRange(MapRangeType(in.mode), in.flags & 1, r(a[0]).x, r(a[1]).x, r(a[2]).x,
                                               r(a[3]).x, r(a[4]).x, r(a[5]).x)));
                 break;

@@ -30,7 +30,8 @@ enum class NodeOp : uint8_t {
     kColorRamp,  // out1 colour, out2 alpha of a ramp table (data: offset, size RGBA rows) at in0; flags & 1: lerp
     kInvert,     // out2 = in1 mixed with 1 - in1 by factor in0
     kClamp,      // out3 = in0 clamped to [in1, in2] (mode 1, 'RANGE': the bounds swapped if reversed)
-    kMapRange,   // out6 = Map Range (mode: kMapRangeNames) of value in0, from in1..in2 to in3..in4, steps in5
+    kMapRange,   // out6 = Map Range (mode: kMapRangeNames) of value in0, from in1..in2 to in3..in4, steps in5;
+                 // flags: 1 clamp, 2 per vector component
     kSeparate,   // out1, out2, out3 = components of in0 (mode: kColorModelNames; XYZ and RGB are 'RGB')
     kCombine,    // out3 = (in0, in1, in2) in colour model `mode` (kColorModelNames)
     kMapping,    // out4 = Mapping (mode: kMappingTypeNames) of vector in0, location in1, rotation in2, scale in3

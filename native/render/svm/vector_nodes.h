@@ -1,8 +1,10 @@
 // Vector converter nodes as Cycles 3.4 computes them (kernel/svm/mapping_util.h, util/transform.h): the Mapping node.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
+#include "math_nodes.h"  // MapRangeType
 #include "render/sampling_util.h"
 
 namespace sphrect::render::svm {
@@ -43,6 +45,40 @@ inline Vec3f EvalMapping(MappingType type, const Vec3f& v, const Vec3f& location
         case MappingType::kCount: break;
     }
     return {};
+}
+
+// The Map Range node on vectors (svm_node_vector_map_range): per component, a zero range giving factor 0 (not a
+// result 0 as for floats), both smooth types without the float version's reversed-range case, and Clamp applied
+// inside (ignored for the smooth types).
+inline Vec3f EvalVectorMapRange(MapRangeType type, bool clamp, const Vec3f& value, const Vec3f& from_min,
+                                const Vec3f& from_max, const Vec3f& to_min, const Vec3f& to_max, const Vec3f& steps) {
+    Vec3f factor = SafeDivide3(value - from_min, from_max - from_min);
+    auto stepped = [](float f, float n) { return n > 0.0f ? std::floor(f * (n + 1.0f)) / n : 0.0f; };
+    auto unit = [](const Vec3f& f) {
+        return Vec3f(std::clamp(f.x, 0.0f, 1.0f), std::clamp(f.y, 0.0f, 1.0f), std::clamp(f.z, 0.0f, 1.0f));
+    };
+    switch (type) {
+        case MapRangeType::kStepped:
+            factor = Vec3f(stepped(factor.x, steps.x), stepped(factor.y, steps.y), stepped(factor.z, steps.z));
+            break;
+        case MapRangeType::kSmoothstep:
+            factor = unit(factor);
+            factor = (Vec3f(3.0f, 3.0f, 3.0f) - factor * 2.0f) * (factor * factor);
+            break;
+        case MapRangeType::kSmootherstep:
+            factor = unit(factor);
+            factor = factor * factor * factor * (factor * (factor * 6.0f - Vec3f(15.0f, 15.0f, 15.0f)) +
+                                                 Vec3f(10.0f, 10.0f, 10.0f));
+            break;
+        default: break;
+    }
+    Vec3f result = to_min + factor * (to_max - to_min);
+    if (clamp && type != MapRangeType::kSmoothstep && type != MapRangeType::kSmootherstep) {
+        auto range = [](float x, float a, float b) { return a > b ? std::clamp(x, b, a) : std::clamp(x, a, b); };
+        result = Vec3f(range(result.x, to_min.x, to_max.x), range(result.y, to_min.y, to_max.y),
+                       range(result.z, to_min.z, to_max.z));
+    }
+    return result;
 }
 
 }  // namespace sphrect::render::svm

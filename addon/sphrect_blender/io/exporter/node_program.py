@@ -308,10 +308,13 @@ def _clamp(c, node):
 
 
 def _map_range(c, node):
-    if node.data_type != "FLOAT":
-        raise NotCompiled(f"Map Range of type '{node.data_type}'")
-    regs = [c.input_named(node, n, "float") for n in ("Value", "From Min", "From Max", "To Min", "To Max", "Steps")]
+    """Map Range on a float (its sockets' plain identifiers) or per vector component (their _FLOAT3 twins)."""
     mode = _index(c.names.NODE_MAP_RANGE_TYPES, node.interpolation_type, "interpolation", node)
+    if node.data_type == "FLOAT_VECTOR":
+        names = ("Vector", "From_Min_FLOAT3", "From_Max_FLOAT3", "To_Min_FLOAT3", "To_Max_FLOAT3", "Steps_FLOAT3")
+        regs = [c.input_named(node, n, "vector") for n in names]
+        return {"Vector": (c.emit("map_range", regs, 1, mode=mode, flags=node.clamp | 2)[0], "vector")}
+    regs = [c.input_named(node, n, "float") for n in ("Value", "From Min", "From Max", "To Min", "To Max", "Steps")]
     return {"Result": (c.emit("map_range", regs, 1, mode=mode, flags=node.clamp)[0], "float")}
 
 
