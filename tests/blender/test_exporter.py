@@ -334,6 +334,35 @@ def test_modifiers_instances_and_transforms(empty_scene):
     assert hidden == [("glossy",), ("shadow", "glossy")]
 
 
+def test_curves_text_surfaces_and_metaballs_are_exported_once(empty_scene):
+    """The depsgraph gives each such object's triangles as an instance of its own (a Mesh) besides the object
+    (Curve / MetaBall data): Cycles renders the mesh once (object_is_geometry), and so must the export -- twice
+    doubled a neon sign's light (a third-party file)."""
+    red = builders.material("Red", (0.8, 0.1, 0.1))
+    bpy.ops.curve.primitive_bezier_circle_add(location=(0, 0, 0))
+    curve = bpy.context.object
+    curve.data.bevel_depth = 0.1
+    curve.data.materials.append(red)
+    curve.visible_glossy = False
+    bpy.ops.object.text_add(location=(3, 0, 0))
+    bpy.ops.object.metaball_add(location=(-3, 0, 0))
+    bpy.ops.surface.primitive_nurbs_surface_sphere_add(location=(0, 3, 0))
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    expected = {}
+    for name in ("BezierCircle", "Text", "Mball", "SurfSphere"):
+        mesh = bpy.data.objects[name].evaluated_get(depsgraph).to_mesh()
+        mesh.calc_loop_triangles()
+        expected[name] = len(mesh.loop_triangles)
+        bpy.data.objects[name].evaluated_get(depsgraph).to_mesh_clear()
+    scene, log = export()
+    for name, count in expected.items():
+        mine = [m for m in scene.meshes if m.name.split("/")[0] == name]
+        assert len(mine) == 1 and len(mine[0].triangles) == count > 0, name
+    (ring,) = [m for m in scene.meshes if m.name.startswith("BezierCircle")]
+    assert scene.materials[int(ring.material_ids[0])].name == "Red"
+    assert ring.invisible_to == ("glossy",)
+
+
 def test_smooth_meshes_get_unit_normals(empty_scene):
     sphere = builders.mesh_object("Sphere", "uv_sphere", location=(1, 1, 1), radius=0.5, segments=16,
                                   ring_count=8)

@@ -7,7 +7,7 @@ import numpy as np
 
 from ...native import load_sphrect
 from .camera import export_camera
-from .geometry import MESH_LIKE, render_uv_layer, shadow_terminator_offset, to_world, triangulate
+from .geometry import MESH_LIKE, is_mesh_data, render_uv_layer, shadow_terminator_offset, to_world, triangulate
 from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
@@ -92,6 +92,8 @@ def scene_from_depsgraph(depsgraph):
                 skipped_types.add(obj.type)
                 log.unsupported_feature(f"{obj.type.lower()} objects", obj.name)
             continue
+        if not is_mesh_data(obj.data):
+            continue  # a curve, text, surface or metaball: its mesh comes as an instance of its own (Cycles' rule)
         for psys in getattr(obj, "particle_systems", ()):
             if psys.settings.type == "HAIR" and psys.settings.render_type == "PATH":
                 log.unsupported_feature("hair particles", obj.name)

@@ -8,6 +8,13 @@ from .materials import transparent_surface
 MESH_LIKE = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
 
 
+def is_mesh_data(data):
+    """Whether an evaluated object's data is a mesh, what Cycles 3.4 renders as geometry (object_is_geometry): the
+    depsgraph hands a curve's, text's, surface's or metaball's triangles over as an instance whose data is a Mesh,
+    besides the object itself (its Curve / MetaBall data), which is left out so they are not drawn twice."""
+    return data is not None and type(data).__name__ == "Mesh"
+
+
 class LocalMesh:
     """Triangles of one evaluated object in its own space (shared by all its instances); texture coordinates
     (uvs, generated: per vertex, or None) are the object's own whatever its world matrix."""
