@@ -47,19 +47,30 @@ inline Vec3f TriangleNormal(const MeshData& m, uint32_t prim) {
 }
 
 // Point p at barycentrics (b1, b2) of triangle `prim` of mesh m, seen from direction `toward` (unit, from the
-// surface towards the viewer) at distance `distance`: the flat triangle's normal facing the viewer, as a light's
-// surface is set up in Cycles (shader_setup_from_sample: no smooth normal of an emitter's triangle here).
+// surface towards the viewer) at distance `distance`, as Cycles sets up a light sample's or a BSDF ray's point on an
+// emitter (shader_setup_from_sample / _from_ray): the flat triangle's normal Ng, the interpolated vertex normals N
+// of a smooth mesh (on Ng's side, as MakeSurfaceHit turns them), both facing the viewer.
 inline svm::ShaderGlobals TriangleShaderGlobals(const MeshData& m, uint32_t prim, float b1, float b2, const Vec3f& p,
                                                 const Vec3f& toward, float distance) {
     const uint32_t* t = &m.triangles[3 * size_t(prim)];
-    Vec3f n = TriangleNormal(m, prim);
+    const float b0 = 1 - b1 - b2;
+    Vec3f ng = TriangleNormal(m, prim), n = ng;
+    if (!m.normals.empty()) {
+        const Vec3f smooth = m.normals[t[0]] * b0 + m.normals[t[1]] * b1 + m.normals[t[2]] * b2;
+        const float len = Length(smooth);
+        if (len > 0) n = Dot(smooth, ng) < 0 ? smooth / -len : smooth / len;
+    }
     svm::ShaderGlobals sg;
-    sg.backfacing = Dot(n, toward) < 0;
-    if (sg.backfacing) n = -n;
+    sg.backfacing = Dot(ng, toward) < 0;
+    if (sg.backfacing) {
+        ng = -ng;
+        n = -n;
+    }
     sg.p = p;
-    sg.n = sg.ng = n;
+    sg.n = n;
+    sg.ng = ng;
     sg.incoming = toward;
-    const TextureCoordinates tc = InterpolateTextureCoordinates(m, t[0], t[1], t[2], 1 - b1 - b2, b1, b2);
+    const TextureCoordinates tc = InterpolateTextureCoordinates(m, t[0], t[1], t[2], b0, b1, b2);
     sg.uv = tc.uv;
     sg.generated = tc.generated;
     sg.object = ObjectPoint(m, p);
