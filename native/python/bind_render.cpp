@@ -431,6 +431,15 @@ void BindRender(py::module_& m) {
             },
             py::arg("texture"), py::arg("strength"), py::arg("to_world"), py::arg("interpolation"),
             "The image world (sphrect.Environment): an image added before, which replaces the background")
+        .def(
+            "set_camera_environment",
+            [](RenderScene& s, int texture, V3 strength, const py::object& to_world, const std::string& interpolation) {
+                float m[3][3];
+                RotationOf(to_world, "world camera environment to_world", m);
+                s.SetCameraEnvironment(texture, ToVec(strength), m, InterpolationOf(interpolation));
+            },
+            py::arg("texture"), py::arg("strength"), py::arg("to_world"), py::arg("interpolation"),
+            "What escaping camera rays see instead (World.camera_environment): an image added before")
         .def("add_image", &AddImage, py::arg("name"), py::arg("pixels"), py::arg("srgb"))
         .def("load_image", &RenderScene::LoadImage, py::arg("name"), py::arg("path"), py::arg("srgb"),
              py::call_guard<py::gil_scoped_release>())

@@ -60,25 +60,38 @@ void RenderScene::SetWorldVisibility(const LightVisibility& vis) {
     world_visibility = vis;
 }
 
-void RenderScene::SetEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
-                                 TextureInterpolation interpolation) {
-    RequireNotCommitted();
+// An EnvironmentLight of image `image` (added before), without its distribution; `what` names it in errors.
+EnvironmentLight RenderScene::CheckedEnvironment(const std::string& what, int image, const Spectrum& strength,
+                                                 const float to_world[3][3], TextureInterpolation interpolation) const {
     if (image < 0 || size_t(image) >= images.size())
-        Fail("world environment: texture " + std::to_string(image) + " is not one of the scene's " +
+        Fail(what + ": texture " + std::to_string(image) + " is not one of the scene's " +
              std::to_string(images.size()) + " images");
-    CheckColor("world environment strength", strength);
+    CheckColor(what + " strength", strength);
     // A rotation: orthonormal rows and determinant +1 (float input: within 1e-4).
     const float(*m)[3] = to_world;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) {
             const float dot = m[i][0] * m[j][0] + m[i][1] * m[j][1] + m[i][2] * m[j][2];
             if (!(std::abs(dot - (i == j ? 1.0f : 0.0f)) <= 1e-4f))
-                Fail("world environment to_world must be a rotation (orthonormal, determinant +1)");
+                Fail(what + " to_world must be a rotation (orthonormal, determinant +1)");
         }
     const float det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    if (!(det > 0)) Fail("world environment to_world must be a rotation (orthonormal, determinant +1)");
+    if (!(det > 0)) Fail(what + " to_world must be a rotation (orthonormal, determinant +1)");
+    EnvironmentLight e;
+    e.image = image;
+    e.strength = strength;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) e.to_world[i][j] = m[i][j];
+    e.interpolation = interpolation;
+    return e;
+}
+
+void RenderScene::SetEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
+                                 TextureInterpolation interpolation) {
+    RequireNotCommitted();
+    EnvironmentLight checked = CheckedEnvironment("world environment", image, strength, to_world, interpolation);
     // Its sampling distribution counts against the images' memory (replacing an earlier one's).
     const Image& im = images[size_t(image)];
     const uint64_t bytes = EnvironmentDistributionBytes(im.width, im.height);
@@ -88,12 +101,14 @@ void RenderScene::SetEnvironment(int image, const Spectrum& strength, const floa
     image_memory_bytes_ += bytes;
     environment_memory_bytes_ = bytes;
     has_environment = true;
-    environment = {};
-    environment.image = image;
-    environment.strength = strength;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) environment.to_world[i][j] = m[i][j];
-    environment.interpolation = interpolation;
+    environment = std::move(checked);
+}
+
+void RenderScene::SetCameraEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
+                                       TextureInterpolation interpolation) {
+    RequireNotCommitted();
+    camera_environment = CheckedEnvironment("world camera environment", image, strength, to_world, interpolation);
+    has_camera_environment = true;
 }
 
 void RenderScene::SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g) {

@@ -98,6 +98,11 @@ class RenderScene {
     // memory counts against SetImageMemoryLimit (std::invalid_argument here where it would pass it).
     void SetEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
                         TextureInterpolation interpolation);
+    // What escaping camera rays see instead of the background or the image world, where the world shows the camera
+    // something else than the light it gives (a Light Path node's Is Camera Ray): an image as SetEnvironment's,
+    // never sampled as a light.
+    void SetCameraEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
+                              TextureInterpolation interpolation);
     void SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
     // Checks the material (std::invalid_argument naming it and the field) and adds it with its Bsdf; returns its
     // index.  Emissive triangles of its meshes become area lights at Commit().
@@ -158,6 +163,8 @@ class RenderScene {
     // empty, and it lights nothing, for an all-black image).
     bool has_environment = false;
     EnvironmentLight environment;
+    bool has_camera_environment = false;  // SetCameraEnvironment: camera_environment (no distribution) replaces them
+    EnvironmentLight camera_environment;  // for camera rays
     bool film_transparent = false;
     LightVisibility world_visibility;  // SetWorldVisibility; the default: seen by every ray
     bool film_alpha = false;  // Commit(): the film's alpha can differ from 1 (transparent film, or a holdout used)
@@ -216,6 +223,8 @@ class RenderScene {
     mutable LightTree light_tree_;
     mutable std::vector<TreeEmitterRef> light_tree_refs_;
     void RequireNotCommitted() const;
+    EnvironmentLight CheckedEnvironment(const std::string& what, int image, const Spectrum& strength,
+                                        const float to_world[3][3], TextureInterpolation interpolation) const;
     void AddMeshLights();
     // AddMeshLights: area_lights.back(), of material `material`, made of `count` triangles of meshes[mesh] from
     // `first`, takes its emission from the material's image (scene_textured_emitters.cpp).

@@ -159,16 +159,18 @@ def _add_textures(native, scene: Scene) -> None:
         native.add_image(t.name, np.ascontiguousarray(pixels), srgb)
 
 
-def _set_environment(native, env, n_textures: int) -> None:
-    """The image world (scene.world.environment) to the native scene, after its textures."""
+def _set_environment(native, env, n_textures: int, field: str = "environment") -> None:
+    """An image world (scene.world.environment, or `field` 'camera_environment') to the native scene, after its
+    textures."""
+    what = "world " + field.replace("_", " ")
     if not isinstance(env, Environment):
-        raise ValueError(f"scene.world.environment must be a sphrect.Environment, got {type(env).__name__}")
+        raise ValueError(f"scene.world.{field} must be a sphrect.Environment, got {type(env).__name__}")
     if isinstance(env.texture, bool) or not isinstance(env.texture, numbers.Integral) \
             or not 0 <= int(env.texture) < n_textures:
-        raise ValueError(f"world environment texture must be an index into scene.textures (it has {n_textures}), "
+        raise ValueError(f"{what} texture must be an index into scene.textures (it has {n_textures}), "
                          f"got {env.texture!r}")
     if env.interpolation not in TEXTURE_INTERPOLATIONS:
-        raise ValueError(f"world environment interpolation must be {one_of(TEXTURE_INTERPOLATIONS)}, "
+        raise ValueError(f"{what} interpolation must be {one_of(TEXTURE_INTERPOLATIONS)}, "
                          f"got {env.interpolation!r}")
     try:
         m = np.asarray(env.to_world, dtype=np.float64)
@@ -176,9 +178,10 @@ def _set_environment(native, env, n_textures: int) -> None:
         m = None
     if m is None or m.shape != (3, 3) or not np.all(np.isfinite(m)) or not np.allclose(m @ m.T, np.eye(3), atol=1e-5) \
             or not np.linalg.det(m) > 0:
-        raise ValueError(f"world environment to_world must be a 3x3 rotation (orthonormal, determinant +1), "
+        raise ValueError(f"{what} to_world must be a 3x3 rotation (orthonormal, determinant +1), "
                          f"got {env.to_world!r}")
-    native.set_environment(int(env.texture), rgb(env.strength, "world environment strength"), m, env.interpolation)
+    setter = native.set_environment if field == "environment" else native.set_camera_environment
+    setter(int(env.texture), rgb(env.strength, what + " strength"), m, env.interpolation)
 
 
 def _add_material(native, mat, index: int) -> None:
@@ -231,6 +234,8 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
     _add_textures(native, scene)
     if scene.world.environment is not None:
         _set_environment(native, scene.world.environment, len(scene.textures))
+    if scene.world.camera_environment is not None:
+        _set_environment(native, scene.world.camera_environment, len(scene.textures), "camera_environment")
     for i, mat in enumerate(scene.materials):
         _add_material(native, mat, i)
     n_materials = max(1, len(scene.materials))

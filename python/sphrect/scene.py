@@ -72,7 +72,9 @@ FORMAT_NAME = "sphrect-scene"
 # 18: Material.programs and MixFactor.program (NodeProgram: a shader node graph compiled for the renderer, Cycles'
 # SVM), Mesh.object_translation.  Older files load unchanged (no programs).
 # Material.diffuse_roughness (the Diffuse BSDF's Roughness: Oren-Nayar); older files load with 0 (Lambert).
-FORMAT_VERSION = 18
+# 19: World.camera_environment (what camera rays see of a world whose Light Path node shows them something else).
+# Older files load without one (camera rays see the world's light).
+FORMAT_VERSION = 19
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -452,6 +454,9 @@ class World:
     # do not see it -- camera rays that escape show black; BSDF and phase rays of a hidden kind find nothing, and it
     # lights none of the closures of a hidden class (as a light's LightVisibility.invisible_to).
     invisible_to: Tuple[str, ...] = ()
+    # What camera rays that escape see instead of `background` / `environment`, where the world shows the camera
+    # something else than the light it gives (a Light Path node's Is Camera Ray in Blender's world); None: the same.
+    camera_environment: Optional[Environment] = None
 
 
 @dataclass
@@ -592,12 +597,14 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
     world = dict(meta["world"])
     medium = world.pop("medium", None)
     environment = world.pop("environment", None)
+    camera_environment = world.pop("camera_environment", None)
     if "invisible_to" in world:
         world["invisible_to"] = tuple(world["invisible_to"])
     scene = Scene(
         camera=Camera(**meta["camera"]),
         world=World(medium=Medium(**medium) if medium else None,
-                    environment=Environment(**environment) if environment else None, **world),
+                    environment=Environment(**environment) if environment else None,
+                    camera_environment=Environment(**camera_environment) if camera_environment else None, **world),
         materials=[_material_from_dict(m) for m in meta["materials"]],
     )
     for l in meta["lights"]:

@@ -316,3 +316,38 @@ def test_the_sampling_distribution_counts_against_the_image_memory():
         else:
             with pytest.raises(ValueError, match="sampling distribution"):
                 native.set_environment(0, (1.0, 1.0, 1.0), np.eye(3), "linear")
+
+
+def test_camera_environment_is_what_camera_rays_see_and_lights_nothing(tmp_path):
+    """World.camera_environment (a world whose Light Path node shows the camera something else): escaping camera rays
+    see its texel, not the image world's; the plane is lit by the image world alone (its closed form), exactly as
+    without a camera environment; a file keeps it, a format-18 one loads without; bad ones are refused."""
+    h, w = 4, 8
+    ids = np.arange(h * w, dtype=np.float32).reshape(h, w)
+    seen = np.stack([ids / 10, (ids % w) / 10, (ids // w) / 10 + 0.05], axis=-1).astype(np.float32)
+    x, y = 4, 2
+    d, _ = equirectangular_direction(np.array([(x + 0.5) / w]), np.array([(y + 0.5) / h]))
+    scene = environment_scene(np.full((2, 4, 3), 0.8, np.float32), meshes=[], camera=look_at_camera(d[0]))
+    scene.textures.append(sphrect.Texture(name="camera world", pixels=seen, colorspace="linear"))
+    scene.world.camera_environment = sphrect.Environment(texture=1, interpolation="closest")
+    r = sphrect.Renderer(scene, techniques=["rectangle"])
+    assert r.render(2)
+    got = r.image("rectangle")[:, :, :3]
+    np.testing.assert_allclose(got, np.broadcast_to(seen[y, x], got.shape), rtol=1e-6, atol=1e-7)
+    # What the plane receives: the image world's light, the same image as without the camera's.
+    lit = environment_scene(np.full((8, 16, 3), 0.8, np.float32), interpolation="linear")
+    lit.textures.append(sphrect.Texture(name="camera world", pixels=seen, colorspace="linear"))
+    plain = sphrect.Renderer(lit, techniques=["rectangle"], seed=4)
+    lit.world.camera_environment = sphrect.Environment(texture=1)
+    split = sphrect.Renderer(lit, techniques=["rectangle"], seed=4)
+    assert plain.render(2) and split.render(2)
+    np.testing.assert_array_equal(plain.image("rectangle"), split.image("rectangle"))
+    # Saved and loaded; older files load without.
+    path, old = str(tmp_path / "split.sphrect.npz"), str(tmp_path / "old.sphrect.npz")
+    sphrect.save_scene(scene, path)
+    assert sphrect.load_scene(path).world.camera_environment.texture == 1
+    save_as_older_version(path, old, 18, lambda meta: meta["world"].pop("camera_environment"))
+    assert sphrect.load_scene(old).world.camera_environment is None
+    scene.world.camera_environment = sphrect.Environment(texture=2)
+    with pytest.raises(ValueError, match="world camera environment texture must be an index"):
+        sphrect.Renderer(scene, techniques=["rectangle"])

@@ -147,9 +147,11 @@ template <bool kGlossy, bool kMedium>
     }
 }
 
-// The image world's radiance a camera ray that escapes towards d sees.  Out of line: scenes without one skip it.
+// The image world's radiance a camera ray that escapes towards d sees (the camera's own image, where the world
+// shows the camera another one).  Out of line: scenes without one skip it.
 [[gnu::noinline]] static Spectrum EnvironmentSeen(const RenderScene& scene, const Vec3f& d) {
-    return EnvironmentRadiance(scene.environment, scene.images[size_t(scene.environment.image)], d);
+    const EnvironmentLight& e = scene.has_camera_environment ? scene.camera_environment : scene.environment;
+    return EnvironmentRadiance(e, scene.images[size_t(e.image)], d);
 }
 
 // The camera ray's hit that shading takes (its first, or past transparent surfaces), its throughput, and what it
@@ -164,7 +166,8 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     if (scene.has_transparency && out.hit) FollowThroughTransparent<kGlossy, kMedium>(scene, out, seen);
     if (!out.hit && !scene.film_transparent && (scene.world_visibility.rays() & kRayCamera)) {
         // The image world (environment_light.h) replaces the background (black then).
-        const Spectrum sky = scene.has_environment ? EnvironmentSeen(scene, out.ray.d) : scene.background;
+        const Spectrum sky = scene.has_environment || scene.has_camera_environment ? EnvironmentSeen(scene, out.ray.d)
+                                                                                     : scene.background;
         seen += out.throughput * sky * SegmentTransmittance<kMedium>(scene.medium, kInf);
     }
     if (scene.film_alpha) {
