@@ -314,7 +314,7 @@ def test_other_world_trees_are_baked(fresh, kind, monkeypatch):
         tree.links.new(tree.nodes.new("ShaderNodeValue").outputs[0], background.inputs["Strength"])
     baked, pixels = [], np.ones((4, 8, 3), np.float32)
     pixels[2:] = 3.0  # the upper half brighter (the sphere's mean: 2)
-    monkeypatch.setattr(world_bake(), "bake_world", lambda w: baked.append(w) or pixels)
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w, **_: baked.append(w) or pixels)
     exported, log = export()
     assert len(baked) == 1 and exported.world.environment is not None
     assert np.allclose(exported.world.background, 2.0)
@@ -328,7 +328,7 @@ def test_a_world_baked_to_one_colour_is_a_constant_background(fresh, monkeypatch
     rgb = tree.nodes.new("ShaderNodeRGB")
     rgb.outputs[0].default_value = (0.2, 0.4, 0.6, 1.0)
     tree.links.new(rgb.outputs[0], tree.nodes["Background"].inputs["Color"])
-    monkeypatch.setattr(world_bake(), "bake_world", lambda w: np.full((4, 8, 3), (0.2, 0.4, 0.6), np.float32))
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w, **_: np.full((4, 8, 3), (0.2, 0.4, 0.6), np.float32))
     exported, log = export()
     assert exported.world.environment is None and not exported.textures
     assert exported.world.background == pytest.approx((0.2, 0.4, 0.6))
@@ -342,7 +342,7 @@ def test_an_image_world_with_sampling_none_is_warned(fresh, monkeypatch):
     world.cycles.sampling_method = "NONE"
     tree.nodes["Background"].inputs["Color"].default_value = (0.2, 0.4, 0.6, 1.0)
     assert "Sampling None" not in export()[1].warning_text()
-    monkeypatch.setattr(world_bake(), "bake_world", lambda w: np.arange(96, dtype=np.float32).reshape(4, 8, 3))
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w, **_: np.arange(96, dtype=np.float32).reshape(4, 8, 3))
     tree.links.new(tree.nodes.new("ShaderNodeTexGradient").outputs["Color"], tree.nodes["Background"].inputs["Color"])
     exported, log = export()
     assert exported.world.environment is not None and "world Sampling None (sampled as a light)" in log.warning_text()
@@ -354,7 +354,7 @@ def test_an_image_world_with_sampling_none_is_warned(fresh, monkeypatch):
 def test_constant_and_image_worlds_are_not_baked(fresh, monkeypatch):
     """A constant Background exports as before (its colour x strength, no environment), and so does one whose
     Color an Environment Texture gives (the image-world path's)."""
-    monkeypatch.setattr(world_bake(), "bake_world", lambda w: pytest.fail("baked"))
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w, **_: pytest.fail("baked"))
     world, tree = node_world()
     background = tree.nodes["Background"]
     background.inputs["Color"].default_value = (0.2, 0.4, 0.6, 1.0)
@@ -367,18 +367,44 @@ def test_constant_and_image_worlds_are_not_baked(fresh, monkeypatch):
     export()
 
 
-def test_light_path_world_is_warned(fresh, monkeypatch):
-    """A world that shows camera rays something else than other rays (Light Path ▸ Is Camera Ray) is baked as
-    the camera sees it: said."""
-    world, tree = node_world()
+def light_path_world(name="Split"):
+    """A world whose light is a constant blue Background and whose camera rays see a Gradient (Light Path ▸ Is
+    Camera Ray as a Mix Shader's factor, the classic backdrop trick)."""
+    world, tree = node_world(name)
     mix = tree.nodes.new("ShaderNodeMixShader")
     light_path = tree.nodes.new("ShaderNodeLightPath")
+    light = tree.nodes["Background"]
+    light.inputs["Color"].default_value = (0.1, 0.2, 0.9, 1.0)
+    light.inputs["Strength"].default_value = 1.5
+    seen = tree.nodes.new("ShaderNodeBackground")
+    gradient = tree.nodes.new("ShaderNodeTexGradient")
+    tree.links.new(gradient.outputs["Color"], seen.inputs["Color"])
     tree.links.new(light_path.outputs["Is Camera Ray"], mix.inputs[0])
-    tree.links.new(tree.nodes["Background"].outputs[0], mix.inputs[1])
+    tree.links.new(light.outputs[0], mix.inputs[1])
+    tree.links.new(seen.outputs[0], mix.inputs[2])
     tree.links.new(mix.outputs[0], tree.nodes["World Output"].inputs["Surface"])
-    monkeypatch.setattr(world_bake(), "bake_world", lambda w: np.ones((4, 8, 3), np.float32))
+    return world
+
+
+def test_a_light_path_world_is_baked_for_its_light_and_for_the_camera(fresh, tmp_path):
+    """Is Camera Ray in a world: baked twice by Cycles -- its light with Is Camera Ray 0 (the constant blue, as
+    Cycles' light samples see it: a Background, no image) and what the camera sees (the gradient, as
+    World.camera_environment); unwarned.  Another Light Path output is warned, naming it."""
+    world = light_path_world()
+    bake = world_bake().bake_world
+    light = bake(world, 16, 8, 4, cache_dir=str(tmp_path), camera_rays=False)
+    seen = bake(world, 16, 8, 4, cache_dir=str(tmp_path))
+    np.testing.assert_allclose(light, np.broadcast_to(np.array([0.1, 0.2, 0.9]) * 1.5, light.shape), rtol=1e-5)
+    assert seen.max() > seen.min() + 0.5  # the gradient
+    exported, log = export()
+    assert "Light Path" not in log.warning_text()
+    assert np.allclose(exported.world.background, (0.15, 0.3, 1.35)) and exported.world.environment is None
+    camera = exported.world.camera_environment
+    assert camera is not None and exported.textures[camera.texture].pixels.shape[2] == 3
+    tree = world.node_tree
+    tree.links.new(tree.nodes["Light Path"].outputs["Is Glossy Ray"], tree.nodes["Gradient Texture"].inputs[0])
     _, log = export()
-    assert "Light Path" in log.warning_text()
+    assert "Light Path Is Glossy Ray in a world" in log.warning_text()
 
 
 def renderer_supports_environments(scene):
@@ -417,6 +443,36 @@ def test_floor_lit_by_a_nishita_sky_matches_cycles(fresh, tmp_path):
     assert difference <= 0.01
 
 
+@pytest.mark.slow
+def test_a_light_path_world_matches_cycles(fresh, tmp_path):
+    """light_path_world over a floor and a box, the camera seeing its gradient backdrop above the horizon: Cycles
+    lights the scene with the blue and shows the camera the gradient, and so does SPHRECT (<= 1% per lit 4x4
+    block on average); lit by what the camera sees instead (the export before World.camera_environment) it is far
+    off."""
+    from test_cycles_parity import HEIGHT, WIDTH
+    scene = fresh
+    scene.render.engine = "SPHRECT"
+    scene.view_settings.view_transform = "Standard"
+    set_resolution(scene, WIDTH, HEIGHT)
+    builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=40)
+    builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.3, 0.5, 0.5))
+    builders.camera((0.0, -6.0, 1.5), (0.0, 0.0, 1.0), lens=35.0)
+    light_path_world()
+    bpy.context.view_layer.update()
+    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=1024)
+    scene.render.engine = "SPHRECT"
+    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 512, 1, 2
+    ours = render()["images"]["rectangle"]
+    difference = mean_relative_difference(ours, cycles)
+    print(f"Light Path world: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
+    assert difference <= 0.01
+    tree = bpy.context.scene.world.node_tree  # Is Camera Ray 1 for every ray: lit by the gradient
+    one = tree.nodes.new("ShaderNodeValue")
+    one.outputs[0].default_value = 1.0
+    tree.links.new(one.outputs[0], tree.nodes["Mix Shader"].inputs[0])
+    assert mean_relative_difference(render()["images"]["rectangle"], cycles) > 0.1
+
+
 @pytest.mark.gui
 @pytest.mark.skipif(shutil.which("xvfb-run") is None, reason="xvfb-run is not installed (apt install xvfb)")
 def test_f12_in_a_window_bakes_the_world_from_the_render_thread():
@@ -439,7 +495,7 @@ def test_viewport_reexports_a_world_turned_into_a_sky(empty_scene, monkeypatch):
     texture (the whole scene re-exported: the texture joins Scene.textures); edited back to a constant, neither."""
     viewport = sys.modules["sphrect_blender.engine.viewport"]
     sky_pixels = np.linspace(0.1, 1, 96, dtype=np.float32).reshape(4, 8, 3)
-    monkeypatch.setattr(world_bake(), "bake_world", lambda w: sky_pixels)
+    monkeypatch.setattr(world_bake(), "bake_world", lambda w, **_: sky_pixels)
     builders.mesh_object("Ground", "plane", builders.material("Ground"), size=8)
     builders.area_light("Light", power=50.0, location=(0, 0, 2))
     session = viewport.ViewportSession()

@@ -143,7 +143,9 @@ class ViewportSession:
                 self.scene = dataclasses.replace(self.scene, lights=[l for l in lights if l is not None])
             if WORLD in kinds:
                 world = export_world(sphrect, rendered_world(depsgraph), log)
-                if world.environment is None and self.scene.world.environment is None:
+                images = (world.environment, world.camera_environment, self.scene.world.environment,
+                          self.scene.world.camera_environment)
+                if all(image is None for image in images):
                     self.scene = dataclasses.replace(self.scene, world=world)
                 else:  # an image world's image is one of the scene's textures: everything again
                     self.scene, log = scene_from_depsgraph(depsgraph)

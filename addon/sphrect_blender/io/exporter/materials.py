@@ -791,7 +791,7 @@ def _world_shading(sphrect, world, log, textures):
     out = _active_output(world.node_tree, "ShaderNodeOutputWorld")
     if out is None:
         return sphrect.World()
-    background, environment = (0.0, 0.0, 0.0), None
+    background, environment, camera_environment = (0.0, 0.0, 0.0), None, None
     surface = _linked_node(out.inputs["Surface"])
     if surface is not None:
         if textures is None:
@@ -800,38 +800,63 @@ def _world_shading(sphrect, world, log, textures):
         if direct is not None:
             background, environment = direct
         else:
-            background, environment = _world_not_representable(sphrect, world, surface, textures, log)
+            background, environment, camera_environment = _world_not_representable(sphrect, world, surface,
+                                                                                   textures, log)
     medium = _export_medium(sphrect, _linked_node(out.inputs["Volume"]), world.name, log)
-    return sphrect.World(background=background, medium=medium, environment=environment)
+    return sphrect.World(background=background, medium=medium, environment=environment,
+                         camera_environment=camera_environment)
 
 
 def _world_not_representable(sphrect, world, surface, textures, log):
-    """(background, environment) of a world surface the renderer cannot take as it is (_direct_world), baked by
-    Cycles (world_bake.py): the image as a linear float texture added to `textures`, strength 1 (the Background's
-    Strength is in the image), identity to_world; background the image's mean radiance over the sphere (what a
-    renderer without environments shows).  A failed bake: a black world, said.  A bake of one colour (an RGB or
-    Value node, a Mix of constants...) is that constant Background, as if typed in: no image to sample.  A Rendered
-    viewport's export does not wait for a bake (world_bake.in_background): a stand-in meanwhile, the world's last
-    bake it showed or else _stand_in_constant."""
-    if _uses_light_path(world.node_tree, set()):
-        log.unsupported_feature("Light Path node in a world (baked as camera rays see it, used for all rays)",
-                                world.name)
+    """(background, environment, camera_environment) of a world surface the renderer cannot take as it is
+    (_direct_world), baked by Cycles (world_bake.py): the image as a linear float texture added to `textures`,
+    strength 1 (the Background's Strength is in the image), identity to_world; background the image's mean radiance
+    over the sphere (what a renderer without environments shows).  A world whose Light Path node's Is Camera Ray
+    shows the camera something else is baked twice: its light (Is Camera Ray 0, as Cycles' light samples and BSDF
+    rays see it) and what the camera sees (camera_environment).  A failed bake: a black world, said.  A bake of one
+    colour (an RGB or Value node, a Mix of constants...) is that constant Background, as if typed in: no image to
+    sample.  A Rendered viewport's export does not wait for a bake (world_bake.in_background): a stand-in
+    meanwhile, the world's last bake it showed or else _stand_in_constant (the camera then sees the light)."""
+    used = _light_path_outputs(world.node_tree, set())
+    if used - {"Is Camera Ray"}:
+        log.unsupported_feature(f"Light Path {', '.join(sorted(used - {'Is Camera Ray'}))} in a world (baked as "
+                                "light samples see it, for every ray)", world.name)
+    split = "Is Camera Ray" in used
+    pixels = _baked_world(world, log, camera_rays=not split)
+    if pixels is None:
+        return (0.0, 0.0, 0.0), None, None
+    if isinstance(pixels, world_bake.BakeNotReady):
+        if pixels.stand_in is None:
+            return _stand_in_constant(surface), None, None
+        pixels = pixels.stand_in
+    camera = _baked_world(world, log, camera_rays=True) if split else None
+    camera_environment = None
+    if camera is not None and not isinstance(camera, world_bake.BakeNotReady) and \
+            not (camera.shape == pixels.shape and np.array_equal(camera, pixels)):
+        if np.all(camera == camera[0, 0]):
+            camera = camera[:1, :1]  # one colour: a 1 x 1 image
+        textures.list.append(sphrect.Texture(name=f"{world.name} (baked world, camera)", pixels=camera,
+                                             colorspace="linear"))
+        camera_environment = sphrect.Environment(texture=len(textures.list) - 1)
+    if np.all(pixels == pixels[0, 0]):
+        return _rgb(pixels[0, 0]), None, camera_environment
+    textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
+    environment = sphrect.Environment(texture=len(textures.list) - 1)
+    return _rgb(world_bake.sphere_mean(pixels)), environment, camera_environment
+
+
+def _baked_world(world, log, camera_rays):
+    """world_bake.bake_world's pixels; its BakeNotReady (a Rendered viewport's: the problem said if it failed); None
+    when the bake failed (said)."""
     try:
-        pixels = world_bake.bake_world(world)
+        return world_bake.bake_world(world, camera_rays=camera_rays)
     except world_bake.BakeNotReady as not_ready:
         if not_ready.error is not None:
             log.problem(f"world '{world.name}' could not be baked by Cycles (a stand-in used): {not_ready.error}")
-        if not_ready.stand_in is None:
-            return _stand_in_constant(surface), None
-        pixels = not_ready.stand_in
+        return not_ready
     except world_bake.BakeError as e:
         log.problem(f"world '{world.name}' could not be baked by Cycles (black used): {e}")
-        return (0.0, 0.0, 0.0), None
-    if np.all(pixels == pixels[0, 0]):
-        return _rgb(pixels[0, 0]), None
-    textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
-    environment = sphrect.Environment(texture=len(textures.list) - 1)
-    return _rgb(world_bake.sphere_mean(pixels)), environment
+        return None
 
 
 def _stand_in_constant(surface):
@@ -842,16 +867,15 @@ def _stand_in_constant(surface):
     return _rgb(np.array(own_value(surface.inputs["Color"])[:3]) * float(own_value(surface.inputs["Strength"])))
 
 
-def _uses_light_path(tree, seen):
-    """Whether a node tree (or a group inside it) holds a Light Path node."""
+def _light_path_outputs(tree, seen):
+    """The names of the Light Path outputs a node tree (or a group inside it) links to something."""
     seen.add(tree.name_full)
+    used = {link.from_socket.name for link in tree.links if link.from_node.bl_idname == "ShaderNodeLightPath"}
     for node in tree.nodes:
-        if node.bl_idname == "ShaderNodeLightPath":
-            return True
         group = getattr(node, "node_tree", None)
-        if group is not None and group.name_full not in seen and _uses_light_path(group, seen):
-            return True
-    return False
+        if group is not None and group.name_full not in seen:
+            used |= _light_path_outputs(group, seen)
+    return used
 
 
 def _direct_world(sphrect, surface, textures, log, owner):

@@ -150,14 +150,14 @@ def _tree(tree, trees):
     return key
 
 
-def world_signature(world, width, height, samples):
+def world_signature(world, width, height, samples, camera_rays=True):
     """A hash of everything the bake of `world` depends on: its node tree (and the groups, images and objects it
-    reads), the resolution and samples, Blender's version and the bake's own."""
+    reads), the resolution and samples, the rays it is baked for, Blender's version and the bake's own."""
     import bpy
     trees = {}
     root = _tree(world.node_tree, trees)
     content = [_BAKE_VERSION, bpy.app.version_string, width, height, samples, PEAK_SAMPLES, PEAK_RATIO, PEAK_MARGIN,
-               PEAK_MAX_AREA, root, sorted(trees.items())]
+               PEAK_MAX_AREA, root, sorted(trees.items())] + ([] if camera_rays else ["lighting"])
     return hashlib.sha256(json.dumps(content, default=repr).encode()).hexdigest()
 
 
@@ -180,10 +180,11 @@ _thread = threading.local()  # .bakes: the BackgroundBakes of an export within i
 _DEFAULT = object()  # bake_world's cache folder when none is given: CACHE_DIR as it is then (tests set it)
 
 
-def bake_world(world, width=None, height=None, samples=None, cache_dir=_DEFAULT):
+def bake_world(world, width=None, height=None, samples=None, cache_dir=_DEFAULT, camera_rays=True):
     """float32 [height, width, 3], rows bottom to top: the radiance Cycles 3.4 gives camera rays that escape into
     `world` (a bpy World with nodes; evaluated or original), in direction d at pixel (u, v) as sphrect.Environment
-    maps it with to_world = identity, Strength included.  Each pixel is the mean over its area in (u, v) (Cycles' box
+    maps it with to_world = identity, Strength included; camera_rays False: the light it gives the scene instead,
+    its Light Path nodes' Is Camera Ray read as 0 (what Cycles' light samples and BSDF rays see).  Each pixel is the mean over its area in (u, v) (Cycles' box
     filter of 1 pixel; PEAK_SAMPLES about its peaks), so a sun disc smaller than a pixel keeps its power.  Cached by
     world_signature in `cache_dir` (CACHE_DIR unless given; None: no cache).  The size and samples default to
     BAKE_WIDTH, BAKE_HEIGHT and BAKE_SAMPLES.  Within in_background() a world not cached raises BakeNotReady
@@ -191,15 +192,15 @@ def bake_world(world, width=None, height=None, samples=None, cache_dir=_DEFAULT)
     width, height = width or BAKE_WIDTH, height or BAKE_HEIGHT
     samples = samples or BAKE_SAMPLES
     cache_dir = CACHE_DIR if cache_dir is _DEFAULT else cache_dir
-    signature = world_signature(world, width, height, samples)
+    signature = world_signature(world, width, height, samples, camera_rays)
     background = getattr(_thread, "bakes", None)
     pixels = _cached(signature, cache_dir)
     if pixels is None:
-        if background is not None:
-            background.request(world, signature, width, height, samples, cache_dir)  # raises BakeNotReady
+        if background is not None:  # raises BakeNotReady
+            background.request(world, signature, width, height, samples, cache_dir, camera_rays)
         pixels = _result_of_running(signature, cache_dir)
         if pixels is None:
-            pixels = _render_world(world, width, height, samples)
+            pixels = _render_world(world, width, height, samples, camera_rays)
         _keep(signature, pixels, cache_dir)
     if background is not None:
         background.showing(world, signature, pixels)
@@ -244,9 +245,9 @@ def _store(path, pixels, cache_dir):
         pass  # no cache: the next export bakes again
 
 
-def _render_world(world, width, height, samples):
+def _render_world(world, width, height, samples, camera_rays=True):
     """Bake `world` in a child Blender and wait for it (a render, a script)."""
-    return start_bake(world, None, width, height, samples).wait(CHILD_TIMEOUT)
+    return start_bake(world, None, width, height, samples, camera_rays).wait(CHILD_TIMEOUT)
 
 
 # ------------------------------------------------------------------------------------------ the child process
@@ -328,7 +329,7 @@ class BakeJob:
                 del _running[self.signature]
 
 
-def start_bake(world, signature, width, height, samples):
+def start_bake(world, signature, width, height, samples, camera_rays=True):
     """A BakeJob: the child Blender started on `world` (its .blend written on the main thread), not waited for.  With
     a `signature`, a render of the same world waits for this child (bake_world) instead of starting its own."""
     import bpy
@@ -340,7 +341,8 @@ def start_bake(world, signature, width, height, samples):
         _on_main_thread(lambda: bpy.data.libraries.write(blend, {original}, path_remap="ABSOLUTE", fake_user=True))
         out = os.path.join(folder, "world.npy")
         job = dict(blend=blend, world=original.name, out=out, exr=os.path.join(folder, "world.exr"), width=width,
-                   height=height, samples=samples, peak_samples=PEAK_SAMPLES, frame=frame, parent=os.getpid())
+                   height=height, samples=samples, peak_samples=PEAK_SAMPLES, frame=frame, parent=os.getpid(),
+                   camera_rays=camera_rays)
         # Its output to a file, not a pipe nobody reads while it runs (Cycles' progress lines would fill it).
         with open(os.path.join(folder, "output.txt"), "wb") as output:
             process = subprocess.Popen(_child_command(job), stdin=subprocess.DEVNULL, stdout=output,
@@ -395,6 +397,7 @@ def in_background(bakes):
     outer = getattr(_thread, "bakes", None)
     _thread.bakes = bakes
     bakes.asked = False
+    bakes.signatures = set()
     try:
         yield bakes
     finally:
@@ -417,6 +420,7 @@ class BackgroundBakes:
         self.failure = None         # (signature, message): the last bake that failed
         self.failed_world = None    # why the bake of the world last exported failed, or None
         self.asked = False          # bake_world was called since in_background() began
+        self.signatures = set()     # the bakes it asked for since then (a world's lighting and camera bakes)
         self._cache_dir = None      # the running bake's
         self._shown = {}            # world -> pixels of its last bake shown (one world kept)
 
@@ -424,9 +428,10 @@ class BackgroundBakes:
     def pending(self):
         return self.job is not None
 
-    def request(self, world, signature, width, height, samples, cache_dir):
+    def request(self, world, signature, width, height, samples, cache_dir, camera_rays=True):
         """bake_world of a world not cached: its bake started unless it runs already; raises BakeNotReady."""
         self.asked = True
+        self.signatures.add(signature)
         stand_in = self._shown.get(_world_key(world))
         if self.failure is not None and self.failure[0] == signature:
             self.failed_world = self.failure[1]
@@ -435,7 +440,7 @@ class BackgroundBakes:
         if self.job is None or self.job.signature != signature:
             self.cancel()
             try:
-                self.job = start_bake(world, signature, width, height, samples)
+                self.job = start_bake(world, signature, width, height, samples, camera_rays)
             except BakeError as e:
                 self.failure = (signature, str(e))
                 self.failed_world = str(e)
@@ -444,19 +449,18 @@ class BackgroundBakes:
         raise BakeNotReady(stand_in)
 
     def showing(self, world, signature, pixels):
-        """An export used this bake of `world` (cached): its stand-in while a later edit's bake runs; a bake of
-        another state of the world (an edit undone) is of no use any more."""
+        """An export used this bake of `world` (cached): its stand-in while a later edit's bake runs."""
         self.asked, self.failed_world = True, None
+        self.signatures.add(signature)
         self._shown = {_world_key(world): pixels}
-        if self.job is not None and self.job.signature != signature:
-            self.cancel()
 
     def world_exported(self):
-        """The world was exported (within in_background): if it asked for no bake (a constant or an image world
-        now), the running bake is of no use any more."""
+        """The world was exported (within in_background): a running bake it did not ask for (of another state of the
+        world -- an edit undone --, or none at all: a constant or an image world now) is of no use any more."""
         if not self.asked:
-            self.cancel()
             self.failed_world = None
+        if self.job is not None and self.job.signature not in self.signatures:
+            self.cancel()
 
     def poll(self):
         """Whether the running bake has ended since the last call (its pixels cached, or its failure kept): the
@@ -535,6 +539,23 @@ def _die_with_parent(parent):
         os._exit(1)
 
 
+def _not_camera_rays(tree, seen):
+    """Every Light Path node's Is Camera Ray in `tree` and its groups read as 0 (a Value node in its place)."""
+    seen.add(tree.name_full)
+    for node in list(tree.nodes):
+        group = getattr(node, "node_tree", None)
+        if group is not None and group.name_full not in seen:
+            _not_camera_rays(group, seen)
+        if node.bl_idname != "ShaderNodeLightPath":
+            continue
+        targets = [l.to_socket for l in tree.links if l.from_node == node and l.from_socket.name == "Is Camera Ray"]
+        if targets:
+            zero = tree.nodes.new("ShaderNodeValue")
+            zero.outputs[0].default_value = 0.0
+            for socket in targets:
+                tree.links.new(zero.outputs[0], socket)
+
+
 def _child(job):
     import bpy
     if "parent" in job:
@@ -545,6 +566,8 @@ def _child(job):
     for obj in list(scene.objects):
         bpy.data.objects.remove(obj)
     scene.world = target.worlds[0]
+    if not job.get("camera_rays", True):
+        _not_camera_rays(scene.world.node_tree, set())
     scene.world.cycles_visibility.camera = True  # the bake's camera sees the world, whatever the scene's camera may
     scene.render.engine = "CYCLES"
     cycles = scene.cycles
