@@ -914,6 +914,63 @@ def test_a_smooth_emitter_s_graph_reads_its_smooth_normal(empty_scene, tmp_path)
     assert difference <= 0.01
 
 
+def gradient_glow():
+    """A ColorRamp of a Gradient linked straight into the Material Output's Surface: Cycles' implicit Emission of
+    that colour (ShaderGraph::connect inserts it, strength 1)."""
+    t = Tree("Implicit")
+    ramp = t.node("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = (0.2, 0.05, 0.0, 1)
+    ramp.color_ramp.elements[1].color = (4.0, 2.0, 0.5, 1)
+    gradient = t.node("ShaderNodeTexGradient")
+    t.link(gradient.outputs["Fac"], ramp.inputs["Fac"])
+    return t.surface(ramp)
+
+
+def test_a_colour_or_value_linked_into_a_shader_input_is_an_emission(empty_scene):
+    """Cycles inserts an Emission of strength 1 where a colour (its Color) or a value (its Strength, white) meets a
+    shader input: a varying colour on the Surface is an emission program, a constant RGB the emission itself, a Value
+    under a Mix Shader half of it; nothing warned."""
+    glow = gradient_glow()
+    t = Tree("RGB")
+    rgb = t.node("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.5, 0.25, 2.0, 1.0)
+    plain = t.surface(rgb)
+    t = Tree("Half")
+    mix = t.node("ShaderNodeMixShader")
+    mix.inputs["Fac"].default_value = 0.5
+    value = t.node("ShaderNodeValue")
+    value.outputs[0].default_value = 3.0
+    t.link(t.node("ShaderNodeBsdfDiffuse").outputs[0], mix.inputs[1])
+    t.link(value.outputs[0], mix.inputs[2])
+    half = t.surface(mix)
+    for i, mat in enumerate((glow, plain, half)):
+        builders.mesh_object(f"P{i}", "plane", mat, location=(3 * i, 0, 0))
+    exported, log = export()
+    assert not any(name in log.warning_text() for name in ("Implicit", "RGB", "Half")), log.warning_text()
+    assert "emission" in material_named(exported, "Implicit").programs
+    assert np.allclose(material_named(exported, "RGB").emission, (0.5, 0.25, 2.0))
+    assert np.allclose(material_named(exported, "Half").emission, (1.5, 1.5, 1.5))
+
+
+@pytest.mark.slow
+def test_an_implicit_emission_glows_as_in_cycles(empty_scene, tmp_path):
+    """gradient_glow on a panel lighting a white floor and seen by the camera: mean relative difference to Cycles
+    <= 1% (a third-party grass file drew it as a grey diffuse before)."""
+    from test_cycles_parity import mean_relative_difference
+    from test_cycles_parity import render_cycles as parity_cycles
+    scene = empty_scene
+    bpy.ops.mesh.primitive_plane_add(size=2.0, location=(0.0, 0.0, 0.6), rotation=(math.radians(60), 0.0, 0.0))
+    bpy.context.active_object.data.materials.append(gradient_glow())
+    builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=6.0)
+    parity_view(scene, light=False, target=(0.0, 0.0, 0.3))
+    cycles = parity_cycles(scene, str(tmp_path / "cycles.exr"), samples=2048)
+    scene.render.engine = "SPHRECT"
+    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = 2048, 1, 2
+    difference = mean_relative_difference(render()["images"]["rectangle"], cycles)
+    print(f"implicit emission: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
+    assert difference <= 0.01
+
+
 def test_math_helpers_are_the_renderer_names():
     sphrect = sphrect_module()
     assert set(MATH_OPS) == set(sphrect.scene.NODE_MATH_OPS)

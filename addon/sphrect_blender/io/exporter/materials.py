@@ -57,6 +57,25 @@ def _linked_node(socket):
     return follow_reroutes(socket)[0]
 
 
+class ImplicitEmission:
+    """A colour or a value linked straight into a shader input (a Material Output's Surface, a Mix or Add Shader's
+    shader): Cycles inserts an Emission there (ShaderGraph::connect), of that colour (a value: its Strength) and
+    strength 1.  `socket` is the shader input; the leaf _shader gives the emission of."""
+    bl_idname = bl_label = "implicit Emission"
+
+    def __init__(self, socket, node):
+        self.socket = socket
+        self.key = ("implicit emission", node.key, socket.identifier, socket.node.name)
+
+
+def _linked_shader(socket):
+    """The node feeding shader input `socket`: a node, an ImplicitEmission (an output that is not a shader), None."""
+    node, output = follow_reroutes(socket)
+    if node is not None and output is not None and output.type != "SHADER":
+        return ImplicitEmission(socket, node)
+    return node
+
+
 def _value(node, name, log, owner):
     """An input's own value; a linked input is logged (its link is not followed)."""
     socket = node.inputs.get(name)
@@ -190,7 +209,7 @@ def export_material(sphrect, mat, log, textures=None):
         log.unsupported_feature("material volumes", name)
     if out is not None and out.inputs["Displacement"].is_linked:
         log.unsupported_feature("displacement", name)
-    node = _linked_node(out.inputs["Surface"]) if out is not None else None
+    node = _linked_shader(out.inputs["Surface"]) if out is not None else None
     if node is None:
         log.unsupported_feature("materials without a surface shader (black)", name)
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
@@ -296,7 +315,7 @@ def _closure_sources(sphrect, node, textures, name):
     anything but an Image Texture (not modelled)."""
     if node.bl_idname == "ShaderNodeMixShader":
         fac_socket = node.inputs[0]
-        first, second = _linked_node(node.inputs[1]), _linked_node(node.inputs[2])
+        first, second = _linked_shader(node.inputs[1]), _linked_shader(node.inputs[2])
         if not fac_socket.is_linked:
             fac = min(max(float(fac_socket.default_value), 0.0), 1.0)
             return [(n, w, None, False) for n, w in ((first, 1 - fac), (second, fac)) if n is not None and w > 0]
@@ -318,7 +337,7 @@ def _closure_sources(sphrect, node, textures, name):
         return [(n, 1.0, sphrect.MixFactor(lookup=lookup, complement=n is first), False)
                 for n in (first, second) if n is not None]
     if node.bl_idname == "ShaderNodeAddShader":
-        return [(n, 1.0, None, False) for n in map(_linked_node, node.inputs) if n is not None]
+        return [(n, 1.0, None, False) for n in map(_linked_shader, node.inputs) if n is not None]
     if node.bl_idname == "ShaderNodeBsdfPrincipled" and _has_alpha(node):
         alpha_socket = node.inputs["Alpha"]
         source = image_texture_source(alpha_socket) if alpha_socket.is_linked else None
@@ -442,7 +461,25 @@ def _shader(sphrect, node, textures, log, name):
     # factor it takes the factor's mean over its image.
     constant_emission = "emission under a texture-driven Mix Shader factor (the factor's image mean used)"
     for weight, leaf, factors in leaves:
-        if leaf is WHITE_TRANSPARENT or leaf.bl_idname == "ShaderNodeBsdfTransparent":
+        if isinstance(leaf, ImplicitEmission):
+            program, value = compile_socket(sphrect, textures, log, name, leaf.socket, "color")
+            if program is None and value is None:
+                log.unsupported_feature(f"'{follow_reroutes(leaf.socket)[0].bl_label}' node on a shader input (no "
+                                        "emission)", name)
+                continue
+            term = weight * (np.ones(3) if program is not None else np.clip(np.asarray(value[:3], float), 0, None))
+            if factors:  # the factors' weights multiply it per point, as an Emission's
+                combined = emission_under_factors(sphrect, program, factors)
+                if combined is not None:
+                    textured_emission.append((term, combined))
+                else:
+                    log.unsupported_feature(constant_emission, name)
+                    emission += term * textures.factor_mean(factors)
+            elif program is None:
+                emission += term
+            else:
+                textured_emission.append((term, program))
+        elif leaf is WHITE_TRANSPARENT or leaf.bl_idname == "ShaderNodeBsdfTransparent":
             transparent = _transparent(sphrect, leaf, textures, log, name)
             layers.append(sphrect.MaterialLayer(weight=weight, material=transparent, factors=factors))
         elif leaf.bl_idname == "ShaderNodeEmission":

@@ -123,11 +123,13 @@ class ProgramCompiler:
         """(register, type) of node input `socket` (wrapped): what feeds it, converted to the socket's type as the
         link does, or its own value; then as `want` (default: the socket's type)."""
         own = socket_type(socket)
-        want = want or own
+        explicit, want = want, want or own
         node, output = follow_reroutes(socket)
         if node is not None:
             try:
                 reg, kind = self.output(node, output)
+                if socket.type == "SHADER":  # a colour or value Cycles turns into an Emission (ImplicitEmission)
+                    return self._convert(reg, kind, explicit or kind), explicit or kind
                 # The link converts to the input's type (svm_node_convert), the node then reads it as `want`.
                 return self._convert(self._convert(reg, kind, own), own, want), want
             except NotCompiled as e:
