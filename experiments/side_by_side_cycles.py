@@ -106,8 +106,12 @@ def main():
                     clay_copy(blend, os.path.join(tmp, "clay.blend"))
                     blend = os.path.join(tmp, "clay.blend")
                 warnings = export_blend(blend, files[".sphrect.npz"], (width, height), blender_script=HEADLESS)
-                renderer = sphrect.Renderer(sphrect.load_scene(files[".sphrect.npz"]), techniques=["rectangle"],
-                                            seed=1)
+                try:
+                    renderer = sphrect.Renderer(sphrect.load_scene(files[".sphrect.npz"]), techniques=["rectangle"],
+                                                seed=1)
+                except ValueError as e:  # a scene SPHRECT cannot render (nothing it draws): said, the next file
+                    print(f"{name:40} not rendered: {e}  warnings: {warnings or 'none'}", flush=True)
+                    continue
                 renderer.render(a.samples)
                 ours = renderer.image("rectangle")
                 cycles, _ = render_cycles(blend, a.cycles_samples, width, height, seed=1, threads=2,
@@ -121,6 +125,8 @@ def main():
                      "warnings": warnings, "ours": ours, "cycles": cycles})
         print(f"{name:40} blocks {100 * rows[-1]['block_difference']:.2f}%  totals {total:.4f}  "
               f"warnings: {warnings or 'none'}", flush=True)
+    if not rows:
+        return 1
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
