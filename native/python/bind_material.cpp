@@ -13,6 +13,7 @@
 #include "numpy_arrays.h"
 #include "render/material.h"
 #include "render/svm/color_nodes.h"
+#include "render/svm/image_projection.h"
 #include "render/svm/math_nodes.h"
 #include "render/svm/mix_nodes.h"
 #include "render/svm/procedural_textures.h"
@@ -278,6 +279,7 @@ void BindMaterial(py::module_& m) {
     m.attr("node_mix_blends") = names(render::svm::kMixBlendNames);
     m.attr("node_clamp_types") = names(render::svm::kClampTypeNames);
     m.attr("node_map_range_types") = names(render::svm::kMapRangeNames);
+    m.attr("node_image_projections") = names(render::svm::kImageProjectionNames);
     m.attr("node_color_models") = names(render::svm::kColorModelNames);
     m.attr("node_mapping_types") = names(render::svm::kMappingTypeNames);
     m.attr("node_musgrave_types") = names(render::svm::kMusgraveTypeNames);

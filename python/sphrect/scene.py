@@ -108,6 +108,7 @@ NODE_MATH_OPS = tuple(_native.node_math_ops)          # Blender's Math operation
 NODE_MIX_BLENDS = tuple(_native.node_mix_blends)      # Blender's blend types
 NODE_CLAMP_TYPES = tuple(_native.node_clamp_types)
 NODE_MAP_RANGE_TYPES = tuple(_native.node_map_range_types)
+NODE_IMAGE_PROJECTIONS = tuple(_native.node_image_projections)  # an Image Texture node's, in a program
 NODE_COLOR_MODELS = tuple(_native.node_color_models)
 NODE_MAPPING_TYPES = tuple(_native.node_mapping_types)
 MAX_NODE_REGISTERS = int(_native.MAX_NODE_REGISTERS)

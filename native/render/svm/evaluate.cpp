@@ -6,6 +6,7 @@
 #include <string>
 
 #include "color_nodes.h"
+#include "image_projection.h"
 #include "math_nodes.h"
 #include "mix_nodes.h"
 #include "procedural_textures.h"
@@ -133,9 +134,23 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[4], EvalMapping(MappingType(in.mode), r(a[0]), r(a[1]), r(a[2]), r(a[3])));
                 break;
             case NodeOp::kImage: {
+                const Image& im = images[size_t(in.data)];
+                const auto interpolation = TextureInterpolation(in.mode);
+                const auto extension = TextureExtension(in.flags & 3);
+                auto lookup = [&](const Vec3f& uv) { return LookupImage(im, uv.x, uv.y, interpolation, extension); };
                 const Vec3f v = r(a[0]);
-                const Rgba c = LookupImage(images[size_t(in.data)], v.x, v.y, TextureInterpolation(in.mode),
-                                           TextureExtension(in.flags));
+                Rgba c;
+                switch (ImageProjection(in.flags >> 2)) {
+                    case ImageProjection::kSphere: c = lookup(MapToSphere(RemapSquare(v))); break;
+                    case ImageProjection::kTube: c = lookup(MapToTube(RemapSquare(v))); break;
+                    case ImageProjection::kBox: {
+                        const Vec3f w = BoxProjectionWeights(sg.object_normal, in.value.x);
+                        for (int axis = 0; axis < 3; ++axis)
+                            if (w[axis] > 0.0f) c = c + lookup(BoxProjectionPoint(axis, v, sg.object_normal)) * w[axis];
+                        break;
+                    }
+                    default: c = lookup(v); break;
+                }
                 put(a[1], c.rgb());
                 put(a[2], scalar(c.a));
                 break;
@@ -376,7 +391,9 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             if (in.reg[k] != kNoRegister) written[in.reg[k]] = true;
         if (in.op == NodeOp::kImage) {
             if (in.data < 0 || size_t(in.data) >= num_images) fail(i, "image index out of range");
-            if (in.flags > 2) fail(i, "image extension out of range");
+            if ((in.flags & 3) > 2) fail(i, "image extension out of range");
+            if ((in.flags >> 2) >= int(ImageProjection::kCount)) fail(i, "image projection out of range");
+            if (!std::isfinite(in.value.x)) fail(i, "box projection blend must be finite");
         }
         if (in.op == NodeOp::kColorRamp &&
             (in.size < 1 || in.data < 0 || size_t(in.data) + 4 * size_t(in.size) > p.data.size()))

@@ -35,7 +35,8 @@ enum class NodeOp : uint8_t {
     kSeparate,   // out1, out2, out3 = components of in0 (mode: kColorModelNames; XYZ and RGB are 'RGB')
     kCombine,    // out3 = (in0, in1, in2) in colour model `mode` (kColorModelNames)
     kMapping,    // out4 = Mapping (mode: kMappingTypeNames) of vector in0, location in1, rotation in2, scale in3
-    kImage,      // out1 colour, out2 alpha of image `data` at in0 (mode: interpolation, flags: extension)
+    kImage,      // out1 colour, out2 alpha of image `data` at in0 (mode: interpolation, flags: extension + 4
+                 // projection (image_projection.h); value.x: the box projection's blend)
     kTransform,  // out1 = the 3x4 affine map at data (12 floats, row-major) applied to point in0
     kScale,      // out2 = in0 * in1.x (an emission's colour times its strength)
     kProject,    // out1 = (M (in0, 1)).xyz / (M (in0, 1)).w, M the 4x4 map at data (16 floats, row-major)

@@ -340,7 +340,7 @@ def _closure_sources(sphrect, node, textures, name):
         return [(n, 1.0, None, False) for n in map(_linked_shader, node.inputs) if n is not None]
     if node.bl_idname == "ShaderNodeBsdfPrincipled" and _has_alpha(node):
         alpha_socket = node.inputs["Alpha"]
-        source = image_texture_source(alpha_socket) if alpha_socket.is_linked else None
+        source = image_texture_source(alpha_socket, projected=True) if alpha_socket.is_linked else None
         if source is not None:
             lookup = textures.lookup(*source, name)
             return [(WHITE_TRANSPARENT, 1.0, sphrect.MixFactor(lookup=lookup, complement=True), True),
@@ -428,7 +428,7 @@ def _has_alpha(node):
     if socket is None:
         return False
     if socket.is_linked:
-        return image_texture_source(socket) is not None
+        return image_texture_source(socket, projected=True) is not None
     return float(socket.default_value) < 1
 
 
@@ -748,7 +748,7 @@ def _unmodelled_alpha(node, log, name):
     """Warns of a Principled Alpha linked from something other than an Image Texture (Alpha 1 used); the rest is
     _closures' mix with a Transparent BSDF."""
     socket = node.inputs.get("Alpha")
-    if socket is not None and socket.is_linked and image_texture_source(socket) is None:
+    if socket is not None and socket.is_linked and image_texture_source(socket, projected=True) is None:
         log.unsupported_feature("Principled Alpha linked from a node other than an Image Texture (1 used)", name)
 
 
@@ -794,7 +794,7 @@ def _normal_map(node, textures, log, owner):
     if strength.is_linked:
         log.unsupported_feature("linked 'Strength' input of a Normal Map node (its value used)", owner)
     color = source.inputs["Color"]
-    image = image_texture_source(color)
+    image = image_texture_source(color, projected=True)
     if image is None:
         if color.is_linked:
             feeding = _linked_node(color)

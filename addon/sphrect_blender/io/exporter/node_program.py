@@ -358,15 +358,15 @@ def _image_texture(c, node):
     if interpolation is None:
         c.log.unsupported_feature(f"Image Texture interpolation '{node.interpolation}' (Linear used)", c.owner)
         interpolation = "linear"
-    if node.projection != "FLAT":
-        c.log.unsupported_feature(f"Image Texture projection '{node.projection}' (Flat used)", c.owner)
     vector = node.inputs["Vector"]
     coords = c.input(vector, "vector")[0] if follow_reroutes(vector)[0] is not None else c.global_input("uv")
     tree = node.groups[0].id_data if node.groups else node.id_data
     alpha_used = (node.key, "Alpha") in c.textures._reached_outputs(tree)
     texture = c.textures.texture_of(node.image, c.owner, unassociated=alpha_used)
+    projection = _index(c.names.NODE_IMAGE_PROJECTIONS, node.projection, "projection", node)
+    flags = c.names.TEXTURE_EXTENSIONS.index(node.extension.lower()) + 4 * projection
     color, alpha = c.emit("image", [coords], 2, mode=c.names.TEXTURE_INTERPOLATIONS.index(interpolation),
-                          flags=c.names.TEXTURE_EXTENSIONS.index(node.extension.lower()), data=texture)
+                          flags=flags, data=texture, value=(float(node.projection_blend), 0.0, 0.0))
     return {"Color": (color, "color"), "Alpha": (alpha, "float")}
 
 
