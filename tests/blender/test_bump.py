@@ -251,3 +251,66 @@ def test_bumped_mix_and_glass_match_cycles(empty_scene, tmp_path):
     assert "Bump" not in log.warning_text() and "normal" not in log.warning_text().lower()
     difference, ours, cycles = difference_to_cycles(scene, "bumped mix and glass", tmp_path)
     assert difference <= 0.01
+
+
+# -- the compiler ------------------------------------------------------------------------------------------------
+
+def normal_program_of(t, shader, name):
+    bpy.ops.mesh.primitive_plane_add()
+    bpy.context.active_object.data.materials.append(t.surface(shader))
+    exported, log = export()
+    return material_named(exported, name).normal_program, log
+
+
+def test_the_height_is_compiled_three_times_and_the_rest_once(empty_scene):
+    """The Height's position-dependent nodes (a Noise of Generated, a Math of it) appear at the point and at P + dx,
+    P + dy (their 'global' read with flags 0, 1, 2); what does not depend on the position -- a Math of Geometry
+    Normal, the Strength reading the same Noise at the point -- once; the shader's other inputs keep their own
+    programs."""
+    sphrect = sphrect_module()
+    t = Tree("Triple")
+    p = t.node("ShaderNodeBsdfPrincipled")
+    noise = texture(t, "ShaderNodeTexNoise", Scale=2.0)
+    sep = t.node("ShaderNodeSeparateXYZ")
+    t.link(t.node("ShaderNodeNewGeometry").outputs["Normal"], sep.inputs[0])
+    add = t.node("ShaderNodeMath", operation="ADD")
+    t.link(noise.outputs["Fac"], add.inputs[0])
+    t.link(sep.outputs["Z"], add.inputs[1])
+    b = bump(t, add.outputs[0])
+    t.link(noise.outputs["Fac"], b.inputs["Strength"])
+    t.link(b.outputs[0], p.inputs["Normal"])
+    t.link(noise.outputs["Color"], p.inputs["Base Color"])
+    program, log = normal_program_of(t, p, "Triple")
+    code = program.instructions
+    assert sum(i.op == "noise_texture" for i in code) == 3
+    assert sum(i.op == "math" for i in code) == 3
+    assert sum(i.op == "separate" for i in code) == 1  # of the normal: the same at P + dx, P + dy
+    generated = sphrect.scene.NODE_GLOBALS.index("generated")
+    assert sorted(i.flags for i in code if i.op == "global" and i.mode == generated) == [0, 1, 2]
+    assert all(i.flags == 0 for i in code if i.op == "global" and i.mode != generated)
+    assert sum(i.op == "bump" for i in code) == 1
+    bumped = material_named(export()[0], "Triple")
+    assert "base_color" in bumped.programs and not any(i.op == "bump" for i in bumped.programs["base_color"].instructions)
+    assert "Triple" not in log.warning_text()
+
+
+def test_a_bump_without_height_leaves_the_normal_and_unknown_inputs_are_warned(empty_scene):
+    """An unlinked Height passes the normal through (Cycles' constant folding): no program.  A Normal Map on a Bump's
+    Normal input is warned (the shading normal used), and so is a Bump inside another Bump's Height."""
+    t = Tree("Flat")
+    p = t.node("ShaderNodeBsdfDiffuse")
+    t.link(t.node("ShaderNodeBump").outputs[0], p.inputs["Normal"])
+    program, log = normal_program_of(t, p, "Flat")
+    assert program is None and "Flat" not in log.warning_text()
+    t = Tree("Inner")
+    p = t.node("ShaderNodeBsdfDiffuse")
+    inner = bump(t, texture(t, "ShaderNodeTexNoise").outputs["Fac"], normal=t.node("ShaderNodeNormalMap").outputs[0])
+    dot = t.node("ShaderNodeVectorMath", operation="DOT_PRODUCT")
+    t.link(inner.outputs[0], dot.inputs[0])
+    outer = bump(t, dot.outputs["Value"])
+    t.link(outer.outputs[0], p.inputs["Normal"])
+    program, log = normal_program_of(t, p, "Inner")
+    text = log.warning_text()
+    assert "Normal Map' node on a Bump node's Normal input" in text
+    assert "Bump node inside another Bump node's Height" in text
+    assert program is not None

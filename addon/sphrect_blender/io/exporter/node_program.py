@@ -62,17 +62,32 @@ class ProgramCompiler:
         self._code, self._data, self._outputs, self._constants, self._visiting = [], [], {}, {}, set()
         self._registers = 0
         # A Bump node's Height is compiled three times (Cycles' refine_bump_nodes copies its sub-graph): _shift 0 at
-        # the point, 1 and 2 with the position-dependent globals read at P + dx and P + dy.  Nodes that read none
-        # (_position_dependent: those that do, directly or through their inputs) keep their one copy.
-        self._shift, self._position_dependent = 0, set()
+        # the point, 1 and 2 with the position-dependent globals read at P + dx and P + dy.  An instruction of a copy
+        # equal to one before it (inputs, settings, table: it reads nothing that moved) is that one (_emitted), so
+        # what does not depend on the position stays one copy.
+        self._shift, self._emitted, self._tables, self._copies = 0, {}, {}, {}
         try:
             output = body()
         except _TooManyRegisters:
             self.log.unsupported_feature(f"a node graph needing more than {self.names.MAX_NODE_REGISTERS} values on "
                                          f"{what} (its own value used)", self.owner)
             return None
-        return self.sphrect.NodeProgram(instructions=self._code, output=output, num_registers=self._registers,
-                                        data=self._data)
+        return self.sphrect.NodeProgram(instructions=self._without_unread_copies(output), output=output,
+                                        num_registers=self._registers, data=self._data)
+
+    def _without_unread_copies(self, output):
+        """The code less the Height copies' instructions whose results nothing reads (a copied Geometry node's
+        other outputs)."""
+        if not self._copies:
+            return self._code
+        read, kept = {output}, []
+        for k in range(len(self._code) - 1, -1, -1):
+            i = self._code[k]
+            if k in self._copies and not any(r in read for r in i.regs[len(i.regs) - self._copies[k]:]):
+                continue
+            read.update(i.regs)  # its inputs (and its own outputs: harmless)
+            kept.append(i)
+        return kept[::-1]
 
     # -- building blocks ------------------------------------------------------------------------------------------
 
@@ -84,7 +99,13 @@ class ProgramCompiler:
 
     def emit(self, op, inputs, outputs, mode=0, flags=0, data=0, size=0, value=(0.0, 0.0, 0.0)):
         """Appends an instruction; `outputs` registers are allocated here (a count), returned as a list."""
+        key = (op, tuple(inputs), outputs, int(mode), int(flags), int(data), int(size), tuple(map(float, value)))
+        if self._shift and key in self._emitted:
+            return self._emitted[key]
         out = [self.register() for _ in range(outputs)]
+        self._emitted[key] = out
+        if self._shift:
+            self._copies[len(self._code)] = outputs
         self._code.append(self.sphrect.NodeInstruction(op=op, regs=list(inputs) + out, mode=int(mode),
                                                        flags=int(flags), data=int(data), size=int(size),
                                                        value=tuple(float(v) for v in value)))
@@ -101,10 +122,7 @@ class ProgramCompiler:
 
     def global_input(self, name):
         """A register holding the hit's input `name` (one of NODE_GLOBALS), read once per program."""
-        shift = 0
-        if name in self.sphrect._native.node_shifted_globals:
-            shift = self._shift
-            self._position_dependent |= self._visiting
+        shift = self._shift if name in self.sphrect._native.node_shifted_globals else 0
         key = ("global", name, shift)
         if key not in self._outputs:
             self._outputs[key] = self.emit("global", [], 1, mode=self.names.NODE_GLOBALS.index(name), flags=shift)[0]
@@ -119,10 +137,12 @@ class ProgramCompiler:
             self._shift = saved
 
     def table(self, values):
-        """Offset of `values` appended to the program's data."""
-        offset = len(self._data)
-        self._data.extend(float(v) for v in values)
-        return offset
+        """Offset of `values` in the program's data (appended, or where equal values already are)."""
+        values = tuple(float(v) for v in values)
+        if values not in self._tables:
+            self._tables[values] = len(self._data)
+            self._data.extend(values)
+        return self._tables[values]
 
     def _convert(self, reg, kind, want):
         if kind == want or {kind, want} == {"color", "vector"}:
@@ -159,11 +179,6 @@ class ProgramCompiler:
     def output(self, node, output):
         """(register, type) of `output` of `node` (both wrapped), its node compiled on first use."""
         key = (node.key, output.identifier, self._shift)
-        centre = (node.key, output.identifier, 0)
-        if self._shift and centre in self._outputs and node.key not in self._position_dependent:
-            return self._outputs[centre]  # the same at P + dx and P + dy
-        if key in self._outputs and node.key in self._position_dependent:
-            self._position_dependent |= self._visiting
         if key not in self._outputs:
             if node.key in self._visiting:  # Blender marks a cycle's closing link invalid: not reached normally
                 raise NotCompiled(f"a cycle through '{node.name}'")
