@@ -567,7 +567,7 @@ def test_a_mix_shares_its_layers_normal_map(empty_scene):
         assert m.kind == "mix" and m.normal_map.texture == texture
         assert all(l.material.normal_map is None for l in m.layers)
     text = log.warning_text()
-    assert "shaders of a mix with different normal maps (the first one used for all) (Different)" in text
+    assert "shaders of a mix with different normal maps or Bump nodes (the first one used for all) (Different)" in text
     assert "(Same)" not in text
 
 
