@@ -47,7 +47,8 @@ inline Vec3f ObjectNormal(const MeshData& m, const Vec3f& n) {
         }
         s.generated = sg.generated;
         if (!m.generated.empty())
-            s.generated += (m.generated[t[1]] - m.generated[t[0]]) * db1 + (m.generated[t[2]] - m.generated[t[0]]) * db2;
+            s.generated +=
+                (m.generated[t[1]] - m.generated[t[0]]) * db1 + (m.generated[t[2]] - m.generated[t[0]]) * db2;
     }
     sg.shifted = true;
 }

@@ -292,8 +292,8 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 break;
             }
             case NodeOp::kBump:
-                put(a[6], BumpNormal(r(a[5]), sg.ng, sg.incoming, BumpDifferentials(sg.ng, sg.dP), r(a[0]).x,
-                                     r(a[1]).x, r(a[2]).x, r(a[3]).x, r(a[4]).x, in.flags & 1));
+                put(a[6], BumpNormal(r(a[5]), sg.ng, sg.incoming, BumpDifferentials(sg.ng, sg.dP), r(a[0]).x, r(a[1]).x,
+                                     r(a[2]).x, r(a[3]).x, r(a[4]).x, in.flags & 1));
                 break;
             case NodeOp::kCount: break;
         }
@@ -403,8 +403,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
         if ((in.op == NodeOp::kBrickTexture || in.op == NodeOp::kVoronoiTexture || in.op == NodeOp::kBump) &&
             in.flags > 1)
             fail(i, "flags out of range");
-        if (in.op == NodeOp::kGlobal && in.flags > 2)
-            fail(i, "flags out of range");
+        if (in.op == NodeOp::kGlobal && in.flags > 2) fail(i, "flags out of range");
         if (in.op == NodeOp::kConstant &&
             !(std::isfinite(in.value.x) && std::isfinite(in.value.y) && std::isfinite(in.value.z)))
             fail(i, "constant must be finite");
