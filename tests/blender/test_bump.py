@@ -314,3 +314,31 @@ def test_a_bump_without_height_leaves_the_normal_and_unknown_inputs_are_warned(e
     assert "Normal Map' node on a Bump node's Normal input" in text
     assert "Bump node inside another Bump node's Height" in text
     assert program is not None
+
+
+def test_a_bump_in_a_group_through_a_reroute_is_the_ungrouped_one(empty_scene):
+    """A group holding the Bump (its Height a group input fed by a Noise outside), its Normal output reaching the
+    Principled Normal through a reroute: the same program as the Bump and Noise in the material itself."""
+    group = bpy.data.node_groups.new("Bumper", "ShaderNodeTree")
+    group.inputs.new("NodeSocketFloat", "Height")
+    group.outputs.new("NodeSocketVector", "Normal")
+    inside_in, inside_out = group.nodes.new("NodeGroupInput"), group.nodes.new("NodeGroupOutput")
+    inner = group.nodes.new("ShaderNodeBump")
+    inner.inputs["Distance"].default_value = 0.3
+    group.links.new(inside_in.outputs["Height"], inner.inputs["Height"])
+    group.links.new(inner.outputs["Normal"], inside_out.inputs["Normal"])
+    t = Tree("Grouped")
+    p = t.node("ShaderNodeBsdfPrincipled")
+    node = t.node("ShaderNodeGroup")
+    node.node_tree = group
+    t.link(texture(t, "ShaderNodeTexNoise").outputs["Fac"], node.inputs["Height"])
+    reroute = t.node("NodeReroute")
+    t.link(node.outputs["Normal"], reroute.inputs[0])
+    t.link(reroute.outputs[0], p.inputs["Normal"])
+    grouped, log = normal_program_of(t, p, "Grouped")
+    t = Tree("Flat")
+    p = t.node("ShaderNodeBsdfPrincipled")
+    t.link(bump(t, texture(t, "ShaderNodeTexNoise").outputs["Fac"], distance=0.3).outputs[0], p.inputs["Normal"])
+    flat, log = normal_program_of(t, p, "Flat")
+    assert grouped is not None and grouped == flat
+    assert "Grouped" not in log.warning_text()
