@@ -106,3 +106,15 @@ def test_bad_normal_programs_are_refused():
         weight=1.0, material=sphrect.Material(kind="diffuse", normal_program=slope_program(1.0)))])
     with pytest.raises(ValueError, match="normal map of its own"):
         build_native_scene(dataclasses.replace(lit_plane(kind="diffuse"), materials=[mix]))
+
+
+def test_programs_read_the_normal_before_the_bump():
+    """Geometry Normal (Cycles' sd->N) is the shading normal before a Bump replaced it for the closures: an emission
+    of the normal on a bumped plane seen from above shows (0, 0, 1), not the tilted normal."""
+    normal = sphrect.NodeProgram(instructions=[I(op="global", regs=[0], mode=OPS.NODE_GLOBALS.index("normal"))],
+                                 output=0, num_registers=1)
+    scene = lit_plane(kind="diffuse", base_color=(0.0, 0.0, 0.0), emission=(1.0, 1.0, 1.0),
+                      programs={"emission": normal}, normal_program=slope_program(0.6, distance=0.5))
+    scene.lights = []
+    np.testing.assert_allclose(images(scene, samples=1)[..., :3], np.broadcast_to([0.0, 0.0, 1.0], (16, 16, 3)),
+                               atol=1e-6)

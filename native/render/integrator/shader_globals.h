@@ -57,13 +57,15 @@ inline Vec3f ObjectNormal(const MeshData& m, const Vec3f& n) {
 inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
     svm::ShaderGlobals sg;
     sg.p = h.p;
-    sg.n = h.ns;
+    // The shading normal before a normal map or Bump replaced it (ns_unmapped, zero where none did): Cycles' sd->N,
+    // which the Normal Map and Bump nodes' outputs leave alone (they feed a closure's Normal).
+    sg.n = Dot(h.ns_unmapped, h.ns_unmapped) > 0 ? h.ns_unmapped : h.ns;
     sg.ng = h.ng;
     sg.incoming = Vec3f(h.incoming[0], h.incoming[1], h.incoming[2]);
     sg.uv = h.tc.uv;
     sg.generated = h.tc.generated;
     sg.object = ObjectPoint(*h.mesh, h.p);
-    sg.object_normal = ObjectNormal(*h.mesh, h.ns);
+    sg.object_normal = ObjectNormal(*h.mesh, sg.n);
     sg.backfacing = h.backfacing;
     sg.ray_length = h.t - h.ray_start;  // Cycles' sd->ray_length: from where the ray starts (a camera's near plane)
     sg.dP = h.dP;
