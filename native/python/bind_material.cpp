@@ -213,6 +213,8 @@ Material ReadMaterial(const py::dict& d) {
             m.programs[input] = Program(program, "program '" + std::string(render::kTexturedInputNames[input]) + "'");
         }
     }
+    if (d.contains("normal_program") && !d["normal_program"].is_none())  // scene format 19: a Bump node's graph
+        m.normal_map.program = Program(d["normal_program"], "normal_program");
     if (!d["normal_map"].is_none()) {
         m.normal_map.lookup = Lookup(d["normal_map"], "normal_map");
         m.normal_map.strength = Number(d, "normal_map_strength");
@@ -274,6 +276,13 @@ void BindMaterial(py::module_& m) {
     // Node programs (render/svm): the ops, and the names of each op's modes the exporter compiles to.
     m.attr("node_ops") = names(render::svm::kNodeOpNames);
     m.attr("node_globals") = names(render::svm::kShaderGlobalNames);
+    {
+        py::list shifted;  // the globals a Bump's Height copies read at P + dx / P + dy (kGlobal's flags)
+        for (int g = 0; g < int(render::svm::ShaderGlobal::kCount); ++g)
+            if (render::svm::IsShiftedGlobal(render::svm::ShaderGlobal(g)))
+                shifted.append(render::svm::kShaderGlobalNames[g]);
+        m.attr("node_shifted_globals") = shifted;
+    }
     m.attr("node_conversions") = names(render::svm::kNodeConversionNames);
     m.attr("node_math_ops") = names(render::svm::kMathOpNames);
     m.attr("node_mix_blends") = names(render::svm::kMixBlendNames);

@@ -17,7 +17,16 @@ namespace sphrect::render::svm {
 
 namespace {
 
-Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg) {
+Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg, int shift) {
+    if (shift > 0 && sg.shifted && IsShiftedGlobal(g)) {  // a Bump's Height copy at P + dx (1) or P + dy (2)
+        const ShaderGlobals::Shifted& s = sg.shift[shift - 1];
+        switch (g) {
+            case ShaderGlobal::kPosition: return s.p;
+            case ShaderGlobal::kUv: return s.uv;
+            case ShaderGlobal::kGenerated: return s.generated;
+            default: return s.object;
+        }
+    }
     switch (g) {
         case ShaderGlobal::kPosition: return sg.p;
         case ShaderGlobal::kNormal: return sg.n;
@@ -75,7 +84,7 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
         const uint16_t* a = in.reg;
         switch (in.op) {
             case NodeOp::kConstant: put(a[0], in.value); break;
-            case NodeOp::kGlobal: put(a[0], Global(ShaderGlobal(in.mode), sg)); break;
+            case NodeOp::kGlobal: put(a[0], Global(ShaderGlobal(in.mode), sg, in.flags)); break;
             case NodeOp::kConvert: put(a[1], Convert(NodeConversion(in.mode), r(a[0]))); break;
             case NodeOp::kMath: {
                 float v = EvalMath(MathOp(in.mode), r(a[0]).x, r(a[1]).x, r(a[2]).x);
@@ -302,6 +311,10 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[2], in.mode == 0 ? CurvesRgb(t, fac, r(a[1])) : scalar(CurveFloat(t, fac, r(a[1]).x)));
                 break;
             }
+            case NodeOp::kBump:
+                put(a[6], BumpNormal(r(a[5]), sg.ng, sg.incoming, BumpDifferentials(sg.ng, sg.dP), r(a[0]).x, r(a[1]).x,
+                                     r(a[2]).x, r(a[3]).x, r(a[4]).x, in.flags & 1));
+                break;
             case NodeOp::kCount: break;
         }
     }
@@ -361,6 +374,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             case NodeOp::kVectorMath: return {int(std::size(kVectorMathOpNames)), 6, 2};
             case NodeOp::kVectorRotate: return {int(std::size(kVectorRotateTypeNames)), 6};
             case NodeOp::kCurves: return {2, 3};
+            case NodeOp::kBump: return {0, 7};
             case NodeOp::kCount: break;
         }
         return {-1, 0};
@@ -408,8 +422,10 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             (in.size < 2 || in.data < 0 ||
              size_t(in.data) + 3 + size_t(in.size) * (in.mode == 0 ? 3 : 1) > p.data.size()))
             fail(i, "curve table out of range");
-        if ((in.op == NodeOp::kBrickTexture || in.op == NodeOp::kVoronoiTexture) && in.flags > 1)
+        if ((in.op == NodeOp::kBrickTexture || in.op == NodeOp::kVoronoiTexture || in.op == NodeOp::kBump) &&
+            in.flags > 1)
             fail(i, "flags out of range");
+        if (in.op == NodeOp::kGlobal && in.flags > 2) fail(i, "flags out of range");
         if (in.op == NodeOp::kConstant &&
             !(std::isfinite(in.value.x) && std::isfinite(in.value.y) && std::isfinite(in.value.z)))
             fail(i, "constant must be finite");

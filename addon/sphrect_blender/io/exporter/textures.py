@@ -58,8 +58,10 @@ def lookups_of(material):
 
 
 def programs_of(material):
-    """Every NodeProgram a sphrect.Material runs (its inputs', its layers' and their mix factors')."""
+    """Every NodeProgram a sphrect.Material runs (its inputs', its normal's, its layers' and their mix factors')."""
     found = list(material.programs.values())
+    if material.normal_program is not None:
+        found.append(material.normal_program)
     for layer in material.layers:
         found.extend(f.program for f in layer.factors if f.program is not None)
         found.extend(programs_of(layer.material))
