@@ -374,3 +374,52 @@ def test_bump_through_a_perspective_camera_matches_cycles(empty_scene, tmp_path)
     assert np.ptp(theirs) > 0.2  # the floor is bumped
     assert np.median(difference) <= TOLERANCE  # a footprint 20% too large: 1.16e-2
     assert np.mean(difference > TOLERANCE + 0.05 * step) <= 0.02  # 0.8%: where the noise changes within a pixel
+
+
+def displaced_material(name, space, layer_weight=False):
+    """A Principled BSDF whose Material Output's Displacement is a Displacement node (`space`, scale 0.15) of a
+    Noise's Fac of the Object coordinates; with `layer_weight`, its Base Color a Layer Weight's Facing (a graph
+    reading the displaced normal)."""
+    t = Tree(name)
+    p = t.node("ShaderNodeBsdfPrincipled")
+    p.inputs["Base Color"].default_value = (0.7, 0.45, 0.3, 1.0)
+    p.inputs["Roughness"].default_value = 0.35
+    coords = t.node("ShaderNodeTexCoord")
+    noise = texture(t, "ShaderNodeTexNoise", coords.outputs["Object"], Scale=5.0, Detail=2.0)
+    d = t.node("ShaderNodeDisplacement", space=space)
+    d.inputs["Scale"].default_value = 0.15
+    t.link(noise.outputs["Fac"], d.inputs["Height"])
+    t.link(d.outputs[0], t.out.inputs["Displacement"])
+    if layer_weight:
+        t.link(t.node("ShaderNodeLayerWeight").outputs["Facing"], p.inputs["Base Color"])
+    return t.surface(p)
+
+
+@pytest.mark.slow
+def test_displacement_bumps_the_normal_as_in_cycles(empty_scene, tmp_path):
+    """Cycles 3.4's default displacement method (Bump Only) bumps every closure's normal and every graph reading
+    it: a floor displaced in Object space (its object scaled 1.5: the offset grows with it) and a smooth sphere in
+    World space whose Base Color reads the normal (Layer Weight), under a rectangle light: mean relative difference
+    to Cycles <= 1%, unwarned; undisplaced (the Displacement unlinked) clearly further."""
+    from test_cycles_parity import difference_to_cycles, mean_relative_difference
+    scene = empty_scene
+    floor = displaced_material("Floor", "OBJECT")
+    bpy.ops.mesh.primitive_plane_add(size=4.0 / 1.5, scale=(1.5, 1.5, 1.5))
+    bpy.context.active_object.data.materials.append(floor)
+    ball = displaced_material("Ball", "WORLD", layer_weight=True)
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, location=(-0.4, 0.3, 0.5), segments=48, ring_count=24)
+    bpy.ops.object.shade_smooth()
+    bpy.context.active_object.data.materials.append(ball)
+    parity_view(scene, light=True, target=(0.0, 0.0, 0.3))
+    exported, log = export()
+    assert material_named(exported, "Floor").normal_program is not None
+    assert "isplacement" not in log.warning_text()
+    difference, ours, cycles = difference_to_cycles(scene, "displacement as bump", tmp_path)
+    assert difference <= 0.01
+    for mat in (floor, ball):
+        out = mat.node_tree.nodes["Material Output"]
+        mat.node_tree.links.remove(out.inputs["Displacement"].links[0])
+    scene.render.engine = "SPHRECT"
+    far = mean_relative_difference(render()["images"]["rectangle"], cycles)
+    print(f"undisplaced: mean relative difference to Cycles' displaced render {far:.4f}")
+    assert far > 3 * difference and far > 0.03

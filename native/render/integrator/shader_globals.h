@@ -66,6 +66,7 @@ inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
     sg.generated = h.tc.generated;
     sg.object = ObjectPoint(*h.mesh, h.p);
     sg.object_normal = ObjectNormal(*h.mesh, sg.n);
+    if (h.mesh->has_object_linear) sg.object_linear = h.mesh->object_linear;
     sg.backfacing = h.backfacing;
     sg.ray_length = h.t - h.ray_start;  // Cycles' sd->ray_length: from where the ray starts (a camera's near plane)
     sg.dP = h.dP;
@@ -112,6 +113,7 @@ inline svm::ShaderGlobals TriangleShaderGlobals(const MeshData& m, uint32_t prim
     sg.generated = tc.generated;
     sg.object = ObjectPoint(m, p);
     sg.object_normal = ObjectNormal(m, n);
+    if (m.has_object_linear) sg.object_linear = m.object_linear;
     sg.ray_length = distance;
     return sg;
 }

@@ -315,6 +315,25 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[6], BumpNormal(r(a[5]), sg.ng, sg.incoming, BumpDifferentials(sg.ng, sg.dP), r(a[0]).x, r(a[1]).x,
                                      r(a[2]).x, r(a[3]).x, r(a[4]).x, in.flags & 1));
                 break;
+            case NodeOp::kObjectSpace: {
+                Vec3f v = r(a[0]);
+                if (sg.object_linear != nullptr) {
+                    const float(*L)[3] = sg.object_linear;
+                    if (in.mode == 0) {
+                        v = Vec3f(L[0][0] * v.x + L[1][0] * v.y + L[2][0] * v.z,
+                                  L[0][1] * v.x + L[1][1] * v.y + L[2][1] * v.z,
+                                  L[0][2] * v.x + L[1][2] * v.y + L[2][2] * v.z);
+                        const float len = Length(v);
+                        if (len > 0) v = v / len;
+                    } else {
+                        v = Vec3f(L[0][0] * v.x + L[0][1] * v.y + L[0][2] * v.z,
+                                  L[1][0] * v.x + L[1][1] * v.y + L[1][2] * v.z,
+                                  L[2][0] * v.x + L[2][1] * v.y + L[2][2] * v.z);
+                    }
+                }
+                put(a[1], v);
+                break;
+            }
             case NodeOp::kCount: break;
         }
     }
@@ -375,6 +394,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             case NodeOp::kVectorRotate: return {int(std::size(kVectorRotateTypeNames)), 6};
             case NodeOp::kCurves: return {2, 3};
             case NodeOp::kBump: return {0, 7};
+            case NodeOp::kObjectSpace: return {2, 2};
             case NodeOp::kCount: break;
         }
         return {-1, 0};

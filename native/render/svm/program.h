@@ -73,6 +73,9 @@ enum class NodeOp : uint8_t {
                       // in1; data: min x, max x, extrapolate, then `size` entries of 3 (or 1) floats
     kBump,  // out6 = Bump (BumpNormal) of heights in0 (centre), in1 (at P + dx), in2 (at P + dy), strength in3,
             // distance in4, normal in5; flags & 1: invert
+    kObjectSpace,  // out1 = in0 through the hit's object transform L (ShaderGlobals::object_linear; none: as is):
+                   // mode 0 a world normal into object space, L^T n normalised; mode 1 an object direction into
+                   // the world, L v (the Displacement node's Object space)
     kCount
 };
 constexpr const char* kNodeOpNames[] = {"constant",
@@ -113,7 +116,8 @@ constexpr const char* kNodeOpNames[] = {"constant",
                                         "vector_math",
                                         "vector_rotate",
                                         "curves",
-                                        "bump"};
+                                        "bump",
+                                        "object_space"};
 static_assert(sizeof(kNodeOpNames) / sizeof(*kNodeOpNames) == size_t(NodeOp::kCount));
 
 // What a hit gives a program (kGlobal's mode), as Cycles' ShaderData does: position, shading normal (facing the
@@ -199,6 +203,7 @@ struct ShaderGlobals {
     // Filled only for materials whose programs bump (RenderScene::normal_maps' differentials).
     float dP = 0;
     bool shifted = false;
+    const float (*object_linear)[3] = nullptr;  // the hit's object transform's linear part (kObjectSpace), if any
     struct Shifted {
         Vec3f p, uv, generated, object;
     } shift[2];

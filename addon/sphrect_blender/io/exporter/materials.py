@@ -208,13 +208,36 @@ def export_material(sphrect, mat, log, textures=None):
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
     if out is not None and out.inputs["Volume"].is_linked:
         log.unsupported_feature("material volumes", name)
-    if out is not None and out.inputs["Displacement"].is_linked:
-        log.unsupported_feature("displacement", name)
     node = _linked_shader(out.inputs["Surface"]) if out is not None else None
     if node is None:
         log.unsupported_feature("materials without a surface shader (black)", name)
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
-    return _split_programs(sphrect, _shader(sphrect, node, textures, log, name))
+    textures.displacement = _displacement_socket(mat, out, log)
+    try:
+        material = _shader(sphrect, node, textures, log, name)
+        if textures.displacement is not None and material.normal_program is None and material.normal_map is None:
+            program = ProgramCompiler(sphrect, textures, log, name).compile_displaced_normal()
+            if program is not None and not is_shading_normal(sphrect, program):
+                material = dataclasses.replace(material, normal_program=program)
+    finally:
+        textures.displacement = None
+    return _split_programs(sphrect, material)
+
+
+def _displacement_socket(mat, out, log):
+    """The Material Output's Displacement input when Cycles bumps the shading normal with it (ProgramCompiler.
+    displaced_normal: 3.4's default method, Bump Only), else None; what is not drawn is said."""
+    socket = out.inputs["Displacement"]
+    if not socket.is_linked:
+        return None
+    method = getattr(getattr(mat, "cycles", None), "displacement_method", "BUMP")
+    if method == "DISPLACEMENT":
+        log.unsupported_feature("true displacement (the surface drawn undisplaced)", mat.name)
+        return None
+    if method == "BOTH":
+        log.unsupported_feature("displacement 'Displacement and Bump' (the surface undisplaced, its bump in world "
+                                "space)", mat.name)
+    return socket
 
 
 def _split_programs(sphrect, material):

@@ -50,6 +50,11 @@ class ProgramCompiler:
             return self._convert(reg, kind, want or socket_type(socket))
         return self._program(body, f"'{socket.name}'")
 
+    def compile_displaced_normal(self):
+        """The program of the shading normal the material's displacement bumps (displaced_normal), or None past
+        MAX_NODE_REGISTERS (warned)."""
+        return self._program(self.displaced_normal, "a displacement")
+
     def compile_product(self, color_socket, strength_socket):
         """The program of colour x strength (an emission's), or None past MAX_NODE_REGISTERS (warned)."""
         def body():
@@ -66,6 +71,7 @@ class ProgramCompiler:
         # equal to one before it (inputs, settings, table: it reads nothing that moved) is that one (_emitted), so
         # what does not depend on the position stays one copy.
         self._shift, self._emitted, self._tables, self._copies = 0, {}, {}, {}
+        self._displacing = False
         try:
             output = body()
         except _TooManyRegisters:
@@ -121,11 +127,36 @@ class ProgramCompiler:
         return self._constants[v]
 
     def global_input(self, name):
-        """A register holding the hit's input `name` (one of NODE_GLOBALS), read once per program."""
+        """A register holding the hit's input `name` (one of NODE_GLOBALS), read once per program; the shading normal
+        bumped by the material's displacement where it has one (displaced_normal)."""
+        if name == "normal" and getattr(self.textures, "displacement", None) is not None and not self._displacing:
+            return self.displaced_normal()
         shift = self._shift if name in self.sphrect._native.node_shifted_globals else 0
         key = ("global", name, shift)
         if key not in self._outputs:
             self._outputs[key] = self.emit("global", [], 1, mode=self.names.NODE_GLOBALS.index(name), flags=shift)[0]
+        return self._outputs[key]
+
+    def displaced_normal(self):
+        """Cycles' automatic bump of a material's Displacement ('Bump Only', 3.4's default: ShaderGraph::
+        bump_from_displacement): a Bump of distance and strength 1 on the shading normal whose heights are the
+        displacement vector's component along that normal at P, P + dx and P + dy; it replaces the shading normal
+        of every closure and of every graph reading it (SetNormal)."""
+        key = ("displaced normal",)
+        if key not in self._outputs:
+            socket = self.textures.displacement
+            saved, self._displacing = self._displacing, True
+            try:
+                normal = self.global_input("normal")
+                heights = []
+                for shift in (0, 1, 2):
+                    vector = self.shifted_input(socket, shift, "vector")
+                    heights.append(self.emit("vector_math", [vector, normal, normal, self.constant(1.0, "float")],
+                                             2, mode=list(self.sphrect._native.node_vector_math_ops).index("DOT_PRODUCT"))[1])
+                one = self.constant(1.0, "float")
+                self._outputs[key] = self.emit("bump", heights + [one, one, normal], 1)[0]
+            finally:
+                self._displacing = saved
         return self._outputs[key]
 
     def shifted_input(self, socket, shift, want=None):
@@ -656,6 +687,23 @@ def _bump(c, node):
                        "vector")}
 
 
+def _displacement(c, node):
+    """The Displacement node (svm_node_displacement): its Normal (unlinked: the shading normal before any bump) times
+    (Height - Midlevel) x Scale, in the world, or in Object space through the object's transform (the normal taken
+    into the object, scaled there, the offset taken back out: an object's scale scales it)."""
+    socket = node.inputs["Normal"]
+    normal = c.input(socket, "vector")[0] if follow_reroutes(socket)[0] is not None else c.global_input("normal")
+    height, midlevel, scale = (c.input(node.inputs[n], "float")[0] for n in ("Height", "Midlevel", "Scale"))
+    amount = c.emit("math", [height, midlevel, midlevel], 1, mode=c.names.NODE_MATH_OPS.index("SUBTRACT"))[0]
+    amount = c.emit("math", [amount, scale, scale], 1, mode=c.names.NODE_MATH_OPS.index("MULTIPLY"))[0]
+    scale_op = list(c.sphrect._native.node_vector_math_ops).index("SCALE")
+    if node.space == "OBJECT":
+        inside = c.emit("object_space", [normal], 1, mode=0)[0]
+        offset = c.emit("vector_math", [inside, inside, inside, amount], 2, mode=scale_op)[0]
+        return {"Displacement": (c.emit("object_space", [offset], 1, mode=1)[0], "vector")}
+    return {"Displacement": (c.emit("vector_math", [normal, normal, normal, amount], 2, mode=scale_op)[0], "vector")}
+
+
 def _curves(kind, value_name, output_name, value_type):
     def compile_node(c, node):
         from .color_node_params import curve_table
@@ -670,6 +718,7 @@ def _curves(kind, value_name, output_name, value_type):
 
 _NODE_COMPILERS = {
     "ShaderNodeValue": _value,
+    "ShaderNodeDisplacement": _displacement,
     "ShaderNodeRGB": _rgb,
     "ShaderNodeTexCoord": _texture_coordinate,
     "ShaderNodeUVMap": _uv_map,
