@@ -71,8 +71,8 @@ enum class NodeOp : uint8_t {
     kVectorRotate,    // out5 of vector in0, center in1, axis in2, angle in3, rotation in4; mode: type, flags: invert
     kCurves,          // out2 = curves (mode 0: 3 channels, RGB / Vector Curves; 1: Float Curve) of fac in0, value
                       // in1; data: min x, max x, extrapolate, then `size` entries of 3 (or 1) floats
-    kBump,  // out6 = Bump (BumpNormal) of heights in0 (centre), in1 (at P + dx), in2 (at P + dy), strength in3,
-            // distance in4, normal in5; flags & 1: invert
+    kBump,         // out6 = Bump (BumpNormal) of heights in0 (centre), in1 (at P + dx), in2 (at P + dy), strength in3,
+                   // distance in4, normal in5; flags & 1: invert
     kObjectSpace,  // out1 = in0 through the hit's object transform L (ShaderGlobals::object_linear; none: as is):
                    // mode 0 a world normal into object space, L^T n normalised; mode 1 an object direction into
                    // the world, L v (the Displacement node's Object space)

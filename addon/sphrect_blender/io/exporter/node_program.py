@@ -148,12 +148,10 @@ class ProgramCompiler:
             saved, self._displacing = self._displacing, True
             try:
                 normal = self.global_input("normal")
-                heights = []
-                for shift in (0, 1, 2):
-                    vector = self.shifted_input(socket, shift, "vector")
-                    heights.append(self.emit("vector_math", [vector, normal, normal, self.constant(1.0, "float")],
-                                             2, mode=list(self.sphrect._native.node_vector_math_ops).index("DOT_PRODUCT"))[1])
                 one = self.constant(1.0, "float")
+                dot = list(self.sphrect._native.node_vector_math_ops).index("DOT_PRODUCT")
+                heights = [self.emit("vector_math", [self.shifted_input(socket, shift, "vector"), normal, normal, one],
+                                     2, mode=dot)[1] for shift in (0, 1, 2)]
                 self._outputs[key] = self.emit("bump", heights + [one, one, normal], 1)[0]
             finally:
                 self._displacing = saved
