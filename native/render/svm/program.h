@@ -68,6 +68,10 @@ enum class NodeOp : uint8_t {
     kVectorRotate,    // out5 of vector in0, center in1, axis in2, angle in3, rotation in4; mode: type, flags: invert
     kCurves,          // out2 = curves (mode 0: 3 channels, RGB / Vector Curves; 1: Float Curve) of fac in0, value
                       // in1; data: min x, max x, extrapolate, then `size` entries of 3 (or 1) floats
+    // Mesh attributes (attribute_nodes.h): out0 colour / vector, out1 fac, out2 alpha of the hit mesh's attribute
+    // `data` (ShaderGlobals::attributes); mode: AttributeNode.
+    kAttribute,
+    kRadialTangent,  // out1 = the Tangent node's radial tangent about axis `mode` (0 X, 1 Y, 2 Z) of Generated in0
     kCount
 };
 constexpr const char* kNodeOpNames[] = {"constant",
@@ -107,7 +111,9 @@ constexpr const char* kNodeOpNames[] = {"constant",
                                         "gamma",
                                         "vector_math",
                                         "vector_rotate",
-                                        "curves"};
+                                        "curves",
+                                        "attribute",
+                                        "radial_tangent"};
 static_assert(sizeof(kNodeOpNames) / sizeof(*kNodeOpNames) == size_t(NodeOp::kCount));
 
 // What a hit gives a program (kGlobal's mode), as Cycles' ShaderData does: position, shading normal (facing the
@@ -126,11 +132,18 @@ enum class ShaderGlobal : uint8_t {
     kReflection,
     kBackfacing,
     kRayLength,
+    kParametric,
+    kObjectLocation,
+    kObjectColor,
+    kObjectAlpha,
+    kObjectIndex,
+    kObjectRandom,
     kCount
 };
-constexpr const char* kShaderGlobalNames[] = {"position",   "normal",     "true_normal", "incoming",
-                                              "uv",         "generated",  "object",      "object_normal",
-                                              "reflection", "backfacing", "ray_length"};
+constexpr const char* kShaderGlobalNames[] = {
+    "position",   "normal",     "true_normal", "incoming",   "uv",           "generated",    "object",
+    "object_normal", "reflection", "backfacing", "ray_length", "parametric", "object_location", "object_color",
+    "object_alpha", "object_index", "object_random"};
 static_assert(sizeof(kShaderGlobalNames) / sizeof(*kShaderGlobalNames) == size_t(ShaderGlobal::kCount));
 
 // A link between sockets of different types (Cycles' svm_node_convert): a colour to a float by its luminance
@@ -168,6 +181,28 @@ struct NodeProgram {
     bool empty() const { return code.empty(); }
 };
 
+// A mesh attribute as kAttribute reads it (Cycles' Attribute node over Blender's attributes): four floats per vertex
+// of the mesh, the value as the node's Color / Vector gives it and its Alpha (1 for attributes without one); the node's
+// Fac is the mean of the three (x for a two-component attribute, Cycles' float2: fac_is_x).  Empty: the mesh lacks it.
+struct MeshAttribute {
+    std::vector<float> values;
+    bool fac_is_x = false;
+};
+
+// kAttribute's mode: Cycles' Attribute node (a missing attribute reads colour 0, fac 0, alpha 1) or its Color
+// Attribute node (colour 0, alpha 0).
+enum class AttributeNode : uint8_t { kAttribute, kColorAttribute, kCount };
+constexpr const char* kAttributeNodeNames[] = {"attribute", "color_attribute"};
+
+// The object a hit lies on: Object Info's location, Blender's object colour and alpha, pass index and random number
+// (Cycles' object_random_number), and the map of object-space normals to the world (L^-T, row-major) that Geometry's
+// Tangent takes its radial direction through.
+struct ObjectInfo {
+    Vec3f location, color = Vec3f(1, 1, 1);
+    float alpha = 1, index = 0, random = 0;
+    float normal_to_world[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+};
+
 // A hit as a program sees it (the evaluator reads what its kGlobal instructions ask for).  Where a hit kind lacks
 // one, Cycles' choice: an emitter found by a light sample has I towards the shading point and ray length the
 // distance; missing coordinates read zero.
@@ -177,6 +212,12 @@ struct ShaderGlobals {
     Vec3f object, object_normal;
     bool backfacing = false;
     float ray_length = 0;
+    // Attributes (attribute_nodes.h): the hit mesh's attributes (null: none), the triangle's vertices and
+    // barycentrics (the weights of v[0], v[1], v[2]), its object (null: Object Info reads zeros).
+    const std::vector<MeshAttribute>* attributes = nullptr;
+    uint32_t v[3] = {0, 0, 0};
+    float b[3] = {0, 0, 0};
+    const ObjectInfo* object_info = nullptr;
 };
 
 }  // namespace sphrect::render::svm
