@@ -385,3 +385,54 @@ def test_attribute_and_object_nodes_match_cycles(empty_scene, tmp_path):
     assert not {k: v for k, v in errors.items() if not v <= TOLERANCE}
     text = log.warning_text()
     assert "Object Info" not in text and "Attribute' node" not in text and "Tangent" not in text
+
+
+def random_tint_material():
+    """A Principled BSDF whose Base Color multiplies the mesh's colour attribute 'Paint' by a ColorRamp of Object Info
+    > Random (each object another hue)."""
+    t = Tree("Random Tint")
+    p = t.node("ShaderNodeBsdfPrincipled")
+    ramp = t.node("ShaderNodeValToRGB")
+    ramp.color_ramp.elements[0].color = (0.9, 0.2, 0.1, 1)
+    ramp.color_ramp.elements[1].color = (0.1, 0.4, 0.9, 1)
+    t.link(t.node("ShaderNodeObjectInfo").outputs["Random"], ramp.inputs["Fac"])
+    mix = t.node("ShaderNodeMixRGB", blend_type="MULTIPLY")
+    mix.inputs["Fac"].default_value = 1.0
+    t.link(ramp.outputs["Color"], mix.inputs["Color1"])
+    t.link(t.node("ShaderNodeVertexColor", layer_name="Paint").outputs["Color"], mix.inputs["Color2"])
+    t.link(mix.outputs["Color"], p.inputs["Base Color"])
+    return t.surface(p), t
+
+
+@pytest.mark.slow
+def test_object_random_and_colour_attribute_render_as_in_cycles(empty_scene, tmp_path):
+    """Six tiles on a dark floor, one material (Object Info Random through a ColorRamp times a corner colour attribute on
+    the Principled Base Color) under a rectangle light: mean relative difference to Cycles (test_cycles_parity's
+    measure) <= 1%; the same material with both nodes unlinked (their inputs' own values, what the exporter used
+    before) is clearly further (> 5%)."""
+    from test_cycles_parity import difference_to_cycles, mean_relative_difference
+    from test_node_programs import parity_view
+    scene = empty_scene
+    material, tree = random_tint_material()
+    bpy.ops.mesh.primitive_plane_add(size=4.0, location=(0.0, 0.0, -0.01))
+    bpy.context.active_object.data.materials.append(builders.material("Floor", (0.05, 0.05, 0.05)))
+    for k in range(6):
+        bpy.ops.mesh.primitive_grid_add(x_subdivisions=3, y_subdivisions=3, size=0.9,
+                                        location=(-1.0 + (k % 3), -0.5 + (k // 3), 0.0))
+        obj = bpy.context.active_object
+        obj.name = f"Tile {k}"
+        random_attribute(obj.data, "Paint", "BYTE_COLOR", "CORNER", low=0.3, high=1.0)
+        obj.data.materials.append(material)
+    parity_view(scene, light=True)
+    exported, log = export()
+    assert "Random Tint" not in log.warning_text()
+    difference, ours, cycles = difference_to_cycles(scene, "object random and colour attribute", tmp_path)
+    assert difference <= 0.01
+    for link in list(tree.links):
+        if link.from_node.bl_idname in ("ShaderNodeObjectInfo", "ShaderNodeVertexColor"):
+            tree.links.remove(link)
+    scene.render.engine = "SPHRECT"
+    without = render()["images"]["rectangle"]
+    further = mean_relative_difference(without, cycles)
+    print(f"without the nodes: {further:.4f}")
+    assert further > 0.05
