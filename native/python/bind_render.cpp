@@ -411,12 +411,12 @@ void BindRender(py::module_& m) {
         py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"), py::arg("object") = py::none(),
         py::arg("textures") = std::vector<std::pair<py::array, bool>>{}, py::arg("ray_length") = 0.0f,
         py::arg("attributes") = std::vector<std::pair<py::array, bool>>{},
-        py::arg("vertices") = std::array<uint32_t, 3>{0, 0, 0},
-        py::arg("barycentrics") = std::array<float, 3>{1, 0, 0}, py::arg("object_info") = py::none(),
-        py::arg("normal") = V3{0, 0, 1},
+        py::arg("vertices") = std::array<uint32_t, 3>{0, 0, 0}, py::arg("barycentrics") = std::array<float, 3>{1, 0, 0},
+        py::arg("object_info") = py::none(), py::arg("normal") = V3{0, 0, 1},
         "A node program at point p of a plane facing +z seen from +z (object coordinates: p unless given; textures: "
         "(pixels, srgb) of the scene's, as Texture holds them; the ray's length; mesh attributes ([V, 4] values, "
-        "[0, 4]: missing, fac_is_x) by slot at `barycentrics` of triangle `vertices`; object_info: location, colour, alpha, index, random; the shading normal): for tests "
+        "[0, 4]: missing, fac_is_x) by slot at `barycentrics` of triangle `vertices`; object_info: location, colour, "
+        "alpha, index, random; the shading normal): for tests "
         "and the exporter's constants");
     // Cycles' sync-time mesh attributes and object random numbers (render/svm/standard_attributes.h), for the exporter.
     m.def(
@@ -446,8 +446,7 @@ void BindRender(py::module_& m) {
             const auto e = RowsOf<int32_t>(edges, 2, "edges");
             std::vector<uint32_t> ev(size_t(e.size()));
             for (size_t i = 0; i < ev.size(); ++i) {
-                if (e.data()[i] < 0 || size_t(e.data()[i]) >= num_vertices)
-                    throw py::value_error("edge out of range");
+                if (e.data()[i] < 0 || size_t(e.data()[i]) >= num_vertices) throw py::value_error("edge out of range");
                 ev[i] = uint32_t(e.data()[i]);
             }
             return render::svm::RandomPerIsland(num_vertices, ev);

@@ -42,8 +42,7 @@ void RenderScene::SetLastMeshAttribute(size_t slot, std::vector<float> values, b
     RequireNotCommitted();
     if (meshes.empty()) return;
     MeshData& m = meshes.back();
-    if (values.size() != 4 * m.num_vertices)
-        Fail("mesh '" + m.name + "': an attribute needs 4 values per vertex");
+    if (values.size() != 4 * m.num_vertices) Fail("mesh '" + m.name + "': an attribute needs 4 values per vertex");
     for (float v : values)
         if (!std::isfinite(v)) Fail("mesh '" + m.name + "': an attribute value is not finite");
     if (slot > (size_t(1) << 20)) Fail("mesh '" + m.name + "': attribute slot out of range");

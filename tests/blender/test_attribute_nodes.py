@@ -14,7 +14,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import addon_module, builders, export, render, set_resolution
+from conftest import builders, export, render, set_resolution
 from test_node_programs import render_cycles, sphrect_module
 from test_texture_export import Tree
 
@@ -101,6 +101,19 @@ def render_color_case():
         assert obj.data.color_attributes[obj.data.color_attributes.render_color_index].name == "Shown"
         return [obj]
     return Case("Render Color", build)
+
+
+def named_uv_map_case():
+    """A UV Map node naming a map that is not the render one."""
+    def build(location):
+        obj = grid(location, emission_of("UV Map named", node_output("ShaderNodeUVMap", "UV", uv_map="Second")),
+                   "Second UVs")
+        layer = obj.data.uv_layers.new(name="Second")
+        assert not layer.active_render
+        uvs = RNG.uniform(0.0, 1.0, 2 * len(layer.data)).astype(np.float32)
+        layer.data.foreach_set("uv", uvs)
+        return [obj]
+    return Case("UV Map named", build)
 
 
 def object_property_case():
@@ -242,6 +255,7 @@ def cases():
         a("Attribute missing Color", None, None, None, "ShaderNodeAttribute", "Color", constant=True,
           attribute_name="Nothing"),
         object_property_case(),
+        named_uv_map_case(),
         object_info_case("Object Random", "Random"),
         object_info_case("Object Color", "Color"),
         object_info_case("Object Alpha", "Alpha"),
@@ -341,7 +355,7 @@ def evaluate(sphrect, scene, hit):
 
 def values_against_cycles(scene, case_list, tmp_path):
     """Per case label: max abs difference between ours and Cycles' over the cell's pixels."""
-    rows = top_view(scene, len(case_list))
+    top_view(scene, len(case_list))
     for k, case in enumerate(case_list):
         case.build((2.0 * (k % COLUMNS), -2.0 * (k // COLUMNS), 0.0))
     bpy.context.view_layer.update()
@@ -361,7 +375,8 @@ def values_against_cycles(scene, case_list, tmp_path):
             for i in range(col * CELL, (col + 1) * CELL):
                 x, y = centres[j, i]
                 hit = cast(meshes, x, y)
-                probes = [cast(meshes, x + dx, y + dy) for dx, dy in ((PROBE, 0), (-PROBE, 0), (0, PROBE), (0, -PROBE))]
+                probes = [cast(meshes, x + dx, y + dy)
+                          for dx, dy in ((PROBE, 0), (-PROBE, 0), (0, PROBE), (0, -PROBE))]
                 if any((h is None) != (hit is None) or (h is not None and h[0] is not hit[0]) for h in probes):
                     skipped += 1
                     continue
@@ -406,8 +421,8 @@ def random_tint_material():
 
 @pytest.mark.slow
 def test_object_random_and_colour_attribute_render_as_in_cycles(empty_scene, tmp_path):
-    """Six tiles on a dark floor, one material (Object Info Random through a ColorRamp times a corner colour attribute on
-    the Principled Base Color) under a rectangle light: mean relative difference to Cycles (test_cycles_parity's
+    """Six tiles on a dark floor, one material (Object Info Random through a ColorRamp times a corner colour attribute
+    on the Principled Base Color) under a rectangle light: mean relative difference to Cycles (test_cycles_parity's
     measure) <= 1%; the same material with both nodes unlinked (their inputs' own values, what the exporter used
     before) is clearly further (> 5%)."""
     from test_cycles_parity import difference_to_cycles, mean_relative_difference
@@ -436,3 +451,37 @@ def test_object_random_and_colour_attribute_render_as_in_cycles(empty_scene, tmp
     further = mean_relative_difference(without, cycles)
     print(f"without the nodes: {further:.4f}")
     assert further > 0.05
+
+
+def test_only_what_programs_read_is_exported(empty_scene):
+    """A mesh gets the attributes its materials' programs read (per corner: unwelded), a mesh whose material reads
+    none keeps its welded vertices and no attributes; Object Info fields only where a program reads them (random
+    from the object's name); a missing attribute and a UV-map Tangent node are warned."""
+    def reads(name, out):
+        return emission_of(name, out)
+    attribute = reads("Reads a", node_output("ShaderNodeAttribute", "Color", attribute_name="a"))
+    plain = builders.material("Plain", (0.5, 0.5, 0.5))
+    info = reads("Reads random", node_output("ShaderNodeObjectInfo", "Random"))
+    missing = reads("Reads missing", node_output("ShaderNodeAttribute", "Fac", attribute_name="missing"))
+    uv_tangent = reads("UV tangent", node_output("ShaderNodeTangent", "Tangent", direction_type="UV_MAP"))
+    objects = {}
+    for k, (name, material) in enumerate((("P", attribute), ("Q", plain), ("R", info), ("S", missing),
+                                          ("T", uv_tangent))):
+        obj = grid((3.0 * k, 0.0, 0.0), material, name)
+        random_attribute(obj.data, "a", "FLOAT", "POINT")
+        random_attribute(obj.data, "b", "BYTE_COLOR", "CORNER")
+        obj.color = (0.1, 0.2, 0.3, 0.4)
+        objects[name] = obj
+    exported, log = export()
+    meshes = {m.name: m for m in exported.meshes}
+    assert set(meshes["P"].attributes) == {"a"}
+    assert len(meshes["P"].vertices) == 3 * len(meshes["P"].triangles)  # per corner
+    assert meshes["Q"].attributes == {} and len(meshes["Q"].vertices) == len(objects["Q"].data.vertices)
+    assert meshes["P"].object_random == 0.0 and meshes["P"].object_color == (1.0, 1.0, 1.0, 1.0)
+    r = meshes["R"]
+    assert r.object_random == pytest.approx(sphrect_module()._native._object_random("R"), abs=0)
+    assert 0 < r.object_random < 1 and r.object_color == pytest.approx((0.1, 0.2, 0.3, 0.4))
+    text = log.warning_text()
+    assert "attribute 'missing' a node reads, which the mesh lacks" in text
+    assert "'Tangent' node of a UV map's tangents" in text
+    assert "Reads a" not in text and "Reads random" not in text

@@ -141,9 +141,9 @@ enum class ShaderGlobal : uint8_t {
     kCount
 };
 constexpr const char* kShaderGlobalNames[] = {
-    "position",   "normal",     "true_normal", "incoming",   "uv",           "generated",    "object",
-    "object_normal", "reflection", "backfacing", "ray_length", "parametric", "object_location", "object_color",
-    "object_alpha", "object_index", "object_random"};
+    "position",        "normal",        "true_normal",  "incoming",     "uv",           "generated",
+    "object",          "object_normal", "reflection",   "backfacing",   "ray_length",   "parametric",
+    "object_location", "object_color",  "object_alpha", "object_index", "object_random"};
 static_assert(sizeof(kShaderGlobalNames) / sizeof(*kShaderGlobalNames) == size_t(ShaderGlobal::kCount));
 
 // A link between sockets of different types (Cycles' svm_node_convert): a colour to a float by its luminance

@@ -250,9 +250,11 @@ def _world_to_window(camera):
 
 
 def _uv_map(c, node):
+    """The render UV map, or the one the node names (read as an attribute: (u, v, 0), 0 where the mesh lacks it)."""
     if node.from_instancer:
         c.log.unsupported_feature("UV Map 'From Instancer' (the object's own used)", c.owner)
-    c.textures.name_uv_map(node.uv_map, c.owner)
+    if node.uv_map:
+        return {"UV": (c.attribute(node.uv_map)["color"], "vector")}
     return {"UV": (c.global_input("uv"), "vector")}
 
 
