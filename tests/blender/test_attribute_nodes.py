@@ -7,7 +7,8 @@ is the node's output, rendered by Cycles with 1 sample, filter width 0.01 px (ra
 bounces 0, Standard view, linear EXR.  Each pixel's ray is cast here against the exported triangles (the nearest one
 under the pixel centre, its barycentrics) and the exported program evaluated there with the exported mesh's
 attributes and Object Info (sphrect._native._eval_node_program): max abs difference <= 1e-3.  A pixel whose centre
-lies within 1e-3 of an object's outline is left out (Cycles' ray may land on either side).  Deterministic."""
+lies within 1e-3 of an object's outline (of a triangle's edge, for Parametric) is left out (Cycles' ray may land on
+either side).  Deterministic."""
 import dataclasses
 
 import bpy
@@ -27,10 +28,11 @@ RNG = np.random.default_rng(7)
 
 class Case:
     """`build(location)` makes the case's objects in the cell at `location` (returned), their material an Emission
-    whose Color is the node output under test; `constant`: Cycles' value does not vary over the cell."""
+    whose Color is the node output under test; `constant`: Cycles' value does not vary over the cell; `per_triangle`:
+    it jumps across triangle edges (pixels on one are left out)."""
 
-    def __init__(self, label, build, constant=False):
-        self.label, self.build, self.constant = label, build, constant
+    def __init__(self, label, build, constant=False, per_triangle=False):
+        self.label, self.build, self.constant, self.per_triangle = label, build, constant, per_triangle
 
 
 def emission_of(name, out):
@@ -180,7 +182,7 @@ def instance_random_case():
     return Case("Instance Random", build, constant=True)
 
 
-def geometry_case(label, output, transform=None, mesh="grid"):
+def geometry_case(label, output, transform=None, mesh="grid", per_triangle=False):
     def out(t):
         socket = t.node("ShaderNodeNewGeometry").outputs[output]
         return transform(t, socket) if transform else socket
@@ -216,7 +218,7 @@ def geometry_case(label, output, transform=None, mesh="grid"):
         obj.name = label
         obj.data.materials.append(material)
         return [obj]
-    return Case(label, build)
+    return Case(label, build, per_triangle=per_triangle)
 
 
 def tangent_case(axis):
@@ -250,6 +252,8 @@ def cases():
         a("Attribute colour Alpha", "c", "BYTE_COLOR", "CORNER", "ShaderNodeAttribute", "Alpha", attribute_name="c"),
         a("Attribute UV Vector", None, None, None, "ShaderNodeAttribute", "Vector", attribute_name="UVMap"),
         a("Attribute UV Fac", None, None, None, "ShaderNodeAttribute", "Fac", attribute_name="UVMap"),
+        a("Attribute generated", None, None, None, "ShaderNodeAttribute", "Color", attribute_name="generated"),
+        a("Attribute uv Fac", None, None, None, "ShaderNodeAttribute", "Fac", attribute_name="uv"),
         a("Attribute missing Alpha", None, None, None, "ShaderNodeAttribute", "Alpha", constant=True,
           attribute_name="Nothing"),
         a("Attribute missing Color", None, None, None, "ShaderNodeAttribute", "Color", constant=True,
@@ -263,7 +267,7 @@ def cases():
         object_info_case("Material Index", "Material Index", lambda t, s: _scaled(t, s, 0.1)),
         object_info_case("Object Location", "Location", location_scaled),
         instance_random_case(),
-        geometry_case("Parametric", "Parametric"),
+        geometry_case("Parametric", "Parametric", per_triangle=True),
         geometry_case("Geometry Tangent", "Tangent", half_plus_half),
         tangent_case("X"),
         tangent_case("Y"),
@@ -377,7 +381,8 @@ def values_against_cycles(scene, case_list, tmp_path):
                 hit = cast(meshes, x, y)
                 probes = [cast(meshes, x + dx, y + dy)
                           for dx, dy in ((PROBE, 0), (-PROBE, 0), (0, PROBE), (0, -PROBE))]
-                if any((h is None) != (hit is None) or (h is not None and h[0] is not hit[0]) for h in probes):
+                if any((h is None) != (hit is None) or (h is not None and h[0] is not hit[0]) or
+                       (case.per_triangle and h is not None and h[1] != hit[1]) for h in probes):
                     skipped += 1
                     continue
                 ours = np.zeros(3) if hit is None else evaluate(sphrect, exported, hit)

@@ -671,6 +671,10 @@ def _attribute_outputs(regs):
             "Alpha": (regs["alpha"], "float")}
 
 
+# Attribute names Cycles reads as its standard attributes (Attribute::name_standard) that programs have as globals.
+_STANDARD_GLOBALS = {"generated": "generated", "uv": "uv"}
+
+
 def _attribute(c, node):
     """Cycles' Attribute node: a mesh attribute or UV map by name (Geometry), an object's custom property (Object;
     Instancer reads the object's own, warned); a name the mesh lacks reads 0 (alpha 1)."""
@@ -681,6 +685,14 @@ def _attribute(c, node):
         name = OBJECT_ATTRIBUTE_PREFIX + name
     elif kind != "GEOMETRY":
         raise NotCompiled(f"'Attribute' node of type {kind.replace('_', ' ').title()}")
+    if kind == "GEOMETRY" and name in _STANDARD_GLOBALS:  # Cycles' standard attributes the hit has
+        reg = c.global_input(_STANDARD_GLOBALS[name])
+        if name == "uv":  # a float2: Fac is u
+            fac = c.emit("separate", [reg], 3, mode=c.names.NODE_COLOR_MODELS.index("RGB"))[0]
+        else:
+            fac = c.emit("convert", [reg], 1, mode=c.names.NODE_CONVERSIONS.index("vector_to_float"))[0]
+        return {"Color": (reg, "color"), "Vector": (reg, "vector"), "Fac": (fac, "float"),
+                "Alpha": (c.constant(1.0, "float"), "float")}
     if not node.attribute_name:  # no attribute: what Cycles reads of a missing one
         return {"Color": (c.constant(0.0, "color"), "color"), "Vector": (c.constant(0.0, "vector"), "vector"),
                 "Fac": (c.constant(0.0, "float"), "float"), "Alpha": (c.constant(1.0, "float"), "float")}
@@ -796,8 +808,8 @@ def compile_product(sphrect, textures, log, owner, color_socket, strength_socket
 
 def program_mean(sphrect, program, samples=8):
     """A program's mean colour over the UV and Generated square (samples^2 points), where it must stand for a
-    constant; None for a program that reads images (not evaluated here)."""
-    if any(i.op == "image" for i in program.instructions):
+    constant; None for a program that reads images or mesh attributes (not evaluated here)."""
+    if any(i.op in ("image", "attribute") for i in program.instructions):
         return None
     fields = dataclasses.asdict(program)
     total = np.zeros(3)
