@@ -373,7 +373,7 @@ void BindRender(py::module_& m) {
            const std::vector<std::pair<py::array, bool>>& textures, float ray_length,
            const std::vector<std::pair<py::array, bool>>& attributes, const std::array<uint32_t, 3>& vertices,
            const std::array<float, 3>& barycentrics, const std::optional<std::array<float, 9>>& object_info,
-           const V3& normal) {
+           const V3& normal, bool corners_reversed) {
             const render::svm::NodeProgram prog = ProgramFromFields(program, "program");
             std::vector<render::Image> images;
             for (const auto& [pixels, srgb] : textures) images.push_back(ImageOfArray("texture", pixels, srgb, true));
@@ -403,8 +403,9 @@ void BindRender(py::module_& m) {
                 info.location = {o[0], o[1], o[2]};
                 info.color = {o[3], o[4], o[5]};
                 info.alpha = o[6], info.index = o[7], info.random = o[8];
-                sg.object_info = &info;
             }
+            info.reversed = corners_reversed;
+            if (object_info || corners_reversed) sg.object_info = &info;
             const Spectrum v = render::svm::EvalNodeProgram(prog, images, sg);
             return V3{v.x, v.y, v.z};
         },
@@ -412,11 +413,11 @@ void BindRender(py::module_& m) {
         py::arg("textures") = std::vector<std::pair<py::array, bool>>{}, py::arg("ray_length") = 0.0f,
         py::arg("attributes") = std::vector<std::pair<py::array, bool>>{},
         py::arg("vertices") = std::array<uint32_t, 3>{0, 0, 0}, py::arg("barycentrics") = std::array<float, 3>{1, 0, 0},
-        py::arg("object_info") = py::none(), py::arg("normal") = V3{0, 0, 1},
+        py::arg("object_info") = py::none(), py::arg("normal") = V3{0, 0, 1}, py::arg("corners_reversed") = false,
         "A node program at point p of a plane facing +z seen from +z (object coordinates: p unless given; textures: "
         "(pixels, srgb) of the scene's, as Texture holds them; the ray's length; mesh attributes ([V, 4] values, "
         "[0, 4]: missing, fac_is_x) by slot at `barycentrics` of triangle `vertices`; object_info: location, colour, "
-        "alpha, index, random; the shading normal): for tests "
+        "alpha, index, random; the shading normal; whether the mesh's corners are reversed): for tests "
         "and the exporter's constants");
     // Cycles' sync-time mesh attributes and object random numbers (render/svm/standard_attributes.h), for the exporter.
     m.def(
@@ -524,10 +525,10 @@ void BindRender(py::module_& m) {
             py::arg("slot"), py::arg("values"), py::arg("fac_is_x") = false)
         .def(
             "set_last_mesh_object_info",
-            [](RenderScene& s, const V3& color, float alpha, float index, float random) {
-                s.SetLastMeshObjectInfo(Spectrum(color[0], color[1], color[2]), alpha, index, random);
+            [](RenderScene& s, const V3& color, float alpha, float index, float random, bool reversed) {
+                s.SetLastMeshObjectInfo(Spectrum(color[0], color[1], color[2]), alpha, index, random, reversed);
             },
-            py::arg("color"), py::arg("alpha"), py::arg("index"), py::arg("random"))
+            py::arg("color"), py::arg("alpha"), py::arg("index"), py::arg("random"), py::arg("reversed") = false)
         .def("set_last_mesh_shadow_terminator_offset", &RenderScene::SetLastMeshShadowTerminatorOffset,
              py::arg("offset"))
         .def(

@@ -123,9 +123,10 @@ class RenderScene {
     // The mesh added last: its object's linear map and inverse (meshes without triangles are not kept: ignored).
     void SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3], const Vec3f& translation = {});
     // The mesh added last: its attribute in slot `slot` (4 floats per vertex: svm::MeshAttribute), and its object's
-    // Object Info (colour, alpha, pass index, random number; its location is object_linear's translation).
+    // Object Info (colour, alpha, pass index, random number; its location is object_linear's translation), whether its
+    // triangles list Blender's corners reversed (svm::ObjectInfo).
     void SetLastMeshAttribute(size_t slot, std::vector<float> values, bool fac_is_x);
-    void SetLastMeshObjectInfo(const Vec3f& color, float alpha, float index, float random);
+    void SetLastMeshObjectInfo(const Vec3f& color, float alpha, float index, float random, bool reversed = false);
     // The mesh added last: Blender's Shadow Terminator Geometry Offset, in [0, 1] (MeshData::shadow_terminator_offset).
     void SetLastMeshShadowTerminatorOffset(float offset);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids / uvs / generated may be

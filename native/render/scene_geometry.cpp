@@ -51,13 +51,13 @@ void RenderScene::SetLastMeshAttribute(size_t slot, std::vector<float> values, b
     m.attributes[slot].fac_is_x = fac_is_x;
 }
 
-void RenderScene::SetLastMeshObjectInfo(const Vec3f& color, float alpha, float index, float random) {
+void RenderScene::SetLastMeshObjectInfo(const Vec3f& color, float alpha, float index, float random, bool reversed) {
     RequireNotCommitted();
     if (meshes.empty()) return;
     if (!IsFinite(color) || !std::isfinite(alpha) || !std::isfinite(index) || !std::isfinite(random))
         Fail("mesh '" + meshes.back().name + "': object info must be finite");
     svm::ObjectInfo& o = meshes.back().object_info;
-    o.color = color, o.alpha = alpha, o.index = index, o.random = random;
+    o.color = color, o.alpha = alpha, o.index = index, o.random = random, o.reversed = reversed;
 }
 
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,

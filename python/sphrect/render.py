@@ -225,8 +225,9 @@ def _add_mesh_program_inputs(native, mesh, slots) -> None:
     color = tuple(float(x) for x in mesh.object_color)
     if len(color) != 4:
         raise ValueError(f"mesh '{mesh.name}': object_color must be RGBA")
-    if color != (1.0, 1.0, 1.0, 1.0) or mesh.object_index or mesh.object_random:
-        native.set_last_mesh_object_info(color[:3], color[3], float(mesh.object_index), float(mesh.object_random))
+    if color != (1.0, 1.0, 1.0, 1.0) or mesh.object_index or mesh.object_random or mesh.corners_reversed:
+        native.set_last_mesh_object_info(color[:3], color[3], float(mesh.object_index), float(mesh.object_random),
+                                         bool(mesh.corners_reversed))
 
 
 def _refuse_layer_cycles(mat, path) -> None:

@@ -72,8 +72,9 @@ FORMAT_NAME = "sphrect-scene"
 # 18: Material.programs and MixFactor.program (NodeProgram: a shader node graph compiled for the renderer, Cycles'
 # SVM), Mesh.object_translation.  Older files load unchanged (no programs).
 # Material.diffuse_roughness (the Diffuse BSDF's Roughness: Oren-Nayar); older files load with 0 (Lambert).
-# 19: Mesh.attributes, attributes_fac_x, object_color, object_index, object_random and NodeProgram.attributes (the
-# Attribute, Color Attribute and Object Info nodes).  Older files load without attributes, object colour white.
+# 19: Mesh.attributes, attributes_fac_x, object_color, object_index, object_random, corners_reversed and
+# NodeProgram.attributes (the Attribute, Color Attribute, Object Info and Geometry nodes).  Older files load without
+# attributes, object colour white.
 FORMAT_VERSION = 19
 
 RGB = Tuple[float, float, float]
@@ -336,6 +337,9 @@ class Mesh:
     object_color: Tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
     object_index: int = 0
     object_random: float = 0.0
+    # Whether its triangles list the corners of Blender's in reverse (the exporter's, for a mirroring object: the
+    # winding kept outward), which Geometry > Parametric undoes.
+    corners_reversed: bool = False
 
 
 # Every light's visibility fields, as Cycles 3.4's light shader flags (scene/light.cpp): the RAY_KINDS it does not
@@ -571,6 +575,8 @@ def save_scene(scene: Scene, path: str) -> None:
         if tuple(m.object_color) != (1.0, 1.0, 1.0, 1.0) or m.object_index or m.object_random:
             meta["meshes"][-1]["object_info"] = {"color": [float(x) for x in m.object_color],
                                                  "index": int(m.object_index), "random": float(m.object_random)}
+        if m.corners_reversed:
+            meta["meshes"][-1]["corners_reversed"] = True
         arrays[f"{key}.vertices"] = np.asarray(m.vertices, dtype=np.float32)
         arrays[f"{key}.triangles"] = np.asarray(m.triangles, dtype=np.int32)
         if m.normals is not None:
@@ -657,7 +663,8 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
                                  shadow_terminator_offset=float(m.get("shadow_terminator_offset", 0.0)),
                                  attributes=attributes, attributes_fac_x=tuple(m.get("attributes_fac_x", ())),
                                  object_color=tuple(info.get("color", (1.0, 1.0, 1.0, 1.0))),
-                                 object_index=int(info.get("index", 0)), object_random=float(info.get("random", 0.0))))
+                                 object_index=int(info.get("index", 0)), object_random=float(info.get("random", 0.0)),
+                                 corners_reversed=bool(m.get("corners_reversed", False))))
     for t in meta.get("textures", []):
         key = t.get("arrays")
         if key is not None and not isinstance(key, str):

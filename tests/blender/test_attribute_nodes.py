@@ -189,8 +189,11 @@ def geometry_case(label, output, transform=None, mesh="grid", per_triangle=False
 
     def build(location):
         material = emission_of(label, out)
-        if mesh == "grid":
-            return [grid(location, material, label)]
+        if mesh in ("grid", "mirrored grid"):
+            obj = grid(location, material, label)
+            if mesh == "mirrored grid":  # negative scale: the exporter reverses its triangles' corners
+                obj.scale = (-1.0, 1.0, 1.0)
+            return [obj]
         if mesh == "islands":  # four separate quads of one mesh
             verts, faces = [], []
             for k, (dx, dy) in enumerate(((-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5))):
@@ -268,6 +271,7 @@ def cases():
         object_info_case("Object Location", "Location", location_scaled),
         instance_random_case(),
         geometry_case("Parametric", "Parametric", per_triangle=True),
+        geometry_case("Parametric mirrored", "Parametric", mesh="mirrored grid", per_triangle=True),
         geometry_case("Geometry Tangent", "Tangent", half_plus_half),
         tangent_case("X"),
         tangent_case("Y"),
@@ -354,7 +358,8 @@ def evaluate(sphrect, scene, hit):
     return np.array(sphrect._native._eval_node_program(dataclasses.asdict(program), tuple(p), uv, generated, local,
                                                        attributes=attributes, vertices=tri,
                                                        barycentrics=tuple(bary), object_info=info,
-                                                       normal=tuple(normal)))
+                                                       normal=tuple(normal),
+                                                       corners_reversed=mesh.corners_reversed))
 
 
 def values_against_cycles(scene, case_list, tmp_path):

@@ -69,7 +69,7 @@ def global_program(name):
 
 def test_object_info_and_parametric_globals():
     """Object Info's location, colour, alpha, index, random from the hit's object (zeros without one); Parametric the
-    weights of the triangle's first two vertices (Cycles' (1 - u - v, u, 0))."""
+    weights of the triangle's first two vertices (Cycles' (1 - u - v, u, 0)), of Blender's corner order."""
     info = (1.0, 2.0, 3.0, 0.1, 0.2, 0.3, 0.4, 5.0, 0.625)
     expected = {"object_location": info[:3], "object_color": info[3:6], "object_alpha": (info[6], 0, 0),
                 "object_index": (info[7], 0, 0), "object_random": (info[8], 0, 0)}
@@ -77,6 +77,9 @@ def test_object_info_and_parametric_globals():
         np.testing.assert_allclose(evaluate(global_program(name), object_info=info), value, rtol=1e-7)
         np.testing.assert_array_equal(evaluate(global_program(name)), [0, 0, 0])
     np.testing.assert_allclose(evaluate(global_program("parametric"), barycentrics=(0.2, 0.3, 0.5)), (0.2, 0.3, 0))
+    # A mesh whose triangles list Blender's corners reversed (a mirroring object's): Blender's first corner is the last.
+    np.testing.assert_allclose(evaluate(global_program("parametric"), barycentrics=(0.2, 0.3, 0.5),
+                                        corners_reversed=True), (0.5, 0.3, 0))
 
 
 @pytest.mark.parametrize("axis,generated,expected", [
@@ -159,6 +162,7 @@ def test_attributes_and_object_info_are_saved_and_older_files_load(tmp_path):
     mesh = scene.meshes[0]
     mesh.attributes_fac_x = ("uv",)
     mesh.object_color, mesh.object_index, mesh.object_random = (0.3, 0.2, 0.1, 0.5), 4, 0.25
+    mesh.corners_reversed = True
     path = tmp_path / "a.sphrect.npz"
     sphrect.save_scene(scene, path)
     loaded = sphrect.load_scene(path)
@@ -167,17 +171,19 @@ def test_attributes_and_object_info_are_saved_and_older_files_load(tmp_path):
     for name in m.attributes:
         np.testing.assert_array_equal(m.attributes[name], mesh.attributes[name])
     assert (m.object_color, m.object_index, m.object_random) == ((0.3, 0.2, 0.1, 0.5), 4, 0.25)
+    assert m.corners_reversed
     assert loaded.materials[0].programs == scene.materials[0].programs
     old = tmp_path / "old.sphrect.npz"
 
     def strip(meta):
         for m in meta["meshes"]:
-            m.pop("attributes"), m.pop("attributes_fac_x"), m.pop("object_info")
+            m.pop("attributes"), m.pop("attributes_fac_x"), m.pop("object_info"), m.pop("corners_reversed")
         for mat in meta["materials"]:
             mat["programs"]["emission"].pop("attributes")
     save_as_older_version(path, old, 18, strip)
     m = sphrect.load_scene(old).meshes[0]
     assert m.attributes == {} and m.object_color == (1.0, 1.0, 1.0, 1.0) and m.object_random == 0.0
+    assert not m.corners_reversed
 
 
 def test_bad_attributes_are_refused():

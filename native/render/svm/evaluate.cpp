@@ -44,7 +44,8 @@ Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg) {
         case ShaderGlobal::kReflection: return sg.n * (2.0f * Dot(sg.n, sg.incoming)) - sg.incoming;
         case ShaderGlobal::kBackfacing: return Vec3f(sg.backfacing ? 1.0f : 0.0f, 0, 0);
         case ShaderGlobal::kRayLength: return Vec3f(sg.ray_length, 0, 0);
-        case ShaderGlobal::kParametric: return Vec3f(sg.b[0], sg.b[1], 0);  // svm_node_geometry's (1 - u - v, u, 0)
+        case ShaderGlobal::kParametric:  // svm_node_geometry's (1 - u - v, u, 0) of Blender's corner order
+            return Vec3f(sg.object_info && sg.object_info->reversed ? sg.b[2] : sg.b[0], sg.b[1], 0);
         default: return ObjectGlobal(g, sg.object_info);
     }
 }

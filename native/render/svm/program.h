@@ -196,10 +196,12 @@ constexpr const char* kAttributeNodeNames[] = {"attribute", "color_attribute"};
 
 // The object a hit lies on: Object Info's location, Blender's object colour and alpha, pass index and random number
 // (Cycles' object_random_number), and the map of object-space normals to the world (L^-T, row-major) that Geometry's
-// Tangent takes its radial direction through.
+// Tangent takes its radial direction through; `reversed`: the mesh's triangles list Blender's corners in reverse (a
+// mirroring object's, to keep the winding outward), which Parametric undoes.
 struct ObjectInfo {
     Vec3f location, color = Vec3f(1, 1, 1);
     float alpha = 1, index = 0, random = 0;
+    bool reversed = false;
     float normal_to_world[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 };
 

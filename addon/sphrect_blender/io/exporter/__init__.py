@@ -148,6 +148,7 @@ def scene_from_depsgraph(depsgraph):
                                                                       inst.parent if inst.is_instance else None),
                                          shadow_terminator_offset=shadow_terminator_offset(obj, normals, log),
                                          attributes=local.attributes, attributes_fac_x=local.attributes_fac_x,
+                                         corners_reversed=bool(np.linalg.det(np.array(inst.matrix_world)[:3, :3]) < 0),
                                          **(_object_info(sphrect, obj, inst) if object_info else {})))
     scene.materials = materials.list
     scene.textures = materials.textures.list
