@@ -224,17 +224,33 @@ def geometry_case(label, output, transform=None, mesh="grid", per_triangle=False
     return Case(label, build, per_triangle=per_triangle)
 
 
-def tangent_case(axis):
+def tangent_case(axis, uv_map=None):
+    """The Tangent node, radial about `axis`, or along a UV map (uv_map: its name, '' the render one) of an ico sphere,
+    or of a grid's second UV map, the first turned and scaled (on quads whose UVs are not affine Blender's MikkTSpace,
+    splitting each quad itself, may differ from Cycles' on the loop triangles)."""
+    label = f"Tangent {axis}" if uv_map is None else f"Tangent UV '{uv_map}'"
+
     def out(t):
-        node = t.node("ShaderNodeTangent", direction_type="RADIAL", axis=axis)
+        if uv_map is None:
+            node = t.node("ShaderNodeTangent", direction_type="RADIAL", axis=axis)
+        else:
+            node = t.node("ShaderNodeTangent", direction_type="UV_MAP", uv_map=uv_map)
         return half_plus_half(t, node.outputs["Tangent"])
 
     def build(location):  # a sphere: on a plane facing an axis the radial tangent about it is undefined
+        if uv_map:
+            obj = grid(location, emission_of(label, out), label)
+            layer = obj.data.uv_layers.new(name=uv_map)
+            uv = np.empty(2 * len(layer.data), np.float32)
+            layer.data.foreach_get("uv", uv)
+            turned = uv.reshape(-1, 2) @ np.array([[0.8, 0.6], [-0.6, 0.8]], np.float32).T * 2.0
+            layer.data.foreach_set("uv", turned.ravel())
+            return [obj]
         bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=0.9, location=location)
         obj = bpy.context.active_object
-        obj.data.materials.append(emission_of(f"Tangent {axis}", out))
+        obj.data.materials.append(emission_of(label, out))
         return [obj]
-    return Case(f"Tangent {axis}", build)
+    return Case(label, build, constant=uv_map == "Second")
 
 
 def cases():
@@ -275,6 +291,8 @@ def cases():
         geometry_case("Geometry Tangent", "Tangent", half_plus_half),
         tangent_case("X"),
         tangent_case("Y"),
+        tangent_case(None, uv_map=""),
+        tangent_case(None, uv_map="Second"),
         geometry_case("Random Per Island", "Random Per Island", mesh="islands"),
         geometry_case("Pointiness ico sphere", "Pointiness", mesh="ico"),
         geometry_case("Pointiness split sphere", "Pointiness", mesh="split sphere"),
@@ -466,17 +484,18 @@ def test_object_random_and_colour_attribute_render_as_in_cycles(empty_scene, tmp
 def test_only_what_programs_read_is_exported(empty_scene):
     """A mesh gets the attributes its materials' programs read (per corner: unwelded), a mesh whose material reads
     none keeps its welded vertices and no attributes; Object Info fields only where a program reads them (random
-    from the object's name); a missing attribute and a UV-map Tangent node are warned."""
+    from the object's name); a missing attribute and an Attribute node of type View Layer are warned."""
     def reads(name, out):
         return emission_of(name, out)
     attribute = reads("Reads a", node_output("ShaderNodeAttribute", "Color", attribute_name="a"))
     plain = builders.material("Plain", (0.5, 0.5, 0.5))
     info = reads("Reads random", node_output("ShaderNodeObjectInfo", "Random"))
     missing = reads("Reads missing", node_output("ShaderNodeAttribute", "Fac", attribute_name="missing"))
-    uv_tangent = reads("UV tangent", node_output("ShaderNodeTangent", "Tangent", direction_type="UV_MAP"))
+    view_layer = reads("View layer", node_output("ShaderNodeAttribute", "Fac", attribute_type="VIEW_LAYER",
+                                                 attribute_name="x"))
     objects = {}
     for k, (name, material) in enumerate((("P", attribute), ("Q", plain), ("R", info), ("S", missing),
-                                          ("T", uv_tangent))):
+                                          ("T", view_layer))):
         obj = grid((3.0 * k, 0.0, 0.0), material, name)
         random_attribute(obj.data, "a", "FLOAT", "POINT")
         random_attribute(obj.data, "b", "BYTE_COLOR", "CORNER")
@@ -493,5 +512,5 @@ def test_only_what_programs_read_is_exported(empty_scene):
     assert 0 < r.object_random < 1 and r.object_color == pytest.approx((0.1, 0.2, 0.3, 0.4))
     text = log.warning_text()
     assert "attribute 'missing' a node reads, which the mesh lacks" in text
-    assert "'Tangent' node of a UV map's tangents" in text
+    assert "'Attribute' node of type View Layer" in text
     assert "Reads a" not in text and "Reads random" not in text

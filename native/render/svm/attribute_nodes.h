@@ -34,11 +34,13 @@ inline AttributeOutput InterpolateAttribute(const MeshAttribute* a, AttributeNod
 
 // The Tangent node's radial tangent about axis 0 X, 1 Y, 2 Z (and Geometry's Tangent: Z, Cycles' primitive_tangent) of
 // Generated coordinates g: the direction circling the axis through the texture space's centre, taken to the world as
-// a normal (normal_to_world, row-major) and made orthogonal to the shading normal n; zero on the axis.
+// a normal (normal_to_world, row-major) and made orthogonal to the shading normal n; zero on the axis.  Axis 3: g is
+// the object-space tangent itself (a UV map's, svm_node_tangent's UV Map direction).
 inline Vec3f RadialTangent(int axis, const Vec3f& g, const Vec3f& n, const float (&normal_to_world)[3][3]) {
     const Vec3f local = axis == 0   ? Vec3f(0, -(g.z - 0.5f), g.y - 0.5f)
                         : axis == 1 ? Vec3f(-(g.z - 0.5f), 0, g.x - 0.5f)
-                                    : Vec3f(-(g.y - 0.5f), g.x - 0.5f, 0);
+                        : axis == 2 ? Vec3f(-(g.y - 0.5f), g.x - 0.5f, 0)
+                                    : g;
     const float(&m)[3][3] = normal_to_world;
     const Vec3f t(m[0][0] * local.x + m[0][1] * local.y + m[0][2] * local.z,
                   m[1][0] * local.x + m[1][1] * local.y + m[1][2] * local.z,

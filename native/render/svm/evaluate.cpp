@@ -374,7 +374,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             case NodeOp::kVectorRotate: return {int(std::size(kVectorRotateTypeNames)), 6};
             case NodeOp::kCurves: return {2, 3};
             case NodeOp::kAttribute: return {int(AttributeNode::kCount), 3, 3};
-            case NodeOp::kRadialTangent: return {3, 2};
+            case NodeOp::kRadialTangent: return {4, 2};
             case NodeOp::kCount: break;
         }
         return {-1, 0};

@@ -71,7 +71,8 @@ enum class NodeOp : uint8_t {
     // Mesh attributes (attribute_nodes.h): out0 colour / vector, out1 fac, out2 alpha of the hit mesh's attribute
     // `data` (ShaderGlobals::attributes); mode: AttributeNode.
     kAttribute,
-    kRadialTangent,  // out1 = the Tangent node's radial tangent about axis `mode` (0 X, 1 Y, 2 Z) of Generated in0
+    kRadialTangent,  // out1 = the Tangent node's radial tangent about axis `mode` (0 X, 1 Y, 2 Z) of Generated in0,
+                     // or (mode 3) in0 an object-space tangent (a UV map's)
     kCount
 };
 constexpr const char* kNodeOpNames[] = {"constant",

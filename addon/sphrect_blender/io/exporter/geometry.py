@@ -3,7 +3,7 @@
 import numpy as np
 
 from .materials import transparent_surface
-from .node_program import OBJECT_ATTRIBUTE_PREFIX, POINTINESS, RANDOM_PER_ISLAND, RENDER_COLOR
+from .node_program import OBJECT_ATTRIBUTE_PREFIX, POINTINESS, RANDOM_PER_ISLAND, RENDER_COLOR, UV_TANGENT_PREFIX
 
 # Object types whose evaluated form converts to a mesh with Object.to_mesh().
 MESH_LIKE = {"MESH", "CURVE", "SURFACE", "FONT", "META"}
@@ -136,6 +136,24 @@ def _object_property(obj, name):
     return None
 
 
+def _uv_tangents(mesh, uv_map, obj, log):
+    """float32 [loops, 3]: the MikkTSpace tangents of UV map `uv_map` ('' the render one) per loop, as Cycles computes
+    them for the Tangent node; None (warned) without that map or where Blender cannot (n-gons)."""
+    layer = mesh.uv_layers.get(uv_map) if uv_map else render_uv_layer(mesh)
+    if layer is None:
+        return None
+    try:
+        mesh.calc_tangents(uvmap=layer.name)
+    except RuntimeError as e:
+        if log is not None:
+            log.unsupported_feature(f"UV map tangents ({e}: 0)", obj.name)
+        return None
+    tangents = np.empty(len(mesh.loops) * 3, dtype=np.float32)
+    mesh.loops.foreach_get("tangent", tangents)
+    mesh.free_tangents()
+    return tangents
+
+
 def corner_attributes(obj, mesh, names, corner_loops, tri_polys, tri_vertices, log=None):
     """({name: float32 [T, 3, 4] per triangle corner}, names read first-component Fac) for the attribute names a
     program reads (sphrect.Mesh.attributes; 'object:NAME' an Object attribute); names the mesh lacks are left out
@@ -149,6 +167,11 @@ def corner_attributes(obj, mesh, names, corner_loops, tri_polys, tri_vertices, l
             value = _object_property(obj, name[len(OBJECT_ATTRIBUTE_PREFIX):])
             if value is not None:
                 out[name] = np.broadcast_to(value, (n, 3, 4))
+            continue
+        if name.startswith(UV_TANGENT_PREFIX):
+            tangents = _uv_tangents(mesh, name[len(UV_TANGENT_PREFIX):], obj, log)
+            if tangents is not None:
+                out[name] = _as_rgba(tangents, 3)[corner_loops]
             continue
         if name in (POINTINESS, RANDOM_PER_ISLAND):
             edges = np.empty(len(mesh.edges) * 2, dtype=np.int32)

@@ -27,6 +27,7 @@ _SOCKET_TYPES = {"VALUE": "float", "INT": "float", "BOOLEAN": "float", "RGBA": "
 # Attribute node without a name reads (the mesh's render colour attribute), an Attribute node of type Object's.
 POINTINESS, RANDOM_PER_ISLAND, RENDER_COLOR = "pointiness", "random_per_island", ""
 OBJECT_ATTRIBUTE_PREFIX = "object:"  # + the name of the object's custom property
+UV_TANGENT_PREFIX = "tangent:"  # + a UV map's name ('': the render one): its tangents, in object space
 # Cycles' RAMP_TABLE_SIZE: a ColorRamp is baked into this many evenly spaced colours (blender/shader.cpp).
 RAMP_TABLE_SIZE = 256
 
@@ -642,9 +643,12 @@ def _radial_tangent(c, axis):
 
 
 def _tangent(c, node):
-    if node.direction_type != "RADIAL":
-        raise NotCompiled("'Tangent' node of a UV map's tangents")
-    return {"Tangent": (_radial_tangent(c, node.axis), "vector")}
+    """Radial about an axis, or along a UV map (its MikkTSpace tangents, an attribute; the render map's without a
+    name; 0 where the mesh lacks the map)."""
+    if node.direction_type == "RADIAL":
+        return {"Tangent": (_radial_tangent(c, node.axis), "vector")}
+    tangent = c.attribute(UV_TANGENT_PREFIX + node.uv_map)["color"]
+    return {"Tangent": (c.emit("radial_tangent", [tangent], 1, mode=3)[0], "vector")}
 
 
 def _material_pass_index(owner):
