@@ -301,6 +301,7 @@ void BindMaterial(py::module_& m) {
     m.attr("node_wave_profiles") = names(render::svm::kWaveProfileNames);
     m.attr("node_vector_math_ops") = names(render::svm::kVectorMathOpNames);
     m.attr("node_vector_rotate_types") = names(render::svm::kVectorRotateTypeNames);
+    m.attr("node_attribute_nodes") = names(render::svm::kAttributeNodeNames);
     m.attr("MAX_NODE_REGISTERS") = render::svm::kMaxNodeRegisters;
 
     m.def(

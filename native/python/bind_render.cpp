@@ -17,6 +17,7 @@
 #include "numpy_arrays.h"
 #include "render/renderer.h"
 #include "render/scene.h"
+#include "render/svm/standard_attributes.h"
 
 namespace py = pybind11;
 
@@ -370,7 +371,10 @@ void BindRender(py::module_& m) {
         "_eval_node_program",
         [](const py::handle& program, const V3& p, const V3& uv, const V3& generated, const std::optional<V3>& object,
            const std::vector<std::pair<py::array, bool>>& textures, float ray_length, float dP,
-           const std::optional<std::vector<std::array<V3, 4>>>& shifts) {
+           const std::optional<std::vector<std::array<V3, 4>>>& shifts,
+           const std::vector<std::pair<py::array, bool>>& attributes, const std::array<uint32_t, 3>& vertices,
+           const std::array<float, 3>& barycentrics, const std::optional<std::array<float, 9>>& object_info,
+           const V3& normal, bool corners_reversed) {
             const render::svm::NodeProgram prog = ProgramFromFields(program, "program");
             std::vector<render::Image> images;
             for (const auto& [pixels, srgb] : textures) images.push_back(ImageOfArray("texture", pixels, srgb, true));
@@ -380,7 +384,8 @@ void BindRender(py::module_& m) {
             if (object) sg.object = {(*object)[0], (*object)[1], (*object)[2]};
             sg.uv = {uv[0], uv[1], uv[2]};
             sg.generated = {generated[0], generated[1], generated[2]};
-            sg.n = sg.ng = sg.incoming = sg.object_normal = {0, 0, 1};
+            sg.incoming = sg.object_normal = {0, 0, 1};
+            sg.n = sg.ng = {normal[0], normal[1], normal[2]};
             sg.ray_length = ray_length;
             sg.dP = dP;
             if (shifts) {  // (p, uv, generated, object) at P + dx and P + dy
@@ -392,15 +397,83 @@ void BindRender(py::module_& m) {
                 }
                 sg.shifted = true;
             }
+            std::vector<render::svm::MeshAttribute> attrs;
+            for (const auto& [values, fac_is_x] : attributes) {
+                const auto a = CArray<float>::ensure(values);
+                if (!a || a.ndim() != 2 || a.shape(1) != 4) throw py::value_error("attributes must be [V, 4] arrays");
+                for (uint32_t v : vertices)  // an empty array: the mesh lacks it
+                    if (a.shape(0) > 0 && v >= a.shape(0))
+                        throw py::value_error("a vertex index is out of an attribute's range");
+                attrs.push_back({std::vector<float>(a.data(), a.data() + a.size()), fac_is_x});
+            }
+            sg.attributes = &attrs;
+            for (int k = 0; k < 3; ++k) sg.v[k] = vertices[k], sg.b[k] = barycentrics[k];
+            render::svm::ObjectInfo info;
+            if (object_info) {
+                const auto& o = *object_info;
+                info.location = {o[0], o[1], o[2]};
+                info.color = {o[3], o[4], o[5]};
+                info.alpha = o[6], info.index = o[7], info.random = o[8];
+            }
+            info.reversed = corners_reversed;
+            if (object_info || corners_reversed) sg.object_info = &info;
             const Spectrum v = render::svm::EvalNodeProgram(prog, images, sg);
             return V3{v.x, v.y, v.z};
         },
         py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"), py::arg("object") = py::none(),
         py::arg("textures") = std::vector<std::pair<py::array, bool>>{}, py::arg("ray_length") = 0.0f,
         py::arg("dP") = 0.0f, py::arg("shifts") = py::none(),
+        py::arg("attributes") = std::vector<std::pair<py::array, bool>>{},
+        py::arg("vertices") = std::array<uint32_t, 3>{0, 0, 0}, py::arg("barycentrics") = std::array<float, 3>{1, 0, 0},
+        py::arg("object_info") = py::none(), py::arg("normal") = V3{0, 0, 1}, py::arg("corners_reversed") = false,
         "A node program at point p of a plane facing +z seen from +z (object coordinates: p unless given; textures: "
         "(pixels, srgb) of the scene's, as Texture holds them; the ray's length; a Bump's ray differential dP and "
-        "shifted inputs (p, uv, generated, object) at P + dx and P + dy): for tests and the exporter's constants");
+        "shifted inputs (p, uv, generated, object) at P + dx and P + dy; mesh attributes ([V, 4] values, "
+        "[0, 4]: missing, fac_is_x) by slot at `barycentrics` of triangle `vertices`; object_info: location, colour, "
+        "alpha, index, random; the shading normal; whether the mesh's corners are reversed): for tests "
+        "and the exporter's constants");
+    // Cycles' sync-time mesh attributes and object random numbers (render/svm/standard_attributes.h), for the exporter.
+    m.def(
+        "_pointiness",
+        [](const py::object& positions, const py::object& normals, const py::object& edges) {
+            const auto p = RowsOf<float>(positions, 3, "positions");
+            const auto n = RowsOf<float>(normals, 3, "normals");
+            const auto e = RowsOf<int32_t>(edges, 2, "edges");
+            if (n.shape(0) != p.shape(0)) throw py::value_error("normals must match the positions");
+            std::vector<Vec3f> pv(size_t(p.shape(0))), nv(pv.size());
+            for (size_t i = 0; i < pv.size(); ++i) {
+                pv[i] = {p.at(i, 0), p.at(i, 1), p.at(i, 2)};
+                nv[i] = {n.at(i, 0), n.at(i, 1), n.at(i, 2)};
+            }
+            std::vector<uint32_t> ev(size_t(e.size()));
+            for (size_t i = 0; i < ev.size(); ++i) {
+                if (e.data()[i] < 0 || size_t(e.data()[i]) >= pv.size()) throw py::value_error("edge out of range");
+                ev[i] = uint32_t(e.data()[i]);
+            }
+            return render::svm::Pointiness(pv, nv, ev);
+        },
+        py::arg("positions"), py::arg("normals"), py::arg("edges"),
+        "Cycles' Pointiness per vertex of a mesh (positions, vertex normals, edges as vertex pairs).");
+    m.def(
+        "_random_per_island",
+        [](size_t num_vertices, const py::object& edges) {
+            const auto e = RowsOf<int32_t>(edges, 2, "edges");
+            std::vector<uint32_t> ev(size_t(e.size()));
+            for (size_t i = 0; i < ev.size(); ++i) {
+                if (e.data()[i] < 0 || size_t(e.data()[i]) >= num_vertices) throw py::value_error("edge out of range");
+                ev[i] = uint32_t(e.data()[i]);
+            }
+            return render::svm::RandomPerIsland(num_vertices, ev);
+        },
+        py::arg("num_vertices"), py::arg("edges"), "Cycles' Random Per Island per vertex of a mesh.");
+    m.def(
+        "_object_random",
+        [](const std::string& name, std::optional<int64_t> random_id) {
+            return random_id ? render::svm::ObjectIdRandom(uint32_t(uint64_t(*random_id) & 0xFFFFFFFFu))
+                             : render::svm::ObjectNameRandom(name);
+        },
+        py::arg("name"), py::arg("random_id") = py::none(),
+        "Object Info > Random as Cycles gives it: from an instance's random_id, else hashed from the object's name.");
     m.attr("textured_inputs") = names(render::kTexturedInputNames);
     m.attr("texture_interpolations") = names(render::kTextureInterpolationNames);
     m.attr("texture_extensions") = names(render::kTextureExtensionNames);
@@ -463,6 +536,21 @@ void BindRender(py::module_& m) {
                 s.SetLastLightTexture(LookupFromFields(fields, "a light's texture"));
             },
             py::arg("lookup"))
+        .def(
+            "set_last_mesh_attribute",
+            [](RenderScene& s, size_t slot, const py::object& values, bool fac_is_x) {
+                const auto a = CArray<float>::ensure(values);
+                if (!a || a.ndim() != 2 || a.shape(1) != 4)
+                    throw py::value_error("a mesh attribute must be a [V, 4] float array");
+                s.SetLastMeshAttribute(slot, std::vector<float>(a.data(), a.data() + a.size()), fac_is_x);
+            },
+            py::arg("slot"), py::arg("values"), py::arg("fac_is_x") = false)
+        .def(
+            "set_last_mesh_object_info",
+            [](RenderScene& s, const V3& color, float alpha, float index, float random, bool reversed) {
+                s.SetLastMeshObjectInfo(Spectrum(color[0], color[1], color[2]), alpha, index, random, reversed);
+            },
+            py::arg("color"), py::arg("alpha"), py::arg("index"), py::arg("random"), py::arg("reversed") = false)
         .def("set_last_mesh_shadow_terminator_offset", &RenderScene::SetLastMeshShadowTerminatorOffset,
              py::arg("offset"))
         .def(

@@ -54,6 +54,10 @@ struct MeshData {
     float object_linear[3][3], object_linear_inverse[3][3];
     Vec3f object_translation;      // its object's location (with object_linear: node programs' Object coordinates)
     uint8_t visibility = kRayAll;  // the ray kinds that see it (ray_visibility.h): its Embree geometry mask
+    // What node programs read of it (svm/attribute_nodes.h): its attributes by the scene's attribute slot (an
+    // Attribute node's; empty: it lacks that one), and its object (Object Info, the radial tangent's transform).
+    std::vector<svm::MeshAttribute> attributes;
+    svm::ObjectInfo object_info;
 };
 
 // What a scene asks of the integrator; each flag selects a specialised kernel or a feature name.
@@ -123,6 +127,11 @@ class RenderScene {
     uint64_t ImageMemoryBytes() const { return image_memory_bytes_; }  // shared pixels counted too
     // The mesh added last: its object's linear map and inverse (meshes without triangles are not kept: ignored).
     void SetLastMeshObjectLinear(const float linear[3][3], const float inverse[3][3], const Vec3f& translation = {});
+    // The mesh added last: its attribute in slot `slot` (4 floats per vertex: svm::MeshAttribute), and its object's
+    // Object Info (colour, alpha, pass index, random number; its location is object_linear's translation), whether its
+    // triangles list Blender's corners reversed (svm::ObjectInfo).
+    void SetLastMeshAttribute(size_t slot, std::vector<float> values, bool fac_is_x);
+    void SetLastMeshObjectInfo(const Vec3f& color, float alpha, float index, float random, bool reversed = false);
     // The mesh added last: Blender's Shadow Terminator Geometry Offset, in [0, 1] (MeshData::shadow_terminator_offset).
     void SetLastMeshShadowTerminatorOffset(float offset);
     // Copies the arrays (one memcpy each into Embree's buffers).  normals / material_ids / uvs / generated may be

@@ -33,6 +33,31 @@ void RenderScene::SetLastMeshObjectLinear(const float linear[3][3], const float 
         Fail("object_translation must be finite");
     m.object_translation = translation;
     m.has_object_linear = true;
+    m.object_info.location = translation;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) m.object_info.normal_to_world[r][c] = inverse[c][r];  // L^-T
+}
+
+void RenderScene::SetLastMeshAttribute(size_t slot, std::vector<float> values, bool fac_is_x) {
+    RequireNotCommitted();
+    if (meshes.empty()) return;
+    MeshData& m = meshes.back();
+    if (values.size() != 4 * m.num_vertices) Fail("mesh '" + m.name + "': an attribute needs 4 values per vertex");
+    for (float v : values)
+        if (!std::isfinite(v)) Fail("mesh '" + m.name + "': an attribute value is not finite");
+    if (slot > (size_t(1) << 20)) Fail("mesh '" + m.name + "': attribute slot out of range");
+    if (m.attributes.size() <= slot) m.attributes.resize(slot + 1);
+    m.attributes[slot].values = std::move(values);
+    m.attributes[slot].fac_is_x = fac_is_x;
+}
+
+void RenderScene::SetLastMeshObjectInfo(const Vec3f& color, float alpha, float index, float random, bool reversed) {
+    RequireNotCommitted();
+    if (meshes.empty()) return;
+    if (!IsFinite(color) || !std::isfinite(alpha) || !std::isfinite(index) || !std::isfinite(random))
+        Fail("mesh '" + meshes.back().name + "': object info must be finite");
+    svm::ObjectInfo& o = meshes.back().object_info;
+    o.color = color, o.alpha = alpha, o.index = index, o.random = random, o.reversed = reversed;
 }
 
 void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,

@@ -184,12 +184,53 @@ def _set_environment(native, env, n_textures: int, field: str = "environment") -
     setter(int(env.texture), rgb(env.strength, what + " strength"), m, env.interpolation)
 
 
-def _add_material(native, mat, index: int) -> None:
-    """scene.materials[index] to the native scene: its fields, read and checked there (render/material.h)."""
+def _add_material(native, mat, index: int, slots) -> None:
+    """scene.materials[index] to the native scene: its fields, read and checked there (render/material.h); its
+    programs' attribute names become the scene's attribute `slots` (name -> index, grown here)."""
     if not isinstance(mat, Material):
         raise ValueError(f"scene.materials[{index}] is not a sphrect.Material (got {type(mat).__name__})")
     _refuse_layer_cycles(mat, [])
-    native.add_material(dataclasses.asdict(mat))
+    fields = dataclasses.asdict(mat)
+    _slot_attributes(fields, slots)
+    native.add_material(fields)
+
+
+def _slot_attributes(fields, slots) -> None:
+    """Rewrites, in a material's fields (dataclasses.asdict), each program's 'attribute' instructions to read the
+    scene's slot of the name they read (NodeProgram.attributes[data]): the renderer knows attributes by slot."""
+    if isinstance(fields, dict):
+        if "instructions" in fields and "attributes" in fields:
+            names = fields["attributes"]
+            for i in fields["instructions"]:
+                if i.get("op") == "attribute":
+                    data = i.get("data")
+                    if not isinstance(data, int) or not 0 <= data < len(names) or not isinstance(names[data], str):
+                        raise ValueError(f"an 'attribute' instruction's data {data!r} names none of the program's "
+                                         f"attributes {names!r}")
+                    i["data"] = slots.setdefault(names[data], len(slots))
+            return
+        for v in fields.values():
+            _slot_attributes(v, slots)
+    elif isinstance(fields, (list, tuple)):
+        for v in fields:
+            _slot_attributes(v, slots)
+
+
+def _add_mesh_program_inputs(native, mesh, slots) -> None:
+    """The last mesh's attributes that programs read (by slot) and its object's Object Info."""
+    fac_x = set(mesh.attributes_fac_x)
+    for name, values in (mesh.attributes or {}).items():
+        if name in slots:
+            a = np.ascontiguousarray(values, dtype=np.float32)
+            if a.ndim != 2 or a.shape != (len(mesh.vertices), 4) or not np.isfinite(a).all():
+                raise ValueError(f"mesh '{mesh.name}': attribute '{name}' must be a finite [V, 4] array")
+            native.set_last_mesh_attribute(slots[name], a, name in fac_x)
+    color = tuple(float(x) for x in mesh.object_color)
+    if len(color) != 4:
+        raise ValueError(f"mesh '{mesh.name}': object_color must be RGBA")
+    if color != (1.0, 1.0, 1.0, 1.0) or mesh.object_index or mesh.object_random or mesh.corners_reversed:
+        native.set_last_mesh_object_info(color[:3], color[3], float(mesh.object_index), float(mesh.object_random),
+                                         bool(mesh.corners_reversed))
 
 
 def _refuse_layer_cycles(mat, path) -> None:
@@ -236,8 +277,9 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
         _set_environment(native, scene.world.environment, len(scene.textures))
     if scene.world.camera_environment is not None:
         _set_environment(native, scene.world.camera_environment, len(scene.textures), "camera_environment")
+    slots = {}  # attribute name -> the scene's slot (programs read attributes by slot)
     for i, mat in enumerate(scene.materials):
-        _add_material(native, mat, i)
+        _add_material(native, mat, i, slots)
     n_materials = max(1, len(scene.materials))
     for mesh in scene.meshes:
         v = np.asarray(mesh.vertices)
@@ -262,6 +304,8 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
                                                tuple(float(x) for x in translation))
         if offset and len(t):
             native.set_last_mesh_shadow_terminator_offset(float(offset))
+        if len(t):
+            _add_mesh_program_inputs(native, mesh, slots)
     for light in scene.lights:
         msg = ""
         # What every light lights and how (scene.LightVisibility's fields).

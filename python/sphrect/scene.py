@@ -76,6 +76,9 @@ FORMAT_NAME = "sphrect-scene"
 # Older files load without one (camera rays see the world's light).
 # 19 also: Material.normal_program (a Bump node's graph driving the shading normal) and the node op 'bump'.  Older
 # files load unchanged (no normal program).
+# 19 also: Mesh.attributes, attributes_fac_x, object_color, object_index, object_random, corners_reversed and
+# NodeProgram.attributes (the Attribute, Color Attribute, Object Info and Geometry nodes).  Older files load without
+# attributes, object colour white.
 FORMAT_VERSION = 19
 
 RGB = Tuple[float, float, float]
@@ -113,6 +116,7 @@ NODE_MAP_RANGE_TYPES = tuple(_native.node_map_range_types)
 NODE_IMAGE_PROJECTIONS = tuple(_native.node_image_projections)  # an Image Texture node's, in a program
 NODE_COLOR_MODELS = tuple(_native.node_color_models)
 NODE_MAPPING_TYPES = tuple(_native.node_mapping_types)
+NODE_ATTRIBUTE_NODES = tuple(_native.node_attribute_nodes)  # the 'attribute' op's modes: which node reads it
 MAX_NODE_REGISTERS = int(_native.MAX_NODE_REGISTERS)
 SENSOR_FITS = ("AUTO", "HORIZONTAL", "VERTICAL")  # Blender's
 # Blender's Ray Visibility (Object Properties > Visibility), the renderer's ray kinds (render/ray_visibility.h):
@@ -249,6 +253,7 @@ class NodeProgram:
     output: int
     num_registers: int
     data: List[float] = field(default_factory=list)
+    attributes: List[str] = field(default_factory=list)  # the Mesh.attributes its 'attribute' ops read (their data)
 
 
 @dataclass
@@ -333,6 +338,19 @@ class Mesh:
     # smooth-shaded mesh's light samples near its terminator leave from the smooth surface its triangles approximate,
     # as Cycles 3.4 does (docs/renderer.md, shadow terminator).  Needs normals.
     shadow_terminator_offset: float = 0.0
+    # What node programs read of the mesh (the Attribute and Color Attribute nodes): attributes by name, float32
+    # [V, 4] per vertex, the value as the nodes' Color / Vector give it and its Alpha (1 where it has none); their Fac
+    # is the mean of the first three, or the first for the names in attributes_fac_x (UV maps, Cycles' float2).
+    attributes: Dict[str, np.ndarray] = field(default_factory=dict)
+    attributes_fac_x: Tuple[str, ...] = ()
+    # Its object, as the Object Info node reads it: Blender's object colour (RGBA), pass index and random number in
+    # [0, 1] (Cycles' from the instance's random_id); Location is object_translation.
+    object_color: Tuple[float, float, float, float] = (1.0, 1.0, 1.0, 1.0)
+    object_index: int = 0
+    object_random: float = 0.0
+    # Whether its triangles list the corners of Blender's in reverse (the exporter's, for a mirroring object: the
+    # winding kept outward), which Geometry > Parametric undoes.
+    corners_reversed: bool = False
 
 
 # Every light's visibility fields, as Cycles 3.4's light shader flags (scene/light.cpp): the RAY_KINDS it does not
@@ -563,6 +581,16 @@ def save_scene(scene: Scene, path: str) -> None:
             meta["meshes"][-1]["object_linear"] = np.asarray(m.object_linear, dtype=np.float64).tolist()
         if m.object_translation is not None:
             meta["meshes"][-1]["object_translation"] = [float(x) for x in m.object_translation]
+        if m.attributes:
+            meta["meshes"][-1]["attributes"] = list(m.attributes)
+            meta["meshes"][-1]["attributes_fac_x"] = [n for n in m.attributes_fac_x if n in m.attributes]
+            for j, values in enumerate(m.attributes.values()):
+                arrays[f"{key}.attribute{j}"] = np.asarray(values, dtype=np.float32)
+        if tuple(m.object_color) != (1.0, 1.0, 1.0, 1.0) or m.object_index or m.object_random:
+            meta["meshes"][-1]["object_info"] = {"color": [float(x) for x in m.object_color],
+                                                 "index": int(m.object_index), "random": float(m.object_random)}
+        if m.corners_reversed:
+            meta["meshes"][-1]["corners_reversed"] = True
         arrays[f"{key}.vertices"] = np.asarray(m.vertices, dtype=np.float32)
         arrays[f"{key}.triangles"] = np.asarray(m.triangles, dtype=np.int32)
         if m.normals is not None:
@@ -632,13 +660,27 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
             raise ValueError(f"{path}: a mesh's 'arrays' is {key!r}, not a name")
         scene_file.check_mesh_arrays(path, headers, key)
         get = lambda name: data[f"{key}.{name}"] if f"{key}.{name}" in data.files else None
+        names = m.get("attributes", [])
+        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+            raise ValueError(f"{path}: mesh {key}'s 'attributes' is not a list of names")
+        attributes = {}
+        for j, name in enumerate(names):
+            values = get(f"attribute{j}")
+            if values is None or values.ndim != 2 or values.shape != (len(get("vertices")), 4):
+                raise ValueError(f"{path}: mesh {key}'s attribute '{name}' is not a [V, 4] array")
+            attributes[name] = values
+        info = m.get("object_info", {})
         scene.meshes.append(Mesh(vertices=get("vertices"), triangles=get("triangles"), normals=get("normals"),
                                  material_ids=get("material_ids"), name=m["name"], uvs=get("uvs"),
                                  generated=get("generated"), object_linear=m.get("object_linear"),
                                  object_translation=(tuple(m["object_translation"]) if "object_translation" in m
                                                      else None),
                                  invisible_to=tuple(m.get("invisible_to", ())),
-                                 shadow_terminator_offset=float(m.get("shadow_terminator_offset", 0.0))))
+                                 shadow_terminator_offset=float(m.get("shadow_terminator_offset", 0.0)),
+                                 attributes=attributes, attributes_fac_x=tuple(m.get("attributes_fac_x", ())),
+                                 object_color=tuple(info.get("color", (1.0, 1.0, 1.0, 1.0))),
+                                 object_index=int(info.get("index", 0)), object_random=float(info.get("random", 0.0)),
+                                 corners_reversed=bool(m.get("corners_reversed", False))))
     for t in meta.get("textures", []):
         key = t.get("arrays")
         if key is not None and not isinstance(key, str):

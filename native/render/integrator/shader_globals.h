@@ -53,6 +53,15 @@ inline Vec3f ObjectNormal(const MeshData& m, const Vec3f& n) {
     sg.shifted = true;
 }
 
+// What programs read of the mesh itself (svm/attribute_nodes.h): its attributes at barycentrics b of the triangle of
+// vertices v, its object.
+inline void SetMeshShaderGlobals(const MeshData& m, const uint32_t (&v)[3], const float (&b)[3],
+                                 svm::ShaderGlobals& sg) {
+    sg.attributes = &m.attributes;
+    for (int k = 0; k < 3; ++k) sg.v[k] = v[k], sg.b[k] = b[k];
+    sg.object_info = &m.object_info;
+}
+
 // Hit h of a textured material (MakeSurfaceHit ran AddHitExtras: h.mesh and h.incoming are set).
 inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
     svm::ShaderGlobals sg;
@@ -71,6 +80,7 @@ inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
     sg.ray_length = h.t - h.ray_start;  // Cycles' sd->ray_length: from where the ray starts (a camera's near plane)
     sg.dP = h.dP;
     if (h.dP > 0) AddShiftedGlobals(h, sg);
+    SetMeshShaderGlobals(*h.mesh, h.corner, h.bary, sg);
     return sg;
 }
 
@@ -115,6 +125,7 @@ inline svm::ShaderGlobals TriangleShaderGlobals(const MeshData& m, uint32_t prim
     sg.object_normal = ObjectNormal(m, n);
     if (m.has_object_linear) sg.object_linear = m.object_linear;
     sg.ray_length = distance;
+    SetMeshShaderGlobals(m, {t[0], t[1], t[2]}, {1 - b1 - b2, b1, b2}, sg);
     return sg;
 }
 

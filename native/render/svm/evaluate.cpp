@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "attribute_nodes.h"
 #include "color_nodes.h"
 #include "image_projection.h"
 #include "math_nodes.h"
@@ -16,6 +17,20 @@
 namespace sphrect::render::svm {
 
 namespace {
+
+// Object Info's outputs (svm_node_object_info); zero without an object.
+Vec3f ObjectGlobal(ShaderGlobal g, const ObjectInfo* o) {
+    if (o == nullptr) return {};
+    switch (g) {
+        case ShaderGlobal::kObjectLocation: return o->location;
+        case ShaderGlobal::kObjectColor: return o->color;
+        case ShaderGlobal::kObjectAlpha: return Vec3f(o->alpha, 0, 0);
+        case ShaderGlobal::kObjectIndex: return Vec3f(o->index, 0, 0);
+        case ShaderGlobal::kObjectRandom: return Vec3f(o->random, 0, 0);
+        default: break;
+    }
+    return {};
+}
 
 Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg, int shift) {
     if (shift > 0 && sg.shifted && IsShiftedGlobal(g)) {  // a Bump's Height copy at P + dx (1) or P + dy (2)
@@ -39,9 +54,10 @@ Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg, int shift) {
         case ShaderGlobal::kReflection: return sg.n * (2.0f * Dot(sg.n, sg.incoming)) - sg.incoming;
         case ShaderGlobal::kBackfacing: return Vec3f(sg.backfacing ? 1.0f : 0.0f, 0, 0);
         case ShaderGlobal::kRayLength: return Vec3f(sg.ray_length, 0, 0);
-        case ShaderGlobal::kCount: break;
+        case ShaderGlobal::kParametric:  // svm_node_geometry's (1 - u - v, u, 0) of Blender's corner order
+            return Vec3f(sg.object_info && sg.object_info->reversed ? sg.b[2] : sg.b[0], sg.b[1], 0);
+        default: return ObjectGlobal(g, sg.object_info);
     }
-    return {};
 }
 
 Vec3f Convert(NodeConversion c, const Vec3f& v) {
@@ -334,6 +350,22 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[1], v);
                 break;
             }
+            case NodeOp::kAttribute: {
+                const std::vector<MeshAttribute>* list = sg.attributes;
+                const MeshAttribute* attr =
+                    list != nullptr && size_t(in.data) < list->size() ? &(*list)[size_t(in.data)] : nullptr;
+                const AttributeOutput o = InterpolateAttribute(attr, AttributeNode(in.mode), sg.v, sg.b);
+                put(a[0], o.color);
+                put(a[1], scalar(o.fac));
+                put(a[2], scalar(o.alpha));
+                break;
+            }
+            case NodeOp::kRadialTangent: {
+                static const ObjectInfo kWorld;
+                const ObjectInfo& o = sg.object_info != nullptr ? *sg.object_info : kWorld;
+                put(a[1], RadialTangent(in.mode, r(a[0]), sg.n, o.normal_to_world));
+                break;
+            }
             case NodeOp::kCount: break;
         }
     }
@@ -395,6 +427,8 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             case NodeOp::kCurves: return {2, 3};
             case NodeOp::kBump: return {0, 7};
             case NodeOp::kObjectSpace: return {2, 2};
+            case NodeOp::kAttribute: return {int(AttributeNode::kCount), 3, 3};
+            case NodeOp::kRadialTangent: return {4, 2};
             case NodeOp::kCount: break;
         }
         return {-1, 0};
@@ -416,7 +450,8 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
                                    in.op == NodeOp::kConvert || in.op == NodeOp::kTransform || in.op == NodeOp::kProject
                                ? 1
                                : s.operands - s.outputs;
-        const int num_inputs = in.op == NodeOp::kConstant || in.op == NodeOp::kGlobal ? 0 : inputs;
+        const int num_inputs =
+            in.op == NodeOp::kConstant || in.op == NodeOp::kGlobal || in.op == NodeOp::kAttribute ? 0 : inputs;
         for (int k = 0; k < num_inputs; ++k) {
             if (in.reg[k] == kNoRegister) fail(i, "an input has no register");
             if (!written[in.reg[k]]) fail(i, "an input reads a register nothing wrote before");

@@ -76,6 +76,11 @@ enum class NodeOp : uint8_t {
     kObjectSpace,  // out1 = in0 through the hit's object transform L (ShaderGlobals::object_linear; none: as is):
                    // mode 0 a world normal into object space, L^T n normalised; mode 1 an object direction into
                    // the world, L v (the Displacement node's Object space)
+    // Mesh attributes (attribute_nodes.h): out0 colour / vector, out1 fac, out2 alpha of the hit mesh's attribute
+    // `data` (ShaderGlobals::attributes); mode: AttributeNode.
+    kAttribute,
+    kRadialTangent,  // out1 = the Tangent node's radial tangent about axis `mode` (0 X, 1 Y, 2 Z) of Generated in0,
+                     // or (mode 3) in0 an object-space tangent (a UV map's)
     kCount
 };
 constexpr const char* kNodeOpNames[] = {"constant",
@@ -117,7 +122,9 @@ constexpr const char* kNodeOpNames[] = {"constant",
                                         "vector_rotate",
                                         "curves",
                                         "bump",
-                                        "object_space"};
+                                        "object_space",
+                                        "attribute",
+                                        "radial_tangent"};
 static_assert(sizeof(kNodeOpNames) / sizeof(*kNodeOpNames) == size_t(NodeOp::kCount));
 
 // What a hit gives a program (kGlobal's mode), as Cycles' ShaderData does: position, shading normal (facing the
@@ -136,11 +143,18 @@ enum class ShaderGlobal : uint8_t {
     kReflection,
     kBackfacing,
     kRayLength,
+    kParametric,
+    kObjectLocation,
+    kObjectColor,
+    kObjectAlpha,
+    kObjectIndex,
+    kObjectRandom,
     kCount
 };
-constexpr const char* kShaderGlobalNames[] = {"position",   "normal",     "true_normal", "incoming",
-                                              "uv",         "generated",  "object",      "object_normal",
-                                              "reflection", "backfacing", "ray_length"};
+constexpr const char* kShaderGlobalNames[] = {
+    "position",        "normal",        "true_normal",  "incoming",     "uv",           "generated",
+    "object",          "object_normal", "reflection",   "backfacing",   "ray_length",   "parametric",
+    "object_location", "object_color",  "object_alpha", "object_index", "object_random"};
 static_assert(sizeof(kShaderGlobalNames) / sizeof(*kShaderGlobalNames) == size_t(ShaderGlobal::kCount));
 constexpr bool IsShiftedGlobal(ShaderGlobal g) {
     return g == ShaderGlobal::kPosition || g == ShaderGlobal::kUv || g == ShaderGlobal::kGenerated ||
@@ -188,6 +202,30 @@ struct NodeProgram {
     }
 };
 
+// A mesh attribute as kAttribute reads it (Cycles' Attribute node over Blender's attributes): four floats per vertex
+// of the mesh, the value as the node's Color / Vector gives it and its Alpha (1 for attributes without one); the node's
+// Fac is the mean of the three (x for a two-component attribute, Cycles' float2: fac_is_x).  Empty: the mesh lacks it.
+struct MeshAttribute {
+    std::vector<float> values;
+    bool fac_is_x = false;
+};
+
+// kAttribute's mode: Cycles' Attribute node (a missing attribute reads colour 0, fac 0, alpha 1) or its Color
+// Attribute node (colour 0, alpha 0).
+enum class AttributeNode : uint8_t { kAttribute, kColorAttribute, kCount };
+constexpr const char* kAttributeNodeNames[] = {"attribute", "color_attribute"};
+
+// The object a hit lies on: Object Info's location, Blender's object colour and alpha, pass index and random number
+// (Cycles' object_random_number), and the map of object-space normals to the world (L^-T, row-major) that Geometry's
+// Tangent takes its radial direction through; `reversed`: the mesh's triangles list Blender's corners in reverse (a
+// mirroring object's, to keep the winding outward), which Parametric undoes.
+struct ObjectInfo {
+    Vec3f location, color = Vec3f(1, 1, 1);
+    float alpha = 1, index = 0, random = 0;
+    bool reversed = false;
+    float normal_to_world[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+};
+
 // A hit as a program sees it (the evaluator reads what its kGlobal instructions ask for).  Where a hit kind lacks
 // one, Cycles' choice: an emitter found by a light sample has I towards the shading point and ray length the
 // distance; missing coordinates read zero.
@@ -207,6 +245,12 @@ struct ShaderGlobals {
     struct Shifted {
         Vec3f p, uv, generated, object;
     } shift[2];
+    // Attributes (attribute_nodes.h): the hit mesh's attributes (null: none), the triangle's vertices and
+    // barycentrics (the weights of v[0], v[1], v[2]), its object (null: Object Info reads zeros).
+    const std::vector<MeshAttribute>* attributes = nullptr;
+    uint32_t v[3] = {0, 0, 0};
+    float b[3] = {0, 0, 0};
+    const ObjectInfo* object_info = nullptr;
 };
 
 }  // namespace sphrect::render::svm

@@ -11,6 +11,7 @@ from .geometry import MESH_LIKE, is_mesh_data, render_uv_layer, shadow_terminato
 from .lights import export_light
 from .log import ExportLog
 from .materials import export_material, export_world
+from .node_program import program_globals
 from .textures import TextureExport, coordinates_needed, has_normal_map, is_anisotropic, programs_of
 from .visibility import invisible_to, warn_unhonoured
 
@@ -24,6 +25,8 @@ class _Materials:
         self.textures = TextureExport(sphrect, log)
         self.list = [sphrect.Material(name="default")]
         self.coordinates = [set()]  # per material: the mesh coordinates it reads (textures.coordinates_needed)
+        self.attributes = [set()]  # per material: the mesh attributes its programs read (NodeProgram.attributes)
+        self.object_info = [False]  # per material: whether its programs read Object Info
         self.index = {}
 
     def id_of(self, mat):
@@ -35,6 +38,10 @@ class _Materials:
             self.list.append(export_material(self.sphrect, mat, self.log, self.textures))
             warn_unhonoured(self.log, material=mat, exported=self.list[-1])
             self.coordinates.append(coordinates_needed(self.list[-1]))
+            programs = programs_of(self.list[-1])
+            self.attributes.append(set().union(*(p.attributes for p in programs)))
+            self.object_info.append(any(g.startswith("object_") and g not in ("object_normal",)
+                                        for p in programs for g in program_globals(self.sphrect, p)))
         return self.index[key]
 
     def slot_ids(self, obj):
@@ -52,6 +59,15 @@ class _Materials:
                 self.log.unsupported_feature(f"UV map '{uv_map}' named by a node, not the render UV map (that "
                                              "one used)", obj.name)
         return needed
+
+
+def _object_info(sphrect, obj, inst):
+    """sphrect.Mesh's Object Info fields of a depsgraph instance, as Cycles syncs them (blender/object.cpp): the
+    object's colour and pass index, its random number from the instance's random_id, or for an object that is no
+    instance from its name (Cycles' hash_uint2(hash_string(name), 0))."""
+    random = sphrect._native._object_random(obj.name, inst.random_id if inst.is_instance else None)
+    return {"object_color": tuple(float(x) for x in obj.color), "object_index": int(obj.pass_index),
+            "object_random": float(random)}
 
 
 def rendered_world(depsgraph):
@@ -101,16 +117,19 @@ def scene_from_depsgraph(depsgraph):
         if key not in cache:  # instances share the triangulation and the material ids
             slots = materials.slot_ids(obj)
             needed = materials.coordinates_of(obj, slots)
-            local = triangulate(obj, log, uvs="uv" in needed, generated="generated" in needed)
+            attributes = set().union(*(materials.attributes[i] for i in slots))
+            local = triangulate(obj, log, uvs="uv" in needed, generated="generated" in needed, attributes=attributes)
             if local is not None:
                 object_space = any(has_normal_map(materials.list[i]) or is_anisotropic(materials.list[i])
                                    or programs_of(materials.list[i]) for i in slots)
-                cache[key] = (local, slots[np.clip(local.material_index, 0, len(slots) - 1)], object_space)
+                object_info = any(materials.object_info[i] for i in slots)
+                cache[key] = (local, slots[np.clip(local.material_index, 0, len(slots) - 1)], object_space,
+                              object_info)
             else:
                 cache[key] = None
         if cache[key] is None:
             continue
-        local, material_ids, object_space = cache[key]
+        local, material_ids, object_space, object_info = cache[key]
         if not np.isfinite(np.array(inst.matrix_world)).all():
             log.problem(f"object '{name}' has a transform that is not finite (NaN or infinite): skipped")
             continue
@@ -129,7 +148,10 @@ def scene_from_depsgraph(depsgraph):
                                          object_translation=object_translation,
                                          invisible_to=invisible_to(obj, sphrect.scene.RAY_KINDS,
                                                                       inst.parent if inst.is_instance else None),
-                                         shadow_terminator_offset=shadow_terminator_offset(obj, normals, log)))
+                                         shadow_terminator_offset=shadow_terminator_offset(obj, normals, log),
+                                         attributes=local.attributes, attributes_fac_x=local.attributes_fac_x,
+                                         corners_reversed=bool(np.linalg.det(np.array(inst.matrix_world)[:3, :3]) < 0),
+                                         **(_object_info(sphrect, obj, inst) if object_info else {})))
     scene.materials = materials.list
     scene.textures = materials.textures.list
     emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}

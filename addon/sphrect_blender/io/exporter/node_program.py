@@ -22,6 +22,12 @@ from .textures import follow_reroutes
 
 # The renderer's value types: 'float' (a register's x), 'color' and 'vector' (its three floats).
 _SOCKET_TYPES = {"VALUE": "float", "INT": "float", "BOOLEAN": "float", "RGBA": "color", "VECTOR": "vector"}
+# Names in NodeProgram.attributes besides a mesh's own attributes (the exporter's geometry.corner_attributes): those
+# Cycles computes from the mesh (its standard ones, which an Attribute node of the name reads too), the one a Color
+# Attribute node without a name reads (the mesh's render colour attribute), an Attribute node of type Object's.
+POINTINESS, RANDOM_PER_ISLAND, RENDER_COLOR = "pointiness", "random_per_island", ""
+OBJECT_ATTRIBUTE_PREFIX = "object:"  # + the name of the object's custom property
+UV_TANGENT_PREFIX = "tangent:"  # + a UV map's name ('': the render one): its tangents, in object space
 # Cycles' RAMP_TABLE_SIZE: a ColorRamp is baked into this many evenly spaced colours (blender/shader.cpp).
 RAMP_TABLE_SIZE = 256
 
@@ -65,7 +71,7 @@ class ProgramCompiler:
     def _program(self, body, what):
         """The NodeProgram whose instructions body() emits, returning its result's register."""
         self._code, self._data, self._outputs, self._constants, self._visiting = [], [], {}, {}, set()
-        self._registers = 0
+        self._registers, self._attributes = 0, []
         # A Bump node's Height is compiled three times (Cycles' refine_bump_nodes copies its sub-graph): _shift 0 at
         # the point, 1 and 2 with the position-dependent globals read at P + dx and P + dy.  An instruction of a copy
         # equal to one before it (inputs, settings, table: it reads nothing that moved) is that one (_emitted), so
@@ -79,7 +85,7 @@ class ProgramCompiler:
                                          f"{what} (its own value used)", self.owner)
             return None
         return self.sphrect.NodeProgram(instructions=self._without_unread_copies(output), output=output,
-                                        num_registers=self._registers, data=self._data)
+                                        num_registers=self._registers, data=self._data, attributes=self._attributes)
 
     def _without_unread_copies(self, output):
         """The code less the Height copies' instructions whose results nothing reads (a copied Geometry node's
@@ -164,6 +170,19 @@ class ProgramCompiler:
             return self.input(socket, want)[0]
         finally:
             self._shift = saved
+
+    def attribute(self, name, node="attribute"):
+        """{'color', 'fac', 'alpha'}: registers of the hit mesh's attribute `name` (sphrect.Mesh.attributes) as
+        Cycles' Attribute node (`node` 'attribute') or Color Attribute node ('color_attribute') reads it, once per
+        program."""
+        key = ("attribute", name, node)
+        if key not in self._outputs:
+            if name not in self._attributes:
+                self._attributes.append(name)
+            regs = self.emit("attribute", [], 3, mode=self.names.NODE_ATTRIBUTE_NODES.index(node),
+                             data=self._attributes.index(name))
+            self._outputs[key] = dict(zip(("color", "fac", "alpha"), regs))
+        return self._outputs[key]
 
     def table(self, values):
         """Offset of `values` in the program's data (appended, or where equal values already are)."""
@@ -299,9 +318,11 @@ def _world_to_window(camera):
 
 
 def _uv_map(c, node):
+    """The render UV map, or the one the node names (read as an attribute: (u, v, 0), 0 where the mesh lacks it)."""
     if node.from_instancer:
         c.log.unsupported_feature("UV Map 'From Instancer' (the object's own used)", c.owner)
-    c.textures.name_uv_map(node.uv_map, c.owner)
+    if node.uv_map:
+        return {"UV": (c.attribute(node.uv_map)["color"], "vector")}
     return {"UV": (c.global_input("uv"), "vector")}
 
 
@@ -309,7 +330,8 @@ def _geometry(c, node):
     return {"Position": (c.global_input("position"), "vector"), "Normal": (c.global_input("normal"), "vector"),
             "True Normal": (c.global_input("true_normal"), "vector"),
             "Incoming": (c.global_input("incoming"), "vector"),
-            "Backfacing": (c.global_input("backfacing"), "float")}
+            "Backfacing": (c.global_input("backfacing"), "float"),
+            **_geometry_mesh_outputs(c, node)}
 
 
 def _math(c, node):
@@ -714,6 +736,88 @@ def _curves(kind, value_name, output_name, value_type):
     return compile_node
 
 
+# -- mesh attributes and the object (render/svm/attribute_nodes.h; the exporter's geometry.corner_attributes) -------
+
+def _geometry_mesh_outputs(c, node):
+    """Geometry's outputs from the mesh: Parametric (Cycles' (1 - u - v, u, 0): the weights of the triangle's first two
+    corners), Tangent (radial about Z), Pointiness and Random Per Island (attributes Cycles computes)."""
+    return {"Parametric": (c.global_input("parametric"), "vector"),
+            "Tangent": (_radial_tangent(c, "Z"), "vector"),
+            "Pointiness": (c.attribute(POINTINESS)["fac"], "float"),
+            "Random Per Island": (c.attribute(RANDOM_PER_ISLAND)["fac"], "float")}
+
+
+def _radial_tangent(c, axis):
+    return c.emit("radial_tangent", [c.global_input("generated")], 1, mode="XYZ".index(axis))[0]
+
+
+def _tangent(c, node):
+    """Radial about an axis, or along a UV map (its MikkTSpace tangents, an attribute; the render map's without a
+    name; 0 where the mesh lacks the map)."""
+    if node.direction_type == "RADIAL":
+        return {"Tangent": (_radial_tangent(c, node.axis), "vector")}
+    tangent = c.attribute(UV_TANGENT_PREFIX + node.uv_map)["color"]
+    return {"Tangent": (c.emit("radial_tangent", [tangent], 1, mode=3)[0], "vector")}
+
+
+def _material_pass_index(owner):
+    """Object Info > Material Index: the pass index of material `owner` (0 for a light's node tree, as Cycles)."""
+    try:
+        import bpy
+        material = bpy.data.materials.get(owner)
+    except ImportError:
+        return 0
+    return material.pass_index if material is not None else 0
+
+
+def _object_info(c, node):
+    return {"Location": (c.global_input("object_location"), "vector"),
+            "Color": (c.global_input("object_color"), "color"),
+            "Alpha": (c.global_input("object_alpha"), "float"),
+            "Object Index": (c.global_input("object_index"), "float"),
+            "Material Index": (c.constant(_material_pass_index(c.owner), "float"), "float"),
+            "Random": (c.global_input("object_random"), "float")}
+
+
+def _attribute_outputs(regs):
+    return {"Color": (regs["color"], "color"), "Vector": (regs["color"], "vector"), "Fac": (regs["fac"], "float"),
+            "Alpha": (regs["alpha"], "float")}
+
+
+# Attribute names Cycles reads as its standard attributes (Attribute::name_standard) that programs have as globals.
+_STANDARD_GLOBALS = {"generated": "generated", "uv": "uv"}
+
+
+def _attribute(c, node):
+    """Cycles' Attribute node: a mesh attribute or UV map by name (Geometry), an object's custom property (Object;
+    Instancer reads the object's own, warned); a name the mesh lacks reads 0 (alpha 1)."""
+    kind, name = node.attribute_type, node.attribute_name
+    if kind == "INSTANCER":
+        c.log.unsupported_feature("Attribute node of type Instancer (the object's own property read)", c.owner)
+    if kind in ("OBJECT", "INSTANCER"):
+        name = OBJECT_ATTRIBUTE_PREFIX + name
+    elif kind != "GEOMETRY":
+        raise NotCompiled(f"'Attribute' node of type {kind.replace('_', ' ').title()}")
+    if kind == "GEOMETRY" and name in _STANDARD_GLOBALS:  # Cycles' standard attributes the hit has
+        reg = c.global_input(_STANDARD_GLOBALS[name])
+        if name == "uv":  # a float2: Fac is u
+            fac = c.emit("separate", [reg], 3, mode=c.names.NODE_COLOR_MODELS.index("RGB"))[0]
+        else:
+            fac = c.emit("convert", [reg], 1, mode=c.names.NODE_CONVERSIONS.index("vector_to_float"))[0]
+        return {"Color": (reg, "color"), "Vector": (reg, "vector"), "Fac": (fac, "float"),
+                "Alpha": (c.constant(1.0, "float"), "float")}
+    if not node.attribute_name:  # no attribute: what Cycles reads of a missing one
+        return {"Color": (c.constant(0.0, "color"), "color"), "Vector": (c.constant(0.0, "vector"), "vector"),
+                "Fac": (c.constant(0.0, "float"), "float"), "Alpha": (c.constant(1.0, "float"), "float")}
+    return _attribute_outputs(c.attribute(name))
+
+
+def _color_attribute(c, node):
+    """Cycles' Color Attribute node: the named colour attribute, or the mesh's render one; missing: 0, alpha 0."""
+    regs = c.attribute(node.layer_name or RENDER_COLOR, "color_attribute")
+    return {"Color": (regs["color"], "color"), "Alpha": (regs["alpha"], "float")}
+
+
 _NODE_COMPILERS = {
     "ShaderNodeValue": _value,
     "ShaderNodeDisplacement": _displacement,
@@ -763,6 +867,11 @@ _NODE_COMPILERS = {
     "ShaderNodeVectorCurve": _curves("vector", "Vector", "Vector", "vector"),
     "ShaderNodeFloatCurve": _curves("float", "Value", "Value", "float"),
     "ShaderNodeBump": _bump,
+    # mesh attributes and the object (render/svm/attribute_nodes.h)
+    "ShaderNodeObjectInfo": _object_info,
+    "ShaderNodeAttribute": _attribute,
+    "ShaderNodeVertexColor": _color_attribute,
+    "ShaderNodeTangent": _tangent,
 }
 
 
@@ -786,7 +895,7 @@ def is_shading_normal(sphrect, program):
 
 def varies(program):
     """Whether a program's result depends on the hit (it reads the hit or an image): else it is a constant."""
-    return any(i.op in {"global", "image"} for i in program.instructions)
+    return any(i.op in {"global", "image", "attribute"} for i in program.instructions)
 
 
 def constant_of(sphrect, program):
@@ -820,8 +929,8 @@ def compile_product(sphrect, textures, log, owner, color_socket, strength_socket
 
 def program_mean(sphrect, program, samples=8):
     """A program's mean colour over the UV and Generated square (samples^2 points), where it must stand for a
-    constant; None for a program that reads images (not evaluated here)."""
-    if any(i.op == "image" for i in program.instructions):
+    constant; None for a program that reads images or mesh attributes (not evaluated here)."""
+    if any(i.op in ("image", "attribute") for i in program.instructions):
         return None
     fields = dataclasses.asdict(program)
     total = np.zeros(3)
@@ -841,14 +950,19 @@ class _Composer:
 
     def __init__(self, sphrect):
         self.sphrect, self.names = sphrect, sphrect.scene
-        self.code, self.data, self.registers = [], [], 0
+        self.code, self.data, self.registers, self.attributes = [], [], 0, []
 
     def append(self, program):
         """The register of `program`'s result once appended."""
         base, data_base = self.registers, len(self.data)
+        for name in program.attributes:
+            if name not in self.attributes:
+                self.attributes.append(name)
         for i in program.instructions:
             regs = [r + base if r >= 0 else -1 for r in i.regs]
             data = i.data + data_base if i.op in _DATA_OPS else i.data
+            if i.op == "attribute":
+                data = self.attributes.index(program.attributes[i.data])
             self.code.append(dataclasses.replace(i, regs=regs, data=data))
         self.data.extend(program.data)
         self.registers += program.num_registers
@@ -897,7 +1011,7 @@ class _Composer:
         if self.registers > self.names.MAX_NODE_REGISTERS:
             return None
         return self.sphrect.NodeProgram(instructions=self.code, output=output, num_registers=self.registers,
-                                        data=self.data)
+                                        data=self.data, attributes=self.attributes)
 
 
 def emission_sum(sphrect, constant, terms):
