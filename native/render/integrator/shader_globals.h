@@ -20,8 +20,9 @@ inline Vec3f ObjectNormal(const MeshData& m, const Vec3f& n) {
     return len > 0 ? o / len : o;
 }
 
-// Hit h of a textured material (MakeSurfaceHit ran AddHitExtras: h.mesh and h.incoming are set).
-inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
+// Hit h of a textured material (MakeSurfaceHit ran AddHitExtras: h.mesh and h.incoming are set), found by a ray of
+// context `ray` (default: the camera ray that made h).
+inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h, const svm::RayContext* ray = nullptr) {
     svm::ShaderGlobals sg;
     sg.p = h.p;
     sg.n = h.ns;
@@ -33,6 +34,7 @@ inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
     sg.object_normal = ObjectNormal(*h.mesh, h.ns);
     sg.backfacing = h.backfacing;
     sg.ray_length = h.t - h.ray_start;  // Cycles' sd->ray_length: from where the ray starts (a camera's near plane)
+    sg.ray = ray ? *ray : svm::CameraRayContext(h.transparent_depth);
     return sg;
 }
 
@@ -50,8 +52,10 @@ inline Vec3f TriangleNormal(const MeshData& m, uint32_t prim) {
 // surface towards the viewer) at distance `distance`, as Cycles sets up a light sample's or a BSDF ray's point on an
 // emitter (shader_setup_from_sample / _from_ray): the flat triangle's normal Ng, the interpolated vertex normals N
 // of a smooth mesh (on Ng's side, as MakeSurfaceHit turns them), both facing the viewer.
+// `ray`: the context of the ray that found the point (svm::RayContext).
 inline svm::ShaderGlobals TriangleShaderGlobals(const MeshData& m, uint32_t prim, float b1, float b2, const Vec3f& p,
-                                                const Vec3f& toward, float distance) {
+                                                const Vec3f& toward, float distance,
+                                                const svm::RayContext& ray = svm::LightSampleContext(0)) {
     const uint32_t* t = &m.triangles[3 * size_t(prim)];
     const float b0 = 1 - b1 - b2;
     Vec3f ng = TriangleNormal(m, prim), n = ng;
@@ -76,6 +80,7 @@ inline svm::ShaderGlobals TriangleShaderGlobals(const MeshData& m, uint32_t prim
     sg.object = ObjectPoint(m, p);
     sg.object_normal = ObjectNormal(m, n);
     sg.ray_length = distance;
+    sg.ray = ray;
     return sg;
 }
 

@@ -28,6 +28,7 @@ struct SurfaceHit {
     const MeshData* mesh;
     float incoming[3];
     float ray_start;  // the ray's tmin: Cycles measures a camera ray's length from the near clipping plane
+    uint8_t transparent_depth;  // the transparent surfaces the camera ray went through before (Light Path node)
 };
 
 // The mesh's texture coordinates at barycentrics (b0, b1, b2) of triangle (i0, i1, i2); zero where it has none.
@@ -119,6 +120,7 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
     s.mesh = &m;
     s.incoming[0] = -ray.d.x, s.incoming[1] = -ray.d.y, s.incoming[2] = -ray.d.z;
     s.ray_start = ray.tmin;
+    s.transparent_depth = 0;
     s.tc = InterpolateTextureCoordinates(m, i[0], i[1], i[2], b0, b1, b2);
     if (material.anisotropic && !m.generated.empty()) s.tangent = RadialTangent(m, s.tc.generated, ns);
     if (material.normal_mapped && !m.uvs.empty()) {

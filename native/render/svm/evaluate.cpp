@@ -16,6 +16,8 @@ namespace sphrect::render::svm {
 
 namespace {
 
+Vec3f RayFlagValue(const ShaderGlobals& sg, RayFlag f) { return Vec3f(sg.ray.flags & f ? 1.0f : 0.0f, 0, 0); }
+
 Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg) {
     switch (g) {
         case ShaderGlobal::kPosition: return sg.p;
@@ -29,6 +31,19 @@ Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg) {
         case ShaderGlobal::kReflection: return sg.n * (2.0f * Dot(sg.n, sg.incoming)) - sg.incoming;
         case ShaderGlobal::kBackfacing: return Vec3f(sg.backfacing ? 1.0f : 0.0f, 0, 0);
         case ShaderGlobal::kRayLength: return Vec3f(sg.ray_length, 0, 0);
+        case ShaderGlobal::kIsCameraRay: return RayFlagValue(sg, kRayIsCamera);
+        case ShaderGlobal::kIsShadowRay: return RayFlagValue(sg, kRayIsShadow);
+        case ShaderGlobal::kIsDiffuseRay: return RayFlagValue(sg, kRayIsDiffuse);
+        case ShaderGlobal::kIsGlossyRay: return RayFlagValue(sg, kRayIsGlossy);
+        case ShaderGlobal::kIsSingularRay: return RayFlagValue(sg, kRayIsSingular);
+        case ShaderGlobal::kIsReflectionRay: return RayFlagValue(sg, kRayIsReflection);
+        case ShaderGlobal::kIsTransmissionRay: return RayFlagValue(sg, kRayIsTransmission);
+        case ShaderGlobal::kIsVolumeScatterRay: return RayFlagValue(sg, kRayIsVolumeScatter);
+        case ShaderGlobal::kRayDepth: return Vec3f(float(sg.ray.depth), 0, 0);
+        case ShaderGlobal::kDiffuseDepth: return Vec3f(float(sg.ray.diffuse_depth), 0, 0);
+        case ShaderGlobal::kGlossyDepth: return Vec3f(float(sg.ray.glossy_depth), 0, 0);
+        case ShaderGlobal::kTransparentDepth: return Vec3f(float(sg.ray.transparent_depth), 0, 0);
+        case ShaderGlobal::kTransmissionDepth: return Vec3f(float(sg.ray.transmission_depth), 0, 0);
         case ShaderGlobal::kCount: break;
     }
     return {};

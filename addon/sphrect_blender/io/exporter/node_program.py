@@ -610,6 +610,23 @@ def _curves(kind, value_name, output_name, value_type):
     return compile_node
 
 
+# -- the Light Path node (render/svm/program.h RayContext: what each ray that evaluates a program passes) ---------------
+
+# Its outputs and the hit's inputs they read (Blender 3.4's node has no Is Volume Scatter Ray).
+_LIGHT_PATH_GLOBALS = {"Is Camera Ray": "is_camera_ray", "Is Shadow Ray": "is_shadow_ray",
+                       "Is Diffuse Ray": "is_diffuse_ray", "Is Glossy Ray": "is_glossy_ray",
+                       "Is Singular Ray": "is_singular_ray", "Is Reflection Ray": "is_reflection_ray",
+                       "Is Transmission Ray": "is_transmission_ray", "Ray Length": "ray_length",
+                       "Ray Depth": "ray_depth", "Diffuse Depth": "diffuse_depth", "Glossy Depth": "glossy_depth",
+                       "Transparent Depth": "transparent_depth", "Transmission Depth": "transmission_depth"}
+
+
+def _light_path(c, node):
+    """The outputs something reads (Cycles' LightPathNode::compile emits only those), each a global of the hit."""
+    return {s.identifier: (c.global_input(_LIGHT_PATH_GLOBALS[s.identifier]), "float") for s in node.outputs
+            if s.identifier in _LIGHT_PATH_GLOBALS and s.is_linked}
+
+
 _NODE_COMPILERS = {
     "ShaderNodeValue": _value,
     "ShaderNodeRGB": _rgb,
@@ -657,6 +674,7 @@ _NODE_COMPILERS = {
     "ShaderNodeRGBCurve": _curves("rgb", "Color", "Color", "color"),
     "ShaderNodeVectorCurve": _curves("vector", "Vector", "Vector", "vector"),
     "ShaderNodeFloatCurve": _curves("float", "Value", "Value", "float"),
+    "ShaderNodeLightPath": _light_path,
 }
 
 

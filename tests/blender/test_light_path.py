@@ -1,0 +1,117 @@
+"""The Light Path node (render/svm/program.h RayContext) against Cycles 3.4: scenes whose look rests on it render as
+Cycles renders them (test_cycles_parity's measure: mean relative difference over 4x4 blocks <= 1%), and the node
+replaced by its socket's own value, as before the renderer knew it, is clearly further off (>= 5%: the test can
+fail).  The two renders are SPHRECT's at fixed seeds and Cycles' deterministic one; measured figures in
+docs/materials.md (Light Path)."""
+import math
+
+import bpy
+import pytest
+
+from conftest import addon_module, builders, export
+from test_node_programs import parity_view
+from test_texture_export import Tree, material_named
+
+NODE_MISSING_AT_LEAST = 0.05  # a render with the node replaced by its own value is at least this far from Cycles
+
+
+def camera_invisible_emitter():
+    """An Emission mixed with a Transparent BSDF by Is Camera Ray: the camera sees through it, it lights the rest."""
+    t = Tree("Hidden glow")
+    glow = t.node("ShaderNodeEmission")
+    glow.inputs["Color"].default_value = (1.0, 0.7, 0.4, 1)
+    glow.inputs["Strength"].default_value = 6.0
+    mix = t.node("ShaderNodeMixShader")
+    t.link(t.node("ShaderNodeLightPath").outputs["Is Camera Ray"], mix.inputs[0])
+    t.link(glow.outputs[0], mix.inputs[1])
+    t.link(t.node("ShaderNodeBsdfTransparent").outputs[0], mix.inputs[2])
+    return t.surface(mix)
+
+
+def shadowless_occluder():
+    """A diffuse plate mixed with a Transparent BSDF by Is Shadow Ray: seen, but casting no shadow."""
+    t = Tree("No shadow")
+    diffuse = t.node("ShaderNodeBsdfDiffuse")
+    diffuse.inputs["Color"].default_value = (0.2, 0.5, 0.8, 1)
+    mix = t.node("ShaderNodeMixShader")
+    t.link(t.node("ShaderNodeLightPath").outputs["Is Shadow Ray"], mix.inputs[0])
+    t.link(diffuse.outputs[0], mix.inputs[1])
+    t.link(t.node("ShaderNodeBsdfTransparent").outputs[0], mix.inputs[2])
+    return t.surface(mix)
+
+
+def ray_kind_emitter():
+    """An Emission whose colour is blue for diffuse rays and orange for the others (camera, light samples, glossy
+    rays), its strength 2 + the ray's length: each way of reaching an emitter reads another value, and a light sample
+    and a BSDF ray of the same direction disagree as they do in Cycles."""
+    t = Tree("Ray kinds")
+    light_path = t.node("ShaderNodeLightPath")
+    color = t.node("ShaderNodeMixRGB", blend_type="MIX")
+    color.inputs["Color1"].default_value = (1.0, 0.45, 0.1, 1)
+    color.inputs["Color2"].default_value = (0.15, 0.35, 1.0, 1)
+    t.link(light_path.outputs["Is Diffuse Ray"], color.inputs["Fac"])
+    strength = t.node("ShaderNodeMath", operation="ADD")
+    t.link(light_path.outputs["Ray Length"], strength.inputs[0])
+    strength.inputs[1].default_value = 2.0
+    glow = t.node("ShaderNodeEmission")
+    t.link(color.outputs[0], glow.inputs["Color"])
+    t.link(strength.outputs[0], glow.inputs["Strength"])
+    return t.surface(glow)
+
+
+def floor(kind="diffuse"):
+    if kind == "diffuse":
+        return builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=6.0)
+    return builders.mesh_object("Floor", "plane", builders.material("Floor", (0.7, 0.7, 0.7), kind="principled",
+                                                                    roughness=0.35), size=6.0)
+
+
+def build(case):
+    """The scene of `case`; returns the name of the material holding the node."""
+    if case == "camera_invisible_emitter":
+        floor()
+        builders.mesh_object("Panel", "plane", camera_invisible_emitter(), size=1.2, location=(0.0, 0.3, 0.9),
+                             rotation=(math.radians(20), 0.0, 0.0))
+        builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), size=0.5,
+                             location=(0.6, -0.2, 0.25), rotation=(0.0, 0.0, 0.5))
+        parity_view(bpy.context.scene, light=False)
+        return "Hidden glow"
+    if case == "shadowless_occluder":
+        floor()
+        builders.mesh_object("Plate", "plane", shadowless_occluder(), size=1.0, location=(0.3, 0.0, 1.0))
+        builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), size=0.5,
+                             location=(-0.8, 0.4, 0.25), rotation=(0.0, 0.0, 0.5))
+        parity_view(bpy.context.scene, light=True)
+        return "No shadow"
+    floor(kind="principled")
+    builders.mesh_object("Panel", "plane", ray_kind_emitter(), size=1.0, location=(0.0, 0.6, 0.8),
+                         rotation=(math.radians(35), 0.0, 0.0))
+    parity_view(bpy.context.scene, light=False)
+    return "Ray kinds"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", ["camera_invisible_emitter", "shadowless_occluder", "ray_kinds"])
+def test_light_path_scenes_render_as_in_cycles(empty_scene, tmp_path, case, monkeypatch):
+    """Each case within 1% of Cycles, unwarned; with the node unknown to the compiler (its outputs read their own
+    value, 0, as before) at least NODE_MISSING_AT_LEAST off."""
+    from test_cycles_parity import difference_to_cycles
+    scene = empty_scene
+    name = build(case)
+    exported, log = export()
+    assert name not in log.warning_text()
+    assert any(i.op == "global" for p in _programs(material_named(exported, name)) for i in p.instructions)
+    difference, ours, cycles = difference_to_cycles(scene, f"Light Path, {case}", tmp_path)
+    assert difference <= 0.01
+    node_program = addon_module("io.exporter.node_program")
+    monkeypatch.delitem(node_program._NODE_COMPILERS, "ShaderNodeLightPath")
+    without, _, _ = difference_to_cycles(scene, f"Light Path, {case}, the node ignored", tmp_path, cycles=cycles)
+    assert without >= NODE_MISSING_AT_LEAST
+
+
+def _programs(material):
+    """Every NodeProgram of a sphrect.Material (its inputs', its layers' factors', recursively)."""
+    yield from (p for p in material.programs.values() if p is not None)
+    for layer in material.layers:
+        yield from (f.program for f in layer.factors if f.program is not None)
+        yield from _programs(layer.material)
