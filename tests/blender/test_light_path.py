@@ -42,20 +42,27 @@ def shadowless_occluder():
 
 def ray_kind_emitter():
     """An Emission whose colour is blue for diffuse rays and orange for the others (camera, light samples, glossy
-    rays), its strength 2 + the ray's length: each way of reaching an emitter reads another value, and a light sample
-    and a BSDF ray of the same direction disagree as they do in Cycles."""
+    rays), its strength 2 + the ray's length (a camera ray's a tenth of it, so that the floor weighs in the measure): each
+    way of reaching an emitter reads another value, and a light sample and a BSDF ray of the same direction disagree
+    as they do in Cycles."""
     t = Tree("Ray kinds")
     light_path = t.node("ShaderNodeLightPath")
     color = t.node("ShaderNodeMixRGB", blend_type="MIX")
     color.inputs["Color1"].default_value = (1.0, 0.45, 0.1, 1)
-    color.inputs["Color2"].default_value = (0.15, 0.35, 1.0, 1)
+    color.inputs["Color2"].default_value = (0.4, 0.45, 0.9, 1)
     t.link(light_path.outputs["Is Diffuse Ray"], color.inputs["Fac"])
     strength = t.node("ShaderNodeMath", operation="ADD")
     t.link(light_path.outputs["Ray Length"], strength.inputs[0])
     strength.inputs[1].default_value = 2.0
+    dim = t.node("ShaderNodeMath", operation="MULTIPLY_ADD")
+    t.link(light_path.outputs["Is Camera Ray"], dim.inputs[0])
+    dim.inputs[1].default_value, dim.inputs[2].default_value = -0.9, 1.0
+    product = t.node("ShaderNodeMath", operation="MULTIPLY")
+    t.link(strength.outputs[0], product.inputs[0])
+    t.link(dim.outputs[0], product.inputs[1])
     glow = t.node("ShaderNodeEmission")
     t.link(color.outputs[0], glow.inputs["Color"])
-    t.link(strength.outputs[0], glow.inputs["Strength"])
+    t.link(product.outputs[0], glow.inputs["Strength"])
     return t.surface(glow)
 
 

@@ -49,7 +49,7 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
     const AreaLight& l = c.scene.area_lights[light.index];
     if (l.on_mesh) PullOffMeshLight(l, ls);
     const Spectrum le =
-        l.texture < 0 ? EmittedRadiance(l, -ls.dir) : TexturedEmissionAtPoint(c.scene, l, ls.point, -ls.dir);
+        l.texture < 0 ? EmittedRadiance(l, -ls.dir) : TexturedEmissionAtPoint(c.scene, l, ls.point, -ls.dir, ls.dist);
     if (IsBlack(le)) return {};
     return {true, ls.dir, ls.dist, le, light.pmf * ls.pdf};
 }

@@ -105,13 +105,15 @@ inline Vec3f EmitterLookupCoordinates(const RenderScene& scene, const TexturedEm
 
 // The radiance textured light l sends from its point p towards `toward` (pointing away from the light): a mesh's on
 // both sides, a light's own on the sides it emits on, with its spread (as EmittedRadiance).  Light samples, and the
-// BSDF and camera rays that cross a rectangle or ellipse light.
+// BSDF and camera rays that cross a rectangle or ellipse light.  distance: a light sample's, from its shading point
+// (Cycles' ls->t, the ray length its shader reads).
 [[gnu::noinline, gnu::cold]] inline Spectrum TexturedEmissionAtPoint(const RenderScene& scene, const AreaLight& l,
-                                                                     const Vec3f& p, const Vec3f& toward) {
+                                                                     const Vec3f& p, const Vec3f& toward,
+                                                                     float distance = 0) {
     const TexturedEmitter& e = scene.textured_emitters[size_t(l.texture)];
     if (e.programmed) {
         const EmitterTrianglePoint q = EmitterTrianglePointAt(scene, e, p);
-        return ProgramEmitterRadianceAt(scene, e, q.prim, q.b1, q.b2, p, toward, 0);
+        return ProgramEmitterRadianceAt(scene, e, q.prim, q.b1, q.b2, p, toward, distance);
     }
     if (!e.on_light_plane) return EmitterRadianceAt(scene, e, EmitterLookupCoordinates(scene, e, l, p));
     const float share = EmissionTowards(l, toward);
