@@ -66,8 +66,8 @@ render::svm::RayContext RayContextNamed(const std::string& name, int transparent
     uint8_t kinds = 0;
     for (size_t start = 0; start <= name.size();) {
         const size_t end = std::min(name.find('+', start), name.size());
-        kinds |= uint8_t(
-            1u << ParseNameOrThrow<int>("ray kind", "ray kinds", name.substr(start, end - start), render::kRayKindNames));
+        kinds |= uint8_t(1u << ParseNameOrThrow<int>("ray kind", "ray kinds", name.substr(start, end - start),
+                                                     render::kRayKindNames));
         start = end + 1;
     }
     if (kinds & (render::kRayCamera | render::kRayShadow))

@@ -41,10 +41,10 @@ def shadowless_occluder():
 
 
 def ray_kind_emitter():
-    """An Emission whose colour is blue for diffuse rays and orange for the others (camera, light samples, glossy
-    rays), its strength 2 + the ray's length (a camera ray's a tenth of it, so that the floor weighs in the measure): each
-    way of reaching an emitter reads another value, and a light sample and a BSDF ray of the same direction disagree
-    as they do in Cycles."""
+    """An Emission whose colour is bluish for diffuse rays and orange for the others (camera, light samples, glossy
+    rays), its strength 2 + the ray's length (a camera ray's a tenth of it, so that the floor weighs in the
+    measure): each way of reaching an emitter reads another value, and a light sample and a BSDF ray of the same
+    direction disagree as they do in Cycles."""
     t = Tree("Ray kinds")
     light_path = t.node("ShaderNodeLightPath")
     color = t.node("ShaderNodeMixRGB", blend_type="MIX")

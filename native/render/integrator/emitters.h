@@ -59,18 +59,18 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
 // (the surfaces before it were let through; one extra ray per hit, kept for one path through the shadow queue).
 template <Technique K, bool kMedium>
 static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& rh, const Vec3f& o, const Vec3f& d,
-                                       float pdf_dir, uint8_t ray, int crossed,
-                                       TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                       float pdf_dir, uint8_t ray, int crossed, TimedLightSamplingAt<K>& light_sampling,
+                                       const ShadowSink& sink) {
     const MeshData& m = c.scene.meshes[rh.hit.geomID];
     if (m.triangle_light.empty()) return;
     const int i = m.triangle_light[rh.hit.primID];
     if (i < 0) return;
     const float t = rh.ray.tfar;
     const AreaLight& l = c.scene.area_lights[i];
-    const Spectrum le =
-        l.texture < 0 ? EmittedRadiance(l, -d)
-                      : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t,
-                                              svm::ScatteredRayContext(ScatteredRayFlags(ray), crossed));
+    const Spectrum le = l.texture < 0
+                            ? EmittedRadiance(l, -d)
+                            : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t,
+                                                    svm::ScatteredRayContext(ScatteredRayFlags(ray), crossed));
     if (IsBlack(le)) return;
     const float pdf_light = light_sampling.PDF(i, o + d * t);
     sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),

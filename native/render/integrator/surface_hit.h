@@ -27,7 +27,7 @@ struct SurfaceHit {
     // mesh and the direction back along the ray, which node programs read (shader_globals.h).
     const MeshData* mesh;
     float incoming[3];
-    float ray_start;  // the ray's tmin: Cycles measures a camera ray's length from the near clipping plane
+    float ray_start;            // the ray's tmin: Cycles measures a camera ray's length from the near clipping plane
     uint8_t transparent_depth;  // the transparent surfaces the camera ray went through before (Light Path node)
 };
 

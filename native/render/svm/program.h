@@ -231,17 +231,13 @@ struct RayContext {
 
 // The contexts under direct lighting (a camera ray, its hit's light samples and one BSDF or phase ray):
 // A camera ray's hit past `transparent` transparent surfaces (PATH_RAY_CAMERA, bounce 0).
-constexpr RayContext CameraRayContext(int transparent) {
-    return {kRayIsCamera, 0, 0, 0, uint8_t(transparent), 0};
-}
+constexpr RayContext CameraRayContext(int transparent) { return {kRayIsCamera, 0, 0, 0, uint8_t(transparent), 0}; }
 // An emitter's point a light sample lands on: light_sample_shader_eval passes PATH_RAY_EMISSION alone (no flag the
 // node reads) with the shading point's state, and Ray Depth counts one more.
 constexpr RayContext LightSampleContext(int transparent) { return {0, 1, 0, 0, uint8_t(transparent), 0}; }
 // A surface a shadow ray crosses: PATH_RAY_SHADOW alone (integrate_transparent_surface_shadow), Ray Depth one more,
 // the transparent depth counting the surfaces the shadow ray crossed before it.
-constexpr RayContext ShadowRayContext(int transparent) {
-    return {kRayIsShadow, 1, 0, 0, uint8_t(transparent), 0};
-}
+constexpr RayContext ShadowRayContext(int transparent) { return {kRayIsShadow, 1, 0, 0, uint8_t(transparent), 0}; }
 // The surface a BSDF or phase ray from a camera ray's hit finds: path_state_next's flags of the sampled lobe's label
 // (kRayIsDiffuse / kRayIsGlossy (+ kRayIsSingular), kRayIsReflection / kRayIsTransmission, or kRayIsVolumeScatter)
 // and its counters after one bounce.

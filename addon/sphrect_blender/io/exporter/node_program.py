@@ -610,7 +610,7 @@ def _curves(kind, value_name, output_name, value_type):
     return compile_node
 
 
-# -- the Light Path node (render/svm/program.h RayContext: what each ray that evaluates a program passes) ---------------
+# -- the Light Path node (render/svm/program.h RayContext: what each ray that evaluates a program passes) -------------
 
 # Its outputs and the hit's inputs they read (Blender 3.4's node has no Is Volume Scatter Ray).
 _LIGHT_PATH_GLOBALS = {"Is Camera Ray": "is_camera_ray", "Is Shadow Ray": "is_shadow_ray",
