@@ -9,10 +9,27 @@ import bpy
 import pytest
 
 from conftest import addon_module, builders, export
-from test_node_programs import parity_view
+from test_node_programs import Case, check, combine, node_values_against_cycles, parity_view
 from test_texture_export import Tree, material_named
 
 NODE_MISSING_AT_LEAST = 0.05  # a render with the node replaced by its own value is at least this far from Cycles
+OUTPUTS = ("Is Camera Ray", "Is Shadow Ray", "Is Diffuse Ray", "Is Glossy Ray", "Is Singular Ray", "Is Reflection Ray",
+           "Is Transmission Ray", "Ray Length", "Ray Depth", "Diffuse Depth", "Glossy Depth", "Transparent Depth",
+           "Transmission Depth")
+
+
+def output_case(name):
+    """The Emission colour (the output, Generated x, Generated y): the output as a camera ray's hit reads it."""
+    def out(t, a, b, gx, gy):
+        return combine(t, t.node("ShaderNodeLightPath").outputs[name], gx, gy)
+    return Case(f"Light Path {name}", out)
+
+
+def test_every_output_of_a_camera_ray_hit_matches_cycles(empty_scene, tmp_path):
+    """test_node_programs' per-node harness (max abs difference <= 1e-3, relative above 1): each output of the node
+    at camera rays' hits on planes under an orthographic camera (Is Camera Ray 1, Ray Length from the near clipping
+    plane, every other output 0)."""
+    check(node_values_against_cycles(empty_scene, [output_case(name) for name in OUTPUTS], tmp_path))
 
 
 def camera_invisible_emitter():
@@ -66,6 +83,25 @@ def ray_kind_emitter():
     return t.surface(glow)
 
 
+def depth_glow():
+    """An Emission whose strength is 1 + Transparent Depth, seen by the camera through tinted Transparent BSDFs."""
+    t = Tree("Depth glow")
+    strength = t.node("ShaderNodeMath", operation="ADD")
+    t.link(t.node("ShaderNodeLightPath").outputs["Transparent Depth"], strength.inputs[0])
+    strength.inputs[1].default_value = 1.0
+    glow = t.node("ShaderNodeEmission")
+    glow.inputs["Color"].default_value = (0.9, 0.6, 0.3, 1)
+    t.link(strength.outputs[0], glow.inputs["Strength"])
+    return t.surface(glow)
+
+
+def tinted_glass():
+    t = Tree("Tint")
+    clear = t.node("ShaderNodeBsdfTransparent")
+    clear.inputs["Color"].default_value = (0.9, 0.95, 0.9, 1)  # white alone the exporter leaves out
+    return t.surface(clear)
+
+
 def floor(kind="diffuse"):
     if kind == "diffuse":
         return builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=6.0)
@@ -90,6 +126,13 @@ def build(case):
                              location=(-0.8, 0.4, 0.25), rotation=(0.0, 0.0, 0.5))
         parity_view(bpy.context.scene, light=True)
         return "No shadow"
+    if case == "transparent_depth":
+        builders.mesh_object("Glow", "plane", depth_glow(), size=4.0)
+        tint = tinted_glass()
+        builders.mesh_object("Pane 1", "plane", tint, size=1.6, location=(-0.4, 0.0, 0.4))
+        builders.mesh_object("Pane 2", "plane", tint, size=1.6, location=(0.4, 0.3, 0.8))
+        parity_view(bpy.context.scene, light=False)
+        return "Depth glow"
     floor(kind="principled")
     builders.mesh_object("Panel", "plane", ray_kind_emitter(), size=1.0, location=(0.0, 0.6, 0.8),
                          rotation=(math.radians(35), 0.0, 0.0))
@@ -98,7 +141,7 @@ def build(case):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("case", ["camera_invisible_emitter", "shadowless_occluder", "ray_kinds"])
+@pytest.mark.parametrize("case", ["camera_invisible_emitter", "shadowless_occluder", "ray_kinds", "transparent_depth"])
 def test_light_path_scenes_render_as_in_cycles(empty_scene, tmp_path, case, monkeypatch):
     """Each case within 1% of Cycles, unwarned; with the node unknown to the compiler (its outputs read their own
     value, 0, as before) at least NODE_MISSING_AT_LEAST off."""
