@@ -77,10 +77,28 @@ static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& r
              ray);
 }
 
-// The emissive mesh triangles the ray (o, d) finds: its first hit, and past transparent surfaces the next (their
-// filtering is the occlusion ray's: ResolveShadowRays) -- an emitter that may be transparent counts and lets the ray
-// on, as a Cycles path adds a surface's emission before going through it.  One Embree ray instead of a loop over
-// the mesh's lights.
+// In a scene with transparent surfaces: the emitters the ray (o, d) finds from its first hit rh on, past the
+// transparent surfaces (their filtering is the occlusion ray's: ResolveShadowRays) -- an emitter that may be
+// transparent counts and lets the ray on, as a Cycles path adds a surface's emission before going through it.
+template <Technique K, bool kMedium>
+[[gnu::noinline]] static void QueueMeshEmittersThroughTransparent(const ShadeContext& c, RTCRayHit rh, const Vec3f& o,
+                                                                  const Vec3f& d, float pdf_dir, uint8_t ray,
+                                                                  TimedLightSamplingAt<K>& light_sampling,
+                                                                  const ShadowSink& sink) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (int crossed = 0; rh.hit.geomID != RTC_INVALID_GEOMETRY_ID; ++crossed) {
+        const bool through = c.scene.MayBeTransparent(c.scene.meshes[rh.hit.geomID], rh.hit.primID);
+        if (through && crossed == kMaxTransparentHits) return;
+        QueueMeshEmitterHit<K, kMedium>(c, rh, o, d, pdf_dir, ray, crossed, light_sampling, sink);
+        if (!through) return;
+        rh = MakeRTCRayHit(o, d, BeyondHit(rh.ray.tfar), kInf, ray);
+        rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
+    }
+}
+
+// The emissive mesh triangle the ray (o, d) hits first, if any (and in a scene with transparent surfaces those past
+// them): one Embree ray instead of a loop over the mesh's lights.
 template <Technique K, bool kMedium>
 static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
                                             uint8_t ray, TimedLightSamplingAt<K>& light_sampling,
@@ -89,15 +107,10 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
-    for (int crossed = 0; rh.hit.geomID != RTC_INVALID_GEOMETRY_ID; ++crossed) {
-        const bool through =
-            c.scene.has_transparency && c.scene.MayBeTransparent(c.scene.meshes[rh.hit.geomID], rh.hit.primID);
-        if (through && crossed == kMaxTransparentHits) return;
-        QueueMeshEmitterHit<K, kMedium>(c, rh, o, d, pdf_dir, ray, crossed, light_sampling, sink);
-        if (!through) return;
-        rh = MakeRTCRayHit(o, d, BeyondHit(rh.ray.tfar), kInf, ray);
-        rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
-    }
+    if (c.scene.has_transparency)
+        return QueueMeshEmittersThroughTransparent<K, kMedium>(c, rh, o, d, pdf_dir, ray, light_sampling, sink);
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
+        QueueMeshEmitterHit<K, kMedium>(c, rh, o, d, pdf_dir, ray, 0, light_sampling, sink);
 }
 
 // A light sample of the image world (environment_light.h; c.environment set): its direction, radiance and
