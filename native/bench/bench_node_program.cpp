@@ -4,6 +4,8 @@
 //                    (Texture Coordinate, Separate XYZ, Mapping, 8 Math, 2 ColorRamps of 256 entries, 2 Mix,
 //                    Map Range, Clamp, Invert, Combine XYZ, RGB to BW), at hits cycled from a table of 1024.
 //  BM_NodeProgramConstant  the floor: a one-constant program.
+//  BM_NodeProgramBump  a Bump node of a 3D Noise Texture (detail 2) of Generated: the Noise at the point and at
+//                    P + dx, P + dy (the hits' shifted inputs set), then the bumped normal.
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -90,6 +92,10 @@ std::vector<ShaderGlobals> Hits() {
     for (ShaderGlobals& h : hits) {
         h.generated = h.uv = h.p = {u(g), u(g), u(g)};
         h.n = h.ng = h.incoming = {0, 0, 1};
+        h.dP = 1e-3f;
+        h.shifted = true;
+        for (int k = 0; k < 2; ++k)
+            h.shift[k].p = h.shift[k].uv = h.shift[k].generated = h.p + Vec3f(1e-3f, k * 1e-3f, 0);
     }
     return hits;
 }
@@ -115,6 +121,23 @@ void BM_NodeProgramConstant(benchmark::State& state) {
     Run(state, p);
 }
 BENCHMARK(BM_NodeProgramConstant);
+
+void BM_NodeProgramBump(benchmark::State& state) {
+    Builder b;
+    const uint16_t w = b.Constant(0), settings = b.Constant(5, 2, 0.5f), distortion = b.Constant(0);
+    uint16_t height[3];
+    for (int k = 0; k < 3; ++k) {
+        const uint16_t gen = b.Emit(NodeOp::kGlobal, {}, 1, int(ShaderGlobal::kGenerated), k);
+        height[k] = b.Emit(NodeOp::kNoiseTexture, {gen, w, settings, distortion}, 2, 2);
+        b.p.code.back().reg[5] = kNoRegister;  // the colour unread
+    }
+    const uint16_t strength = b.Constant(1), distance = b.Constant(0.1f);
+    const uint16_t normal = b.Emit(NodeOp::kGlobal, {}, 1, int(ShaderGlobal::kNormal));
+    b.p.output = b.Emit(NodeOp::kBump, {height[0], height[1], height[2], strength, distance, normal});
+    CheckNodeProgram(b.p, 0);
+    Run(state, b.p);
+}
+BENCHMARK(BM_NodeProgramBump);
 
 }  // namespace
 }  // namespace sphrect::render::svm

@@ -13,6 +13,7 @@
 #include "numpy_arrays.h"
 #include "render/material.h"
 #include "render/svm/color_nodes.h"
+#include "render/svm/image_projection.h"
 #include "render/svm/math_nodes.h"
 #include "render/svm/mix_nodes.h"
 #include "render/svm/procedural_textures.h"
@@ -212,6 +213,8 @@ Material ReadMaterial(const py::dict& d) {
             m.programs[input] = Program(program, "program '" + std::string(render::kTexturedInputNames[input]) + "'");
         }
     }
+    if (d.contains("normal_program") && !d["normal_program"].is_none())  // scene format 19: a Bump node's graph
+        m.normal_map.program = Program(d["normal_program"], "normal_program");
     if (!d["normal_map"].is_none()) {
         m.normal_map.lookup = Lookup(d["normal_map"], "normal_map");
         m.normal_map.strength = Number(d, "normal_map_strength");
@@ -273,11 +276,19 @@ void BindMaterial(py::module_& m) {
     // Node programs (render/svm): the ops, and the names of each op's modes the exporter compiles to.
     m.attr("node_ops") = names(render::svm::kNodeOpNames);
     m.attr("node_globals") = names(render::svm::kShaderGlobalNames);
+    {
+        py::list shifted;  // the globals a Bump's Height copies read at P + dx / P + dy (kGlobal's flags)
+        for (int g = 0; g < int(render::svm::ShaderGlobal::kCount); ++g)
+            if (render::svm::IsShiftedGlobal(render::svm::ShaderGlobal(g)))
+                shifted.append(render::svm::kShaderGlobalNames[g]);
+        m.attr("node_shifted_globals") = shifted;
+    }
     m.attr("node_conversions") = names(render::svm::kNodeConversionNames);
     m.attr("node_math_ops") = names(render::svm::kMathOpNames);
     m.attr("node_mix_blends") = names(render::svm::kMixBlendNames);
     m.attr("node_clamp_types") = names(render::svm::kClampTypeNames);
     m.attr("node_map_range_types") = names(render::svm::kMapRangeNames);
+    m.attr("node_image_projections") = names(render::svm::kImageProjectionNames);
     m.attr("node_color_models") = names(render::svm::kColorModelNames);
     m.attr("node_mapping_types") = names(render::svm::kMappingTypeNames);
     m.attr("node_musgrave_types") = names(render::svm::kMusgraveTypeNames);

@@ -389,8 +389,8 @@ void BindRender(py::module_& m) {
     m.def(
         "_eval_node_program",
         [](const py::handle& program, const V3& p, const V3& uv, const V3& generated, const std::optional<V3>& object,
-           const std::vector<std::pair<py::array, bool>>& textures, float ray_length, const std::string& ray,
-           int transparent_depth) {
+           const std::vector<std::pair<py::array, bool>>& textures, float ray_length, float dP,
+           const std::optional<std::vector<std::array<V3, 4>>>& shifts, const std::string& ray, int transparent_depth) {
             const render::svm::NodeProgram prog = ProgramFromFields(program, "program");
             std::vector<render::Image> images;
             for (const auto& [pixels, srgb] : textures) images.push_back(ImageOfArray("texture", pixels, srgb, true));
@@ -402,15 +402,27 @@ void BindRender(py::module_& m) {
             sg.generated = {generated[0], generated[1], generated[2]};
             sg.n = sg.ng = sg.incoming = sg.object_normal = {0, 0, 1};
             sg.ray_length = ray_length;
+            sg.dP = dP;
+            if (shifts) {  // (p, uv, generated, object) at P + dx and P + dy
+                if (shifts->size() != 2) throw py::value_error("shifts: two (p, uv, generated, object) expected");
+                auto v3 = [](const V3& v) { return Vec3f(v[0], v[1], v[2]); };
+                for (size_t k = 0; k < 2; ++k) {
+                    const auto& s = (*shifts)[k];
+                    sg.shift[k] = {v3(s[0]), v3(s[1]), v3(s[2]), v3(s[3])};
+                }
+                sg.shifted = true;
+            }
             sg.ray = RayContextNamed(ray, transparent_depth);
             const Spectrum v = render::svm::EvalNodeProgram(prog, images, sg);
             return V3{v.x, v.y, v.z};
         },
         py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"), py::arg("object") = py::none(),
         py::arg("textures") = std::vector<std::pair<py::array, bool>>{}, py::arg("ray_length") = 0.0f,
-        py::arg("ray") = "camera", py::arg("transparent_depth") = 0,
+        py::arg("dP") = 0.0f, py::arg("shifts") = py::none(), py::arg("ray") = "camera",
+        py::arg("transparent_depth") = 0,
         "A node program at point p of a plane facing +z seen from +z (object coordinates: p unless given; textures: "
-        "(pixels, srgb) of the scene's, as Texture holds them; the ray's length; the Light Path node's ray: 'camera', "
+        "(pixels, srgb) of the scene's, as Texture holds them; the ray's length; a Bump's ray differential dP and "
+        "shifted inputs (p, uv, generated, object) at P + dx and P + dy; the Light Path node's ray: 'camera', "
         "'light_sample', 'shadow', or a BSDF / phase ray's kinds joined by '+', e.g. 'diffuse+transmission', after "
         "transparent_depth transparent surfaces): for tests and the exporter's constants");
     m.attr("textured_inputs") = names(render::kTexturedInputNames);

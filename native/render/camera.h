@@ -69,4 +69,27 @@ inline Ray GenerateCameraRay(const CameraModel& c, float fx, float fy, Point2<fl
     return r;
 }
 
+// The compact ray differential (Cycles 3.4's sd->dP: a radius, differential_transfer_compact) at the hit of a camera
+// ray at distance t from its origin along unit world direction d.  Orthographic: the world length of one pixel's step
+// across the film (Cycles' camera_sample_orthographic takes the x step for both axes), constant.  Perspective: t times
+// dD = the mean length of the change of the unit direction over one pixel's step in x and in y on the film (the
+// pinhole's direction through the film point d points at, as camera_sample_perspective computes it also with depth of
+// field); the near-clip part of Cycles' ray dP and the rest of the way add up to the whole distance t.
+inline float CameraFootprint(const CameraModel& c, const Vec3f& d, float t) {
+    const Vec3f step_x = c.VectorToWorld({2 * c.half_width / float(c.width), 0, 0});
+    if (c.orthographic) return Length(step_x);
+    const Vec3f step_y = c.VectorToWorld({0, 2 * c.half_height / float(c.height), 0});
+    // d in the camera's frame (the inverse of to_world's linear part: its columns' cross products over det).
+    const Vec3f a(c.to_world[0][0], c.to_world[1][0], c.to_world[2][0]);
+    const Vec3f b(c.to_world[0][1], c.to_world[1][1], c.to_world[2][1]);
+    const Vec3f e(c.to_world[0][2], c.to_world[1][2], c.to_world[2][2]);
+    const float det = Dot(a, Cross(b, e));
+    const float depth = -Dot(d, Cross(a, b)) / det;  // d's camera-space z is -depth
+    if (!(depth > 0)) return 0;
+    const Vec3f center = d / depth;  // the film point at camera depth 1, from the eye
+    const Vec3f unit = Normalize(center);
+    const float dD = 0.5f * (Length(Normalize(center + step_x) - unit) + Length(Normalize(center + step_y) - unit));
+    return t * dD;
+}
+
 }  // namespace sphrect::render

@@ -53,11 +53,16 @@ struct MixFactorLookup {
     svm::NodeProgram program;
 };
 
-// A material's Normal Map node (tangent space): its image lookup, strength, read in the frame of the
-// mesh's UV tangent, bitangent and shading normal (ApplyNormalMap).
+// What replaces a material's shading normal: a Normal Map node (tangent space): its image lookup, strength, read in
+// the frame of the mesh's UV tangent, bitangent and shading normal (ApplyNormalMap); or a node program (a Bump
+// node's graph: its result, a world-space normal, replaces it; BumpedShadingNormal).  `differentials`: some program
+// of the material bumps, so its hits carry their ray differential (RenderScene::AddMaterial sets it).
 struct NormalMap {
     TextureLookup lookup;
     float strength = 1;
+    svm::NodeProgram program;
+    bool differentials = false;
+    bool replaces_normal() const { return lookup.bound() || !program.empty(); }
 };
 
 struct MaterialLayer;
@@ -81,6 +86,7 @@ struct Material {
 
     bool ReadsCoordinates(bool generated) const;  // some lookup reads 'generated' (true) or 'uv' (false)
     bool HasPrograms() const;                     // some input or mix factor (of any layer) is a node program
+    bool Bumps() const;                           // some program (the normal's too) has a Bump node
     bool ReadsRayContext() const;                 // some program reads the Light Path node's ray kinds or depths
     // The emission varies over the surface: an image or a program drives it (a textured emitter).
     bool EmissionVaries() const {
@@ -131,6 +137,18 @@ inline bool Material::HasPrograms() const {
         for (const MixFactorLookup& f : l.factors)
             if (!f.program.empty()) return true;
         if (l.material.HasPrograms()) return true;
+    }
+    return false;
+}
+
+inline bool Material::Bumps() const {
+    if (normal_map.program.Bumps()) return true;
+    for (const svm::NodeProgram& p : programs)
+        if (p.Bumps()) return true;
+    for (const MaterialLayer& l : layers) {
+        for (const MixFactorLookup& f : l.factors)
+            if (f.program.Bumps()) return true;
+        if (l.material.Bumps()) return true;
     }
     return false;
 }

@@ -83,7 +83,7 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
                     else
                         svm::CheckNodeProgram(f.program, images.size());
                 }
-                if (layer.material.normal_map.lookup.bound())
+                if (layer.material.normal_map.replaces_normal())
                     Fail("a mix layer cannot have a normal map of its own (the mix's has)");
                 if (layer.material.EmissionVaries())
                     Fail("a mix layer cannot have an emission texture of its own (the mix's has)");
@@ -141,6 +141,16 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
         if (m.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no normal map (use 'principled')");
         bsdf.normal_mapped = true;
     }
+    if (!m.normal_map.program.empty()) {
+        if (m.normal_map.lookup.bound()) Fail("a material has a normal map or a normal program, not both");
+        try {
+            svm::CheckNodeProgram(m.normal_map.program, images.size());
+        } catch (const std::invalid_argument& e) {
+            Fail(std::string("normal program: ") + e.what());
+        }
+        if (m.kind == MaterialKind::kGlossy) Fail("the 'glossy' model takes no normal program (use 'principled')");
+        bsdf.normal_mapped = true;
+    }
     return bsdf;
 }
 
@@ -156,6 +166,8 @@ int RenderScene::AddMaterial(const Material& material) {
     if (materials.back().programmed) light_path_programs |= material.ReadsRayContext();
     NormalMap normal_map = material.normal_map;
     normal_map.strength = std::max(normal_map.strength, 0.0f);  // Cycles: max(strength, 0)
+    normal_map.differentials = material.Bumps();
+    materials.back().normal_map.differentials = normal_map.differentials;
     normal_maps.push_back(normal_map);
     return int(bsdfs.size()) - 1;
 }

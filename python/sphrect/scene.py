@@ -74,6 +74,8 @@ FORMAT_NAME = "sphrect-scene"
 # Material.diffuse_roughness (the Diffuse BSDF's Roughness: Oren-Nayar); older files load with 0 (Lambert).
 # 19: World.camera_environment (what camera rays see of a world whose Light Path node shows them something else).
 # Older files load without one (camera rays see the world's light).
+# 19 also: Material.normal_program (a Bump node's graph driving the shading normal) and the node op 'bump'.  Older
+# files load unchanged (no normal program).
 FORMAT_VERSION = 19
 
 RGB = Tuple[float, float, float]
@@ -108,6 +110,7 @@ NODE_MATH_OPS = tuple(_native.node_math_ops)          # Blender's Math operation
 NODE_MIX_BLENDS = tuple(_native.node_mix_blends)      # Blender's blend types
 NODE_CLAMP_TYPES = tuple(_native.node_clamp_types)
 NODE_MAP_RANGE_TYPES = tuple(_native.node_map_range_types)
+NODE_IMAGE_PROJECTIONS = tuple(_native.node_image_projections)  # an Image Texture node's, in a program
 NODE_COLOR_MODELS = tuple(_native.node_color_models)
 NODE_MAPPING_TYPES = tuple(_native.node_mapping_types)
 MAX_NODE_REGISTERS = int(_native.MAX_NODE_REGISTERS)
@@ -201,6 +204,10 @@ class Material:
     # per hit, its result replacing the field of that name (a colour, or a float), but for 'emission', which it
     # multiplies as a texture does.
     programs: Dict[str, "NodeProgram"] = field(default_factory=dict)
+    # A node program whose result, a world-space normal, replaces the shading normal at each hit (a Bump node's graph
+    # on the shader's Normal input, with Cycles' bump shadowing of the diffuse lobes); not with normal_map, nor on a
+    # mix's layers (the mix's own is theirs).
+    normal_program: Optional["NodeProgram"] = None
 
 
 @dataclass
@@ -300,6 +307,8 @@ def _material_from_dict(d) -> Material:
     d["programs"] = {k: _program_from_dict(v) for k, v in d.get("programs", {}).items()}
     if d.get("normal_map") is not None:
         d["normal_map"] = _lookup_from_dict(d["normal_map"])
+    if d.get("normal_program") is not None:
+        d["normal_program"] = _program_from_dict(d["normal_program"])
     return Material(**d)
 
 

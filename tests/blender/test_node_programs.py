@@ -345,9 +345,9 @@ def converter_cases():
     return cases
 
 
-def image_case(interpolation, extension, colorspace, output="Color"):
+def image_case(interpolation, extension, colorspace, output="Color", projection="FLAT"):
     """An Image Texture of a 5 x 3 image (sRGB bytes, or Non-Color) at Generated mapped to [-0.6, 1.6] (outside the
-    image: its extension)."""
+    image: its extension), through the node's `projection` (Box: the plane's Z face, the camera facing it)."""
     def out(t, a, b, gx, gy):
         name = f"Pixels {colorspace}"
         image = bpy.data.images.get(name)
@@ -355,7 +355,8 @@ def image_case(interpolation, extension, colorspace, output="Color"):
             pixels = np.random.default_rng(5).random((3, 5, 4)).astype(np.float32)
             pixels[..., 3] = np.linspace(0.2, 1.0, 15).reshape(3, 5)
             image = new_image(name, pixels, colorspace=colorspace)
-        node = t.image(image, interpolation=interpolation, extension=extension)
+        node = t.image(image, interpolation=interpolation, extension=extension, projection=projection,
+                       projection_blend=0.3)
         mapping = t.node("ShaderNodeMapping", vector_type="POINT")
         mapping.inputs["Scale"].default_value = (2.2, 2.2, 1.0)
         mapping.inputs["Location"].default_value = (-0.6, -0.6, 0.0)
@@ -365,7 +366,7 @@ def image_case(interpolation, extension, colorspace, output="Color"):
         keep.inputs["Fac"].default_value = 0.0                 # alone on the emission is a TextureLookup)
         t.link(node.outputs[output], keep.inputs["Color1"])
         return keep.outputs[0]
-    return Case(f"Image {interpolation} {extension} {colorspace} {output}", out)
+    return Case(f"Image {interpolation} {extension} {colorspace} {output} {projection}", out)
 
 
 @pytest.mark.slow
@@ -373,8 +374,9 @@ def test_image_texture_matches_cycles(empty_scene, tmp_path):
     cases = [image_case(i, e, c) for i in ("Linear", "Closest") for e in ("REPEAT", "EXTEND", "CLIP")
              for c in ("sRGB", "Non-Color")]
     cases += [image_case("Linear", "REPEAT", "sRGB", "Alpha"), image_case("Cubic", "EXTEND", "Non-Color")]
+    cases += [image_case("Linear", "REPEAT", "sRGB", "Color", p) for p in ("SPHERE", "TUBE", "BOX")]
     errors = node_values_against_cycles(empty_scene, cases, tmp_path)
-    errors.pop("Image Cubic EXTEND Non-Color Color")  # Cubic is read as Linear (warned): not compared
+    errors.pop("Image Cubic EXTEND Non-Color Color FLAT")  # Cubic is read as Linear (warned): not compared
     check(errors)
 
 
@@ -969,6 +971,41 @@ def test_an_implicit_emission_glows_as_in_cycles(empty_scene, tmp_path):
     difference = mean_relative_difference(render()["images"]["rectangle"], cycles)
     print(f"implicit emission: mean relative difference to Cycles (4x4 blocks): {difference:.4f}")
     assert difference <= 0.01
+
+
+@pytest.mark.slow
+def test_box_and_sphere_projected_images_render_as_in_cycles(empty_scene, tmp_path):
+    """A rotated smooth sphere whose Base Color is an image box-projected (blend 0.25: one, two and three faces'
+    images blended over its surface) at its Object coordinates, beside a cube whose image is sphere-projected, under
+    a rectangle light: mean relative difference to Cycles <= 1%; both drawn flat (the projection ignored) are far."""
+    from test_cycles_parity import difference_to_cycles, mean_relative_difference
+    pixels = np.random.default_rng(3).random((6, 8, 4)).astype(np.float32)
+    pixels[..., 3] = 1.0
+    image = new_image("Projected", pixels, colorspace="sRGB")
+
+    def projected(name, projection):
+        t = Tree(name)
+        bsdf = t.node("ShaderNodeBsdfPrincipled")
+        node = t.image(image, interpolation="Closest", projection=projection, projection_blend=0.25)
+        t.link(t.node("ShaderNodeTexCoord").outputs["Object"], node.inputs["Vector"])
+        t.link(node.outputs["Color"], bsdf.inputs["Base Color"])
+        return t.surface(bsdf)
+    scene = empty_scene
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.6, location=(-0.7, 0.0, 0.6), rotation=(0.4, 0.3, 0.2))
+    bpy.ops.object.shade_smooth()
+    bpy.context.active_object.data.materials.append(projected("Box", "BOX"))
+    bpy.ops.mesh.primitive_cube_add(size=0.9, location=(0.8, 0.2, 0.45), rotation=(0.0, 0.0, 0.5))
+    bpy.context.active_object.data.materials.append(projected("Sphere", "SPHERE"))
+    builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=6.0)
+    parity_view(scene, light=True)
+    exported, log = export()
+    assert "projection" not in log.warning_text()
+    difference, ours, cycles = difference_to_cycles(scene, "box and sphere projections", tmp_path)
+    assert difference <= 0.01
+    for name in ("Box", "Sphere"):
+        bpy.data.materials[name].node_tree.nodes["Image Texture"].projection = "FLAT"
+    scene.render.engine = "SPHRECT"
+    assert mean_relative_difference(render()["images"]["rectangle"], cycles) > 0.03
 
 
 def test_math_helpers_are_the_renderer_names():

@@ -537,10 +537,11 @@ def test_normal_maps(empty_scene):
     np.testing.assert_allclose(mesh_named(scene, "A").object_linear, matrix[:3, :3])
     assert mesh_named(scene, "B").object_linear is None
     assert material_named(scene, "Object").normal_map is None and material_named(scene, "Bump").normal_map is None
+    assert material_named(scene, "Bump").normal_program is not None  # a Bump node's graph (test_bump.py)
     assert mesh_named(scene, "B").uvs is None
     text = log.warning_text()
     assert "Normal Map space 'OBJECT' (ignored) (Object)" in text
-    assert "'Bump' node on a Normal input (ignored) (Bump)" in text
+    assert "Bump" not in text
     assert "NM" not in text
 
 
@@ -566,7 +567,7 @@ def test_a_mix_shares_its_layers_normal_map(empty_scene):
         assert m.kind == "mix" and m.normal_map.texture == texture
         assert all(l.material.normal_map is None for l in m.layers)
     text = log.warning_text()
-    assert "shaders of a mix with different normal maps (the first one used for all) (Different)" in text
+    assert "shaders of a mix with different normal maps or Bump nodes (the first one used for all) (Different)" in text
     assert "(Same)" not in text
 
 

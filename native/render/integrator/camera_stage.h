@@ -170,7 +170,7 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     if (!out.hit && !scene.film_transparent && (scene.world_visibility.rays() & kRayCamera)) {
         // The image world (environment_light.h) replaces the background (black then).
         const Spectrum sky = scene.has_environment || scene.has_camera_environment ? EnvironmentSeen(scene, out.ray.d)
-                                                                                     : scene.background;
+                                                                                   : scene.background;
         seen += out.throughput * sky * SegmentTransmittance<kMedium>(scene.medium, kInf);
     }
     if (scene.film_alpha) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "render/svm/program.h"
+#include "render/svm/shading_nodes.h"  // BumpDifferentials
 #include "surface_hit.h"
 
 namespace sphrect::render {
@@ -20,21 +21,57 @@ inline Vec3f ObjectNormal(const MeshData& m, const Vec3f& n) {
     return len > 0 ? o / len : o;
 }
 
+// A Bump node's shifted inputs at hit h (its dP > 0): the point moved by BumpDifferentials(h.ng, h.dP), its Object
+// coordinates there, and UV and Generated extrapolated linearly over the triangle's plane (the offset's barycentric
+// change, as Cycles' du / dv project it: differential_dudv).
+[[gnu::noinline, gnu::cold]] inline void AddShiftedGlobals(const SurfaceHit& h, svm::ShaderGlobals& sg) {
+    const MeshData& m = *h.mesh;
+    const uint32_t* t = &m.triangles[3 * size_t(h.prim)];
+    auto vertex = [&](uint32_t v) { return Vec3f(m.vertices[3 * v], m.vertices[3 * v + 1], m.vertices[3 * v + 2]); };
+    const Vec3f p0 = vertex(t[0]), e1 = vertex(t[1]) - p0, e2 = vertex(t[2]) - p0;
+    const float d00 = Dot(e1, e1), d01 = Dot(e1, e2), d11 = Dot(e2, e2);
+    const float det = d00 * d11 - d01 * d01;
+    const float inv = det > 0 ? 1.0f / det : 0.0f;
+    const svm::BumpOffsets d = svm::BumpDifferentials(h.ng, h.dP);
+    for (int k = 0; k < 2; ++k) {
+        const Vec3f offset = k == 0 ? d.dx : d.dy;
+        const float a = Dot(offset, e1), b = Dot(offset, e2);
+        const float db1 = (d11 * a - d01 * b) * inv, db2 = (d00 * b - d01 * a) * inv;
+        svm::ShaderGlobals::Shifted& s = sg.shift[k];
+        s.p = h.p + offset;
+        s.object = ObjectPoint(m, s.p);
+        s.uv = sg.uv;
+        if (!m.uvs.empty()) {
+            const Point2<float>&u0 = m.uvs[t[0]], &u1 = m.uvs[t[1]], &u2 = m.uvs[t[2]];
+            s.uv += Vec3f((u1.u - u0.u) * db1 + (u2.u - u0.u) * db2, (u1.v - u0.v) * db1 + (u2.v - u0.v) * db2, 0);
+        }
+        s.generated = sg.generated;
+        if (!m.generated.empty())
+            s.generated +=
+                (m.generated[t[1]] - m.generated[t[0]]) * db1 + (m.generated[t[2]] - m.generated[t[0]]) * db2;
+    }
+    sg.shifted = true;
+}
+
 // Hit h of a textured material (MakeSurfaceHit ran AddHitExtras: h.mesh and h.incoming are set), found by a ray of
 // context `ray` (default: the camera ray that made h).
 inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h, const svm::RayContext* ray = nullptr) {
     svm::ShaderGlobals sg;
     sg.p = h.p;
-    sg.n = h.ns;
+    // The shading normal before a normal map or Bump replaced it (ns_unmapped, zero where none did): Cycles' sd->N,
+    // which the Normal Map and Bump nodes' outputs leave alone (they feed a closure's Normal).
+    sg.n = Dot(h.ns_unmapped, h.ns_unmapped) > 0 ? h.ns_unmapped : h.ns;
     sg.ng = h.ng;
     sg.incoming = Vec3f(h.incoming[0], h.incoming[1], h.incoming[2]);
     sg.uv = h.tc.uv;
     sg.generated = h.tc.generated;
     sg.object = ObjectPoint(*h.mesh, h.p);
-    sg.object_normal = ObjectNormal(*h.mesh, h.ns);
+    sg.object_normal = ObjectNormal(*h.mesh, sg.n);
     sg.backfacing = h.backfacing;
     sg.ray_length = h.t - h.ray_start;  // Cycles' sd->ray_length: from where the ray starts (a camera's near plane)
     sg.ray = ray ? *ray : svm::CameraRayContext(h.transparent_depth);
+    sg.dP = h.dP;
+    if (h.dP > 0) AddShiftedGlobals(h, sg);
     return sg;
 }
 

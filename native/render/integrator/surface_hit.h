@@ -1,5 +1,5 @@
 // The surface a camera ray hits, from Embree's answer: point, normals facing the ray, material, and for
-// textured or normal-mapped materials the texture coordinates (the normal map applied to ns).
+// textured or normal-mapped materials the texture coordinates (the normal map or Bump applied to ns).
 #pragma once
 
 #include "render/camera.h"
@@ -28,8 +28,15 @@ struct SurfaceHit {
     const MeshData* mesh;
     float incoming[3];
     float ray_start;            // the ray's tmin: Cycles measures a camera ray's length from the near clipping plane
+    uint32_t prim;              // the triangle hit
+    float dP;                   // the compact ray differential where the material bumps (CameraFootprint), else 0
     uint8_t transparent_depth;  // the transparent surfaces the camera ray went through before (Light Path node)
 };
+
+// A normal program's world-space normal at hit s, whose geometric and shading normals are ng and ns (on one side,
+// either); the result on that side (integrator/bump.cpp: cold, out of line).
+Vec3f BumpedShadingNormal(const RenderScene& scene, const svm::NodeProgram& program, const SurfaceHit& s,
+                          const Vec3f& ng, const Vec3f& ns);
 
 // The mesh's texture coordinates at barycentrics (b0, b1, b2) of triangle (i0, i1, i2); zero where it has none.
 static inline TextureCoordinates InterpolateTextureCoordinates(const MeshData& m, uint32_t i0, uint32_t i1, uint32_t i2,
@@ -111,8 +118,9 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
 // What a textured, normal-mapped or dielectric material needs of the hit (out of line: cold for most scenes):
 // texture coordinates, the normal map applied to ns, and which side of the triangle the ray hit.
 [[gnu::noinline]] static void AddHitExtras(const RenderScene& scene, const MeshData& m, const Bsdf& material,
-                                           const uint32_t (&i)[3], const Vec3f (&p)[3], float b0, float b1, float b2,
-                                           const Ray& ray, const Vec3f& ng, Vec3f& ns, SurfaceHit& s) {
+                                           uint32_t prim, const uint32_t (&i)[3], const Vec3f (&p)[3], float b0,
+                                           float b1, float b2, const Ray& ray, const Vec3f& ng, Vec3f& ns,
+                                           SurfaceHit& s) {
     // The side Blender's winding gives (Embree's Ng may point the other way).
     const float side = Dot(Cross(p[1] - p[0], p[2] - p[0]), ng) < 0 ? -1.0f : 1.0f;
     s.backfacing = Dot(ng, ray.d) * side > 0;
@@ -123,7 +131,13 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
     s.transparent_depth = 0;
     s.tc = InterpolateTextureCoordinates(m, i[0], i[1], i[2], b0, b1, b2);
     if (material.anisotropic && !m.generated.empty()) s.tangent = RadialTangent(m, s.tc.generated, ns);
-    if (material.normal_mapped && !m.uvs.empty()) {
+    s.prim = prim;
+    const NormalMap& nm = scene.normal_maps[size_t(s.material)];
+    s.dP = nm.differentials ? CameraFootprint(scene.camera, ray.d, s.t) : 0.0f;
+    if (material.normal_mapped && !nm.program.empty()) {  // a Bump node's graph
+        s.ns_unmapped = ns;
+        ns = BumpedShadingNormal(scene, nm.program, s, ng, ns);
+    } else if (material.normal_mapped && !m.uvs.empty()) {
         // In the frame of Blender's winding, then back.
         const Point2<float> uv[3] = {m.uvs[i[0]], m.uvs[i[1]], m.uvs[i[2]]};
         s.ns_unmapped = ns;
@@ -168,7 +182,7 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
             if (ln > 0) ns = n / ln;
             if (Dot(ns, ng) < 0) ns = -ns;  // shading normal on the geometric normal's side
         }
-        if (extras) AddHitExtras(scene, m, *extras, i, p, b0, b1, b2, ray, ng, ns, s);
+        if (extras) AddHitExtras(scene, m, *extras, tri, i, p, b0, b1, b2, ray, ng, ns, s);
         if (m.shadow_terminator_offset > 0 && !m.normals.empty()) {
             const Vec3f n[3] = {m.normals[i[0]], m.normals[i[1]], m.normals[i[2]]};
             const float b[3] = {b0, b1, b2};

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "color_nodes.h"
+#include "image_projection.h"
 #include "math_nodes.h"
 #include "mix_nodes.h"
 #include "procedural_textures.h"
@@ -18,7 +19,16 @@ namespace {
 
 Vec3f RayFlagValue(const ShaderGlobals& sg, RayFlag f) { return Vec3f(sg.ray.flags & f ? 1.0f : 0.0f, 0, 0); }
 
-Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg) {
+Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg, int shift) {
+    if (shift > 0 && sg.shifted && IsShiftedGlobal(g)) {  // a Bump's Height copy at P + dx (1) or P + dy (2)
+        const ShaderGlobals::Shifted& s = sg.shift[shift - 1];
+        switch (g) {
+            case ShaderGlobal::kPosition: return s.p;
+            case ShaderGlobal::kUv: return s.uv;
+            case ShaderGlobal::kGenerated: return s.generated;
+            default: return s.object;
+        }
+    }
     switch (g) {
         case ShaderGlobal::kPosition: return sg.p;
         case ShaderGlobal::kNormal: return sg.n;
@@ -89,7 +99,7 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
         const uint16_t* a = in.reg;
         switch (in.op) {
             case NodeOp::kConstant: put(a[0], in.value); break;
-            case NodeOp::kGlobal: put(a[0], Global(ShaderGlobal(in.mode), sg)); break;
+            case NodeOp::kGlobal: put(a[0], Global(ShaderGlobal(in.mode), sg, in.flags)); break;
             case NodeOp::kConvert: put(a[1], Convert(NodeConversion(in.mode), r(a[0]))); break;
             case NodeOp::kMath: {
                 float v = EvalMath(MathOp(in.mode), r(a[0]).x, r(a[1]).x, r(a[2]).x);
@@ -148,9 +158,23 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[4], EvalMapping(MappingType(in.mode), r(a[0]), r(a[1]), r(a[2]), r(a[3])));
                 break;
             case NodeOp::kImage: {
+                const Image& im = images[size_t(in.data)];
+                const auto interpolation = TextureInterpolation(in.mode);
+                const auto extension = TextureExtension(in.flags & 3);
+                auto lookup = [&](const Vec3f& uv) { return LookupImage(im, uv.x, uv.y, interpolation, extension); };
                 const Vec3f v = r(a[0]);
-                const Rgba c = LookupImage(images[size_t(in.data)], v.x, v.y, TextureInterpolation(in.mode),
-                                           TextureExtension(in.flags));
+                Rgba c;
+                switch (ImageProjection(in.flags >> 2)) {
+                    case ImageProjection::kSphere: c = lookup(MapToSphere(RemapSquare(v))); break;
+                    case ImageProjection::kTube: c = lookup(MapToTube(RemapSquare(v))); break;
+                    case ImageProjection::kBox: {
+                        const Vec3f w = BoxProjectionWeights(sg.object_normal, in.value.x);
+                        for (int axis = 0; axis < 3; ++axis)
+                            if (w[axis] > 0.0f) c = c + lookup(BoxProjectionPoint(axis, v, sg.object_normal)) * w[axis];
+                        break;
+                    }
+                    default: c = lookup(v); break;
+                }
                 put(a[1], c.rgb());
                 put(a[2], scalar(c.a));
                 break;
@@ -302,6 +326,10 @@ Vec3f EvalNodeProgram(const NodeProgram& program, const std::vector<Image>& imag
                 put(a[2], in.mode == 0 ? CurvesRgb(t, fac, r(a[1])) : scalar(CurveFloat(t, fac, r(a[1]).x)));
                 break;
             }
+            case NodeOp::kBump:
+                put(a[6], BumpNormal(r(a[5]), sg.ng, sg.incoming, BumpDifferentials(sg.ng, sg.dP), r(a[0]).x, r(a[1]).x,
+                                     r(a[2]).x, r(a[3]).x, r(a[4]).x, in.flags & 1));
+                break;
             case NodeOp::kCount: break;
         }
     }
@@ -361,6 +389,7 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             case NodeOp::kVectorMath: return {int(std::size(kVectorMathOpNames)), 6, 2};
             case NodeOp::kVectorRotate: return {int(std::size(kVectorRotateTypeNames)), 6};
             case NodeOp::kCurves: return {2, 3};
+            case NodeOp::kBump: return {0, 7};
             case NodeOp::kCount: break;
         }
         return {-1, 0};
@@ -391,7 +420,9 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             if (in.reg[k] != kNoRegister) written[in.reg[k]] = true;
         if (in.op == NodeOp::kImage) {
             if (in.data < 0 || size_t(in.data) >= num_images) fail(i, "image index out of range");
-            if (in.flags > 2) fail(i, "image extension out of range");
+            if ((in.flags & 3) > 2) fail(i, "image extension out of range");
+            if ((in.flags >> 2) >= int(ImageProjection::kCount)) fail(i, "image projection out of range");
+            if (!std::isfinite(in.value.x)) fail(i, "box projection blend must be finite");
         }
         if (in.op == NodeOp::kColorRamp &&
             (in.size < 1 || in.data < 0 || size_t(in.data) + 4 * size_t(in.size) > p.data.size()))
@@ -406,8 +437,10 @@ void CheckNodeProgram(const NodeProgram& p, size_t num_images) {
             (in.size < 2 || in.data < 0 ||
              size_t(in.data) + 3 + size_t(in.size) * (in.mode == 0 ? 3 : 1) > p.data.size()))
             fail(i, "curve table out of range");
-        if ((in.op == NodeOp::kBrickTexture || in.op == NodeOp::kVoronoiTexture) && in.flags > 1)
+        if ((in.op == NodeOp::kBrickTexture || in.op == NodeOp::kVoronoiTexture || in.op == NodeOp::kBump) &&
+            in.flags > 1)
             fail(i, "flags out of range");
+        if (in.op == NodeOp::kGlobal && in.flags > 2) fail(i, "flags out of range");
         if (in.op == NodeOp::kConstant &&
             !(std::isfinite(in.value.x) && std::isfinite(in.value.y) && std::isfinite(in.value.z)))
             fail(i, "constant must be finite");

@@ -21,7 +21,8 @@ namespace sphrect::render::svm {
 // (kNoRegister: an output nobody reads); `mode` selects the node's operation, `flags` its options.
 enum class NodeOp : uint8_t {
     kConstant,   // out0 = value
-    kGlobal,     // out0 = the hit's input `mode` (ShaderGlobal)
+    kGlobal,     // out0 = the hit's input `mode` (ShaderGlobal); flags 1 / 2: read at P + dx / P + dy (a Bump node's
+                 // shifted copies of its Height; only the position-dependent ones move: IsShiftedGlobal)
     kConvert,    // out1 = in0 converted (mode: NodeConversion), as Cycles converts a link between socket types
     kMath,       // out3 = Math (mode: kMathOpNames) of in0, in1, in2; flags & 1: clamp to [0, 1]
     kMixColor,   // out3 = Mix (mode: kMixBlendNames) of factor in0, colours in1, in2; flags: 1 clamp factor, 2 result
@@ -35,7 +36,8 @@ enum class NodeOp : uint8_t {
     kSeparate,   // out1, out2, out3 = components of in0 (mode: kColorModelNames; XYZ and RGB are 'RGB')
     kCombine,    // out3 = (in0, in1, in2) in colour model `mode` (kColorModelNames)
     kMapping,    // out4 = Mapping (mode: kMappingTypeNames) of vector in0, location in1, rotation in2, scale in3
-    kImage,      // out1 colour, out2 alpha of image `data` at in0 (mode: interpolation, flags: extension)
+    kImage,      // out1 colour, out2 alpha of image `data` at in0 (mode: interpolation, flags: extension + 4
+                 // projection (image_projection.h); value.x: the box projection's blend)
     kTransform,  // out1 = the 3x4 affine map at data (12 floats, row-major) applied to point in0
     kScale,      // out2 = in0 * in1.x (an emission's colour times its strength)
     kProject,    // out1 = (M (in0, 1)).xyz / (M (in0, 1)).w, M the 4x4 map at data (16 floats, row-major)
@@ -69,6 +71,8 @@ enum class NodeOp : uint8_t {
     kVectorRotate,    // out5 of vector in0, center in1, axis in2, angle in3, rotation in4; mode: type, flags: invert
     kCurves,          // out2 = curves (mode 0: 3 channels, RGB / Vector Curves; 1: Float Curve) of fac in0, value
                       // in1; data: min x, max x, extrapolate, then `size` entries of 3 (or 1) floats
+    kBump,  // out6 = Bump (BumpNormal) of heights in0 (centre), in1 (at P + dx), in2 (at P + dy), strength in3,
+            // distance in4, normal in5; flags & 1: invert
     kCount
 };
 constexpr const char* kNodeOpNames[] = {"constant",
@@ -108,7 +112,8 @@ constexpr const char* kNodeOpNames[] = {"constant",
                                         "gamma",
                                         "vector_math",
                                         "vector_rotate",
-                                        "curves"};
+                                        "curves",
+                                        "bump"};
 static_assert(sizeof(kNodeOpNames) / sizeof(*kNodeOpNames) == size_t(NodeOp::kCount));
 
 // What a hit gives a program (kGlobal's mode), as Cycles' ShaderData does: position, shading normal (facing the
@@ -168,6 +173,10 @@ constexpr const char* kShaderGlobalNames[] = {"position",
                                               "transparent_depth",
                                               "transmission_depth"};
 static_assert(sizeof(kShaderGlobalNames) / sizeof(*kShaderGlobalNames) == size_t(ShaderGlobal::kCount));
+constexpr bool IsShiftedGlobal(ShaderGlobal g) {
+    return g == ShaderGlobal::kPosition || g == ShaderGlobal::kUv || g == ShaderGlobal::kGenerated ||
+           g == ShaderGlobal::kObject;
+}
 
 // A link between sockets of different types (Cycles' svm_node_convert): a colour to a float by its luminance
 // (linear_rgb_to_gray), a vector to a float by its components' mean, a float to a colour or vector by repeating it.
@@ -206,6 +215,12 @@ struct NodeProgram {
     bool ReadsRayContext() const {
         for (const NodeInstruction& in : code)
             if (in.op == NodeOp::kGlobal && in.mode >= uint8_t(ShaderGlobal::kIsCameraRay)) return true;
+        return false;
+    }
+    // It has a Bump node: its hits need their ray differential and shifted inputs (ShaderGlobals::dP, shift).
+    bool Bumps() const {
+        for (const NodeInstruction& in : code)
+            if (in.op == NodeOp::kBump) return true;
         return false;
     }
 };
@@ -261,6 +276,15 @@ struct ShaderGlobals {
     Vec3f object, object_normal;
     bool backfacing = false;
     float ray_length = 0;
+    // Bump: the point's compact ray differential (Cycles' sd->dP; 0 where a hit has none: BumpNormal then keeps
+    // its normal) and, where `shifted` is set, the position-dependent inputs at P + dx ([0]) and P + dy ([1])
+    // (BumpDifferentials: UV and Generated extrapolated linearly over the triangle's plane, as Cycles' du / dv).
+    // Filled only for materials whose programs bump (RenderScene::normal_maps' differentials).
+    float dP = 0;
+    bool shifted = false;
+    struct Shifted {
+        Vec3f p, uv, generated, object;
+    } shift[2];
     RayContext ray;
 };
 

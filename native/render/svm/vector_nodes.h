@@ -67,8 +67,8 @@ inline Vec3f EvalVectorMapRange(MapRangeType type, bool clamp, const Vec3f& valu
             break;
         case MapRangeType::kSmootherstep:
             factor = unit(factor);
-            factor = factor * factor * factor * (factor * (factor * 6.0f - Vec3f(15.0f, 15.0f, 15.0f)) +
-                                                 Vec3f(10.0f, 10.0f, 10.0f));
+            factor = factor * factor * factor *
+                     (factor * (factor * 6.0f - Vec3f(15.0f, 15.0f, 15.0f)) + Vec3f(10.0f, 10.0f, 10.0f));
             break;
         default: break;
     }

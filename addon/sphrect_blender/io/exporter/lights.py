@@ -93,7 +93,8 @@ def light_shader(light, log, textures=None, light_coordinates=None):
                                 light.name)
         return (1.0, 1.0, 1.0), None
     color_socket = node.inputs["Color"]
-    source = image_texture_source(color_socket) if light_coordinates is not None and color_socket.is_linked else None
+    source = image_texture_source(color_socket, projected=True) if light_coordinates is not None and \
+        color_socket.is_linked else None
     texture = textures.lookup(*source, light.name, light_coordinates) if source is not None else None
     color = np.ones(3) if texture is not None else np.asarray(_light_input(node, "Color", "color", textures, log,
                                                                             light.name)[:3], dtype=float)

@@ -31,7 +31,8 @@ import numpy as np
 
 from . import world_bake
 from .node_groups import MAX_GROUP_DEPTH, own_value, read_links_anew, too_deep_groups, wrap_node
-from .node_program import compile_product, compile_socket, emission_sum, emission_under_factors, program_mean
+from .node_program import (ProgramCompiler, compile_product, compile_socket, emission_sum, emission_under_factors,
+                           is_shading_normal, program_mean)
 from .textures import TextureExport, follow_reroutes, image_texture_source
 from .visibility import world_invisible_to
 
@@ -340,7 +341,7 @@ def _closure_sources(sphrect, node, textures, name):
         return [(n, 1.0, None, False) for n in map(_linked_shader, node.inputs) if n is not None]
     if node.bl_idname == "ShaderNodeBsdfPrincipled" and _has_alpha(node):
         alpha_socket = node.inputs["Alpha"]
-        source = image_texture_source(alpha_socket) if alpha_socket.is_linked else None
+        source = image_texture_source(alpha_socket, projected=True) if alpha_socket.is_linked else None
         if source is not None:
             lookup = textures.lookup(*source, name)
             return [(WHITE_TRANSPARENT, 1.0, sphrect.MixFactor(lookup=lookup, complement=True), True),
@@ -428,7 +429,7 @@ def _has_alpha(node):
     if socket is None:
         return False
     if socket.is_linked:
-        return image_texture_source(socket) is not None
+        return image_texture_source(socket, projected=True) is not None
     return float(socket.default_value) < 1
 
 
@@ -445,7 +446,7 @@ def _is_textured(layer):
     """Whether a layer reads a texture (its material's inputs, normal map or its mix factors): such layers are
     evaluated per hit by the renderer and never merged with others here."""
     m = layer.material
-    return bool(layer.factors or m.textures or m.normal_map is not None)
+    return bool(layer.factors or m.textures or m.normal_map is not None or m.normal_program is not None)
 
 
 def _shader(sphrect, node, textures, log, name):
@@ -539,15 +540,16 @@ def _shader(sphrect, node, textures, log, name):
 def _mix_normal_map(layers, log, name):
     """The mix's normal map (a mix's layers have none of their own): the one every layer has, else the first
     one (warned); taken off the layers."""
-    maps = [(l.material.normal_map, l.material.normal_map_strength) for l in layers]
-    used = [m for m in maps if m[0] is not None]
+    maps = [(l.material.normal_map, l.material.normal_map_strength, l.material.normal_program) for l in layers]
+    used = [m for m in maps if m[0] is not None or m[2] is not None]
     if not used:
         return {}
     if len(used) < len(maps) or any(m != used[0] for m in used[1:]):
-        log.unsupported_feature("shaders of a mix with different normal maps (the first one used for all)", name)
+        log.unsupported_feature("shaders of a mix with different normal maps or Bump nodes (the first one used for "
+                                "all)", name)
     for l in layers:
-        l.material = dataclasses.replace(l.material, normal_map=None, normal_map_strength=1.0)
-    return {"normal_map": used[0][0], "normal_map_strength": used[0][1]}
+        l.material = dataclasses.replace(l.material, normal_map=None, normal_map_strength=1.0, normal_program=None)
+    return {"normal_map": used[0][0], "normal_map_strength": used[0][1], "normal_program": used[0][2]}
 
 
 def _average_principled(sphrect, principled, weights=None):
@@ -590,12 +592,13 @@ def _fit_mix(sphrect, layers, textures, log, name):
                                 "their averaged inputs used, mix factors read as their images' means)", name)
         weights = [l.weight * textures.factor_mean(l.factors) for l in principled]
         merged = _average_principled(sphrect, principled, weights)
-        textured = max((l for l in principled if l.material.textures or l.material.normal_map is not None),
-                       key=lambda l: l.weight, default=None)
+        textured = max((l for l in principled if l.material.textures or l.material.normal_map is not None
+                        or l.material.normal_program is not None), key=lambda l: l.weight, default=None)
         if textured is not None:
             merged.material = dataclasses.replace(merged.material, textures=textured.material.textures,
                                                   normal_map=textured.material.normal_map,
-                                                  normal_map_strength=textured.material.normal_map_strength)
+                                                  normal_map_strength=textured.material.normal_map_strength,
+                                                  normal_program=textured.material.normal_program)
         layers = [l for l in layers if l.material.kind != "principled"] + [merged]
     # The renderer says which glossy / glass layers share a lobe; a textured roughness keeps a layer's lobe apart
     # (at a hit its roughness is the image's).
@@ -748,7 +751,7 @@ def _unmodelled_alpha(node, log, name):
     """Warns of a Principled Alpha linked from something other than an Image Texture (Alpha 1 used); the rest is
     _closures' mix with a Transparent BSDF."""
     socket = node.inputs.get("Alpha")
-    if socket is not None and socket.is_linked and image_texture_source(socket) is None:
+    if socket is not None and socket.is_linked and image_texture_source(socket, projected=True) is None:
         log.unsupported_feature("Principled Alpha linked from a node other than an Image Texture (1 used)", name)
 
 
@@ -784,6 +787,8 @@ def _normal_map(node, textures, log, owner):
     source = _linked_node(socket)
     if source is None:
         return {}
+    if source.bl_idname == "ShaderNodeBump":
+        return _bump_normal(socket, textures, log, owner)
     if source.bl_idname != "ShaderNodeNormalMap":
         log.unsupported_feature(f"'{source.bl_label or source.bl_idname}' node on a Normal input (ignored)", owner)
         return {}
@@ -794,7 +799,7 @@ def _normal_map(node, textures, log, owner):
     if strength.is_linked:
         log.unsupported_feature("linked 'Strength' input of a Normal Map node (its value used)", owner)
     color = source.inputs["Color"]
-    image = image_texture_source(color)
+    image = image_texture_source(color, projected=True)
     if image is None:
         if color.is_linked:
             feeding = _linked_node(color)
@@ -805,6 +810,16 @@ def _normal_map(node, textures, log, owner):
         return {}
     textures.name_uv_map(source.uv_map, owner)
     return {"normal_map": textures.lookup(*image, owner), "normal_map_strength": float(strength.default_value)}
+
+
+def _bump_normal(socket, textures, log, owner):
+    """Material.normal_program of a shader's Normal input a Bump node feeds (node_program.py compiles its Height
+    three times), or {} when it leaves the shading normal as it is (an unlinked Height)."""
+    sphrect = textures.sphrect
+    program = ProgramCompiler(sphrect, textures, log, owner).compile(socket, "vector")
+    if program is None or is_shading_normal(sphrect, program):
+        return {}
+    return {"normal_program": program}
 
 
 def export_world(sphrect, world, log, textures=None):

@@ -61,14 +61,33 @@ class ProgramCompiler:
         """The NodeProgram whose instructions body() emits, returning its result's register."""
         self._code, self._data, self._outputs, self._constants, self._visiting = [], [], {}, {}, set()
         self._registers = 0
+        # A Bump node's Height is compiled three times (Cycles' refine_bump_nodes copies its sub-graph): _shift 0 at
+        # the point, 1 and 2 with the position-dependent globals read at P + dx and P + dy.  An instruction of a copy
+        # equal to one before it (inputs, settings, table: it reads nothing that moved) is that one (_emitted), so
+        # what does not depend on the position stays one copy.
+        self._shift, self._emitted, self._tables, self._copies = 0, {}, {}, {}
         try:
             output = body()
         except _TooManyRegisters:
             self.log.unsupported_feature(f"a node graph needing more than {self.names.MAX_NODE_REGISTERS} values on "
                                          f"{what} (its own value used)", self.owner)
             return None
-        return self.sphrect.NodeProgram(instructions=self._code, output=output, num_registers=self._registers,
-                                        data=self._data)
+        return self.sphrect.NodeProgram(instructions=self._without_unread_copies(output), output=output,
+                                        num_registers=self._registers, data=self._data)
+
+    def _without_unread_copies(self, output):
+        """The code less the Height copies' instructions whose results nothing reads (a copied Geometry node's
+        other outputs)."""
+        if not self._copies:
+            return self._code
+        read, kept = {output}, []
+        for k in range(len(self._code) - 1, -1, -1):
+            i = self._code[k]
+            if k in self._copies and not any(r in read for r in i.regs[len(i.regs) - self._copies[k]:]):
+                continue
+            read.update(i.regs)  # its inputs (and its own outputs: harmless)
+            kept.append(i)
+        return kept[::-1]
 
     # -- building blocks ------------------------------------------------------------------------------------------
 
@@ -80,7 +99,13 @@ class ProgramCompiler:
 
     def emit(self, op, inputs, outputs, mode=0, flags=0, data=0, size=0, value=(0.0, 0.0, 0.0)):
         """Appends an instruction; `outputs` registers are allocated here (a count), returned as a list."""
+        key = (op, tuple(inputs), outputs, int(mode), int(flags), int(data), int(size), tuple(map(float, value)))
+        if self._shift and key in self._emitted:
+            return self._emitted[key]
         out = [self.register() for _ in range(outputs)]
+        self._emitted[key] = out
+        if self._shift:
+            self._copies[len(self._code)] = outputs
         self._code.append(self.sphrect.NodeInstruction(op=op, regs=list(inputs) + out, mode=int(mode),
                                                        flags=int(flags), data=int(data), size=int(size),
                                                        value=tuple(float(v) for v in value)))
@@ -97,16 +122,27 @@ class ProgramCompiler:
 
     def global_input(self, name):
         """A register holding the hit's input `name` (one of NODE_GLOBALS), read once per program."""
-        key = ("global", name)
+        shift = self._shift if name in self.sphrect._native.node_shifted_globals else 0
+        key = ("global", name, shift)
         if key not in self._outputs:
-            self._outputs[key] = self.emit("global", [], 1, mode=self.names.NODE_GLOBALS.index(name))[0]
+            self._outputs[key] = self.emit("global", [], 1, mode=self.names.NODE_GLOBALS.index(name), flags=shift)[0]
         return self._outputs[key]
 
+    def shifted_input(self, socket, shift, want=None):
+        """The register of input(socket, want) with the hit's position moved as copy `shift` of a Bump's Height."""
+        saved, self._shift = self._shift, shift
+        try:
+            return self.input(socket, want)[0]
+        finally:
+            self._shift = saved
+
     def table(self, values):
-        """Offset of `values` appended to the program's data."""
-        offset = len(self._data)
-        self._data.extend(float(v) for v in values)
-        return offset
+        """Offset of `values` in the program's data (appended, or where equal values already are)."""
+        values = tuple(float(v) for v in values)
+        if values not in self._tables:
+            self._tables[values] = len(self._data)
+            self._data.extend(values)
+        return self._tables[values]
 
     def _convert(self, reg, kind, want):
         if kind == want or {kind, want} == {"color", "vector"}:
@@ -144,7 +180,7 @@ class ProgramCompiler:
 
     def output(self, node, output):
         """(register, type) of `output` of `node` (both wrapped), its node compiled on first use."""
-        key = (node.key, output.identifier)
+        key = (node.key, output.identifier, self._shift)
         if key not in self._outputs:
             if node.key in self._visiting:  # Blender marks a cycle's closing link invalid: not reached normally
                 raise NotCompiled(f"a cycle through '{node.name}'")
@@ -157,7 +193,7 @@ class ProgramCompiler:
             finally:
                 self._visiting.discard(node.key)
             for identifier, value in outputs.items():
-                self._outputs[(node.key, identifier)] = value
+                self._outputs[(node.key, identifier, self._shift)] = value
             if key not in self._outputs:
                 raise NotCompiled(f"'{node.bl_label or node.bl_idname}' node's output '{output.name}'")
         return self._outputs[key]
@@ -358,15 +394,15 @@ def _image_texture(c, node):
     if interpolation is None:
         c.log.unsupported_feature(f"Image Texture interpolation '{node.interpolation}' (Linear used)", c.owner)
         interpolation = "linear"
-    if node.projection != "FLAT":
-        c.log.unsupported_feature(f"Image Texture projection '{node.projection}' (Flat used)", c.owner)
     vector = node.inputs["Vector"]
     coords = c.input(vector, "vector")[0] if follow_reroutes(vector)[0] is not None else c.global_input("uv")
     tree = node.groups[0].id_data if node.groups else node.id_data
     alpha_used = (node.key, "Alpha") in c.textures._reached_outputs(tree)
     texture = c.textures.texture_of(node.image, c.owner, unassociated=alpha_used)
+    projection = _index(c.names.NODE_IMAGE_PROJECTIONS, node.projection, "projection", node)
+    flags = c.names.TEXTURE_EXTENSIONS.index(node.extension.lower()) + 4 * projection
     color, alpha = c.emit("image", [coords], 2, mode=c.names.TEXTURE_INTERPOLATIONS.index(interpolation),
-                          flags=c.names.TEXTURE_EXTENSIONS.index(node.extension.lower()), data=texture)
+                          flags=flags, data=texture, value=(float(node.projection_blend), 0.0, 0.0))
     return {"Color": (color, "color"), "Alpha": (alpha, "float")}
 
 
@@ -598,6 +634,28 @@ def _normal(c, node):
     return {"Normal": (unit, "vector"), "Dot": (dot, "float")}
 
 
+def _bump(c, node):
+    """The Bump node (Cycles' svm_node_set_bump, world space): its Height at the point and at P + dx, P + dy (the
+    compact ray differential along the true normal's orthonormals), Strength, Distance, Invert, and its Normal input
+    (unlinked: the shading normal).  An unlinked Height passes the normal through, as Cycles' constant folding."""
+    if c._shift:
+        raise NotCompiled("Bump node inside another Bump node's Height")
+    socket = node.inputs["Normal"]
+    source = follow_reroutes(socket)[0]
+    if source is not None and source.bl_idname not in _NODE_COMPILERS:
+        c.log.unsupported_feature(f"'{source.bl_label or source.bl_idname}' node on a Bump node's Normal input (the "
+                                  "shading normal used)", c.owner)
+        source = None
+    normal = c.input(socket, "vector")[0] if source is not None else c.global_input("normal")
+    height = node.inputs["Height"]
+    if follow_reroutes(height)[0] is None:
+        return {"Normal": (normal, "vector")}
+    heights = [c.shifted_input(height, shift, "float") for shift in (0, 1, 2)]
+    strength, distance = c.input(node.inputs["Strength"], "float")[0], c.input(node.inputs["Distance"], "float")[0]
+    return {"Normal": (c.emit("bump", heights + [strength, distance, normal], 1, flags=int(node.invert))[0],
+                       "vector")}
+
+
 def _curves(kind, value_name, output_name, value_type):
     def compile_node(c, node):
         from .color_node_params import curve_table
@@ -674,6 +732,7 @@ _NODE_COMPILERS = {
     "ShaderNodeRGBCurve": _curves("rgb", "Color", "Color", "color"),
     "ShaderNodeVectorCurve": _curves("vector", "Vector", "Vector", "vector"),
     "ShaderNodeFloatCurve": _curves("float", "Value", "Value", "float"),
+    "ShaderNodeBump": _bump,
     "ShaderNodeLightPath": _light_path,
 }
 
@@ -688,6 +747,12 @@ def program_globals(sphrect, program):
     """The NODE_GLOBALS a program reads (the exporter gives meshes the coordinates and object transform they need)."""
     names = sphrect.scene.NODE_GLOBALS
     return {names[i.mode] for i in program.instructions if i.op == "global"}
+
+
+def is_shading_normal(sphrect, program):
+    """Whether a program's result is the hit's shading normal as it is (a Bump of unlinked Height)."""
+    code = program.instructions
+    return len(code) == 1 and code[0].op == "global" and code[0].mode == sphrect.scene.NODE_GLOBALS.index("normal")
 
 
 def varies(program):

@@ -37,10 +37,11 @@ def follow_reroutes(socket):
     return CyclesNode(node, groups), CyclesSocket(out, groups)
 
 
-def image_texture_source(socket):
-    """(Image Texture node, 'color' | 'alpha') when `socket` is linked from one (directly or through reroutes)."""
+def image_texture_source(socket, projected=False):
+    """(Image Texture node, 'color' | 'alpha') when `socket` is linked from one (directly or through reroutes) that
+    projects flat (a TextureLookup's); with `projected`, whatever its projection (read flat by a lookup, warned)."""
     node, output = follow_reroutes(socket)
-    if node is None or node.bl_idname != _IMAGE_NODE:
+    if node is None or node.bl_idname != _IMAGE_NODE or (node.projection != "FLAT" and not projected):
         return None
     return node, "alpha" if output.identifier == "Alpha" else "color"
 
@@ -57,8 +58,10 @@ def lookups_of(material):
 
 
 def programs_of(material):
-    """Every NodeProgram a sphrect.Material runs (its inputs', its layers' and their mix factors')."""
+    """Every NodeProgram a sphrect.Material runs (its inputs', its normal's, its layers' and their mix factors')."""
     found = list(material.programs.values())
+    if material.normal_program is not None:
+        found.append(material.normal_program)
     for layer in material.layers:
         found.extend(f.program for f in layer.factors if f.program is not None)
         found.extend(programs_of(layer.material))

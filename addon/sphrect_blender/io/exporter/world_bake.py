@@ -184,8 +184,9 @@ def bake_world(world, width=None, height=None, samples=None, cache_dir=_DEFAULT,
     """float32 [height, width, 3], rows bottom to top: the radiance Cycles 3.4 gives camera rays that escape into
     `world` (a bpy World with nodes; evaluated or original), in direction d at pixel (u, v) as sphrect.Environment
     maps it with to_world = identity, Strength included; camera_rays False: the light it gives the scene instead,
-    its Light Path nodes' Is Camera Ray read as 0 (what Cycles' light samples and BSDF rays see).  Each pixel is the mean over its area in (u, v) (Cycles' box
-    filter of 1 pixel; PEAK_SAMPLES about its peaks), so a sun disc smaller than a pixel keeps its power.  Cached by
+    its Light Path nodes' Is Camera Ray read as 0 (what Cycles' light samples and BSDF rays see).  Each pixel is the
+    mean over its area in (u, v) (Cycles' box filter of 1 pixel; PEAK_SAMPLES about its peaks), so a sun disc
+    smaller than a pixel keeps its power.  Cached by
     world_signature in `cache_dir` (CACHE_DIR unless given; None: no cache).  The size and samples default to
     BAKE_WIDTH, BAKE_HEIGHT and BAKE_SAMPLES.  Within in_background() a world not cached raises BakeNotReady
     instead of waiting; outside, a viewport's background bake of the same world is waited for, not started again."""
