@@ -165,3 +165,26 @@ def _programs(material):
     for layer in material.layers:
         yield from (f.program for f in layer.factors if f.program is not None)
         yield from _programs(layer.material)
+
+
+def test_only_the_linked_outputs_are_compiled(empty_scene):
+    """As Cycles' LightPathNode::compile: a program reads the outputs something is linked from, each once, and the
+    node is not warned."""
+    t = Tree("Two outputs")
+    light_path = t.node("ShaderNodeLightPath")
+    add = t.node("ShaderNodeMath", operation="ADD")
+    t.link(light_path.outputs["Ray Depth"], add.inputs[0])
+    t.link(light_path.outputs["Is Glossy Ray"], add.inputs[1])
+    times = t.node("ShaderNodeMath", operation="MULTIPLY")
+    t.link(light_path.outputs["Ray Depth"], times.inputs[0])
+    t.link(add.outputs[0], times.inputs[1])
+    glow = t.node("ShaderNodeEmission")
+    t.link(times.outputs[0], glow.inputs["Strength"])
+    builders.mesh_object("Glow", "plane", t.surface(glow))
+    exported, log = export()
+    assert "Two outputs" not in log.warning_text()
+    program = material_named(exported, "Two outputs").programs["emission"]
+    node_program = addon_module("io.exporter.node_program")
+    sphrect = addon_module("native").load_sphrect()
+    assert node_program.program_globals(sphrect, program) == {"ray_depth", "is_glossy_ray"}
+    assert sum(i.op == "global" for i in program.instructions) == 2
