@@ -56,6 +56,26 @@ uint8_t VisibleTo(const std::vector<std::string>& hidden) {
     return bits;
 }
 
+// The Light Path node's context (render/svm/program.h) named `name`: 'camera', 'light_sample', 'shadow', or a BSDF or
+// phase ray's kinds (render::kRayKindNames) joined by '+'; after `transparent` transparent surfaces.
+render::svm::RayContext RayContextNamed(const std::string& name, int transparent) {
+    if (transparent < 0 || transparent > render::kMaxTransparentHits)
+        throw py::value_error("transparent_depth must be in [0, " + std::to_string(render::kMaxTransparentHits) + "]");
+    if (name == "camera") return render::svm::CameraRayContext(transparent);
+    if (name == "light_sample") return render::svm::LightSampleContext(transparent);
+    if (name == "shadow") return render::svm::ShadowRayContext(transparent);
+    uint8_t kinds = 0;
+    for (size_t start = 0; start <= name.size();) {
+        const size_t end = std::min(name.find('+', start), name.size());
+        kinds |= uint8_t(1u << ParseNameOrThrow<int>("ray kind", "ray kinds", name.substr(start, end - start),
+                                                     render::kRayKindNames));
+        start = end + 1;
+    }
+    if (kinds & (render::kRayCamera | render::kRayShadow))
+        throw py::value_error("ray '" + name + "': 'camera' and 'shadow' are rays of their own");
+    return render::svm::ScatteredRayContext(render::ScatteredRayFlags(kinds), transparent);
+}
+
 // A light's visibility (render/ray_visibility.h): `invisible_to` names the ray kinds it does not light (camera: not
 // seen, as visible = false); shadow is no light's (Cycles' lights cast no shadow of their own: cast_shadow is theirs).
 render::LightVisibility LightVisibilityOf(const std::vector<std::string>& invisible_to, bool cast_shadow,
@@ -371,7 +391,7 @@ void BindRender(py::module_& m) {
         "_eval_node_program",
         [](const py::handle& program, const V3& p, const V3& uv, const V3& generated, const std::optional<V3>& object,
            const std::vector<std::pair<py::array, bool>>& textures, float ray_length, float dP,
-           const std::optional<std::vector<std::array<V3, 4>>>& shifts,
+           const std::optional<std::vector<std::array<V3, 4>>>& shifts, const std::string& ray, int transparent_depth,
            const std::vector<std::pair<py::array, bool>>& attributes, const std::array<uint32_t, 3>& vertices,
            const std::array<float, 3>& barycentrics, const std::optional<std::array<float, 9>>& object_info,
            const V3& normal, bool corners_reversed) {
@@ -417,18 +437,21 @@ void BindRender(py::module_& m) {
             }
             info.reversed = corners_reversed;
             if (object_info || corners_reversed) sg.object_info = &info;
+            sg.ray = RayContextNamed(ray, transparent_depth);
             const Spectrum v = render::svm::EvalNodeProgram(prog, images, sg);
             return V3{v.x, v.y, v.z};
         },
         py::arg("program"), py::arg("p"), py::arg("uv"), py::arg("generated"), py::arg("object") = py::none(),
         py::arg("textures") = std::vector<std::pair<py::array, bool>>{}, py::arg("ray_length") = 0.0f,
-        py::arg("dP") = 0.0f, py::arg("shifts") = py::none(),
-        py::arg("attributes") = std::vector<std::pair<py::array, bool>>{},
+        py::arg("dP") = 0.0f, py::arg("shifts") = py::none(), py::arg("ray") = "camera",
+        py::arg("transparent_depth") = 0, py::arg("attributes") = std::vector<std::pair<py::array, bool>>{},
         py::arg("vertices") = std::array<uint32_t, 3>{0, 0, 0}, py::arg("barycentrics") = std::array<float, 3>{1, 0, 0},
         py::arg("object_info") = py::none(), py::arg("normal") = V3{0, 0, 1}, py::arg("corners_reversed") = false,
         "A node program at point p of a plane facing +z seen from +z (object coordinates: p unless given; textures: "
         "(pixels, srgb) of the scene's, as Texture holds them; the ray's length; a Bump's ray differential dP and "
-        "shifted inputs (p, uv, generated, object) at P + dx and P + dy; mesh attributes ([V, 4] values, "
+        "shifted inputs (p, uv, generated, object) at P + dx and P + dy; the Light Path node's ray: 'camera', "
+        "'light_sample', 'shadow', or a BSDF / phase ray's kinds joined by '+', e.g. 'diffuse+transmission', after "
+        "transparent_depth transparent surfaces; mesh attributes ([V, 4] values, "
         "[0, 4]: missing, fac_is_x) by slot at `barycentrics` of triangle `vertices`; object_info: location, colour, "
         "alpha, index, random; the shading normal; whether the mesh's corners are reversed): for tests "
         "and the exporter's constants");

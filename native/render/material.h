@@ -87,6 +87,7 @@ struct Material {
     bool ReadsCoordinates(bool generated) const;  // some lookup reads 'generated' (true) or 'uv' (false)
     bool HasPrograms() const;                     // some input or mix factor (of any layer) is a node program
     bool Bumps() const;                           // some program (the normal's too) has a Bump node
+    bool ReadsRayContext() const;                 // some program reads the Light Path node's ray kinds or depths
     // The emission varies over the surface: an image or a program drives it (a textured emitter).
     bool EmissionVaries() const {
         return textures[int(TexturedInput::kEmission)].bound() || !programs[int(TexturedInput::kEmission)].empty();
@@ -114,6 +115,17 @@ inline bool Material::ReadsCoordinates(bool generated) const {
         for (const MixFactorLookup& f : l.factors)
             if (f.program.empty() && f.lookup.generated == generated) return true;
         if (l.material.ReadsCoordinates(generated)) return true;
+    }
+    return false;
+}
+
+inline bool Material::ReadsRayContext() const {
+    for (const svm::NodeProgram& p : programs)
+        if (p.ReadsRayContext()) return true;
+    for (const MaterialLayer& l : layers) {
+        for (const MixFactorLookup& f : l.factors)
+            if (f.program.ReadsRayContext()) return true;
+        if (l.material.ReadsRayContext()) return true;
     }
     return false;
 }

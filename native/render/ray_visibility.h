@@ -8,6 +8,8 @@
 
 #include <cstdint>
 
+#include "svm/program.h"
+
 namespace sphrect::render {
 
 // A ray's kind, and the kinds of rays a mesh is visible to (bits).  A BSDF ray is of its lobe's class: diffuse
@@ -21,6 +23,15 @@ constexpr uint8_t kRayBsdfClasses = kRayDiffuse | kRayGlossy | kRayTransmission;
 // The names of the bits, lowest first: the scene files' and Blender's (visible_<name>).
 inline constexpr const char* kRayKindNames[] = {"camera", "shadow",       "diffuse",
                                                 "glossy", "transmission", "volume_scatter"};
+
+// The Light Path node's flags (svm::RayFlag) of a BSDF or phase ray of kind `ray`, as Cycles' path_state_next sets
+// them from the sampled lobe's label: a reflection or a transmission (translucent), diffuse or glossy; a phase ray's
+// volume scatter.  (A singular lobe's kRayIsSingular is not told apart from a glossy one here.)
+constexpr uint8_t ScatteredRayFlags(uint8_t ray) {
+    if (ray & kRayVolumeScatter) return svm::kRayIsVolumeScatter;
+    const uint8_t lobe = (ray & kRayDiffuse) ? svm::kRayIsDiffuse : svm::kRayIsGlossy;
+    return uint8_t(lobe | ((ray & kRayTransmission) ? svm::kRayIsTransmission : svm::kRayIsReflection));
+}
 
 // What a light lights and how (Cycles 3.4's light shader flags), in one byte so that a light of the default
 // visibility costs shading one comparison.  Its camera visibility is the light's `visible`.

@@ -153,7 +153,7 @@ void RenderScene::Commit() {
     for (const MeshData& m : meshes) ray_visibility |= m.visibility != kRayAll;
     for (const AreaLight& l : area_lights) ray_visibility |= !l.vis.IsDefault();
     for (const DeltaLight& d : delta_lights) ray_visibility |= !d.vis.IsDefault();
-    ray_visibility |= !world_visibility.IsDefault();
+    ray_visibility |= !world_visibility.IsDefault() || light_path_programs;
     analytic_light_finder.Build(device_, area_lights, num_analytic_lights);
     std::vector<double> powers;
     for (const AreaLight& l : area_lights) {

@@ -198,6 +198,10 @@ class RenderScene {
     // Commit(): some mesh hides from some ray kind, or some light's visibility is not the default (ray_visibility.h):
     // BSDF rays then need their lobe's kind.
     bool ray_visibility = false;
+    // AddMaterial(): some material's program reads the Light Path node's ray kinds or depths (svm::RayContext): BSDF
+    // rays then need their lobe's kind too (ray_visibility is set), and diffuse hits keep their BSDF samples, whose
+    // emitters may differ from their light samples' (integrator/shade_context.h).
+    bool light_path_programs = false;
     // Whether triangle `prim` of `mesh` has a material that may let rays through (integrator/transparency.h).
     bool MayBeTransparent(const MeshData& mesh, uint32_t prim) const {
         const int32_t material = mesh.material_ids.empty() ? 0 : mesh.material_ids[prim];

@@ -163,6 +163,7 @@ int RenderScene::AddMaterial(const Material& material) {
     }
     materials.push_back(material);
     materials.back().programmed = material.HasPrograms();
+    if (materials.back().programmed) light_path_programs |= material.ReadsRayContext();
     NormalMap normal_map = material.normal_map;
     normal_map.strength = std::max(normal_map.strength, 0.0f);  // Cycles: max(strength, 0)
     normal_map.differentials = material.Bumps();

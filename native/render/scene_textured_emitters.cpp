@@ -58,7 +58,7 @@ void RenderScene::AddTexturedEmitter(TexturedEmitter e) {
     double sum[3] = {0, 0, 0};
     auto add = [&](const Spectrum& c) { sum[0] += c.x, sum[1] += c.y, sum[2] += c.z; };
     auto radiance = [&](const Vec3f& p) {
-        if (e.programmed) {  // seen from the front (the side the winding faces)
+        if (e.programmed) {  // seen from the front (the side the winding faces) by a light sample
             const EmitterTrianglePoint q = EmitterTrianglePointAt(*this, e, p);
             return ProgramEmitterRadianceAt(*this, e, q.prim, q.b1, q.b2, p, TriangleNormal(meshes[e.mesh], q.prim), 0);
         }

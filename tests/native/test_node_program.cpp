@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "render/integrator/transparency.h"  // OcclusionRayContext
 #include "render/svm/evaluate.h"
 #include "render/svm/math_nodes.h"
 #include "render/svm/mix_nodes.h"
@@ -113,6 +114,42 @@ TEST(NodeProgram, BadProgramsAreRefused) {
     EXPECT_NO_THROW(CheckNodeProgram(p, 1));
     p.output = 5;
     EXPECT_THROW(CheckNodeProgram(p, 1), std::invalid_argument);
+}
+
+// The Light Path node's view of a surface an occlusion ray crosses (transparency.h): a light sample's shadow ray is
+// PATH_RAY_SHADOW alone with Ray Depth + 1; a BSDF or phase ray going on to its emitter keeps its lobe's flags and
+// counters (path_state_next); both count the surfaces crossed before.
+TEST(NodeProgram, LightPathContextsOfOcclusionRays) {
+    using render::OcclusionRayContext;
+    auto expect = [](const RayContext& c, int flags, int depth, int diffuse, int glossy, int transparent,
+                     int transmission) {
+        EXPECT_EQ(c.flags, flags);
+        EXPECT_EQ(c.depth, depth);
+        EXPECT_EQ(c.diffuse_depth, diffuse);
+        EXPECT_EQ(c.glossy_depth, glossy);
+        EXPECT_EQ(c.transparent_depth, transparent);
+        EXPECT_EQ(c.transmission_depth, transmission);
+    };
+    expect(OcclusionRayContext(render::kRayShadow, 2), kRayIsShadow, 1, 0, 0, 2, 0);
+    expect(OcclusionRayContext(render::kRayDiffuse, 1), kRayIsDiffuse | kRayIsReflection, 1, 1, 0, 1, 0);
+    expect(OcclusionRayContext(render::kRayGlossy, 0), kRayIsGlossy | kRayIsReflection, 1, 0, 1, 0, 0);
+    expect(OcclusionRayContext(render::kRayDiffuse | render::kRayTransmission, 0), kRayIsDiffuse | kRayIsTransmission,
+           1, 0, 0, 0, 1);
+    expect(OcclusionRayContext(render::kRayVolumeScatter, 3), kRayIsVolumeScatter, 1, 0, 0, 3, 0);
+}
+
+// Only programs reading a ray kind or depth mark a scene (RenderScene::light_path_programs): Ray Length does not.
+TEST(NodeProgram, ReadsRayContextOnlyForLightPathOutputs) {
+    NodeProgram p;
+    p.code = {Op(NodeOp::kGlobal, {0}, int(ShaderGlobal::kRayLength))};
+    p.num_registers = 1;
+    EXPECT_FALSE(p.ReadsRayContext());
+    p.code[0].mode = uint8_t(ShaderGlobal::kIsCameraRay);
+    EXPECT_TRUE(p.ReadsRayContext());
+    ShaderGlobals sg;
+    EXPECT_EQ(Evaluate(p, sg).x, 1.0f);  // the default context: a camera ray's first hit
+    sg.ray = ShadowRayContext(0);
+    EXPECT_EQ(Evaluate(p, sg).x, 0.0f);
 }
 
 }  // namespace

@@ -142,7 +142,10 @@ template <bool kGlossy, bool kMedium>
         rtcIntersect1(scene.rtc_scene, &ctx, &rh);
         out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         out.t_end = out.hit ? rh.ray.tfar : kInf;
-        if (out.hit) out.surface = MakeSurfaceHit<kGlossy>(scene, out.ray, rh);
+        if (out.hit) {
+            out.surface = MakeSurfaceHit<kGlossy>(scene, out.ray, rh);
+            out.surface.transparent_depth = uint8_t(transparent_hits + 1);  // the Light Path node's
+        }
         AddSeenAlongSegment<kMedium, true>(scene, out, t_begin, seen);
     }
 }

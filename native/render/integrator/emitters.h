@@ -49,15 +49,56 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
     const AreaLight& l = c.scene.area_lights[light.index];
     if (l.on_mesh) PullOffMeshLight(l, ls);
     const Spectrum le =
-        l.texture < 0 ? EmittedRadiance(l, -ls.dir) : TexturedEmissionAtPoint(c.scene, l, ls.point, -ls.dir);
+        l.texture < 0 ? EmittedRadiance(l, -ls.dir) : TexturedEmissionAtPoint(c.scene, l, ls.point, -ls.dir, ls.dist);
     if (IsBlack(le)) return {};
     return {true, ls.dir, ls.dist, le, light.pmf * ls.pdf};
 }
 
-// The emissive mesh triangle the ray (o, d) hits first, if any, weighted against light
-// sampling like the analytic lights below: one Embree ray instead of a loop over the mesh's
-// lights.  Its occlusion ray is queued as for every emitter (the hit is the first surface, so
-// it goes through; one extra ray per hit, kept for one path through the shadow queue).
+// The emissive mesh triangle hit rh of the ray (o, d), `crossed` transparent surfaces past its origin, if it is one,
+// weighted against light sampling like the analytic lights below.  Its occlusion ray is queued as for every emitter
+// (the surfaces before it were let through; one extra ray per hit, kept for one path through the shadow queue).
+template <Technique K, bool kMedium>
+static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& rh, const Vec3f& o, const Vec3f& d,
+                                       float pdf_dir, uint8_t ray, int crossed, TimedLightSamplingAt<K>& light_sampling,
+                                       const ShadowSink& sink) {
+    const MeshData& m = c.scene.meshes[rh.hit.geomID];
+    if (m.triangle_light.empty()) return;
+    const int i = m.triangle_light[rh.hit.primID];
+    if (i < 0) return;
+    const float t = rh.ray.tfar;
+    const AreaLight& l = c.scene.area_lights[i];
+    const Spectrum le = l.texture < 0
+                            ? EmittedRadiance(l, -d)
+                            : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t,
+                                                    svm::ScatteredRayContext(ScatteredRayFlags(ray), crossed));
+    if (IsBlack(le)) return;
+    const float pdf_light = light_sampling.PDF(i, o + d * t);
+    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),
+             ray);
+}
+
+// In a scene with transparent surfaces: the emitters the ray (o, d) finds from its first hit rh on, past the
+// transparent surfaces (their filtering is the occlusion ray's: ResolveShadowRays) -- an emitter that may be
+// transparent counts and lets the ray on, as a Cycles path adds a surface's emission before going through it.
+template <Technique K, bool kMedium>
+[[gnu::noinline]] static void QueueMeshEmittersThroughTransparent(const ShadeContext& c, RTCRayHit rh, const Vec3f& o,
+                                                                  const Vec3f& d, float pdf_dir, uint8_t ray,
+                                                                  TimedLightSamplingAt<K>& light_sampling,
+                                                                  const ShadowSink& sink) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (int crossed = 0; rh.hit.geomID != RTC_INVALID_GEOMETRY_ID; ++crossed) {
+        const bool through = c.scene.MayBeTransparent(c.scene.meshes[rh.hit.geomID], rh.hit.primID);
+        if (through && crossed == kMaxTransparentHits) return;
+        QueueMeshEmitterHit<K, kMedium>(c, rh, o, d, pdf_dir, ray, crossed, light_sampling, sink);
+        if (!through) return;
+        rh = MakeRTCRayHit(o, d, BeyondHit(rh.ray.tfar), kInf, ray);
+        rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
+    }
+}
+
+// The emissive mesh triangle the ray (o, d) hits first, if any (and in a scene with transparent surfaces those past
+// them): one Embree ray instead of a loop over the mesh's lights.
 template <Technique K, bool kMedium>
 static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
                                             uint8_t ray, TimedLightSamplingAt<K>& light_sampling,
@@ -66,27 +107,10 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
-    // Past transparent surfaces (their filtering is the occlusion ray's: ResolveShadowRays).
-    for (int crossed = 0; c.scene.has_transparency && rh.hit.geomID != RTC_INVALID_GEOMETRY_ID &&
-                          c.scene.MayBeTransparent(c.scene.meshes[rh.hit.geomID], rh.hit.primID);
-         ++crossed) {
-        if (crossed == kMaxTransparentHits) return;
-        rh = MakeRTCRayHit(o, d, BeyondHit(rh.ray.tfar), kInf, ray);
-        rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
-    }
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return;
-    const MeshData& m = c.scene.meshes[rh.hit.geomID];
-    if (m.triangle_light.empty()) return;
-    const int i = m.triangle_light[rh.hit.primID];
-    if (i < 0) return;
-    const float t = rh.ray.tfar;
-    const AreaLight& l = c.scene.area_lights[i];
-    const Spectrum le = l.texture < 0 ? EmittedRadiance(l, -d)
-                                      : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t);
-    if (IsBlack(le)) return;
-    const float pdf_light = light_sampling.PDF(i, o + d * t);
-    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),
-             ray);
+    if (c.scene.has_transparency)
+        return QueueMeshEmittersThroughTransparent<K, kMedium>(c, rh, o, d, pdf_dir, ray, light_sampling, sink);
+    if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
+        QueueMeshEmitterHit<K, kMedium>(c, rh, o, d, pdf_dir, ray, 0, light_sampling, sink);
 }
 
 // A light sample of the image world (environment_light.h; c.environment set): its direction, radiance and

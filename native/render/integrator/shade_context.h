@@ -16,7 +16,9 @@ struct ShadeContext {
     Spectrum sky;      // what a BSDF/phase ray that escapes brings: background x transmittance to infinity
     EllipseTechnique ellipse_technique;  // how disk and ellipse lights are sampled
     // Purely diffuse hits may take light samples alone (shade_surface.h, LightSamplesAlone): MIS on,
-    // not RenderOptions::bsdf_samples_on_diffuse, and no ellipse light sampled by area.
+    // not RenderOptions::bsdf_samples_on_diffuse, no Light Path program (RenderScene::light_path_programs: an emitter
+    // may send its BSDF rays other light than its light samples, Cycles' estimate weighs both), and no ellipse light
+    // sampled by area.
     bool diffuse_light_samples_alone;
     // The image world where it can light anything (null: none, all black, or nothing of it crosses the medium):
     // sampled once per light sample, and found by BSDF/phase rays that escape (MIS).  environment_transmittance:
@@ -36,7 +38,7 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
             opt.mis != MisMode::None || !IsBlack(scene.background),
             scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf),
             opt.ellipse_technique,
-            opt.mis != MisMode::None && !opt.bsdf_samples_on_diffuse &&
+            opt.mis != MisMode::None && !opt.bsdf_samples_on_diffuse && !scene.light_path_programs &&
                 !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights),
             scene.has_environment && !scene.environment.distribution.Empty() &&
                     !IsBlack(SegmentTransmittance<kMedium>(scene.medium, kInf))

@@ -62,8 +62,9 @@ inline void SetMeshShaderGlobals(const MeshData& m, const uint32_t (&v)[3], cons
     sg.object_info = &m.object_info;
 }
 
-// Hit h of a textured material (MakeSurfaceHit ran AddHitExtras: h.mesh and h.incoming are set).
-inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
+// Hit h of a textured material (MakeSurfaceHit ran AddHitExtras: h.mesh and h.incoming are set), found by a ray of
+// context `ray` (default: the camera ray that made h).
+inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h, const svm::RayContext* ray = nullptr) {
     svm::ShaderGlobals sg;
     sg.p = h.p;
     // The shading normal before a normal map or Bump replaced it (ns_unmapped, zero where none did): Cycles' sd->N,
@@ -78,6 +79,7 @@ inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h) {
     if (h.mesh->has_object_linear) sg.object_linear = h.mesh->object_linear;
     sg.backfacing = h.backfacing;
     sg.ray_length = h.t - h.ray_start;  // Cycles' sd->ray_length: from where the ray starts (a camera's near plane)
+    sg.ray = ray ? *ray : svm::CameraRayContext(h.transparent_depth);
     sg.dP = h.dP;
     if (h.dP > 0) AddShiftedGlobals(h, sg);
     SetMeshShaderGlobals(*h.mesh, h.corner, h.bary, sg);
@@ -98,8 +100,10 @@ inline Vec3f TriangleNormal(const MeshData& m, uint32_t prim) {
 // surface towards the viewer) at distance `distance`, as Cycles sets up a light sample's or a BSDF ray's point on an
 // emitter (shader_setup_from_sample / _from_ray): the flat triangle's normal Ng, the interpolated vertex normals N
 // of a smooth mesh (on Ng's side, as MakeSurfaceHit turns them), both facing the viewer.
+// `ray`: the context of the ray that found the point (svm::RayContext).
 inline svm::ShaderGlobals TriangleShaderGlobals(const MeshData& m, uint32_t prim, float b1, float b2, const Vec3f& p,
-                                                const Vec3f& toward, float distance) {
+                                                const Vec3f& toward, float distance,
+                                                const svm::RayContext& ray = svm::LightSampleContext(0)) {
     const uint32_t* t = &m.triangles[3 * size_t(prim)];
     const float b0 = 1 - b1 - b2;
     Vec3f ng = TriangleNormal(m, prim), n = ng;
@@ -126,6 +130,7 @@ inline svm::ShaderGlobals TriangleShaderGlobals(const MeshData& m, uint32_t prim
     if (m.has_object_linear) sg.object_linear = m.object_linear;
     sg.ray_length = distance;
     SetMeshShaderGlobals(m, {t[0], t[1], t[2]}, {1 - b1 - b2, b1, b2}, sg);
+    sg.ray = ray;
     return sg;
 }
 

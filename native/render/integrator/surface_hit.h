@@ -27,10 +27,11 @@ struct SurfaceHit {
     // mesh and the direction back along the ray, which node programs read (shader_globals.h).
     const MeshData* mesh;
     float incoming[3];
-    float ray_start;     // the ray's tmin: Cycles measures a camera ray's length from the near clipping plane
-    uint32_t prim;       // the triangle hit
-    float dP;            // the compact ray differential where the material bumps (CameraFootprint), else 0
-    uint32_t corner[3];  // the triangle's vertices and their barycentric weights (mesh attributes)
+    float ray_start;            // the ray's tmin: Cycles measures a camera ray's length from the near clipping plane
+    uint32_t prim;              // the triangle hit
+    float dP;                   // the compact ray differential where the material bumps (CameraFootprint), else 0
+    uint8_t transparent_depth;  // the transparent surfaces the camera ray went through before (Light Path node)
+    uint32_t corner[3];         // the triangle's vertices and their barycentric weights (mesh attributes)
     float bary[3];
 };
 
@@ -131,6 +132,7 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
     s.ray_start = ray.tmin;
     s.corner[0] = i[0], s.corner[1] = i[1], s.corner[2] = i[2];
     s.bary[0] = b0, s.bary[1] = b1, s.bary[2] = b2;
+    s.transparent_depth = 0;
     s.tc = InterpolateTextureCoordinates(m, i[0], i[1], i[2], b0, b1, b2);
     if (material.anisotropic && !m.generated.empty()) s.tangent = RadialTangent(m, s.tc.generated, ns);
     s.prim = prim;

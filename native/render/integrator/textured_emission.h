@@ -77,11 +77,13 @@ inline Spectrum ScaledProgramEmission(const Spectrum& multiplier, const Vec3f& c
 }
 
 // A node program's emitter (TexturedEmitter::programmed): its radiance at point p, barycentrics (b1, b2) of triangle
-// `prim`, seen from direction `toward` at distance `distance` (0 where no ray measured one).
+// `prim`, seen from direction `toward` at distance `distance` (0 where no ray measured one) by a ray of context `ray`
+// (a light sample's unless given).
 inline Spectrum ProgramEmitterRadianceAt(const RenderScene& scene, const TexturedEmitter& e, uint32_t prim, float b1,
-                                         float b2, const Vec3f& p, const Vec3f& toward, float distance) {
+                                         float b2, const Vec3f& p, const Vec3f& toward, float distance,
+                                         const svm::RayContext& ray = svm::LightSampleContext(0)) {
     const svm::NodeProgram& program = scene.materials[size_t(e.material)].programs[int(TexturedInput::kEmission)];
-    const svm::ShaderGlobals sg = TriangleShaderGlobals(scene.meshes[e.mesh], prim, b1, b2, p, toward, distance);
+    const svm::ShaderGlobals sg = TriangleShaderGlobals(scene.meshes[e.mesh], prim, b1, b2, p, toward, distance, ray);
     return ScaledProgramEmission(e.multiplier, svm::EvalNodeProgram(program, scene.images, sg));
 }
 
@@ -103,13 +105,15 @@ inline Vec3f EmitterLookupCoordinates(const RenderScene& scene, const TexturedEm
 
 // The radiance textured light l sends from its point p towards `toward` (pointing away from the light): a mesh's on
 // both sides, a light's own on the sides it emits on, with its spread (as EmittedRadiance).  Light samples, and the
-// BSDF and camera rays that cross a rectangle or ellipse light.
+// BSDF and camera rays that cross a rectangle or ellipse light.  distance: a light sample's, from its shading point
+// (Cycles' ls->t, the ray length its shader reads).
 [[gnu::noinline, gnu::cold]] inline Spectrum TexturedEmissionAtPoint(const RenderScene& scene, const AreaLight& l,
-                                                                     const Vec3f& p, const Vec3f& toward) {
+                                                                     const Vec3f& p, const Vec3f& toward,
+                                                                     float distance = 0) {
     const TexturedEmitter& e = scene.textured_emitters[size_t(l.texture)];
     if (e.programmed) {
         const EmitterTrianglePoint q = EmitterTrianglePointAt(scene, e, p);
-        return ProgramEmitterRadianceAt(scene, e, q.prim, q.b1, q.b2, p, toward, 0);
+        return ProgramEmitterRadianceAt(scene, e, q.prim, q.b1, q.b2, p, toward, distance);
     }
     if (!e.on_light_plane) return EmitterRadianceAt(scene, e, EmitterLookupCoordinates(scene, e, l, p));
     const float share = EmissionTowards(l, toward);
@@ -117,12 +121,13 @@ inline Vec3f EmitterLookupCoordinates(const RenderScene& scene, const TexturedEm
 }
 
 // BSDF rays: the radiance of textured mesh light l at barycentrics (b1, b2) of its triangle `prim` (Embree's hit of
-// the ray from o along d at distance t).
+// the ray from o along d at distance t, a ray of context `ray`).
 [[gnu::noinline, gnu::cold]] inline Spectrum TexturedEmissionAtHit(const RenderScene& scene, const AreaLight& l,
                                                                    uint32_t prim, float b1, float b2, const Vec3f& o,
-                                                                   const Vec3f& d, float t) {
+                                                                   const Vec3f& d, float t,
+                                                                   const svm::RayContext& ray) {
     const TexturedEmitter& e = scene.textured_emitters[size_t(l.texture)];
-    if (e.programmed) return ProgramEmitterRadianceAt(scene, e, prim, b1, b2, o + d * t, -d, t);
+    if (e.programmed) return ProgramEmitterRadianceAt(scene, e, prim, b1, b2, o + d * t, -d, t, ray);
     const TextureCoordinates tc = EmitterCoordinates(scene, e, prim, b1, b2);
     return EmitterRadianceAt(scene, e, e.lookup.generated ? tc.generated : tc.uv);
 }

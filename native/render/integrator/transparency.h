@@ -31,19 +31,23 @@ struct SurfaceTransparency {
 
 // A textured material's transparency at texture coordinates tc: its Material evaluated there (mix factors from
 // alpha textures).  Out of line: untextured scenes never come here.
+// ray: the context of the ray that crosses it (null: the camera ray that made h).
 [[gnu::noinline, gnu::cold]] static SurfaceTransparency TexturedTransparency(const RenderScene& scene,
-                                                                             const SurfaceHit& h) {
+                                                                             const SurfaceHit& h,
+                                                                             const svm::RayContext* ray) {
     const Material& material = scene.materials[size_t(h.material)];
-    const Bsdf m = material.programmed ? EvaluateBsdfAtHit(material, scene.images, HitShaderGlobals(h))
+    const Bsdf m = material.programmed ? EvaluateBsdfAtHit(material, scene.images, HitShaderGlobals(h, ray))
                                        : EvaluateTexturedBsdf(material, scene.images, h.tc);
     return {m.transparency, m.opaque_weight};
 }
 
-// The transparency at hit h (h.tc set: a textured material's hit comes from MakeSurfaceHit<true>).
-static inline SurfaceTransparency TransparencyAt(const RenderScene& scene, const SurfaceHit& h) {
+// The transparency at hit h (h.tc set: a textured material's hit comes from MakeSurfaceHit<true>) for a ray of
+// context `ray` (null: the camera ray that made h), which node programs may read (the Light Path node).
+static inline SurfaceTransparency TransparencyAt(const RenderScene& scene, const SurfaceHit& h,
+                                                 const svm::RayContext* ray = nullptr) {
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
     if (!m.has_transparency) return {};
-    if (m.textured) return TexturedTransparency(scene, h);
+    if (m.textured) return TexturedTransparency(scene, h, ray);
     return {m.transparency, m.opaque_weight};
 }
 
@@ -65,6 +69,13 @@ static inline bool CameraRayThroughTransparent(const SurfaceTransparency& s, flo
     return false;
 }
 
+// The Light Path node's context at the surface a queued occlusion ray (shadow_queue.h) crosses after `crossed` others:
+// a light sample's shadow ray (mask kRayShadow), or a BSDF or phase ray going on to its emitter (mask: its kind).
+inline svm::RayContext OcclusionRayContext(unsigned mask, int crossed) {
+    return (mask & kRayShadow) ? svm::ShadowRayContext(crossed)
+                               : svm::ScatteredRayContext(ScatteredRayFlags(uint8_t(mask)), crossed);
+}
+
 // The light a shadow ray keeps after the transparent surfaces along it, found nearest first; the caller knows that
 // nothing opaque blocks it (the occlusion pass let it through).  0 past kMaxTransparentHits.
 static inline Spectrum ShadowTransmittance(const RenderScene& scene, const RTCRay& shadow) {
@@ -81,7 +92,8 @@ static inline Spectrum ShadowTransmittance(const RenderScene& scene, const RTCRa
         rtcIntersect1(scene.rtc_scene, &ctx, &rh);
         if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return kept;
         if (hits == kMaxTransparentHits) return {};
-        kept = kept * TransparencyAt(scene, MakeSurfaceHit<true>(scene, ray, rh)).transparency;
+        const svm::RayContext context = OcclusionRayContext(shadow.mask, hits);
+        kept = kept * TransparencyAt(scene, MakeSurfaceHit<true>(scene, ray, rh), &context).transparency;
         if (IsBlack(kept)) return {};
         tnear = BeyondHit(rh.ray.tfar);
     }

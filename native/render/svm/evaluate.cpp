@@ -32,6 +32,8 @@ Vec3f ObjectGlobal(ShaderGlobal g, const ObjectInfo* o) {
     return {};
 }
 
+Vec3f RayFlagValue(const ShaderGlobals& sg, RayFlag f) { return Vec3f(sg.ray.flags & f ? 1.0f : 0.0f, 0, 0); }
+
 Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg, int shift) {
     if (shift > 0 && sg.shifted && IsShiftedGlobal(g)) {  // a Bump's Height copy at P + dx (1) or P + dy (2)
         const ShaderGlobals::Shifted& s = sg.shift[shift - 1];
@@ -56,6 +58,19 @@ Vec3f Global(ShaderGlobal g, const ShaderGlobals& sg, int shift) {
         case ShaderGlobal::kRayLength: return Vec3f(sg.ray_length, 0, 0);
         case ShaderGlobal::kParametric:  // svm_node_geometry's (1 - u - v, u, 0) of Blender's corner order
             return Vec3f(sg.object_info && sg.object_info->reversed ? sg.b[2] : sg.b[0], sg.b[1], 0);
+        case ShaderGlobal::kIsCameraRay: return RayFlagValue(sg, kRayIsCamera);
+        case ShaderGlobal::kIsShadowRay: return RayFlagValue(sg, kRayIsShadow);
+        case ShaderGlobal::kIsDiffuseRay: return RayFlagValue(sg, kRayIsDiffuse);
+        case ShaderGlobal::kIsGlossyRay: return RayFlagValue(sg, kRayIsGlossy);
+        case ShaderGlobal::kIsSingularRay: return RayFlagValue(sg, kRayIsSingular);
+        case ShaderGlobal::kIsReflectionRay: return RayFlagValue(sg, kRayIsReflection);
+        case ShaderGlobal::kIsTransmissionRay: return RayFlagValue(sg, kRayIsTransmission);
+        case ShaderGlobal::kIsVolumeScatterRay: return RayFlagValue(sg, kRayIsVolumeScatter);
+        case ShaderGlobal::kRayDepth: return Vec3f(float(sg.ray.depth), 0, 0);
+        case ShaderGlobal::kDiffuseDepth: return Vec3f(float(sg.ray.diffuse_depth), 0, 0);
+        case ShaderGlobal::kGlossyDepth: return Vec3f(float(sg.ray.glossy_depth), 0, 0);
+        case ShaderGlobal::kTransparentDepth: return Vec3f(float(sg.ray.transparent_depth), 0, 0);
+        case ShaderGlobal::kTransmissionDepth: return Vec3f(float(sg.ray.transmission_depth), 0, 0);
         default: return ObjectGlobal(g, sg.object_info);
     }
 }

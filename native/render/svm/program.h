@@ -130,7 +130,8 @@ static_assert(sizeof(kNodeOpNames) / sizeof(*kNodeOpNames) == size_t(NodeOp::kCo
 // What a hit gives a program (kGlobal's mode), as Cycles' ShaderData does: position, shading normal (facing the
 // incoming ray), true (geometric) normal, incoming direction I (towards where the ray came from), the mesh's UV
 // (u, v, 0) and Generated coordinates, the position and shading normal in the object's space (Texture Coordinate's
-// Object and Normal), the reflected incoming direction 2 (N.I) N - I, backfacing (1 or 0), the ray's length.
+// Object and Normal), the reflected incoming direction 2 (N.I) N - I, backfacing (1 or 0), the ray's length; then the
+// Light Path node's outputs of the ray that found the hit (ShaderGlobals::ray, RayContext below).
 enum class ShaderGlobal : uint8_t {
     kPosition,
     kNormal,
@@ -149,12 +150,28 @@ enum class ShaderGlobal : uint8_t {
     kObjectAlpha,
     kObjectIndex,
     kObjectRandom,
+    kIsCameraRay,
+    kIsShadowRay,
+    kIsDiffuseRay,
+    kIsGlossyRay,
+    kIsSingularRay,
+    kIsReflectionRay,
+    kIsTransmissionRay,
+    kIsVolumeScatterRay,
+    kRayDepth,
+    kDiffuseDepth,
+    kGlossyDepth,
+    kTransparentDepth,
+    kTransmissionDepth,
     kCount
 };
 constexpr const char* kShaderGlobalNames[] = {
-    "position",        "normal",        "true_normal",  "incoming",     "uv",           "generated",
-    "object",          "object_normal", "reflection",   "backfacing",   "ray_length",   "parametric",
-    "object_location", "object_color",  "object_alpha", "object_index", "object_random"};
+    "position",        "normal",          "true_normal",    "incoming",          "uv",
+    "generated",       "object",          "object_normal",  "reflection",        "backfacing",
+    "ray_length",      "parametric",      "object_location", "object_color",     "object_alpha",
+    "object_index",    "object_random",   "is_camera_ray",  "is_shadow_ray",     "is_diffuse_ray",
+    "is_glossy_ray",   "is_singular_ray", "is_reflection_ray", "is_transmission_ray", "is_volume_scatter_ray",
+    "ray_depth",       "diffuse_depth",   "glossy_depth",   "transparent_depth", "transmission_depth"};
 static_assert(sizeof(kShaderGlobalNames) / sizeof(*kShaderGlobalNames) == size_t(ShaderGlobal::kCount));
 constexpr bool IsShiftedGlobal(ShaderGlobal g) {
     return g == ShaderGlobal::kPosition || g == ShaderGlobal::kUv || g == ShaderGlobal::kGenerated ||
@@ -194,6 +211,12 @@ struct NodeProgram {
     int output = 0;
     int num_registers = 0;
     bool empty() const { return code.empty(); }
+    // Whether it reads the Light Path node's ray kinds or depths (its value differs between the rays finding a hit).
+    bool ReadsRayContext() const {
+        for (const NodeInstruction& in : code)
+            if (in.op == NodeOp::kGlobal && in.mode >= uint8_t(ShaderGlobal::kIsCameraRay)) return true;
+        return false;
+    }
     // It has a Bump node: its hits need their ray differential and shifted inputs (ShaderGlobals::dP, shift).
     bool Bumps() const {
         for (const NodeInstruction& in : code)
@@ -226,6 +249,48 @@ struct ObjectInfo {
     float normal_to_world[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
 };
 
+// The Light Path node's view of the ray that found a hit (Cycles 3.4's path_flag handed to the shader's evaluation
+// and the path state's bounce counters, kernel/svm/light_path.h).  The flags are Cycles' PATH_RAY_* the node tests;
+// the depths are what the node reports (Ray Depth already one more for a light sample or a shadow ray, as Cycles
+// adds).  The default is a camera ray's first hit.
+enum RayFlag : uint8_t {
+    kRayIsCamera = 1,
+    kRayIsShadow = 2,
+    kRayIsDiffuse = 4,
+    kRayIsGlossy = 8,
+    kRayIsSingular = 16,
+    kRayIsReflection = 32,
+    kRayIsTransmission = 64,
+    kRayIsVolumeScatter = 128
+};
+struct RayContext {
+    uint8_t flags = kRayIsCamera;
+    uint8_t depth = 0, diffuse_depth = 0, glossy_depth = 0, transparent_depth = 0, transmission_depth = 0;
+};
+
+// The contexts under direct lighting (a camera ray, its hit's light samples and one BSDF or phase ray):
+// A camera ray's hit past `transparent` transparent surfaces (PATH_RAY_CAMERA, bounce 0).
+constexpr RayContext CameraRayContext(int transparent) { return {kRayIsCamera, 0, 0, 0, uint8_t(transparent), 0}; }
+// An emitter's point a light sample lands on: light_sample_shader_eval passes PATH_RAY_EMISSION alone (no flag the
+// node reads) with the shading point's state, and Ray Depth counts one more.
+constexpr RayContext LightSampleContext(int transparent) { return {0, 1, 0, 0, uint8_t(transparent), 0}; }
+// A surface a shadow ray crosses: PATH_RAY_SHADOW alone (integrate_transparent_surface_shadow), Ray Depth one more,
+// the transparent depth counting the surfaces the shadow ray crossed before it.
+constexpr RayContext ShadowRayContext(int transparent) { return {kRayIsShadow, 1, 0, 0, uint8_t(transparent), 0}; }
+// The surface a BSDF or phase ray from a camera ray's hit finds: path_state_next's flags of the sampled lobe's label
+// (kRayIsDiffuse / kRayIsGlossy (+ kRayIsSingular), kRayIsReflection / kRayIsTransmission, or kRayIsVolumeScatter)
+// and its counters after one bounce.
+constexpr RayContext ScatteredRayContext(uint8_t flags, int transparent) {
+    const bool scatter = flags & kRayIsVolumeScatter;
+    const bool transmit = flags & kRayIsTransmission;
+    return {flags,
+            1,
+            uint8_t(!scatter && !transmit && (flags & kRayIsDiffuse) ? 1 : 0),
+            uint8_t(!scatter && !transmit && !(flags & kRayIsDiffuse) ? 1 : 0),
+            uint8_t(transparent),
+            uint8_t(!scatter && transmit ? 1 : 0)};
+}
+
 // A hit as a program sees it (the evaluator reads what its kGlobal instructions ask for).  Where a hit kind lacks
 // one, Cycles' choice: an emitter found by a light sample has I towards the shading point and ray length the
 // distance; missing coordinates read zero.
@@ -251,6 +316,7 @@ struct ShaderGlobals {
     uint32_t v[3] = {0, 0, 0};
     float b[3] = {0, 0, 0};
     const ObjectInfo* object_info = nullptr;
+    RayContext ray;
 };
 
 }  // namespace sphrect::render::svm

@@ -816,6 +816,21 @@ def _color_attribute(c, node):
     """Cycles' Color Attribute node: the named colour attribute, or the mesh's render one; missing: 0, alpha 0."""
     regs = c.attribute(node.layer_name or RENDER_COLOR, "color_attribute")
     return {"Color": (regs["color"], "color"), "Alpha": (regs["alpha"], "float")}
+# -- the Light Path node (render/svm/program.h RayContext: what each ray that evaluates a program passes) -------------
+
+# Its outputs and the hit's inputs they read (Blender 3.4's node has no Is Volume Scatter Ray).
+_LIGHT_PATH_GLOBALS = {"Is Camera Ray": "is_camera_ray", "Is Shadow Ray": "is_shadow_ray",
+                       "Is Diffuse Ray": "is_diffuse_ray", "Is Glossy Ray": "is_glossy_ray",
+                       "Is Singular Ray": "is_singular_ray", "Is Reflection Ray": "is_reflection_ray",
+                       "Is Transmission Ray": "is_transmission_ray", "Ray Length": "ray_length",
+                       "Ray Depth": "ray_depth", "Diffuse Depth": "diffuse_depth", "Glossy Depth": "glossy_depth",
+                       "Transparent Depth": "transparent_depth", "Transmission Depth": "transmission_depth"}
+
+
+def _light_path(c, node):
+    """The outputs something reads (Cycles' LightPathNode::compile emits only those), each a global of the hit."""
+    return {s.identifier: (c.global_input(_LIGHT_PATH_GLOBALS[s.identifier]), "float") for s in node.outputs
+            if s.identifier in _LIGHT_PATH_GLOBALS and s.is_linked}
 
 
 _NODE_COMPILERS = {
@@ -872,6 +887,7 @@ _NODE_COMPILERS = {
     "ShaderNodeAttribute": _attribute,
     "ShaderNodeVertexColor": _color_attribute,
     "ShaderNodeTangent": _tangent,
+    "ShaderNodeLightPath": _light_path,
 }
 
 
