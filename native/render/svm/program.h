@@ -165,13 +165,36 @@ enum class ShaderGlobal : uint8_t {
     kTransmissionDepth,
     kCount
 };
-constexpr const char* kShaderGlobalNames[] = {
-    "position",        "normal",          "true_normal",    "incoming",          "uv",
-    "generated",       "object",          "object_normal",  "reflection",        "backfacing",
-    "ray_length",      "parametric",      "object_location", "object_color",     "object_alpha",
-    "object_index",    "object_random",   "is_camera_ray",  "is_shadow_ray",     "is_diffuse_ray",
-    "is_glossy_ray",   "is_singular_ray", "is_reflection_ray", "is_transmission_ray", "is_volume_scatter_ray",
-    "ray_depth",       "diffuse_depth",   "glossy_depth",   "transparent_depth", "transmission_depth"};
+constexpr const char* kShaderGlobalNames[] = {"position",
+                                              "normal",
+                                              "true_normal",
+                                              "incoming",
+                                              "uv",
+                                              "generated",
+                                              "object",
+                                              "object_normal",
+                                              "reflection",
+                                              "backfacing",
+                                              "ray_length",
+                                              "parametric",
+                                              "object_location",
+                                              "object_color",
+                                              "object_alpha",
+                                              "object_index",
+                                              "object_random",
+                                              "is_camera_ray",
+                                              "is_shadow_ray",
+                                              "is_diffuse_ray",
+                                              "is_glossy_ray",
+                                              "is_singular_ray",
+                                              "is_reflection_ray",
+                                              "is_transmission_ray",
+                                              "is_volume_scatter_ray",
+                                              "ray_depth",
+                                              "diffuse_depth",
+                                              "glossy_depth",
+                                              "transparent_depth",
+                                              "transmission_depth"};
 static_assert(sizeof(kShaderGlobalNames) / sizeof(*kShaderGlobalNames) == size_t(ShaderGlobal::kCount));
 constexpr bool IsShiftedGlobal(ShaderGlobal g) {
     return g == ShaderGlobal::kPosition || g == ShaderGlobal::kUv || g == ShaderGlobal::kGenerated ||

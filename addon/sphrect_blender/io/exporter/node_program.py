@@ -816,6 +816,8 @@ def _color_attribute(c, node):
     """Cycles' Color Attribute node: the named colour attribute, or the mesh's render one; missing: 0, alpha 0."""
     regs = c.attribute(node.layer_name or RENDER_COLOR, "color_attribute")
     return {"Color": (regs["color"], "color"), "Alpha": (regs["alpha"], "float")}
+
+
 # -- the Light Path node (render/svm/program.h RayContext: what each ray that evaluates a program passes) -------------
 
 # Its outputs and the hit's inputs they read (Blender 3.4's node has no Is Volume Scatter Ray).
