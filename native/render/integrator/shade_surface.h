@@ -56,9 +56,17 @@ struct ShadowRay {
 template <bool kGlossy>
 static inline bool ShadowRayTowards(const SurfaceShadingPoint& sp, const Vec3f& wi, const Vec3f& dir, float dist,
                                     ShadowRay& ray) {
+    // Under a normal map or Bump, Cycles tells reflection from transmission, and offsets the terminator, by the
+    // shading normal before it (sd->N): a direction below that one no reflection lobe sees (shader_bsdf_is_
+    // transmission), however the mapped normal leans.
+    float cos_n = wi.z;
+    if (wi.z > 0 && sp.hit.mapped()) {
+        cos_n = Dot(dir, sp.hit.ns_unmapped);
+        if (!(cos_n > 0)) return false;
+    }
     if (sp.hit.terminator_offset > 0 && wi.z > 0) {
         const float cos_ng = Dot(dir, sp.hit.ng);
-        const float amount = TerminatorOffsetAmount(wi.z, cos_ng, sp.hit.terminator_offset);
+        const float amount = TerminatorOffsetAmount(cos_n, cos_ng, sp.hit.terminator_offset);
         if (amount > 0) {
             ray = {TerminatorShadowOrigin(sp.hit.p, sp.hit.ng, sp.hit.terminator_lift, amount, cos_ng), dir, dist};
             if (dist < kInf) {
