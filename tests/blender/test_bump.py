@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import export, render
-from test_node_programs import (CELL, COLUMNS, Case, coordinates_material, grid_scene, parity_view, render_cycles,
+from test_node_programs import (CELL, COLUMNS, Case, cycles_grid, parity_view, render_cycles,
                                 sphrect_module)
 from test_texture_export import Tree, material_named
 
@@ -109,19 +109,7 @@ def test_bump_matches_cycles(empty_scene, tmp_path):
     scene = empty_scene
     sphrect = sphrect_module()
     cases = bump_cases()
-    planes, rows = grid_scene(scene, len(cases))
-    coords_material = coordinates_material()
-    for p in planes:
-        p.data.materials.clear()
-        p.data.materials.append(coords_material)
-    bpy.context.view_layer.update()
-    coordinates = render_cycles(scene, str(tmp_path / "coordinates.exr"))
-    for p, case in zip(planes, cases):
-        p.data.materials.clear()
-        p.data.materials.append(case.material())
-    bpy.context.view_layer.update()
-    theirs = render_cycles(scene, str(tmp_path / "bump.exr"))
-    scene.render.engine = "SPHRECT"
+    planes, rows, coordinates, theirs = cycles_grid(scene, cases, tmp_path, "bump")
     exported, log = export()
     assert "Bump" not in log.warning_text()
     ray_length = scene.camera.location.z - scene.camera.data.clip_start

@@ -91,9 +91,9 @@ def grid_scene(scene, count):
     return planes, rows
 
 
-def node_values_against_cycles(scene, cases, tmp_path):
-    """Max over cases and pixels of |ours - Cycles| / max(1, |Cycles|) per case label; and the worst."""
-    sphrect = sphrect_module()
+def cycles_grid(scene, cases, tmp_path, name="nodes"):
+    """The grid of `cases` rendered by Cycles twice with the same rays: (planes, rows, the Generated coordinates each
+    pixel's ray hit, the cases' values there); the scene left set for SPHRECT."""
     planes, rows = grid_scene(scene, len(cases))
     coords_material = coordinates_material()
     for p in planes:
@@ -105,8 +105,15 @@ def node_values_against_cycles(scene, cases, tmp_path):
         p.data.materials.clear()
         p.data.materials.append(case.material())
     bpy.context.view_layer.update()
-    theirs = render_cycles(scene, str(tmp_path / "nodes.exr"))
+    theirs = render_cycles(scene, str(tmp_path / f"{name}.exr"))
     scene.render.engine = "SPHRECT"
+    return planes, rows, coordinates, theirs
+
+
+def node_values_against_cycles(scene, cases, tmp_path):
+    """Max over cases and pixels of |ours - Cycles| / max(1, |Cycles|) per case label; and the worst."""
+    sphrect = sphrect_module()
+    planes, rows, coordinates, theirs = cycles_grid(scene, cases, tmp_path)
     exported, log = export()
     images = [(t.pixels, t.colorspace == "srgb") for t in exported.textures]
     # Cycles' camera rays start on the near clipping plane: an orthographic ray's length to the planes (z = 0).

@@ -416,20 +416,26 @@ def renderer_supports_environments(scene):
         return False
 
 
+def floor_and_box(scene, camera, target):
+    """The world parity scenes: a grey floor and an orange box, the camera at `camera` looking at `target`, the parity
+    tests' resolution, rendered by SPHRECT."""
+    from test_cycles_parity import HEIGHT, WIDTH
+    scene.render.engine = "SPHRECT"
+    scene.view_settings.view_transform = "Standard"
+    set_resolution(scene, WIDTH, HEIGHT)
+    builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=40)
+    builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.3, 0.5, 0.5))
+    builders.camera(camera, target, lens=35.0)
+    return scene
+
+
 @pytest.mark.slow
 def test_floor_lit_by_a_nishita_sky_matches_cycles(fresh, tmp_path):
     """A diffuse floor lit only by Blender's default Nishita sky (its sun 15 degrees high): SPHRECT with the baked
     world against Cycles 3.4 (2048 samples, direct light), <= 1% per lit 4x4 block on average, as the other parity
     tests.  Skipped until the renderer renders World.environment (the image-world branch; with its renderer,
     measured 0.29%)."""
-    from test_cycles_parity import HEIGHT, WIDTH
-    scene = fresh
-    scene.render.engine = "SPHRECT"
-    scene.view_settings.view_transform = "Standard"
-    set_resolution(scene, WIDTH, HEIGHT)
-    builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=40)
-    builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.3, 0.5, 0.5))
-    builders.camera((0.0, -6.0, 3.0), (0.0, 0.0, 0.3), lens=35.0)
+    scene = floor_and_box(fresh, (0.0, -6.0, 3.0), (0.0, 0.0, 0.3))
     sky_world(sun_rotation=math.radians(60))
     bpy.context.view_layer.update()
     if not renderer_supports_environments(scene):
@@ -449,14 +455,7 @@ def test_a_light_path_world_matches_cycles(fresh, tmp_path):
     lights the scene with the blue and shows the camera the gradient, and so does SPHRECT (<= 1% per lit 4x4
     block on average); lit by what the camera sees instead (the export before World.camera_environment) it is far
     off."""
-    from test_cycles_parity import HEIGHT, WIDTH
-    scene = fresh
-    scene.render.engine = "SPHRECT"
-    scene.view_settings.view_transform = "Standard"
-    set_resolution(scene, WIDTH, HEIGHT)
-    builders.mesh_object("Floor", "plane", builders.material("Floor", (0.8, 0.8, 0.8)), size=40)
-    builders.mesh_object("Box", "cube", builders.material("Box", (0.7, 0.4, 0.2)), location=(0.3, 0.5, 0.5))
-    builders.camera((0.0, -6.0, 1.5), (0.0, 0.0, 1.0), lens=35.0)
+    scene = floor_and_box(fresh, (0.0, -6.0, 1.5), (0.0, 0.0, 1.0))
     light_path_world()
     bpy.context.view_layer.update()
     cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=1024)
