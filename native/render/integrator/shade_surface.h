@@ -60,9 +60,12 @@ static inline bool ShadowRayTowards(const SurfaceShadingPoint& sp, const Vec3f& 
     // shading normal before it (sd->N): a direction below that one no reflection lobe sees (shader_bsdf_is_
     // transmission), however the mapped normal leans.
     float cos_n = wi.z;
-    if (wi.z > 0 && sp.hit.mapped()) {
-        cos_n = Dot(dir, sp.hit.ns_unmapped);
-        if (!(cos_n > 0)) return false;
+    if constexpr (kGlossy) {                   // (normal maps and Bumps take the glossy kernel)
+        const Vec3f& n0 = sp.hit.ns_unmapped;  // zero where no map or Bump replaced the normal
+        if (wi.z > 0 && (n0.x != 0 || n0.y != 0 || n0.z != 0)) {
+            cos_n = Dot(dir, n0);
+            if (!(cos_n > 0)) return false;
+        }
     }
     if (sp.hit.terminator_offset > 0 && wi.z > 0) {
         const float cos_ng = Dot(dir, sp.hit.ng);

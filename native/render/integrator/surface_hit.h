@@ -15,9 +15,8 @@ struct SurfaceHit {
     Vec3f ns;     // unit shading normal, flipped with ng
     float t = 0;  // distance along the camera ray
     int material = 0;
-    TextureCoordinates tc;  // set only for a textured or normal-mapped material
-    Vec3f ns_unmapped;      // normal-mapped materials: the shading normal before the map (flipped with ns)
-    bool mapped() const { return ns_unmapped.x != 0 || ns_unmapped.y != 0 || ns_unmapped.z != 0; }
+    TextureCoordinates tc;    // set only for a textured or normal-mapped material
+    Vec3f ns_unmapped;        // normal-mapped materials: the shading normal before the map (flipped with ns)
     bool backfacing = false;  // materials with a dielectric lobe: the ray hit the side its winding faces away from
     Vec3f tangent;            // anisotropic materials: the mesh's radial tangent (RadialTangent; zero without one)
     // A smooth mesh with a shadow terminator offset (MeshData::shadow_terminator_offset, terminator.h): the offset
