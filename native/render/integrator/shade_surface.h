@@ -60,10 +60,9 @@ static inline bool ShadowRayTowards(const SurfaceShadingPoint& sp, const Vec3f& 
     // shading normal before it (sd->N): a direction below that one no reflection lobe sees (shader_bsdf_is_
     // transmission), however the mapped normal leans.
     float cos_n = wi.z;
-    if constexpr (kGlossy) {                   // (normal maps and Bumps take the glossy kernel)
-        const Vec3f& n0 = sp.hit.ns_unmapped;  // zero where no map or Bump replaced the normal
-        if (wi.z > 0 && (n0.x != 0 || n0.y != 0 || n0.z != 0)) {
-            cos_n = Dot(dir, n0);
+    if constexpr (kGlossy) {  // (normal maps and Bumps take the glossy kernel)
+        if (sp.hit.mapped && wi.z > 0) {
+            cos_n = Dot(dir, sp.hit.ns_unmapped);
             if (!(cos_n > 0)) return false;
         }
     }

@@ -17,6 +17,7 @@ struct SurfaceHit {
     int material = 0;
     TextureCoordinates tc;    // set only for a textured or normal-mapped material
     Vec3f ns_unmapped;        // normal-mapped materials: the shading normal before the map (flipped with ns)
+    bool mapped = false;      // a normal map or Bump replaced ns (ns_unmapped is set)
     bool backfacing = false;  // materials with a dielectric lobe: the ray hit the side its winding faces away from
     Vec3f tangent;            // anisotropic materials: the mesh's radial tangent (RadialTangent; zero without one)
     // A smooth mesh with a shadow terminator offset (MeshData::shadow_terminator_offset, terminator.h): the offset
@@ -140,11 +141,13 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
     s.dP = nm.differentials ? CameraFootprint(scene.camera, ray.d, s.t) : 0.0f;
     if (material.normal_mapped && !nm.program.empty()) {  // a Bump node's graph
         s.ns_unmapped = ns;
+        s.mapped = true;
         ns = BumpedShadingNormal(scene, nm.program, s, ng, ns);
     } else if (material.normal_mapped && !m.uvs.empty()) {
         // In the frame of Blender's winding, then back.
         const Point2<float> uv[3] = {m.uvs[i[0]], m.uvs[i[1]], m.uvs[i[2]]};
         s.ns_unmapped = ns;
+        s.mapped = true;
         ns = ApplyNormalMap(scene, m, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
     }
 }
