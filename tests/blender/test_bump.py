@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import export, render
-from test_node_programs import (CELL, COLUMNS, Case, cycles_grid, parity_view, render_cycles,
+from test_node_programs import (CELL, COLUMNS, Case, cell_hits, cycles_grid, parity_view, render_cycles,
                                 sphrect_module)
 from test_texture_export import Tree, material_named
 
@@ -121,19 +121,14 @@ def test_bump_matches_cycles(empty_scene, tmp_path):
         fields = dataclasses.asdict(program)
         row, col = k // COLUMNS, k % COLUMNS
         worst = 0.0
-        for j in range(CELL):
-            for i in range(CELL):
-                y, x = row * CELL + j, col * CELL + i
-                g = coordinates[y, x, :3].astype(np.float64)
-                local = np.array([2 * g[0] - 1, 2 * g[1] - 1, 0.0])
-                world = local + np.array([2.0 * col, -2.0 * row, 0.0])
-                # The plane's Generated and UV coordinates are (local + 1) / 2: they move by half the offset.
-                shifts = [(tuple(world + o), tuple((g + o / 2) * [1, 1, 0]), tuple(g + o / 2), tuple(local + o))
-                          for o in (dP * DX, dP * DY)]
-                ours = np.array(sphrect._native._eval_node_program(fields, tuple(world), (g[0], g[1], 0.0), tuple(g),
-                                                                   tuple(local), [], ray_length, dP, shifts))
-                cycles = theirs[y, x, :3].astype(np.float64)
-                worst = max(worst, float(np.max(np.abs(ours - cycles))))
+        for y, x, g, local, world in cell_hits(k, coordinates):
+            # The plane's Generated and UV coordinates are (local + 1) / 2: they move by half the offset.
+            shifts = [(tuple(world + o), tuple((g + o / 2) * [1, 1, 0]), tuple(g + o / 2), tuple(local + o))
+                      for o in (dP * DX, dP * DY)]
+            ours = np.array(sphrect._native._eval_node_program(fields, tuple(world), (g[0], g[1], 0.0), tuple(g),
+                                                               tuple(local), [], ray_length, dP, shifts))
+            cycles = theirs[y, x, :3].astype(np.float64)
+            worst = max(worst, float(np.max(np.abs(ours - cycles))))
         errors[case.label] = worst
         cell = theirs[row * CELL:(row + 1) * CELL, col * CELL:(col + 1) * CELL, :3]
         assert np.ptp(cell) > 0.05, f"{case.label}: Cycles' image is not bumped"

@@ -110,6 +110,18 @@ def cycles_grid(scene, cases, tmp_path, name="nodes"):
     return planes, rows, coordinates, theirs
 
 
+def cell_hits(k, coordinates):
+    """(y, x, Generated g, the plane's local point, its world point) of each pixel of case k's cell, from the
+    Generated coordinates each pixel's ray hit (cycles_grid)."""
+    row, col = k // COLUMNS, k % COLUMNS
+    for j in range(CELL):
+        for i in range(CELL):
+            y, x = row * CELL + j, col * CELL + i
+            g = coordinates[y, x, :3].astype(np.float64)
+            local = np.array([2 * g[0] - 1, 2 * g[1] - 1, 0.0])
+            yield y, x, g, local, local + np.array([2.0 * col, -2.0 * row, 0.0])
+
+
 def node_values_against_cycles(scene, cases, tmp_path):
     """Max over cases and pixels of |ours - Cycles| / max(1, |Cycles|) per case label; and the worst."""
     sphrect = sphrect_module()
@@ -125,16 +137,11 @@ def node_values_against_cycles(scene, cases, tmp_path):
         fields = dataclasses.asdict(program)
         row, col = k // COLUMNS, k % COLUMNS
         worst = 0.0
-        for j in range(CELL):
-            for i in range(CELL):
-                y, x = row * CELL + j, col * CELL + i
-                g = coordinates[y, x, :3].astype(np.float64)
-                local = (2 * g[0] - 1, 2 * g[1] - 1, 0.0)
-                world = (local[0] + 2.0 * col, local[1] - 2.0 * row, 0.0)
-                ours = np.array(sphrect._native._eval_node_program(fields, world, (g[0], g[1], 0.0), tuple(g),
-                                                                   local, images, ray_length))
-                cycles = theirs[y, x, :3].astype(np.float64)
-                worst = max(worst, float(np.max(np.abs(ours - cycles) / np.maximum(1.0, np.abs(cycles)))))
+        for y, x, g, local, world in cell_hits(k, coordinates):
+            ours = np.array(sphrect._native._eval_node_program(fields, tuple(world), (g[0], g[1], 0.0), tuple(g),
+                                                               tuple(local), images, ray_length))
+            cycles = theirs[y, x, :3].astype(np.float64)
+            worst = max(worst, float(np.max(np.abs(ours - cycles) / np.maximum(1.0, np.abs(cycles)))))
         errors[case.label] = worst
         cell = theirs[row * CELL:(row + 1) * CELL, col * CELL:(col + 1) * CELL, :3]
         constant = ("Geometry Normal", "Geometry True Normal", "Geometry Incoming", "Geometry Backfacing",
