@@ -172,6 +172,18 @@ render::TextureInterpolation InterpolationOf(const std::string& name) {
                                                           render::kTextureInterpolationNames);
 }
 
+// The binding of a RenderScene setter of an image world (SetEnvironment, SetCameraEnvironment): `what` names it in
+// errors.
+template <class Setter>
+auto EnvironmentSetter(Setter set, const std::string& what) {
+    return [set, what](RenderScene& s, int texture, V3 strength, const py::object& to_world,
+                       const std::string& interpolation) {
+        float m[3][3];
+        RotationOf(to_world, what + " to_world", m);
+        (s.*set)(texture, ToVec(strength), m, InterpolationOf(interpolation));
+    };
+}
+
 // The image world on its own, for tests of its sampling (environment_light.h): its image given as pixels.
 struct EnvironmentSampler {
     render::Image image;
@@ -530,24 +542,13 @@ void BindRender(py::module_& m) {
             [](RenderScene& s, const py::handle& fields) { return s.AddMaterial(MaterialFromFields(fields)); },
             py::arg("fields"), "Adds a sphrect.Material given as dataclasses.asdict(material); returns its index")
         .def("set_film_transparent", &RenderScene::SetFilmTransparent, py::arg("transparent"))
-        .def(
-            "set_environment",
-            [](RenderScene& s, int texture, V3 strength, const py::object& to_world, const std::string& interpolation) {
-                float m[3][3];
-                RotationOf(to_world, "world environment to_world", m);
-                s.SetEnvironment(texture, ToVec(strength), m, InterpolationOf(interpolation));
-            },
-            py::arg("texture"), py::arg("strength"), py::arg("to_world"), py::arg("interpolation"),
-            "The image world (sphrect.Environment): an image added before, which replaces the background")
-        .def(
-            "set_camera_environment",
-            [](RenderScene& s, int texture, V3 strength, const py::object& to_world, const std::string& interpolation) {
-                float m[3][3];
-                RotationOf(to_world, "world camera environment to_world", m);
-                s.SetCameraEnvironment(texture, ToVec(strength), m, InterpolationOf(interpolation));
-            },
-            py::arg("texture"), py::arg("strength"), py::arg("to_world"), py::arg("interpolation"),
-            "What escaping camera rays see instead (World.camera_environment): an image added before")
+        .def("set_environment", EnvironmentSetter(&RenderScene::SetEnvironment, "world environment"),
+             py::arg("texture"), py::arg("strength"), py::arg("to_world"), py::arg("interpolation"),
+             "The image world (sphrect.Environment): an image added before, which replaces the background")
+        .def("set_camera_environment",
+             EnvironmentSetter(&RenderScene::SetCameraEnvironment, "world camera environment"), py::arg("texture"),
+             py::arg("strength"), py::arg("to_world"), py::arg("interpolation"),
+             "What escaping camera rays see instead (World.camera_environment): an image added before")
         .def("add_image", &AddImage, py::arg("name"), py::arg("pixels"), py::arg("srgb"))
         .def("load_image", &RenderScene::LoadImage, py::arg("name"), py::arg("path"), py::arg("srgb"),
              py::call_guard<py::gil_scoped_release>())

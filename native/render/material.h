@@ -87,7 +87,11 @@ struct Material {
     bool ReadsCoordinates(bool generated) const;  // some lookup reads 'generated' (true) or 'uv' (false)
     bool HasPrograms() const;                     // some input or mix factor (of any layer) is a node program
     bool Bumps() const;                           // some program (the normal's too) has a Bump node
-    bool ReadsRayContext() const;                 // some program reads the Light Path node's ray kinds or depths
+    // Whether pred holds for some program: an input's, a layer's mix factor's (any layer, recursively) and, with
+    // `with_normal`, the normal's.
+    template <class Pred>
+    bool AnyProgram(const Pred& pred, bool with_normal = false) const;
+    bool ReadsRayContext() const;  // some program reads the Light Path node's ray kinds or depths
     // The emission varies over the surface: an image or a program drives it (a textured emitter).
     bool EmissionVaries() const {
         return textures[int(TexturedInput::kEmission)].bound() || !programs[int(TexturedInput::kEmission)].empty();
@@ -119,38 +123,29 @@ inline bool Material::ReadsCoordinates(bool generated) const {
     return false;
 }
 
-inline bool Material::ReadsRayContext() const {
+template <class Pred>
+bool Material::AnyProgram(const Pred& pred, bool with_normal) const {
+    if (with_normal && pred(normal_map.program)) return true;
     for (const svm::NodeProgram& p : programs)
-        if (p.ReadsRayContext()) return true;
+        if (pred(p)) return true;
     for (const MaterialLayer& l : layers) {
         for (const MixFactorLookup& f : l.factors)
-            if (f.program.ReadsRayContext()) return true;
-        if (l.material.ReadsRayContext()) return true;
+            if (pred(f.program)) return true;
+        if (l.material.AnyProgram(pred, with_normal)) return true;
     }
     return false;
+}
+
+inline bool Material::ReadsRayContext() const {
+    return AnyProgram([](const svm::NodeProgram& p) { return p.ReadsRayContext(); });
 }
 
 inline bool Material::HasPrograms() const {
-    for (const svm::NodeProgram& p : programs)
-        if (!p.empty()) return true;
-    for (const MaterialLayer& l : layers) {
-        for (const MixFactorLookup& f : l.factors)
-            if (!f.program.empty()) return true;
-        if (l.material.HasPrograms()) return true;
-    }
-    return false;
+    return AnyProgram([](const svm::NodeProgram& p) { return !p.empty(); });
 }
 
 inline bool Material::Bumps() const {
-    if (normal_map.program.Bumps()) return true;
-    for (const svm::NodeProgram& p : programs)
-        if (p.Bumps()) return true;
-    for (const MaterialLayer& l : layers) {
-        for (const MixFactorLookup& f : l.factors)
-            if (f.program.Bumps()) return true;
-        if (l.material.Bumps()) return true;
-    }
-    return false;
+    return AnyProgram([](const svm::NodeProgram& p) { return p.Bumps(); }, true);
 }
 
 // Texture coordinates at a hit: the mesh's UVs as (u, v, 0) and its Generated coordinates (zero where the

@@ -13,7 +13,7 @@ Vec3f BumpedShadingNormal(const RenderScene& scene, const svm::NodeProgram& prog
     const float flip = Dot(ng, incoming) < 0 ? -1.0f : 1.0f;
     facing.ng = ng * flip;
     facing.ns = ns * flip;
-    facing.ns_unmapped = Vec3f();  // ns is the normal before the program
+    facing.mapped = false;  // ns is the normal before the program
     const Vec3f n = svm::EvalNodeProgram(program, scene.images, HitShaderGlobals(facing));
     const float len = Length(n);
     return len > 0 && std::isfinite(len) ? n * (flip / len) : ns;

@@ -67,9 +67,9 @@ inline void SetMeshShaderGlobals(const MeshData& m, const uint32_t (&v)[3], cons
 inline svm::ShaderGlobals HitShaderGlobals(const SurfaceHit& h, const svm::RayContext* ray = nullptr) {
     svm::ShaderGlobals sg;
     sg.p = h.p;
-    // The shading normal before a normal map or Bump replaced it (ns_unmapped, zero where none did): Cycles' sd->N,
+    // The shading normal before a normal map or Bump replaced it (ns_unmapped, where one did): Cycles' sd->N,
     // which the Normal Map and Bump nodes' outputs leave alone (they feed a closure's Normal).
-    sg.n = Dot(h.ns_unmapped, h.ns_unmapped) > 0 ? h.ns_unmapped : h.ns;
+    sg.n = h.mapped ? h.ns_unmapped : h.ns;
     sg.ng = h.ng;
     sg.incoming = Vec3f(h.incoming[0], h.incoming[1], h.incoming[2]);
     sg.uv = h.tc.uv;

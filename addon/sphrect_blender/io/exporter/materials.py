@@ -62,18 +62,18 @@ class ImplicitEmission:
     """A colour or a value linked straight into a shader input (a Material Output's Surface, a Mix or Add Shader's
     shader): Cycles inserts an Emission there (ShaderGraph::connect), of that colour (a value: its Strength) and
     strength 1.  `socket` is the shader input; the leaf _shader gives the emission of."""
-    bl_idname = bl_label = "implicit Emission"
+    bl_idname = "implicit Emission"
 
-    def __init__(self, socket, node):
+    def __init__(self, socket, node, output):
         self.socket = socket
-        self.key = ("implicit emission", node.key, socket.identifier, socket.node.name)
+        self.key = ("implicit emission", node.key, output.identifier)  # what emits: the same wherever it is linked
 
 
 def _linked_shader(socket):
     """The node feeding shader input `socket`: a node, an ImplicitEmission (an output that is not a shader), None."""
     node, output = follow_reroutes(socket)
     if node is not None and output is not None and output.type != "SHADER":
-        return ImplicitEmission(socket, node)
+        return ImplicitEmission(socket, node, output)
     return node
 
 

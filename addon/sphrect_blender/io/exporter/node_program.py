@@ -135,7 +135,7 @@ class ProgramCompiler:
     def global_input(self, name):
         """A register holding the hit's input `name` (one of NODE_GLOBALS), read once per program; the shading normal
         bumped by the material's displacement where it has one (displaced_normal)."""
-        if name == "normal" and getattr(self.textures, "displacement", None) is not None and not self._displacing:
+        if name == "normal" and self.textures.displacement is not None and not self._displacing:
             return self.displaced_normal()
         shift = self._shift if name in self.sphrect._native.node_shifted_globals else 0
         key = ("global", name, shift)

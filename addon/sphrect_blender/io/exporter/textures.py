@@ -133,6 +133,9 @@ class TextureExport:
         self.uv_maps_named = {}  # material name -> UV map names its nodes ask for (checked per object)
         self._reached = {}  # material node tree -> the outputs its Material Output reaches (_reached_outputs)
         self._means = {}  # (texture, output) -> its scalar's mean (factor_mean)
+        # The Material Output's Displacement input of the material being exported, where Cycles bumps with it
+        # (materials.export_material): every program of that material reads its displaced normal.
+        self.displacement = None
 
     def lookup(self, node, output, owner, light_coordinates=None):
         """The TextureLookup of Image Texture `node`'s output ('color' / 'alpha') read by material `owner`, or by a
