@@ -910,14 +910,17 @@ def _world_not_representable(sphrect, world, surface, textures, log):
             not (camera.shape == pixels.shape and np.array_equal(camera, pixels)):
         if np.all(camera == camera[0, 0]):
             camera = camera[:1, :1]  # one colour: a 1 x 1 image
-        textures.list.append(sphrect.Texture(name=f"{world.name} (baked world, camera)", pixels=camera,
-                                             colorspace="linear"))
-        camera_environment = sphrect.Environment(texture=len(textures.list) - 1)
+        camera_environment = _baked_environment(sphrect, textures, f"{world.name} (baked world, camera)", camera)
     if np.all(pixels == pixels[0, 0]):
         return _rgb(pixels[0, 0]), None, camera_environment
-    textures.list.append(sphrect.Texture(name=f"{world.name} (baked world)", pixels=pixels, colorspace="linear"))
-    environment = sphrect.Environment(texture=len(textures.list) - 1)
+    environment = _baked_environment(sphrect, textures, f"{world.name} (baked world)", pixels)
     return _rgb(world_bake.sphere_mean(pixels)), environment, camera_environment
+
+
+def _baked_environment(sphrect, textures, name, pixels):
+    """An Environment (strength 1, identity) over a bake's linear radiance `pixels`, added to the scene's textures."""
+    textures.list.append(sphrect.Texture(name=name, pixels=pixels, colorspace="linear"))
+    return sphrect.Environment(texture=len(textures.list) - 1)
 
 
 def _baked_world(world, log, camera_rays):

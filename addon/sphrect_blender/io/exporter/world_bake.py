@@ -397,7 +397,6 @@ def in_background(bakes):
     (a BackgroundBakes) runs the child.  Other threads (an F12 render's) still wait."""
     outer = getattr(_thread, "bakes", None)
     _thread.bakes = bakes
-    bakes.asked = False
     bakes.signatures = set()
     try:
         yield bakes
@@ -420,8 +419,9 @@ class BackgroundBakes:
         self.job = None             # the BakeJob running
         self.failure = None         # (signature, message): the last bake that failed
         self.failed_world = None    # why the bake of the world last exported failed, or None
-        self.asked = False          # bake_world was called since in_background() began
-        self.signatures = set()     # the bakes it asked for since then (a world's lighting and camera bakes)
+        # The bakes bake_world asked for since in_background() began (a world's light and camera bakes; none: it was
+        # not called).
+        self.signatures = set()
         self._cache_dir = None      # the running bake's
         self._shown = {}            # world -> pixels of its last bake shown (one world kept)
 
@@ -431,7 +431,6 @@ class BackgroundBakes:
 
     def request(self, world, signature, width, height, samples, cache_dir, camera_rays=True):
         """bake_world of a world not cached: its bake started unless it runs already; raises BakeNotReady."""
-        self.asked = True
         self.signatures.add(signature)
         stand_in = self._shown.get(_world_key(world))
         if self.failure is not None and self.failure[0] == signature:
@@ -451,14 +450,14 @@ class BackgroundBakes:
 
     def showing(self, world, signature, pixels):
         """An export used this bake of `world` (cached): its stand-in while a later edit's bake runs."""
-        self.asked, self.failed_world = True, None
+        self.failed_world = None
         self.signatures.add(signature)
         self._shown = {_world_key(world): pixels}
 
     def world_exported(self):
         """The world was exported (within in_background): a running bake it did not ask for (of another state of the
         world -- an edit undone --, or none at all: a constant or an image world now) is of no use any more."""
-        if not self.asked:
+        if not self.signatures:
             self.failed_world = None
         if self.job is not None and self.job.signature not in self.signatures:
             self.cancel()
