@@ -28,6 +28,11 @@
 14_still_life    glass and metal on a wooden table: a Glass BSDF sphere, a brushed-metal can (Principled,
                  metallic), a polished Glossy BSDF ring, a clearcoated ceramic vase and a box of a diffuse +
                  glossy Mix Shader, under a rectangle softbox and a disk light
+15_fog_stage     a stage in a fog box (a cube of Volume Scatter + Volume Absorption, no surface) seen from
+                 outside it: a spot light's visible cone, a street lamp (a point light in an emissive globe) and a
+                 dim rectangle light
+16_fog_room      the room of 02_room filled by a Principled Volume box around it and the camera, lit by the
+                 ceiling rectangle and a disk light
 """
 import math
 import os
@@ -721,12 +726,82 @@ def still_life():
     save("14_still_life")
 
 
+def volume_material(name, nodes_and_inputs):
+    """A material with no Surface whose Volume is the sum (Add Shader) of volume nodes [(bl_idname, {input: value})]."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    nodes.clear()
+    out = nodes.new("ShaderNodeOutputMaterial")
+    shaders = []
+    for idname, inputs in nodes_and_inputs:
+        node = nodes.new(idname)
+        for k, v in inputs.items():
+            node.inputs[k].default_value = v
+        shaders.append(node.outputs[0])
+    while len(shaders) > 1:
+        add = nodes.new("ShaderNodeAddShader")
+        links.new(shaders.pop(), add.inputs[1])
+        links.new(shaders.pop(), add.inputs[0])
+        shaders.append(add.outputs[0])
+    links.new(shaders[0], out.inputs["Volume"])
+    return mat
+
+
+def fog_stage():
+    fresh_scene("fog_stage")
+    mesh_object("Floor", "plane", material("Floor", (0.5, 0.5, 0.5)), size=14)
+    mesh_object("Back Wall", "plane", material("Wall", (0.6, 0.55, 0.5)), location=(0, 3, 2.5),
+                rotation=(math.pi / 2, 0, 0), size=8)
+    mesh_object("Crate", "cube", material("Crate", (0.7, 0.4, 0.2)), location=(-1.2, 0.8, 0.4), size=0.8,
+                rotation=(0, 0, 0.3))
+    smooth(mesh_object("Ball", "uv_sphere", material("Ball", (0.2, 0.4, 0.7)), location=(1.0, 0.2, 0.5),
+                       radius=0.5, segments=32, ring_count=16))
+    # The street lamp: a pole, a point light in an emissive globe (the globe lights only what its emission does).
+    mesh_object("Pole", "cylinder", material("Pole", (0.1, 0.1, 0.1)), location=(2.4, 1.6, 1.2), radius=0.04,
+                depth=2.4, vertices=12)
+    smooth(mesh_object("Globe", "uv_sphere", emission_material("Globe", (1.0, 0.8, 0.5), 6.0),
+                       location=(2.4, 1.6, 2.5), radius=0.12, segments=16, ring_count=8))
+    other_light("Lamp", "POINT", 150.0, location=(2.4, 1.6, 2.2), color=(1.0, 0.85, 0.6))
+    spot = other_light("Spot", "SPOT", 900.0, location=(-1.6, -0.6, 3.6), spot_size=math.radians(35),
+                       spot_blend=0.15)
+    aim(spot, (-0.6, 0.8, 0.0))
+    area_light("Fill", "RECTANGLE", size=2.0, size_y=1.0, power=150.0, location=(0, -1.5, 3.9), visible=False)
+    # The fog box over the stage (the camera outside it).
+    mesh_object("Fog", "cube", volume_material("Fog", [
+        ("ShaderNodeVolumeScatter", {"Density": 0.18, "Color": (0.9, 0.9, 0.95, 1), "Anisotropy": 0.4}),
+        ("ShaderNodeVolumeAbsorption", {"Density": 0.05, "Color": (0.8, 0.7, 0.6, 1)})]),
+        location=(0, 0.5, 2.0), scale=(3.5, 2.5, 2.0))
+    camera((0.0, -6.5, 1.8), (0.0, 0.8, 1.2), lens=28.0)
+    save("15_fog_stage")
+
+
+def fog_room():
+    fresh_scene("fog_room")
+    room(material("Walls", (0.75, 0.75, 0.7)))
+    mesh_object("Box", "cube", material("Orange", (0.8, 0.45, 0.15)), location=(1.0, 1.0, 0.6), size=1.2,
+                rotation=(0, 0, 0.4))
+    smooth(mesh_object("Sphere", "uv_sphere", material("Grey", (0.6, 0.6, 0.6)), location=(-1.1, 0.3, 0.7),
+                       radius=0.7, segments=32, ring_count=16))
+    area_light("Ceiling Light", "RECTANGLE", size=1.6, size_y=0.8, power=300.0, location=(0, 0.5, 2.98))
+    area_light("Disk", "DISK", size=0.4, power=60.0, location=(-2.5, 2.0, 1.5), rotation=(0, math.pi / 2, 0),
+               color=(1.0, 0.7, 0.4))
+    camera((0.0, -2.8, 1.5), (0.0, 0.8, 0.9), lens=20.0)
+    # A Principled Volume box a little larger than the room: it holds the camera and every light.
+    mesh_object("Haze", "cube", volume_material("Haze", [
+        ("ShaderNodeVolumePrincipled", {"Density": 0.25, "Color": (0.85, 0.85, 0.9, 1),
+                                        "Absorption Color": (0.7, 0.7, 0.7, 1), "Anisotropy": 0.2})]),
+        location=(0, 0, 1.5), scale=(3.2, 3.2, 1.7))
+    save("16_fog_room")
+
+
 SCENES = {"01_paper": paper, "02_room": lambda: room_scene("02_room", fog=False), "03_glossy_floor": glossy_floor,
           "04_foggy_room": lambda: room_scene("04_foggy_room", fog=True), "05_hard_cases": hard_cases,
           "06_mixed_lights": mixed_lights, "07_studio": studio, "08_disk_room": disk_room,
           "09_hall": hall, "10_night_street": night_street, "11_paper_disk": paper_disk,
           "12_disk_ceiling": lambda: room_scene("12_disk_ceiling", fog=False, disk=True),
-          "13_textured_room": textured_room, "14_still_life": still_life}
+          "13_textured_room": textured_room, "14_still_life": still_life, "15_fog_stage": fog_stage,
+          "16_fog_room": fog_room}
 
 if __name__ == "__main__":
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []

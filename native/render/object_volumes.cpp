@@ -107,7 +107,35 @@ void ObjectVolumes::Add(RTCDevice device, const std::string& name, const float* 
 }
 
 void ObjectVolumes::Commit(RTCDevice) {
-    if (rtc_scene_) rtcCommitScene(rtc_scene_);
+    if (!rtc_scene_) return;
+    rtcCommitScene(rtc_scene_);
+    RTCBounds b;
+    rtcGetSceneBounds(rtc_scene_, &b);
+    // Widened a little: a ray grazing the box must still walk (the test below is in float).
+    const Vec3f lo(b.lower_x, b.lower_y, b.lower_z), hi(b.upper_x, b.upper_y, b.upper_z);
+    const Vec3f pad =
+        (hi - lo) * 1e-4f + Vec3f(1e-6f, 1e-6f, 1e-6f) * (1 + std::max(MaxAbsComponent(lo), MaxAbsComponent(hi)));
+    bounds_lo_ = lo - pad;
+    bounds_hi_ = hi + pad;
+}
+
+bool ObjectVolumes::MissesBounds(const Vec3f& o, const Vec3f& d) const {
+    float t0 = 0, t1 = kInf;
+    const float oc[3] = {o.x, o.y, o.z}, dc[3] = {d.x, d.y, d.z};
+    const float lo[3] = {bounds_lo_.x, bounds_lo_.y, bounds_lo_.z}, hi[3] = {bounds_hi_.x, bounds_hi_.y, bounds_hi_.z};
+    for (int a = 0; a < 3; ++a) {
+        if (dc[a] == 0) {
+            if (oc[a] < lo[a] || oc[a] > hi[a]) return true;
+            continue;
+        }
+        const float inv = 1 / dc[a];
+        float ta = (lo[a] - oc[a]) * inv, tb = (hi[a] - oc[a]) * inv;
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+        if (t0 > t1) return true;
+    }
+    return false;
 }
 
 int ObjectVolumes::Crossings(const Vec3f& o, const Vec3f& d, Crossing* out, uint64_t& inside) const {
@@ -150,7 +178,7 @@ VolumeCoefficients ObjectVolumes::Sum(uint64_t set) const {
 }
 
 Spectrum ObjectVolumes::Transmittance(const Vec3f& o, const Vec3f& d, float tmax) const {
-    if (!rtc_scene_) return {1, 1, 1};
+    if (!rtc_scene_ || MissesBounds(o, d)) return {1, 1, 1};
     Crossing crossings[kMaxVolumeCrossings];
     uint64_t inside;
     const int n = Crossings(o, d, crossings, inside);
@@ -184,7 +212,7 @@ Spectrum ObjectVolumes::Transmittance(const Vec3f& o, const Vec3f& d, float tmax
 void ObjectVolumes::Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out) const {
     out.count = 0;
     out.truncated = false;
-    if (!rtc_scene_) {
+    if (!rtc_scene_ || MissesBounds(o, d)) {
         out.segment[out.count++] = {0, kInf, {}};
         return;
     }

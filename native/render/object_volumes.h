@@ -79,6 +79,9 @@ class ObjectVolumes {
     // The ray's crossings of every boundary, sorted by t, and the set of volumes its origin is inside.
     int Crossings(const Vec3f& o, const Vec3f& d, Crossing* out, uint64_t& inside) const;
     VolumeCoefficients Sum(uint64_t set) const;
+    // Whether the ray o + t d, t >= 0, misses the volumes' bounding box (then it crosses none: no walk needed).
+    bool MissesBounds(const Vec3f& o, const Vec3f& d) const;
+    Vec3f bounds_lo_, bounds_hi_;
     std::vector<VolumeCoefficients> coefficients_;
     std::vector<std::string> names_;
     RTCScene rtc_scene_ = nullptr;

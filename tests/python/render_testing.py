@@ -69,11 +69,12 @@ def expected_plane_image(cam, albedo, irradiance_fn, order=16):
     return albedo / np.pi * np.einsum("hwij,ij->hw", E, W)
 
 
-def replicate_images(scene, techniques, replicates, samples, **kw):
-    """{technique: [replicates, H, W] red channel}, each replicate an independent seed."""
+def replicate_images(scene, techniques, replicates, samples, first_seed=1000, **kw):
+    """{technique: [replicates, H, W] red channel}, each replicate an independent seed (first_seed, first_seed + 1,
+    ...: stacks to compare with each other take seeds apart)."""
     out = {t: [] for t in techniques}
     for rep in range(replicates):
-        r = sphrect.Renderer(scene, techniques=techniques, seed=1000 + rep, **kw)
+        r = sphrect.Renderer(scene, techniques=techniques, seed=first_seed + rep, **kw)
         assert r.render(samples)
         for t in techniques:
             assert r.stats(t)["dropped_samples"] == 0, f"{t}: non-finite samples"
