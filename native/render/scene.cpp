@@ -221,10 +221,6 @@ void RenderScene::Commit() {
     features_.emissive_meshes = has_mesh_lights;
     features_.soft_lights = !soft_lights.empty();
     features_.transparency = has_transparency;
-    if (has_transparency && (has_medium || has_volumes))
-        warnings.push_back(
-            "transparent surfaces in a medium: a camera ray that goes through one weights its "
-            "single scattering in front of the surface by the surface's transparency too (approximate)");
     committed_ = true;
 }
 

@@ -44,32 +44,39 @@ class Stopwatch {
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-// ShadeCameraSample in a scene with object volumes: the surface's light through them, and their scattering (`volumes`:
-// the camera ray's stretches).  The shadow rays' transmittance through them is ResolveShadowRays'.
+// ShadeCameraSample where the scene keeps CameraRayMedia (KeepsCameraRayMedia): the surface's light through the
+// object volumes, and the medium's scattering, each point of it weighted by the camera ray's throughput there
+// (media.ThroughputAt: past the transparent surfaces before it; the surface takes the whole ray's, ph.throughput,
+// which `sink` holds).  The shadow rays' transmittance through object volumes is ResolveShadowRays'.
 template <Technique K, bool kGlossy>
-[[gnu::noinline]] void ShadeCameraSampleInVolumes(const ShadeContext& c, const PrimaryHit& ph,
-                                                  const VolumeSegments& volumes, const Point2<float>* light_points,
-                                                  const Point2<float>* bsdf_points, const ShadowSink& sink,
-                                                  uint64_t& light_ticks) {
+[[gnu::noinline]] void ShadeCameraSampleInMedia(const ShadeContext& c, const PrimaryHit& ph,
+                                                const CameraRayMedia& media, const Point2<float>* light_points,
+                                                const Point2<float>* bsdf_points, const ShadowSink& sink,
+                                                uint64_t& light_ticks) {
+    const RenderScene& scene = c.scene;
     PCG32 rng(ph.rng_seed, 0x5851f42dull);
     if (ph.hit) {
-        const Spectrum t = Transmittance(c.scene.medium, ph.surface.t) * volumes.TransmittanceTo(ph.surface.t);
+        Spectrum t = Transmittance(scene.medium, ph.surface.t);
+        if (scene.has_volumes) t = t * media.volumes.TransmittanceTo(ph.surface.t);
         ShadeSurface<K, kGlossy, true>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng, sink.Scaled(t),
                                        light_ticks);
     }
-    ShadeObjectVolumes<K>(c, ph, volumes, light_points, bsdf_points, rng, sink, light_ticks);
+    const ShadowSink unweighted{sink.queue, sink.sample};
+    if (scene.has_volumes)
+        ShadeObjectVolumes<K>(c, ph, media, light_points, bsdf_points, rng, unweighted, light_ticks);
+    else if (scene.has_medium)
+        ShadeVolume<K>(c, ph, light_points, bsdf_points, rng, unweighted, light_ticks, &media);
 }
 
-// Everything a camera sample receives beyond what it sees directly, queued on `sink`; volumes: its ray's stretches
-// through object volumes (null in a scene without).
+// Everything a camera sample receives beyond what it sees directly, queued on `sink`; media: what its ray meets in a
+// medium (null unless the scene keeps them).
 template <Technique K, bool kGlossy, bool kMedium>
-void ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, const VolumeSegments* volumes,
+void ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, const CameraRayMedia* media,
                        const Point2<float>* light_points, const Point2<float>* bsdf_points, const ShadowSink& sink,
                        uint64_t& light_ticks) {
     if constexpr (kMedium)
-        if (volumes)
-            return ShadeCameraSampleInVolumes<K, kGlossy>(c, ph, *volumes, light_points, bsdf_points, sink,
-                                                          light_ticks);
+        if (media)
+            return ShadeCameraSampleInMedia<K, kGlossy>(c, ph, *media, light_points, bsdf_points, sink, light_ticks);
     PCG32 rng(ph.rng_seed, 0x5851f42dull);
     if (ph.hit)
         ShadeSurface<K, kGlossy, kMedium>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng,
@@ -88,16 +95,16 @@ void ShadeCameraSamples(Technique technique, const ShadeContext& c, size_t n, Th
     const size_t nl = size_t(c.light_samples);
     auto& queue = scratch.shadow_rays;
     queue.clear();
-    const VolumeSegments* volumes = c.scene.has_volumes ? scratch.volume_segments.data() : nullptr;
+    const CameraRayMedia* media = KeepsCameraRayMedia(c.scene) ? scratch.camera_ray_media.data() : nullptr;
     DispatchTechnique(technique, [&](auto tag) {
         constexpr Technique K = decltype(tag)::value;
         for (uint32_t s = 0; s < uint32_t(n); ++s) {
             const PrimaryHit& ph = scratch.hits[s];
             scratch.sample_values[s] = ph.seen;
             if (IsBlack(ph.throughput)) continue;  // past too many transparent surfaces
-            ShadeCameraSample<K, kGlossy, kMedium>(c, ph, volumes ? &volumes[s] : nullptr,
-                                                   &scratch.light_points[s * nl], &scratch.bsdf_points[s * nl],
-                                                   ShadowSink{&queue, s, ph.throughput}, light_ticks);
+            ShadeCameraSample<K, kGlossy, kMedium>(c, ph, media ? &media[s] : nullptr, &scratch.light_points[s * nl],
+                                                   &scratch.bsdf_points[s * nl], ShadowSink{&queue, s, ph.throughput},
+                                                   light_ticks);
         }
     });
 }
@@ -114,7 +121,7 @@ void ReserveScratch(const RenderScene& scene, ThreadScratch& scratch, int chunk_
     scratch.light_points.resize(chunk_samples * light_samples);
     scratch.bsdf_points.resize(chunk_samples * light_samples);
     scratch.pixel_sums.resize(size_t(chunk_pixels) * techniques);
-    if (scene.has_volumes) scratch.volume_segments.resize(chunk_samples);
+    if (KeepsCameraRayMedia(scene)) scratch.camera_ray_media.resize(chunk_samples);
 }
 
 template <bool kDof, bool kGlossy, bool kMedium>
@@ -134,7 +141,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
         GenerateCameraSamples<kDof>(p, chunk, ctx.sample_bsdf, scratch);
         TraceCameraRays(scene.rtc_scene, scratch.hits.data(), chunk_n, scratch.camera_hits.data());
         FinishCameraSamples<kGlossy, kMedium>(scene, scratch.camera_hits.data(), chunk_n, scratch.hits.data(),
-                                              scratch.volume_segments.data());
+                                              scratch.camera_ray_media.data());
         tally.camera_seconds += camera.Seconds();
         tally.camera_rays += chunk_n;
 

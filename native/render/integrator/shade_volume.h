@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "camera_ray_media.h"
 #include "camera_stage.h"
 #include "emitters.h"
 #include "render/medium.h"
@@ -157,13 +158,14 @@ static inline EquiAngular EquiAngularAboutALight(const RenderScene& scene, const
     return MakeEquiAngular(ray.o, ray.d, t_end, scene.medium_centres[scene.medium_centre_selector.Select(u)]);
 }
 
-// Queues the in-scattered light at distance d.t along the ray, weighted by T(t) w / pdf and
-// averaged over the light samples.
+// Queues the in-scattered light at distance d.t along the ray, weighted by T(t) w / pdf (and the camera ray's
+// throughput there, given `media`) and averaged over the light samples.
 template <Technique K>
 static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, ScatterDistance d, float w,
                                        Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
-                                       uint64_t& light_ticks) {
-    const Spectrum weight = Transmittance(c.scene.medium, d.t) * (w / d.pdf);
+                                       uint64_t& light_ticks, const CameraRayMedia* media) {
+    Spectrum weight = Transmittance(c.scene.medium, d.t) * (w / d.pdf);
+    if (media) weight = weight * media->ThroughputAt(d.t);
     InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d, c.scene.medium.g}, c.scene.medium.sigma_s, light_point,
                         phase_point, sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
 }
@@ -176,7 +178,7 @@ static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, Sc
 template <Technique K>
 static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
                                const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink,
-                               uint64_t& light_ticks) {
+                               uint64_t& light_ticks, const CameraRayMedia* media = nullptr) {
     const RenderScene& scene = c.scene;
     const Ray& ray = ph.ray;
     const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
@@ -192,7 +194,7 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
             const ScatterDistance d = SampleDistanceByTransmittance(scene.medium, ph.t_end, u_distance);
             const float w = use_equi ? MisWeight(strategy_mis, d.pdf, EquiAngularPDF(ea, d.t)) : 1.0f;
             if (d.pdf > 0 && w > 0)
-                QueueInScatteringAt<K>(c, ray, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
+                QueueInScatteringAt<K>(c, ray, d, w, light_points[j], bsdf_points[j], sink, light_ticks, media);
         }
         if (use_equi) {
             const ScatterDistance d = SampleDistanceEquiAngular(ea, ph.t_end, u_equi);
@@ -200,7 +202,7 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
                 use_distance ? MisWeight(strategy_mis, d.pdf, ExponentialDistancePDF(scene.medium.sigma_sampling, d.t))
                              : 1.0f;
             if (d.pdf > 0 && w > 0)
-                QueueInScatteringAt<K>(c, ray, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
+                QueueInScatteringAt<K>(c, ray, d, w, light_points[j], bsdf_points[j], sink, light_ticks, media);
         }
     }
 }
@@ -290,25 +292,25 @@ static inline float SpanEquiAngularPDF(const SpanEquiAngular& e, float t) { retu
 template <Technique K>
 static inline void QueueInScatteringInStretch(const ShadeContext& c, const Ray& ray, const MediumStretch& s,
                                               ScatterDistance d, float w, Point2<float> light_point,
-                                              Point2<float> phase_point, const ShadowSink& sink,
-                                              uint64_t& light_ticks) {
+                                              Point2<float> phase_point, const ShadowSink& sink, uint64_t& light_ticks,
+                                              const CameraRayMedia& media) {
     if (IsBlack(s.k.sigma_s)) return;
-    const Spectrum weight = TransmittanceInStretch(s, d.t) * (w / d.pdf);
+    const Spectrum weight = TransmittanceInStretch(s, d.t) * media.ThroughputAt(d.t) * (w / d.pdf);
     InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d, s.k.g}, s.k.sigma_s, light_point, phase_point,
                         sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
 }
 
 // Single scattering along the camera ray's [0, t_end) through object volumes (and the world medium), as ShadeVolume
 // does in the world medium alone: distance sampling (now through the stretches) and equi-angular sampling over their
-// span, combined by MIS.  `segments`: the ray's volume stretches (ObjectVolumes::Segments).
+// span, combined by MIS.  `media`: the ray's stretches through the volumes and its throughput along them.
 template <Technique K>
 [[gnu::noinline]] static void ShadeObjectVolumes(const ShadeContext& c, const PrimaryHit& ph,
-                                                 const VolumeSegments& segments, const Point2<float>* light_points,
+                                                 const CameraRayMedia& media, const Point2<float>* light_points,
                                                  const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink,
                                                  uint64_t& light_ticks) {
     const RenderScene& scene = c.scene;
     const Ray& ray = ph.ray;
-    const MediumStretches st = MakeMediumStretches(scene, segments, ph.t_end);
+    const MediumStretches st = MakeMediumStretches(scene, media.volumes, ph.t_end);
     if (st.count == 0) return;
     const float a = st.stretch[0].t0, b = st.stretch[st.count - 1].t1;
     const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
@@ -329,7 +331,8 @@ template <Technique K>
             const MediumStretch* s = d.pdf > 0 ? st.At(d.t) : nullptr;
             const float w = use_equi ? MisWeight(strategy_mis, d.pdf, SpanEquiAngularPDF(se, d.t)) : 1.0f;
             if (s && w > 0)
-                QueueInScatteringInStretch<K>(c, ray, *s, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
+                QueueInScatteringInStretch<K>(c, ray, *s, d, w, light_points[j], bsdf_points[j], sink, light_ticks,
+                                              media);
         }
         if (use_equi) {
             ScatterDistance d = SampleDistanceEquiAngular(se.ea, b - a, u_equi);
@@ -337,7 +340,8 @@ template <Technique K>
             const MediumStretch* s = d.pdf > 0 ? st.At(d.t) : nullptr;
             const float w = use_distance ? MisWeight(strategy_mis, d.pdf, DistanceThroughStretchesPDF(st, d.t)) : 1.0f;
             if (s && w > 0)
-                QueueInScatteringInStretch<K>(c, ray, *s, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
+                QueueInScatteringInStretch<K>(c, ray, *s, d, w, light_points[j], bsdf_points[j], sink, light_ticks,
+                                              media);
         }
     }
 }
