@@ -111,6 +111,14 @@ void AddMesh(RenderScene& s, const std::string& name, const py::object& vertices
               generated.is_none() ? nullptr : gen.data(), visibility);
 }
 
+void AddVolume(RenderScene& s, const std::string& name, const py::object& vertices, const py::object& triangles,
+               V3 sigma_s, V3 sigma_a, float g) {
+    const auto v = RowsOf<float>(vertices, 3, "vertices");
+    const auto t = RowsOf<int32_t>(triangles, 3, "triangles");
+    py::gil_scoped_release release;
+    s.AddVolume(name, v.data(), size_t(v.shape(0)), t.data(), size_t(t.shape(0)), ToVec(sigma_s), ToVec(sigma_a), g);
+}
+
 // An image from a [H, W, C] uint8 or float32 array (C in 1..4, rows bottom to top).
 // Keeps a numpy array alive for the Image that reads its values; released with the GIL wherever the last scene
 // holding it goes.
@@ -594,6 +602,10 @@ void BindRender(py::module_& m) {
             },
             py::arg("linear"), py::arg("inverse"), py::arg("translation") = std::array<double, 3>{0, 0, 0})
 
+        .def("add_volume", &AddVolume, py::arg("name"), py::arg("vertices"), py::arg("triangles"), py::arg("sigma_s"),
+             py::arg("sigma_a"), py::arg("g"),
+             "A homogeneous medium bounded by the closed mesh (sphrect.Volume): vertices [N, 3], triangles [M, 3] "
+             "counter-clockwise seen from outside")
         .def("add_mesh", &AddMesh, py::arg("name"), py::arg("vertices"), py::arg("triangles"),
              py::arg("normals") = py::none(), py::arg("material_ids") = py::none(), py::arg("uvs") = py::none(),
              py::arg("generated") = py::none(), py::arg("invisible_to") = std::vector<std::string>{})

@@ -32,6 +32,7 @@ struct ThreadScratch {
     std::vector<Vec3d> pixel_sums;                   // per technique, per pixel of a chunk
     std::vector<int> tile_screen_lights;             // light_coverage.h: the lights over the tile,
     std::vector<PartialCoverage> partial_coverages;  // and those partly covering the pixel
+    std::vector<VolumeSegments> volume_segments;     // per camera sample, in a scene with object volumes
     ThreadScratch();
     ~ThreadScratch();
 };

@@ -17,6 +17,7 @@ std::vector<std::string> SceneFeatures::Names() const {
     std::vector<std::string> n;
     if (glossy) n.push_back("glossy");
     if (medium) n.push_back("medium");
+    if (volumes) n.push_back("volumes");
     if (dof) n.push_back("dof");
     if (ellipse_lights) n.push_back("ellipse_lights");
     if (delta_lights) n.push_back("delta_lights");
@@ -123,6 +124,14 @@ void RenderScene::SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, fl
     has_medium = medium.sigma_sampling > 0;
 }
 
+void RenderScene::AddVolume(const std::string& name, const float* vertices, size_t num_vertices,
+                            const int32_t* triangles, size_t num_triangles, const Spectrum& sigma_s,
+                            const Spectrum& sigma_a, float g) {
+    RequireNotCommitted();
+    volumes.Add(device_, name, vertices, num_vertices, triangles, num_triangles, sigma_s, sigma_a, g);
+    has_volumes = true;
+}
+
 void RenderScene::SetFilmTransparent(bool transparent) {
     RequireNotCommitted();
     film_transparent = transparent;
@@ -148,6 +157,7 @@ void RenderScene::Commit() {
                      " materials");
     LetRaysThroughTransparentMeshes();
     rtcCommitScene(rtc_scene);
+    volumes.Commit(device_);
     AddMeshLights();
     ray_visibility = false;
     for (const MeshData& m : meshes) ray_visibility |= m.visibility != kRayAll;
@@ -193,7 +203,8 @@ void RenderScene::Commit() {
         film_alpha |= used[i] && bsdfs[i].holdout > 0;
     }
     CheckTextureCoordinates();
-    features_.medium = has_medium;
+    features_.volumes = has_volumes;
+    features_.medium = has_medium || has_volumes;
     features_.dof = camera.aperture_radius > 0 && !camera.orthographic;
     features_.orthographic = camera.orthographic;
     for (const auto& l : area_lights) {
@@ -210,7 +221,7 @@ void RenderScene::Commit() {
     features_.emissive_meshes = has_mesh_lights;
     features_.soft_lights = !soft_lights.empty();
     features_.transparency = has_transparency;
-    if (has_transparency && has_medium)
+    if (has_transparency && (has_medium || has_volumes))
         warnings.push_back(
             "transparent surfaces in a medium: a camera ray that goes through one weights its "
             "single scattering in front of the surface by the surface's transparency too (approximate)");

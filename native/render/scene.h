@@ -17,6 +17,7 @@
 #include "light_tree.h"
 #include "lights.h"
 #include "medium.h"
+#include "object_volumes.h"
 #include "ray_visibility.h"
 #include "texture.h"
 #include "material.h"
@@ -63,6 +64,7 @@ struct MeshData {
 // What a scene asks of the integrator; each flag selects a specialised kernel or a feature name.
 struct SceneFeatures {
     bool glossy = false, medium = false, dof = false;
+    bool volumes = false;  // object volumes (object_volumes.h); medium is set too: they run the medium kernel
     bool ellipse_lights = false, delta_lights = false, orthographic = false, background = false;
     bool emissive_meshes = false, soft_lights = false, area_spread = false;
     bool textures = false, normal_maps = false, transparency = false;
@@ -108,6 +110,10 @@ class RenderScene {
     void SetCameraEnvironment(int image, const Spectrum& strength, const float to_world[3][3],
                               TextureInterpolation interpolation);
     void SetMedium(const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
+    // A homogeneous medium bounded by a closed mesh (ObjectVolumes::Add), beside the world's and any other volumes
+    // (their coefficients add where they overlap).
+    void AddVolume(const std::string& name, const float* vertices, size_t num_vertices, const int32_t* triangles,
+                   size_t num_triangles, const Spectrum& sigma_s, const Spectrum& sigma_a, float g);
     // Checks the material (std::invalid_argument naming it and the field) and adds it with its Bsdf; returns its
     // index.  Emissive triangles of its meshes become area lights at Commit().
     int AddMaterial(const Material& material);
@@ -177,8 +183,10 @@ class RenderScene {
     bool film_transparent = false;
     LightVisibility world_visibility;  // SetWorldVisibility; the default: seen by every ray
     bool film_alpha = false;  // Commit(): the film's alpha can differ from 1 (transparent film, or a holdout used)
-    bool has_medium = false;
+    bool has_medium = false;  // a world medium (SetMedium); zero coefficients without one
     HomogeneousMedium medium;
+    bool has_volumes = false;  // object volumes (AddVolume): their transmittance and scattering are added to medium's
+    ObjectVolumes volumes;
     std::vector<Bsdf> bsdfs;
     // Per material: what it is made of, which a hit on a textured one (Bsdf::textured) evaluates; bsdfs holds its
     // lobes.

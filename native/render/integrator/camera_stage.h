@@ -83,11 +83,22 @@ static inline void TraceCameraRays(RTCScene scene, const PrimaryHit* hits, size_
     IntersectCameraRays(scene, rtc_hits, n);
 }
 
+// Transmittance from the camera to t along the camera ray: the world medium's (kMedium), times the object volumes'
+// (`volumes`: the ray's stretches, ObjectVolumes::Segments; null in a scene without them).
+template <bool kMedium>
+static inline Spectrum CameraRayTransmittance(const RenderScene& scene, const VolumeSegments* volumes, float t) {
+    const Spectrum tr = SegmentTransmittance<kMedium>(scene.medium, t);
+    if constexpr (kMedium)
+        if (volumes) return tr * volumes->TransmittanceTo(t);
+    return tr;
+}
+
 // The soft point and spot lights' discs the camera ray crosses between t_begin and its hit, and a soft sun's
 // cone where it escapes (not through a transparent film), as Cycles 3.4's camera rays see them unless hidden.
 template <bool kMedium, class Weighted>
-[[gnu::noinline]] static void AddSoftLightsSeen(const RenderScene& scene, const PrimaryHit& out, float t_begin,
-                                                const Weighted& weighted, Spectrum& seen) {
+[[gnu::noinline]] static void AddSoftLightsSeen(const RenderScene& scene, const PrimaryHit& out,
+                                                const VolumeSegments* volumes, float t_begin, const Weighted& weighted,
+                                                Spectrum& seen) {
     const float t_end = std::min(out.t_end, out.ray.tmax);
     for (const SoftLightRef& s : scene.soft_lights) {
         const DeltaLight& l = scene.delta_lights[s.delta];
@@ -96,36 +107,38 @@ template <bool kMedium, class Weighted>
         if (!x.hit) continue;
         const bool seen_here =
             l.kind == DeltaKind::Sun ? !out.hit && !scene.film_transparent : x.t >= t_begin && x.t < t_end;
-        if (seen_here) seen += weighted(x.le * SegmentTransmittance<kMedium>(scene.medium, x.t));
+        if (seen_here) seen += weighted(x.le * CameraRayTransmittance<kMedium>(scene, volumes, x.t));
     }
 }
 
 // What the camera ray sees directly from t_begin up to its hit (or escape), times `throughput` (kWeighted; else
 // 1): the hit's emission and the analytic lights it crosses before it.
 template <bool kMedium, bool kWeighted>
-static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHit& out, float t_begin, Spectrum& seen) {
+static inline void AddSeenAlongSegment(const RenderScene& scene, const PrimaryHit& out, const VolumeSegments* volumes,
+                                       float t_begin, Spectrum& seen) {
     auto weighted = [&](const Spectrum& v) { return kWeighted ? out.throughput * v : v; };
     // Emissive meshes are seen at their hit (two-sided, like their lights); the loop below covers
     // only the analytic lights, so they are not counted twice.
     if (out.hit && scene.has_mesh_lights) {
         if (!IsBlack(scene.bsdfs[out.surface.material].emission))
             seen += weighted(EmissionSeenAtHit(scene, out.surface) *
-                             SegmentTransmittance<kMedium>(scene.medium, out.t_end));
+                             CameraRayTransmittance<kMedium>(scene, volumes, out.t_end));
     }
     scene.analytic_light_finder.ForEachCrossing(
         out.ray.o, out.ray.d, t_begin, std::min(out.t_end, out.ray.tmax), LightsSought::VisibleToCamera,
         [&](int i, float t) {
             if (i == out.light_seen_by_estimate) return;
             seen += weighted(RadianceOfCrossedLight(scene, scene.area_lights[i], out.ray.o, out.ray.d, t) *
-                             SegmentTransmittance<kMedium>(scene.medium, t));
+                             CameraRayTransmittance<kMedium>(scene, volumes, t));
         });
-    if (!scene.soft_lights.empty()) AddSoftLightsSeen<kMedium>(scene, out, t_begin, weighted, seen);
+    if (!scene.soft_lights.empty()) AddSoftLightsSeen<kMedium>(scene, out, volumes, t_begin, weighted, seen);
 }
 
 // The camera ray's first hit, or what lies past it while it is transparent (transparency.h): the hit shading
 // takes, the ray's throughput, and what it sees on the way.  Out of line: scenes without transparency skip it.
 template <bool kGlossy, bool kMedium>
-[[gnu::noinline]] static void FollowThroughTransparent(const RenderScene& scene, PrimaryHit& out, Spectrum& seen) {
+[[gnu::noinline]] static void FollowThroughTransparent(const RenderScene& scene, PrimaryHit& out,
+                                                       const VolumeSegments* volumes, Spectrum& seen) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     for (int transparent_hits = 0; out.hit; ++transparent_hits) {
@@ -146,7 +159,7 @@ template <bool kGlossy, bool kMedium>
             out.surface = MakeSurfaceHit<kGlossy>(scene, out.ray, rh);
             out.surface.transparent_depth = uint8_t(transparent_hits + 1);  // the Light Path node's
         }
-        AddSeenAlongSegment<kMedium, true>(scene, out, t_begin, seen);
+        AddSeenAlongSegment<kMedium, true>(scene, out, volumes, t_begin, seen);
     }
 }
 
@@ -158,20 +171,21 @@ template <bool kGlossy, bool kMedium>
 }
 
 // The camera ray's hit that shading takes (its first, or past transparent surfaces), its throughput, and what it
-// sees directly (shared by all techniques).
+// sees directly (shared by all techniques).  volumes: the ray's stretches through object volumes, or null.
 template <bool kGlossy, bool kMedium>
-static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, PrimaryHit& out) {
+static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit& rh, const VolumeSegments* volumes,
+                                      PrimaryHit& out) {
     out.hit = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
     out.t_end = out.hit ? rh.ray.tfar : kInf;
     if (out.hit) out.surface = MakeSurfaceHit<kGlossy>(scene, out.ray, rh);
     Spectrum seen = out.seen;  // the coverage offset GenerateCameraSamples set
-    AddSeenAlongSegment<kMedium, false>(scene, out, out.ray.tmin, seen);
-    if (scene.has_transparency && out.hit) FollowThroughTransparent<kGlossy, kMedium>(scene, out, seen);
+    AddSeenAlongSegment<kMedium, false>(scene, out, volumes, out.ray.tmin, seen);
+    if (scene.has_transparency && out.hit) FollowThroughTransparent<kGlossy, kMedium>(scene, out, volumes, seen);
     if (!out.hit && !scene.film_transparent && (scene.world_visibility.rays() & kRayCamera)) {
         // The image world (environment_light.h) replaces the background (black then).
         const Spectrum sky = scene.has_environment || scene.has_camera_environment ? EnvironmentSeen(scene, out.ray.d)
                                                                                    : scene.background;
-        seen += out.throughput * sky * SegmentTransmittance<kMedium>(scene.medium, kInf);
+        seen += out.throughput * sky * CameraRayTransmittance<kMedium>(scene, volumes, kInf);
     }
     if (scene.film_alpha) {
         // 1 - the share of the pixel that is a hole: the holdout at the hit, or the escape through a transparent film.
@@ -183,10 +197,19 @@ static inline void FinishCameraSample(const RenderScene& scene, const RTCRayHit&
     out.seen = seen;
 }
 
+// volumes: in a scene with object volumes (kMedium), each sample's ray stretches through them, found here.
 template <bool kGlossy, bool kMedium>
-static inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit* rtc_hits, size_t n,
-                                       PrimaryHit* hits) {
-    for (size_t s = 0; s < n; ++s) FinishCameraSample<kGlossy, kMedium>(scene, rtc_hits[s], hits[s]);
+static inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit* rtc_hits, size_t n, PrimaryHit* hits,
+                                       VolumeSegments* volumes) {
+    if constexpr (kMedium)
+        if (scene.has_volumes) {
+            for (size_t s = 0; s < n; ++s) {
+                scene.volumes.Segments(hits[s].ray.o, hits[s].ray.d, volumes[s]);
+                FinishCameraSample<kGlossy, kMedium>(scene, rtc_hits[s], &volumes[s], hits[s]);
+            }
+            return;
+        }
+    for (size_t s = 0; s < n; ++s) FinishCameraSample<kGlossy, kMedium>(scene, rtc_hits[s], nullptr, hits[s]);
 }
 
 }  // namespace sphrect::render

@@ -52,7 +52,8 @@ constexpr int kFilteredCoveragePointsPerSample = 64;
 
 static inline bool UsesLightCoverage(const RenderScene& scene, const CameraView& view, const RenderOptions& opt) {
     // (A light behind a transparent surface is seen filtered: the coverage estimate does not model it.)
-    return opt.analytic_light_coverage && !scene.has_medium && !scene.has_transparency && !view.screen_lights.empty();
+    return opt.analytic_light_coverage && !scene.has_medium && !scene.has_volumes && !scene.has_transparency &&
+           !view.screen_lights.empty();
 }
 
 // How far beyond its pixel a pixel's camera samples may land (the filter's support less the pixel).

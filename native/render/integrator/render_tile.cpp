@@ -44,10 +44,32 @@ class Stopwatch {
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-// Everything a camera sample receives beyond what it sees directly, queued on `sink`.
+// ShadeCameraSample in a scene with object volumes: the surface's light through them, and their scattering (`volumes`:
+// the camera ray's stretches).  The shadow rays' transmittance through them is ResolveShadowRays'.
+template <Technique K, bool kGlossy>
+[[gnu::noinline]] void ShadeCameraSampleInVolumes(const ShadeContext& c, const PrimaryHit& ph,
+                                                  const VolumeSegments& volumes, const Point2<float>* light_points,
+                                                  const Point2<float>* bsdf_points, const ShadowSink& sink,
+                                                  uint64_t& light_ticks) {
+    PCG32 rng(ph.rng_seed, 0x5851f42dull);
+    if (ph.hit) {
+        const Spectrum t = Transmittance(c.scene.medium, ph.surface.t) * volumes.TransmittanceTo(ph.surface.t);
+        ShadeSurface<K, kGlossy, true>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng, sink.Scaled(t),
+                                       light_ticks);
+    }
+    ShadeObjectVolumes<K>(c, ph, volumes, light_points, bsdf_points, rng, sink, light_ticks);
+}
+
+// Everything a camera sample receives beyond what it sees directly, queued on `sink`; volumes: its ray's stretches
+// through object volumes (null in a scene without).
 template <Technique K, bool kGlossy, bool kMedium>
-void ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, const Point2<float>* light_points,
-                       const Point2<float>* bsdf_points, const ShadowSink& sink, uint64_t& light_ticks) {
+void ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, const VolumeSegments* volumes,
+                       const Point2<float>* light_points, const Point2<float>* bsdf_points, const ShadowSink& sink,
+                       uint64_t& light_ticks) {
+    if constexpr (kMedium)
+        if (volumes)
+            return ShadeCameraSampleInVolumes<K, kGlossy>(c, ph, *volumes, light_points, bsdf_points, sink,
+                                                          light_ticks);
     PCG32 rng(ph.rng_seed, 0x5851f42dull);
     if (ph.hit)
         ShadeSurface<K, kGlossy, kMedium>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng,
@@ -66,21 +88,23 @@ void ShadeCameraSamples(Technique technique, const ShadeContext& c, size_t n, Th
     const size_t nl = size_t(c.light_samples);
     auto& queue = scratch.shadow_rays;
     queue.clear();
+    const VolumeSegments* volumes = c.scene.has_volumes ? scratch.volume_segments.data() : nullptr;
     DispatchTechnique(technique, [&](auto tag) {
         constexpr Technique K = decltype(tag)::value;
         for (uint32_t s = 0; s < uint32_t(n); ++s) {
             const PrimaryHit& ph = scratch.hits[s];
             scratch.sample_values[s] = ph.seen;
             if (IsBlack(ph.throughput)) continue;  // past too many transparent surfaces
-            ShadeCameraSample<K, kGlossy, kMedium>(c, ph, &scratch.light_points[s * nl], &scratch.bsdf_points[s * nl],
+            ShadeCameraSample<K, kGlossy, kMedium>(c, ph, volumes ? &volumes[s] : nullptr,
+                                                   &scratch.light_points[s * nl], &scratch.bsdf_points[s * nl],
                                                    ShadowSink{&queue, s, ph.throughput}, light_ticks);
         }
     });
 }
 
 // Sizes the per-thread buffers for chunks of chunk_pixels pixels (no allocation once they fit).
-void ReserveScratch(ThreadScratch& scratch, int chunk_pixels, uint32_t samples, uint32_t light_samples,
-                    size_t techniques) {
+void ReserveScratch(const RenderScene& scene, ThreadScratch& scratch, int chunk_pixels, uint32_t samples,
+                    uint32_t light_samples, size_t techniques) {
     const size_t chunk_samples = size_t(chunk_pixels) * samples;
     scratch.hits.resize(chunk_samples);
     scratch.camera_hits.resize(chunk_samples);
@@ -90,6 +114,7 @@ void ReserveScratch(ThreadScratch& scratch, int chunk_pixels, uint32_t samples, 
     scratch.light_points.resize(chunk_samples * light_samples);
     scratch.bsdf_points.resize(chunk_samples * light_samples);
     scratch.pixel_sums.resize(size_t(chunk_pixels) * techniques);
+    if (scene.has_volumes) scratch.volume_segments.resize(chunk_samples);
 }
 
 template <bool kDof, bool kGlossy, bool kMedium>
@@ -98,7 +123,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
     const RenderOptions& opt = *p.options;
     const uint32_t n = uint32_t(p.samples);
     const int chunk_pixels = ChunkPixels(tile, n, uint32_t(opt.light_samples));
-    ReserveScratch(scratch, chunk_pixels, n, uint32_t(opt.light_samples), opt.techniques.size());
+    ReserveScratch(scene, scratch, chunk_pixels, n, uint32_t(opt.light_samples), opt.techniques.size());
     const ShadeContext ctx = MakeShadeContext<kMedium>(scene, opt);
     tally.technique.resize(opt.techniques.size());
     for (int first = 0; first < TilePixels(tile); first += chunk_pixels) {
@@ -108,7 +133,8 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
         const Stopwatch camera;
         GenerateCameraSamples<kDof>(p, chunk, ctx.sample_bsdf, scratch);
         TraceCameraRays(scene.rtc_scene, scratch.hits.data(), chunk_n, scratch.camera_hits.data());
-        FinishCameraSamples<kGlossy, kMedium>(scene, scratch.camera_hits.data(), chunk_n, scratch.hits.data());
+        FinishCameraSamples<kGlossy, kMedium>(scene, scratch.camera_hits.data(), chunk_n, scratch.hits.data(),
+                                              scratch.volume_segments.data());
         tally.camera_seconds += camera.Seconds();
         tally.camera_rays += chunk_n;
 

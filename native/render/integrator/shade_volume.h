@@ -4,12 +4,15 @@
 // Everything is queued on a ShadowSink with its occlusion ray.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 
 #include "camera_stage.h"
 #include "emitters.h"
 #include "render/medium.h"
+#include "render/object_volumes.h"
 
 namespace sphrect::render {
 
@@ -19,11 +22,13 @@ template <Technique K>
 constexpr Technique kMediumTechnique =
     K == Technique::RectangleCosine || K == Technique::RectangleProjected ? Technique::Rectangle : K;
 
-// A scattering point x on the camera ray of direction ray_dir.  Phase values and pdfs are
-// w.r.t. wi, the direction towards the light (HenyeyGreenstein(dot(wi, ray_dir), g)).
+// A scattering point x on the camera ray of direction ray_dir, in a medium of anisotropy g (the world's, or the
+// volumes' there).  Phase values and pdfs are w.r.t. wi, the direction towards the light
+// (HenyeyGreenstein(dot(wi, ray_dir), g)).
 struct ScatteringPoint {
     Vec3f x;
     Vec3f ray_dir;
+    float g;
 };
 
 // A light sample in the medium of a light whose visibility is not the default (LightVisibility): none from a light
@@ -36,7 +41,7 @@ struct ScatteringPoint {
                                                                         float pdf_div, const LightVisibility& vis,
                                                                         const ShadowSink& sink) {
     if (!(vis.rays() & kRayVolumeScatter)) return;
-    const float phase = HenyeyGreenstein(Dot(dir, sp.ray_dir), c.scene.medium.g);
+    const float phase = HenyeyGreenstein(Dot(dir, sp.ray_dir), sp.g);
     const float w = pdf_light > 0 && vis.use_mis() ? MisWeight(c.mis, pdf_light, phase) : 1.0f;
     sink.Add(sp.x, dir, dist, le * Transmittance(c.scene.medium, dist) * (phase * w / pdf_div), vis.ShadowMask());
 }
@@ -45,7 +50,7 @@ struct ScatteringPoint {
 // area light's point, or a direction of the image world: e.dist kInf).
 static inline void QueueMediumEmitterSample(const ShadeContext& c, const ScatteringPoint& sp, const EmitterSample& e,
                                             const Spectrum& t, const ShadowSink& sink) {
-    const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), c.scene.medium.g);
+    const float phase = HenyeyGreenstein(Dot(e.dir, sp.ray_dir), sp.g);
     const float w = MisWeight(c.mis, e.pdf, phase);
     sink.Add(sp.x, e.dir, e.dist, e.le * t * (phase * w / e.pdf));
 }
@@ -65,7 +70,7 @@ static inline void QueueMediumLightSample(const ShadeContext& c, const Scatterin
 template <Technique K>
 static inline void QueueMediumPhaseSample(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> u,
                                           TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
-    const float g = c.scene.medium.g;
+    const float g = sp.g;
     const Vec3f wi = SampleHenyeyGreenstein(sp.ray_dir, g, u);
     const float pdf_phase = HenyeyGreenstein(Dot(wi, sp.ray_dir), g);
     QueueEmittersAlongRay<K, true>(c, sp.x, wi, pdf_phase, kRayVolumeScatter, light_sampling, sink);
@@ -91,7 +96,7 @@ static inline void QueueMediumDeltaLight(const ShadeContext& c, const Scattering
     if (!d.vis.IsDefault())
         return QueueMediumLightWithVisibility(c, sp, di.wi, di.dist, di.li, di.pdf > 0 ? pmf * di.pdf : 0, 1, d.vis,
                                               sink);
-    const float phase = HenyeyGreenstein(Dot(di.wi, sp.ray_dir), med.g);
+    const float phase = HenyeyGreenstein(Dot(di.wi, sp.ray_dir), sp.g);
     const float w = di.pdf > 0 ? MisWeight(c.mis, pmf * di.pdf, phase) : 1.0f;
     sink.Add(sp.x, di.wi, di.dist, di.li * Transmittance(med, di.dist) * (phase * w));
 }
@@ -103,14 +108,16 @@ static inline void QueueMediumDeltaLights(const ShadeContext& c, const Scatterin
                                    [&](const DeltaLight& d) { QueueMediumDeltaLight(c, sp, d, u, 1, sink); });
 }
 
-// Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights.
+// Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights (T: the world
+// medium's here, object volumes' as the shadow rays are resolved).
 // The light sample's emitter is chosen here from light_point (by power: the same for every
 // scattering point of the camera sample; by the tree: at sp.x, with no normal).
 template <Technique K>
-static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, Point2<float> light_point,
-                                    Point2<float> phase_point, const ShadowSink& sink, uint64_t& light_ticks) {
+static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, const Spectrum& sigma_s,
+                                    Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
+                                    uint64_t& light_ticks) {
     constexpr Technique MK = kMediumTechnique<K>;
-    const ShadowSink out = sink.Scaled(c.scene.medium.sigma_s);
+    const ShadowSink out = sink.Scaled(sigma_s);
     TimedLightSamplingAt<MK> light_sampling(c.scene, c.light_selection, sp.x, sp.ray_dir, Vec3f(0, 0, 0), 1,
                                             c.ellipse_technique, light_ticks, c.emission_blocks);
     const ChosenLight light = light_sampling.Choose(light_point);
@@ -157,8 +164,8 @@ static inline void QueueInScatteringAt(const ShadeContext& c, const Ray& ray, Sc
                                        Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
                                        uint64_t& light_ticks) {
     const Spectrum weight = Transmittance(c.scene.medium, d.t) * (w / d.pdf);
-    InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d}, light_point, phase_point,
-                        sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
+    InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d, c.scene.medium.g}, c.scene.medium.sigma_s, light_point,
+                        phase_point, sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
 }
 
 // Single scattering along the camera ray's segment [0, t_end): integral of T(t) * inscattered(t),
@@ -194,6 +201,143 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
                              : 1.0f;
             if (d.pdf > 0 && w > 0)
                 QueueInScatteringAt<K>(c, ray, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
+        }
+    }
+}
+
+// --- Object volumes: the camera ray's stretches through media (object_volumes.h) -----------------------------------
+
+// A stretch [t0, t1) of the camera ray in media (the volumes' coefficients plus the world medium's), with the optical
+// depths before it: tau0 per channel (transmittance) and tau_sampling0 of the distance sampling's extinction.
+struct MediumStretch {
+    float t0, t1;
+    VolumeCoefficients k;
+    float sigma_sampling;  // mean of k.sigma_t's channels
+    Spectrum tau0;
+    float tau_sampling0;
+};
+
+// The stretches of [0, t_end) where the medium is not empty, in order.
+struct MediumStretches {
+    int count = 0;
+    std::array<MediumStretch, kMaxVolumeSegments> stretch;
+
+    // The stretch holding t, or null.
+    const MediumStretch* At(float t) const {
+        for (int i = 0; i < count; ++i)
+            if (t >= stretch[i].t0 && t < stretch[i].t1) return &stretch[i];
+        return nullptr;
+    }
+};
+
+static inline VolumeCoefficients WithWorldMedium(const RenderScene& scene, const VolumeCoefficients& v) {
+    if (!scene.has_medium) return v;
+    const HomogeneousMedium& m = scene.medium;
+    const float wv = Average(v.sigma_s), wm = Average(m.sigma_s);
+    return {v.sigma_s + m.sigma_s, v.sigma_t + m.sigma_t, wv + wm > 0 ? (wv * v.g + wm * m.g) / (wv + wm) : 0};
+}
+
+static inline MediumStretches MakeMediumStretches(const RenderScene& scene, const VolumeSegments& segments,
+                                                  float t_end) {
+    MediumStretches out;
+    Spectrum tau;
+    float tau_sampling = 0;
+    for (int i = 0; i < segments.count && segments.segment[i].t0 < t_end; ++i) {
+        const VolumeSegment& seg = segments.segment[i];
+        const VolumeCoefficients k = WithWorldMedium(scene, seg.coefficients);
+        if (IsBlack(k.sigma_t)) continue;
+        const float t1 = std::min(seg.t1, t_end), sigma_sampling = Average(k.sigma_t);
+        out.stretch[out.count++] = {seg.t0, t1, k, sigma_sampling, tau, tau_sampling};
+        tau += k.sigma_t * (t1 - seg.t0);  // inf past an open end: only ever read through exp(-tau)
+        tau_sampling += sigma_sampling * (t1 - seg.t0);
+    }
+    return out;
+}
+
+// Transmittance from the camera to t inside stretch s.
+static inline Spectrum TransmittanceInStretch(const MediumStretch& s, float t) {
+    const Spectrum tau = s.tau0 + s.k.sigma_t * (t - s.t0);
+    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
+}
+
+// Distance sampling through the stretches: t with density sigma_sampling(t) exp(-its optical depth to t).
+static inline ScatterDistance SampleDistanceThroughStretches(const MediumStretches& st, float u) {
+    const float tau = -std::log1p(-u);
+    for (int i = 0; i < st.count; ++i) {
+        const MediumStretch& s = st.stretch[i];
+        const float t = s.t0 + (tau - s.tau_sampling0) / s.sigma_sampling;
+        if (t < s.t1) return {t, s.sigma_sampling * std::exp(-tau)};
+    }
+    return {};
+}
+
+static inline float DistanceThroughStretchesPDF(const MediumStretches& st, float t) {
+    const MediumStretch* s = st.At(t);
+    if (!s) return 0;
+    return s->sigma_sampling * std::exp(-(s->tau_sampling0 + s->sigma_sampling * (t - s->t0)));
+}
+
+// Equi-angular sampling of [a, b) (the stretches' span) about `centre`; t is measured from the camera.
+struct SpanEquiAngular {
+    EquiAngular ea;
+    float a = 0;
+};
+
+static inline float SpanEquiAngularPDF(const SpanEquiAngular& e, float t) { return EquiAngularPDF(e.ea, t - e.a); }
+
+// Queues the in-scattered light at distance d.t along the ray inside stretch s, weighted by T(t) w / pdf and averaged
+// over the light samples.
+template <Technique K>
+static inline void QueueInScatteringInStretch(const ShadeContext& c, const Ray& ray, const MediumStretch& s,
+                                              ScatterDistance d, float w, Point2<float> light_point,
+                                              Point2<float> phase_point, const ShadowSink& sink,
+                                              uint64_t& light_ticks) {
+    if (IsBlack(s.k.sigma_s)) return;
+    const Spectrum weight = TransmittanceInStretch(s, d.t) * (w / d.pdf);
+    InScatteredLight<K>(c, {ray.o + ray.d * d.t, ray.d, s.k.g}, s.k.sigma_s, light_point, phase_point,
+                        sink.Scaled(weight * (1.0f / c.light_samples)), light_ticks);
+}
+
+// Single scattering along the camera ray's [0, t_end) through object volumes (and the world medium), as ShadeVolume
+// does in the world medium alone: distance sampling (now through the stretches) and equi-angular sampling over their
+// span, combined by MIS.  `segments`: the ray's volume stretches (ObjectVolumes::Segments).
+template <Technique K>
+[[gnu::noinline]] static void ShadeObjectVolumes(const ShadeContext& c, const PrimaryHit& ph,
+                                                 const VolumeSegments& segments, const Point2<float>* light_points,
+                                                 const Point2<float>* bsdf_points, PCG32& rng, const ShadowSink& sink,
+                                                 uint64_t& light_ticks) {
+    const RenderScene& scene = c.scene;
+    const Ray& ray = ph.ray;
+    const MediumStretches st = MakeMediumStretches(scene, segments, ph.t_end);
+    if (st.count == 0) return;
+    const float a = st.stretch[0].t0, b = st.stretch[st.count - 1].t1;
+    const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
+    for (int j = 0; j < c.light_samples; ++j) {
+        SkipFormerLightChoiceNumber(scene.light_selector, rng);
+        SpanEquiAngular se;
+        se.a = a;
+        if (!scene.medium_centre_selector.Empty())
+            se.ea = MakeEquiAngular(ray.o + ray.d * a, ray.d, b - a,
+                                    scene.medium_centres[scene.medium_centre_selector.Select(rng.NextFloat())]);
+        else
+            rng.NextFloat();
+        const bool use_equi = c.medium_sampling != MediumSampling::Distance && se.ea.valid;
+        const bool use_distance = c.medium_sampling != MediumSampling::EquiAngular || !se.ea.valid;
+        const float u_distance = rng.NextFloat(), u_equi = rng.NextFloat();
+        if (use_distance) {
+            const ScatterDistance d = SampleDistanceThroughStretches(st, u_distance);
+            const MediumStretch* s = d.pdf > 0 ? st.At(d.t) : nullptr;
+            const float w = use_equi ? MisWeight(strategy_mis, d.pdf, SpanEquiAngularPDF(se, d.t)) : 1.0f;
+            if (s && w > 0)
+                QueueInScatteringInStretch<K>(c, ray, *s, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
+        }
+        if (use_equi) {
+            ScatterDistance d = SampleDistanceEquiAngular(se.ea, b - a, u_equi);
+            d.t += a;
+            const MediumStretch* s = d.pdf > 0 ? st.At(d.t) : nullptr;
+            const float w = use_distance ? MisWeight(strategy_mis, d.pdf, DistanceThroughStretchesPDF(st, d.t)) : 1.0f;
+            if (s && w > 0)
+                QueueInScatteringInStretch<K>(c, ray, *s, d, w, light_points[j], bsdf_points[j], sink, light_ticks);
         }
     }
 }

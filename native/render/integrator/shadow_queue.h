@@ -37,14 +37,25 @@ struct ShadowSink {
     }
 };
 
+// The unblocked rays' contributions through the object volumes they cross (object_volumes.h).  Out of line: scenes
+// without them skip it.
+[[gnu::noinline]] static void AttenuateThroughVolumes(const RenderScene& scene, std::vector<DeferredShadowRay>& queue) {
+    for (DeferredShadowRay& q : queue)
+        if (q.ray.tfar >= 0)
+            q.contribution =
+                q.contribution * scene.volumes.Transmittance({q.ray.org_x, q.ray.org_y, q.ray.org_z},
+                                                             {q.ray.dir_x, q.ray.dir_y, q.ray.dir_z}, q.ray.tfar);
+}
+
 // Traces the queued shadow rays (one stream, OccludeShadowRays) and adds the unblocked
 // contributions to their camera samples; in a scene with transparent surfaces, each filtered by those it crosses
-// (transparency.h; `crossed` is scratch space).
+// (transparency.h; `crossed` is scratch space), and with object volumes, by their transmittance.
 static inline void ResolveShadowRays(const RenderScene& scene, std::vector<DeferredShadowRay>& queue,
                                      Spectrum* sample_values, std::vector<uint8_t>& crossed) {
     if (queue.empty()) return;
     if (!scene.has_transparency) {
         OccludeShadowRays(scene.rtc_scene, &queue[0].ray, queue.size(), sizeof(DeferredShadowRay));
+        if (scene.has_volumes) AttenuateThroughVolumes(scene, queue);  // only the unblocked walk through them
         for (const DeferredShadowRay& q : queue)
             if (q.ray.tfar >= 0) sample_values[q.sample] += q.contribution;
         return;
@@ -52,6 +63,7 @@ static inline void ResolveShadowRays(const RenderScene& scene, std::vector<Defer
     crossed.assign(queue.size(), 0);
     for (size_t i = 0; i < queue.size(); ++i) queue[i].ray.id = unsigned(i);
     OccludeShadowRays(scene.rtc_scene, &queue[0].ray, queue.size(), sizeof(DeferredShadowRay), crossed.data());
+    if (scene.has_volumes) AttenuateThroughVolumes(scene, queue);
     for (size_t i = 0; i < queue.size(); ++i) {
         const DeferredShadowRay& q = queue[i];
         if (q.ray.tfar < 0) continue;

@@ -1,0 +1,212 @@
+// Object volumes (object_volumes.h): their boundaries in Embree, and the walk of a ray through them.
+#include "object_volumes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "embree_rays.h"
+#include "scene_checks.h"
+
+namespace sphrect::render {
+
+namespace {
+
+// The context of a walk: where the filter records the crossings it sees.
+struct CrossingRecorder {
+    RTCIntersectContext rtc;  // first: the filter casts Embree's context pointer back to this
+    float* t;
+    uint32_t* volume;
+    uint8_t* entering;
+    int count = 0;
+};
+
+// Records a candidate hit and rejects it, so that one traversal visits every crossing.  A crossing on a shared edge
+// may be reported by both triangles: harmless, entering and leaving are idempotent (ObjectVolumes::Crossings).
+void RecordCrossing(const RTCFilterFunctionNArguments* args) {
+    auto* rec = reinterpret_cast<CrossingRecorder*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        args->valid[i] = 0;
+        if (rec->count == kMaxVolumeCrossings) continue;
+        const Vec3f ng(RTCHitN_Ng_x(args->hit, args->N, i), RTCHitN_Ng_y(args->hit, args->N, i),
+                       RTCHitN_Ng_z(args->hit, args->N, i));
+        const Vec3f d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                      RTCRayN_dir_z(args->ray, args->N, i));
+        const int k = rec->count++;
+        rec->t[k] = RTCRayN_tfar(args->ray, args->N, i);
+        rec->volume[k] = RTCHitN_geomID(args->hit, args->N, i);
+        rec->entering[k] = Dot(ng, d) < 0;  // Embree's Ng: (v1 - v0) x (v2 - v0), outwards for outward winding
+    }
+}
+
+}  // namespace
+
+Spectrum VolumeSegments::TransmittanceTo(float t) const {
+    Spectrum tau;
+    for (int i = 0; i < count && segment[i].t0 < t; ++i) {
+        const VolumeSegment& s = segment[i];
+        const float len = std::min(s.t1, t) - s.t0;
+        if (IsBlack(s.coefficients.sigma_t)) continue;
+        if (std::isinf(len)) {
+            auto inf_or_zero = [](float sigma) { return sigma > 0 ? kInf : 0.0f; };
+            tau += Spectrum(inf_or_zero(s.coefficients.sigma_t.x), inf_or_zero(s.coefficients.sigma_t.y),
+                            inf_or_zero(s.coefficients.sigma_t.z));
+        } else {
+            tau += s.coefficients.sigma_t * len;
+        }
+    }
+    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
+}
+
+ObjectVolumes::~ObjectVolumes() {
+    if (rtc_scene_) rtcReleaseScene(rtc_scene_);
+}
+
+void ObjectVolumes::Add(RTCDevice device, const std::string& name, const float* vertices, size_t nv,
+                        const int32_t* triangles, size_t nt, const Spectrum& sigma_s, const Spectrum& sigma_a,
+                        float g) {
+    const std::string who = "volume '" + name + "'";
+    if (coefficients_.size() == size_t(kMaxObjectVolumes))
+        Fail(who + ": a scene holds at most " + std::to_string(kMaxObjectVolumes) + " volumes");
+    CheckColor(who + " sigma_s", sigma_s);
+    CheckColor(who + " sigma_a", sigma_a);
+    if (!(g > -1 && g < 1)) Fail(who + ": anisotropy g must be in (-1, 1)");
+    if (nv > (size_t(1) << 31) || nt > (size_t(1) << 31)) Fail(who + " is too large");
+    if (nt == 0) Fail(who + " has no triangles");
+    for (size_t i = 0; i < 3 * nv; ++i)
+        if (!std::isfinite(vertices[i]) || std::abs(vertices[i]) >= 1.844e18f)
+            Fail(who + ": vertex " + std::to_string(i / 3) + " is not finite or lies outside Embree's range");
+    for (size_t i = 0; i < 3 * nt; ++i)
+        if (triangles[i] < 0 || size_t(triangles[i]) >= nv)
+            Fail(who + ": triangle " + std::to_string(i / 3) + " has vertex index " + std::to_string(triangles[i]) +
+                 " outside [0, " + std::to_string(nv) + ")");
+    if (!rtc_scene_) {
+        rtc_scene_ = rtcNewScene(device);
+        rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_ROBUST);
+    }
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+    auto* ib = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nt));
+    if (!vb || !ib) {
+        rtcReleaseGeometry(geom);
+        throw std::runtime_error(who + ": Embree could not allocate its buffers");
+    }
+    std::memcpy(vb, vertices, 3 * nv * sizeof(float));
+    std::memcpy(ib, triangles, 3 * nt * sizeof(uint32_t));
+    rtcSetGeometryIntersectFilterFunction(geom, &RecordCrossing);
+    rtcCommitGeometry(geom);
+    const unsigned id = rtcAttachGeometry(rtc_scene_, geom);
+    rtcReleaseGeometry(geom);
+    if (id != coefficients_.size()) throw std::logic_error("unexpected Embree geometry id");
+    coefficients_.push_back({sigma_s, sigma_s + sigma_a, g});
+    names_.push_back(name);
+}
+
+void ObjectVolumes::Commit(RTCDevice) {
+    if (rtc_scene_) rtcCommitScene(rtc_scene_);
+}
+
+int ObjectVolumes::Crossings(const Vec3f& o, const Vec3f& d, Crossing* out, uint64_t& inside) const {
+    float t[kMaxVolumeCrossings];
+    uint32_t volume[kMaxVolumeCrossings];
+    uint8_t entering[kMaxVolumeCrossings];
+    CrossingRecorder rec;
+    rtcInitIntersectContext(&rec.rtc);
+    rec.t = t, rec.volume = volume, rec.entering = entering;
+    RTCRayHit rh = MakeRTCRayHit(o, d, 0, kInf);
+    rtcIntersect1(rtc_scene_, &rec.rtc, &rh);
+    const int n = rec.count;
+    for (int i = 0; i < n; ++i) out[i] = {t[i], volume[i], entering[i] != 0};
+    std::sort(out, out + n, [](const Crossing& a, const Crossing& b) { return a.t < b.t; });
+    // A volume whose first crossing leaves it holds the origin.
+    uint64_t met = 0;
+    inside = 0;
+    for (int i = 0; i < n; ++i) {
+        const uint64_t bit = uint64_t(1) << out[i].volume;
+        if (met & bit) continue;
+        met |= bit;
+        if (!out[i].entering) inside |= bit;
+    }
+    return n;
+}
+
+VolumeCoefficients ObjectVolumes::Sum(uint64_t set) const {
+    VolumeCoefficients sum;
+    float g_weight = 0;
+    for (uint64_t s = set; s; s &= s - 1) {
+        const VolumeCoefficients& c = coefficients_[size_t(__builtin_ctzll(s))];
+        sum.sigma_s += c.sigma_s;
+        sum.sigma_t += c.sigma_t;
+        const float w = Average(c.sigma_s);
+        sum.g += w * c.g;
+        g_weight += w;
+    }
+    sum.g = g_weight > 0 ? sum.g / g_weight : 0;
+    return sum;
+}
+
+Spectrum ObjectVolumes::Transmittance(const Vec3f& o, const Vec3f& d, float tmax) const {
+    if (!rtc_scene_) return {1, 1, 1};
+    Crossing crossings[kMaxVolumeCrossings];
+    uint64_t inside;
+    const int n = Crossings(o, d, crossings, inside);
+    // Optical depth: each volume's time inside, times its sigma_t.
+    Spectrum tau;
+    float t_prev = 0;
+    uint64_t set = inside;
+    auto add = [&](float t_next) {
+        const float len = std::min(t_next, tmax) - t_prev;
+        if (!(len > 0)) return;
+        for (uint64_t s = set; s; s &= s - 1) {
+            const Spectrum& sigma = coefficients_[size_t(__builtin_ctzll(s))].sigma_t;
+            if (std::isinf(len)) {
+                auto inf_or_zero = [](float x) { return x > 0 ? kInf : 0.0f; };
+                tau += Spectrum(inf_or_zero(sigma.x), inf_or_zero(sigma.y), inf_or_zero(sigma.z));
+            } else {
+                tau += sigma * len;
+            }
+        }
+    };
+    for (int i = 0; i < n && crossings[i].t < tmax; ++i) {
+        add(crossings[i].t);
+        t_prev = std::max(t_prev, crossings[i].t);
+        const uint64_t bit = uint64_t(1) << crossings[i].volume;
+        set = crossings[i].entering ? set | bit : set & ~bit;
+    }
+    add(tmax);
+    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
+}
+
+void ObjectVolumes::Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out) const {
+    out.count = 0;
+    out.truncated = false;
+    if (!rtc_scene_) {
+        out.segment[out.count++] = {0, kInf, {}};
+        return;
+    }
+    Crossing crossings[kMaxVolumeCrossings];
+    uint64_t set;
+    const int n = Crossings(o, d, crossings, set);
+    float t_prev = 0;
+    for (int i = 0; i < n; ++i) {
+        const uint64_t bit = uint64_t(1) << crossings[i].volume;
+        const uint64_t next = crossings[i].entering ? set | bit : set & ~bit;
+        if (next == set) continue;  // a shared edge's second report
+        if (out.count == kMaxVolumeSegments - 1) {
+            out.truncated = true;
+            break;
+        }
+        if (crossings[i].t > t_prev) {
+            out.segment[out.count++] = {t_prev, crossings[i].t, Sum(set)};
+            t_prev = crossings[i].t;
+        }
+        set = next;
+    }
+    out.segment[out.count++] = {t_prev, kInf, Sum(set)};
+}
+
+}  // namespace sphrect::render
