@@ -68,8 +68,8 @@ from .arguments import int_argument, one_of, rgb
 from .sample_ranges import Accumulation, sample_ranges
 from .scene import (CAMERA_TYPES, PIXEL_FILTERS, SENSOR_FITS, TEXTURE_COLORSPACES, TEXTURE_INTERPOLATIONS,
                     WORLD_RAY_KINDS, Camera,
-                    EllipseLight, Environment, Material, PointLight, RectLight, Scene, SpotLight, SunLight, Texture,
-                    TextureLookup, World)
+                    EllipseLight, Environment, Material, Medium, PointLight, RectLight, Scene, SpotLight, SunLight,
+                    Texture, TextureLookup, Volume, World)
 
 TECHNIQUES = tuple(_native.techniques)
 PATTERNS = tuple(_native.patterns)
@@ -184,6 +184,25 @@ def _set_environment(native, env, n_textures: int, field: str = "environment") -
     setter(int(env.texture), rgb(env.strength, what + " strength"), m, env.interpolation)
 
 
+def _add_volume(native, volume, index: int) -> None:
+    """scene.volumes[index] to the native scene (which checks that it is closed and its coefficients)."""
+    if not isinstance(volume, Volume):
+        raise ValueError(f"scene.volumes[{index}] is not a sphrect.Volume (got {type(volume).__name__})")
+    what = f"volume '{volume.name}'"
+    v = np.asarray(volume.vertices)
+    if v.ndim != 2 or v.shape[1] != 3 or (v.size and not np.issubdtype(v.dtype, np.number)):
+        raise ValueError(f"{what}: vertices must have shape [V, 3], got {v.shape}")
+    t = np.asarray(volume.triangles)
+    if t.ndim != 2 or t.shape[1] != 3:
+        raise ValueError(f"{what}: triangles must have shape [T, 3], got {t.shape}")
+    t = _int_array(t, f"{what} triangles", upper=len(v))
+    med = volume.medium
+    if not isinstance(med, Medium):
+        raise ValueError(f"{what}: medium must be a sphrect.Medium, got {type(med).__name__}")
+    native.add_volume(str(volume.name), np.ascontiguousarray(v, dtype=np.float32), t,
+                      rgb(med.sigma_s, what + " sigma_s"), rgb(med.sigma_a, what + " sigma_a"), float(med.g))
+
+
 def _add_material(native, mat, index: int, slots) -> None:
     """scene.materials[index] to the native scene: its fields, read and checked there (render/material.h); its
     programs' attribute names become the scene's attribute `slots` (name -> index, grown here)."""
@@ -271,6 +290,8 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
     med = scene.world.medium
     if med is not None:
         native.set_medium(rgb(med.sigma_s, "medium sigma_s"), rgb(med.sigma_a, "medium sigma_a"), float(med.g))
+    for i, volume in enumerate(scene.volumes):
+        _add_volume(native, volume, i)
     native.set_image_memory_limit(max(0, int(image_memory_limit)))
     _add_textures(native, scene)
     if scene.world.environment is not None:

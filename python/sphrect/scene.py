@@ -20,6 +20,8 @@ Scene file format (``.sphrect.npz``, written by :func:`save_scene`, read by
   (int32 [T,3]), and optionally ``mesh{i}.normals`` (float32 [V,3]) and
   ``mesh{i}.material_ids`` (int32 [T]), ``mesh{i}.uvs`` (float32 [V,2]), ``mesh{i}.generated``
   (float32 [V,3]);
+* for volume *i* (``"volumes": [{"name": ..., "arrays": "volume0", "medium": {...}}, ...]``): ``volume{i}.vertices``
+  (float32 [V,3]) and ``volume{i}.triangles`` (int32 [T,3]);
 * for texture *i* with pixels: ``texture{i}.pixels`` (uint8 or float32 [H,W,C]); a texture without them has a
   ``path``, relative to the file's folder unless absolute.
 """
@@ -79,7 +81,9 @@ FORMAT_NAME = "sphrect-scene"
 # 19 also: Mesh.attributes, attributes_fac_x, object_color, object_index, object_random, corners_reversed and
 # NodeProgram.attributes (the Attribute, Color Attribute, Object Info and Geometry nodes).  Older files load without
 # attributes, object colour white.
-FORMAT_VERSION = 19
+# 20: Scene.volumes (Volume: a homogeneous medium bounded by a closed mesh, Blender's object volumes).  Older files
+# load without volumes.
+FORMAT_VERSION = 20
 
 RGB = Tuple[float, float, float]
 V3 = Tuple[float, float, float]
@@ -457,6 +461,18 @@ class Medium:
 
 
 @dataclass
+class Volume:
+    """A homogeneous medium bounded by a closed triangle mesh (Blender's object volume: a mesh whose material has a
+    Volume output).  The triangles' winding gives the outward normal (counter-clockwise seen from outside, as
+    Blender's); the surface itself is invisible, only the medium inside it is drawn.  Where volumes overlap their
+    coefficients add, and a World.medium adds to them (as in Cycles)."""
+    vertices: np.ndarray                       # float32 [V, 3], world space
+    triangles: np.ndarray                      # int32 [T, 3], into vertices
+    medium: Medium = field(default_factory=Medium)
+    name: str = "volume"
+
+
+@dataclass
 class Environment:
     """An equirectangular image of the radiance arriving from infinitely far away, as Cycles 3.4's Environment
     Texture (equirectangular projection) maps it: a unit direction d in the image's own frame falls at
@@ -543,6 +559,7 @@ class Scene:
     meshes: List[Mesh] = field(default_factory=list)
     lights: list = field(default_factory=list)  # RectLight | EllipseLight | PointLight | SpotLight | SunLight
     textures: List[Texture] = field(default_factory=list)  # read by Material.textures through TextureLookup
+    volumes: List[Volume] = field(default_factory=list)  # media bounded by closed meshes
 
 
 _LIGHT_TYPES = {"rect": RectLight, "ellipse": EllipseLight, "point": PointLight, "spot": SpotLight, "sun": SunLight}
@@ -562,6 +579,7 @@ def save_scene(scene: Scene, path: str) -> None:
         "lights": [dict(type=_LIGHT_NAMES[type(l)], **dataclasses.asdict(l)) for l in scene.lights],
         "meshes": [],
         "textures": [],
+        "volumes": [],
     }
     arrays = {}
     for i, t in enumerate(scene.textures):
@@ -601,6 +619,11 @@ def save_scene(scene: Scene, path: str) -> None:
             arrays[f"{key}.uvs"] = np.asarray(m.uvs, dtype=np.float32)
         if m.generated is not None:
             arrays[f"{key}.generated"] = np.asarray(m.generated, dtype=np.float32)
+    for i, v in enumerate(scene.volumes):
+        key = f"volume{i}"
+        meta["volumes"].append({"name": v.name, "arrays": key, "medium": dataclasses.asdict(v.medium)})
+        arrays[f"{key}.vertices"] = np.asarray(v.vertices, dtype=np.float32)
+        arrays[f"{key}.triangles"] = np.asarray(v.triangles, dtype=np.int32)
     arrays["scene.json"] = np.frombuffer(json.dumps(meta).encode("utf-8"), dtype=np.uint8)
     atomic_write(path, lambda f: np.savez_compressed(f, **arrays))
 
@@ -691,4 +714,14 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
             pixels = data[f"{key}.pixels"]
         scene.textures.append(Texture(name=t["name"], pixels=pixels, colorspace=t["colorspace"],
                                       path=scene_file.texture_path_loaded(path, t.get("path", ""), relative_to)))
+    for v in meta.get("volumes", []):  # version 20
+        key = v.get("arrays") if isinstance(v, dict) else None
+        if not isinstance(key, str):
+            raise ValueError(f"{path}: a volume's 'arrays' is {key!r}, not a name")
+        scene_file.check_volume_arrays(path, headers, key)
+        medium = v.get("medium")
+        if not isinstance(medium, dict):
+            raise ValueError(f"{path}: volume {key} has no 'medium' object")
+        scene.volumes.append(Volume(vertices=data[f"{key}.vertices"], triangles=data[f"{key}.triangles"],
+                                    medium=Medium(**medium), name=v.get("name", "volume")))
     return scene

@@ -114,6 +114,17 @@ def check_mesh_arrays(path, headers, key):
                              f"{shapes['triangles'][0]} triangles")
 
 
+def check_volume_arrays(path, headers, key):
+    """The declared shapes of volume `key`'s arrays: float [V, 3] vertices and integer [T, 3] triangles."""
+    for name, kind in (("vertices", "f"), ("triangles", "i")):
+        header = headers.get(f"{key}.{name}")
+        if header is None:
+            raise MalformedScene(f"{path}: volume {key} has no {name}")
+        shape, dtype = header
+        if dtype.kind not in kind or len(shape) != 2 or shape[1] != 3:
+            raise MalformedScene(f"{path}: volume {key}.{name} is {dtype} {shape}, not {kind}-typed [N, 3]")
+
+
 def check_texture_arrays(path, headers, key):
     """The declared shape of texture `key`'s pixels: uint8 or float32 [H, W, C], C in 1..4."""
     header = headers.get(f"{key}.pixels")

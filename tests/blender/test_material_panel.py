@@ -74,8 +74,7 @@ def test_left_out_surfaces_and_problems_are_listed(empty_scene):
     tree.nodes.remove(tree.nodes["Principled BSDF"])
     scatter = tree.nodes.new("ShaderNodeVolumeScatter")
     tree.links.new(scatter.outputs[0], tree.nodes["Material Output"].inputs["Volume"])
-    assert notes_module().material_notes(volume_only) == [
-        "volume-only materials (surface transparent, volume not simulated)"]  # as geometry.triangulate warns
+    assert notes_module().material_notes(volume_only) == []  # an object volume: left out of the meshes, unwarned
     no_image, bsdf = builders.node_material("No Image", "ShaderNodeBsdfPrincipled")
     builders.image_texture(no_image, None, bsdf.inputs["Base Color"])
     assert notes_module().material_notes(no_image) == [

@@ -14,6 +14,7 @@ from .materials import export_material, export_world
 from .node_program import program_globals
 from .textures import TextureExport, coordinates_needed, has_normal_map, is_anisotropic, programs_of
 from .visibility import invisible_to, warn_unhonoured
+from .volumes import VolumeExport
 
 
 class _Materials:
@@ -92,6 +93,7 @@ def scene_from_depsgraph(depsgraph):
     world = rendered_world(depsgraph)
     scene.world = export_world(sphrect, world, log, materials.textures)
     warn_unhonoured(log, world=world, exported=scene.world)
+    volumes = VolumeExport(sphrect, log)
     cache = {}
     skipped_types = set()
     for inst in depsgraph.object_instances:
@@ -113,6 +115,7 @@ def scene_from_depsgraph(depsgraph):
         for psys in getattr(obj, "particle_systems", ()):
             if psys.settings.type == "HAIR" and psys.settings.render_type == "PATH":
                 log.unsupported_feature("hair particles", obj.name)
+        volumes.add_instance(obj, inst, name)
         key = (obj.name_full, obj.data.name_full if obj.data is not None else "")
         if key not in cache:  # instances share the triangulation and the material ids
             slots = materials.slot_ids(obj)
@@ -154,6 +157,7 @@ def scene_from_depsgraph(depsgraph):
                                          **(_object_info(sphrect, obj, inst) if object_info else {})))
     scene.materials = materials.list
     scene.textures = materials.textures.list
+    scene.volumes = volumes.list
     emissive = {i for i, m in enumerate(scene.materials) if any(c > 0 for c in m.emission)}
     lit_by_meshes = any(np.isin(m.material_ids, list(emissive)).any() for m in scene.meshes) if emissive else False
     if not scene.lights and not lit_by_meshes and not any(c > 0 for c in scene.world.background) \

@@ -2,7 +2,7 @@
 (no Python loop over vertices or triangles: a million triangles export in about a second)."""
 import numpy as np
 
-from .materials import transparent_surface
+from .materials import left_out_surface, transparent_surface
 from .node_program import OBJECT_ATTRIBUTE_PREFIX, POINTINESS, RANDOM_PER_ISLAND, RENDER_COLOR, UV_TANGENT_PREFIX
 
 # Object types whose evaluated form converts to a mesh with Object.to_mesh().
@@ -66,11 +66,11 @@ def _generated(mesh):
 
 
 def _transparent_slots(obj):
-    """Indices of the object's material slots whose surface is transparent (materials.transparent_surface),
-    and the warnings naming why."""
-    reasons = [transparent_surface(slot.material) for slot in obj.material_slots]
-    return (np.array([i for i, r in enumerate(reasons) if r], dtype=np.int32),
-            sorted({r for r in reasons if r}))
+    """Indices of the object's material slots whose surface is left out (materials.left_out_surface), and the
+    warnings naming why (materials.transparent_surface; none for a volume-only material's, exact)."""
+    left_out = [i for i, slot in enumerate(obj.material_slots) if left_out_surface(slot.material)]
+    reasons = {transparent_surface(obj.material_slots[i].material) for i in left_out}
+    return np.array(left_out, dtype=np.int32), sorted(r for r in reasons if r)
 
 
 # Blender's attribute types -> (foreach_get key, components kept, whether the Fac is the first component).
@@ -213,7 +213,7 @@ def triangulate(obj, log=None, uvs=False, generated=False, attributes=()):
     """LocalMesh of an evaluated object (modifiers applied), or None if it has no triangles; with the texture
     coordinates its materials read (`uvs`: the render UV map, `generated`: Blender's Generated ones).
     Triangles of transparent surfaces (volume-only materials, a white Transparent BSDF) are left out: Cycles shows
-    them as transparent (what is not simulated, the volume or a colour, `log` is told, naming the object).
+    them as transparent (the volume is volumes.py's; `log` is told of what is not simulated, naming the object).
     Smooth-shaded meshes get per-corner split normals (vertices unwelded so flat and smooth faces and
     sharp edges all keep Blender's normals), as do meshes with UVs (seams); fully flat meshes get no normals (the
     renderer uses face normals)."""
@@ -288,6 +288,30 @@ def triangulate(obj, log=None, uvs=False, generated=False, attributes=()):
         vertex_attrs = {k: np.ascontiguousarray(v, dtype=np.float32).reshape(-1, 4) for k, v in corner_attrs.items()}
         return LocalMesh(vertices, triangles, normals, material_index, corner_uvs, vertex_generated, vertex_attrs,
                          fac_x)
+    finally:
+        obj.to_mesh_clear()
+
+
+def slot_triangles(obj):
+    """(vertices float32 [V, 3], triangles int32 [T, 3], material_index int32 [T], (texture space location, size))
+    of an evaluated object in its own space, every triangle kept (an object volume's: volumes.py), or None if it has
+    none."""
+    mesh = obj.to_mesh()
+    try:
+        if mesh is None:
+            return None
+        mesh.calc_loop_triangles()
+        n = len(mesh.loop_triangles)
+        if n == 0:
+            return None
+        vertices = np.empty(len(mesh.vertices) * 3, dtype=np.float32)
+        mesh.vertices.foreach_get("co", vertices)
+        triangles = np.empty(n * 3, dtype=np.int32)
+        mesh.loop_triangles.foreach_get("vertices", triangles)
+        material_index = np.empty(n, dtype=np.int32)
+        mesh.loop_triangles.foreach_get("material_index", material_index)
+        texspace = (np.array(mesh.texspace_location, dtype=np.float64), np.array(mesh.texspace_size, dtype=np.float64))
+        return vertices.reshape(-1, 3), triangles.reshape(-1, 3), material_index, texspace
     finally:
         obj.to_mesh_clear()
 

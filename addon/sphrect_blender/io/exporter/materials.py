@@ -6,16 +6,17 @@ specular, specular tint, roughness, sheen, sheen tint, clearcoat, clearcoat roug
 'glass': the dielectric reflection Cycles shows at zero bounces), Glossy BSDF and Anisotropic BSDF (kind
 'glossy_bsdf', no Fresnel; their anisotropy and the Principled BSDF's along Cycles' default radial tangent) for
 surfaces; Mix Shader and Add Shader trees of those (kind 'mix': each shader's
-closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume linked, Surface not)
-and a white Transparent BSDF make a transparent surface, left out by geometry.triangulate; Translucent BSDF (kind
+closures scaled by its weight, as svm_node_mix_closure does); volume-only materials (Volume linked, Surface not:
+their volume is an object volume, volumes.py) and a white Transparent BSDF make a transparent surface, left out by
+geometry.triangulate; Translucent BSDF (kind
 'translucent'); Holdout (kind 'holdout': black, alpha 0); a coloured Transparent BSDF and a Principled BSDF's Alpha
 (constant or an Image Texture's, expanded into a Mix Shader with a white Transparent BSDF as Cycles does) as kind
 'transparent'; emission with Cycles 3.4's conventions -- an Emission shader emits
 radiance colour x strength (svm_node_emission_weight), the Principled BSDF's Emission x Emission Strength adds to
 its BSDF, a mix scales each side's closures by its weight, mesh emission is two-sided (emissive_pdf:
 |Ng . wi| > 0); Background for the world colour, any other world Surface (a Sky Texture, gradients, mixes...)
-baked by Cycles into an environment image (world_bake.py); Volume Scatter, Volume Absorption or Principled Volume on the
-World output for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
+baked by Cycles into an environment image (world_bake.py); the volume shaders on the World output
+(volume_shaders.py) for a homogeneous medium.  Image Texture nodes (textures.py) drive Principled's Base Color,
 Roughness, Metallic and Specular, the Color of Diffuse, Glossy, Glass and Translucent BSDFs and the Roughness of
 Glossy and Glass, Mix Shader factors, and a Normal input through a tangent-space Normal Map node; a graph of the
 nodes node_program.py compiles (Math, Mix, ColorRamp, Texture Coordinate, ...) drives the same inputs, the emission's
@@ -35,6 +36,7 @@ from .node_program import (ProgramCompiler, compile_product, compile_socket, emi
                            is_shading_normal, program_mean)
 from .textures import TextureExport, follow_reroutes, image_texture_source
 from .visibility import world_invisible_to
+from .volume_shaders import read_volume
 
 
 def _active_output(tree, node_type):
@@ -165,6 +167,15 @@ def _nonzero_input(node, name, log, owner, what):
         log.unsupported_feature(what, owner)
 
 
+def volume_socket(mat):
+    """The Volume input of material `mat`'s active output when a shader is linked there (its medium:
+    volume_shaders.read_volume), else None."""
+    if mat is None or not mat.use_nodes or mat.node_tree is None:
+        return None
+    out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
+    return out.inputs["Volume"] if out is not None and _linked_node(out.inputs["Volume"]) is not None else None
+
+
 def is_volume_only(mat):
     """A node material whose active output has a Volume link and no Surface link: Cycles makes its surface
     transparent (it neither shades nor occludes), so the exporter leaves those triangles out."""
@@ -174,13 +185,17 @@ def is_volume_only(mat):
     return out is not None and out.inputs["Volume"].is_linked and _linked_node(out.inputs["Surface"]) is None
 
 
+def left_out_surface(mat):
+    """Whether the material's surface is left out of the meshes (geometry.triangulate): volume-only (its volume is
+    an object volume: volumes.py) or transparent_surface."""
+    return is_volume_only(mat) or transparent_surface(mat) is not None
+
+
 def transparent_surface(mat):
-    """Why the material's surface is left out (geometry.triangulate), as the warning names it, or None:
-    volume-only, or a white Transparent BSDF alone on the Surface (it lets camera and shadow rays through unchanged
-    in Cycles, transparent bounces being counted apart from max_bounces: leaving it out is exact and costs nothing;
-    a coloured one is kind 'transparent')."""
-    if is_volume_only(mat):
-        return "volume-only materials (surface transparent, volume not simulated)"
+    """Why a material's surface that is not volume-only is left out (geometry.triangulate), as the warning names it,
+    or None: a white Transparent BSDF alone on the Surface (it lets camera and shadow rays through unchanged in
+    Cycles, transparent bounces being counted apart from max_bounces: leaving it out is exact and costs nothing; a
+    coloured one is kind 'transparent')."""
     if mat is None or not mat.use_nodes or mat.node_tree is None:
         return None
     out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
@@ -204,10 +219,9 @@ def export_material(sphrect, mat, log, textures=None):
         return sphrect.Material(name=name, kind="diffuse", base_color=_rgb(mat.diffuse_color))
     _warn_of_deep_groups(mat.node_tree, log, name)
     out = _active_output(mat.node_tree, "ShaderNodeOutputMaterial")
-    if transparent_surface(mat):  # its triangles are left out (geometry.triangulate), which warns per object
+    if left_out_surface(mat):  # its triangles are left out (geometry.triangulate), which warns per object
         return sphrect.Material(name=name, kind="diffuse", base_color=(0.0, 0.0, 0.0))
-    if out is not None and out.inputs["Volume"].is_linked:
-        log.unsupported_feature("material volumes", name)
+    # A Volume link is the object volume's (volumes.py), read per object.
     node = _linked_shader(out.inputs["Surface"]) if out is not None else None
     if node is None:
         log.unsupported_feature("materials without a surface shader (black)", name)
@@ -877,7 +891,7 @@ def _world_shading(sphrect, world, log, textures):
         else:
             background, environment, camera_environment = _world_not_representable(sphrect, world, surface,
                                                                                    textures, log)
-    medium = _export_medium(sphrect, _linked_node(out.inputs["Volume"]), world.name, log)
+    medium = read_volume(sphrect, out.inputs["Volume"], world.name, log)[0]
     return sphrect.World(background=background, medium=medium, environment=environment,
                          camera_environment=camera_environment)
 
@@ -1075,33 +1089,3 @@ def _environment_rotation(node, textures, owner):
     if not np.allclose(q @ q.T, np.eye(3), atol=1e-5):
         return None
     return q
-
-
-def _export_medium(sphrect, node, owner, log):
-    """Homogeneous medium from Cycles' volume nodes: Volume Scatter (sigma_s = density * colour),
-    Volume Absorption (sigma_a = density * (1 - colour)), Principled Volume (both, as Cycles splits them)."""
-    if node is None:
-        return None
-    if node.bl_idname not in {"ShaderNodeVolumeScatter", "ShaderNodeVolumeAbsorption",
-                              "ShaderNodeVolumePrincipled"}:
-        log.unsupported_feature(f"'{node.bl_label}' world volume (no medium used)", owner)
-        return None
-    color = np.array(_value(node, "Color", log, owner)[:3])
-    density = max(_value(node, "Density", log, owner), 0.0)
-    zero = np.zeros(3)
-    g = 0.0
-    if node.bl_idname == "ShaderNodeVolumeScatter":
-        sigma_s, sigma_a = density * np.clip(color, 0, None), zero
-        g = _value(node, "Anisotropy", log, owner)
-    elif node.bl_idname == "ShaderNodeVolumeAbsorption":
-        sigma_s, sigma_a = zero, density * np.clip(1.0 - color, 0, None)
-    else:
-        absorption_color = np.array(_value(node, "Absorption Color", log, owner)[:3])
-        sigma_s = density * np.clip(color, 0, None)
-        sigma_a = density * np.clip(1.0 - color, 0, None) * np.clip(1.0 - absorption_color, 0, None)
-        g = _value(node, "Anisotropy", log, owner)
-        _nonzero_input(node, "Emission Strength", log, owner, "volume emission")
-        _nonzero_input(node, "Blackbody Intensity", log, owner, "volume blackbody emission")
-    if not np.any(sigma_s + sigma_a > 0):
-        return None
-    return sphrect.Medium(sigma_s=_rgb(sigma_s), sigma_a=_rgb(sigma_a), g=float(np.clip(g, -0.99, 0.99)))
