@@ -751,7 +751,7 @@ def volume_material(name, nodes_and_inputs):
 def fog_stage():
     fresh_scene("fog_stage")
     mesh_object("Floor", "plane", material("Floor", (0.5, 0.5, 0.5)), size=14)
-    mesh_object("Back Wall", "plane", material("Wall", (0.6, 0.55, 0.5)), location=(0, 3, 2.5),
+    mesh_object("Back Wall", "plane", material("Wall", (0.6, 0.55, 0.5)), location=(0, 3.2, 2.5),
                 rotation=(math.pi / 2, 0, 0), size=8)
     mesh_object("Crate", "cube", material("Crate", (0.7, 0.4, 0.2)), location=(-1.2, 0.8, 0.4), size=0.8,
                 rotation=(0, 0, 0.3))
@@ -767,11 +767,14 @@ def fog_stage():
                        spot_blend=0.15)
     aim(spot, (-0.6, 0.8, 0.0))
     area_light("Fill", "RECTANGLE", size=2.0, size_y=1.0, power=150.0, location=(0, -1.5, 3.9), visible=False)
-    # The fog box over the stage (the camera outside it).
+    # The fog box over the stage (the camera outside it), its bottom 5 cm under the floor and its back 20 cm before the
+    # wall: a face on a surface's plane
+    # leaves Cycles 3.4 to find the floor or the face first, and where it takes the face it misses the floor
+    # (docs/renderer.md, object volumes).
     mesh_object("Fog", "cube", volume_material("Fog", [
         ("ShaderNodeVolumeScatter", {"Density": 0.18, "Color": (0.9, 0.9, 0.95, 1), "Anisotropy": 0.4}),
         ("ShaderNodeVolumeAbsorption", {"Density": 0.05, "Color": (0.8, 0.7, 0.6, 1)})]),
-        location=(0, 0.5, 2.0), scale=(3.5, 2.5, 2.0))
+        location=(0, 0.5, 1.975), scale=(3.5, 2.5, 2.025))
     camera((0.0, -6.5, 1.8), (0.0, 0.8, 1.2), lens=28.0)
     save("15_fog_stage")
 
