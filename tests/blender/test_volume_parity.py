@@ -5,7 +5,13 @@ linear EXR, mean relative difference over lit 4x4-pixel blocks) on five small sc
 it (its cone seen), a fog box around an area light, the camera inside a fog box, two overlapping boxes of different
 density (their densities add in the overlap), an absorbing box between the camera and a light.  Each scene also
 differs from its image without the volumes by far more than the bound, so the comparison would catch the volumes
-left out.  Fixed seeds: deterministic."""
+left out.  Fixed seeds: deterministic.
+
+Measured (48 x 36): absorbing box 0.22 %, area light in fog 0.36 %, camera inside fog 1.28 %, overlapping boxes
+0.18 %, spot in fog 0.43 % (the volumes left out: 73 %, 90 %, 117 %, 138 %, 169 %).  The camera inside fog is 1.2 %
+darker than Cycles over the whole image: Cycles' camera rays start at the camera's Clip Start (0.1 m), and so does the
+fog they cross, where ours attenuate from the camera itself (exp(-0.12 x 0.1) = 0.988; at Clip Start 0.001 the scene
+agrees to 0.09 %)."""
 import math
 
 import bpy
@@ -22,6 +28,9 @@ BOUND = 0.02
 # difference of two seeds' images (about sqrt(2) x the noise of one): 0.12 % to 0.20 % at 2048 spp, but 0.92 % for
 # the spot in fog (its dim cone), hence 4 x the samples there (about 0.46 %).
 CYCLES_SAMPLES = {"spot in fog": 8192}
+# SPHRECT's light samples per camera sample (difference_to_cycles' 2 where not listed): the spot's cone, lit by a
+# light of which the fog sees a narrow beam, is the noisiest (at 2: 1.5 % from Cycles; its seeds 1 and 2 0.86 %).
+LIGHT_SAMPLES = {"spot in fog": 8}
 
 
 def floor():
@@ -62,10 +71,12 @@ def camera_inside_fog():
 
 
 def overlapping_boxes():
-    """(d) Two fog boxes overlapping in x in [-0.4, 0.4]: there their densities add."""
+    """(d) Two fog boxes overlapping in x in [-0.4, 0.4]: there their densities add.  No face of one lies in the plane
+    of a face of the other: where two boundaries coincide, a ray meets them at the same distance, and what a renderer
+    then counts as entered or left is arbitrary."""
     floor()
     fog("Thin", (-0.6, 0.0, 1.05), (1.0, 1.0, 1.0), density=0.3)
-    fog("Thick", (0.6, 0.0, 1.05), (1.0, 1.0, 1.0), density=1.0, color=(0.5, 0.8, 1.0, 1.0))
+    fog("Thick", (0.6, 0.1, 1.0), (1.0, 0.8, 0.8), density=1.0, color=(0.5, 0.8, 1.0, 1.0))
     spot = builders.other_light("Spot", "SPOT", 500.0, location=(0.0, 0.0, 3.0))
     spot.data.spot_size, spot.data.spot_blend, spot.data.shadow_soft_size = math.radians(70.0), 0.1, 0.0
     builders.aim(spot, (0.0, 0.0, 0.0))
@@ -106,7 +117,8 @@ def test_object_volumes_match_cycles(case, empty_scene, tmp_path):
     cycles = None
     if case in CYCLES_SAMPLES:
         cycles = render_cycles(empty_scene, str(tmp_path / "cycles.exr"), samples=CYCLES_SAMPLES[case])
-    difference, _, cycles = difference_to_cycles(empty_scene, case, tmp_path, cycles=cycles)
+    difference, _, cycles = difference_to_cycles(empty_scene, case, tmp_path, light_samples=LIGHT_SAMPLES.get(case, 2),
+                                                 cycles=cycles)
     assert difference <= BOUND
     ignored = mean_relative_difference(without_volumes(empty_scene), cycles)
     print(f"{case}: the volumes left out differ by {ignored:.4f}")
