@@ -209,17 +209,22 @@ Spectrum ObjectVolumes::Transmittance(const Vec3f& o, const Vec3f& d, float tmax
     return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
 }
 
-void ObjectVolumes::Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out) const {
+void ObjectVolumes::Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out, float t_begin) const {
     out.count = 0;
     out.truncated = false;
-    if (!rtc_scene_ || MissesBounds(o, d)) {
+    const Vec3f start = t_begin > 0 ? o + d * t_begin : o;
+    if (!rtc_scene_ || MissesBounds(start, d)) {
         out.segment[out.count++] = {0, kInf, {}};
         return;
     }
     Crossing crossings[kMaxVolumeCrossings];
     uint64_t set;
-    const int n = Crossings(o, d, crossings, set);
-    float t_prev = 0;
+    const int n = Crossings(start, d, crossings, set);
+    if (t_begin > 0) {
+        for (int i = 0; i < n; ++i) crossings[i].t += t_begin;
+        out.segment[out.count++] = {0, t_begin, {}};
+    }
+    float t_prev = std::max(t_begin, 0.0f);
     for (int i = 0; i < n; ++i) {
         const uint64_t bit = uint64_t(1) << crossings[i].volume;
         const uint64_t next = crossings[i].entering ? set | bit : set & ~bit;

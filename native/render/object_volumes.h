@@ -67,8 +67,10 @@ class ObjectVolumes {
 
     // exp(-integral of sigma_t) along o + t d for t in [0, tmax) (tmax may be kInf), d unit.
     Spectrum Transmittance(const Vec3f& o, const Vec3f& d, float tmax) const;
-    // The ray's stretches from its origin to infinity.
-    void Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out) const;
+    // The ray's stretches from its origin to infinity; with t_begin > 0 (a camera ray's clip start, where Cycles 3.4
+    // moves its origin), the media start there: [0, t_begin) is an empty stretch, and the volumes holding the ray at
+    // t_begin are those of the point o + t_begin d.
+    void Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out, float t_begin = 0) const;
 
   private:
     struct Crossing {

@@ -107,6 +107,21 @@ TEST_F(ObjectVolumesTest, OverlappingBoxesAddTheirCoefficients) {
     ExpectSpectrumNear(s.TransmittanceTo(kInf), Exp(a * 2.0f + b * 2.0f));
 }
 
+TEST_F(ObjectVolumesTest, StretchesStartWhereTheCameraRayDoes) {
+    // A camera inside a box with clip start 0.5: the medium begins at 0.5 (Cycles moves the ray's origin there), also
+    // where the clip start is past the box's near face.
+    const Spectrum st(1, 1, 1);
+    Add(Box({-1, -1, -1}, {1, 1, 1}), st, {});
+    const ObjectVolumes& v = Committed();
+    VolumeSegments s;
+    v.Segments({0, 0, 0}, {0, 0, 1}, s, 0.5f);
+    ExpectSpectrumNear(s.TransmittanceTo(kInf), Exp(st * 0.5f));
+    ExpectSpectrumNear(s.TransmittanceTo(0.75f), Exp(st * 0.25f));
+    EXPECT_TRUE(IsBlack(s.segment[0].coefficients.sigma_t));
+    v.Segments({0, 0, -1.5f}, {0, 0, 1}, s, 1.0f);  // starts inside, 0.5 past the near face
+    ExpectSpectrumNear(s.TransmittanceTo(kInf), Exp(st * 1.5f));
+}
+
 TEST_F(ObjectVolumesTest, NestedBoxesAndAnOriginInsideBoth) {
     const Spectrum outer(0.1f, 0.1f, 0.1f), inner(1, 1, 1);
     Add(Box({-4, -4, -4}, {4, 4, 4}), outer, {});

@@ -206,7 +206,8 @@ static inline void FinishCameraSamples(const RenderScene& scene, const RTCRayHit
         if (KeepsCameraRayMedia(scene)) {
             for (size_t s = 0; s < n; ++s) {
                 media[s].passage_count = 0;
-                if (scene.has_volumes) scene.volumes.Segments(hits[s].ray.o, hits[s].ray.d, media[s].volumes);
+                if (scene.has_volumes)
+                    scene.volumes.Segments(hits[s].ray.o, hits[s].ray.d, media[s].volumes, hits[s].ray.tmin);
                 FinishCameraSample<kGlossy, kMedium>(scene, rtc_hits[s], &media[s], hits[s]);
             }
             return;
