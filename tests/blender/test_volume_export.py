@@ -288,3 +288,22 @@ def test_world_volume_reads_the_same_graphs(empty_scene):
     medium = export()[0].world.medium
     assert medium.sigma_s == pytest.approx((0.4, 0.3, 0.2))
     assert medium.sigma_a == pytest.approx((1.5, 1.0, 0.5))
+
+
+def test_an_empty_smoke_domain_is_no_volume(empty_scene):
+    """A gas domain with nothing simulated or cached at this frame: Cycles 3.4 multiplies Principled Volume's Density
+    by the (all-zero) density grid and shows nothing; so is it left out.  A Volume Scatter in it reads no grid."""
+    t = Tree("Smoke")
+    domain = box(t.volume(t.node("ShaderNodeVolumePrincipled", Density=5.0)), name="Domain")
+    modifier = domain.modifiers.new("Fluid", "FLUID")
+    modifier.fluid_type = "DOMAIN"
+    modifier.domain_settings.domain_type = "GAS"
+    bpy.context.view_layer.update()
+    scene, log = export()
+    assert scene.volumes == [] and scene.meshes == []
+    assert not [w for w in log.unsupported if w.startswith(HETEROGENEOUS)]
+    t2 = Tree("Haze")
+    domain.material_slots[0].material = t2.volume(scatter(t2, density=0.5))
+    scene, log = export()
+    (volume,) = scene.volumes
+    assert volume.medium.sigma_s[0] == pytest.approx(0.4)

@@ -19,8 +19,25 @@ def _open_edges(triangles):
     return int(np.count_nonzero(counts != 2))
 
 
-def _is_smoke_domain(obj):
-    return any(m.type == "FLUID" and m.fluid_type == "DOMAIN" for m in getattr(obj, "modifiers", ()))
+def _smoke_density(obj):
+    """A smoke domain's mean density at this frame (its evaluated grid: 0 where nothing is simulated or cached), or
+    None for an object that is no smoke domain."""
+    for m in getattr(obj, "modifiers", ()):
+        if m.type == "FLUID" and m.fluid_type == "DOMAIN":
+            grid = m.domain_settings.density_grid
+            values = np.empty(len(grid), np.float32)
+            if len(grid):
+                grid.foreach_get(values)
+            return float(values.mean()) if len(values) else 0.0
+    return None
+
+
+def _reads_density_grid(mat):
+    """Whether the material's Principled Volume multiplies its Density by the domain's density grid, as Cycles 3.4
+    does through its Density Attribute."""
+    return mat.node_tree is not None and any(
+        n.bl_idname == "ShaderNodeVolumePrincipled" and n.inputs["Density Attribute"].default_value == "density"
+        for n in mat.node_tree.nodes)
 
 
 class VolumeExport:
@@ -63,15 +80,22 @@ class VolumeExport:
             return  # the surface export says so
         if invisible_to(obj, self.sphrect.scene.RAY_KINDS, inst.parent if inst.is_instance else None):
             self.log.unsupported_feature("Ray Visibility of object volumes (seen by every ray)", obj.name)
-        if _is_smoke_domain(obj):
-            self.log.unsupported_feature("heterogeneous volume density (a smoke domain's grids are not read): its "
-                                         "material's inputs used throughout the domain", obj.name)
+        smoke = _smoke_density(obj)
         for mat, local, texspace in slots:
             world = to_world(local, matrix)
             if world is None:
                 continue
             vertices, triangles, _ = world
             medium = self._medium(mat, obj.name, local, texspace, matrix)
+            if medium is not None and smoke is not None and _reads_density_grid(mat):
+                # An empty grid (nothing simulated or cached at this frame) is no volume, as Cycles shows it.
+                if smoke == 0:
+                    continue
+                self.log.unsupported_feature(f"heterogeneous volume density (a smoke domain's grid): its mean, "
+                                             f"{smoke:.3g}, times the material's density used throughout the domain",
+                                             obj.name)
+                medium = self.sphrect.Medium(sigma_s=tuple(smoke * x for x in medium.sigma_s),
+                                             sigma_a=tuple(smoke * x for x in medium.sigma_a), g=medium.g)
             if medium is None:
                 continue
             label = name if len(slots) == 1 else f"{name}/{mat.name}"
