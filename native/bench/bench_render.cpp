@@ -33,6 +33,9 @@
 //                                them) and with the kernel that has medium + glossy + depth of field
 //                                compiled in and switched off by run-time tests (1): what a single
 //                                generic kernel would cost a diffuse scene.
+//  BM_MediumKernel/<media>       the diffuse scene in a medium of the same coefficients everywhere: 0 the world's,
+//                                1 an object volume, a box around the whole scene (the same image), 2 both, half each;
+//                                and 3 a box around the spheres only: what object volumes cost where used.
 //
 // Times are process CPU seconds (manual timing), not wall time: on a shared, loaded machine
 // they are far steadier, and with threads = 1 they equal the rendering thread's time.
@@ -105,9 +108,12 @@ bool DenseScene() {
     return v && std::string(v) == "dense";
 }
 
+// What BenchScene adds before it commits the scene (a medium, volumes), or nothing.
+using SceneExtras = void (*)(RenderScene&);
+
 // textured: the material's base colour read from a 1 x 1 image (the lookup, the material rebuilt per hit and
 // the vertex fetch for the texture coordinates are paid; the meshes have no UVs, so (0, 0) is read).
-std::shared_ptr<RenderScene> BenchScene(bool textured = false) {
+std::shared_ptr<RenderScene> BenchScene(bool textured = false, SceneExtras extras = nullptr) {
     auto s = std::make_shared<RenderScene>();
     CameraModel c;
     c.width = kWidth;
@@ -136,6 +142,7 @@ std::shared_ptr<RenderScene> BenchScene(bool textured = false) {
     const int rings = dense ? 56 : 112;  // 4 x 6.1k or 4 x 24.9k triangles
     for (const Vec3f& ct : centres) AddSphere(*s, ct, ct.z, rings, rings);
     s->AddRectLight({-1.0f, 1.6f, 0.02f}, {2.0f, 0, 0}, {0, 0, 1.2f}, {6, 6, 6}, true, false);
+    if (extras) extras(*s);
     s->Commit();
     return s;
 }
@@ -442,6 +449,64 @@ void BM_TexturedKernel(benchmark::State& state) {
 BENCHMARK(BM_TexturedKernel)
     ->Arg(0)
     ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+
+// The bench scene's media (BM_MediumKernel): coefficients and boxes.
+const Spectrum kFogScattering(0.15f, 0.15f, 0.15f), kFogAbsorption(0.03f, 0.03f, 0.03f);
+constexpr float kFogAnisotropy = 0.3f;
+
+void AddBoxVolume(RenderScene& s, Vec3f lo, Vec3f hi, float share) {
+    std::vector<float> v;
+    for (int i = 0; i < 8; ++i) {  // vertex index = x + 2 y + 4 z
+        v.push_back(i & 1 ? hi.x : lo.x);
+        v.push_back(i & 2 ? hi.y : lo.y);
+        v.push_back(i & 4 ? hi.z : lo.z);
+    }
+    const int32_t t[] = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                         2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+    s.AddVolume("fog", v.data(), 8, t, 12, kFogScattering * share, kFogAbsorption * share, kFogAnisotropy);
+}
+
+void BM_MediumKernel(benchmark::State& state) {
+    static const std::shared_ptr<RenderScene> scenes[] = {
+        BenchScene(false, [](RenderScene& s) { s.SetMedium(kFogScattering, kFogAbsorption, kFogAnisotropy); }),
+        BenchScene(false,
+                   [](RenderScene& s) {
+                       AddBoxVolume(s, {-30, -30, -30}, {30, 30, 30}, 1);
+                   }),
+        BenchScene(false,
+                   [](RenderScene& s) {
+                       s.SetMedium(kFogScattering * 0.5f, kFogAbsorption * 0.5f, kFogAnisotropy);
+                       AddBoxVolume(s, {-30, -30, -30}, {30, 30, 30}, 0.5f);
+                   }),
+        BenchScene(false, [](RenderScene& s) {
+            AddBoxVolume(s, {-2, -1.5f, 0.01f}, {2, 1.5f, 1.3f}, 1);
+        })};
+    static const char* const labels[] = {"world medium", "a box around the scene (same image)",
+                                         "world medium + box, half each", "a box around the spheres"};
+    RenderOptions o;
+    o.mis = MisMode::Balance;  // what these measure (not the defaults)
+    o.light_selection = LightSelection::Power;
+    o.techniques = {Technique::Rectangle};
+    o.threads = 1;
+    uint64_t rays = 0;
+    for (auto _ : state) {
+        const double t0 = ProcessCpuSeconds();
+        Renderer r(scenes[state.range(0)], o);
+        r.Render(kSamples);
+        state.SetIterationTime(ProcessCpuSeconds() - t0);
+        const TechniqueStats st = r.Stats(0);
+        rays += st.rays + st.camera_rays;
+    }
+    state.SetLabel(labels[state.range(0)]);
+    state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
+    state.counters["s/sample"] = benchmark::Counter(double(kWidth) * kHeight * kSamples * state.iterations(),
+                                                    benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_MediumKernel)
+    ->DenseRange(0, 3)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
