@@ -217,6 +217,22 @@ def test_unsupported_nodes_are_listed_once(empty_scene):
     assert len(scene.meshes) == 4  # nothing dropped: unsupported materials fall back to diffuse
 
 
+def test_a_particle_emitter_hidden_from_render_is_left_out(empty_scene):
+    """Its Instancing > Render off (show_instancer_for_render): Cycles 3.4 skips the emitter's own geometry (the depsgraph instance's show_self);
+    so does the exporter (mpett/tornado.blend's smoke sources were drawn before)."""
+    builders.mesh_object("Emitter", "cube", builders.material("Grey"))
+    emitter = bpy.data.objects["Emitter"]
+    settings = emitter.modifiers.new("Particles", "PARTICLE_SYSTEM").particle_system.settings
+    settings.count = 0
+    scene, _ = export()
+    assert [m.name for m in scene.meshes] == ["Emitter"]
+    # (export() reads the viewport's depsgraph, which takes the viewport's flag; a render's takes the render's.)
+    emitter.show_instancer_for_render = emitter.show_instancer_for_viewport = False
+    bpy.context.view_layer.update()
+    scene, _ = export()
+    assert scene.meshes == []
+
+
 def test_world_colour_and_volume(empty_scene):
     tree = empty_scene.world.node_tree
     bg = tree.nodes["Background"]

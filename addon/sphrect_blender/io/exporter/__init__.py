@@ -97,6 +97,8 @@ def scene_from_depsgraph(depsgraph):
     cache = {}
     skipped_types = set()
     for inst in depsgraph.object_instances:
+        if not inst.show_self:
+            continue  # an instancer (a particle emitter) hidden from render: Cycles skips its own geometry too
         obj = inst.object
         name = obj.name if not inst.is_instance else f"{inst.parent.name}/{obj.name}#{inst.random_id & 0xffff}"
         if obj.type == "LIGHT":
