@@ -89,12 +89,15 @@ def test_unknown_medium_sampling_is_refused_before_rendering(scene_file, tmp_pat
 
 
 def strip_medium_sampling(out):
-    """Make the stored runs look like a study made before the medium sampling was recorded."""
+    """Make the stored runs and settings look like a study made before the medium sampling was recorded."""
     for name in os.listdir(out / "runs"):
         path = out / "runs" / name
         record = json.loads(path.read_text())
         del record["job"]["medium_sampling"]
         path.write_text(json.dumps(record))
+    config = json.loads((out / "config.json").read_text())
+    del config["study"]["medium_samplings"]
+    (out / "config.json").write_text(json.dumps(config))
 
 
 @pytest.mark.slow
@@ -109,6 +112,9 @@ def test_study_of_two_medium_samplings_resumes_a_study_of_one(scene_file, tmp_pa
     study(scene_file, out, techniques=("area", "rectangle"), report=False)
     first = log.read_text().split()
     strip_medium_sampling(out)
+    old = report_results.load_study(str(out))  # an old study's results load: the default's
+    assert old.settings.medium_samplings == ("mis",)
+    assert {curve_key(r["job"]).medium_sampling for r in old.ladder} == {"mis"}
     study(scene_file, out, techniques=("area", "rectangle"), report=False)
     assert log.read_text().split() == first  # an old study resumes: nothing rendered again
     both = ("mis", "distance")
