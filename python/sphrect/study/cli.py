@@ -7,7 +7,7 @@ import sys
 from typing import List, Optional
 
 from .._native import MAX_IMAGE_SIDE
-from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MIS_MODES, PATTERNS, TECHNIQUES
+from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MEDIUM_SAMPLING, MIS_MODES, PATTERNS, TECHNIQUES
 from .jobs import SettingError, StudyConfig, check_positive, sample_ladder
 from .lock import StudyBusy
 from .preflight import check_resolution, check_workers
@@ -52,6 +52,10 @@ def parser() -> argparse.ArgumentParser:
                    help=f"comma list of {','.join(ELLIPSE_TECHNIQUES)}: how disk and ellipse lights are sampled "
                         f"(default {','.join(_STUDY.ellipse_techniques)}, the renderer's; give several to compare "
                         f"them)")
+    p.add_argument("--medium-samplings", type=_names, default=list(_STUDY.medium_samplings),
+                   help=f"comma list of {','.join(MEDIUM_SAMPLING)}: how camera rays through a volume choose their "
+                        f"scattering point (default {','.join(_STUDY.medium_samplings)}, the renderer's; give several "
+                        f"to compare them)")
     p.add_argument("--max-samples", type=int, default=256, help="top of the ladder 1, 2, 4, ... (default 256)")
     p.add_argument("--min-samples", type=int, default=1)
     p.add_argument("--light-samples", type=int, default=_STUDY.light_samples, help="light samples per camera sample")
@@ -136,6 +140,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         config = StudyConfig(techniques=tuple(args.techniques), mis=tuple(args.mis), patterns=tuple(args.patterns),
                              light_selections=tuple(args.light_selections),
                              ellipse_techniques=tuple(args.ellipse_techniques),
+                             medium_samplings=tuple(args.medium_samplings),
                              ladder=tuple(sample_ladder(args.max_samples, args.min_samples)),
                              light_samples=args.light_samples, seed=args.seed, threads=args.threads,
                              cycles=args.cycles != "off" and args.scene.endswith(".blend"),

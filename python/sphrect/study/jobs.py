@@ -17,7 +17,8 @@ from dataclasses import dataclass
 from typing import Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
 from .. import _native
-from ..render import ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MIS_MODES, PATTERNS, RENDER_DEFAULTS, TECHNIQUES
+from ..render import (ELLIPSE_TECHNIQUES, LIGHT_SELECTIONS, MEDIUM_SAMPLING, MIS_MODES, PATTERNS, RENDER_DEFAULTS,
+                      TECHNIQUES)
 
 SPHRECT = "sphrect"
 CYCLES = "cycles"
@@ -25,6 +26,8 @@ CYCLES = "cycles"
 DEFAULT_LIGHT_SELECTION = RENDER_DEFAULTS["light_selection"]
 # Likewise for the ellipse technique (how disk and ellipse lights are sampled): runs recorded before it was an axis.
 DEFAULT_ELLIPSE_TECHNIQUE = RENDER_DEFAULTS["ellipse_technique"]
+# Likewise for the medium's distance sampling (how camera rays through a volume pick their scattering point).
+DEFAULT_MEDIUM_SAMPLING = RENDER_DEFAULTS["medium_sampling"]
 
 
 class CurveKey(NamedTuple):
@@ -34,20 +37,22 @@ class CurveKey(NamedTuple):
     pattern: str
     light_selection: str
     ellipse_technique: str = DEFAULT_ELLIPSE_TECHNIQUE
+    medium_sampling: str = DEFAULT_MEDIUM_SAMPLING
 
 
-# Cycles' curve in the terms of ours: it has its own sampling (its own light selection, its own disk sampling).
-CYCLES_CURVE = CurveKey("cycles", "power", "default", "default", "default")
+# Cycles' curve in the terms of ours: it has its own sampling (its own light selection, disk and medium sampling).
+CYCLES_CURVE = CurveKey("cycles", "power", "default", "default", "default", "default")
 
 
 def curve_key(job: Mapping) -> CurveKey:
-    """The curve of a job (a Job's or a stored record's dict; records made before the light selection or the
-    ellipse technique was recorded were rendered with the default)."""
+    """The curve of a job (a Job's or a stored record's dict; records made before the light selection, the
+    ellipse technique or the medium sampling was recorded were rendered with the default)."""
     if job.get("engine") == CYCLES:
         return CYCLES_CURVE
     return CurveKey(job["technique"], job["mis"], job["pattern"],
                     job.get("light_selection", DEFAULT_LIGHT_SELECTION),
-                    job.get("ellipse_technique", DEFAULT_ELLIPSE_TECHNIQUE))
+                    job.get("ellipse_technique", DEFAULT_ELLIPSE_TECHNIQUE),
+                    job.get("medium_sampling", DEFAULT_MEDIUM_SAMPLING))
 
 
 def selection_part(light_selection: str, show_selection: bool, separator: str = " / ") -> str:
@@ -62,14 +67,21 @@ def ellipse_part(ellipse_technique: str, show_ellipse: bool, separator: str = " 
     return f"{separator}ellipse={ellipse_technique}" if show_ellipse else ""
 
 
-def curve_label(key: CurveKey, show_selection: bool = False, show_ellipse: bool = False) -> str:
+def medium_part(medium_sampling: str, show_medium: bool, separator: str = " / ") -> str:
+    """The medium sampling as a part of a configuration's name; nothing unless `show_medium` (in a study of more
+    than one)."""
+    return f"{separator}medium={medium_sampling}" if show_medium else ""
+
+
+def curve_label(key: CurveKey, show_selection: bool = False, show_ellipse: bool = False,
+                show_medium: bool = False) -> str:
     """The name of a curve, or Cycles'; the light selection is named when `show_selection`, the ellipse technique
-    when `show_ellipse`."""
+    when `show_ellipse`, the medium sampling when `show_medium`."""
     if tuple(key) == CYCLES_CURVE:
         return "Cycles 3.4"
-    technique, mis, pattern, light_selection, ellipse_technique = key
+    technique, mis, pattern, light_selection, ellipse_technique, medium_sampling = key
     return (f"{technique} / mis={mis} / {pattern}" + selection_part(light_selection, show_selection)
-            + ellipse_part(ellipse_technique, show_ellipse))
+            + ellipse_part(ellipse_technique, show_ellipse) + medium_part(medium_sampling, show_medium))
 
 
 LADDER = "ladder"
@@ -90,18 +102,20 @@ class Job:
     time_budget: Optional[float] = None  # seconds, for equal-time jobs
     light_selection: str = DEFAULT_LIGHT_SELECTION  # one of LIGHT_SELECTIONS (ours; Cycles' jobs keep the default)
     ellipse_technique: str = DEFAULT_ELLIPSE_TECHNIQUE  # one of ELLIPSE_TECHNIQUES (ours; Cycles' keep the default)
+    medium_sampling: str = DEFAULT_MEDIUM_SAMPLING  # one of MEDIUM_SAMPLING (ours; Cycles' keep the default)
     # A sample range of a longer render (the reference's chunks, sample_ranges.py): its first sample and its pass.
     first_sample: Optional[int] = None
     pass_index: Optional[int] = None
 
     @property
     def key(self) -> str:
-        """A stable, file-name-safe identifier (the result file's name). The light selection and the ellipse
-        technique are part of it only when they are not the default, so that runs stored before they were axes
-        keep their keys."""
+        """A stable, file-name-safe identifier (the result file's name). The light selection, the ellipse
+        technique and the medium sampling are part of it only when they are not the default, so that runs stored
+        before they were axes keep their keys."""
         selection = [] if self.light_selection == DEFAULT_LIGHT_SELECTION else [f"sel_{self.light_selection}"]
         ellipse = [] if self.ellipse_technique == DEFAULT_ELLIPSE_TECHNIQUE else [f"ell_{self.ellipse_technique}"]
-        parts = [self.kind, self.engine, self.technique, self.mis, self.pattern, *selection, *ellipse,
+        medium = [] if self.medium_sampling == DEFAULT_MEDIUM_SAMPLING else [f"med_{self.medium_sampling}"]
+        parts = [self.kind, self.engine, self.technique, self.mis, self.pattern, *selection, *ellipse, *medium,
                  f"n{self.samples:06d}", f"l{self.light_samples}", f"s{self.seed}"]
         if self.time_budget is not None:
             parts.append(f"t{self.time_budget:.6g}")
@@ -115,10 +129,12 @@ class Job:
 
     @property
     def label(self) -> str:
-        """The curve this job belongs to (everything but the sample count); the light selection and the ellipse
-        technique are named when they are not the default (a job does not know how many its study has)."""
+        """The curve this job belongs to (everything but the sample count); the light selection, the ellipse
+        technique and the medium sampling are named when they are not the default (a job does not know how many
+        its study has)."""
         return curve_label(self.curve, show_selection=self.light_selection != DEFAULT_LIGHT_SELECTION,
-                           show_ellipse=self.ellipse_technique != DEFAULT_ELLIPSE_TECHNIQUE)
+                           show_ellipse=self.ellipse_technique != DEFAULT_ELLIPSE_TECHNIQUE,
+                           show_medium=self.medium_sampling != DEFAULT_MEDIUM_SAMPLING)
 
     def to_dict(self) -> Dict:
         return dataclasses.asdict(self)
@@ -194,6 +210,7 @@ class StudyConfig:
     patterns: Tuple[str, ...] = ("independent", "stratified", "sobol")
     light_selections: Tuple[str, ...] = (DEFAULT_LIGHT_SELECTION,)
     ellipse_techniques: Tuple[str, ...] = (DEFAULT_ELLIPSE_TECHNIQUE,)
+    medium_samplings: Tuple[str, ...] = (DEFAULT_MEDIUM_SAMPLING,)
     ladder: Tuple[int, ...] = tuple(sample_ladder(256))
     light_samples: int = 1
     seed: int = 0
@@ -211,6 +228,8 @@ class StudyConfig:
                                              LIGHT_SELECTIONS)
         self.ellipse_techniques = check_names("ellipse_techniques", "ellipse technique", self.ellipse_techniques,
                                                ELLIPSE_TECHNIQUES)
+        self.medium_samplings = check_names("medium_samplings", "medium sampling", self.medium_samplings,
+                                            MEDIUM_SAMPLING)
         self.grid_mis = check_names("grid_mis", "MIS mode", self.grid_mis, MIS_MODES)
         # The grid's sample counts come from the ladder's costs: only MIS modes the ladder measures (a study of
         # --mis power alone, the add-on's default, would otherwise have no grid and no equal-time budget).
@@ -237,6 +256,26 @@ class StudyConfig:
         """Whether the report names the ellipse technique in its labels: when the study compares several."""
         return len(self.ellipse_techniques) > 1
 
+    @property
+    def shows_medium(self) -> bool:
+        """Whether the report names the medium sampling in its labels: when the study compares several."""
+        return len(self.medium_samplings) > 1
+
+    @property
+    def findings_medium_sampling(self) -> str:
+        """The medium sampling the light-sampling findings (ordering, slopes, technique, light-selection and
+        ellipse comparisons) are read at: the renderer's default when the study has it, else the first. The
+        medium samplings are compared with each other by report.equal_error.medium_comparisons."""
+        return DEFAULT_MEDIUM_SAMPLING if DEFAULT_MEDIUM_SAMPLING in self.medium_samplings else \
+            self.medium_samplings[0]
+
+    @property
+    def variants(self) -> List[Tuple[str, str, str]]:
+        """Every (light selection, ellipse technique, medium sampling) of the study: the settings besides
+        technique, MIS mode and pattern that one curve of each has."""
+        return [(s, e, v) for s in self.light_selections for e in self.ellipse_techniques
+                for v in self.medium_samplings]
+
     def to_dict(self) -> Dict:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in dataclasses.asdict(self).items()}
 
@@ -253,13 +292,13 @@ def fingerprint(**identity) -> str:
 
 
 def build_plan(config: StudyConfig) -> List[Job]:
-    """The ladder jobs: every technique x MIS x pattern x light selection x ellipse technique x sample count, then
-    Cycles at every count. Ordered cheapest first so that an interrupted study has measured as many curves as
-    possible."""
+    """The ladder jobs: every technique x MIS x pattern x light selection x ellipse technique x medium sampling x
+    sample count, then Cycles at every count. Ordered cheapest first so that an interrupted study has measured as
+    many curves as possible."""
     jobs = [Job(SPHRECT, t, m, p, n, config.light_samples, config.seed, config.threads, light_selection=s,
-                ellipse_technique=e)
+                ellipse_technique=e, medium_sampling=v)
             for n in config.ladder for t in config.techniques for m in config.mis for p in config.patterns
-            for s in config.light_selections for e in config.ellipse_techniques]
+            for s, e, v in config.variants]
     if config.cycles:
         jobs += [Job(CYCLES, *CYCLES_CURVE[:3], n, 1, config.seed, config.threads) for n in config.ladder]
     jobs.sort(key=lambda j: (j.samples, j.engine != SPHRECT))
@@ -276,17 +315,18 @@ def stratifiable_count(n: int) -> int:
     return k * (k + 1) if k * (k + 1) <= n else k * k
 
 
-CostKey = Tuple[str, str, str, str, str]  # (engine, technique, mis, light selection, ellipse technique)
+CostKey = Tuple[str, str, str, str, str, str]  # (engine, technique, mis, light selection, ellipse, medium sampling)
 
 
 def cost_key(job: Mapping) -> CostKey:
     """What a configuration's cost per sample is measured for (its patterns pooled): see equal_time_jobs."""
     key = curve_key(job)
-    return job["engine"], key.technique, key.mis, key.light_selection, key.ellipse_technique
+    return job["engine"], key.technique, key.mis, key.light_selection, key.ellipse_technique, key.medium_sampling
 
 
 def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict[CostKey, float]) -> List[Job]:
-    """One render per technique (x grid MIS mode x light selection x ellipse technique), and Cycles, each given the
+    """One render per technique (x grid MIS mode x light selection x ellipse technique x medium sampling), and
+    Cycles, each given the
     sample count that the ladder predicts to cost `budget` seconds: samples = budget / (seconds per sample of that
     configuration), keyed by cost_key. Fixed sample counts (rather than a wall-clock budget) keep the comparison
     independent of other load on the machine and let stratified patterns know their count."""
@@ -294,8 +334,8 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
         raise ValueError(f"the equal-time budget must be positive, got {budget}")
     budget = float(f"{budget:.4g}")  # a stable key
 
-    def samples(engine, technique, mis, light_selection, ellipse_technique):
-        cost = seconds_per_sample.get((engine, technique, mis, light_selection, ellipse_technique))
+    def samples(engine, technique, mis, light_selection, ellipse_technique, medium_sampling):
+        cost = seconds_per_sample.get((engine, technique, mis, light_selection, ellipse_technique, medium_sampling))
         if not (cost and cost > 0 and math.isfinite(cost)):
             return None
         n = min(max(1, int(round(budget / cost))), MAX_SAMPLES)  # a render() call takes at most MAX_SAMPLES
@@ -303,15 +343,14 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
 
     jobs = []
     for m in config.grid_mis:
-        for s in config.light_selections:
-            for e in config.ellipse_techniques:
-                for t in config.techniques:
-                    n = samples(SPHRECT, t, m, s, e)
-                    if n:
-                        jobs.append(Job(SPHRECT, t, m, config.grid_pattern, n, config.light_samples, config.seed,
-                                        config.threads, EQUAL_TIME, budget, light_selection=s, ellipse_technique=e))
-    n = samples(CYCLES, CYCLES_CURVE.technique, CYCLES_CURVE.mis, CYCLES_CURVE.light_selection,
-                CYCLES_CURVE.ellipse_technique)
+        for s, e, v in config.variants:
+            for t in config.techniques:
+                n = samples(SPHRECT, t, m, s, e, v)
+                if n:
+                    jobs.append(Job(SPHRECT, t, m, config.grid_pattern, n, config.light_samples, config.seed,
+                                    config.threads, EQUAL_TIME, budget, light_selection=s, ellipse_technique=e,
+                                    medium_sampling=v))
+    n = samples(CYCLES, *CYCLES_CURVE[:2], *CYCLES_CURVE[3:])
     if config.cycles and n:
         jobs.append(Job(CYCLES, *CYCLES_CURVE[:3], n, 1, config.seed, config.threads, EQUAL_TIME, budget))
     return jobs

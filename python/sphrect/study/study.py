@@ -105,9 +105,9 @@ def _run_phase(executor: Executor, context: RunContext, store: ResultStore, phas
 
 
 def seconds_per_sample(records: List[Dict], threads: int) -> Dict[CostKey, float]:
-    """jobs.cost_key (engine, technique, mis, light selection, ellipse technique) -> seconds per sample per pixel:
-    each configuration's metrics.cost_per_sample over its ladder (on the study's time basis), median over
-    patterns."""
+    """jobs.cost_key (engine, technique, mis, light selection, ellipse technique, medium sampling) -> seconds per
+    sample per pixel: each configuration's metrics.cost_per_sample over its ladder (on the study's time basis),
+    median over patterns."""
     judged_times(records, threads)
     ladders: Dict[Tuple[CostKey, str], List[Dict]] = {}
     for r in records:
@@ -122,13 +122,13 @@ def seconds_per_sample(records: List[Dict], threads: int) -> Dict[CostKey, float
 
 def equal_time_budget(records: List[Dict], config: StudyConfig) -> float:
     """Default equal-time budget: the time our `rectangle` technique (or the first technique) takes, with the
-    last grid MIS mode, the first light selection and the first ellipse technique, for a quarter of the ladder's
+    last grid MIS mode, the first light selection, ellipse technique and medium sampling, for a quarter of the ladder's
     top sample count. When that configuration has no measured run (its runs failed), the first of ours that has
     one stands in; RuntimeError when the ladder measured none."""
     technique = "rectangle" if "rectangle" in config.techniques else config.techniques[0]
     costs = seconds_per_sample(records, config.threads)
     preferred = [(SPHRECT, technique, config.grid_mis[-1], config.light_selections[0],
-                  config.ellipse_techniques[0])]
+                  config.ellipse_techniques[0], config.medium_samplings[0])]
     measured = [key for key in preferred + sorted(costs) if key[0] == SPHRECT and costs.get(key, 0) > 0
                 and np.isfinite(costs[key])]
     if not measured:
@@ -218,7 +218,8 @@ def _run_locked(input_path, out_dir, config, reference, executor, resolution, bl
                          texture_files=scene_texture_files(scene))
     log(f"study of {input_path}: {width}x{height}, {len(config.techniques)} techniques x {len(config.mis)} MIS x "
         f"{len(config.patterns)} patterns x {len(config.light_selections)} light selections x "
-        f"{len(config.ellipse_techniques)} ellipse techniques x ladder "
+        f"{len(config.ellipse_techniques)} ellipse techniques x {len(config.medium_samplings)} medium samplings x "
+        f"ladder "
         f"{list(config.ladder)}" + (" + Cycles" if config.cycles else ""))
 
     dashboard = getattr(executor, "dashboard_link", None)

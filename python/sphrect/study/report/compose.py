@@ -7,7 +7,7 @@ import os
 from dataclasses import dataclass
 from typing import List, Optional
 
-from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, StudyConfig
+from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, DEFAULT_MEDIUM_SAMPLING, StudyConfig
 from ..store import atomic_write_bytes
 from . import equal_error, findings, plots, wording
 from .curves import REFERENCE_NOISE_FACTOR
@@ -38,6 +38,7 @@ class Report:
     cycles: Optional[equal_error.CyclesComparison]
     selection: Optional[List[equal_error.SelectionComparison]]  # None unless the study has tree and power
     ellipse: Optional[List[equal_error.EllipseComparison]]  # None unless it has spherical_ellipse and area
+    medium: Optional[List[equal_error.MediumComparison]]  # None unless it has several medium samplings
     doc: Document
 
     @property
@@ -47,6 +48,10 @@ class Report:
     @property
     def show_ellipse(self) -> bool:
         return self.results.settings.shows_ellipse
+
+    @property
+    def show_medium(self) -> bool:
+        return self.results.settings.shows_medium
 
     def plot(self, name: str) -> str:
         return os.path.join(self.out_dir, PLOTS, name)
@@ -62,7 +67,8 @@ def measure(out_dir: str, results: StudyResults) -> Report:
                   findings.projected_comparisons(cfg, all_curves),
                   equal_error.cycles_comparison(all_curves, ref_rmse),
                   equal_error.selection_comparisons(cfg, all_curves, ref_rmse),
-                  equal_error.ellipse_comparisons(cfg, all_curves, ref_rmse), Document())
+                  equal_error.ellipse_comparisons(cfg, all_curves, ref_rmse),
+                  equal_error.medium_comparisons(cfg, all_curves, ref_rmse), Document())
 
 
 def headline_pattern(cfg: StudyConfig) -> str:
@@ -87,6 +93,9 @@ def scene_section(report: Report) -> None:
     # Likewise the ellipse technique (disk and ellipse lights).
     selections += "" if cfg.ellipse_techniques == (DEFAULT_ELLIPSE_TECHNIQUE,) else \
         f"disk and ellipse lights sampled by {', '.join(cfg.ellipse_techniques)}; "
+    # Likewise the medium sampling (camera rays through volumes).
+    selections += "" if cfg.medium_samplings == (DEFAULT_MEDIUM_SAMPLING,) else \
+        f"medium sampling {', '.join(cfg.medium_samplings)}; "
     doc.para(f"Scene: `{shown_path(c['input'])}`, {c['width']}x{c['height']} pixels. "
              f"Techniques {', '.join(cfg.techniques)}; "
              f"MIS {', '.join(cfg.mis)}; patterns {', '.join(cfg.patterns)}; {selections}sample ladder "
@@ -159,7 +168,7 @@ def summary_section(report: Report) -> None:
     for line in wording.summary_lines(report.ordering_lines, report.slopes, report.cosine, report.cycles,
                                       report.results.reference_rmse, report.smallest, report.selection,
                                       report.show_selection, report.ellipse, report.show_ellipse,
-                                      report.projected):
+                                      report.projected, report.medium):
         report.doc.para(line)
     pattern = headline_pattern(report.results.settings)
     report.doc.image(f"{PLOTS}/rmse_vs_time_{pattern}.png", f"RMSE vs time, pattern {pattern} (more below)")
@@ -168,7 +177,11 @@ def summary_section(report: Report) -> None:
 def findings_section(report: Report) -> None:
     doc, cfg, show, show_ellipse = report.doc, report.results.settings, report.show_selection, report.show_ellipse
     selection_column = (["light selection"] if show else []) + (["ellipse technique"] if show_ellipse else [])
+    slope_column = selection_column + (["medium sampling"] if report.show_medium else [])
     doc.heading("The paper's findings, measured")
+    if report.show_medium:
+        doc.para(f"Findings 1-3, 5 and 6 compare light sampling at medium sampling {cfg.findings_medium_sampling}; "
+                 f"finding 7 compares the medium samplings.")
     doc.para("**1. Equal samples: rectangle < triangles < area.**")
     for line in report.ordering_lines:
         doc.para(line)
@@ -178,7 +191,7 @@ def findings_section(report: Report) -> None:
     doc.para("**2. Stratification: fitted convergence slopes (RMSE vs samples).**")
     plots.plot_slopes(report.results, report.slopes, report.plot("slopes.png"))
     doc.image(f"{PLOTS}/slopes.png", "fitted slopes per technique and pattern")
-    doc.table(["technique", "MIS"] + selection_column + list(cfg.patterns), wording.slope_rows(report.slopes, cfg))
+    doc.table(["technique", "MIS"] + slope_column + list(cfg.patterns), wording.slope_rows(report.slopes, cfg))
     for c in report.slopes.comparisons:
         doc.para(wording.slope_line(c, show, show_ellipse))
     doc.para("**3. Where rectangle_cosine stands** (against rectangle, same MIS and pattern, top of the ladder).")
@@ -197,7 +210,7 @@ def findings_section(report: Report) -> None:
         doc.para(line)
     doc.para(COST_NOTE)
     doc.table(["Cycles spp", "Cycles RMSE", "Cycles time [s]", "our best configuration", "its time [s]",
-               "time ratio (ours/Cycles)"], wording.cycles_rows(report.cycles, show, show_ellipse))
+               "time ratio (ours/Cycles)"], wording.cycles_rows(report.cycles, show, show_ellipse, report.show_medium))
     if report.selection is not None:
         doc.para(f"**5. Light selection: {findings.LIGHT_TREE} against {findings.POWER_SELECTION} at equal error** "
                  f"(time each takes to reach the larger of their two RMSEs at the top of the ladder).")
@@ -217,15 +230,25 @@ def findings_section(report: Report) -> None:
         doc.para(COST_NOTE + " Efficiency is 1 / (MSE x cost per sample) at that count, its verdict a tie within "
                  "two standard errors of the two costs.")
         doc.table(wording.ellipse_columns(show), wording.ellipse_rows(report.ellipse, show))
+    if report.medium is not None:
+        doc.para("**7. Medium sampling** (how camera rays through a volume choose their scattering point; each "
+                 "configuration at the top sample count all measured: RMSE at equal samples, cost per sample, and "
+                 "the time each takes to reach Cycles' RMSE at the top of its ladder, also as a share of Cycles' "
+                 "time).")
+        for line in wording.medium_lines(report.medium):
+            doc.para(line)
+        doc.para(COST_NOTE)
+        doc.table(wording.medium_columns(report.medium, show, show_ellipse),
+                  wording.medium_rows(report.medium, show, show_ellipse))
 
 
 def target_section(report: Report, target_rmse: Optional[float]) -> None:
     target = equal_error.target_times(report.results.settings, report.curves, report.results.reference_rmse,
                                       report.smallest, target_rmse)
     report.doc.heading("Time to reach a target error")
-    report.doc.para(wording.target_line(target, report.show_selection, report.show_ellipse))
+    report.doc.para(wording.target_line(target, report.show_selection, report.show_ellipse, report.show_medium))
     report.doc.table(["configuration", "time [s]", "how", "samples per pixel"],
-                     wording.target_rows(target, report.show_selection, report.show_ellipse))
+                     wording.target_rows(target, report.show_selection, report.show_ellipse, report.show_medium))
 
 
 def equal_time_section(report: Report) -> None:
@@ -238,7 +261,7 @@ def equal_time_section(report: Report) -> None:
     plots.plot_equal_time_grid(report.results, grid, report.plot("equal_time_grid.png"))
     doc.image(f"{PLOTS}/equal_time_grid.png", "equal-time renders and their error heat maps")
     doc.table(["configuration", "samples per pixel", "time [s]", "RMSE", "relMSE"],
-              wording.equal_time_rows(grid, report.show_selection, report.show_ellipse))
+              wording.equal_time_rows(grid, report.show_selection, report.show_ellipse, report.show_medium))
 
 
 def sampler_section(report: Report, sampler_table: bool) -> None:

@@ -99,7 +99,7 @@ def target_times(cfg: StudyConfig, all_curves: Curves, reference_rmse: float, sm
         target, source, key, samples = cycles[-1]["rmse"], "cycles", CYCLES_CURVE, cycles[-1]["job"]["samples"]
     else:
         key, source = CurveKey(RECTANGLE, cfg.mis[-1], cfg.patterns[-1], cfg.light_selections[-1],
-                               cfg.ellipse_techniques[-1]), "middle"
+                               cfg.ellipse_techniques[-1], cfg.findings_medium_sampling), "middle"
         mid = all_curves.get(key, [])
         target = mid[len(mid) // 2]["rmse"] if mid else smallest
     reached = {k: time_to_target(curve, target, reference_rmse) for k, curve in all_curves.items()}
@@ -142,7 +142,8 @@ def selection_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: 
         for pattern in cfg.patterns:
             for ellipse in cfg.ellipse_techniques:
                 for technique in cfg.techniques:
-                    power, tree = (all_curves.get(CurveKey(technique, mis, pattern, s, ellipse), [])
+                    power, tree = (all_curves.get(CurveKey(technique, mis, pattern, s, ellipse,
+                                                           cfg.findings_medium_sampling), [])
                                    for s in (POWER_SELECTION, LIGHT_TREE))
                     tops = [c[-1]["rmse"] for c in (power, tree) if c and math.isfinite(c[-1]["rmse"])]
                     if not (power and tree and tops):
@@ -224,7 +225,8 @@ def ellipse_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: fl
         for pattern in cfg.patterns:
             for selection in cfg.light_selections:
                 for technique in cfg.techniques:
-                    runs = {e: all_curves.get(CurveKey(technique, mis, pattern, selection, e), [])
+                    runs = {e: all_curves.get(CurveKey(technique, mis, pattern, selection, e,
+                                                       cfg.findings_medium_sampling), [])
                             for e in cfg.ellipse_techniques}
                     if not all(runs.values()):
                         continue
@@ -240,4 +242,78 @@ def ellipse_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: fl
                             fitted_slope(curve, "samples", reference_rmse), cost, cost_error,
                             time_to_target(curve, target, reference_rmse) if target is not None else None)
                     out.append(EllipseComparison(technique, mis, pattern, selection, n, measures, cycles_time))
+    return out
+
+
+@dataclass(frozen=True)
+class MediumCurve:
+    """One medium sampling's curve, as the medium comparison measures it."""
+    rmse: float             # at the comparison's sample count
+    cost: float             # seconds per sample (curve_cost)
+    cost_error: float       # its relative standard error
+    cycles: Optional[Reach]  # reaching Cycles' RMSE at the top of its ladder; None without Cycles
+
+
+@dataclass(frozen=True)
+class MediumComparison:
+    """The medium samplings (how camera rays through a volume choose their scattering point) for one (technique,
+    MIS, pattern, light selection, ellipse technique): each one's RMSE at the top sample count all measured, cost
+    per sample, and time to reach Cycles' RMSE at the top of its ladder as a share of Cycles' time."""
+    technique: str
+    mis: str
+    pattern: str
+    light_selection: str
+    ellipse_technique: str
+    samples: int
+    curves: Dict[str, MediumCurve]      # medium sampling -> its measures, in the study's order
+    cycles_samples: Optional[int]       # Cycles' top sample count; None without Cycles
+    cycles_time: Optional[float]        # Cycles' time for its top RMSE (its samples x its cost per sample)
+
+    def cycles_ratio(self, medium: str) -> float:
+        """Our time to Cycles' top RMSE / Cycles' time with `medium` (NaN without Cycles)."""
+        reach = self.curves[medium].cycles
+        return ratio_of(reach.time, self.cycles_time) if reach and self.cycles_time else float("nan")
+
+    def rmse_ratio(self, medium: str, against: str) -> float:
+        """RMSE `medium` / `against` at equal samples."""
+        return ratio_of(self.curves[medium].rmse, self.curves[against].rmse)
+
+    def efficiency(self, medium: str, against: str) -> float:
+        """(1 / (MSE x cost per sample)) of `medium` / `against`'s: above 1, `medium` reaches an error sooner."""
+        a, b = self.curves[medium], self.curves[against]
+        return ratio_of(b.rmse ** 2 * b.cost, a.rmse ** 2 * a.cost)
+
+
+def medium_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: float
+                       ) -> Optional[List[MediumComparison]]:
+    """The medium samplings side by side for every (technique, MIS, pattern, light selection, ellipse technique)
+    all were measured with; None when the study has only one."""
+    if len(cfg.medium_samplings) < 2:
+        return None
+    cycles = all_curves.get(CYCLES_CURVE)
+    target = cycles[-1]["rmse"] if cycles and math.isfinite(cycles[-1]["rmse"]) else None
+    cycles_samples = cycles[-1]["job"]["samples"] if target is not None else None
+    cycles_time = cycles_samples * curve_cost(cycles)[0] if target is not None else None
+    out = []
+    for mis in cfg.mis:
+        for pattern in cfg.patterns:
+            for selection in cfg.light_selections:
+                for ellipse in cfg.ellipse_techniques:
+                    for technique in cfg.techniques:
+                        runs = {v: all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse, v), [])
+                                for v in cfg.medium_samplings}
+                        if not all(runs.values()):
+                            continue
+                        common = set.intersection(*({r["job"]["samples"] for r in c} for c in runs.values()))
+                        if not common:
+                            continue
+                        n = max(common)
+                        measures = {}
+                        for v, curve in runs.items():
+                            cost, cost_error = curve_cost(curve)
+                            measures[v] = MediumCurve(
+                                next(r["rmse"] for r in curve if r["job"]["samples"] == n), cost, cost_error,
+                                time_to_target(curve, target, reference_rmse) if target is not None else None)
+                        out.append(MediumComparison(technique, mis, pattern, selection, ellipse, n, measures,
+                                                    cycles_samples, cycles_time))
     return out

@@ -93,10 +93,11 @@ def ordering(cfg: StudyConfig, all_curves: Curves) -> Optional[List[OrderingRow]
     """None when the study lacks one of the paper's three techniques."""
     if not all(t in cfg.techniques for t in PAPER_ORDER):
         return None
-    rows = []
+    rows, medium = [], cfg.findings_medium_sampling
     for mis, pattern, selection, ellipse in settings(cfg):
         by_n = {t: {r["job"]["samples"]: r["rmse"]
-                    for r in all_curves.get(CurveKey(t, mis, pattern, selection, ellipse), [])} for t in PAPER_ORDER}
+                    for r in all_curves.get(CurveKey(t, mis, pattern, selection, ellipse, medium), [])}
+                for t in PAPER_ORDER}
         ns = sorted(set.intersection(*(set(d) for d in by_n.values())))
         if not ns:
             continue
@@ -150,17 +151,18 @@ class Slopes:
 
 
 def slopes(cfg: StudyConfig, all_curves: Curves, reference_rmse: float) -> Slopes:
-    table = {CurveKey(t, m, p, s, e): fitted_slope(all_curves.get(CurveKey(t, m, p, s, e), []), "samples",
-                                                   reference_rmse)
-             for m, p, s, e in settings(cfg) for t in cfg.techniques}
+    table = {CurveKey(t, m, p, s, e, v): fitted_slope(all_curves.get(CurveKey(t, m, p, s, e, v), []), "samples",
+                                                      reference_rmse)
+             for m, p, s, e in settings(cfg) for v in cfg.medium_samplings for t in cfg.techniques}
     cycles = all_curves.get(CYCLES_CURVE)
-    comparisons = []
+    comparisons, medium = [], cfg.findings_medium_sampling
     for pattern in [p for p in cfg.patterns if p != UNSTRATIFIED]:
         for mis in cfg.mis:
             for selection in cfg.light_selections:
                 for ellipse in cfg.ellipse_techniques:
-                    fits = {t: fitted_slope_with_error(all_curves.get(CurveKey(t, mis, pattern, selection, ellipse),
-                                                                      []), "samples", reference_rmse)
+                    fits = {t: fitted_slope_with_error(all_curves.get(CurveKey(t, mis, pattern, selection, ellipse,
+                                                                               medium), []),
+                                                       "samples", reference_rmse)
                             for t in PAPER_ORDER}
                     s = {t: f[0] for t, f in fits.items()}
                     if any(not math.isfinite(v) for v in s.values()):
@@ -169,7 +171,8 @@ def slopes(cfg: StudyConfig, all_curves: Curves, reference_rmse: float) -> Slope
                     se = math.hypot(fits[RECTANGLE][1], fits[TRIANGLES][1])
                     threshold = max(SLOPE_DIFFERENCE, 2 * se if math.isfinite(se) else 0.0)
                     independent = fitted_slope(all_curves.get(CurveKey(RECTANGLE, mis, UNSTRATIFIED, selection,
-                                                                       ellipse), []), "samples", reference_rmse)
+                                                                       ellipse, medium), []), "samples",
+                                               reference_rmse)
                     comparisons.append(SlopeComparison(pattern, mis, selection, ellipse, s, independent,
                                                        s[TRIANGLES] - s[RECTANGLE], threshold))
     return Slopes(table, fitted_slope(cycles, "samples", reference_rmse) if cycles else None, comparisons)
@@ -213,10 +216,10 @@ def technique_comparisons(cfg: StudyConfig, all_curves: Curves, technique: str,
     two."""
     if technique not in cfg.techniques or against not in cfg.techniques:
         return None
-    out = []
+    out, medium = [], cfg.findings_medium_sampling
     for mis, pattern, selection, ellipse in settings(cfg):
-        curve_a = all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse), [])
-        curve_b = all_curves.get(CurveKey(against, mis, pattern, selection, ellipse), [])
+        curve_a = all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse, medium), [])
+        curve_b = all_curves.get(CurveKey(against, mis, pattern, selection, ellipse, medium), [])
         a = {r["job"]["samples"]: r["rmse"] for r in curve_a}
         b = {r["job"]["samples"]: r["rmse"] for r in curve_b}
         ns = sorted(set(a) & set(b))

@@ -43,14 +43,14 @@ def _save(plt, fig, path: str) -> None:
     plt.close(fig)
 
 
-def variants(cfg) -> List[Tuple[int, str, str, str]]:
-    """(index, light selection, ellipse technique, its name in a legend) of every variant of a technique's curve:
-    the style of its line or bar; the name is empty in a study of one."""
+def variants(cfg) -> List[Tuple[int, str, str, str, str]]:
+    """(index, light selection, ellipse technique, medium sampling, its name in a legend) of every variant of a
+    technique's curve: the style of its line or bar; the name is empty in a study of one."""
     out = []
-    for s in cfg.light_selections:
-        for e in cfg.ellipse_techniques:
-            name = ", ".join(([s] if cfg.shows_selection else []) + ([e] if cfg.shows_ellipse else []))
-            out.append((len(out), s, e, name))
+    for s, e, v in cfg.variants:
+        name = ", ".join(([s] if cfg.shows_selection else []) + ([e] if cfg.shows_ellipse else [])
+                         + ([f"medium {v}"] if cfg.shows_medium else []))
+        out.append((len(out), s, e, v, name))
     return out
 
 
@@ -65,7 +65,7 @@ def time_label(threads: int) -> str:
 
 def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x: str, path: str) -> None:
     """RMSE against `x` ("samples" or "time"), log-log, a panel per MIS mode, a line per technique (and light
-    selection x ellipse technique: its line style) and Cycles."""
+    selection x ellipse technique x medium sampling: its line style) and Cycles."""
     plt = _plt()
     cfg = results.settings
     ref_rmse = results.reference_rmse
@@ -73,8 +73,8 @@ def plot_convergence(results: StudyResults, all_curves: Curves, pattern: str, x:
     cycles = all_curves.get(CYCLES_CURVE)
     for ax, mis in zip(axes[0], cfg.mis):
         for technique in cfg.techniques:
-            for i, selection, ellipse, variant in variants(cfg):
-                curve = all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse))
+            for i, selection, ellipse, medium, variant in variants(cfg):
+                curve = all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse, medium))
                 if not curve:
                     continue
                 ax.loglog([curve_x(r, x) for r in curve], [r["rmse"] for r in curve],
@@ -103,9 +103,10 @@ def plot_slopes(results: StudyResults, slopes: Slopes, path: str) -> None:
     bars = [(t, *v) for t in cfg.techniques for v in variants(cfg)]
     width = 0.8 / len(bars)
     for ax, mis in zip(axes[0], cfg.mis):
-        for i, (technique, j, selection, ellipse, variant) in enumerate(bars):
+        for i, (technique, j, selection, ellipse, medium, variant) in enumerate(bars):
             ax.bar(np.arange(len(cfg.patterns)) + (i - (len(bars) - 1) / 2) * width,
-                   [slopes.table[CurveKey(technique, mis, p, selection, ellipse)] for p in cfg.patterns], width,
+                   [slopes.table[CurveKey(technique, mis, p, selection, ellipse, medium)] for p in cfg.patterns],
+                   width,
                    color=technique_colour(technique), hatch=VARIANT_HATCHES[j % len(VARIANT_HATCHES)],
                    label=legend_name(technique, variant))
         ax.axhline(-0.5, color="grey", ls=":", lw=1)
@@ -151,7 +152,8 @@ def plot_equal_time_grid(results: StudyResults, grid: EqualTimeGrid, path: str) 
             spp = r.get("samples_done")
             cfg = results.settings
             setting = f"mis={row.mis}" + (f", {row.light_selection}" if cfg.shows_selection else "") \
-                + (f", {row.ellipse_technique}" if cfg.shows_ellipse else "")
+                + (f", {row.ellipse_technique}" if cfg.shows_ellipse else "") \
+                + (f", medium {row.medium_sampling}" if cfg.shows_medium else "")
             title = (CYCLES_NAME if name == CYCLES else f"{name}\n{setting}") + \
                 f"\n{fmt(spp) if spp else '?'} spp, RMSE {fmt(r['rmse'])}"
             ax_img.set_title(title, fontsize=8)

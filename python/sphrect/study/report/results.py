@@ -17,11 +17,11 @@ from ..machines import MACHINE_FIELDS, judged_times
 from ..reference import load_reference_info
 from ..store import ResultStore, atomic_write_bytes, atomic_write_json
 
-# jobs.CurveKey (technique, mis, pattern, light selection, ellipse technique); Cycles' CYCLES_CURVE
+# jobs.CurveKey (technique, mis, pattern, light selection, ellipse technique, medium sampling); Cycles' CYCLES_CURVE
 Curves = Dict[CurveKey, List[Dict]]
 
 CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "light_selection", "ellipse_technique",
-               "samples", "light_samples",
+               "medium_sampling", "samples", "light_samples",
                "seed", "threads", "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time",
                "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse",
                "finite", "dropped_samples", *MACHINE_FIELDS)
@@ -106,9 +106,10 @@ def write_runs(out_dir: str, results: StudyResults) -> None:
     writer = csv.writer(buffer)
     writer.writerow(CSV_COLUMNS)
     for r in sorted(records, key=lambda r: r["key"]):
-        key = curve_key(r["job"])  # the light selection and ellipse technique also of runs stored before they were kept
+        key = curve_key(r["job"])  # the axes added later also of runs stored before they were kept
         row = {**r["job"], **{k: v for k, v in r.items() if k != "job"}, **(r.get("machine") or {}),
-               "light_selection": key.light_selection, "ellipse_technique": key.ellipse_technique}
+               "light_selection": key.light_selection, "ellipse_technique": key.ellipse_technique,
+               "medium_sampling": key.medium_sampling}
         writer.writerow(["" if row.get(c) is None else row.get(c) for c in CSV_COLUMNS])
     atomic_write_bytes(os.path.join(out_dir, "runs.csv"), buffer.getvalue().encode("utf-8"))
     atomic_write_json(os.path.join(out_dir, "runs.json"), {"reference": results.reference, "runs": records})
@@ -122,19 +123,21 @@ class GridRow(NamedTuple):
     mis: Optional[str]
     light_selection: Optional[str]
     ellipse_technique: Optional[str] = None
+    medium_sampling: Optional[str] = None
 
 
 def grid_row(record: Dict) -> GridRow:
     key = curve_key(record["job"])
-    return GridRow(key.mis, key.light_selection, key.ellipse_technique)
+    return GridRow(key.mis, key.light_selection, key.ellipse_technique, key.medium_sampling)
 
 
 @dataclass
 class EqualTimeGrid:
-    """The equal-time renders laid out as the report shows them: a row per MIS mode, light selection and ellipse
-    technique, a column per technique, then Cycles (one render, whatever the row) and the reference."""
+    """The equal-time renders laid out as the report shows them: a row per MIS mode, light selection, ellipse
+    technique and medium sampling, a column per technique, then Cycles (one render, whatever the row) and the
+    reference."""
     reference: np.ndarray
-    rows: List[GridRow]                     # [GridRow(None, None, None)] when no render of ours was measured
+    rows: List[GridRow]                     # [GridRow(None, None)] when no render of ours was measured
     columns: List[str]                      # techniques, CYCLES, REFERENCE_COLUMN
     cells: Dict[Tuple[GridRow, str], Dict]  # (row, column) -> the record shown there
     images: Dict[str, np.ndarray]           # record key -> its image, for every equal-time render stored
@@ -143,8 +146,8 @@ class EqualTimeGrid:
 def equal_time_grid(results: StudyResults) -> EqualTimeGrid:
     store, records, cfg = results.store, results.equal_time, results.settings
     ours = [r for r in records if r["job"]["engine"] == SPHRECT]
-    rows = [GridRow(m, s, e) for m in cfg.grid_mis for s in cfg.light_selections for e in cfg.ellipse_techniques
-            if any(grid_row(r) == (m, s, e) for r in ours)] or [GridRow(None, None, None)]
+    rows = [GridRow(m, s, e, v) for m in cfg.grid_mis for s, e, v in cfg.variants
+            if any(grid_row(r) == (m, s, e, v) for r in ours)] or [GridRow(None, None)]
     cycles = [r for r in records if r["job"]["engine"] == CYCLES]
     columns = list(cfg.techniques) + ([CYCLES] if cycles else []) + [REFERENCE_COLUMN]
     images = {}

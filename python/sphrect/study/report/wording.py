@@ -1,7 +1,8 @@
 """The findings in words: every number of the report is formatted here (fmt), once, from the dataclasses of
 findings.py and equal_error.py.  A number that is not finite prints as PLACEHOLDER.  A configuration names its
 light selection only in a study of more than one (`show_selection`, StudyConfig.shows_selection), its ellipse
-technique likewise (`show_ellipse`, StudyConfig.shows_ellipse)."""
+technique likewise (`show_ellipse`, StudyConfig.shows_ellipse), its medium sampling likewise (`show_medium`,
+StudyConfig.shows_medium)."""
 from __future__ import annotations
 
 import math
@@ -10,9 +11,9 @@ from typing import List, Optional
 import numpy as np
 
 from .. import metrics
-from ..jobs import CYCLES, CYCLES_CURVE, CurveKey, curve_label, ellipse_part, selection_part
+from ..jobs import CYCLES, CYCLES_CURVE, CurveKey, curve_label, ellipse_part, medium_part, selection_part
 from .curves import BELOW_FEWEST, BEYOND_LONGEST, EXTRAPOLATION_LIMIT, Reach
-from .equal_error import CyclesComparison, EllipseComparison, SelectionComparison, TargetTimes
+from .equal_error import CyclesComparison, EllipseComparison, MediumComparison, SelectionComparison, TargetTimes
 from .findings import (AREA, COSINE, ELLIPSE_AREA, ELLIPSE_MAP, LIGHT_TREE, POWER_SELECTION, RECTANGLE, TRIANGLES,
                        UNSTRATIFIED, CosineComparison, OrderingRow, SlopeComparison, Slopes, TrianglesComparison,
                        finite_span)
@@ -83,14 +84,16 @@ def ordering_rows(rows: Optional[List[OrderingRow]], show_selection: bool = Fals
 
 
 def slope_rows(slopes: Slopes, cfg) -> List[List[str]]:
-    """A row per (MIS, light selection, ellipse technique, technique) of the study's StudyConfig `cfg`, a column per
-    pattern (after a light selection and an ellipse technique column in a study of several); Cycles' last."""
-    show, show_ellipse = cfg.shows_selection, cfg.shows_ellipse
-    rows = [[t, m] + ([s] if show else []) + ([e] if show_ellipse else [])
-            + [fmt(slopes.table[CurveKey(t, m, p, s, e)], 3) for p in cfg.patterns]
-            for m in cfg.mis for s in cfg.light_selections for e in cfg.ellipse_techniques for t in cfg.techniques]
+    """A row per (MIS, light selection, ellipse technique, medium sampling, technique) of the study's StudyConfig
+    `cfg`, a column per pattern (after a light selection, an ellipse technique and a medium sampling column in a
+    study of several); Cycles' last."""
+    show, show_ellipse, show_medium = cfg.shows_selection, cfg.shows_ellipse, cfg.shows_medium
+    rows = [[t, m] + ([s] if show else []) + ([e] if show_ellipse else []) + ([v] if show_medium else [])
+            + [fmt(slopes.table[CurveKey(t, m, p, s, e, v)], 3) for p in cfg.patterns]
+            for m in cfg.mis for s, e, v in cfg.variants for t in cfg.techniques]
     if slopes.cycles is not None:
         rows.append([CYCLES_NAME, CYCLES_CURVE.mis] + ([""] if show else []) + ([""] if show_ellipse else [])
+                    + ([""] if show_medium else [])
                     + [fmt(slopes.cycles, 3) if i == 0 else "" for i in range(len(cfg.patterns))])
     return rows
 
@@ -159,7 +162,7 @@ def cycles_lines(c: Optional[CyclesComparison]) -> List[str]:
 
 
 def cycles_rows(c: Optional[CyclesComparison], show_selection: bool = False,
-                show_ellipse: bool = False) -> List[List[str]]:
+                show_ellipse: bool = False, show_medium: bool = False) -> List[List[str]]:
     rows = []
     for p in c.points if c else []:
         start = [fmt(p.samples), fmt(p.rmse), fmt(p.time)]
@@ -167,28 +170,32 @@ def cycles_rows(c: Optional[CyclesComparison], show_selection: bool = False,
             rows.append(start + [PLACEHOLDER] * 3)
         else:
             how = "" if p.reach.how == "measured" else f" ({reach_how(p.reach)})"
-            rows.append(start + [curve_label(p.best, show_selection, show_ellipse), fmt(p.reach.time) + how,
+            rows.append(start + [curve_label(p.best, show_selection, show_ellipse, show_medium),
+                                 fmt(p.reach.time) + how,
                                  fmt(p.ratio)])
     return rows
 
 
-def target_line(t: TargetTimes, show_selection: bool = False, show_ellipse: bool = False) -> str:
+def target_line(t: TargetTimes, show_selection: bool = False, show_ellipse: bool = False,
+                show_medium: bool = False) -> str:
     why = {"given": "given on the command line",
            "cycles": f"the RMSE of {CYCLES_NAME} at {t.samples} spp",
-           "middle": f"the RMSE of {curve_label(t.key, show_selection, show_ellipse)} in the middle of the ladder"
+           "middle": f"the RMSE of {curve_label(t.key, show_selection, show_ellipse, show_medium)} in the middle "
+                     f"of the ladder"
                      if t.key else ""
            }[t.source]
     return (f"Target RMSE {fmt(t.rmse)} ({why}). 'measured' = interpolated between measured points "
             f"(log-log); 'extrapolated' = along the power law fitted to the curve's upper half. {COST_NOTE}")
 
 
-def target_rows(t: TargetTimes, show_selection: bool = False, show_ellipse: bool = False) -> List[List[str]]:
-    return [[curve_label(key, show_selection, show_ellipse), fmt(r.time), reach_how(r), fmt(r.samples)]
+def target_rows(t: TargetTimes, show_selection: bool = False, show_ellipse: bool = False,
+                show_medium: bool = False) -> List[List[str]]:
+    return [[curve_label(key, show_selection, show_ellipse, show_medium), fmt(r.time), reach_how(r), fmt(r.samples)]
             for key, r in t.reached]
 
 
-def equal_time_rows(grid: EqualTimeGrid, show_selection: bool = False, show_ellipse: bool = False
-                    ) -> List[List[str]]:
+def equal_time_rows(grid: EqualTimeGrid, show_selection: bool = False, show_ellipse: bool = False,
+                    show_medium: bool = False) -> List[List[str]]:
     """configuration, samples per pixel, time, RMSE, relMSE of every render the grid shows (Cycles once)."""
     rows = []
     for row_index, row in enumerate(grid.rows):
@@ -198,7 +205,8 @@ def equal_time_rows(grid: EqualTimeGrid, show_selection: bool = False, show_elli
                 continue
             label = CYCLES_NAME if name == CYCLES else \
                 f"{name} / mis={row.mis}" + selection_part(row.light_selection, show_selection, " / ") \
-                + ellipse_part(row.ellipse_technique, show_ellipse, " / ")
+                + ellipse_part(row.ellipse_technique, show_ellipse, " / ") \
+                + medium_part(row.medium_sampling, show_medium, " / ")
             rows.append([label, fmt(r.get("samples_done")), fmt(r.get("time")), fmt(r["rmse"]), fmt(r["relmse"])])
     return rows
 
@@ -271,6 +279,56 @@ def ellipse_rows(comparisons: Optional[List[EllipseComparison]], show_selection:
     return rows
 
 
+def medium_lines(comparisons: Optional[List[MediumComparison]]) -> List[str]:
+    """The medium samplings side by side: the sentences of the findings and of the summary (the time each needs
+    for Cycles' RMSE, as a share of Cycles' time, per technique)."""
+    if comparisons is None:
+        return ["The study has only one medium sampling (--medium-samplings mis,distance,equiangular compares "
+                "them)."]
+    if not comparisons:
+        return ["- Medium sampling: no configuration was measured with every medium sampling."]
+    lines = []
+    for c in comparisons:
+        setting = f"{c.technique}, MIS {c.mis}, {c.pattern}"
+        if c.cycles_time:
+            times = ", ".join(f"{v} {fmt(c.cycles_ratio(v))}x" + _bound(c.curves[v].cycles) for v in c.curves)
+            lines.append(f"- Medium sampling ({setting}): to reach Cycles' RMSE at {c.cycles_samples} spp: {times} "
+                         f"Cycles' time.")
+        else:
+            rmse = ", ".join(f"{v} {fmt(c.curves[v].rmse)}" for v in c.curves)
+            lines.append(f"- Medium sampling ({setting}): RMSE at {c.samples} spp: {rmse}.")
+    return lines
+
+
+def _bound(reach) -> str:
+    """How a time to Cycles' RMSE was found, when not between measured points."""
+    return "" if reach is None or reach.how == "measured" else f" ({reach_how(reach)})"
+
+
+def medium_columns(comparisons: List[MediumComparison], show_selection: bool = False,
+                   show_ellipse: bool = False) -> List[str]:
+    """The header of medium_rows: a column per medium sampling for each measure."""
+    names = list(comparisons[0].curves) if comparisons else []
+    return (["technique", "MIS", "pattern"] + (["light selection"] if show_selection else [])
+            + (["ellipse technique"] if show_ellipse else []) + ["spp"] + [f"RMSE {v}" for v in names]
+            + [f"cost per sample [ms per spp] {v}" for v in names]
+            + [f"time to Cycles' RMSE [s] {v}" for v in names] + ["Cycles' time [s]"]
+            + [f"x Cycles' time {v}" for v in names])
+
+
+def medium_rows(comparisons: Optional[List[MediumComparison]], show_selection: bool = False,
+                show_ellipse: bool = False) -> List[List[str]]:
+    rows = []
+    for c in comparisons or []:
+        measures = list(c.curves.values())
+        reach = [fmt(m.cycles.time) + _bound(m.cycles) if m.cycles else PLACEHOLDER for m in measures]
+        rows.append([c.technique, c.mis, c.pattern] + ([c.light_selection] if show_selection else [])
+                    + ([c.ellipse_technique] if show_ellipse else []) + [fmt(c.samples)]
+                    + [fmt(m.rmse) for m in measures] + [fmt(1e3 * m.cost) for m in measures] + reach
+                    + [fmt(c.cycles_time)] + [fmt(c.cycles_ratio(v)) for v in c.curves])
+    return rows
+
+
 # ------------------------------------------------------------------------------------------------
 # Summary
 
@@ -278,7 +336,8 @@ def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[Cos
                   cycles: Optional[CyclesComparison], reference_rmse: float, smallest: float,
                   selection: Optional[List[SelectionComparison]] = None, show_selection: bool = False,
                   ellipse: Optional[List[EllipseComparison]] = None, show_ellipse: bool = False,
-                  projected: Optional[List[CosineComparison]] = None) -> List[str]:
+                  projected: Optional[List[CosineComparison]] = None,
+                  medium: Optional[List[MediumComparison]] = None) -> List[str]:
     """The headline numbers, from the findings the report shows below the summary (`ordering`: its lines)."""
     selection_case = setting_names(show_selection, show_ellipse, first="")
     lines = []
@@ -308,6 +367,8 @@ def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[Cos
         lines += selection_lines(selection)
     if ellipse is not None:
         lines += ellipse_lines(ellipse, show_selection)
+    if medium is not None:
+        lines += medium_lines(medium)
     if math.isfinite(smallest):
         lines.append(f"- The reference's own RMSE is {fmt(100 * reference_rmse / smallest, 2)}% of the "
                      f"smallest error measured.")
