@@ -758,8 +758,9 @@ def fog_stage():
     smooth(mesh_object("Ball", "uv_sphere", material("Ball", (0.2, 0.4, 0.7)), location=(1.0, 0.2, 0.5),
                        radius=0.5, segments=32, ring_count=16))
     # The street lamp: a pole, a point light in an emissive globe (the globe lights only what its emission does).
-    mesh_object("Pole", "cylinder", material("Pole", (0.1, 0.1, 0.1)), location=(2.4, 1.6, 1.2), radius=0.04,
-                depth=2.4, vertices=12)
+    # The pole ends below the lamp (a lamp inside it would light nothing), the globe above it.
+    mesh_object("Pole", "cylinder", material("Pole", (0.1, 0.1, 0.1)), location=(2.4, 1.6, 1.0), radius=0.04,
+                depth=2.0, vertices=12)
     smooth(mesh_object("Globe", "uv_sphere", emission_material("Globe", (1.0, 0.8, 0.5), 6.0),
                        location=(2.4, 1.6, 2.5), radius=0.12, segments=16, ring_count=8))
     other_light("Lamp", "POINT", 150.0, location=(2.4, 1.6, 2.2), color=(1.0, 0.85, 0.6))

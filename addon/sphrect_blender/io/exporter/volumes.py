@@ -86,11 +86,11 @@ class VolumeExport:
             if world is None:
                 continue
             vertices, triangles, _ = world
+            grid = smoke is not None and _reads_density_grid(mat)
+            if grid and smoke == 0:
+                continue  # an empty grid (nothing simulated or cached at this frame) is no volume, as Cycles shows it
             medium = self._medium(mat, obj.name, local, texspace, matrix)
-            if medium is not None and smoke is not None and _reads_density_grid(mat):
-                # An empty grid (nothing simulated or cached at this frame) is no volume, as Cycles shows it.
-                if smoke == 0:
-                    continue
+            if medium is not None and grid:
                 self.log.unsupported_feature(f"heterogeneous volume density (a smoke domain's grid): its mean, "
                                              f"{smoke:.3g}, times the material's density used throughout the domain",
                                              obj.name)
