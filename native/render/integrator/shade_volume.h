@@ -287,6 +287,41 @@ struct SpanEquiAngular {
 
 static inline float SpanEquiAngularPDF(const SpanEquiAngular& e, float t) { return EquiAngularPDF(e.ea, t - e.a); }
 
+// Past this many lights (equi-angular centres) a camera ray's centre is chosen by power alone, not weighed per ray.
+constexpr size_t kMaxCentresWeighedPerRay = 16;
+
+// The equi-angular sampling of the span o + t d, t in [0, span), about a light chosen with probability proportional to
+// its power times the integral of 1 / r^2 over the span, (theta_b - theta_a) / D: the light the ray passes close to is
+// chosen where it dominates the in-scattering (by power alone, a ray centred on a far spot as often as on a lamp it
+// grazes gained nothing there: docs/study_volumes.md).  By power alone past kMaxCentresWeighedPerRay lights.  The
+// choice depends on the ray only, so each choice's MIS with distance sampling stays unbiased and so does the mixture.
+static inline EquiAngular EquiAngularAboutANearLight(const RenderScene& scene, const Vec3f& o, const Vec3f& d,
+                                                     float span, float u) {
+    const LightSelector& by_power = scene.medium_centre_selector;
+    if (by_power.Empty()) return {};
+    const size_t n = scene.medium_centres.size();
+    if (n > kMaxCentresWeighedPerRay) return MakeEquiAngular(o, d, span, scene.medium_centres[by_power.Select(u)]);
+    std::array<EquiAngular, kMaxCentresWeighedPerRay> about;
+    std::array<double, kMaxCentresWeighedPerRay> weight;
+    double total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        about[i] = MakeEquiAngular(o, d, span, scene.medium_centres[i]);
+        weight[i] =
+            about[i].valid ? double(by_power.pmf[i]) * (about[i].theta_b - about[i].theta_a) / about[i].dist : 0;
+        total += weight[i];
+    }
+    if (!(total > 0) || !std::isfinite(total))
+        return MakeEquiAngular(o, d, span, scene.medium_centres[by_power.Select(u)]);
+    double acc = 0;
+    for (size_t i = 0; i < n; ++i) {
+        acc += weight[i];
+        if (weight[i] > 0 && double(u) * total < acc) return about[i];
+    }
+    for (size_t i = n; i-- > 0;)  // u * total rounded past the sum
+        if (weight[i] > 0) return about[i];
+    return {};
+}
+
 // Queues the in-scattered light at distance d.t along the ray inside stretch s, weighted by T(t) w / pdf and averaged
 // over the light samples.
 template <Technique K>
@@ -302,7 +337,8 @@ static inline void QueueInScatteringInStretch(const ShadeContext& c, const Ray& 
 
 // Single scattering along the camera ray's [0, t_end) through object volumes (and the world medium), as ShadeVolume
 // does in the world medium alone: distance sampling (now through the stretches) and equi-angular sampling over their
-// span, combined by MIS.  `media`: the ray's stretches through the volumes and its throughput along them.
+// span about a light chosen by its importance along it (EquiAngularAboutANearLight), combined by MIS.  `media`: the
+// ray's stretches through the volumes and its throughput along them.
 template <Technique K>
 [[gnu::noinline]] static void ShadeObjectVolumes(const ShadeContext& c, const PrimaryHit& ph,
                                                  const CameraRayMedia& media, const Point2<float>* light_points,
@@ -318,11 +354,7 @@ template <Technique K>
         SkipFormerLightChoiceNumber(scene.light_selector, rng);
         SpanEquiAngular se;
         se.a = a;
-        if (!scene.medium_centre_selector.Empty())
-            se.ea = MakeEquiAngular(ray.o + ray.d * a, ray.d, b - a,
-                                    scene.medium_centres[scene.medium_centre_selector.Select(rng.NextFloat())]);
-        else
-            rng.NextFloat();
+        se.ea = EquiAngularAboutANearLight(scene, ray.o + ray.d * a, ray.d, b - a, rng.NextFloat());
         const bool use_equi = c.medium_sampling != MediumSampling::Distance && se.ea.valid;
         const bool use_distance = c.medium_sampling != MediumSampling::EquiAngular || !se.ea.valid;
         const float u_distance = rng.NextFloat(), u_equi = rng.NextFloat();
