@@ -16,7 +16,9 @@ namespace sphrect::render {
 inline float ShadowRayLength(float dist) { return std::isinf(dist) ? kInf : dist * (1 - 1e-4f); }
 
 // Shadow-ray origin pushed off the surface along the geometric normal (scale-aware).
-inline Vec3f OffsetOrigin(const Vec3f& p, const Vec3f& ng) { return p + ng * (1e-4f * (1 + MaxAbsComponent(p))); }
+[[gnu::always_inline]] inline Vec3f OffsetOrigin(const Vec3f& p, const Vec3f& ng) {
+    return p + ng * (1e-4f * (1 + MaxAbsComponent(p)));
+}
 
 // Embree's ray (and ray + empty hit) for the segment (tnear, tfar) of o + t d; `mask`: the kinds of the ray
 // (ray_visibility.h), which meshes hidden from all of them let through (their geometry mask).

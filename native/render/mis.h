@@ -21,8 +21,10 @@ constexpr const char* MisModeName(MisMode m) {
 }
 
 // Weight of a sample drawn by the strategy with density pdf_this, the other having pdf_other:
-// balance p / (p + q), power p^2 / (p^2 + q^2); None: 1 (no combination).
-inline float MisWeight(MisMode m, float pdf_this, float pdf_other) {
+// balance p / (p + q), power p^2 / (p^2 + q^2); None: 1 (no combination).  Always inlined, as ShadowSink::Add and
+// OffsetOrigin: the link-time optimiser otherwise moves these small hot calls out of the shading loops as the kernel
+// grows (docs/architecture.md, measured choices).
+[[gnu::always_inline]] inline float MisWeight(MisMode m, float pdf_this, float pdf_other) {
     switch (m) {
         case MisMode::None: return 1.0f;
         case MisMode::Balance: return pdf_this / (pdf_this + pdf_other);

@@ -31,8 +31,8 @@ struct ShadowSink {
     ShadowSink Scaled(float f) const { return {queue, sample, scale * f}; }
     // Queues `contribution` (times scale), seen from o along d if nothing lies within `dist` that rays of kinds `mask`
     // see (ray_visibility.h: a light sample's shadow ray, a BSDF ray's own kind; 0: nothing blocks it).
-    void Add(const Vec3f& o, const Vec3f& d, float dist, const Spectrum& contribution,
-             unsigned mask = kRayShadow) const {
+    [[gnu::always_inline]] void Add(const Vec3f& o, const Vec3f& d, float dist, const Spectrum& contribution,
+                                    unsigned mask = kRayShadow) const {
         queue->push_back({MakeRTCRay(o, d, 0, ShadowRayLength(dist), mask), contribution * scale, sample});
     }
 };
