@@ -40,6 +40,23 @@ static inline void PullOffMeshLight(const AreaLight& l, LightSample<float>& ls) 
     ls.dist = dist;
 }
 
+// A BSDF ray's pdf_dir for a singular lobe's ray: no light sample finds what it finds, so Cycles skips MIS
+// (PATH_RAY_MIS_SKIP) and it counts with weight 1, whatever the MIS mode.
+constexpr float kSingularRayPdf = kInf;
+
+// The MIS weight of an emitter a BSDF or phase ray of density pdf_dir found, against its light sample's pdf
+// (computed only when needed: a singular ray's weight is 1).
+template <typename LightPdf>
+static inline float FoundEmitterMisWeight(const ShadeContext& c, float pdf_dir, LightPdf&& pdf_light) {
+    return pdf_dir == kSingularRayPdf ? 1.0f : MisWeight(c.mis, pdf_dir, pdf_light());
+}
+
+// The Light Path flags of the surface a BSDF ray of kind `ray` and density pdf_dir finds: a singular lobe's ray is
+// also Is Singular (PATH_RAY_SINGULAR).
+constexpr uint8_t ScatteredRayFlagsOf(uint8_t ray, float pdf_dir) {
+    return uint8_t(ScatteredRayFlags(ray) | (pdf_dir == kSingularRayPdf ? svm::kRayIsSingular : 0));
+}
+
 template <Technique K>
 static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight light, Point2<float> u,
                                                 TimedLightSamplingAt<K>& light_sampling) {
@@ -67,14 +84,13 @@ static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& r
     if (i < 0) return;
     const float t = rh.ray.tfar;
     const AreaLight& l = c.scene.area_lights[i];
-    const Spectrum le = l.texture < 0
-                            ? EmittedRadiance(l, -d)
-                            : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t,
-                                                    svm::ScatteredRayContext(ScatteredRayFlags(ray), crossed));
+    const Spectrum le =
+        l.texture < 0 ? EmittedRadiance(l, -d)
+                      : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t,
+                                              svm::ScatteredRayContext(ScatteredRayFlagsOf(ray, pdf_dir), crossed));
     if (IsBlack(le)) return;
-    const float pdf_light = light_sampling.PDF(i, o + d * t);
-    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),
-             ray);
+    const float w = FoundEmitterMisWeight(c, pdf_dir, [&] { return light_sampling.PDF(i, o + d * t); });
+    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * w, ray);
 }
 
 // In a scene with transparent surfaces: the emitters the ray (o, d) finds from its first hit rh on, past the
@@ -131,20 +147,24 @@ static inline void QueueEnvironmentAlongRay(const ShadeContext& c, const Vec3f& 
     const EnvironmentLight& e = *c.environment;
     const Spectrum le = EnvironmentRadiance(e, c.scene.images[size_t(e.image)], d);
     if (IsBlack(le)) return;
-    sink.Add(o, d, kInf, le * c.environment_transmittance * MisWeight(c.mis, pdf_dir, EnvironmentPDF(e, d)), ray);
+    sink.Add(o, d, kInf,
+             le * c.environment_transmittance * FoundEmitterMisWeight(c, pdf_dir, [&] { return EnvironmentPDF(e, d); }),
+             ray);
 }
 
 // For the ray (o, d): the background where the ray escapes, and with MIS the image world and every area light it
 // crosses, weighted against light sampling (Le T w).  A light counts when no surface lies
 // before it -- the same test as for its light samples -- so a ray that reaches no emitter is
 // not traced at all.  pdf_dir: the direction's pdf under BSDF/phase sampling; `sink` carries
-// its weight f cos / pdf.  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.
+// its weight f cos / pdf (kSingularRayPdf: a singular lobe's ray, everything it finds of weight 1, with or without
+// MIS).  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.
 template <Technique K, bool kMedium>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
                                          uint8_t ray, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
     const bool world_found = c.scene.world_visibility.FoundBy(ray);  // the world's Ray Visibility
     if (!IsBlack(c.sky) && world_found) sink.Add(o, d, kInf, c.sky, ray);
-    if (c.mis == MisMode::None) return;  // the image world and the lights: their light samples alone
+    // Without MIS the image world and the lights are their light samples' alone (a singular ray: its own).
+    if (c.mis == MisMode::None && pdf_dir != kSingularRayPdf) return;
     if (c.environment && world_found) QueueEnvironmentAlongRay(c, o, d, pdf_dir, ray, sink);
     if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, ray, light_sampling, sink);
     // The analytic lights (the rest are QueueMeshEmitterAlongRay's).
@@ -153,9 +173,8 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
         if (!l.vis.FoundBy(ray)) return;
         const Spectrum le = RadianceOfCrossedLight(c.scene, l, o, d, t);
         if (IsBlack(le)) return;
-        const float pdf_light = light_sampling.PDF(i, o + d * t);
-        sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),
-                 ray);
+        const float w = FoundEmitterMisWeight(c, pdf_dir, [&] { return light_sampling.PDF(i, o + d * t); });
+        sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * w, ray);
     });
     // Soft point, spot and sun lights (delta_light.h): the cone each subtends at o.
     for (const SoftLightRef& s : c.scene.soft_lights) {
@@ -163,9 +182,9 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
         if (!l.vis.FoundBy(ray)) continue;
         const SoftLightCrossing x = CrossSoftLight(l, o, d);
         if (!x.hit) continue;
-        const float pdf_light = light_sampling.SoftLightPDF(l, s.tree_emitter);
-        sink.Add(o, d, x.t,
-                 x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light), ray);
+        const float w =
+            FoundEmitterMisWeight(c, pdf_dir, [&] { return light_sampling.SoftLightPDF(l, s.tree_emitter); });
+        sink.Add(o, d, x.t, x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * w, ray);
     }
 }
 

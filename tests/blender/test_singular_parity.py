@@ -1,0 +1,146 @@
+"""Smooth (singular) mirrors and glass as Cycles 3.4 shows them at max_bounces 0: it still traces a singular lobe's
+one ray (its mirror direction, a glass's refracted one) and adds, with MIS skipped, the emission that ray finds --
+area lights, emissive meshes, the world -- weighted by the closure (a glass: colour x F of the view, its refraction
+colour x (1 - F)).  One scene per class, several spheres each, under a rectangle and a disk light, an emissive
+panel above them and a grey world; compared as test_cycles_parity does (4x4 blocks, mean relative difference over lit blocks),
+and per sphere: ours / Cycles summed over the blocks inside it (the whole-image figure is mostly the ground).
+Cycles renders are deterministic (fixed seed): the tests are."""
+import bpy
+import numpy as np
+import pytest
+from bpy_extras.object_utils import world_to_camera_view
+from mathutils import Vector
+
+from conftest import builders, export, render, set_resolution
+from test_cycles_parity import render_cycles
+
+pytestmark = pytest.mark.slow
+
+WIDTH, HEIGHT, BLOCK = 160, 64, 4
+CYCLES_SAMPLES, OUR_SAMPLES = 1024, 256
+TOLERANCE = 0.01
+SPHERE_TOLERANCE = 0.03  # per sphere (a few dozen blocks, so noisier)
+RADIUS = 0.55
+XS = (-2.6, -1.3, 0.0, 1.3, 2.6)
+
+
+def glossy(name, distribution, color=(0.9, 0.75, 0.5)):
+    mat, node = builders.node_material("ShaderNodeBsdfGlossy", "ShaderNodeBsdfGlossy", Color=(*color, 1.0),
+                                       Roughness=0.0)
+    node.distribution = distribution
+    mat.name = name
+    return mat
+
+
+def glass(name, distribution, ior, color=(1.0, 1.0, 1.0)):
+    mat, node = builders.node_material("ShaderNodeBsdfGlass", "ShaderNodeBsdfGlass", Color=(*color, 1.0),
+                                       Roughness=0.0, IOR=ior)
+    node.distribution = distribution
+    mat.name = name
+    return mat
+
+
+def principled(name, color, **inputs):
+    mat = builders.material(name, color, kind="principled", roughness=0.0)
+    node = mat.node_tree.nodes["Principled BSDF"]
+    for socket, value in inputs.items():
+        node.inputs[socket].default_value = value
+    return mat
+
+
+def mirror_materials():
+    return [glossy("Sharp", "SHARP"), glossy("GGX", "GGX", (0.6, 0.8, 0.9)), glossy("Beckmann", "BECKMANN"),
+            glossy("Multiscatter", "MULTI_GGX", (0.8, 0.8, 0.8)),
+            principled("Metal", (0.95, 0.64, 0.54), Metallic=1.0)]
+
+
+def glass_materials():
+    return [glass("Sharp glass", "SHARP", 1.45, (0.9, 0.8, 0.6)), glass("Beckmann glass", "BECKMANN", 2.4),
+            glass("GGX glass", "GGX", 1.5, (0.7, 0.9, 0.8)),
+            principled("Clear", (0.6, 0.8, 1.0), Transmission=1.0, IOR=1.5)]
+
+
+def lit_stage(scene, materials, inner_emitters=False):
+    """A row of smooth spheres of `materials` over a grey ground, under a rectangle and a disk light (hidden from
+    the camera), an emissive panel above the camera's view and a grey world; inner_emitters: a small emissive sphere inside
+    each (what a glass's refracted ray finds)."""
+    set_resolution(scene, WIDTH, HEIGHT)
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.05, 0.06, 0.08, 1.0)
+    cam = scene.camera
+    cam.location, cam.data.lens = (0.0, -7.5, 1.6), 40.0
+    cam.rotation_euler = (Vector((0.0, 0.0, 0.6)) - cam.location).to_track_quat("-Z", "Y").to_euler()
+    builders.mesh_object("Ground", "plane", builders.material("Ground", (0.5, 0.5, 0.5)), size=20)
+    for i, (x, mat) in enumerate(zip(XS, materials)):
+        ball = builders.mesh_object(f"Ball{i}", "uv_sphere", mat, location=(x, 0.0, 0.6), radius=RADIUS,
+                                    segments=48, ring_count=24)
+        builders.smooth(ball)
+        if inner_emitters:
+            builders.mesh_object(f"Core{i}", "ico_sphere", builders.emission_material(f"Core{i}", (1.0, 0.5, 0.2),
+                                 1.0), location=(x, 0.0, 0.6), radius=0.22, subdivisions=2)
+    rect = builders.area_light("Rect", "RECTANGLE", size=2.0, size_y=1.0, power=300.0, location=(-2.0, -2.5, 3.5),
+                               visible=False)
+    builders.aim(rect, (0.0, 0.0, 0.6))
+    disk = builders.area_light("Disk", "DISK", size=1.2, power=200.0, location=(2.5, -3.0, 2.5),
+                               color=(0.8, 0.9, 1.0), visible=False)
+    builders.aim(disk, (0.0, 0.0, 0.6))
+    builders.mesh_object("Panel", "plane", builders.emission_material("Panel", (0.9, 0.9, 1.0), 3.0),
+                         location=(0.0, -2.0, 3.0), rotation=(0.5, 0.0, 0.0), size=1.0, scale=(4.0, 0.4, 1.0))
+    scene.sphrect.technique = "RECTANGLE"
+    bpy.context.view_layer.update()
+    return scene
+
+
+def blocks(image):
+    rgb = image[..., :3].astype(np.float64)
+    return rgb.reshape(HEIGHT // BLOCK, BLOCK, WIDTH // BLOCK, BLOCK, 3).mean(axis=(1, 3))
+
+
+def sphere_blocks(scene, index):
+    """The blocks wholly inside sphere `index`'s outline (row 0 = top)."""
+    cam = scene.camera
+    centre = world_to_camera_view(scene, cam, Vector((XS[index], 0.0, 0.6)))
+    right = cam.matrix_world.to_3x3() @ Vector((1.0, 0.0, 0.0))
+    edge = world_to_camera_view(scene, cam, Vector((XS[index], 0.0, 0.6)) + right * RADIUS)
+    cx, cy, r = centre.x * WIDTH, (1 - centre.y) * HEIGHT, (edge - centre).length * WIDTH * 0.9
+    ys, xs = np.mgrid[0:HEIGHT // BLOCK, 0:WIDTH // BLOCK]
+    corners = [((xs + dx) * BLOCK - cx) ** 2 + ((ys + dy) * BLOCK - cy) ** 2 for dx in (0, 1) for dy in (0, 1)]
+    return np.all([c < r * r for c in corners], axis=0)
+
+
+def compare(scene, label, tmp_path, n):
+    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=CYCLES_SAMPLES)
+    scene.render.engine = "SPHRECT"
+    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = OUR_SAMPLES, 1, 2
+    ours = render()["images"]["rectangle"]
+    a, b = blocks(ours), blocks(cycles)
+    lit = b > 0.02 * b.max()
+    difference = float(np.mean(np.abs(a[lit] - b[lit]) / b[lit]))
+    ratios = []
+    for i in range(n):
+        inside = sphere_blocks(scene, i)
+        assert inside.sum() >= 6
+        ratios.append(float(a[inside].sum() / b[inside].sum()))
+    print(f"{label}: mean relative difference to Cycles (4x4 blocks) {difference:.4f}; per sphere ours / Cycles "
+          + ", ".join(f"{r:.4f}" for r in ratios))
+    return difference, ratios, ours, cycles
+
+
+def test_smooth_mirrors_match_cycles(empty_scene, tmp_path):
+    """Glossy BSDF Sharp, GGX, Beckmann and Multiscatter GGX at roughness 0, a Principled metal of roughness 0."""
+    materials = mirror_materials()
+    scene = lit_stage(empty_scene, materials)
+    exported, _ = export()
+    assert all(m.roughness == 0 for m in exported.materials if m.name in {mat.name for mat in materials})
+    difference, ratios, _, _ = compare(scene, "smooth mirrors", tmp_path, len(materials))
+    assert difference <= TOLERANCE
+    assert all(abs(r - 1) <= SPHERE_TOLERANCE for r in ratios)
+
+
+def test_smooth_glass_matches_cycles(empty_scene, tmp_path):
+    """Glass BSDF Sharp, Beckmann (IOR 2.4, the issue's) and GGX at roughness 0, Principled transmission 1 at
+    roughness 0 (its refraction tinted by the base colour), each with an emitter inside."""
+    materials = glass_materials()
+    scene = lit_stage(empty_scene, materials, inner_emitters=True)
+    difference, ratios, _, _ = compare(scene, "smooth glass", tmp_path, len(materials))
+    assert difference <= TOLERANCE
+    assert all(abs(r - 1) <= SPHERE_TOLERANCE for r in ratios)
