@@ -200,3 +200,38 @@ def test_emitter_inside_sharp_glass_cube_matches_cycles(empty_scene, tmp_path):
     assert green.sum() >= 10
     assert difference <= TOLERANCE
     assert abs(ratio - 1) <= SPHERE_TOLERANCE
+
+
+def test_sharp_glass_and_tinted_principled_glass_export(empty_scene):
+    """A sharp glass is not warned of black refraction (its refracted ray is traced; a rough one still is); a
+    Principled of Transmission 1 at roughness 0 and a tinted base colour stays 'principled' (its refraction takes the
+    base colour), a white one is a white 'glass'."""
+    lit_stage(empty_scene, [glass("Sharp glass", "SHARP", 1.45), glass("Rough glass", "GGX", 1.45),
+                            principled("Tinted", (0.6, 0.8, 1.0), Transmission=1.0),
+                            principled("White", (1.0, 1.0, 1.0), Transmission=1.0)])
+    bpy.data.materials["Rough glass"].node_tree.nodes["Glass BSDF"].inputs["Roughness"].default_value = 0.2
+    exported, log = export()
+    kinds = {m.name: m.kind for m in exported.materials}
+    assert (kinds["Sharp glass"], kinds["Tinted"], kinds["White"]) == ("glass", "principled", "glass")
+    warned = log.warning_text()
+    assert "refraction of lights" in warned and "Rough glass" in warned
+    assert "Sharp glass" not in warned and "Tinted" not in warned and "White" not in warned
+
+
+def test_emitter_found_by_a_singular_ray_reads_is_singular_ray(empty_scene, tmp_path):
+    """A panel whose Emission Strength is Light Path's Is Singular Ray: seen in a sharp mirror, not in a rough one
+    nor by the camera, as in Cycles (its PATH_RAY_SINGULAR)."""
+    materials = [glossy("Sharp", "SHARP"), glossy("Rough", "GGX")]
+    scene = lit_stage(empty_scene, materials)
+    bpy.data.materials["Rough"].node_tree.nodes["Glossy BSDF"].inputs["Roughness"].default_value = 0.3
+    panel = bpy.data.materials["Panel"]
+    nodes, links = panel.node_tree.nodes, panel.node_tree.links
+    links.new(nodes.new("ShaderNodeLightPath").outputs["Is Singular Ray"], nodes["Emission"].inputs["Strength"])
+    for name in ("Rect", "Disk", "Bulb"):
+        bpy.data.objects.remove(bpy.data.objects[name])
+    scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    _, ratios, ours, cycles = compare(scene, "Is Singular Ray", tmp_path, 1)
+    rough = sphere_blocks(scene, 1)
+    assert blocks(ours)[sphere_blocks(scene, 0)].sum() > 0.1
+    assert blocks(ours)[rough].sum() == 0 and blocks(cycles)[rough].sum() == 0
+    assert abs(ratios[0] - 1) <= SPHERE_TOLERANCE

@@ -727,8 +727,8 @@ def _singular(sphrect, roughness, inputs):
 
 
 def _warn_rough_refraction(log, name):
-    log.unsupported_feature("refraction of lights seen through a rough surface (black, as Cycles at zero bounces "
-                            "except behind open surfaces)", name)
+    log.unsupported_feature("refraction of lights seen through a surface (black where rough, as Cycles at zero "
+                            "bounces except behind open surfaces)", name)
 
 
 # Principled BSDF inputs read into sphrect.Material (kind 'principled'), by the Material field they fill.
