@@ -45,11 +45,19 @@ static inline void PullOffMeshLight(const AreaLight& l, LightSample<float>& ls) 
 constexpr float kSingularRayPdf = kInf;
 
 // The MIS weight of an emitter a BSDF or phase ray of density pdf_dir found, against its light sample's pdf
-// (computed only when needed: a singular ray's weight is 1).
+// (computed only when needed: a singular ray's weight is 1).  light_sampling: the shading point's
+// TimedLightSamplingAt, or NoLightPdfs for a singular ray.
 template <typename LightPdf>
 static inline float FoundEmitterMisWeight(const ShadeContext& c, float pdf_dir, LightPdf&& pdf_light) {
     return pdf_dir == kSingularRayPdf ? 1.0f : MisWeight(c.mis, pdf_dir, pdf_light());
 }
+
+// The light sampling a singular ray's emitter search consults: none (FoundEmitterMisWeight asks nothing).  Passed
+// instead of the shading point's TimedLightSamplingAt, which a call out of line would otherwise keep in memory.
+struct NoLightPdfs {
+    float PDF(int, const Vec3f&) { return 0; }
+    float SoftLightPDF(const DeltaLight&, int) { return 0; }
+};
 
 // The Light Path flags of the surface a BSDF ray of kind `ray` and density pdf_dir finds: a singular lobe's ray is
 // also Is Singular (PATH_RAY_SINGULAR).
@@ -74,9 +82,9 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
 // The emissive mesh triangle hit rh of the ray (o, d), `crossed` transparent surfaces past its origin, if it is one,
 // weighted against light sampling like the analytic lights below.  Its occlusion ray is queued as for every emitter
 // (the surfaces before it were let through; one extra ray per hit, kept for one path through the shadow queue).
-template <Technique K, bool kMedium>
+template <Technique K, bool kMedium, typename LightPdfs>
 static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& rh, const Vec3f& o, const Vec3f& d,
-                                       float pdf_dir, uint8_t ray, int crossed, TimedLightSamplingAt<K>& light_sampling,
+                                       float pdf_dir, uint8_t ray, int crossed, LightPdfs& light_sampling,
                                        const ShadowSink& sink) {
     const MeshData& m = c.scene.meshes[rh.hit.geomID];
     if (m.triangle_light.empty()) return;
@@ -96,11 +104,10 @@ static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& r
 // In a scene with transparent surfaces: the emitters the ray (o, d) finds from its first hit rh on, past the
 // transparent surfaces (their filtering is the occlusion ray's: ResolveShadowRays) -- an emitter that may be
 // transparent counts and lets the ray on, as a Cycles path adds a surface's emission before going through it.
-template <Technique K, bool kMedium>
+template <Technique K, bool kMedium, typename LightPdfs>
 [[gnu::noinline]] static void QueueMeshEmittersThroughTransparent(const ShadeContext& c, RTCRayHit rh, const Vec3f& o,
                                                                   const Vec3f& d, float pdf_dir, uint8_t ray,
-                                                                  TimedLightSamplingAt<K>& light_sampling,
-                                                                  const ShadowSink& sink) {
+                                                                  LightPdfs& light_sampling, const ShadowSink& sink) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     for (int crossed = 0; rh.hit.geomID != RTC_INVALID_GEOMETRY_ID; ++crossed) {
@@ -115,10 +122,9 @@ template <Technique K, bool kMedium>
 
 // The emissive mesh triangle the ray (o, d) hits first, if any (and in a scene with transparent surfaces those past
 // them): one Embree ray instead of a loop over the mesh's lights.
-template <Technique K, bool kMedium>
+template <Technique K, bool kMedium, typename LightPdfs>
 static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                            uint8_t ray, TimedLightSamplingAt<K>& light_sampling,
-                                            const ShadowSink& sink) {
+                                            uint8_t ray, LightPdfs& light_sampling, const ShadowSink& sink) {
     RTCRayHit rh = MakeRTCRayHit(o, d, 0, kInf, ray);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -158,9 +164,9 @@ static inline void QueueEnvironmentAlongRay(const ShadeContext& c, const Vec3f& 
 // not traced at all.  pdf_dir: the direction's pdf under BSDF/phase sampling; `sink` carries
 // its weight f cos / pdf (kSingularRayPdf: a singular lobe's ray, everything it finds of weight 1, with or without
 // MIS).  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.
-template <Technique K, bool kMedium>
+template <Technique K, bool kMedium, typename LightPdfs>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                         uint8_t ray, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                         uint8_t ray, LightPdfs& light_sampling, const ShadowSink& sink) {
     const bool world_found = c.scene.world_visibility.FoundBy(ray);  // the world's Ray Visibility
     if (!IsBlack(c.sky) && world_found) sink.Add(o, d, kInf, c.sky, ray);
     // Without MIS the image world and the lights are their light samples' alone (a singular ray: its own).

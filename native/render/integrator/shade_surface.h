@@ -204,7 +204,8 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 // side of the geometric normal is dropped for a reflection, as Cycles' bsdf_reflection_sample does.
 template <Technique K, bool kMedium>
 [[gnu::noinline]] static void QueueSingularRays(const ShadeContext& c, const SurfaceShadingPoint& sp,
-                                                TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                                const ShadowSink& sink) {
+    NoLightPdfs light_sampling;
     for (int i = 0; i < sp.material.num_singular; ++i) {
         const SingularScatter s = ScatterSingular(sp.material.singular[i], sp.wo);
         const Vec3f reflected = sp.frame.FromLocal(s.reflect_dir);
@@ -228,13 +229,13 @@ template <Technique K, bool kMedium>
 [[gnu::noinline, gnu::cold]] static Bsdf HitSpecificBsdf(const RenderScene& scene, const SurfaceHit& h,
                                                          const Frame& frame) {
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
-    Bsdf out = m;
-    if (m.textured) {
+    auto textured = [&] {
         const Material& material = scene.materials[size_t(h.material)];
-        out = material.programmed ? EvaluateBsdfAtHit(material, scene.images, HitShaderGlobals(h))
-                                  : EvaluateTexturedBsdf(material, scene.images, h.tc);
-        out.emission = m.emission;
-    }
+        return material.programmed ? EvaluateBsdfAtHit(material, scene.images, HitShaderGlobals(h))
+                                   : EvaluateTexturedBsdf(material, scene.images, h.tc);
+    };
+    Bsdf out = m.textured ? textured() : m;  // built in place: a textured hit copies no Bsdf
+    if (m.textured) out.emission = m.emission;
     if (m.normal_mapped) {
         if (!out.principled) {
             Bsdf principled = MakeEmptyMixBsdf();
@@ -322,7 +323,7 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
             QueueSurfaceEnvironmentSample<kGlossy, kMedium>(c, sp, light_points[j], pair_sink);
     QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, light_points, sink);
     if constexpr (kGlossy) {
-        if (sp.material.num_singular > 0) QueueSingularRays<K, kMedium>(c, sp, light_sampling, sink);
+        if (sp.material.num_singular > 0) QueueSingularRays<K, kMedium>(c, sp, sink);
     }
 }
 
