@@ -45,15 +45,14 @@ static inline void PullOffMeshLight(const AreaLight& l, LightSample<float>& ls) 
 constexpr float kSingularRayPdf = kInf;
 
 // The MIS weight of an emitter a BSDF or phase ray of density pdf_dir found, against its light sample's pdf
-// (computed only when needed: a singular ray's weight is 1).  light_sampling: the shading point's
-// TimedLightSamplingAt, or NoLightPdfs for a singular ray.
+// (computed only when needed: a singular ray's weight is 1).
 template <typename LightPdf>
 static inline float FoundEmitterMisWeight(const ShadeContext& c, float pdf_dir, LightPdf&& pdf_light) {
     return pdf_dir == kSingularRayPdf ? 1.0f : MisWeight(c.mis, pdf_dir, pdf_light());
 }
 
-// The light sampling a singular ray's emitter search consults: none (FoundEmitterMisWeight asks nothing).  Passed
-// instead of the shading point's TimedLightSamplingAt, which a call out of line would otherwise keep in memory.
+// The light sampling a singular ray's emitter search consults: none (FoundEmitterMisWeight asks nothing), so that
+// QueueSingularRays needs no TimedLightSamplingAt.
 struct NoLightPdfs {
     float PDF(int, const Vec3f&) { return 0; }
     float SoftLightPDF(const DeltaLight&, int) { return 0; }
@@ -163,7 +162,8 @@ static inline void QueueEnvironmentAlongRay(const ShadeContext& c, const Vec3f& 
 // before it -- the same test as for its light samples -- so a ray that reaches no emitter is
 // not traced at all.  pdf_dir: the direction's pdf under BSDF/phase sampling; `sink` carries
 // its weight f cos / pdf (kSingularRayPdf: a singular lobe's ray, everything it finds of weight 1, with or without
-// MIS).  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.
+// MIS).  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.  light_sampling:
+// the shading point's TimedLightSamplingAt (the found emitters' light pdfs), or NoLightPdfs for a singular ray.
 template <Technique K, bool kMedium, typename LightPdfs>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
                                          uint8_t ray, LightPdfs& light_sampling, const ShadowSink& sink) {
