@@ -271,6 +271,8 @@ void BindMaterial(py::module_& m) {
     m.attr("glass_distributions") = names(render::kGlassDistributionNames);
     m.attr("principled_distributions") = names(render::kPrincipledDistributionNames);
     m.attr("glossy_distributions") = names(render::kGlossyDistributionNames);
+    // Whether a roughness makes a microfacet closure singular (a sharp mirror or glass: bsdf/singular.h).
+    m.def("is_singular_roughness", &render::IsSingularRoughness, py::arg("roughness"));
     m.attr("texture_outputs") = names(render::kTextureOutputNames);
     m.attr("texture_coordinates") = names(render::kTextureCoordinateNames);
     // Node programs (render/svm): the ops, and the names of each op's modes the exporter compiles to.

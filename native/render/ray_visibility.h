@@ -26,7 +26,7 @@ inline constexpr const char* kRayKindNames[] = {"camera", "shadow",       "diffu
 
 // The Light Path node's flags (svm::RayFlag) of a BSDF or phase ray of kind `ray`, as Cycles' path_state_next sets
 // them from the sampled lobe's label: a reflection or a transmission (translucent), diffuse or glossy; a phase ray's
-// volume scatter.  (A singular lobe's kRayIsSingular is not told apart from a glossy one here.)
+// volume scatter.  (A singular lobe's kRayIsSingular is not told apart from a glossy one here: ScatteredRayFlagsOf.)
 constexpr uint8_t ScatteredRayFlags(uint8_t ray) {
     if (ray & kRayVolumeScatter) return svm::kRayIsVolumeScatter;
     const uint8_t lobe = (ray & kRayDiffuse) ? svm::kRayIsDiffuse : svm::kRayIsGlossy;

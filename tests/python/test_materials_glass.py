@@ -1,7 +1,8 @@
 """Material kind 'glass' (Cycles 3.4's Glass BSDF at zero bounces) through sphrect.Scene: a sun-lit plane seen
 by a tilted orthographic camera has one exact radiance, colour x F(wo.n, ior) x GGX reflection (separable Smith
 G, no micro-Fresnel) x E cos, compared with a NumPy transcription of Cycles' closure; a sharp glass is black
-(Cycles' GGX returns 0 for alpha^2 <= 1e-7); the field round-trips through scene files, and version-3 files
+under the sun (Cycles' GGX returns 0 for alpha^2 <= 1e-7), its mirror and refracted rays see the world with Cycles'
+Fresnel weights; the field round-trips through scene files, and version-3 files
 (no ior, distribution) load with their defaults; Beckmann as Cycles' D and rational G1."""
 import dataclasses
 import json
@@ -66,6 +67,8 @@ def test_sunlit_plane_has_cycles_glass_radiance(roughness, ior, distribution):
 
 
 def test_sharp_glass_is_black_at_zero_bounces():
+    """Under a sharp sun, which no ray finds: a sharp glass's light samples see nothing of it (its mirror ray finds
+    only emitters that can be hit, tests/blender/test_singular_parity.py)."""
     wi = np.array([0.0, math.sin(TILT), math.cos(TILT)])  # the mirror direction
     mat = sphrect.Material(kind="glass", base_color=(1.0, 1.0, 1.0), roughness=0.0, ior=1.45)
     assert sphrect.render(sunlit_plane(mat, wi), samples=2)["rectangle"][..., :3].max() == 0
@@ -102,3 +105,36 @@ def test_glass_seen_from_its_back_face_uses_the_inverse_ior(ior):
     image = sphrect.render(back, samples=2)["rectangle"][..., :3]
     np.testing.assert_allclose(image, sphrect.render(inverse, samples=2)["rectangle"][..., :3], rtol=1e-5, atol=1e-9)
     assert image.mean() > 1.2 * front.mean()  # seen from inside, the dielectric reflects more
+
+
+BACKGROUND = (0.3, 0.5, 0.7)
+
+
+def world_lit_plane(mat, floor=False):
+    """The tilted camera's plane of `mat` under a constant world; floor: a black plane 1 below that stops the
+    refracted rays."""
+    meshes = [plane_mesh()]
+    materials = [mat]
+    if floor:
+        meshes.append(dataclasses.replace(plane_mesh(z=-1.0), name="floor"))
+        materials.append(sphrect.Material(name="black", base_color=(0.0, 0.0, 0.0)))
+        meshes[1].material_ids = np.ones(2, np.int32)
+    return sphrect.Scene(camera=tilted_camera(), meshes=meshes, materials=materials,
+                         world=sphrect.World(background=BACKGROUND))
+
+
+@pytest.mark.parametrize("ior", [1.45, 2.4])
+def test_sharp_glass_mirror_ray_sees_the_world_with_cycles_fresnel(ior):
+    """A singular lobe's mirror ray (Cycles 3.4 traces it at zero bounces, MIS skipped): the world's radiance x the
+    glass colour x F(wo.n, ior) where the refracted ray ends on a black floor, and x (F + 1 - F) where it escapes
+    too; a sharp Glossy BSDF reflects its colour whatever the angle.  One ray per camera sample: exact."""
+    color = np.array([0.9, 0.7, 0.5])
+    mat = sphrect.Material(name="g", kind="glass", base_color=tuple(color), roughness=0.0, ior=ior)
+    f = fresnel_dielectric(math.cos(TILT), ior)
+    reflected = sphrect.render(world_lit_plane(mat, floor=True), samples=2)["rectangle"][..., :3]
+    np.testing.assert_allclose(reflected, np.broadcast_to(color * f * BACKGROUND, reflected.shape), rtol=1e-5)
+    both = sphrect.render(world_lit_plane(mat), samples=2)["rectangle"][..., :3]
+    np.testing.assert_allclose(both, np.broadcast_to(color * BACKGROUND, both.shape), rtol=1e-5)
+    mirror = sphrect.Material(name="m", kind="glossy_bsdf", base_color=tuple(color), roughness=0.0)
+    seen = sphrect.render(world_lit_plane(mirror, floor=True), samples=2)["rectangle"][..., :3]
+    np.testing.assert_allclose(seen, np.broadcast_to(color * BACKGROUND, seen.shape), rtol=1e-5)

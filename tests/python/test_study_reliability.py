@@ -335,9 +335,10 @@ def test_every_warning_of_a_study_is_in_its_report(tmp_path):
 
 
 def mirror_scene():
-    """A mirror under a light so bright that some of rectangle_cosine's samples on it overflow float."""
+    """A near mirror (roughness 0.03: a rough lobe the light samples see, not a singular one) under a light so
+    bright that some of rectangle_cosine's samples on it overflow float."""
     mirror = textured_scene(sphrect.Texture(pixels=np.full((1, 1, 3), 200, np.uint8)),
-                            sphrect.Material(kind="principled", roughness=0.0, metallic=1.0))
+                            sphrect.Material(kind="principled", roughness=0.03, metallic=1.0))
     mirror.lights[0].radiance = (3e37,) * 3
     return mirror
 

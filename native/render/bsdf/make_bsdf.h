@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "principled_lobes.h"
+#include "singular.h"
 #include "render/sampling_util.h"
 
 namespace sphrect::render {
@@ -107,7 +108,25 @@ struct Bsdf {
     Spectrum transparency;
     bool has_transparency = false;
     float opaque_weight = 1;
+    // Singular lobes (singular.h): no light sample sees them; shading traces their mirror and refracted rays
+    // (shade_surface.h, QueueSingularRays).  num_singular 0: nothing to do.
+    int num_singular = 0;
+    SingularLobe singular[kMaxSingularLobes];
 };
+
+// Adds lobe l to m's singular lobes, summed into an equal one; false when m holds kMaxSingularLobes others.
+inline bool AddSingularLobe(Bsdf& m, const SingularLobe& l) {
+    if (IsBlack(l.reflect) && IsBlack(l.refract)) return true;
+    for (int i = 0; i < m.num_singular; ++i)
+        if (SameSingularLobe(m.singular[i], l)) {
+            m.singular[i].reflect += l.reflect;
+            m.singular[i].refract += l.refract;
+            return true;
+        }
+    if (m.num_singular == kMaxSingularLobes) return false;
+    m.singular[m.num_singular++] = l;
+    return true;
+}
 
 // The Principled BSDF node's inputs that are modelled (Blender 3.4's defaults).  Subsurface and
 // transmission are not: the exporter warns about them.
@@ -206,7 +225,7 @@ inline Bsdf MakeLambertGgxBsdf(const Spectrum& base, float roughness, float meta
 
 // A microfacet lobe of colour `color` and Blender roughness `roughness` (alpha = roughness^2); false (no
 // lobe) when Cycles would not make one: black, or sharp -- Cycles' microfacet closures return 0 for
-// alpha_x alpha_y <= 1e-7 (a delta lobe, which light samples cannot find: black at zero bounces).
+// alpha_x alpha_y <= 1e-7 (a delta lobe, which light samples cannot find: the caller's SingularLobe).
 inline bool MakeMicrofacetLobe(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann,
                                MicrofacetLobe& lobe) {
     const float r = std::clamp(roughness, 0.0f, 1.0f);
@@ -224,7 +243,8 @@ inline bool MakeMicrofacetLobe(const Spectrum& color, float roughness, float fre
 // mix(1, tint', specular_tint), base colour, metallic) (tint' normalised by 0.3 r + 0.6 g + 0.1 b) towards
 // white by the dielectric Fresnel of IOR 2 / (1 - sqrt(0.08 specular)) - 1, and a clearcoat: GTR1 of
 // alpha = clearcoat_roughness^2 with G at alpha 0.25, Fresnel of IOR 1.5, weight 0.25 clearcoat.
-// Roughnesses are clamped to 0.03 as in MakeLambertGgxBsdf.
+// Roughnesses are clamped to 0.03 as in MakeLambertGgxBsdf, but a sharp specular, clearcoat or glass (Cycles'
+// singular closures, IsSingularRoughness) is a SingularLobe.
 inline Bsdf MakePrincipledBsdf(const PrincipledInputs& in) {
     constexpr float kCutoff = 1e-5f;  // Cycles' CLOSURE_WEIGHT_CUTOFF: lobes below it are not made
     Bsdf m;
@@ -237,12 +257,15 @@ inline Bsdf MakePrincipledBsdf(const PrincipledInputs& in) {
     const float diffuse_weight = (1 - metallic) * (1 - transmission);
     const float glass_weight = transmission * (1 - metallic);
     m.specular_weight = 1 - glass_weight;
-    if (glass_weight > kCutoff) {  // Cycles' refl_roughness: unclamped; a sharp one is black at zero bounces
+    if (glass_weight > kCutoff) {  // Cycles' refl_roughness: unclamped; a sharp one is singular
+        const Spectrum white(glass_weight, glass_weight, glass_weight);
         MicrofacetLobe& l = m.lobes[m.num_lobes];
-        if (MakeMicrofacetLobe(Spectrum(glass_weight, glass_weight, glass_weight), roughness, std::max(in.ior, 1e-5f),
-                               false, l))
+        if (MakeMicrofacetLobe(white, roughness, std::max(in.ior, 1e-5f), false, l)) {
             ++m.num_lobes;
-        m.has_dielectric = m.num_lobes > 0;
+        } else if (IsSingularRoughness(roughness)) {  // the refraction: base colour x glass weight x (1 - F)
+            AddSingularLobe(m, {white, base * glass_weight, std::max(in.ior, 1e-5f), SingularFresnel::kDielectric, {}});
+        }
+        m.has_dielectric = m.num_lobes > 0 || m.num_singular > 0;
     }
     if (diffuse_weight > kCutoff && std::abs(base.x + base.y + base.z) / 3 > kCutoff) {
         m.diffuse = base * diffuse_weight;
@@ -256,8 +279,9 @@ inline Bsdf MakePrincipledBsdf(const PrincipledInputs& in) {
         m.sheen = (Spectrum(1 - st, 1 - st, 1 - st) + tint * st) * (sheen * diffuse_weight);
         m.has_sheen = !IsBlack(m.sheen);
     }
+    const bool sharp_specular = IsSingularRoughness(roughness);  // (anisotropy keeps alpha_x alpha_y = r^4)
     if (m.specular_weight > kCutoff && (specular > kCutoff || metallic > kCutoff)) {
-        m.has_specular = true;
+        m.has_specular = !sharp_specular;
         const float r = std::max(roughness, 0.03f);
         m.alpha = m.specular_alpha_y = r * r;
         if (in.anisotropic != 0) {  // svm_node_closure_bsdf (Principled): aspect = sqrt(1 - 0.9 anisotropic)
@@ -276,12 +300,23 @@ inline Bsdf MakePrincipledBsdf(const PrincipledInputs& in) {
         const Spectrum tinted = (Spectrum(1 - t, 1 - t, 1 - t) + tint * t) * (0.08f * specular);
         const Spectrum c = tinted * (1 - metallic) + base * metallic;
         m.f0 = {std::clamp(c.x, 0.0f, 1.0f), std::clamp(c.y, 0.0f, 1.0f), std::clamp(c.z, 0.0f, 1.0f)};
+        if (sharp_specular) {  // bsdf_microfacet_ggx's singular branch: weight x reflection_color
+            const float w = m.specular_weight;
+            AddSingularLobe(m, {Spectrum(w, w, w), {}, m.specular_ior, SingularFresnel::kBlend, m.f0});
+            m.multiscatter = false;
+        }
     }
     if (in.clearcoat > kCutoff) {
-        m.has_clearcoat = true;
         m.clearcoat = 0.25f * in.clearcoat;
-        const float r = std::clamp(in.clearcoat_roughness, 0.03f, 1.0f);
-        m.clearcoat_alpha = r * r;
+        if (IsSingularRoughness(in.clearcoat_roughness)) {  // Cycles' clearcoat: IOR 1.5, cspec0 0.04
+            const float w = m.clearcoat;
+            AddSingularLobe(m, {Spectrum(w, w, w), {}, 1.5f, SingularFresnel::kBlend, Spectrum(0.04f, 0.04f, 0.04f)});
+            m.clearcoat = 0;
+        } else {
+            m.has_clearcoat = true;
+            const float r = std::clamp(in.clearcoat_roughness, 0.03f, 1.0f);
+            m.clearcoat_alpha = r * r;
+        }
     }
     ChooseLobeProbabilities(m);
     return m;
@@ -323,11 +358,21 @@ inline Bsdf MakeEmptyMixBsdf() {
 }
 
 // A material of microfacet lobes only (Glass, Glossy BSDF): one lobe or none (black).
+// A sharp one: a singular lobe (a glass's reflection and refraction, each closure's colour x its Fresnel).
 inline Bsdf MakeSingleLobeBsdf(const Spectrum& color, float roughness, float fresnel_ior, bool beckmann) {
     Bsdf m;
     m.glossy = m.principled = true;
-    if (MakeMicrofacetLobe(color, roughness, fresnel_ior, beckmann, m.lobes[0])) m.num_lobes = 1;
-    m.has_dielectric = m.num_lobes > 0 && fresnel_ior > 0;
+    if (MakeMicrofacetLobe(color, roughness, fresnel_ior, beckmann, m.lobes[0])) {
+        m.num_lobes = 1;
+    } else if (IsSingularRoughness(roughness)) {
+        const bool glass = fresnel_ior > 0;
+        AddSingularLobe(m, {color,
+                            glass ? color : Spectrum(),
+                            glass ? fresnel_ior : 1.0f,
+                            glass ? SingularFresnel::kDielectric : SingularFresnel::kNone,
+                            {}});
+    }
+    m.has_dielectric = (m.num_lobes > 0 || m.num_singular > 0) && fresnel_ior > 0;
     ChooseLobeProbabilities(m);
     return m;
 }
@@ -336,7 +381,8 @@ inline Bsdf MakeSingleLobeBsdf(const Spectrum& color, float roughness, float fre
 // direct-light-only render sees it: the reflection closure colour x F(wo.n, ior)
 // (fresnel_dielectric_cos of the view), GGX of alpha = roughness^2 with separable Smith G and no
 // micro-Fresnel; the refraction closure (colour x (1 - F)) needs a second bounce or a light behind an
-// open surface, neither modelled here (black).  A sharp glass is black (MakeMicrofacetLobe).  ior is the
+// open surface, neither modelled here (black).  A sharp glass is a SingularLobe, whose reflected and refracted
+// rays shading traces (shade_surface.h).  ior is the
 // front side's: a back face takes 1 / ior at the hit (BsdfAtHit), as in Cycles.
 // beckmann: Cycles' Beckmann distribution (the node's default), evaluated with its D and rational G1, sampled
 // by GGX visible normals of the same alpha (the pdf is that of the sampling: unbiased).

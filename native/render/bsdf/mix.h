@@ -103,6 +103,15 @@ inline void MixIntoBsdf(Bsdf& mix, const Bsdf& part, float weight) {
             mix.lobes[kMaxMicrofacetLobes - 1].color += lobe.color;
         }
     }
+    for (int i = 0; i < part.num_singular; ++i) {
+        SingularLobe lobe = part.singular[i];
+        lobe.reflect = lobe.reflect * weight;
+        lobe.refract = lobe.refract * weight;
+        if (AddSingularLobe(mix, lobe)) continue;
+        if constexpr (kThrows)
+            throw std::invalid_argument("a mix holds at most " + std::to_string(kMaxSingularLobes) +
+                                        " distinct sharp glossy / glass lobes");
+    }
     ChooseLobeProbabilities(mix);
 }
 

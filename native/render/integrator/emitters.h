@@ -40,6 +40,30 @@ static inline void PullOffMeshLight(const AreaLight& l, LightSample<float>& ls) 
     ls.dist = dist;
 }
 
+// A BSDF ray's pdf_dir for a singular lobe's ray: no light sample finds what it finds, so Cycles skips MIS
+// (PATH_RAY_MIS_SKIP) and it counts with weight 1, whatever the MIS mode.
+constexpr float kSingularRayPdf = kInf;
+
+// The MIS weight of an emitter a BSDF or phase ray of density pdf_dir found, against its light sample's pdf
+// (computed only when needed: a singular ray's weight is 1).
+template <typename LightPdf>
+static inline float FoundEmitterMisWeight(const ShadeContext& c, float pdf_dir, LightPdf&& pdf_light) {
+    return pdf_dir == kSingularRayPdf ? 1.0f : MisWeight(c.mis, pdf_dir, pdf_light());
+}
+
+// The light sampling a singular ray's emitter search consults: none (FoundEmitterMisWeight asks nothing), so that
+// QueueSingularRays needs no TimedLightSamplingAt.
+struct NoLightPdfs {
+    float PDF(int, const Vec3f&) { return 0; }
+    float SoftLightPDF(const DeltaLight&, int) { return 0; }
+};
+
+// The Light Path flags of the surface a BSDF ray of kind `ray` and density pdf_dir finds: a singular lobe's ray is
+// also Is Singular (PATH_RAY_SINGULAR).
+constexpr uint8_t ScatteredRayFlagsOf(uint8_t ray, float pdf_dir) {
+    return uint8_t(ScatteredRayFlags(ray) | (pdf_dir == kSingularRayPdf ? svm::kRayIsSingular : 0));
+}
+
 template <Technique K>
 static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight light, Point2<float> u,
                                                 TimedLightSamplingAt<K>& light_sampling) {
@@ -57,9 +81,9 @@ static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLig
 // The emissive mesh triangle hit rh of the ray (o, d), `crossed` transparent surfaces past its origin, if it is one,
 // weighted against light sampling like the analytic lights below.  Its occlusion ray is queued as for every emitter
 // (the surfaces before it were let through; one extra ray per hit, kept for one path through the shadow queue).
-template <Technique K, bool kMedium>
+template <Technique K, bool kMedium, typename LightPdfs>
 static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& rh, const Vec3f& o, const Vec3f& d,
-                                       float pdf_dir, uint8_t ray, int crossed, TimedLightSamplingAt<K>& light_sampling,
+                                       float pdf_dir, uint8_t ray, int crossed, LightPdfs& light_sampling,
                                        const ShadowSink& sink) {
     const MeshData& m = c.scene.meshes[rh.hit.geomID];
     if (m.triangle_light.empty()) return;
@@ -67,24 +91,22 @@ static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& r
     if (i < 0) return;
     const float t = rh.ray.tfar;
     const AreaLight& l = c.scene.area_lights[i];
-    const Spectrum le = l.texture < 0
-                            ? EmittedRadiance(l, -d)
-                            : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t,
-                                                    svm::ScatteredRayContext(ScatteredRayFlags(ray), crossed));
+    const Spectrum le =
+        l.texture < 0 ? EmittedRadiance(l, -d)
+                      : TexturedEmissionAtHit(c.scene, l, rh.hit.primID, rh.hit.u, rh.hit.v, o, d, t,
+                                              svm::ScatteredRayContext(ScatteredRayFlagsOf(ray, pdf_dir), crossed));
     if (IsBlack(le)) return;
-    const float pdf_light = light_sampling.PDF(i, o + d * t);
-    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),
-             ray);
+    const float w = FoundEmitterMisWeight(c, pdf_dir, [&] { return light_sampling.PDF(i, o + d * t); });
+    sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * w, ray);
 }
 
 // In a scene with transparent surfaces: the emitters the ray (o, d) finds from its first hit rh on, past the
 // transparent surfaces (their filtering is the occlusion ray's: ResolveShadowRays) -- an emitter that may be
 // transparent counts and lets the ray on, as a Cycles path adds a surface's emission before going through it.
-template <Technique K, bool kMedium>
+template <Technique K, bool kMedium, typename LightPdfs>
 [[gnu::noinline]] static void QueueMeshEmittersThroughTransparent(const ShadeContext& c, RTCRayHit rh, const Vec3f& o,
                                                                   const Vec3f& d, float pdf_dir, uint8_t ray,
-                                                                  TimedLightSamplingAt<K>& light_sampling,
-                                                                  const ShadowSink& sink) {
+                                                                  LightPdfs& light_sampling, const ShadowSink& sink) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     for (int crossed = 0; rh.hit.geomID != RTC_INVALID_GEOMETRY_ID; ++crossed) {
@@ -99,10 +121,9 @@ template <Technique K, bool kMedium>
 
 // The emissive mesh triangle the ray (o, d) hits first, if any (and in a scene with transparent surfaces those past
 // them): one Embree ray instead of a loop over the mesh's lights.
-template <Technique K, bool kMedium>
+template <Technique K, bool kMedium, typename LightPdfs>
 static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                            uint8_t ray, TimedLightSamplingAt<K>& light_sampling,
-                                            const ShadowSink& sink) {
+                                            uint8_t ray, LightPdfs& light_sampling, const ShadowSink& sink) {
     RTCRayHit rh = MakeRTCRayHit(o, d, 0, kInf, ray);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -131,20 +152,25 @@ static inline void QueueEnvironmentAlongRay(const ShadeContext& c, const Vec3f& 
     const EnvironmentLight& e = *c.environment;
     const Spectrum le = EnvironmentRadiance(e, c.scene.images[size_t(e.image)], d);
     if (IsBlack(le)) return;
-    sink.Add(o, d, kInf, le * c.environment_transmittance * MisWeight(c.mis, pdf_dir, EnvironmentPDF(e, d)), ray);
+    sink.Add(o, d, kInf,
+             le * c.environment_transmittance * FoundEmitterMisWeight(c, pdf_dir, [&] { return EnvironmentPDF(e, d); }),
+             ray);
 }
 
 // For the ray (o, d): the background where the ray escapes, and with MIS the image world and every area light it
 // crosses, weighted against light sampling (Le T w).  A light counts when no surface lies
 // before it -- the same test as for its light samples -- so a ray that reaches no emitter is
 // not traced at all.  pdf_dir: the direction's pdf under BSDF/phase sampling; `sink` carries
-// its weight f cos / pdf.  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.
-template <Technique K, bool kMedium>
+// its weight f cos / pdf (kSingularRayPdf: a singular lobe's ray, everything it finds of weight 1, with or without
+// MIS).  ray: the ray's kind (ray_visibility.h), which meshes and lights hidden from it let through.  light_sampling:
+// the shading point's TimedLightSamplingAt (the found emitters' light pdfs), or NoLightPdfs for a singular ray.
+template <Technique K, bool kMedium, typename LightPdfs>
 static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, const Vec3f& d, float pdf_dir,
-                                         uint8_t ray, TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+                                         uint8_t ray, LightPdfs& light_sampling, const ShadowSink& sink) {
     const bool world_found = c.scene.world_visibility.FoundBy(ray);  // the world's Ray Visibility
     if (!IsBlack(c.sky) && world_found) sink.Add(o, d, kInf, c.sky, ray);
-    if (c.mis == MisMode::None) return;  // the image world and the lights: their light samples alone
+    // Without MIS the image world and the lights are their light samples' alone (a singular ray: its own).
+    if (c.mis == MisMode::None && pdf_dir != kSingularRayPdf) return;
     if (c.environment && world_found) QueueEnvironmentAlongRay(c, o, d, pdf_dir, ray, sink);
     if (c.scene.has_mesh_lights) QueueMeshEmitterAlongRay<K, kMedium>(c, o, d, pdf_dir, ray, light_sampling, sink);
     // The analytic lights (the rest are QueueMeshEmitterAlongRay's).
@@ -153,9 +179,8 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
         if (!l.vis.FoundBy(ray)) return;
         const Spectrum le = RadianceOfCrossedLight(c.scene, l, o, d, t);
         if (IsBlack(le)) return;
-        const float pdf_light = light_sampling.PDF(i, o + d * t);
-        sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * MisWeight(c.mis, pdf_dir, pdf_light),
-                 ray);
+        const float w = FoundEmitterMisWeight(c, pdf_dir, [&] { return light_sampling.PDF(i, o + d * t); });
+        sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * w, ray);
     });
     // Soft point, spot and sun lights (delta_light.h): the cone each subtends at o.
     for (const SoftLightRef& s : c.scene.soft_lights) {
@@ -163,9 +188,9 @@ static inline void QueueEmittersAlongRay(const ShadeContext& c, const Vec3f& o, 
         if (!l.vis.FoundBy(ray)) continue;
         const SoftLightCrossing x = CrossSoftLight(l, o, d);
         if (!x.hit) continue;
-        const float pdf_light = light_sampling.SoftLightPDF(l, s.tree_emitter);
-        sink.Add(o, d, x.t,
-                 x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * MisWeight(c.mis, pdf_dir, pdf_light), ray);
+        const float w =
+            FoundEmitterMisWeight(c, pdf_dir, [&] { return light_sampling.SoftLightPDF(l, s.tree_emitter); });
+        sink.Add(o, d, x.t, x.le * SegmentTransmittance<kMedium>(c.scene.medium, x.t) * w, ray);
     }
 }
 

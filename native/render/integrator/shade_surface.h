@@ -198,6 +198,28 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
     });
 }
 
+// The singular lobes' rays (bsdf/singular.h): each lobe's mirror direction and, for a glass, its refracted one (past
+// the critical angle none: its reflection then has F = 1), traced once per camera sample with the lobe's weight; the
+// emitters each finds count with weight 1 (QueueEmittersAlongRay's kSingularRayPdf).  A ray leaving on the wrong
+// side of the geometric normal is dropped for a reflection, as Cycles' bsdf_reflection_sample does.
+template <Technique K, bool kMedium>
+[[gnu::noinline]] static void QueueSingularRays(const ShadeContext& c, const SurfaceShadingPoint& sp,
+                                                const ShadowSink& sink) {
+    NoLightPdfs light_sampling;
+    for (int i = 0; i < sp.material.num_singular; ++i) {
+        const SingularScatter s = ScatterSingular(sp.material.singular[i], sp.wo);
+        const Vec3f reflected = sp.frame.FromLocal(s.reflect_dir);
+        if (!IsBlack(s.reflect_weight) && Dot(reflected, sp.hit.ng) > 0)
+            QueueEmittersAlongRay<K, kMedium>(c, sp.origin, reflected, kSingularRayPdf, kRayGlossy, light_sampling,
+                                              sink.Scaled(s.reflect_weight));
+        if (!s.refracts || IsBlack(s.refract_weight)) continue;
+        const Vec3f refracted = sp.frame.FromLocal(s.refract_dir);
+        const Vec3f origin = Dot(refracted, sp.hit.ng) < 0 ? OffsetOrigin(sp.hit.p, -sp.hit.ng) : sp.origin;
+        QueueEmittersAlongRay<K, kMedium>(c, origin, refracted, kSingularRayPdf, kRayGlossy | kRayTransmission,
+                                          light_sampling, sink.Scaled(s.refract_weight));
+    }
+}
+
 // The hit's material: the scene's, or for a textured one its Material evaluated at the hit's texture coordinates
 // into `storage` (its emission the material's own: emission is not textured); a normal-mapped one in the
 // Principled form (MixIntoBsdf of weight 1: a Lambert lobe as `lambert`) with its bump shadowing; a glass
@@ -207,13 +229,13 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
 [[gnu::noinline, gnu::cold]] static Bsdf HitSpecificBsdf(const RenderScene& scene, const SurfaceHit& h,
                                                          const Frame& frame) {
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
-    Bsdf out = m;
-    if (m.textured) {
+    auto textured = [&] {
         const Material& material = scene.materials[size_t(h.material)];
-        out = material.programmed ? EvaluateBsdfAtHit(material, scene.images, HitShaderGlobals(h))
-                                  : EvaluateTexturedBsdf(material, scene.images, h.tc);
-        out.emission = m.emission;
-    }
+        return material.programmed ? EvaluateBsdfAtHit(material, scene.images, HitShaderGlobals(h))
+                                   : EvaluateTexturedBsdf(material, scene.images, h.tc);
+    };
+    Bsdf out = m.textured ? textured() : m;  // built in place: a textured hit copies no Bsdf
+    if (m.textured) out.emission = m.emission;
     if (m.normal_mapped) {
         if (!out.principled) {
             Bsdf principled = MakeEmptyMixBsdf();
@@ -228,6 +250,8 @@ static inline void QueueSurfaceDeltaLights(const ShadeContext& c, const SurfaceS
     if (m.has_dielectric && h.backfacing) {  // seen from inside: the relative IOR inverts
         for (int i = 0; i < out.num_lobes; ++i)
             if (out.lobes[i].fresnel_ior > 0) out.lobes[i].fresnel_ior = 1 / out.lobes[i].fresnel_ior;
+        for (int i = 0; i < out.num_singular; ++i)
+            if (out.singular[i].fresnel == SingularFresnel::kDielectric) out.singular[i].ior = 1 / out.singular[i].ior;
     }
     return out;
 }
@@ -257,8 +281,9 @@ static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
 
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
 // pairs averaged, as many light samples of the image world, then the delta lights evaluated once (soft ones once per
-// light sample).  Light sample j's emitter and its point come from light_points[j] (LightSamplingAt::Choose); rng is
-// only advanced for the medium that may follow. light_ticks counts the time in light sampling.
+// light sample), then the singular lobes' rays (once).  Light sample j's emitter and its point come from
+// light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that may follow. light_ticks counts
+// the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h, const Vec3f& wo_world,
                                 const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
@@ -297,6 +322,9 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
         for (int j = 0; j < c.light_samples; ++j)
             QueueSurfaceEnvironmentSample<kGlossy, kMedium>(c, sp, light_points[j], pair_sink);
     QueueSurfaceDeltaLights<kGlossy, kMedium>(c, sp, light_points, sink);
+    if constexpr (kGlossy) {
+        if (sp.material.num_singular > 0) QueueSingularRays<K, kMedium>(c, sp, sink);
+    }
 }
 
 }  // namespace sphrect::render

@@ -678,8 +678,8 @@ def _bsdf(sphrect, node, textures, log, name):
 def _glossy(sphrect, node, inputs, textures, log, name):
     """Glossy BSDF and Blender 3.4's Anisotropic BSDF as Cycles 3.4 evaluates them: Color x GGX or Beckmann
     reflection of alpha = Roughness^2, no Fresnel (kind 'glossy_bsdf'), the Anisotropic BSDF's GGX stretched along
-    Cycles' default tangent by its Anisotropy and turned by its Rotation; Sharp is a delta lobe, black at zero
-    bounces in both renderers."""
+    Cycles' default tangent by its Anisotropy and turned by its Rotation; Sharp (or roughness ~0) is a delta lobe whose
+    mirror ray the renderer traces, as Cycles does at zero bounces."""
     distribution = getattr(node, "distribution", "GGX")
     roughness = 0.0 if distribution == "SHARP" else float(inputs.read("roughness"))
     rough = roughness > 0 or "roughness" in inputs.textures
@@ -715,15 +715,16 @@ def _anisotropy(node, inputs, amount, rotation, log, name):
 
 def _glass(sphrect, node, inputs, textures, log, name):
     """Glass or Refraction BSDF as Cycles 3.4 shows it at zero bounces: the Glass BSDF's GGX / Beckmann reflection
-    of the lights, weighted by the dielectric Fresnel of the view (kind 'glass'); the refracted part, the whole of a
-    Refraction BSDF, is black (it needs a bounce, or a light seen through an open surface: not modelled)."""
+    of the lights, weighted by the dielectric Fresnel of the view (kind 'glass'); the refracted part of a rough one,
+    the whole of a Refraction BSDF, is black (it needs a bounce, or a light seen through an open surface: not
+    modelled).  A sharp glass's reflected and refracted rays are traced (the emitters they find)."""
     distribution = getattr(node, "distribution", "GGX")
     roughness = 0.0 if distribution == "SHARP" else float(inputs.read("roughness"))
     if distribution == "MULTI_GGX" and (roughness > 0 or "roughness" in inputs.textures):
         log.unsupported_feature(f"{node.bl_label} distribution 'Multiscatter GGX' (GGX used)", name)
     normal_map = _normal_map(node, textures, log, name)
-    log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
-                            "except behind open surfaces)", name)
+    if node.bl_idname == "ShaderNodeBsdfRefraction" or not _singular(sphrect, roughness, inputs):
+        _warn_rough_refraction(log, name)
     color = _rgb(inputs.read("base_color"))
     if node.bl_idname == "ShaderNodeBsdfRefraction":
         color = (0.0, 0.0, 0.0)
@@ -731,6 +732,17 @@ def _glass(sphrect, node, inputs, textures, log, name):
                             ior=float(inputs.value("IOR")),
                             distribution="beckmann" if distribution == "BECKMANN" else "ggx",
                             textures=inputs.textures, **normal_map)
+
+
+def _singular(sphrect, roughness, inputs):
+    """Whether an untextured roughness makes Cycles' closure singular: a sharp mirror or glass, whose mirror and
+    refracted rays the renderer traces (what Cycles shows of them at zero bounces)."""
+    return "roughness" not in inputs.textures and sphrect.is_singular_roughness(roughness)
+
+
+def _warn_rough_refraction(log, name):
+    log.unsupported_feature("refraction of lights seen through a surface (black where rough, as Cycles at zero "
+                            "bounces except behind open surfaces)", name)
 
 
 # Principled BSDF inputs read into sphrect.Material (kind 'principled'), by the Material field they fill.
@@ -756,7 +768,7 @@ def _principled(sphrect, node, inputs, textures, log, name):
     # Multiscatter GGX: Cycles' random walk above roughness 0.075 (the renderer's switch, as Cycles' closure setup).
     if getattr(node, "distribution", "GGX") == "MULTI_GGX":
         values["distribution"] = "multiscatter_ggx"
-    values.update(_principled_transmission(node, inputs, values, log, name))
+    values.update(_principled_transmission(sphrect, node, inputs, values, log, name))
     clearcoat_normal = node.inputs.get("Clearcoat Normal")
     if values["clearcoat"] > 0 and clearcoat_normal is not None and clearcoat_normal.is_linked:
         log.unsupported_feature("linked 'Clearcoat Normal' input", name)
@@ -768,15 +780,15 @@ def _principled(sphrect, node, inputs, textures, log, name):
                             **_normal_map(node, textures, log, name), **values)
 
 
-def _principled_transmission(node, inputs, values, log, name):
+def _principled_transmission(sphrect, node, inputs, values, log, name):
     """Material.transmission / ior of a Principled BSDF whose Transmission is above 0 ({} otherwise): its glass part
     reflects the lights as a Glass BSDF does at zero bounces (Cycles' closure weight t (1 - metallic), the Fresnel of
-    the view), the refracted part black."""
+    the view), the refracted part black when rough (a sharp one's refracted ray is traced)."""
     transmission = float(inputs.value("Transmission"))
     if transmission <= 0:
         return {}
-    log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
-                            "except behind open surfaces)", name)
+    if not _singular(sphrect, values["roughness"], inputs):
+        _warn_rough_refraction(log, name)
     if values["specular_tint"] > 0:
         log.unsupported_feature("Specular Tint of the transmission's reflection (untinted)", name)
     if values.get("distribution") == "multiscatter_ggx" and values["roughness"] > 0.05:
@@ -800,11 +812,13 @@ def _principled_glass(sphrect, node, inputs, textures, log, name):
     if inputs.value("Specular Tint") > 0 or inputs.value("Clearcoat") > 0:
         return None
     roughness = float(inputs.read("roughness"))
+    if _singular(sphrect, roughness, inputs) and tuple(_rgb(inputs.read("base_color"))) != (1.0, 1.0, 1.0):
+        return None  # a sharp glass's refraction (traced) takes the base colour: kind 'principled' keeps it
     if getattr(node, "distribution", "GGX") == "MULTI_GGX" and (roughness > 0.05 or "roughness" in inputs.textures):
         log.unsupported_feature("Principled BSDF distribution 'Multiscatter GGX' (GGX used)", name)
     normal_map = _normal_map(node, textures, log, name)
-    log.unsupported_feature("refraction of lights seen through a surface (black, as Cycles at zero bounces "
-                            "except behind open surfaces)", name)
+    if not _singular(sphrect, roughness, inputs):
+        _warn_rough_refraction(log, name)
     _unmodelled_alpha(node, log, name)
     emission, lookup = _emission_term(node, "Emission", "Emission Strength", 1.0, log, name, textures)
     return sphrect.Material(name=name, kind="glass", base_color=(1.0, 1.0, 1.0), roughness=roughness,
