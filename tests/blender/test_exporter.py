@@ -218,8 +218,8 @@ def test_unsupported_nodes_are_listed_once(empty_scene):
 
 
 def test_a_particle_emitter_hidden_from_render_is_left_out(empty_scene):
-    """Its Instancing > Render off (show_instancer_for_render): Cycles 3.4 skips the emitter's own geometry (the depsgraph instance's show_self);
-    so does the exporter (mpett/tornado.blend's smoke sources were drawn before)."""
+    """Its Instancing > Render off (show_instancer_for_render): Cycles 3.4 skips the emitter's own geometry (the
+    depsgraph instance's show_self); so does the exporter (mpett/tornado.blend's smoke sources were drawn before)."""
     builders.mesh_object("Emitter", "cube", builders.material("Grey"))
     emitter = bpy.data.objects["Emitter"]
     settings = emitter.modifiers.new("Particles", "PARTICLE_SYSTEM").particle_system.settings

@@ -137,10 +137,10 @@ TEST_F(ObjectVolumesTest, RaysThroughEdgesAndCornersCountEachCrossingOnce) {
     const Spectrum st(1, 1, 1);
     Add(Box({-1, -1, -1}, {1, 1, 1}), st, {});
     const ObjectVolumes& v = Committed();
-    ExpectSpectrumNear(v.Transmittance({-3, -3, 0}, Normalize(Vec3f(1, 1, 0)), kInf),
-                       Exp(st * (2 * std::sqrt(2.0f))), 1e-4f);  // enters at an edge, leaves at the opposite one
-    ExpectSpectrumNear(v.Transmittance({-3, -3, -3}, Normalize(Vec3f(1, 1, 1)), kInf),
-                       Exp(st * (2 * std::sqrt(3.0f))), 1e-4f);  // corner to corner
+    ExpectSpectrumNear(v.Transmittance({-3, -3, 0}, Normalize(Vec3f(1, 1, 0)), kInf), Exp(st * (2 * std::sqrt(2.0f))),
+                       1e-4f);  // enters at an edge, leaves at the opposite one
+    ExpectSpectrumNear(v.Transmittance({-3, -3, -3}, Normalize(Vec3f(1, 1, 1)), kInf), Exp(st * (2 * std::sqrt(3.0f))),
+                       1e-4f);                                                               // corner to corner
     ExpectSpectrumNear(v.Transmittance({0.3f, 0.3f, -3}, {0, 0, 1}, kInf), Exp(st * 2.0f));  // a face's diagonal
 }
 
