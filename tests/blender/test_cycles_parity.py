@@ -180,8 +180,9 @@ def test_blend_scenes_match_cycles(name, tmp_path):
     medium (density, colour, anisotropy), and object volumes: a fog box seen from outside with a spot light's cone, a
     point light and an emissive globe in it, and a Principled Volume box holding the camera and the lights.
     (01_paper's two-sided light and 05's tiny/grazing lights are outside what Cycles 3.4 renders correctly or at all;
-    see test_analytic.py.) Measured when written: room 0.2%, fog 0.8%, glossy 1.6%, fog stage 0.84%, fog room 0.35% -- the glossy residual is systematic (it stays with 4x the samples:
-    Cycles' Principled BSDF is not exactly the renderer's GGX + Lambert model), the others are noise."""
+    see test_analytic.py.) Measured when written: room 0.2%, fog 0.8%, glossy 1.6%, fog stage 0.84%, fog room 0.35%
+    -- the glossy residual is systematic (it stays with 4x the samples: Cycles' Principled BSDF is not exactly the
+    renderer's GGX + Lambert model), the others are noise."""
     scene = open_blend(name, WIDTH, HEIGHT)
     for obj in bpy.data.objects:
         if obj.type == "LIGHT":
