@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 
 #include "embree_rays.h"
@@ -73,30 +72,13 @@ void ObjectVolumes::Add(RTCDevice device, const std::string& name, const float* 
     CheckColor(who + " sigma_s", sigma_s);
     CheckColor(who + " sigma_a", sigma_a);
     if (!(g > -1 && g < 1)) Fail(who + ": anisotropy g must be in (-1, 1)");
-    if (nv > (size_t(1) << 31) || nt > (size_t(1) << 31)) Fail(who + " is too large");
     if (nt == 0) Fail(who + " has no triangles");
-    for (size_t i = 0; i < 3 * nv; ++i)
-        if (!std::isfinite(vertices[i]) || std::abs(vertices[i]) >= 1.844e18f)
-            Fail(who + ": vertex " + std::to_string(i / 3) + " is not finite or lies outside Embree's range");
-    for (size_t i = 0; i < 3 * nt; ++i)
-        if (triangles[i] < 0 || size_t(triangles[i]) >= nv)
-            Fail(who + ": triangle " + std::to_string(i / 3) + " has vertex index " + std::to_string(triangles[i]) +
-                 " outside [0, " + std::to_string(nv) + ")");
+    CheckTriangleMesh(who, vertices, nv, triangles, nt);
     if (!rtc_scene_) {
         rtc_scene_ = rtcNewScene(device);
         rtcSetSceneFlags(rtc_scene_, RTC_SCENE_FLAG_ROBUST);
     }
-    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-    auto* ib = static_cast<uint32_t*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nt));
-    if (!vb || !ib) {
-        rtcReleaseGeometry(geom);
-        throw std::runtime_error(who + ": Embree could not allocate its buffers");
-    }
-    std::memcpy(vb, vertices, 3 * nv * sizeof(float));
-    std::memcpy(ib, triangles, 3 * nt * sizeof(uint32_t));
+    RTCGeometry geom = NewTriangleGeometry(device, who, vertices, nv, triangles, nt);
     rtcSetGeometryIntersectFilterFunction(geom, &RecordCrossing);
     rtcCommitGeometry(geom);
     const unsigned id = rtcAttachGeometry(rtc_scene_, geom);

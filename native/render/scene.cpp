@@ -177,6 +177,7 @@ void RenderScene::Commit() {
         medium_centres.push_back(d.position);
     }
     medium_centre_selector.Build(powers);
+    BuildWeighedMediumCentres(powers);
     delta_lights_beside_tree.clear();
     soft_lights.clear();
     const std::vector<int> tree_emitters =
@@ -222,6 +223,23 @@ void RenderScene::Commit() {
     features_.soft_lights = !soft_lights.empty();
     features_.transparency = has_transparency;
     committed_ = true;
+}
+
+void RenderScene::BuildWeighedMediumCentres(std::vector<double> powers) {
+    std::vector<uint32_t> order(powers.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = uint32_t(i);
+    const size_t top = std::min(order.size(), kMaxCentresWeighedPerRay);
+    std::partial_sort(order.begin(), order.begin() + std::ptrdiff_t(top), order.end(),
+                      [&](uint32_t a, uint32_t b) { return powers[a] > powers[b]; });
+    medium_centres_weighed.assign(order.begin(), order.begin() + std::ptrdiff_t(top));
+    medium_centre_rest_share = 1;
+    for (uint32_t i : medium_centres_weighed) {
+        medium_centre_rest_share -= medium_centre_selector.pmf[i];
+        powers[i] = 0;
+    }
+    medium_centre_rest_share = std::max(medium_centre_rest_share, 0.0f);
+    medium_centre_rest_selector = {};
+    if (order.size() > top) medium_centre_rest_selector.Build(powers);
 }
 
 void RenderScene::CheckTextureCoordinates() {

@@ -220,6 +220,13 @@ class RenderScene {
     // lights' positions, picked by power (sun excluded: it is infinitely far).
     std::vector<Vec3f> medium_centres;
     LightSelector medium_centre_selector;
+    // The most powerful of them (up to kMaxCentresWeighedPerRay, by decreasing power), which a camera ray through object
+    // volumes weighs by how close it passes (integrator/shade_volume.h, EquiAngularAboutANearLight), and the others,
+    // chosen by power among themselves (their selector; their share of the power, rest_share).
+    static constexpr size_t kMaxCentresWeighedPerRay = 16;
+    std::vector<uint32_t> medium_centres_weighed;
+    LightSelector medium_centre_rest_selector;
+    float medium_centre_rest_share = 0;
     std::vector<DeltaLight> delta_lights;
     // The soft ones among delta_lights (a radius or an angle), which BSDF, phase and camera rays reach.
     std::vector<SoftLightRef> soft_lights;
@@ -239,6 +246,7 @@ class RenderScene {
   private:
     Bsdf MakeMaterialBsdf(const Material& material) const;  // checks it; a mix's layers recursively
     void CheckLookup(const TextureLookup& lookup) const;
+    void BuildWeighedMediumCentres(std::vector<double> powers);  // Commit(): medium_centres_weighed and the rest
     void CheckTextureCoordinates();  // Commit(): warns of meshes a textured material reads without their coordinates
     mutable std::once_flag light_tree_once_;
     mutable LightTree light_tree_;

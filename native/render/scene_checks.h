@@ -3,6 +3,10 @@
 #pragma once
 
 #include <cmath>
+#include <embree3/rtcore.h>
+
+#include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -21,5 +25,15 @@ inline void CheckColor(const std::string& what, const Spectrum& c) {
 inline void CheckVector(const std::string& what, const Vec3f& v) {
     if (!IsFinite(v)) Fail(what + " must be finite");
 }
+
+// A triangle mesh's arrays (3 floats per vertex, 3 indices per triangle), std::invalid_argument naming `who`: not too
+// large, finite vertices inside Embree's range, every index a vertex's (scene_geometry.cpp).
+void CheckTriangleMesh(const std::string& who, const float* vertices, size_t nv, const int32_t* triangles, size_t nt);
+
+// A new Embree triangle geometry holding a copy of the arrays (nt > 0), its buffers in *vertex_buffer and
+// *index_buffer where given (scene_geometry.cpp).
+RTCGeometry NewTriangleGeometry(RTCDevice device, const std::string& who, const float* vertices, size_t nv,
+                                const int32_t* triangles, size_t nt, const float** vertex_buffer = nullptr,
+                                const uint32_t** index_buffer = nullptr);
 
 }  // namespace sphrect::render

@@ -60,11 +60,7 @@ void RenderScene::SetLastMeshObjectInfo(const Vec3f& color, float alpha, float i
     o.color = color, o.alpha = alpha, o.index = index, o.random = random, o.reversed = reversed;
 }
 
-void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
-                          size_t nt, const float* normals, const int32_t* material_ids, const float* uvs,
-                          const float* generated, uint8_t visibility) {
-    RequireNotCommitted();
-    const std::string who = "mesh '" + name + "'";
+void CheckTriangleMesh(const std::string& who, const float* vertices, size_t nv, const int32_t* triangles, size_t nt) {
     if (nv > (size_t(1) << 31) || nt > (size_t(1) << 31)) Fail(who + " is too large");
     // Embree silently drops triangles with a coordinate beyond its valid range, +-1.844e18.
     constexpr float kEmbreeMaxCoordinate = 1.844e18f;
@@ -78,6 +74,34 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
         if (triangles[i] < 0 || size_t(triangles[i]) >= nv)
             Fail(who + ": triangle " + std::to_string(i / 3) + " has vertex index " + std::to_string(triangles[i]) +
                  " outside [0, " + std::to_string(nv) + ")");
+}
+
+RTCGeometry NewTriangleGeometry(RTCDevice device, const std::string& who, const float* vertices, size_t nv,
+                                const int32_t* triangles, size_t nt, const float** vertex_buffer,
+                                const uint32_t** index_buffer) {
+    RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree pads its own buffers for its SIMD loads; one memcpy each.
+    auto* vb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+    auto* ib = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nt));
+    if (!vb || !ib) {
+        rtcReleaseGeometry(geom);
+        throw std::runtime_error(who + ": Embree could not allocate its buffers");
+    }
+    if (nv) std::memcpy(vb, vertices, 3 * nv * sizeof(float));
+    if (nt) std::memcpy(ib, triangles, 3 * nt * sizeof(uint32_t));
+    if (vertex_buffer) *vertex_buffer = vb;
+    if (index_buffer) *index_buffer = ib;
+    return geom;
+}
+
+void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t nv, const int32_t* triangles,
+                          size_t nt, const float* normals, const int32_t* material_ids, const float* uvs,
+                          const float* generated, uint8_t visibility) {
+    RequireNotCommitted();
+    const std::string who = "mesh '" + name + "'";
+    CheckTriangleMesh(who, vertices, nv, triangles, nt);
     MeshData m;
     m.name = name;
     m.num_vertices = nv;
@@ -114,20 +138,7 @@ void RenderScene::AddMesh(const std::string& name, const float* vertices, size_t
     if (visibility > kRayAll) Fail(who + ": visibility has bits beyond the ray kinds'");
     m.visibility = visibility;
     if (nt == 0) return;  // nothing to intersect (Embree refuses empty buffers)
-    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree pads its own buffers for its SIMD loads; one memcpy each.
-    auto* vb = static_cast<float*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-    auto* ib = static_cast<uint32_t*>(
-        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nt));
-    if (!vb || !ib) {
-        rtcReleaseGeometry(geom);
-        throw std::runtime_error(who + ": Embree could not allocate its buffers");
-    }
-    if (nv) std::memcpy(vb, vertices, 3 * nv * sizeof(float));
-    if (nt) std::memcpy(ib, triangles, 3 * nt * sizeof(uint32_t));
-    m.vertices = vb;
-    m.triangles = ib;
+    RTCGeometry geom = NewTriangleGeometry(device_, who, vertices, nv, triangles, nt, &m.vertices, &m.triangles);
     // Every bit for a mesh visible to every ray kind: whatever a ray's mask, it sees it.
     rtcSetGeometryMask(geom, visibility == kRayAll ? 0xffffffffu : visibility);
     rtcCommitGeometry(geom);

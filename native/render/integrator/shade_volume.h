@@ -287,38 +287,49 @@ struct SpanEquiAngular {
 
 static inline float SpanEquiAngularPDF(const SpanEquiAngular& e, float t) { return EquiAngularPDF(e.ea, t - e.a); }
 
-// Past this many lights (equi-angular centres) a camera ray's centre is chosen by power alone, not weighed per ray.
-constexpr size_t kMaxCentresWeighedPerRay = 16;
-
 // The equi-angular sampling of the span o + t d, t in [0, span), about a light chosen with probability proportional to
 // its power times the integral of 1 / r^2 over the span, (theta_b - theta_a) / D: the light the ray passes close to is
-// chosen where it dominates the in-scattering (by power alone, a ray centred on a far spot as often as on a lamp it
-// grazes gained nothing there: docs/study_volumes.md).  By power alone past kMaxCentresWeighedPerRay lights.  The
-// choice depends on the ray only, so each choice's MIS with distance sampling stays unbiased and so does the mixture.
+// chosen where it dominates the in-scattering (by power alone, a ray grazing a lamp was centred on a far spot as often
+// as on the lamp, and gained nothing there: docs/study_volumes.md).  So are the most powerful lights
+// (RenderScene::medium_centres_weighed); the others together weigh their share of the power times the mean of the
+// weighed ones' integrals, and are then chosen by power among themselves.  The choice depends on the ray only, so each
+// choice's MIS with distance sampling stays unbiased and so does the mixture.
 static inline EquiAngular EquiAngularAboutANearLight(const RenderScene& scene, const Vec3f& o, const Vec3f& d,
                                                      float span, float u) {
     const LightSelector& by_power = scene.medium_centre_selector;
     if (by_power.Empty()) return {};
-    const size_t n = scene.medium_centres.size();
-    if (n > kMaxCentresWeighedPerRay) return MakeEquiAngular(o, d, span, scene.medium_centres[by_power.Select(u)]);
-    std::array<EquiAngular, kMaxCentresWeighedPerRay> about;
-    std::array<double, kMaxCentresWeighedPerRay> weight;
-    double total = 0;
-    for (size_t i = 0; i < n; ++i) {
-        about[i] = MakeEquiAngular(o, d, span, scene.medium_centres[i]);
-        weight[i] =
-            about[i].valid ? double(by_power.pmf[i]) * (about[i].theta_b - about[i].theta_a) / about[i].dist : 0;
-        total += weight[i];
+    const std::vector<uint32_t>& weighed = scene.medium_centres_weighed;
+    std::array<EquiAngular, RenderScene::kMaxCentresWeighedPerRay> about;
+    std::array<double, RenderScene::kMaxCentresWeighedPerRay> weight;
+    double total = 0, closeness_sum = 0;
+    int closeness_count = 0;
+    for (size_t k = 0; k < weighed.size(); ++k) {
+        about[k] = MakeEquiAngular(o, d, span, scene.medium_centres[weighed[k]]);
+        weight[k] = 0;
+        if (!about[k].valid) continue;
+        const double closeness = double(about[k].theta_b - about[k].theta_a) / about[k].dist;
+        weight[k] = double(by_power.pmf[weighed[k]]) * closeness;
+        closeness_sum += closeness;
+        ++closeness_count;
+        total += weight[k];
     }
+    const double rest = closeness_count && !scene.medium_centre_rest_selector.Empty()
+                            ? scene.medium_centre_rest_share * closeness_sum / closeness_count
+                            : 0;
+    total += rest;
     if (!(total > 0) || !std::isfinite(total))
         return MakeEquiAngular(o, d, span, scene.medium_centres[by_power.Select(u)]);
-    double acc = 0;
-    for (size_t i = 0; i < n; ++i) {
-        acc += weight[i];
-        if (weight[i] > 0 && double(u) * total < acc) return about[i];
+    double x = double(u) * total;
+    for (size_t k = 0; k < weighed.size(); ++k) {
+        if (weight[k] > 0 && x < weight[k]) return about[k];
+        x -= weight[k];
     }
-    for (size_t i = n; i-- > 0;)  // u * total rounded past the sum
-        if (weight[i] > 0) return about[i];
+    if (rest > 0) {
+        const float u_rest = float(std::clamp(x / rest, 0.0, double(kOneMinusEpsilonF)));
+        return MakeEquiAngular(o, d, span, scene.medium_centres[scene.medium_centre_rest_selector.Select(u_rest)]);
+    }
+    for (size_t k = weighed.size(); k-- > 0;)  // x rounded past the last weight
+        if (weight[k] > 0) return about[k];
     return {};
 }
 

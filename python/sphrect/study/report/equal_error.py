@@ -157,6 +157,19 @@ def selection_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: 
     return out
 
 
+def top_common_samples(runs) -> Optional[int]:
+    """The largest sample count every curve of `runs` (name -> curve) measured: where the comparisons of a study axis
+    (ellipse techniques, medium samplings) compare them; None where a curve is missing or they share none."""
+    if not all(runs.values()):
+        return None
+    common = set.intersection(*({r["job"]["samples"] for r in c} for c in runs.values()))
+    return max(common) if common else None
+
+
+def rmse_at(curve, samples: int) -> float:
+    return next(r["rmse"] for r in curve if r["job"]["samples"] == samples)
+
+
 @dataclass(frozen=True)
 class EllipseCurve:
     """One ellipse technique's curve, as the disk finding measures it."""
@@ -228,17 +241,14 @@ def ellipse_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: fl
                     runs = {e: all_curves.get(CurveKey(technique, mis, pattern, selection, e,
                                                        cfg.findings_medium_sampling), [])
                             for e in cfg.ellipse_techniques}
-                    if not all(runs.values()):
+                    n = top_common_samples(runs)
+                    if n is None:
                         continue
-                    common = set.intersection(*({r["job"]["samples"] for r in c} for c in runs.values()))
-                    if not common:
-                        continue
-                    n = max(common)
                     measures = {}
                     for e, curve in runs.items():
                         cost, cost_error = curve_cost(curve)
                         measures[e] = EllipseCurve(
-                            next(r["rmse"] for r in curve if r["job"]["samples"] == n),
+                            rmse_at(curve, n),
                             fitted_slope(curve, "samples", reference_rmse), cost, cost_error,
                             time_to_target(curve, target, reference_rmse) if target is not None else None)
                     out.append(EllipseComparison(technique, mis, pattern, selection, n, measures, cycles_time))
@@ -302,17 +312,14 @@ def medium_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: flo
                     for technique in cfg.techniques:
                         runs = {v: all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse, v), [])
                                 for v in cfg.medium_samplings}
-                        if not all(runs.values()):
+                        n = top_common_samples(runs)
+                        if n is None:
                             continue
-                        common = set.intersection(*({r["job"]["samples"] for r in c} for c in runs.values()))
-                        if not common:
-                            continue
-                        n = max(common)
                         measures = {}
                         for v, curve in runs.items():
                             cost, cost_error = curve_cost(curve)
                             measures[v] = MediumCurve(
-                                next(r["rmse"] for r in curve if r["job"]["samples"] == n), cost, cost_error,
+                                rmse_at(curve, n), cost, cost_error,
                                 time_to_target(curve, target, reference_rmse) if target is not None else None)
                         out.append(MediumComparison(technique, mis, pattern, selection, ellipse, n, measures,
                                                     cycles_samples, cycles_time))
