@@ -163,6 +163,29 @@ def test_a_box_around_the_scene_renders_as_the_world_medium():
     assert ok, f"behind a transparent sheet, the box differs from the world medium, worst p = {p:.3g}"
 
 
+@pytest.mark.slow
+def test_equiangular_centres_weighed_and_lumped_agree_with_the_world_medium():
+    """More lights than a camera ray weighs one by one (an emissive strip of 40 triangles beside the scene's two
+    lights): the weighed and the lumped centres of the box's equi-angular sampling against the world medium's power
+    choice (per-pixel Welch tests)."""
+    ss, sa, g = (0.25, 0.3, 0.35), (0.05, 0.02, 0.0), 0.3
+    world = medium_scene(ss, sa, g)
+    xs = np.linspace(-1.5, 1.5, 21)
+    strip = sphrect.Mesh(vertices=np.array([[x, 1.2, z] for x in xs for z in (0.05, 0.25)], np.float32),
+                         triangles=np.array([t for i in range(20) for t in ((2 * i, 2 * i + 2, 2 * i + 3),
+                                                                           (2 * i, 2 * i + 3, 2 * i + 1))], np.int32),
+                         material_ids=np.full(40, 1, np.int32), name="strip")
+    lamp = sphrect.Material(name="lamp", emission=(2.0, 1.5, 1.0), base_color=(0, 0, 0))
+    world = sphrect.Scene(camera=world.camera, meshes=world.meshes + [strip], lights=world.lights, world=world.world,
+                          materials=world.materials + [lamp])
+    boxed = enclosed(world, [box_volume((-50, -50, -50), (50, 50, 50), ss, sa, g)])
+    for ms in ("equiangular", "mis"):
+        a = replicate_images(world, ["rectangle"], 8, 32, medium_sampling=ms, first_seed=1000)["rectangle"]
+        b = replicate_images(boxed, ["rectangle"], 8, 32, medium_sampling=ms, first_seed=2000)["rectangle"]
+        ok, p = welch_agree(a, b, FAMILY_ALPHA / 2)
+        assert ok, f"{ms}: the box differs from the world medium with many lights, worst p = {p:.3g}"
+
+
 def test_a_volume_the_rays_never_reach_changes_nothing():
     # Far off to the side: every ray misses its bounds (no walk), and the image is the volume-free one exactly.
     free = medium_scene(None, None)
