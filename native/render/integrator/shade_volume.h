@@ -13,6 +13,7 @@
 #include "camera_stage.h"
 #include "emitters.h"
 #include "render/medium.h"
+#include "render/medium_stretches.h"
 #include "render/object_volumes.h"
 
 namespace sphrect::render {
@@ -131,11 +132,6 @@ static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint
     if (c.environment) QueueMediumEnvironmentSample(c, sp, light_point, out);
 }
 
-// A scattering distance on the camera ray's segment [0, t_end) and its pdf (0: none).
-struct ScatterDistance {
-    float t = 0, pdf = 0;
-};
-
 // Distance sampling: t ~ sigma exp(-sigma t), kept inside the segment.
 static inline ScatterDistance SampleDistanceByTransmittance(const HomogeneousMedium& med, float t_end, float u) {
     const float t = SampleExponentialDistance(med.sigma_sampling, u);
@@ -208,76 +204,6 @@ static inline void ShadeVolume(const ShadeContext& c, const PrimaryHit& ph, cons
 }
 
 // --- Object volumes: the camera ray's stretches through media (object_volumes.h) -----------------------------------
-
-// A stretch [t0, t1) of the camera ray in media (the volumes' coefficients plus the world medium's), with the optical
-// depths before it: tau0 per channel (transmittance) and tau_sampling0 of the distance sampling's extinction.
-struct MediumStretch {
-    float t0, t1;
-    VolumeCoefficients k;
-    float sigma_sampling;  // mean of k.sigma_t's channels
-    Spectrum tau0;
-    float tau_sampling0;
-};
-
-// The stretches of [0, t_end) where the medium is not empty, in order.
-struct MediumStretches {
-    int count = 0;
-    std::array<MediumStretch, kMaxVolumeSegments> stretch;
-
-    // The stretch holding t, or null.
-    const MediumStretch* At(float t) const {
-        for (int i = 0; i < count; ++i)
-            if (t >= stretch[i].t0 && t < stretch[i].t1) return &stretch[i];
-        return nullptr;
-    }
-};
-
-static inline VolumeCoefficients WithWorldMedium(const RenderScene& scene, const VolumeCoefficients& v) {
-    if (!scene.has_medium) return v;
-    const HomogeneousMedium& m = scene.medium;
-    const float wv = Average(v.sigma_s), wm = Average(m.sigma_s);
-    return {v.sigma_s + m.sigma_s, v.sigma_t + m.sigma_t, wv + wm > 0 ? (wv * v.g + wm * m.g) / (wv + wm) : 0};
-}
-
-static inline MediumStretches MakeMediumStretches(const RenderScene& scene, const VolumeSegments& segments,
-                                                  float t_end) {
-    MediumStretches out;
-    Spectrum tau;
-    float tau_sampling = 0;
-    for (int i = 0; i < segments.count && segments.segment[i].t0 < t_end; ++i) {
-        const VolumeSegment& seg = segments.segment[i];
-        const VolumeCoefficients k = WithWorldMedium(scene, seg.coefficients);
-        if (IsBlack(k.sigma_t)) continue;
-        const float t1 = std::min(seg.t1, t_end), sigma_sampling = Average(k.sigma_t);
-        out.stretch[out.count++] = {seg.t0, t1, k, sigma_sampling, tau, tau_sampling};
-        tau += k.sigma_t * (t1 - seg.t0);  // inf past an open end: only ever read through exp(-tau)
-        tau_sampling += sigma_sampling * (t1 - seg.t0);
-    }
-    return out;
-}
-
-// Transmittance from the camera to t inside stretch s.
-static inline Spectrum TransmittanceInStretch(const MediumStretch& s, float t) {
-    const Spectrum tau = s.tau0 + s.k.sigma_t * (t - s.t0);
-    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
-}
-
-// Distance sampling through the stretches: t with density sigma_sampling(t) exp(-its optical depth to t).
-static inline ScatterDistance SampleDistanceThroughStretches(const MediumStretches& st, float u) {
-    const float tau = -std::log1p(-u);
-    for (int i = 0; i < st.count; ++i) {
-        const MediumStretch& s = st.stretch[i];
-        const float t = s.t0 + (tau - s.tau_sampling0) / s.sigma_sampling;
-        if (t < s.t1) return {t, s.sigma_sampling * std::exp(-tau)};
-    }
-    return {};
-}
-
-static inline float DistanceThroughStretchesPDF(const MediumStretches& st, float t) {
-    const MediumStretch* s = st.At(t);
-    if (!s) return 0;
-    return s->sigma_sampling * std::exp(-(s->tau_sampling0 + s->sigma_sampling * (t - s->t0)));
-}
 
 // Equi-angular sampling of [a, b) (the stretches' span) about `centre`; t is measured from the camera.
 struct SpanEquiAngular {
@@ -357,7 +283,7 @@ template <Technique K>
                                                  uint64_t& light_ticks) {
     const RenderScene& scene = c.scene;
     const Ray& ray = ph.ray;
-    const MediumStretches st = MakeMediumStretches(scene, media.volumes, ph.t_end);
+    const MediumStretches st = MakeMediumStretches(media.volumes, ph.t_end, scene.has_medium ? &scene.medium : nullptr);
     if (st.count == 0) return;
     const float a = st.stretch[0].t0, b = st.stretch[st.count - 1].t1;
     const MisMode strategy_mis = c.mis == MisMode::None ? MisMode::Balance : c.mis;
