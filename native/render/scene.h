@@ -220,9 +220,9 @@ class RenderScene {
     // lights' positions, picked by power (sun excluded: it is infinitely far).
     std::vector<Vec3f> medium_centres;
     LightSelector medium_centre_selector;
-    // The most powerful of them (up to kMaxCentresWeighedPerRay, by decreasing power), which a camera ray through object
-    // volumes weighs by how close it passes (integrator/shade_volume.h, EquiAngularAboutANearLight), and the others,
-    // chosen by power among themselves (their selector; their share of the power, rest_share).
+    // The most powerful of them (up to kMaxCentresWeighedPerRay, by decreasing power), which a camera ray through
+    // object volumes weighs by how close it passes (integrator/shade_volume.h, EquiAngularAboutANearLight), and the
+    // others, chosen by power among themselves (their selector; their share of the power, rest_share).
     static constexpr size_t kMaxCentresWeighedPerRay = 16;
     std::vector<uint32_t> medium_centres_weighed;
     LightSelector medium_centre_rest_selector;

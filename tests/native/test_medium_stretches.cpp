@@ -41,17 +41,17 @@ TEST(MediumStretches, DistanceSamplesFollowTheirPdf) {
         std::vector<double> edges;
         for (int k = 0; k <= 90; ++k) edges.push_back(end * k / 90.0);
         int mismatched = 0;
-        const ChiSquare chi2 = IntervalSamplingChiSquare(
-            [&](float t) { return DistanceThroughStretchesPDF(st, t); },
-            [&](float u, float* t) {
-                const ScatterDistance d = SampleDistanceThroughStretches(st, u);
-                if (!(d.pdf > 0)) return false;
-                const float pdf = DistanceThroughStretchesPDF(st, d.t);
-                mismatched += std::abs(pdf - d.pdf) > 1e-4f * pdf;
-                *t = d.t;
-                return true;
-            },
-            rng, edges, 16, 400000);
+        const ChiSquare chi2 = IntervalSamplingChiSquare([&](float t) { return DistanceThroughStretchesPDF(st, t); },
+                                                         [&](float u, float* t) {
+                                                             const ScatterDistance d =
+                                                                 SampleDistanceThroughStretches(st, u);
+                                                             if (!(d.pdf > 0)) return false;
+                                                             const float pdf = DistanceThroughStretchesPDF(st, d.t);
+                                                             mismatched += std::abs(pdf - d.pdf) > 1e-4f * pdf;
+                                                             *t = d.t;
+                                                             return true;
+                                                         },
+                                                         rng, edges, 16, 400000);
         EXPECT_EQ(mismatched, 0) << c.t_end;
         ASSERT_GT(chi2.cells, 40) << c.t_end;
         EXPECT_LT(chi2.statistic, ChiSquareQuantile(chi2.cells - 1, 4.753)) << c.t_end << ", " << chi2.cells;
