@@ -66,7 +66,8 @@ def best_times(bins, rounds, filt):
 
 
 def rows(best, names):
-    """(case name, mis, light samples, raw, render, rays + sampler or None) for every measured case."""
+    """(case name, mis, light samples, raw, render or None, rays + sampler or None) for every measured case
+    (a case without a render, BM_DiskRaysAndSampler's map everywhere, has rays + sampler)."""
     for family, render_args in FAMILIES:
         for ls in (1, 4):
             for mis in (0, 1):
@@ -76,7 +77,7 @@ def rows(best, names):
                     raw = best.get(f"BM_{family}RawEmbree/{t}/{mis}/{ls}/manual_time")
                     ren = best.get(f"BM_{family}Render/{t}/{mis}/{render_args}{ls}/manual_time")
                     floor = best.get(f"BM_{family}RaysAndSampler/{t}/{ls}/manual_time") if not mis else None
-                    if raw and ren:
+                    if raw and (ren or floor):
                         yield name, "balance" if mis else "none", ls, raw, ren, floor
 
 
@@ -99,24 +100,26 @@ def report_one(binary, rounds, markdown):
         print("| " + " | ".join(header) + " |")
         print("|" + "---|" * len(header))
     else:
-        print(f"{'case':40s} {'MIS':7s} ls | {'raw':>5s} {'rays+smp':>8s} {'render':>7s} | {'smp/raw':>7s} "
+        print(f"{'case':46s} {'MIS':7s} ls | {'raw':>5s} {'rays+smp':>8s} {'render':>7s} | {'smp/raw':>7s} "
               f"{'ren/raw':>7s} {'own':>5s} | {'goal ren/raw':14s} {'goal smp/raw':14s}"
               f"   (ns per camera sample; own = render - (rays + sampler), goal <= {OWN_WORK_GOAL_NS})")
     samplers = {}
     for name, mis, ls, raw, ren, floor in rows(best, names):
-        r, n = raw["build"], ren["build"]
+        r = raw["build"]
+        n = ren["build"] if ren else None
         f = floor["build"] if floor else None
         if f is not None and ls == 1:
             samplers[name] = f - r
         goal_render, goal_floor = GOALS.get((name, mis, ls), (None, None))
-        cells = (f"{f:.0f}" if f else "", f"{f / r:.2f}" if f else "", f"{n - f:.0f}" if f else "",
-                 goal_cell(n / r, goal_render, markdown), goal_cell(f / r, goal_floor, markdown) if f else "")
+        cells = (f"{f:.0f}" if f else "", f"{n:.0f}" if n else "", f"{f / r:.2f}" if f else "",
+                 f"{n / r:.2f}" if n else "", f"{n - f:.0f}" if f and n else "",
+                 goal_cell(n / r, goal_render, markdown) if n else "",
+                 goal_cell(f / r, goal_floor, markdown) if f else "")
         if markdown:
-            print(f"| {name} | {mis} | {ls} | {r:.0f} | {cells[0]} | {n:.0f} | {cells[1]} | {n / r:.2f} | {cells[2]} | "
-                  f"{cells[3]} | {cells[4]} |")
+            print(f"| {name} | {mis} | {ls} | {r:.0f} | " + " | ".join(cells) + " |")
         else:
-            print(f"{name:40s} {mis:7s} {ls}  | {r:5.0f} {cells[0]:>8s} {n:7.0f} | {cells[1]:>7s} {n / r:7.2f} "
-                  f"{cells[2]:>5s} | {cells[3]:14s} {cells[4]:14s}")
+            print(f"{name:46s} {mis:7s} {ls}  | {r:5.0f} {cells[0]:>8s} {cells[1]:>7s} | {cells[2]:>7s} {cells[3]:>7s} "
+                  f"{cells[4]:>5s} | {cells[5]:14s} {cells[6]:14s}")
     if "rectangle_projected" in samplers and samplers.get("rectangle", 0) > 0:
         ratio = samplers["rectangle_projected"] / samplers["rectangle"]
         print(f"\nrectangle_projected's sampler (rays + sampler - raw, 1 light sample) / the rectangle's: "
@@ -129,7 +132,7 @@ def report_ab(old, new, rounds, filt):
     print(f"{'technique':30s} {'MIS':7s} ls | {'old: raw':>8s} {'render':>7s} {'ratio':>5s} | "
           f"{'new: raw':>8s} {'render':>7s} {'ratio':>5s} | speed-up   (ns per camera sample)")
     for name, mis, ls, raw, ren, _ in rows(best, names):
-        if len(raw) < 2 or len(ren) < 2:
+        if len(raw) < 2 or not ren or len(ren) < 2:
             continue
         print(f"{name:30s} {mis:7s} {ls}  | {raw['old']:8.0f} {ren['old']:7.0f} {ren['old'] / raw['old']:5.2f} | "
               f"{raw['new']:8.0f} {ren['new']:7.0f} {ren['new'] / raw['new']:5.2f} | {ren['old'] / ren['new']:5.2f}x")

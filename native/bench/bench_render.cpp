@@ -31,7 +31,8 @@
 //  BM_DiskRender/<ellipse technique>/<mis>/<light samples>, BM_DiskRawEmbree/<same>, BM_DiskRaysAndSampler/<ellipse
 //  technique>/<light samples>
 //                                the same three on the disk-light variant of the scene (a disk of the rectangle's
-//                                area, radiance and sides), by kAllEllipseTechniques (area, spherical_ellipse).
+//                                area, radiance and sides), by kAllEllipseTechniques (area, spherical_ellipse);
+//                                raw and rays + sampler also with index 2, the map at every point (kDiskMapEverywhere).
 //  BM_GlossyRender/<technique>/<mis>/<light samples>, BM_GlossyRawEmbree/<same>, BM_GlossyRaysAndSampler/<technique>/
 //  <light samples>               the same three on the glossy + textured variant (GGX spheres of roughness 0.3,
 //                                the ground's colour from a texture), rectangle only.
@@ -503,31 +504,57 @@ BENCHMARK(BM_RaysAndSampler)
 // The disk scene (kDiskLight): the renderer with each ellipse technique, its raw rays and its rays + sampler, as
 // BM_Render / BM_RawEmbree / BM_RaysAndSampler (the ellipse sampling is the renderer's own EllipseSamplingAt).
 // Labels "<ellipse technique> (disk scene)/...".
-std::string DiskLabel(EllipseTechnique e) { return std::string(EllipseTechniqueName(e)) + " (disk scene)"; }
+// Index 2 of BM_DiskRawEmbree / BM_DiskRaysAndSampler (no render: the renderer cannot be told to): the core's
+// spherical ellipse map at every shading point, without the renderer's area fallback where area sampling is
+// nearly uniform (core/ellipse_map_choice.h, which in this scene takes almost every point: counter map_share):
+// what the map itself costs.
+constexpr int kDiskMapEverywhere = 2;
+
+std::string DiskLabel(int index) {
+    if (index == kDiskMapEverywhere) return "spherical_ellipse map everywhere (disk scene)";
+    return std::string(EllipseTechniqueName(kAllEllipseTechniques[index])) + " (disk scene)";
+}
+
+// f(make_sampling) with the disk scene's light sampling number `index` (see kDiskMapEverywhere).
+template <class F>
+decltype(auto) DispatchDiskSampling(const RenderScene& s, int index, F&& f) {
+    if (index != kDiskMapEverywhere) return f(EllipseSamplingOf(s, kAllEllipseTechniques[index]));
+    const EllipseLightFrame<float>* frame = &s.area_lights[0].ellipse_frame;
+    return f([frame](const Vec3f& p, const Vec3f& n) {
+        return EllipseSampler<EllipseTechnique::SphericalEllipse, float>(p, n, *frame);
+    });
+}
 
 void BM_DiskRender(benchmark::State& state) {
-    const EllipseTechnique e = kAllEllipseTechniques[state.range(0)];
     RenderOptions o = BenchOptions(Technique::Rectangle, state.range(1) != 0, Pattern::Sobol, int(state.range(2)));
-    o.ellipse_technique = e;
+    o.ellipse_technique = kAllEllipseTechniques[state.range(0)];
     RenderCase(state, DiskScene(), o,
-               DiskLabel(e) + MisLabel(o.mis == MisMode::Balance) + "/" + PatternName(o.pattern) +
+               DiskLabel(int(state.range(0))) + MisLabel(o.mis == MisMode::Balance) + "/" + PatternName(o.pattern) +
                    "/ls=" + std::to_string(o.light_samples));
 }
 void BM_DiskRawEmbree(benchmark::State& state) {
     const RenderScene& s = *DiskScene();
-    const EllipseTechnique e = kAllEllipseTechniques[state.range(0)];
     const bool mis = state.range(1) != 0;
     const int light_samples = int(state.range(2));
-    RawEmbreeCase(state, s, MakeRawRays(s, mis, light_samples, EllipseSamplingOf(s, e)),
-                  DiskLabel(e) + MisLabel(mis) + "/ls=" + std::to_string(light_samples));
+    const RawRays rays_in = DispatchDiskSampling(
+        s, int(state.range(0)), [&](const auto& sampling) { return MakeRawRays(s, mis, light_samples, sampling); });
+    RawEmbreeCase(state, s, rays_in,
+                  DiskLabel(int(state.range(0))) + MisLabel(mis) + "/ls=" + std::to_string(light_samples));
 }
 void BM_DiskRaysAndSampler(benchmark::State& state) {
     const RenderScene& s = *DiskScene();
-    const EllipseTechnique e = kAllEllipseTechniques[state.range(0)];
     const int light_samples = int(state.range(1));
-    const auto sampling = EllipseSamplingOf(s, e);
-    RaysAndSamplerCase(state, s, MakeRawRays(s, false, light_samples, sampling), light_samples, sampling,
-                       DiskLabel(e) + "/no-mis/ls=" + std::to_string(light_samples));
+    DispatchDiskSampling(s, int(state.range(0)), [&](const auto& sampling) {
+        const RawRays rays_in = MakeRawRays(s, false, light_samples, sampling);
+        RaysAndSamplerCase(state, s, rays_in, light_samples, sampling,
+                           DiskLabel(int(state.range(0))) + "/no-mis/ls=" + std::to_string(light_samples));
+        // The share of shading points where spherical_ellipse runs its map (elsewhere it samples by area, no setup).
+        size_t mapped = 0;
+        for (const RawRays::ShadingPoint& sp : rays_in.points)
+            mapped += !EllipseAreaSamplingSuffices(sp.p, s.area_lights[0].ellipse_frame);
+        state.counters["map_share"] =
+            benchmark::Counter(double(mapped) / double(std::max<size_t>(rays_in.points.size(), 1)));
+    });
 }
 BENCHMARK(BM_DiskRender)
     ->ArgsProduct({{0, 1}, {0, 1}, {1}})
@@ -539,8 +566,13 @@ BENCHMARK(BM_DiskRawEmbree)
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_DiskRawEmbree)
+    ->Args({kDiskMapEverywhere, 0, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
 BENCHMARK(BM_DiskRaysAndSampler)
-    ->ArgsProduct({{0, 1}, {1}})
+    ->ArgsProduct({{0, 1, kDiskMapEverywhere}, {1}})
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
