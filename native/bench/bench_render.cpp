@@ -28,6 +28,14 @@
 //                                The floor for any renderer that calls this core's samplers
 //                                (ab_bench_render.py BUILD/bench_render prints it next to the
 //                                raw rays and the render).
+//  BM_DiskRender/<ellipse technique>/<mis>/<light samples>, BM_DiskRawEmbree/<same>, BM_DiskRaysAndSampler/<ellipse
+//  technique>/<light samples>
+//                                the same three on the disk-light variant of the scene (a disk of the rectangle's
+//                                area, radiance and sides), by kAllEllipseTechniques (area, spherical_ellipse);
+//                                raw and rays + sampler also with index 2, the map at every point (kDiskMapEverywhere).
+//  BM_GlossyRender/<technique>/<mis>/<light samples>, BM_GlossyRawEmbree/<same>, BM_GlossyRaysAndSampler/<technique>/
+//  <light samples>               the same three on the glossy + textured variant (GGX spheres of roughness 0.3,
+//                                the ground's colour from a texture), rectangle only.
 //  BM_DiffuseKernel/<forced>     the diffuse scene with the kernel the scene selects (0: no medium,
 //                                glossy or lens code at all, i.e. exactly a renderer built without
 //                                them) and with the kernel that has medium + glossy + depth of field
@@ -50,9 +58,11 @@
 #include <string>
 #include <vector>
 
+#include "core/ellipse_technique.h"
 #include "core/rng.h"
 #include "core/technique.h"
 #include "render/embree_rays.h"
+#include "render/integrator/ellipse_sampling_at.h"
 #include "render/renderer.h"
 #include "render/sampling_util.h"
 #include "render/scene.h"
@@ -62,8 +72,8 @@ namespace {
 
 constexpr int kWidth = 96, kHeight = 72, kSamples = 4;
 
-// UV sphere: (rings - 1) * segments * 2 triangles (approximately).
-void AddSphere(RenderScene& s, const Vec3f& c, float r, int rings, int segments) {
+// UV sphere: (rings - 1) * segments * 2 triangles (approximately), of material `material`.
+void AddSphere(RenderScene& s, const Vec3f& c, float r, int rings, int segments, int32_t material) {
     std::vector<float> v;
     std::vector<int32_t> t;
     for (int i = 0; i <= rings; ++i) {
@@ -81,7 +91,9 @@ void AddSphere(RenderScene& s, const Vec3f& c, float r, int rings, int segments)
             if (i > 0) t.insert(t.end(), {a, b, d});
             if (i < rings - 1) t.insert(t.end(), {a, d, cc});
         }
-    s.AddMesh("sphere", v.data(), v.size() / 3, t.data(), t.size() / 3, nullptr, nullptr);
+    // (No ids for material 0: the scenes of the older benchmarks stay exactly as they were.)
+    const std::vector<int32_t> ids(material ? t.size() / 3 : 0, material);
+    s.AddMesh("sphere", v.data(), v.size() / 3, t.data(), t.size() / 3, nullptr, material ? ids.data() : nullptr);
 }
 
 // Bumpy ground: an n x n grid over [-h, h]^2, z = a sin(3x) sin(3y) (2 n^2 triangles).
@@ -111,9 +123,21 @@ bool DenseScene() {
 // What BenchScene adds before it commits the scene (a medium, volumes), or nothing.
 using SceneExtras = void (*)(RenderScene&);
 
-// textured: the material's base colour read from a 1 x 1 image (the lookup, the material rebuilt per hit and
-// the vertex fetch for the texture coordinates are paid; the meshes have no UVs, so (0, 0) is read).
-std::shared_ptr<RenderScene> BenchScene(bool textured = false, SceneExtras extras = nullptr) {
+// The bench scene's variants (flags, combined with |):
+//  kTextured      the ground's base colour read from a 1 x 1 image (the lookup, the material rebuilt per hit and
+//                 the vertex fetch for the texture coordinates are paid; the meshes have no UVs, so (0, 0) is read);
+//                 without kGlossySpheres the spheres share the ground's material, so they are textured too.
+//  kGlossySpheres the spheres in a Principled BSDF (GGX) of roughness 0.3: the glossy kernel.
+//  kDiskLight     the rectangle light replaced by a disk of the same area, radiance (hence power) and sides,
+//                 standing on the ground where the rectangle stands and facing the same way.
+enum SceneFlags { kTextured = 1, kGlossySpheres = 2, kDiskLight = 4 };
+
+// The rectangle light: corner, edges (normal ex x ey = -y: towards the spheres), radiance, two-sided, unseen.
+const Vec3f kLightCorner{-1.0f, 1.6f, 0.02f}, kLightEx{2.0f, 0, 0}, kLightEy{0, 0, 1.2f};
+const Spectrum kLightRadiance{6, 6, 6};
+
+std::shared_ptr<RenderScene> BenchScene(int flags = 0, SceneExtras extras = nullptr) {
+    const bool textured = flags & kTextured;
     auto s = std::make_shared<RenderScene>();
     CameraModel c;
     c.width = kWidth;
@@ -130,6 +154,15 @@ std::shared_ptr<RenderScene> BenchScene(bool textured = false, SceneExtras extra
         lookup.image = s->AddImage("grey", 1, 1, 3, nullptr, grey, false);
     }
     s->AddMaterial(ground);
+    int32_t sphere_material = 0;
+    if (flags & kGlossySpheres) {
+        Material glossy;
+        glossy.name = "glossy";
+        glossy.kind = MaterialKind::kPrincipled;
+        glossy.inputs.base_color = {0.6f, 0.6f, 0.6f};
+        glossy.inputs.roughness = 0.3f;
+        sphere_material = s->AddMaterial(glossy);
+    }
     const bool dense = DenseScene();
     if (dense) {
         AddBumpyGround(*s, 6.0f, 190, 0.04f);  // 72.2k triangles
@@ -140,8 +173,15 @@ std::shared_ptr<RenderScene> BenchScene(bool textured = false, SceneExtras extra
     }
     const Vec3f centres[] = {{-1.2f, -0.5f, 0.5f}, {0.2f, -1.0f, 0.6f}, {1.3f, 0.2f, 0.45f}, {-0.3f, 0.7f, 0.4f}};
     const int rings = dense ? 56 : 112;  // 4 x 6.1k or 4 x 24.9k triangles
-    for (const Vec3f& ct : centres) AddSphere(*s, ct, ct.z, rings, rings);
-    s->AddRectLight({-1.0f, 1.6f, 0.02f}, {2.0f, 0, 0}, {0, 0, 1.2f}, {6, 6, 6}, true, false);
+    for (const Vec3f& ct : centres) AddSphere(*s, ct, ct.z, rings, rings, sphere_material);
+    if (flags & kDiskLight) {
+        const float area = Length(Cross(kLightEx, kLightEy)), radius = std::sqrt(area / kPi);
+        const Vec3f centre(kLightCorner.x + 0.5f * kLightEx.x, kLightCorner.y, kLightCorner.z + radius);
+        s->AddEllipseLight(centre, Normalize(kLightEx) * radius, Normalize(kLightEy) * radius, kLightRadiance, true,
+                           false);
+    } else {
+        s->AddRectLight(kLightCorner, kLightEx, kLightEy, kLightRadiance, true, false);
+    }
     if (extras) extras(*s);
     s->Commit();
     return s;
@@ -160,21 +200,35 @@ const std::shared_ptr<RenderScene>& Scene() {
     static const std::shared_ptr<RenderScene> scene = BenchScene();
     return scene;
 }
+const std::shared_ptr<RenderScene>& DiskScene() {
+    static const std::shared_ptr<RenderScene> scene = BenchScene(kDiskLight);
+    return scene;
+}
+const std::shared_ptr<RenderScene>& GlossyScene() {
+    static const std::shared_ptr<RenderScene> scene = BenchScene(kTextured | kGlossySpheres);
+    return scene;
+}
 
-void BM_Render(benchmark::State& state) {
+// The options of BM_Render and its scene variants: one thread, power light selection.
+RenderOptions BenchOptions(Technique technique, bool mis, Pattern pattern, int light_samples) {
     RenderOptions o;
-    o.mis = MisMode::Balance;  // what these measure (not the defaults)
-    o.light_selection = LightSelection::Power;
-    o.techniques = {kAllTechniques[state.range(0)]};
-    o.mis = state.range(1) ? MisMode::Balance : MisMode::None;
+    o.light_selection = LightSelection::Power;  // what these measure (not the defaults)
+    o.techniques = {technique};
+    o.mis = mis ? MisMode::Balance : MisMode::None;
     o.threads = 1;
-    o.pattern = kAllPatterns[state.range(2)];
-    o.light_samples = int(state.range(3));
+    o.pattern = pattern;
+    o.light_samples = light_samples;
+    return o;
+}
+
+// Renders `scene` with `o` per iteration; the label names the case.
+void RenderCase(benchmark::State& state, const std::shared_ptr<RenderScene>& scene, const RenderOptions& o,
+                const std::string& label) {
     uint64_t rays = 0, samples = 0;
     double light = 0, total = 0;
     for (auto _ : state) {
         const double t0 = ProcessCpuSeconds();
-        Renderer r(Scene(), o);
+        Renderer r(scene, o);
         r.Render(kSamples);
         state.SetIterationTime(ProcessCpuSeconds() - t0);
         const TechniqueStats st = r.Stats(0);
@@ -183,18 +237,27 @@ void BM_Render(benchmark::State& state) {
         light += st.light_time;
         total += st.light_time + st.shading_time + st.camera_time;
     }
-    state.SetLabel(std::string(TechniqueName(o.techniques[0])) + (o.mis == MisMode::None ? "/no-mis/" : "/balance/") +
-                   PatternName(o.pattern) + "/ls=" + std::to_string(o.light_samples));
+    state.SetLabel(label);
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
     state.counters["s/sample"] =
         benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
     state.counters["light_frac"] = benchmark::Counter(light / total);
-    state.counters["triangles"] = benchmark::Counter(double(Scene()->NumTriangles()));
+    state.counters["triangles"] = benchmark::Counter(double(scene->NumTriangles()));
+}
+
+std::string MisLabel(bool mis) { return mis ? "/balance" : "/no-mis"; }
+
+void BM_Render(benchmark::State& state) {
+    const RenderOptions o = BenchOptions(kAllTechniques[state.range(0)], state.range(1) != 0,
+                                         kAllPatterns[state.range(2)], int(state.range(3)));
+    RenderCase(state, Scene(), o,
+               std::string(TechniqueName(o.techniques[0])) + MisLabel(o.mis == MisMode::Balance) + "/" +
+                   PatternName(o.pattern) + "/ls=" + std::to_string(o.light_samples));
 }
 // Sobol' (the default pattern) for every technique; the area technique also with independent
 // samples, to show what the pattern costs; and 4 light samples per camera sample.
 BENCHMARK(BM_Render)
-    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}, {1}})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}, {4}, {1}})
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
@@ -204,7 +267,7 @@ BENCHMARK(BM_Render)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
 BENCHMARK(BM_Render)
-    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {4}, {4}})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}, {4}, {4}})
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
@@ -233,8 +296,33 @@ void AddShadowRay(const Vec3f& origin, const Vec3f& n, const LightSample<float>&
         out.push_back(MakeRTCRay(origin, ls.dir, 0, ShadowRayLength(ls.dist)));
 }
 
+// The light sampling of the scene's one light at a shading point, as the renderer does it: a rectangle technique's
+// sampler (core/technique.h), or for an ellipse light the renderer's own EllipseSamplingAt (its area fallback
+// where the map cannot pay, its setup kept for the point's samples).  make(p, n) -> an object with Valid() and
+// Sample(uv).
 template <Technique K>
-RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
+auto RectSampling(const RenderScene& s) {
+    const RectLightFrame<float>* frame = &s.area_lights[0].frame;
+    return [frame](const Vec3f& p, const Vec3f& n) { return LightSampler<K, float>(p, n, *frame); };
+}
+
+struct EllipseSampling {
+    const AreaLight* light;
+    Vec3f origin;
+    EllipseSamplingAt at;
+    bool Valid() const { return true; }  // (an invalid setup's samples have pdf 0)
+    LightSample<float> Sample(Point2<float> u) { return at.Sample(*light, 0, origin, u); }
+};
+
+auto EllipseSamplingOf(const RenderScene& s, EllipseTechnique technique) {
+    const AreaLight* light = &s.area_lights[0];
+    return [light, technique](const Vec3f& p, const Vec3f&) {
+        return EllipseSampling{light, p, EllipseSamplingAt(technique)};
+    };
+}
+
+template <class MakeSampling>
+RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples, MakeSampling make_sampling) {
     const AreaLight& light = s.area_lights[0];
     RawRays out;
     PCG32 rng(1);
@@ -252,7 +340,7 @@ RawRays MakeRawRays(const RenderScene& s, bool mis, int light_samples) {
         const Vec3f p = ray.o + ray.d * rh.ray.tfar;
         const Vec3f origin = OffsetOrigin(p, n);
         out.points.push_back({p, n, origin});
-        const LightSampler<K, float> sampler(p, n, light.frame);
+        auto sampler = make_sampling(p, n);
         const Frame frame = Frame::FromZ(n);
         for (int j = 0; j < light_samples; ++j) {
             const float u = rng.NextFloat(), v = rng.NextFloat();
@@ -298,13 +386,8 @@ uint64_t TraceShadowRays(const RenderScene& s, RTCRay* rays, size_t n) {
     return blocked;
 }
 
-void BM_RawEmbree(benchmark::State& state) {
-    const RenderScene& s = *Scene();
-    const bool mis = state.range(1) != 0;
-    const int light_samples = int(state.range(2));
-    const RawRays rays_in = DispatchTechnique(kAllTechniques[state.range(0)], [&](auto tag) {
-        return MakeRawRays<decltype(tag)::value>(s, mis, light_samples);
-    });
+// Traces rays_in per iteration, as the renderer does; the label names the case.
+void RawEmbreeCase(benchmark::State& state, const RenderScene& s, const RawRays& rays_in, const std::string& label) {
     uint64_t rays = 0, samples = 0;
     const size_t secondary = rays_in.shadow.size();
     std::vector<RTCRayHit> camera;
@@ -326,30 +409,39 @@ void BM_RawEmbree(benchmark::State& state) {
         rays += rays_in.camera.size() + secondary;
         samples += rays_in.camera.size();
     }
-    state.SetLabel(std::string(TechniqueName(kAllTechniques[state.range(0)])) + (mis ? "/balance" : "/no-mis") +
-                   "/ls=" + std::to_string(light_samples));
+    state.SetLabel(label);
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
     state.counters["s/sample"] =
         benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
     state.counters["secondary/sample"] = benchmark::Counter(double(secondary) / rays_in.camera.size());
 }
+
+void BM_RawEmbree(benchmark::State& state) {
+    const RenderScene& s = *Scene();
+    const Technique technique = kAllTechniques[state.range(0)];
+    const bool mis = state.range(1) != 0;
+    const int light_samples = int(state.range(2));
+    const RawRays rays_in = DispatchTechnique(
+        technique, [&](auto tag) { return MakeRawRays(s, mis, light_samples, RectSampling<decltype(tag)::value>(s)); });
+    RawEmbreeCase(state, s, rays_in,
+                  std::string(TechniqueName(technique)) + MisLabel(mis) + "/ls=" + std::to_string(light_samples));
+}
 BENCHMARK(BM_RawEmbree)
-    ->ArgsProduct({{0, 1, 2, 3}, {0, 1}, {1, 4}})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}, {1, 4}})
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
 
 // One tile of BM_RaysAndSampler: the camera stream, then per shading point the technique's
 // setup and its light samples, queued as shadow rays, then the queue traced as one stream.
-template <Technique K>
+template <class MakeSampling>
 uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light_samples, size_t tile,
-                              RTCRayHit* camera, std::vector<RTCRay>& queue) {
-    const RectLightFrame<float>& light = s.area_lights[0].frame;
+                              RTCRayHit* camera, std::vector<RTCRay>& queue, const MakeSampling& make_sampling) {
     uint64_t blocked = TraceCameraTile(s, in, tile, camera);
     queue.clear();
     for (uint32_t k = in.tile_points[tile]; k < in.tile_points[tile + 1]; ++k) {
         const RawRays::ShadingPoint& sp = in.points[k];
-        const LightSampler<K, float> sampler(sp.p, sp.n, light);
+        auto sampler = make_sampling(sp.p, sp.n);
         for (int j = 0; j < light_samples; ++j) {
             const Point2<float> uv = in.light_uv[size_t(k) * light_samples + j];
             AddShadowRay(sp.origin, sp.n, sampler.Valid() ? sampler.Sample(uv) : LightSample<float>{}, queue);
@@ -363,12 +455,11 @@ uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light
 // light sample, from the same points and (u, v) as the raw rays (so the shadow rays are the same).
 // No pattern, camera, BSDF, shading or accumulation.  (this - raw) / raw is the least a renderer
 // calling this core's sampler per shading point and light sample adds to the raw rays.
-void BM_RaysAndSampler(benchmark::State& state) {
-    const RenderScene& s = *Scene();
-    const Technique technique = kAllTechniques[state.range(0)];
-    const int light_samples = int(state.range(1));
-    const RawRays rays_in = DispatchTechnique(
-        technique, [&](auto tag) { return MakeRawRays<decltype(tag)::value>(s, false, light_samples); });
+// BM_RaysAndSampler and its variants: rays_in (drawn with make_sampling) traced tile by tile, with the light
+// sampling make_sampling makes at each point timed too; the label names the case.
+template <class MakeSampling>
+void RaysAndSamplerCase(benchmark::State& state, const RenderScene& s, const RawRays& rays_in, int light_samples,
+                        const MakeSampling& make_sampling, const std::string& label) {
     uint64_t rays = 0, samples = 0, shadow_rays = 0;
     std::vector<RTCRayHit> camera;
     std::vector<RTCRay> queue;
@@ -377,26 +468,161 @@ void BM_RaysAndSampler(benchmark::State& state) {
         shadow_rays = 0;
         const double t0 = ProcessCpuSeconds();
         uint64_t blocked = 0;
-        DispatchTechnique(technique, [&](auto tag) {
-            for (size_t t = 0; t + 1 < rays_in.tile_first.size(); ++t) {
-                blocked +=
-                    TraceTileWithSampler<decltype(tag)::value>(s, rays_in, light_samples, t, camera.data(), queue);
-                shadow_rays += queue.size();
-            }
-        });
+        for (size_t t = 0; t + 1 < rays_in.tile_first.size(); ++t) {
+            blocked += TraceTileWithSampler(s, rays_in, light_samples, t, camera.data(), queue, make_sampling);
+            shadow_rays += queue.size();
+        }
         benchmark::DoNotOptimize(blocked);
         state.SetIterationTime(ProcessCpuSeconds() - t0);
         rays += rays_in.camera.size() + shadow_rays;
         samples += rays_in.camera.size();
     }
     if (shadow_rays != rays_in.shadow.size()) state.SkipWithError("shadow rays differ from BM_RawEmbree's");
-    state.SetLabel(std::string(TechniqueName(technique)) + "/no-mis/ls=" + std::to_string(light_samples));
+    state.SetLabel(label);
     state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
     state.counters["s/sample"] =
         benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
+
+void BM_RaysAndSampler(benchmark::State& state) {
+    const RenderScene& s = *Scene();
+    const Technique technique = kAllTechniques[state.range(0)];
+    const int light_samples = int(state.range(1));
+    DispatchTechnique(technique, [&](auto tag) {
+        const auto sampling = RectSampling<decltype(tag)::value>(s);
+        const RawRays rays_in = MakeRawRays(s, false, light_samples, sampling);
+        RaysAndSamplerCase(state, s, rays_in, light_samples, sampling,
+                           std::string(TechniqueName(technique)) + "/no-mis/ls=" + std::to_string(light_samples));
+    });
+}
 BENCHMARK(BM_RaysAndSampler)
-    ->ArgsProduct({{0, 1, 2, 3}, {1, 4}})
+    ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 4}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+
+// The disk scene (kDiskLight): the renderer with each ellipse technique, its raw rays and its rays + sampler, as
+// BM_Render / BM_RawEmbree / BM_RaysAndSampler (the ellipse sampling is the renderer's own EllipseSamplingAt).
+// Labels "<ellipse technique> (disk scene)/...".
+// Index 2 of BM_DiskRawEmbree / BM_DiskRaysAndSampler (no render: the renderer cannot be told to): the core's
+// spherical ellipse map at every shading point, without the renderer's area fallback where area sampling is
+// nearly uniform (core/ellipse_map_choice.h, which in this scene takes almost every point: counter map_share):
+// what the map itself costs.
+constexpr int kDiskMapEverywhere = 2;
+
+std::string DiskLabel(int index) {
+    if (index == kDiskMapEverywhere) return "spherical_ellipse map everywhere (disk scene)";
+    return std::string(EllipseTechniqueName(kAllEllipseTechniques[index])) + " (disk scene)";
+}
+
+// f(make_sampling) with the disk scene's light sampling number `index` (see kDiskMapEverywhere).
+template <class F>
+decltype(auto) DispatchDiskSampling(const RenderScene& s, int index, F&& f) {
+    if (index != kDiskMapEverywhere) return f(EllipseSamplingOf(s, kAllEllipseTechniques[index]));
+    const EllipseLightFrame<float>* frame = &s.area_lights[0].ellipse_frame;
+    return f([frame](const Vec3f& p, const Vec3f& n) {
+        return EllipseSampler<EllipseTechnique::SphericalEllipse, float>(p, n, *frame);
+    });
+}
+
+void BM_DiskRender(benchmark::State& state) {
+    RenderOptions o = BenchOptions(Technique::Rectangle, state.range(1) != 0, Pattern::Sobol, int(state.range(2)));
+    o.ellipse_technique = kAllEllipseTechniques[state.range(0)];
+    RenderCase(state, DiskScene(), o,
+               DiskLabel(int(state.range(0))) + MisLabel(o.mis == MisMode::Balance) + "/" + PatternName(o.pattern) +
+                   "/ls=" + std::to_string(o.light_samples));
+}
+void BM_DiskRawEmbree(benchmark::State& state) {
+    const RenderScene& s = *DiskScene();
+    const bool mis = state.range(1) != 0;
+    const int light_samples = int(state.range(2));
+    const RawRays rays_in = DispatchDiskSampling(
+        s, int(state.range(0)), [&](const auto& sampling) { return MakeRawRays(s, mis, light_samples, sampling); });
+    RawEmbreeCase(state, s, rays_in,
+                  DiskLabel(int(state.range(0))) + MisLabel(mis) + "/ls=" + std::to_string(light_samples));
+}
+void BM_DiskRaysAndSampler(benchmark::State& state) {
+    const RenderScene& s = *DiskScene();
+    const int light_samples = int(state.range(1));
+    DispatchDiskSampling(s, int(state.range(0)), [&](const auto& sampling) {
+        const RawRays rays_in = MakeRawRays(s, false, light_samples, sampling);
+        RaysAndSamplerCase(state, s, rays_in, light_samples, sampling,
+                           DiskLabel(int(state.range(0))) + "/no-mis/ls=" + std::to_string(light_samples));
+        // The share of shading points where spherical_ellipse runs its map (elsewhere it samples by area, no setup).
+        size_t mapped = 0;
+        for (const RawRays::ShadingPoint& sp : rays_in.points)
+            mapped += !EllipseAreaSamplingSuffices(sp.p, s.area_lights[0].ellipse_frame);
+        state.counters["map_share"] =
+            benchmark::Counter(double(mapped) / double(std::max<size_t>(rays_in.points.size(), 1)));
+    });
+}
+BENCHMARK(BM_DiskRender)
+    ->ArgsProduct({{0, 1}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_DiskRawEmbree)
+    ->ArgsProduct({{0, 1}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_DiskRawEmbree)
+    ->Args({kDiskMapEverywhere, 0, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_DiskRaysAndSampler)
+    ->ArgsProduct({{0, 1, kDiskMapEverywhere}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+
+// The glossy + textured scene (kTextured | kGlossySpheres: GGX spheres of roughness 0.3, the ground's colour from
+// a texture) with a rectangle technique: the glossy kernel's cost against the same raw rays.  Its raw rays' BSDF
+// directions (with MIS) are cosine-distributed as in BM_RawEmbree, not the GGX lobe's: with MIS its raw floor is
+// an estimate (compare secondary/sample with the render's rays/s x s/sample - 1).  Labels "<technique> (glossy
+// textured scene)/...".
+std::string GlossyLabel(Technique t) { return std::string(TechniqueName(t)) + " (glossy textured scene)"; }
+
+void BM_GlossyRender(benchmark::State& state) {
+    const RenderOptions o =
+        BenchOptions(kAllTechniques[state.range(0)], state.range(1) != 0, Pattern::Sobol, int(state.range(2)));
+    RenderCase(state, GlossyScene(), o,
+               GlossyLabel(o.techniques[0]) + MisLabel(o.mis == MisMode::Balance) + "/" + PatternName(o.pattern) +
+                   "/ls=" + std::to_string(o.light_samples));
+}
+void BM_GlossyRawEmbree(benchmark::State& state) {
+    const RenderScene& s = *GlossyScene();
+    const Technique technique = kAllTechniques[state.range(0)];
+    const bool mis = state.range(1) != 0;
+    const int light_samples = int(state.range(2));
+    const RawRays rays_in = DispatchTechnique(
+        technique, [&](auto tag) { return MakeRawRays(s, mis, light_samples, RectSampling<decltype(tag)::value>(s)); });
+    RawEmbreeCase(state, s, rays_in, GlossyLabel(technique) + MisLabel(mis) + "/ls=" + std::to_string(light_samples));
+}
+void BM_GlossyRaysAndSampler(benchmark::State& state) {
+    const RenderScene& s = *GlossyScene();
+    const Technique technique = kAllTechniques[state.range(0)];
+    const int light_samples = int(state.range(1));
+    DispatchTechnique(technique, [&](auto tag) {
+        const auto sampling = RectSampling<decltype(tag)::value>(s);
+        RaysAndSamplerCase(state, s, MakeRawRays(s, false, light_samples, sampling), light_samples, sampling,
+                           GlossyLabel(technique) + "/no-mis/ls=" + std::to_string(light_samples));
+    });
+}
+// Rectangle (kAllTechniques[2]), without and with balance MIS, one light sample.
+BENCHMARK(BM_GlossyRender)
+    ->ArgsProduct({{2}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_GlossyRawEmbree)
+    ->ArgsProduct({{2}, {0, 1}, {1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+BENCHMARK(BM_GlossyRaysAndSampler)
+    ->ArgsProduct({{2}, {1}})
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
@@ -430,7 +656,7 @@ BENCHMARK(BM_DiffuseKernel)
 // where it is used.  That a scene without textures pays nothing for them is the A/B of BM_DiffuseKernel/0
 // between builds before and after textures (ab_bench_render.py).
 void BM_TexturedKernel(benchmark::State& state) {
-    static const std::shared_ptr<RenderScene> textured = BenchScene(true);
+    static const std::shared_ptr<RenderScene> textured = BenchScene(kTextured);
     RenderOptions o;
     o.mis = MisMode::Balance;  // what these measure (not the defaults)
     o.light_selection = LightSelection::Power;
@@ -471,17 +697,17 @@ void AddBoxVolume(RenderScene& s, Vec3f lo, Vec3f hi, float share) {
 
 void BM_MediumKernel(benchmark::State& state) {
     static const std::shared_ptr<RenderScene> scenes[] = {
-        BenchScene(false, [](RenderScene& s) { s.SetMedium(kFogScattering, kFogAbsorption, kFogAnisotropy); }),
-        BenchScene(false,
+        BenchScene(0, [](RenderScene& s) { s.SetMedium(kFogScattering, kFogAbsorption, kFogAnisotropy); }),
+        BenchScene(0,
                    [](RenderScene& s) {
                        AddBoxVolume(s, {-30, -30, -30}, {30, 30, 30}, 1);
                    }),
-        BenchScene(false,
+        BenchScene(0,
                    [](RenderScene& s) {
                        s.SetMedium(kFogScattering * 0.5f, kFogAbsorption * 0.5f, kFogAnisotropy);
                        AddBoxVolume(s, {-30, -30, -30}, {30, 30, 30}, 0.5f);
                    }),
-        BenchScene(false, [](RenderScene& s) {
+        BenchScene(0, [](RenderScene& s) {
             AddBoxVolume(s, {-2, -1.5f, 0.01f}, {2, 1.5f, 1.3f}, 1);
         })};
     static const char* const labels[] = {"world medium", "a box around the scene (same image)",
