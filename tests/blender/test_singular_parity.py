@@ -126,14 +126,19 @@ def sphere_blocks(scene, index):
     return np.all([c < r * r for c in corners], axis=0)
 
 
-def compare(scene, label, tmp_path, n):
+def blocks_of_both(scene, tmp_path):
+    """Our and Cycles' images of the scene in blocks, and their mean relative difference over the lit blocks."""
     cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=CYCLES_SAMPLES)
     scene.render.engine = "SPHRECT"
     scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = OUR_SAMPLES, 1, 2
     ours = render()["images"]["rectangle"]
     a, b = blocks(ours), blocks(cycles)
     lit = b > 0.02 * b.max()
-    difference = float(np.mean(np.abs(a[lit] - b[lit]) / b[lit]))
+    return a, b, float(np.mean(np.abs(a[lit] - b[lit]) / b[lit]))
+
+
+def compare(scene, label, tmp_path, n):
+    a, b, difference = blocks_of_both(scene, tmp_path)
     ratios = []
     for i in range(n):
         inside = sphere_blocks(scene, i)
@@ -141,7 +146,7 @@ def compare(scene, label, tmp_path, n):
         ratios.append(float(a[inside].sum() / b[inside].sum()))
     print(f"{label}: mean relative difference to Cycles (4x4 blocks) {difference:.4f}; per sphere ours / Cycles "
           + ", ".join(f"{r:.4f}" for r in ratios))
-    return difference, ratios, ours, cycles
+    return difference, ratios, a, b
 
 
 def test_smooth_mirrors_match_cycles(empty_scene, tmp_path):
@@ -185,13 +190,7 @@ def test_emitter_inside_sharp_glass_cube_matches_cycles(empty_scene, tmp_path):
     builders.aim(lamp, (0.0, 0.0, 0.6))
     scene.sphrect.technique = "RECTANGLE"
     bpy.context.view_layer.update()
-    cycles = render_cycles(scene, str(tmp_path / "cycles.exr"), samples=CYCLES_SAMPLES)
-    scene.render.engine = "SPHRECT"
-    scene.sphrect.samples, scene.sphrect.passes, scene.sphrect.light_samples = OUR_SAMPLES, 1, 2
-    ours = render()["images"]["rectangle"]
-    a, b = blocks(ours), blocks(cycles)
-    lit = b > 0.02 * b.max()
-    difference = float(np.mean(np.abs(a[lit] - b[lit]) / b[lit]))
+    a, b, difference = blocks_of_both(scene, tmp_path)
     # The cube's blocks: where the cube is seen (Cycles' image greenish: the torus seen through the glass).
     green = (b[..., 1] > 1.5 * b[..., 0]) & (b[..., 1] > 0.05)
     ratio = float(a[green].sum() / b[green].sum())
@@ -230,8 +229,8 @@ def test_emitter_found_by_a_singular_ray_reads_is_singular_ray(empty_scene, tmp_
     for name in ("Rect", "Disk", "Bulb"):
         bpy.data.objects.remove(bpy.data.objects[name])
     scene.world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    _, ratios, ours, cycles = compare(scene, "Is Singular Ray", tmp_path, 1)
+    _, ratios, ours, cycles = compare(scene, "Is Singular Ray", tmp_path, 1)  # in blocks
     rough = sphere_blocks(scene, 1)
-    assert blocks(ours)[sphere_blocks(scene, 0)].sum() > 0.1
-    assert blocks(ours)[rough].sum() == 0 and blocks(cycles)[rough].sum() == 0
+    assert ours[sphere_blocks(scene, 0)].sum() > 0.1
+    assert ours[rough].sum() == 0 and cycles[rough].sum() == 0
     assert abs(ratios[0] - 1) <= SPHERE_TOLERANCE

@@ -8,28 +8,20 @@ import numpy as np
 import pytest
 
 from conftest import builders, export
+from test_texture_export import Tree as MaterialTree
 
 HETEROGENEOUS = "heterogeneous volume density"
 
 
-class Tree:
-    """A material's node tree: Tree('Fog').volume(node) links `node` to the Material Output's Volume."""
-
-    def __init__(self, name):
-        self.mat = bpy.data.materials.new(name)
-        self.mat.use_nodes = True
-        self.nodes, self.links = self.mat.node_tree.nodes, self.mat.node_tree.links
-        self.nodes.clear()
-        self.out = self.nodes.new("ShaderNodeOutputMaterial")
+class Tree(MaterialTree):
+    """A material's node tree (test_texture_export.Tree) whose node(...) sets input values:
+    Tree('Fog').volume(node) links `node` to the Material Output's Volume."""
 
     def node(self, node_type, **inputs):
         n = self.nodes.new(node_type)
         for k, v in inputs.items():
             n.inputs[k].default_value = v
         return n
-
-    def link(self, from_socket, to_socket):
-        self.links.new(from_socket, to_socket)
 
     def volume(self, node):
         self.link(node.outputs[0], self.out.inputs["Volume"])
