@@ -18,10 +18,20 @@ struct HomogeneousMedium {
     float sigma_sampling = 0;   // extinction used by distance sampling: mean of sigma_t's channels
 };
 
+// sigma_t d per channel; a channel with sigma_t = 0 stays 0 even at d = infinity.
+inline Spectrum OpticalDepth(const Spectrum& sigma_t, float d) {
+    auto depth = [d](float s) { return s > 0 ? s * d : 0.0f; };
+    return {depth(sigma_t.x), depth(sigma_t.y), depth(sigma_t.z)};
+}
+
+// exp(-tau) per channel: the transmittance of optical depth tau.
+inline Spectrum TransmittanceOfDepth(const Spectrum& tau) {
+    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
+}
+
 // exp(-sigma_t d) per channel; a channel with sigma_t = 0 is 1 even at d = infinity.
 inline Spectrum Transmittance(const HomogeneousMedium& m, float d) {
-    auto tr = [d](float s) { return s > 0 ? std::exp(-s * d) : 1.0f; };
-    return {tr(m.sigma_t.x), tr(m.sigma_t.y), tr(m.sigma_t.z)};
+    return TransmittanceOfDepth(OpticalDepth(m.sigma_t, d));
 }
 
 // Transmittance along a segment of length d in a kernel compiled with a medium (kMedium), or 1.

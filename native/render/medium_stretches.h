@@ -72,8 +72,7 @@ inline MediumStretches MakeMediumStretches(const VolumeSegments& segments, float
 
 // Transmittance from the camera to t inside stretch s.
 inline Spectrum TransmittanceInStretch(const MediumStretch& s, float t) {
-    const Spectrum tau = s.tau0 + s.k.sigma_t * (t - s.t0);
-    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
+    return TransmittanceOfDepth(s.tau0 + s.k.sigma_t * (t - s.t0));
 }
 
 // Distance sampling through the stretches: t with density sigma_sampling(t) exp(-its optical depth to t).

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "embree_rays.h"
+#include "medium.h"
 #include "scene_checks.h"
 
 namespace sphrect::render {
@@ -15,9 +16,7 @@ namespace {
 // The context of a walk: where the filter records the crossings it sees.
 struct CrossingRecorder {
     RTCIntersectContext rtc;  // first: the filter casts Embree's context pointer back to this
-    float* t;
-    uint32_t* volume;
-    uint8_t* entering;
+    VolumeCrossing* out;      // kMaxVolumeCrossings of room
     int count = 0;
 };
 
@@ -33,10 +32,9 @@ void RecordCrossing(const RTCFilterFunctionNArguments* args) {
                        RTCHitN_Ng_z(args->hit, args->N, i));
         const Vec3f d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                       RTCRayN_dir_z(args->ray, args->N, i));
-        const int k = rec->count++;
-        rec->t[k] = RTCRayN_tfar(args->ray, args->N, i);
-        rec->volume[k] = RTCHitN_geomID(args->hit, args->N, i);
-        rec->entering[k] = Dot(ng, d) < 0;  // Embree's Ng: (v1 - v0) x (v2 - v0), outwards for outward winding
+        // Embree's Ng: (v1 - v0) x (v2 - v0), outwards for outward winding.
+        rec->out[rec->count++] = {RTCRayN_tfar(args->ray, args->N, i), RTCHitN_geomID(args->hit, args->N, i),
+                                  Dot(ng, d) < 0};
     }
 }
 
@@ -44,19 +42,9 @@ void RecordCrossing(const RTCFilterFunctionNArguments* args) {
 
 Spectrum VolumeSegments::TransmittanceTo(float t) const {
     Spectrum tau;
-    for (int i = 0; i < count && segment[i].t0 < t; ++i) {
-        const VolumeSegment& s = segment[i];
-        const float len = std::min(s.t1, t) - s.t0;
-        if (IsBlack(s.coefficients.sigma_t)) continue;
-        if (std::isinf(len)) {
-            auto inf_or_zero = [](float sigma) { return sigma > 0 ? kInf : 0.0f; };
-            tau += Spectrum(inf_or_zero(s.coefficients.sigma_t.x), inf_or_zero(s.coefficients.sigma_t.y),
-                            inf_or_zero(s.coefficients.sigma_t.z));
-        } else {
-            tau += s.coefficients.sigma_t * len;
-        }
-    }
-    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
+    for (int i = 0; i < count && segment[i].t0 < t; ++i)
+        tau += OpticalDepth(segment[i].coefficients.sigma_t, std::min(segment[i].t1, t) - segment[i].t0);
+    return TransmittanceOfDepth(tau);
 }
 
 ObjectVolumes::~ObjectVolumes() {
@@ -120,18 +108,14 @@ bool ObjectVolumes::MissesBounds(const Vec3f& o, const Vec3f& d) const {
     return false;
 }
 
-int ObjectVolumes::Crossings(const Vec3f& o, const Vec3f& d, Crossing* out, uint64_t& inside) const {
-    float t[kMaxVolumeCrossings];
-    uint32_t volume[kMaxVolumeCrossings];
-    uint8_t entering[kMaxVolumeCrossings];
+int ObjectVolumes::Crossings(const Vec3f& o, const Vec3f& d, VolumeCrossing* out, uint64_t& inside) const {
     CrossingRecorder rec;
     rtcInitIntersectContext(&rec.rtc);
-    rec.t = t, rec.volume = volume, rec.entering = entering;
+    rec.out = out;
     RTCRayHit rh = MakeRTCRayHit(o, d, 0, kInf);
     rtcIntersect1(rtc_scene_, &rec.rtc, &rh);
     const int n = rec.count;
-    for (int i = 0; i < n; ++i) out[i] = {t[i], volume[i], entering[i] != 0};
-    std::sort(out, out + n, [](const Crossing& a, const Crossing& b) { return a.t < b.t; });
+    std::sort(out, out + n, [](const VolumeCrossing& a, const VolumeCrossing& b) { return a.t < b.t; });
     // A volume whose first crossing leaves it holds the origin.
     uint64_t met = 0;
     inside = 0;
@@ -161,7 +145,7 @@ VolumeCoefficients ObjectVolumes::Sum(uint64_t set) const {
 
 Spectrum ObjectVolumes::Transmittance(const Vec3f& o, const Vec3f& d, float tmax) const {
     if (!rtc_scene_ || MissesBounds(o, d)) return {1, 1, 1};
-    Crossing crossings[kMaxVolumeCrossings];
+    VolumeCrossing crossings[kMaxVolumeCrossings];
     uint64_t inside;
     const int n = Crossings(o, d, crossings, inside);
     // Optical depth: each volume's time inside, times its sigma_t.
@@ -171,15 +155,8 @@ Spectrum ObjectVolumes::Transmittance(const Vec3f& o, const Vec3f& d, float tmax
     auto add = [&](float t_next) {
         const float len = std::min(t_next, tmax) - t_prev;
         if (!(len > 0)) return;
-        for (uint64_t s = set; s; s &= s - 1) {
-            const Spectrum& sigma = coefficients_[size_t(__builtin_ctzll(s))].sigma_t;
-            if (std::isinf(len)) {
-                auto inf_or_zero = [](float x) { return x > 0 ? kInf : 0.0f; };
-                tau += Spectrum(inf_or_zero(sigma.x), inf_or_zero(sigma.y), inf_or_zero(sigma.z));
-            } else {
-                tau += sigma * len;
-            }
-        }
+        for (uint64_t s = set; s; s &= s - 1)
+            tau += OpticalDepth(coefficients_[size_t(__builtin_ctzll(s))].sigma_t, len);
     };
     for (int i = 0; i < n && crossings[i].t < tmax; ++i) {
         add(crossings[i].t);
@@ -188,7 +165,7 @@ Spectrum ObjectVolumes::Transmittance(const Vec3f& o, const Vec3f& d, float tmax
         set = crossings[i].entering ? set | bit : set & ~bit;
     }
     add(tmax);
-    return {std::exp(-tau.x), std::exp(-tau.y), std::exp(-tau.z)};
+    return TransmittanceOfDepth(tau);
 }
 
 void ObjectVolumes::Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out, float t_begin) const {
@@ -199,7 +176,7 @@ void ObjectVolumes::Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out
         out.segment[out.count++] = {0, kInf, {}};
         return;
     }
-    Crossing crossings[kMaxVolumeCrossings];
+    VolumeCrossing crossings[kMaxVolumeCrossings];
     uint64_t set;
     const int n = Crossings(start, d, crossings, set);
     if (t_begin > 0) {

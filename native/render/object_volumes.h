@@ -25,6 +25,13 @@ namespace sphrect::render {
 constexpr int kMaxObjectVolumes = 64;
 constexpr int kMaxVolumeCrossings = 256;
 
+// A ray's crossing of a volume's boundary at distance t: into it (a front face) or out of it.
+struct VolumeCrossing {
+    float t;
+    uint32_t volume;
+    bool entering;
+};
+
 struct VolumeCoefficients {
     Spectrum sigma_s, sigma_t;  // 1/m
     float g = 0;                // Henyey-Greenstein anisotropy
@@ -73,13 +80,9 @@ class ObjectVolumes {
     void Segments(const Vec3f& o, const Vec3f& d, VolumeSegments& out, float t_begin = 0) const;
 
   private:
-    struct Crossing {
-        float t;
-        uint32_t volume;
-        bool entering;
-    };
-    // The ray's crossings of every boundary, sorted by t, and the set of volumes its origin is inside.
-    int Crossings(const Vec3f& o, const Vec3f& d, Crossing* out, uint64_t& inside) const;
+    // The ray's crossings of every boundary (out: kMaxVolumeCrossings of room), sorted by t, and the set of volumes its
+    // origin is inside.
+    int Crossings(const Vec3f& o, const Vec3f& d, VolumeCrossing* out, uint64_t& inside) const;
     VolumeCoefficients Sum(uint64_t set) const;
     // Whether the ray o + t d, t >= 0, misses the volumes' bounding box (then it crosses none: no walk needed).
     bool MissesBounds(const Vec3f& o, const Vec3f& d) const;

@@ -55,12 +55,10 @@ template <Technique K, bool kGlossy>
                                                 uint64_t& light_ticks) {
     const RenderScene& scene = c.scene;
     PCG32 rng(ph.rng_seed, 0x5851f42dull);
-    if (ph.hit) {
-        Spectrum t = Transmittance(scene.medium, ph.surface.t);
-        if (scene.has_volumes) t = t * media.volumes.TransmittanceTo(ph.surface.t);
-        ShadeSurface<K, kGlossy, true>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng, sink.Scaled(t),
+    if (ph.hit)
+        ShadeSurface<K, kGlossy, true>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng,
+                                       sink.Scaled(CameraRayTransmittance<true>(scene, &media, ph.surface.t)),
                                        light_ticks);
-    }
     const ShadowSink unweighted{sink.queue, sink.sample};
     if (scene.has_volumes)
         ShadeObjectVolumes<K>(c, ph, media, light_points, bsdf_points, rng, unweighted, light_ticks);
