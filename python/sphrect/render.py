@@ -184,18 +184,23 @@ def _set_environment(native, env, n_textures: int, field: str = "environment") -
     setter(int(env.texture), rgb(env.strength, what + " strength"), m, env.interpolation)
 
 
+def _triangle_arrays(vertices, triangles, what: str):
+    """(vertices, int32 triangles) of a mesh or a volume, checked: numbers of shape [V, 3], indices [T, 3] of them."""
+    v = np.asarray(vertices)
+    if v.ndim != 2 or v.shape[1] != 3 or (v.size and not np.issubdtype(v.dtype, np.number)):
+        raise ValueError(f"{what}: vertices must have shape [V, 3], got {v.shape}")
+    t = np.asarray(triangles)
+    if t.ndim != 2 or t.shape[1] != 3:
+        raise ValueError(f"{what}: triangles must have shape [T, 3], got {t.shape}")
+    return v, _int_array(t, f"{what} triangles", upper=len(v))
+
+
 def _add_volume(native, volume, index: int) -> None:
     """scene.volumes[index] to the native scene (which checks that it is closed and its coefficients)."""
     if not isinstance(volume, Volume):
         raise ValueError(f"scene.volumes[{index}] is not a sphrect.Volume (got {type(volume).__name__})")
     what = f"volume '{volume.name}'"
-    v = np.asarray(volume.vertices)
-    if v.ndim != 2 or v.shape[1] != 3 or (v.size and not np.issubdtype(v.dtype, np.number)):
-        raise ValueError(f"{what}: vertices must have shape [V, 3], got {v.shape}")
-    t = np.asarray(volume.triangles)
-    if t.ndim != 2 or t.shape[1] != 3:
-        raise ValueError(f"{what}: triangles must have shape [T, 3], got {t.shape}")
-    t = _int_array(t, f"{what} triangles", upper=len(v))
+    v, t = _triangle_arrays(volume.vertices, volume.triangles, what)
     med = volume.medium
     if not isinstance(med, Medium):
         raise ValueError(f"{what}: medium must be a sphrect.Medium, got {type(med).__name__}")
@@ -303,10 +308,7 @@ def build_native_scene(scene: Scene, image_memory_limit: int = 0):
         _add_material(native, mat, i, slots)
     n_materials = max(1, len(scene.materials))
     for mesh in scene.meshes:
-        v = np.asarray(mesh.vertices)
-        if v.ndim != 2 or v.shape[1] != 3:
-            raise ValueError(f"mesh '{mesh.name}': vertices must have shape [V, 3], got {v.shape}")
-        t = _int_array(mesh.triangles, f"mesh '{mesh.name}' triangles", upper=len(v))
+        v, t = _triangle_arrays(mesh.vertices, mesh.triangles, f"mesh '{mesh.name}'")
         ids = None
         if mesh.material_ids is not None:
             ids = _int_array(mesh.material_ids, f"mesh '{mesh.name}' material_ids", upper=n_materials)

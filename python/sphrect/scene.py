@@ -718,7 +718,7 @@ def _scene_from_file(path, data, headers, relative_to) -> Scene:
         key = v.get("arrays") if isinstance(v, dict) else None
         if not isinstance(key, str):
             raise ValueError(f"{path}: a volume's 'arrays' is {key!r}, not a name")
-        scene_file.check_volume_arrays(path, headers, key)
+        scene_file.check_mesh_arrays(path, headers, key, "volume", scene_file.VOLUME_ARRAYS)
         medium = v.get("medium")
         if not isinstance(medium, dict):
             raise ValueError(f"{path}: volume {key} has no 'medium' object")

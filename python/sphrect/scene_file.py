@@ -22,6 +22,8 @@ MAX_JSON_BYTES = 64 << 20
 # Mesh arrays: dtype kind ('f' float, 'i' integer) and columns (None: one-dimensional).
 MESH_ARRAYS = {"vertices": ("f", 3), "normals": ("f", 3), "triangles": ("i", 3), "material_ids": ("i", None),
                "uvs": ("f", 2), "generated": ("f", 3)}
+# A volume's: its closed mesh alone.
+VOLUME_ARRAYS = {name: MESH_ARRAYS[name] for name in ("vertices", "triangles")}
 # Per-vertex arrays: as many rows as vertices.
 PER_VERTEX_ARRAYS = ("normals", "uvs", "generated")
 
@@ -89,40 +91,30 @@ def member_headers(path):
     return headers
 
 
-def check_mesh_arrays(path, headers, key):
-    """The declared shapes of mesh `key`'s arrays: vertices and triangles present, each of its dtype kind and
-    columns, normals as many as vertices, material ids as many as triangles."""
+def check_mesh_arrays(path, headers, key, what="mesh", arrays=MESH_ARRAYS):
+    """The declared shapes of `what` `key`'s arrays (a mesh's MESH_ARRAYS, a volume's VOLUME_ARRAYS): vertices and
+    triangles present, each of its dtype kind and columns, normals as many as vertices, material ids as many as
+    triangles."""
     shapes = {}
-    for name, (kind, columns) in MESH_ARRAYS.items():
+    for name, (kind, columns) in arrays.items():
         header = headers.get(f"{key}.{name}")
         if header is None:
             if name in ("vertices", "triangles"):
-                raise MalformedScene(f"{path}: mesh {key} has no {name}")
+                raise MalformedScene(f"{path}: {what} {key} has no {name}")
             continue
         shape, dtype = header
         expected = (shape[0], columns) if columns else (shape[0] if shape else 0,)
         if dtype.kind not in kind or len(shape) != len(expected) or shape != expected:
             want = f"[N, {columns}]" if columns else "[N]"
-            raise MalformedScene(f"{path}: mesh {key}.{name} is {dtype} {shape}, not {kind}-typed {want}")
+            raise MalformedScene(f"{path}: {what} {key}.{name} is {dtype} {shape}, not {kind}-typed {want}")
         shapes[name] = shape
     for name in PER_VERTEX_ARRAYS:
         if name in shapes and shapes[name][0] != shapes["vertices"][0]:
-            raise MalformedScene(f"{path}: mesh {key} has {shapes[name][0]} {name} for "
+            raise MalformedScene(f"{path}: {what} {key} has {shapes[name][0]} {name} for "
                                  f"{shapes['vertices'][0]} vertices")
     if "material_ids" in shapes and shapes["material_ids"][0] != shapes["triangles"][0]:
-        raise MalformedScene(f"{path}: mesh {key} has {shapes['material_ids'][0]} material ids for "
+        raise MalformedScene(f"{path}: {what} {key} has {shapes['material_ids'][0]} material ids for "
                              f"{shapes['triangles'][0]} triangles")
-
-
-def check_volume_arrays(path, headers, key):
-    """The declared shapes of volume `key`'s arrays: float [V, 3] vertices and integer [T, 3] triangles."""
-    for name, kind in (("vertices", "f"), ("triangles", "i")):
-        header = headers.get(f"{key}.{name}")
-        if header is None:
-            raise MalformedScene(f"{path}: volume {key} has no {name}")
-        shape, dtype = header
-        if dtype.kind not in kind or len(shape) != 2 or shape[1] != 3:
-            raise MalformedScene(f"{path}: volume {key}.{name} is {dtype} {shape}, not {kind}-typed [N, 3]")
 
 
 def check_texture_arrays(path, headers, key):
