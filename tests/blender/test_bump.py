@@ -157,15 +157,25 @@ def test_bump_matches_cycles(empty_scene, tmp_path):
     assert np.abs(theirs[:CELL, :CELL] - 0.5 * (np.array([0.0, 0.0, 1.0]) + 1)).max() > 0.05
 
 
-def bumped_material(name="Bumped"):
-    """A Principled BSDF (base colour and roughness constant, some specular) whose Normal a Bump node drives: the
-    Height a Noise Texture of the Object coordinates (scale 4), strength 1, distance 0.4."""
+def principled_tree(name):
+    """A Tree of a Principled BSDF of the bump tests' constant base colour and roughness: (tree, the node)."""
     t = Tree(name)
     p = t.node("ShaderNodeBsdfPrincipled")
     p.inputs["Base Color"].default_value = (0.7, 0.45, 0.3, 1.0)
     p.inputs["Roughness"].default_value = 0.35
-    coords = t.node("ShaderNodeTexCoord")
-    noise = texture(t, "ShaderNodeTexNoise", coords.outputs["Object"], Scale=4.0, Detail=3.0)
+    return t, p
+
+
+def object_noise(t, scale, detail):
+    """A Noise Texture of the Object coordinates in tree t."""
+    return texture(t, "ShaderNodeTexNoise", t.node("ShaderNodeTexCoord").outputs["Object"], Scale=scale, Detail=detail)
+
+
+def bumped_material(name="Bumped"):
+    """A Principled BSDF (base colour and roughness constant, some specular) whose Normal a Bump node drives: the
+    Height a Noise Texture of the Object coordinates (scale 4), strength 1, distance 0.4."""
+    t, p = principled_tree(name)
+    noise = object_noise(t, scale=4.0, detail=3.0)
     b = bump(t, noise.outputs["Fac"], strength=1.0, distance=0.4)
     t.link(b.outputs[0], p.inputs["Normal"])
     return t.surface(p), b
@@ -363,12 +373,8 @@ def displaced_material(name, space, layer_weight=False):
     """A Principled BSDF whose Material Output's Displacement is a Displacement node (`space`, scale 0.15) of a
     Noise's Fac of the Object coordinates; with `layer_weight`, its Base Color a Layer Weight's Facing (a graph
     reading the displaced normal)."""
-    t = Tree(name)
-    p = t.node("ShaderNodeBsdfPrincipled")
-    p.inputs["Base Color"].default_value = (0.7, 0.45, 0.3, 1.0)
-    p.inputs["Roughness"].default_value = 0.35
-    coords = t.node("ShaderNodeTexCoord")
-    noise = texture(t, "ShaderNodeTexNoise", coords.outputs["Object"], Scale=5.0, Detail=2.0)
+    t, p = principled_tree(name)
+    noise = object_noise(t, scale=5.0, detail=2.0)
     d = t.node("ShaderNodeDisplacement", space=space)
     d.inputs["Scale"].default_value = 0.15
     t.link(noise.outputs["Fac"], d.inputs["Height"])

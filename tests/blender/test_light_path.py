@@ -32,17 +32,22 @@ def test_every_output_of_a_camera_ray_hit_matches_cycles(empty_scene, tmp_path):
     check(node_values_against_cycles(empty_scene, [output_case(name) for name in OUTPUTS], tmp_path))
 
 
+def transparent_for(t, output, shader):
+    """`shader` mixed with a Transparent BSDF by the Light Path's `output`: transparent to those rays."""
+    mix = t.node("ShaderNodeMixShader")
+    t.link(t.node("ShaderNodeLightPath").outputs[output], mix.inputs[0])
+    t.link(shader.outputs[0], mix.inputs[1])
+    t.link(t.node("ShaderNodeBsdfTransparent").outputs[0], mix.inputs[2])
+    return t.surface(mix)
+
+
 def camera_invisible_emitter():
     """An Emission mixed with a Transparent BSDF by Is Camera Ray: the camera sees through it, it lights the rest."""
     t = Tree("Hidden glow")
     glow = t.node("ShaderNodeEmission")
     glow.inputs["Color"].default_value = (1.0, 0.7, 0.4, 1)
     glow.inputs["Strength"].default_value = 6.0
-    mix = t.node("ShaderNodeMixShader")
-    t.link(t.node("ShaderNodeLightPath").outputs["Is Camera Ray"], mix.inputs[0])
-    t.link(glow.outputs[0], mix.inputs[1])
-    t.link(t.node("ShaderNodeBsdfTransparent").outputs[0], mix.inputs[2])
-    return t.surface(mix)
+    return transparent_for(t, "Is Camera Ray", glow)
 
 
 def shadowless_occluder():
@@ -50,11 +55,7 @@ def shadowless_occluder():
     t = Tree("No shadow")
     diffuse = t.node("ShaderNodeBsdfDiffuse")
     diffuse.inputs["Color"].default_value = (0.2, 0.5, 0.8, 1)
-    mix = t.node("ShaderNodeMixShader")
-    t.link(t.node("ShaderNodeLightPath").outputs["Is Shadow Ray"], mix.inputs[0])
-    t.link(diffuse.outputs[0], mix.inputs[1])
-    t.link(t.node("ShaderNodeBsdfTransparent").outputs[0], mix.inputs[2])
-    return t.surface(mix)
+    return transparent_for(t, "Is Shadow Ray", diffuse)
 
 
 def ray_kind_emitter():
