@@ -4,7 +4,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(cmake g++ make pkg-config blender libembree-dev libtbb-dev pybind11-dev python3-dev python3-numpy python3-pytest
-          python3-matplotlib python3-scipy python3-mpmath python3-distributed python3-dask libboost-math-dev libopenimageio-dev libgtest-dev libbenchmark-dev xvfb xauth
+          python3-matplotlib python3-scipy python3-mpmath python3-distributed python3-dask libboost-math-dev libhwy-dev libopenimageio-dev libgtest-dev libbenchmark-dev xvfb xauth
           clang-format python3-flake8 python3-pip python3-venv python3-setuptools python3-wheel)
 missing=()
 for p in "${PACKAGES[@]}"; do
