@@ -59,6 +59,7 @@
 #include <vector>
 
 #include "core/ellipse_technique.h"
+#include "core/rectangle_batch.h"
 #include "core/rng.h"
 #include "core/technique.h"
 #include "render/embree_rays.h"
@@ -300,10 +301,23 @@ void AddShadowRay(const Vec3f& origin, const Vec3f& n, const LightSample<float>&
 // sampler (core/technique.h), or for an ellipse light the renderer's own EllipseSamplingAt (its area fallback
 // where the map cannot pay, its setup kept for the point's samples).  make(p, n) -> an object with Valid() and
 // Sample(uv).
+// `rectangle`'s: batched over a tile's points (core/rectangle_batch.h), as the renderer takes it
+// (TraceTileWithSampler's overload); one point at a time where rays are drawn (MakeRawRays).
+struct BatchedRectangleSampling {
+    const RectLightFrame<float>* frame;
+    LightSampler<Technique::Rectangle, float> operator()(const Vec3f& p, const Vec3f& n) const {
+        return {p, n, *frame};
+    }
+};
+
 template <Technique K>
 auto RectSampling(const RenderScene& s) {
     const RectLightFrame<float>* frame = &s.area_lights[0].frame;
-    return [frame](const Vec3f& p, const Vec3f& n) { return LightSampler<K, float>(p, n, *frame); };
+    if constexpr (K == Technique::Rectangle) {
+        return BatchedRectangleSampling{frame};
+    } else {
+        return [frame](const Vec3f& p, const Vec3f& n) { return LightSampler<K, float>(p, n, *frame); };
+    }
 }
 
 struct EllipseSampling {
@@ -446,6 +460,27 @@ uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light
             const Point2<float> uv = in.light_uv[size_t(k) * light_samples + j];
             AddShadowRay(sp.origin, sp.n, sampler.Valid() ? sampler.Sample(uv) : LightSample<float>{}, queue);
         }
+    }
+    return blocked + TraceShadowRays(s, queue.data(), queue.size());
+}
+
+// The same with `rectangle` batched: the tile's points and their light samples in one batch.
+uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light_samples, size_t tile,
+                              RTCRayHit* camera, std::vector<RTCRay>& queue, const BatchedRectangleSampling& sampling) {
+    uint64_t blocked = TraceCameraTile(s, in, tile, camera);
+    queue.clear();
+    const uint32_t first = in.tile_points[tile], count = in.tile_points[tile + 1] - first;
+    static thread_local std::vector<Vec3f> origins;
+    static thread_local std::vector<LightSample<float>> samples;
+    origins.resize(count);
+    samples.resize(size_t(count) * light_samples);
+    for (uint32_t k = 0; k < count; ++k) origins[k] = in.points[first + k].p;
+    SampleRectangleBatch(*sampling.frame, origins.data(), count, &in.light_uv[size_t(first) * light_samples],
+                         light_samples, samples.data());
+    for (uint32_t k = 0; k < count; ++k) {
+        const RawRays::ShadingPoint& sp = in.points[first + k];
+        for (int j = 0; j < light_samples; ++j)
+            AddShadowRay(sp.origin, sp.n, samples[size_t(k) * light_samples + j], queue);
     }
     return blocked + TraceShadowRays(s, queue.data(), queue.size());
 }

@@ -99,7 +99,8 @@ void RegisterSetupAndSample() {
     benchmark::RegisterBenchmark("SetupAndSample/rectangle/scalar", [=](benchmark::State& state) {
         std::vector<LightSample<float>> out(origins.size());
         for (auto _ : state) {
-            for (size_t i = 0; i < origins.size(); ++i) out[i] = SampleRectangle(MakeRectangleSetup(origins[i], frame), uv[i]);
+            for (size_t i = 0; i < origins.size(); ++i)
+                out[i] = SampleRectangle(MakeRectangleSetup(origins[i], frame), uv[i]);
             benchmark::DoNotOptimize(out.data());
         }
         state.SetItemsProcessed(int64_t(state.iterations() * origins.size()));

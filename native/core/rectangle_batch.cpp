@@ -28,9 +28,7 @@ using VD = hn::Vec<DD>;
 using MD = hn::Mask<DD>;
 
 // ClampNaN of vec3.h: x within [lo, hi], NaN -> lo.
-HWY_INLINE VD ClampNaNV(VD x, VD lo, VD hi) {
-    return hn::IfThenElse(x > lo, hn::IfThenElse(x < hi, x, hi), lo);
-}
+HWY_INLINE VD ClampNaNV(VD x, VD lo, VD hi) { return hn::IfThenElse(x > lo, hn::IfThenElse(x < hi, x, hi), lo); }
 
 // atan2(y, x) for y >= 0 (not both 0), from an arctangent on [0, 1].
 HWY_INLINE VD Atan2NonNegative(DD d, VD y, VD x) {
@@ -47,8 +45,8 @@ HWY_INLINE VD Atan2NonNegative(DD d, VD y, VD x) {
 HWY_INLINE VD DiffBV(DD d, VD ya, VD yb, VD ra, VD rb, VD d2, VD dy) {
     const MD same = hn::Mul(ya, yb) > hn::Zero(d);
     const VD rab = hn::Mul(ra, rb);
-    const VD num = hn::IfThenElse(same, hn::Mul(hn::Mul(d2, dy), hn::Add(yb, ya)),
-                                  hn::Sub(hn::Mul(yb, ra), hn::Mul(ya, rb)));
+    const VD num =
+        hn::IfThenElse(same, hn::Mul(hn::Mul(d2, dy), hn::Add(yb, ya)), hn::Sub(hn::Mul(yb, ra), hn::Mul(ya, rb)));
     const VD den = hn::IfThenElse(same, hn::Mul(rab, hn::Add(hn::Mul(yb, ra), hn::Mul(ya, rb))), rab);
     return hn::Div(num, den);
 }
@@ -64,9 +62,9 @@ HWY_INLINE void AddQuadrantV(VD x0, VD x1, VD wx, VD y0, VD y1, VD wy, VD h, VD 
     const VD d_x01_y00 = hn::Add(hn::Add(x01, y00), h2), d_x01_y01 = hn::Add(hn::Add(x01, y01), h2);
     const VD den1 = hn::Add(hn::Add(hn::Mul(hn::Mul(l00, l10), l11), hn::Mul(d_x01_y00, l11)),
                             hn::Add(hn::Mul(d_x01_y01, l10), hn::Mul(hn::Add(hn::Add(x11, y01), h2), l00)));
-    const VD den2 = hn::Add(hn::Add(hn::Mul(hn::Mul(l00, l11), l01), hn::Mul(d_x01_y01, l01)),
-                            hn::Add(hn::Mul(hn::Add(hn::Add(x00, y01), h2), l11),
-                                    hn::Mul(hn::Add(hn::Add(x01, y11), h2), l00)));
+    const VD den2 =
+        hn::Add(hn::Add(hn::Mul(hn::Mul(l00, l11), l01), hn::Mul(d_x01_y01, l01)),
+                hn::Add(hn::Mul(hn::Add(hn::Add(x00, y01), h2), l11), hn::Mul(hn::Add(hn::Add(x01, y11), h2), l00)));
     auto add = [&](VD t) {  // HalfAngleSum::Add
         const VD r = hn::NegMulAdd(im, t, re), i = hn::MulAdd(re, t, im);
         re = r;
@@ -86,8 +84,7 @@ HWY_INLINE VD StripSolidAngleV(DD d, VD x0, VD x1, VD wx, VD c0, VD c1, VD wc, V
     const VD p1_0 = hn::IfThenZeroElse(straddles, c0), p1_1 = hn::IfThenElse(straddles, hn::Neg(c0), c1);
     const VD p1_w = hn::IfThenElse(straddles, hn::Neg(c0), wc);
     AddQuadrantV(x0, x1, wx, p1_0, p1_1, p1_w, h, h2, re, im);
-    AddQuadrantV(x0, x1, wx, zero, hn::IfThenElseZero(straddles, c1), hn::IfThenElseZero(straddles, c1), h, h2, re,
-                 im);
+    AddQuadrantV(x0, x1, wx, zero, hn::IfThenElseZero(straddles, c1), hn::IfThenElseZero(straddles, c1), h, h2, re, im);
     return hn::Mul(hn::Set(d, 2.0), Atan2NonNegative(d, hn::Max(im, zero), re));
 }
 
@@ -106,7 +103,8 @@ HWY_INLINE SetupV MakeSetupV(DD d, const RectLightFrame<float>& f, VD ox, VD oy,
     const VD dx = hn::Sub(hn::Set(d, f.corner.x), ox), dy = hn::Sub(hn::Set(d, f.corner.y), oy),
              dz = hn::Sub(hn::Set(d, f.corner.z), oz);
     auto dot = [&](const Vec3d& e) {
-        return hn::Add(hn::Add(hn::Mul(dx, hn::Set(d, e.x)), hn::Mul(dy, hn::Set(d, e.y))), hn::Mul(dz, hn::Set(d, e.z)));
+        return hn::Add(hn::Add(hn::Mul(dx, hn::Set(d, e.x)), hn::Mul(dy, hn::Set(d, e.y))),
+                       hn::Mul(dz, hn::Set(d, e.z)));
     };
     const VD z = dot(f.n);
     s.px0 = dot(f.exh);
@@ -153,8 +151,8 @@ HWY_INLINE SetupV MakeSetupV(DD d, const RectLightFrame<float>& f, VD ox, VD oy,
     s.neg_b0 = hn::Div(c0, rc0);
     s.b1 = hn::Div(c1, rc1);
     s.b1_plus_b0 = DiffBV(d, c0, c1, rc0, rc1, h2, wc);
-    s.b1_minus_b0 = hn::IfThenElse(c0 < zero, DiffBV(d, hn::Neg(c0), c1, rc0, rc1, h2, hn::Add(c1, c0)),
-                                   hn::Add(s.b1, s.neg_b0));
+    s.b1_minus_b0 =
+        hn::IfThenElse(c0 < zero, DiffBV(d, hn::Neg(c0), c1, rc0, rc1, h2, hn::Add(c1, c0)), hn::Add(s.b1, s.neg_b0));
     s.s0 = hn::Div(a0, ra0);
     s.s1 = hn::Div(a1, ra1);
     s.y_beside = c0 > zero;
@@ -170,8 +168,8 @@ HWY_INLINE SetupV MakeSetupV(DD d, const RectLightFrame<float>& f, VD ox, VD oy,
         const VD q01 = hn::Mul(q0v, q1v);
         const VD num = hn::IfThenElse(b0_nonpos, hn::Mul(s.b1_plus_b0, hn::Add(s.b1, s.neg_b0)),
                                       hn::Sub(hn::Mul(s.b1, q0v), hn::Mul(s.neg_b0, q1v)));
-        const VD den = hn::IfThenElse(
-            b0_nonpos, hn::Mul(q01, hn::Add(hn::Mul(s.b1, q0v), hn::Mul(s.neg_b0, q1v))), q01);
+        const VD den =
+            hn::IfThenElse(b0_nonpos, hn::Mul(q01, hn::Add(hn::Mul(s.b1, q0v), hn::Mul(s.neg_b0, q1v))), q01);
         return hn::Abs(hn::Mul(hn::Div(num, den), sx));
     };
     const VD ex = hn::Div(
@@ -201,12 +199,13 @@ HWY_INLINE void MapV(DD d, const SetupV& s, VD u, VD v, VD& X, VD& Y, VD& dist) 
     const VD R2 = hn::IfThenElse(s.neg_b0 >= zero, hn::MulAdd(two_b0b1, omc, hn::Mul(s.b1_plus_b0, s.b1_plus_b0)),
                                  hn::NegMulAdd(two_b0b1, opc, hn::Mul(s.b1_minus_b0, s.b1_minus_b0)));
     const VD sn = ClampNaNV(hn::Div(sT, hn::Sqrt(R2)), s.s0, s.s1);
-    const VD x = ClampNaNV(hn::Div(hn::Mul(s.h, sn), hn::Sqrt(hn::Mul(hn::Sub(one, sn), hn::Add(one, sn)))), s.x0, s.x1);
+    const VD x =
+        ClampNaNV(hn::Div(hn::Mul(s.h, sn), hn::Sqrt(hn::Mul(hn::Sub(one, sn), hn::Add(one, sn)))), s.x0, s.x1);
     // y-step (14)-(16).
     const VD d2 = hn::MulAdd(x, x, hn::Mul(s.h, s.h)), dd = hn::Sqrt(d2);
     const VD r0 = hn::Sqrt(hn::MulAdd(s.y0, s.y0, d2)), r1 = hn::Sqrt(hn::MulAdd(s.y1, s.y1, d2));
-    const VD omh_beside = hn::NegMulAdd(v, DiffBV(d, s.y0, s.y1, r0, r1, d2, s.wy),
-                                        hn::Div(d2, hn::Mul(r0, hn::Add(r0, s.y0))));
+    const VD omh_beside =
+        hn::NegMulAdd(v, DiffBV(d, s.y0, s.y1, r0, r1, d2, s.wy), hn::Div(d2, hn::Mul(r0, hn::Add(r0, s.y0))));
     const VD hy0 = hn::Div(s.y0, r0);
     const VD hy_across = hn::MulAdd(v, hn::Sub(hn::Div(s.y1, r1), hy0), hy0);
     const VD hy = hn::IfThenElse(s.y_beside, hn::Sub(one, omh_beside), hy_across);
@@ -221,7 +220,7 @@ HWY_INLINE void MapV(DD d, const SetupV& s, VD u, VD v, VD& X, VD& Y, VD& dist) 
 }
 
 size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* origins, size_t n, const Point2<float>* uv,
-                              int m, LightSample<float>* out) {
+                                int m, LightSample<float>* out) {
     const DD d;
     constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
     const size_t N = hn::Lanes(d);
@@ -306,8 +305,8 @@ namespace sphrect {
 HWY_EXPORT(SampleRectangleBatchImpl);
 HWY_EXPORT(TargetNameImpl);
 
-size_t SampleRectangleBatch(const RectLightFrame<float>& frame, const Vec3f* origins, size_t n,
-                            const Point2<float>* uv, int m, LightSample<float>* out) {
+size_t SampleRectangleBatch(const RectLightFrame<float>& frame, const Vec3f* origins, size_t n, const Point2<float>* uv,
+                            int m, LightSample<float>* out) {
     if (n == 0 || m <= 0) return 0;
     return HWY_DYNAMIC_DISPATCH(SampleRectangleBatchImpl)(frame, origins, n, uv, m, out);
 }

@@ -25,8 +25,8 @@ namespace sphrect {
 // out[i m + k] (k < m), each as SampleRectangle(MakeRectangleSetup(origins[i], frame), uv[i m + k])
 // up to rounding.  Returns how many of the points the vector code handled (the others took the
 // scalar path).  No allocation.
-size_t SampleRectangleBatch(const RectLightFrame<float>& frame, const Vec3f* origins, size_t n,
-                          const Point2<float>* uv, int m, LightSample<float>* out);
+size_t SampleRectangleBatch(const RectLightFrame<float>& frame, const Vec3f* origins, size_t n, const Point2<float>* uv,
+                            int m, LightSample<float>* out);
 
 // The instruction set the batch runs on here (e.g. "AVX3", "AVX2"), for benchmarks and reports.
 const char* RectangleBatchTarget();

@@ -21,6 +21,7 @@ struct PrimaryHit;
 struct CameraRayMedia;
 struct PartialCoverage;
 struct DeferredShadowRay;
+struct ChosenLight;
 
 // Per-thread buffers reused across tiles.
 struct ThreadScratch {
@@ -34,6 +35,13 @@ struct ThreadScratch {
     std::vector<int> tile_screen_lights;             // light_coverage.h: the lights over the tile,
     std::vector<PartialCoverage> partial_coverages;  // and those partly covering the pixel
     std::vector<CameraRayMedia> camera_ray_media;    // per camera sample, where the scene keeps them
+    // Light samples taken for a chunk at once (integrator/batched_light_samples.h): per (camera sample, light sample)
+    // the light chosen and its sample; the batches' requests, light by light.
+    std::vector<ChosenLight> batched_choices;
+    std::vector<LightSample<float>> batched_samples, batch_out;
+    std::vector<uint32_t> batch_first, batch_next, batch_slots;
+    std::vector<Vec3f> batch_origins;
+    std::vector<Point2<float>> batch_points;
     ThreadScratch();
     ~ThreadScratch();
 };

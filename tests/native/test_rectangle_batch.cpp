@@ -82,12 +82,13 @@ BatchComparison CompareBatch(const RectLight<float>& light, const std::vector<Ve
                 continue;
             }
             const Vec3d p = Vec3d(ref.point);
-            const double slack = 4 * std::numeric_limits<float>::epsilon() *
-                                 std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+            const double slack =
+                4 * std::numeric_limits<float>::epsilon() * std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
             if (hard) {
                 const Point2<double> e = EdgeOffsets(setup.plane, got.point);
                 const double on_light = 1e-5 * std::max(frame.wx, frame.wy);
-                EXPECT_TRUE(e.u >= -on_light && e.u <= frame.wx + on_light && e.v >= -on_light && e.v <= frame.wy + on_light);
+                EXPECT_TRUE(e.u >= -on_light && e.u <= frame.wx + on_light && e.v >= -on_light &&
+                            e.v <= frame.wy + on_light);
                 EXPECT_NEAR(RectanglePDF(setup, got.point) / got.pdf, 1.0, 2e-7);
                 EXPECT_LE(Length(Vec3d(got.dir) - Vec3d(ref.dir)), 1e-4);
             } else {
@@ -122,7 +123,9 @@ TEST(RectangleBatch, RunsOnEveryInstructionSet) {
     EXPECT_NE(std::find(targets.begin(), targets.end(), int64_t(HWY_AVX2)), targets.end());
 }
 
-TEST(RectangleBatch, MatchesScalarOnTheHardCases) { ForEachTarget([] { MatchesScalarOnTheHardCases(); }); }
+TEST(RectangleBatch, MatchesScalarOnTheHardCases) {
+    ForEachTarget([] { MatchesScalarOnTheHardCases(); });
+}
 
 TEST(RectangleBatch, MatchesScalarOnRandomLightsAndPoints) {
     ForEachTarget([] { MatchesScalarOnRandomLightsAndPoints(); });
@@ -175,10 +178,10 @@ void MatchesScalarOnRandomLightsAndPoints() {
 
 TEST(RectangleBatch, FollowsTheScalarPathWhereTheSetupIsInvalid) {
     const RectLight<float> one_sided{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, false};  // emits towards +z
-    const std::vector<Vec3f> origins = {{0.5f, 0.5f, 2},        // behind: pdf 0
-                                        {0.5f, 0.5f, 0},        // in front
-                                        {0.5f, 0.5f, 1},        // in its plane: pdf 0
-                                        {NAN, 0, 0},            // not finite: pdf 0
+    const std::vector<Vec3f> origins = {{0.5f, 0.5f, 2},                       // behind: pdf 0
+                                        {0.5f, 0.5f, 0},                       // in front
+                                        {0.5f, 0.5f, 1},                       // in its plane: pdf 0
+                                        {NAN, 0, 0},                           // not finite: pdf 0
                                         {0, INFINITY, 0}};
     const std::vector<Point2<float>> uv(origins.size(), {0.3f, 0.6f});
     const BatchComparison c = CompareBatch(one_sided, origins, uv, 1, "one-sided");

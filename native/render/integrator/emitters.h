@@ -68,7 +68,7 @@ template <Technique K>
 static inline EmitterSample SampleChosenEmitter(const ShadeContext& c, ChosenLight light, Point2<float> u,
                                                 TimedLightSamplingAt<K>& light_sampling) {
     if (light.index < 0) return {};
-    LightSample<float> ls = light_sampling.Sample(light.index, u);
+    LightSample<float> ls = light.batched ? *light.batched : light_sampling.Sample(light.index, u);
     if (!(ls.pdf > 0 && std::isfinite(ls.pdf))) return {};
     const AreaLight& l = c.scene.area_lights[light.index];
     if (l.on_mesh) PullOffMeshLight(l, ls);

@@ -30,7 +30,8 @@ struct ChosenLight {
     int index = -1;
     int delta = -1;
     float pmf = 0;
-    Point2<float> u;  // the point on the chosen light
+    Point2<float> u;                              // the point on the chosen light
+    const LightSample<float>* batched = nullptr;  // its sample, where taken for the chunk (batched_light_samples.h)
 };
 
 static inline ChosenLight ChooseLightByPower(const LightSelector& selector, Point2<float> light_point) {
@@ -65,6 +66,13 @@ static inline void ForEachDeltaLightEvaluatedOnce(const RenderScene& scene, Ligh
     }
 }
 
+// Whether rectangle light l is sampled by its blocks under technique K: textured, with blocks (not a light with
+// spread, sampled on its clipped part), and the option (RenderOptions::emission_blocks) on.
+static inline bool SampledByBlocks(const RenderScene& scene, const AreaLight& l, Technique K, bool emission_blocks) {
+    return l.texture >= 0 && K != Technique::Area && emission_blocks &&
+           scene.textured_emitters[size_t(l.texture)].HasBlocks();
+}
+
 // The light choice used to take one number of the camera sample's rng; drawing it still keeps
 // the numbers drawn after it (the medium's centre and distances) where they were, so that
 // images with one area light stay bit-identical to those of independent choices.
@@ -93,7 +101,7 @@ class LightSamplingAt {
           normal_(normal),
           tree_(scene.light_tree(), origin, tree_normal, light_samples > 1),
           ellipse_(ellipse_technique),
-          emission_blocks_(K != Technique::Area && emission_blocks) {}
+          emission_blocks_(emission_blocks) {}
 
     // The emitter of the light sample with pattern point light_point, at this receiver.
     ChosenLight Choose(Point2<float> light_point) {
@@ -147,11 +155,7 @@ class LightSamplingAt {
         return s.Valid() ? s.PDF(p) : 0.0f;
     }
 
-    // Whether rectangle light l is sampled by its blocks: textured, with blocks (not a light with spread, sampled on
-    // its clipped part), and the option on.
-    bool SampledByBlocks(const AreaLight& l) const {
-        return l.texture >= 0 && emission_blocks_ && scene_.textured_emitters[size_t(l.texture)].HasBlocks();
-    }
+    bool SampledByBlocks(const AreaLight& l) const { return render::SampledByBlocks(scene_, l, K, emission_blocks_); }
 
     // A textured rectangle light: a block by its radiance and solid angle, a point in it by the rectangle map
     // (core/rectangle_blocks.h); the blocks' table set up once per (point, light), like a rectangle's sampler.  Out

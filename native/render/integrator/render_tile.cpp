@@ -19,6 +19,7 @@
 #include <chrono>
 #include <cstdint>
 
+#include "batched_light_samples.h"
 #include "camera_stage.h"
 #include "chunk.h"
 #include "film.h"
@@ -51,12 +52,12 @@ class Stopwatch {
 template <Technique K, bool kGlossy>
 [[gnu::noinline]] void ShadeCameraSampleInMedia(const ShadeContext& c, const PrimaryHit& ph,
                                                 const CameraRayMedia& media, const Point2<float>* light_points,
-                                                const Point2<float>* bsdf_points, const ShadowSink& sink,
-                                                uint64_t& light_ticks) {
+                                                const Point2<float>* bsdf_points, const ChosenLight* batched_choices,
+                                                const ShadowSink& sink, uint64_t& light_ticks) {
     const RenderScene& scene = c.scene;
     PCG32 rng(ph.rng_seed, 0x5851f42dull);
     if (ph.hit)
-        ShadeSurface<K, kGlossy, true>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng,
+        ShadeSurface<K, kGlossy, true>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, batched_choices, rng,
                                        sink.Scaled(CameraRayTransmittance<true>(scene, &media, ph.surface.t)),
                                        light_ticks);
     const ShadowSink unweighted{sink.queue, sink.sample};
@@ -70,14 +71,15 @@ template <Technique K, bool kGlossy>
 // medium (null unless the scene keeps them).
 template <Technique K, bool kGlossy, bool kMedium>
 void ShadeCameraSample(const ShadeContext& c, const PrimaryHit& ph, const CameraRayMedia* media,
-                       const Point2<float>* light_points, const Point2<float>* bsdf_points, const ShadowSink& sink,
-                       uint64_t& light_ticks) {
+                       const Point2<float>* light_points, const Point2<float>* bsdf_points,
+                       const ChosenLight* batched_choices, const ShadowSink& sink, uint64_t& light_ticks) {
     if constexpr (kMedium)
         if (media)
-            return ShadeCameraSampleInMedia<K, kGlossy>(c, ph, *media, light_points, bsdf_points, sink, light_ticks);
+            return ShadeCameraSampleInMedia<K, kGlossy>(c, ph, *media, light_points, bsdf_points, batched_choices, sink,
+                                                        light_ticks);
     PCG32 rng(ph.rng_seed, 0x5851f42dull);
     if (ph.hit)
-        ShadeSurface<K, kGlossy, kMedium>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, rng,
+        ShadeSurface<K, kGlossy, kMedium>(c, ph.surface, -ph.ray.d, light_points, bsdf_points, batched_choices, rng,
                                           sink.Scaled(SegmentTransmittance<kMedium>(c.scene.medium, ph.surface.t)),
                                           light_ticks);
     // (The run-time test only matters for the benchmark's forced all-features kernel.)
@@ -96,13 +98,16 @@ void ShadeCameraSamples(Technique technique, const ShadeContext& c, size_t n, Th
     const CameraRayMedia* media = KeepsCameraRayMedia(c.scene) ? scratch.camera_ray_media.data() : nullptr;
     DispatchTechnique(technique, [&](auto tag) {
         constexpr Technique K = decltype(tag)::value;
+        const bool batched = BatchesLightSamples<K>(c);
+        if (batched) BatchLightSamples(c, n, scratch, light_ticks);
         for (uint32_t s = 0; s < uint32_t(n); ++s) {
             const PrimaryHit& ph = scratch.hits[s];
             scratch.sample_values[s] = ph.seen;
             if (IsBlack(ph.throughput)) continue;  // past too many transparent surfaces
             ShadeCameraSample<K, kGlossy, kMedium>(c, ph, media ? &media[s] : nullptr, &scratch.light_points[s * nl],
-                                                   &scratch.bsdf_points[s * nl], ShadowSink{&queue, s, ph.throughput},
-                                                   light_ticks);
+                                                   &scratch.bsdf_points[s * nl],
+                                                   batched ? &scratch.batched_choices[s * nl] : nullptr,
+                                                   ShadowSink{&queue, s, ph.throughput}, light_ticks);
         }
     });
 }

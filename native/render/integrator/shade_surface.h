@@ -282,12 +282,14 @@ static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
 // pairs averaged, as many light samples of the image world, then the delta lights evaluated once (soft ones once per
 // light sample), then the singular lobes' rays (once).  Light sample j's emitter and its point come from
-// light_points[j] (LightSamplingAt::Choose); rng is only advanced for the medium that may follow. light_ticks counts
-// the time in light sampling.
+// light_points[j] (LightSamplingAt::Choose), or where the chunk chose it (batched_choices, else null) from
+// batched_choices[j], with its sample where that was taken too; rng is only advanced for the medium that may follow.
+// light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h, const Vec3f& wo_world,
-                                const Point2<float>* light_points, const Point2<float>* bsdf_points, PCG32& rng,
-                                const ShadowSink& sink, uint64_t& light_ticks) {
+                                const Point2<float>* light_points, const Point2<float>* bsdf_points,
+                                const ChosenLight* batched_choices, PCG32& rng, const ShadowSink& sink,
+                                uint64_t& light_ticks) {
     const RenderScene& scene = c_scene.scene;
     const Frame frame = Frame::FromZ(h.ns);
     std::optional<Bsdf> textured;  // a textured material's inputs at this hit (not constructed otherwise)
@@ -308,7 +310,7 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, technique_normal, tree_normal, n_pairs,
                                            c.ellipse_technique, light_ticks, c.emission_blocks);
     for (int j = 0; j < n_pairs; ++j) {
-        const ChosenLight light = light_sampling.Choose(light_points[j]);
+        const ChosenLight light = batched_choices ? batched_choices[j] : light_sampling.Choose(light_points[j]);
         if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow
         if (light.delta >= 0)  // a point or spot light the tree chose: f Li T cos / pmf (MIS if soft)
             QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, scene.delta_lights[light.delta], light.u, light.pmf,
