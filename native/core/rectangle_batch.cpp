@@ -157,23 +157,12 @@ HWY_INLINE SetupV MakeSetupV(DD d, const RectLightFrame<float>& f, VD ox, VD oy,
     s.s1 = hn::Div(a1, ra1);
     s.y_beside = c0 > zero;
 
-    // The error estimate (19), as MakeRectangleSetup.
+    // The error estimate (19) with its x-part bounded: |F'(s) s| <= b1 / sqrt(1 - b1^2) + |b0| / sqrt(1 - b0^2)
+    // = (|y0| + y1) / h, since each q_i >= sqrt(1 - b_i^2) and |s| <= 1.  A lane whose bound calls for the polish
+    // takes the scalar path, which decides on the estimate itself (such lanes are nearly in the light's plane).
     const VD eps = hn::Set(d, std::numeric_limits<double>::epsilon());
-    const VD e0 = hn::Div(h2, hn::MulAdd(c0, c0, h2)), e1 = hn::Div(h2, hn::MulAdd(c1, c1, h2));
-    const MD b0_nonpos = s.neg_b0 >= zero;
-    auto slope = [&](VD x, VD sx) {
-        const VD oms2 = hn::Div(h2, hn::MulAdd(x, x, h2));
-        const VD q0v = hn::Sqrt(hn::MulAdd(hn::Mul(s.neg_b0, s.neg_b0), oms2, e0));
-        const VD q1v = hn::Sqrt(hn::MulAdd(hn::Mul(s.b1, s.b1), oms2, e1));
-        const VD q01 = hn::Mul(q0v, q1v);
-        const VD num = hn::IfThenElse(b0_nonpos, hn::Mul(s.b1_plus_b0, hn::Add(s.b1, s.neg_b0)),
-                                      hn::Sub(hn::Mul(s.b1, q0v), hn::Mul(s.neg_b0, q1v)));
-        const VD den =
-            hn::IfThenElse(b0_nonpos, hn::Mul(q01, hn::Add(hn::Mul(s.b1, q0v), hn::Mul(s.neg_b0, q1v))), q01);
-        return hn::Abs(hn::Mul(hn::Div(num, den), sx));
-    };
-    const VD ex = hn::Div(
-        hn::Mul(eps, hn::Add(hn::Add(hn::Abs(s.T0), s.omega), hn::Max(slope(a0, s.s0), slope(a1, s.s1)))), s.omega);
+    const VD slope_bound = hn::Div(hn::Add(hn::Abs(c0), c1), h);
+    const VD ex = hn::Div(hn::Mul(eps, hn::Add(hn::Add(hn::Abs(s.T0), s.omega), slope_bound)), s.omega);
     const VD dmax = hn::Max(ra0, ra1), dmax2 = hn::Mul(dmax, dmax);
     const VD r0 = hn::Sqrt(hn::MulAdd(c0, c0, dmax2)), r1 = hn::Sqrt(hn::MulAdd(c1, c1, dmax2));
     const VD one_minus_b = hn::Div(dmax2, hn::Mul(r0, hn::Add(r0, c0)));  // OneMinusB(c0, r0, dmax2)

@@ -22,6 +22,7 @@ struct CameraRayMedia;
 struct PartialCoverage;
 struct DeferredShadowRay;
 struct ChosenLight;
+struct LightSampleRequests;
 
 // Per-thread buffers reused across tiles.
 struct ThreadScratch {
@@ -36,12 +37,10 @@ struct ThreadScratch {
     std::vector<PartialCoverage> partial_coverages;  // and those partly covering the pixel
     std::vector<CameraRayMedia> camera_ray_media;    // per camera sample, where the scene keeps them
     // Light samples taken for a chunk at once (integrator/batched_light_samples.h): per (camera sample, light sample)
-    // the light chosen and its sample; the batches' requests, light by light.
+    // the light chosen and its sample; the batches' requests (per point, per sample).
     std::vector<ChosenLight> batched_choices;
-    std::vector<LightSample<float>> batched_samples, batch_out;
-    std::vector<uint32_t> batch_first, batch_next, batch_slots;
-    std::vector<Vec3f> batch_origins;
-    std::vector<Point2<float>> batch_points;
+    std::vector<LightSample<float>> batched_samples;
+    std::vector<LightSampleRequests> batch_requests;
     ThreadScratch();
     ~ThreadScratch();
 };

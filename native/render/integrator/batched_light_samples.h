@@ -35,54 +35,105 @@ static inline bool BatchableRectangle(const ShadeContext& c, const AreaLight& l)
            !SampledByBlocks(c.scene, l, Technique::Rectangle, c.emission_blocks);
 }
 
+// Requests of one kind, light by light (a counting sort): request r is a point `origins[r]` with m sample points
+// `points[r m + k]`, whose samples go to `out[r m + k]` and from there to the chunk's slots `slots[r] + k`; light l's
+// requests are [first[l], first[l + 1]).
+struct LightSampleRequests {
+    int m = 1;
+    std::vector<uint32_t> first, next, slots;
+    std::vector<Vec3f> origins;
+    std::vector<Point2<float>> points;
+    std::vector<LightSample<float>> out;
+
+    void Start(size_t lights, int samples_per_request) {
+        m = samples_per_request;
+        first.assign(lights + 1, 0);
+    }
+    void Count(int light) { ++first[size_t(light) + 1]; }
+    // After the counting: the requests' storage, and each light's first place.
+    void Size() {
+        const size_t lights = first.size() - 1;
+        for (size_t l = 0; l < lights; ++l) first[l + 1] += first[l];
+        const size_t n = first[lights];
+        slots.resize(n);
+        origins.resize(n);
+        points.resize(n * size_t(m));
+        out.resize(n * size_t(m));
+        next.assign(first.begin(), first.end() - 1);
+    }
+    // Request of light `light` at `origin` for the slots [slot, slot + m), the choices' points from `choices`.
+    void Place(int light, const Vec3f& origin, uint32_t slot, const ChosenLight* choices) {
+        const uint32_t r = next[size_t(light)]++;
+        slots[r] = slot;
+        origins[r] = origin;
+        for (int k = 0; k < m; ++k) points[size_t(r) * m + k] = choices[k].u;
+    }
+    // Samples them, light by light, into samples[slot].
+    void Sample(const RenderScene& scene, LightSample<float>* samples) {
+        const size_t lights = first.size() - 1;
+        for (size_t l = 0; l < lights; ++l)
+            if (first[l + 1] > first[l])
+                SampleRectangleBatch(scene.area_lights[l].frame, &origins[first[l]], first[l + 1] - first[l],
+                                     &points[size_t(first[l]) * m], m, &out[size_t(first[l]) * m]);
+        for (size_t r = 0; r < slots.size(); ++r)
+            for (int k = 0; k < m; ++k) samples[slots[r] + k] = out[r * m + k];
+    }
+};
+
 // Fills scratch.batched_choices for the chunk's n camera samples: per camera sample s and light sample j, at
 // s * light_samples + j, the light it goes to and, where that is a rectangle the batch samples, its sample
-// (ChosenLight::batched, in scratch.batched_samples).  Camera samples that shade no surface get no choice.
+// (ChosenLight::batched, in scratch.batched_samples).  Camera samples that shade no surface get no choice.  A point
+// whose light samples all go to the same rectangle is one request of them all (one setup, as the scalar sampler
+// kept for the point's samples); other points' samples are requests of one each.
 static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScratch& scratch, uint64_t& light_ticks) {
     const uint64_t t0 = ReadTicks();
     const RenderScene& scene = c.scene;
     const size_t nl = size_t(c.light_samples), lights = scene.area_lights.size();
     scratch.batched_choices.resize(n * nl);
     scratch.batched_samples.resize(n * nl);
-    // The choices, and the requests counted per light; then placed light by light (a counting sort).
-    std::vector<uint32_t>& first = scratch.batch_first;
-    first.assign(lights + 1, 0);
+    scratch.batch_requests.resize(2);
+    LightSampleRequests &per_point = scratch.batch_requests[0], &per_sample = scratch.batch_requests[1];
+    per_point.Start(lights, int(nl));
+    per_sample.Start(lights, 1);
+    // Whether camera sample s's choices are one request (all the same batched light) and that light.
+    auto one_request = [&](size_t s) {
+        const ChosenLight* choices = &scratch.batched_choices[s * nl];
+        if (nl < 2 || !choices[0].batched) return -1;
+        for (size_t j = 1; j < nl; ++j)
+            if (choices[j].index != choices[0].index) return -1;
+        return choices[0].index;
+    };
+    auto shaded = [&](size_t s) { return scratch.hits[s].hit && !IsBlack(scratch.hits[s].throughput); };
     for (size_t s = 0; s < n; ++s) {
-        const PrimaryHit& ph = scratch.hits[s];
-        if (!ph.hit || IsBlack(ph.throughput)) continue;
+        if (!shaded(s)) continue;
         for (size_t j = s * nl; j < (s + 1) * nl; ++j) {
             ChosenLight& light = scratch.batched_choices[j];
             light = ChooseLightByPower(scene.light_selector, scratch.light_points[j]);
-            if (light.index < 0 || !BatchableRectangle(c, scene.area_lights[size_t(light.index)])) continue;
-            light.batched = &scratch.batched_samples[j];
-            ++first[size_t(light.index) + 1];
+            if (light.index >= 0 && BatchableRectangle(c, scene.area_lights[size_t(light.index)]))
+                light.batched = &scratch.batched_samples[j];
         }
+        if (const int l = one_request(s); l >= 0) {
+            per_point.Count(l);
+            continue;
+        }
+        for (size_t j = s * nl; j < (s + 1) * nl; ++j)
+            if (scratch.batched_choices[j].batched) per_sample.Count(scratch.batched_choices[j].index);
     }
-    for (size_t l = 0; l < lights; ++l) first[l + 1] += first[l];
-    const size_t requests = first[lights];
-    scratch.batch_slots.resize(requests);
-    scratch.batch_origins.resize(requests);
-    scratch.batch_points.resize(requests);
-    scratch.batch_out.resize(requests);
-    std::vector<uint32_t>& next = scratch.batch_next;
-    next.assign(first.begin(), first.end() - 1);
+    per_point.Size();
+    per_sample.Size();
     for (size_t s = 0; s < n; ++s) {
-        const PrimaryHit& ph = scratch.hits[s];
-        if (!ph.hit || IsBlack(ph.throughput)) continue;
-        for (size_t j = s * nl; j < (s + 1) * nl; ++j) {
-            const ChosenLight& light = scratch.batched_choices[j];
-            if (!light.batched) continue;
-            const uint32_t r = next[size_t(light.index)]++;
-            scratch.batch_slots[r] = uint32_t(j);
-            scratch.batch_origins[r] = ph.surface.p;
-            scratch.batch_points[r] = light.u;
+        if (!shaded(s)) continue;
+        const Vec3f& origin = scratch.hits[s].surface.p;
+        if (const int l = one_request(s); l >= 0) {
+            per_point.Place(l, origin, uint32_t(s * nl), &scratch.batched_choices[s * nl]);
+            continue;
         }
+        for (size_t j = s * nl; j < (s + 1) * nl; ++j)
+            if (const ChosenLight& light = scratch.batched_choices[j]; light.batched)
+                per_sample.Place(light.index, origin, uint32_t(j), &light);
     }
-    for (size_t l = 0; l < lights; ++l)
-        if (first[l + 1] > first[l])
-            SampleRectangleBatch(scene.area_lights[l].frame, &scratch.batch_origins[first[l]], first[l + 1] - first[l],
-                                 &scratch.batch_points[first[l]], 1, &scratch.batch_out[first[l]]);
-    for (size_t r = 0; r < requests; ++r) scratch.batched_samples[scratch.batch_slots[r]] = scratch.batch_out[r];
+    per_point.Sample(scene, scratch.batched_samples.data());
+    per_sample.Sample(scene, scratch.batched_samples.data());
     light_ticks += ReadTicks() - t0;
 }
 
