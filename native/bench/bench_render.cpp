@@ -301,20 +301,19 @@ void AddShadowRay(const Vec3f& origin, const Vec3f& n, const LightSample<float>&
 // sampler (core/technique.h), or for an ellipse light the renderer's own EllipseSamplingAt (its area fallback
 // where the map cannot pay, its setup kept for the point's samples).  make(p, n) -> an object with Valid() and
 // Sample(uv).
-// `rectangle`'s: batched over a tile's points (core/rectangle_batch.h), as the renderer takes it
-// (TraceTileWithSampler's overload); one point at a time where rays are drawn (MakeRawRays).
+// `rectangle`'s and `rectangle_cosine`'s: batched over a tile's points (core/rectangle_batch.h), as the renderer
+// takes them (TraceTileWithSampler's overload); one point at a time where rays are drawn (MakeRawRays).
+template <Technique K>
 struct BatchedRectangleSampling {
     const RectLightFrame<float>* frame;
-    LightSampler<Technique::Rectangle, float> operator()(const Vec3f& p, const Vec3f& n) const {
-        return {p, n, *frame};
-    }
+    LightSampler<K, float> operator()(const Vec3f& p, const Vec3f& n) const { return {p, n, *frame}; }
 };
 
 template <Technique K>
 auto RectSampling(const RenderScene& s) {
     const RectLightFrame<float>* frame = &s.area_lights[0].frame;
-    if constexpr (K == Technique::Rectangle) {
-        return BatchedRectangleSampling{frame};
+    if constexpr (K == Technique::Rectangle || K == Technique::RectangleCosine) {
+        return BatchedRectangleSampling<K>{frame};
     } else {
         return [frame](const Vec3f& p, const Vec3f& n) { return LightSampler<K, float>(p, n, *frame); };
     }
@@ -464,19 +463,29 @@ uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light
     return blocked + TraceShadowRays(s, queue.data(), queue.size());
 }
 
-// The same with `rectangle` batched: the tile's points and their light samples in one batch.
+// The same with `rectangle` or `rectangle_cosine` batched: the tile's points and their light samples in one batch.
+template <Technique K>
 uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light_samples, size_t tile,
-                              RTCRayHit* camera, std::vector<RTCRay>& queue, const BatchedRectangleSampling& sampling) {
+                              RTCRayHit* camera, std::vector<RTCRay>& queue,
+                              const BatchedRectangleSampling<K>& sampling) {
     uint64_t blocked = TraceCameraTile(s, in, tile, camera);
     queue.clear();
     const uint32_t first = in.tile_points[tile], count = in.tile_points[tile + 1] - first;
-    static thread_local std::vector<Vec3f> origins;
+    static thread_local std::vector<Vec3f> origins, normals;
     static thread_local std::vector<LightSample<float>> samples;
     origins.resize(count);
+    normals.resize(count);
     samples.resize(size_t(count) * light_samples);
-    for (uint32_t k = 0; k < count; ++k) origins[k] = in.points[first + k].p;
-    SampleRectangleBatch(*sampling.frame, origins.data(), count, &in.light_uv[size_t(first) * light_samples],
-                         light_samples, samples.data());
+    for (uint32_t k = 0; k < count; ++k) {
+        origins[k] = in.points[first + k].p;
+        normals[k] = in.points[first + k].n;
+    }
+    const Point2<float>* uv = &in.light_uv[size_t(first) * light_samples];
+    if constexpr (K == Technique::RectangleCosine)
+        SampleRectangleCosineBatch(*sampling.frame, origins.data(), normals.data(), count, uv, light_samples,
+                                   samples.data());
+    else
+        SampleRectangleBatch(*sampling.frame, origins.data(), count, uv, light_samples, samples.data());
     for (uint32_t k = 0; k < count; ++k) {
         const RawRays::ShadingPoint& sp = in.points[first + k];
         for (int j = 0; j < light_samples; ++j)

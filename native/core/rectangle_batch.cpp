@@ -17,6 +17,7 @@
 #include <limits>
 
 #include "core/rectangle.h"
+#include "core/rectangle_cosine.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace sphrect {
@@ -208,14 +209,65 @@ HWY_INLINE void MapV(DD d, const SetupV& s, VD u, VD v, VD& X, VD& Y, VD& dist) 
     Y = hn::IfThenElse(s.swap, a, b);
 }
 
-size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* origins, size_t n, const Point2<float>* uv,
-                                int m, LightSample<float>* out) {
+// rectangle_cosine's corner weights (rectangle_cosine.h): the clamped cosines between the normal (nx, ny, nz) and the
+// vectors to the corners M(i, j) of the lanes' setups, w[i + 2 j]; lanes without a usable normal or with every weight
+// 0 leave `ok` (the scalar path decides them).
+HWY_INLINE void CornerWeightsV(DD d, const RectLightFrame<float>& f, const SetupV& s, VD nx, VD ny, VD nz, VD* w,
+                               MD& ok) {
+    const VD zero = hn::Zero(d), inf = hn::Set(d, std::numeric_limits<double>::infinity());
+    const VD ln = hn::Sqrt(hn::MulAdd(nx, nx, hn::MulAdd(ny, ny, hn::Mul(nz, nz))));
+    ok = hn::And(ok, hn::And(ln > zero, ln < inf));
+    const VD az_h = hn::Mul(s.az_sign, s.h);
+    VD sum = zero;
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) {
+            const VD x = i ? s.x1 : s.x0, y = j ? s.y1 : s.y0;
+            const VD a = hn::IfThenElse(s.flip_x, hn::Neg(x), x), b = hn::IfThenElse(s.flip_y, hn::Neg(y), y);
+            const VD X = hn::IfThenElse(s.swap, b, a), Y = hn::IfThenElse(s.swap, a, b);
+            auto component = [&](double ex, double ey, double n) {  // of LocalVector(plane, X, Y)
+                return hn::MulAdd(hn::Set(d, ex), X, hn::MulAdd(hn::Set(d, ey), Y, hn::Mul(hn::Set(d, n), az_h)));
+            };
+            const VD cx = component(f.exh.x, f.eyh.x, f.n.x), cy = component(f.exh.y, f.eyh.y, f.n.y),
+                     cz = component(f.exh.z, f.eyh.z, f.n.z);
+            const VD length = hn::Sqrt(hn::MulAdd(cx, cx, hn::MulAdd(cy, cy, hn::Mul(cz, cz))));
+            const VD cosine = hn::Div(hn::MulAdd(nx, cx, hn::MulAdd(ny, cy, hn::Mul(nz, cz))), hn::Mul(ln, length));
+            w[i + 2 * j] = hn::IfThenElse(cosine > zero, cosine, zero);  // (NaN -> 0)
+            sum = hn::Add(sum, w[i + 2 * j]);
+        }
+    ok = hn::And(ok, sum > zero);
+}
+
+// SampleLinear of bilinear.h: x in [0, 1] with density proportional to (1 - x) a + x b.
+HWY_INLINE VD SampleLinearV(DD d, VD xi, VD a, VD b) {
+    const VD one = hn::Set(d, 1.0);
+    const VD root = hn::Sqrt(hn::Add(hn::Mul(hn::Mul(hn::Sub(one, xi), a), a), hn::Mul(hn::Mul(xi, b), b)));
+    const VD x = ClampNaNV(hn::Div(hn::Mul(xi, hn::Add(a, b)), hn::Add(a, root)), hn::Zero(d), one);
+    return hn::IfThenElse(a == b, xi, x);
+}
+
+// SampleBilinear and BilinearPDF of bilinear.h on the lanes' weights: (u, v) warped in place, its density returned.
+HWY_INLINE VD WarpBilinearV(DD d, const VD* w, VD& u, VD& v) {
+    const VD one = hn::Set(d, 1.0);
+    u = SampleLinearV(d, u, hn::Add(w[0], w[2]), hn::Add(w[1], w[3]));
+    const VD nu = hn::Sub(one, u);
+    v = SampleLinearV(d, v, hn::Add(hn::Mul(nu, w[0]), hn::Mul(u, w[1])), hn::Add(hn::Mul(nu, w[2]), hn::Mul(u, w[3])));
+    const VD nv = hn::Sub(one, v);
+    const VD sum = hn::Add(hn::Add(hn::Add(w[0], w[1]), w[2]), w[3]);
+    const VD mix = hn::Add(hn::Add(hn::Mul(hn::Mul(nu, nv), w[0]), hn::Mul(hn::Mul(u, nv), w[1])),
+                           hn::Add(hn::Mul(hn::Mul(nu, v), w[2]), hn::Mul(hn::Mul(u, v), w[3])));
+    return hn::Div(hn::Mul(hn::Set(d, 4.0), mix), sum);
+}
+
+// `rectangle` (normals null) or `rectangle_cosine` (the points' normals) over the batch.
+size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* origins, const Vec3f* normals, size_t n,
+                                const Point2<float>* uv, int m, LightSample<float>* out) {
     const DD d;
     constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
     const size_t N = hn::Lanes(d);
     HWY_ALIGN double lane_x[kMaxLanes], lane_y[kMaxLanes], lane_z[kMaxLanes];
     HWY_ALIGN double lane_u[kMaxLanes], lane_v[kMaxLanes];
     HWY_ALIGN double out_X[kMaxLanes], out_Y[kMaxLanes], out_dist[kMaxLanes], out_pdf[kMaxLanes];
+    HWY_ALIGN double out_warp_pdf[kMaxLanes], lane_nx[kMaxLanes], lane_ny[kMaxLanes], lane_nz[kMaxLanes];
     HWY_ALIGN double plane_x0[kMaxLanes], plane_y0[kMaxLanes], plane_h[kMaxLanes], plane_az[kMaxLanes];
     HWY_ALIGN uint8_t lane_ok[kMaxLanes] = {};
     if (!f.valid) {  // every sample of a degenerate light has pdf 0
@@ -232,7 +284,18 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
             lane_y[i] = o.y;
             lane_z[i] = o.z;
         }
-        const SetupV s = MakeSetupV(d, f, hn::Load(d, lane_x), hn::Load(d, lane_y), hn::Load(d, lane_z));
+        SetupV s = MakeSetupV(d, f, hn::Load(d, lane_x), hn::Load(d, lane_y), hn::Load(d, lane_z));
+        VD weights[4];
+        if (normals) {
+            for (size_t i = 0; i < N; ++i) {
+                const Vec3f& nn = normals[first + std::min(i, count - 1)];
+                lane_nx[i] = nn.x;
+                lane_ny[i] = nn.y;
+                lane_nz[i] = nn.z;
+            }
+            CornerWeightsV(d, f, s, hn::Load(d, lane_nx), hn::Load(d, lane_ny), hn::Load(d, lane_nz), weights,
+                           s.vector_ok);
+        }
         // (Non-finite origins make the comparisons false: those lanes are not vector lanes.)
         hn::Store(hn::VecFromMask(d, s.vector_ok), d, out_pdf);
         bool any_vector = false;
@@ -250,8 +313,9 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
                     lane_u[i] = p.u;
                     lane_v[i] = p.v;
                 }
-                VD X, Y, dist;
-                MapV(d, s, hn::Load(d, lane_u), hn::Load(d, lane_v), X, Y, dist);
+                VD X, Y, dist, u = hn::Load(d, lane_u), v = hn::Load(d, lane_v);
+                hn::Store(normals ? WarpBilinearV(d, weights, u, v) : hn::Set(d, 1.0), d, out_warp_pdf);
+                MapV(d, s, u, v, X, Y, dist);
                 hn::Store(X, d, out_X);
                 hn::Store(Y, d, out_Y);
                 hn::Store(dist, d, out_dist);
@@ -260,7 +324,9 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
             for (size_t i = 0; i < count; ++i) {
                 const size_t j = (first + i) * size_t(m) + size_t(k);
                 if (!lane_ok[i]) {  // the scalar reference
-                    out[j] = SampleRectangle(MakeRectangleSetup(origins[first + i], f), uv[j]);
+                    const Vec3f& o = origins[first + i];
+                    out[j] = normals ? SampleRectangleCosine(MakeRectangleCosineSetup(o, normals[first + i], f), uv[j])
+                                     : SampleRectangle(MakeRectangleSetup(o, f), uv[j]);
                     continue;
                 }
                 // LightSampleFromLocal of local_rect.h: clamped onto the light, the point from the corner and the
@@ -275,7 +341,12 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
                 if (!(dist > 0) || !std::isfinite(dist)) dist = Length(dir);
                 ls.dist = float(dist);
                 ls.dir = Vec3f(dir / dist);
+                // (The cosine's pdf as SampleRectangleCosine: the warp's density times the float 1 / Omega.)
                 ls.pdf = float(out_pdf[i]);
+                if (normals) {
+                    ls.pdf = float(out_warp_pdf[i] * double(ls.pdf));
+                    if (!std::isfinite(ls.pdf)) ls.pdf = 0;
+                }
             }
         }
     }
@@ -297,7 +368,13 @@ HWY_EXPORT(TargetNameImpl);
 size_t SampleRectangleBatch(const RectLightFrame<float>& frame, const Vec3f* origins, size_t n, const Point2<float>* uv,
                             int m, LightSample<float>* out) {
     if (n == 0 || m <= 0) return 0;
-    return HWY_DYNAMIC_DISPATCH(SampleRectangleBatchImpl)(frame, origins, n, uv, m, out);
+    return HWY_DYNAMIC_DISPATCH(SampleRectangleBatchImpl)(frame, origins, nullptr, n, uv, m, out);
+}
+
+size_t SampleRectangleCosineBatch(const RectLightFrame<float>& frame, const Vec3f* origins, const Vec3f* normals,
+                                  size_t n, const Point2<float>* uv, int m, LightSample<float>* out) {
+    if (n == 0 || m <= 0) return 0;
+    return HWY_DYNAMIC_DISPATCH(SampleRectangleBatchImpl)(frame, origins, normals, n, uv, m, out);
 }
 
 const char* RectangleBatchTarget() { return HWY_DYNAMIC_DISPATCH(TargetNameImpl)(); }

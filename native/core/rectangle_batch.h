@@ -1,4 +1,4 @@
-// Technique `rectangle` over a batch of shading points at once: the setup (MakeRectangleSetup)
+// Techniques `rectangle` and `rectangle_cosine` over a batch of shading points at once: the setup (MakeRectangleSetup)
 // and map (SampleRectangle) of rectangle.h evaluated for SIMD lanes of points in double, with
 // the instruction set chosen at run time (Google Highway: AVX-512, AVX2, SSE4 or scalar), so
 // one binary runs on any x86-64 and uses the widest vectors the machine has.
@@ -27,6 +27,13 @@ namespace sphrect {
 // scalar path).  No allocation.
 size_t SampleRectangleBatch(const RectLightFrame<float>& frame, const Vec3f* origins, size_t n, const Point2<float>* uv,
                             int m, LightSample<float>* out);
+
+// The same for technique `rectangle_cosine` (rectangle_cosine.h), point i with shading normal normals[i]: each
+// sample SampleRectangleCosine(MakeRectangleCosineSetup(origins[i], normals[i], frame), uv) up to rounding.  The
+// corner weights and the bilinear warp run in the lanes too; a point without a usable normal or below the light's
+// horizon takes the scalar path, as do the lanes `rectangle`'s batch gives it.
+size_t SampleRectangleCosineBatch(const RectLightFrame<float>& frame, const Vec3f* origins, const Vec3f* normals,
+                                  size_t n, const Point2<float>* uv, int m, LightSample<float>* out);
 
 // The instruction set the batch runs on here (e.g. "AVX3", "AVX2"), for benchmarks and reports.
 const char* RectangleBatchTarget();

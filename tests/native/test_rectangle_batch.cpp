@@ -27,6 +27,7 @@
 #include "core/hard_cases.h"
 #include "core/rectangle.h"
 #include "core/rectangle_batch.h"
+#include "core/rectangle_cosine.h"
 #include "core/rng.h"
 #include "hwy/targets.h"
 
@@ -57,25 +58,37 @@ bool InImageOfSquare(const RectangleSetup<float>& setup, double u, double v, dou
     return true;
 }
 
-// Compares the batch with SampleRectangle(MakeRectangleSetup(o, frame), uv) for every point and sample; `hard`:
+// Compares the batch with SampleRectangle(MakeRectangleSetup(o, frame), uv) -- or, given normals, the cosine batch
+// with SampleRectangleCosine(MakeRectangleCosineSetup(o, normal, frame), uv) -- for every point and sample; `hard`:
 // by the hard-case suite's guarantees rather than sample by sample (see above).
 BatchComparison CompareBatch(const RectLight<float>& light, const std::vector<Vec3f>& origins,
-                             const std::vector<Point2<float>>& uv, int m, const std::string& what, bool hard = false) {
+                             const std::vector<Point2<float>>& uv, int m, const std::string& what, bool hard = false,
+                             const std::vector<Vec3f>* normals = nullptr) {
     const RectLightFrame<float> frame = MakeRectLightFrame(light);
     std::vector<LightSample<float>> batch(origins.size() * size_t(m));
     BatchComparison c;
-    c.vector_points = SampleRectangleBatch(frame, origins.data(), origins.size(), uv.data(), m, batch.data());
+    c.vector_points = normals ? SampleRectangleCosineBatch(frame, origins.data(), normals->data(), origins.size(),
+                                                           uv.data(), m, batch.data())
+                              : SampleRectangleBatch(frame, origins.data(), origins.size(), uv.data(), m, batch.data());
     for (size_t i = 0; i < origins.size(); ++i) {
-        const RectangleSetup<float> setup = MakeRectangleSetup(origins[i], frame);
-        c.valid_points += setup.valid && !setup.area_fallback && !setup.polish_x;
+        RectangleCosineSetup<float> cosine;
+        if (normals) cosine = MakeRectangleCosineSetup(origins[i], (*normals)[i], frame);
+        const RectangleSetup<float> setup = normals ? cosine.rect : MakeRectangleSetup(origins[i], frame);
+        c.valid_points += setup.valid && !setup.area_fallback && !setup.polish_x && (!normals || cosine.valid);
         for (int k = 0; k < m; ++k) {
             const size_t j = i * size_t(m) + size_t(k);
-            const LightSample<float> ref = SampleRectangle(setup, uv[j]), got = batch[j];
+            const LightSample<float> ref =
+                normals ? SampleRectangleCosine(cosine, uv[j]) : SampleRectangle(setup, uv[j]);
+            const LightSample<float> got = batch[j];
+            // Where the map is evaluated: (u, v), or for the cosine its bilinear warp.
+            const Point2<double> at =
+                normals ? SampleBilinear({uv[j].u, uv[j].v}, cosine.w) : Point2<double>{uv[j].u, uv[j].v};
             ++c.samples;
             SCOPED_TRACE(what + " point " + std::to_string(i) + " sample " + std::to_string(k));
             EXPECT_EQ(ref.pdf > 0, got.pdf > 0);
             if (!(ref.pdf > 0) || !(got.pdf > 0)) continue;
-            EXPECT_NEAR(got.pdf / ref.pdf, 1.0, 1e-6);
+            // (The cosine's pdf is a bilinear factor in [0, 4] times 1 / Omega: near 0 compared on that scale.)
+            EXPECT_NEAR(got.pdf, ref.pdf, 1e-6 * ref.pdf + (normals ? 1e-7 * 4 * setup.pdf : 0.0));
             if (setup.area_fallback || setup.polish_x) {  // the scalar path's own samples
                 EXPECT_EQ(Length(Vec3d(got.point) - Vec3d(ref.point)), 0.0);
                 EXPECT_TRUE(got.pdf == ref.pdf && got.dist == ref.dist);
@@ -89,10 +102,10 @@ BatchComparison CompareBatch(const RectLight<float>& light, const std::vector<Ve
                 const double on_light = 1e-5 * std::max(frame.wx, frame.wy);
                 EXPECT_TRUE(e.u >= -on_light && e.u <= frame.wx + on_light && e.v >= -on_light &&
                             e.v <= frame.wy + on_light);
-                EXPECT_NEAR(RectanglePDF(setup, got.point) / got.pdf, 1.0, 2e-7);
+                if (!normals) EXPECT_NEAR(RectanglePDF(setup, got.point) / got.pdf, 1.0, 2e-7);
                 EXPECT_LE(Length(Vec3d(got.dir) - Vec3d(ref.dir)), 1e-4);
             } else {
-                EXPECT_TRUE(InImageOfSquare(setup, uv[j].u, uv[j].v, 1e-9, got.point, slack));
+                EXPECT_TRUE(InImageOfSquare(setup, at.u, at.v, 1e-9, got.point, slack));
                 EXPECT_LE(Length(Vec3d(got.dir) - Vec3d(ref.dir)), 1e-5);
             }
             EXPECT_TRUE(std::isfinite(got.pdf) && std::isfinite(got.dist) && IsFinite(got.dir) && IsFinite(got.point));
@@ -144,6 +157,8 @@ void MatchesScalarOnTheHardCases() {
         for (int r = 0; r < 3; ++r) uv.insert(uv.end(), grid.begin(), grid.end());
         vector_points += CompareBatch(hc.light, origins, uv, m, hc.name, true).vector_points;
         points += origins.size();
+        const std::vector<Vec3f> normals(3, hc.normal);  // rectangle_cosine, with the suite's normals
+        CompareBatch(hc.light, origins, uv, m, hc.name + " cosine", true, &normals);
     }
     // Most of the suite is handled by the vector code (the rest, nearly edge-on or degenerate, by the scalar path).
     std::printf("hard cases: %zu of %zu points on the vector path (%s)\n", vector_points, points,
@@ -153,7 +168,7 @@ void MatchesScalarOnTheHardCases() {
 
 void MatchesScalarOnRandomLightsAndPoints() {
     PCG32 rng(7, 3);
-    size_t vector_points = 0, points = 0;
+    size_t vector_points = 0, points = 0, cosine_vector_points = 0, cosine_points = 0;
     for (int trial = 0; trial < 200; ++trial) {
         // A random orthogonal pair of edges of random lengths, one- or two-sided.
         const Vec3d a = Normalize(Vec3d(rng.NextFloat() - 0.5, rng.NextFloat() - 0.5, rng.NextFloat() - 0.5));
@@ -171,7 +186,16 @@ void MatchesScalarOnRandomLightsAndPoints() {
         const BatchComparison c = CompareBatch(light, origins, uv, m, "trial " + std::to_string(trial));
         vector_points += c.vector_points;
         points += c.valid_points;
+        // rectangle_cosine at the same points, with random normals (some facing away: weights 0 or invalid).
+        std::vector<Vec3f> normals;
+        for (size_t i = 0; i < origins.size(); ++i)
+            normals.push_back(Vec3f(rng.NextFloat() - 0.5f, rng.NextFloat() - 0.5f, rng.NextFloat() - 0.5f));
+        const BatchComparison cc =
+            CompareBatch(light, origins, uv, m, "cosine trial " + std::to_string(trial), false, &normals);
+        cosine_vector_points += cc.vector_points;
+        cosine_points += cc.valid_points;
     }
+    EXPECT_GT(cosine_vector_points, cosine_points * 19 / 20);
     // Away from the hard cases nearly every setup that needs neither polish nor fallback is a vector lane.
     EXPECT_GT(vector_points, points * 19 / 20);
 }

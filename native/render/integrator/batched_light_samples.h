@@ -1,12 +1,12 @@
 // Light samples of rectangles taken for a whole chunk at once, before its shading: the batched
-// rectangle technique (core/rectangle_batch.h) over every (surface hit, light sample) whose
-// light is known before shading.  With "power" selection the light a light sample goes to
+// `rectangle` and `rectangle_cosine` techniques (core/rectangle_batch.h) over every (surface hit,
+// light sample) whose light is known before shading.  With "power" selection the light a light sample goes to
 // depends on its pattern point alone, so the lights are chosen for the whole chunk and the requests
 // gathered per light and sampled in SIMD batches; shading then takes its choice and sample from here
 // (ChosenLight::batched) and sets up no sampler unless a BSDF ray needs a pdf.  The samples equal the scalar sampler's
 // up to rounding (the batch's tests), so images change by rounding only.
 //
-// Requests that stay with the scalar path: techniques other than `rectangle`, the light tree
+// Requests that stay with the scalar path: the other techniques, the light tree
 // (its choice depends on the receiver), ellipses and triangles, lights with spread (sampled on
 // their clipped part) and textured rectangles sampled by their blocks.
 #pragma once
@@ -26,22 +26,24 @@ namespace sphrect::render {
 // Whether light samples of technique K under this context are batched.
 template <Technique K>
 static inline bool BatchesLightSamples(const ShadeContext& c) {
-    return K == Technique::Rectangle && c.light_selection == LightSelection::Power && !c.scene.light_selector.Empty();
+    return (K == Technique::Rectangle || K == Technique::RectangleCosine) &&
+           c.light_selection == LightSelection::Power && !c.scene.light_selector.Empty();
 }
 
-// Whether rectangle light l is sampled by the plain map (what the batch computes) at every point.
+// Whether rectangle light l is sampled by technique K's plain map (what the batch computes) at every point.
+template <Technique K>
 static inline bool BatchableRectangle(const ShadeContext& c, const AreaLight& l) {
-    return l.shape == AreaShape::Rectangle && !l.HasSpread() &&
-           !SampledByBlocks(c.scene, l, Technique::Rectangle, c.emission_blocks);
+    return l.shape == AreaShape::Rectangle && !l.HasSpread() && !SampledByBlocks(c.scene, l, K, c.emission_blocks);
 }
 
-// Requests of one kind, light by light (a counting sort): request r is a point `origins[r]` with m sample points
+// Requests of one kind, light by light (a counting sort): request r is a point `origins[r]` (its shading normal
+// `normals[r]`, for rectangle_cosine) with m sample points
 // `points[r m + k]`, whose samples go to `out[r m + k]` and from there to the chunk's slots `slots[r] + k`; light l's
 // requests are [first[l], first[l + 1]).
 struct LightSampleRequests {
     int m = 1;
     std::vector<uint32_t> first, next, slots;
-    std::vector<Vec3f> origins;
+    std::vector<Vec3f> origins, normals;
     std::vector<Point2<float>> points;
     std::vector<LightSample<float>> out;
 
@@ -57,24 +59,32 @@ struct LightSampleRequests {
         const size_t n = first[lights];
         slots.resize(n);
         origins.resize(n);
+        normals.resize(n);
         points.resize(n * size_t(m));
         out.resize(n * size_t(m));
         next.assign(first.begin(), first.end() - 1);
     }
     // Request of light `light` at `origin` for the slots [slot, slot + m), the choices' points from `choices`.
-    void Place(int light, const Vec3f& origin, uint32_t slot, const ChosenLight* choices) {
+    void Place(int light, const Vec3f& origin, const Vec3f& normal, uint32_t slot, const ChosenLight* choices) {
         const uint32_t r = next[size_t(light)]++;
         slots[r] = slot;
         origins[r] = origin;
+        normals[r] = normal;
         for (int k = 0; k < m; ++k) points[size_t(r) * m + k] = choices[k].u;
     }
-    // Samples them, light by light, into samples[slot].
+    // Samples them by technique K, light by light, into samples[slot].
+    template <Technique K>
     void Sample(const RenderScene& scene, LightSample<float>* samples) {
         const size_t lights = first.size() - 1;
-        for (size_t l = 0; l < lights; ++l)
-            if (first[l + 1] > first[l])
-                SampleRectangleBatch(scene.area_lights[l].frame, &origins[first[l]], first[l + 1] - first[l],
-                                     &points[size_t(first[l]) * m], m, &out[size_t(first[l]) * m]);
+        for (size_t l = 0; l < lights; ++l) {
+            const size_t r = first[l], count = first[l + 1] - r;
+            if (count == 0) continue;
+            const RectLightFrame<float>& frame = scene.area_lights[l].frame;
+            if constexpr (K == Technique::RectangleCosine)
+                SampleRectangleCosineBatch(frame, &origins[r], &normals[r], count, &points[r * m], m, &out[r * m]);
+            else
+                SampleRectangleBatch(frame, &origins[r], count, &points[r * m], m, &out[r * m]);
+        }
         for (size_t r = 0; r < slots.size(); ++r)
             for (int k = 0; k < m; ++k) samples[slots[r] + k] = out[r * m + k];
     }
@@ -85,6 +95,7 @@ struct LightSampleRequests {
 // (ChosenLight::batched, in scratch.batched_samples).  Camera samples that shade no surface get no choice.  A point
 // whose light samples all go to the same rectangle is one request of them all (one setup, as the scalar sampler
 // kept for the point's samples); other points' samples are requests of one each.
+template <Technique K>
 static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScratch& scratch, uint64_t& light_ticks) {
     const uint64_t t0 = ReadTicks();
     const RenderScene& scene = c.scene;
@@ -109,7 +120,7 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
         for (size_t j = s * nl; j < (s + 1) * nl; ++j) {
             ChosenLight& light = scratch.batched_choices[j];
             light = ChooseLightByPower(scene.light_selector, scratch.light_points[j]);
-            if (light.index >= 0 && BatchableRectangle(c, scene.area_lights[size_t(light.index)]))
+            if (light.index >= 0 && BatchableRectangle<K>(c, scene.area_lights[size_t(light.index)]))
                 light.batched = &scratch.batched_samples[j];
         }
         if (const int l = one_request(s); l >= 0) {
@@ -123,17 +134,17 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
     per_sample.Size();
     for (size_t s = 0; s < n; ++s) {
         if (!shaded(s)) continue;
-        const Vec3f& origin = scratch.hits[s].surface.p;
+        const SurfaceHit& h = scratch.hits[s].surface;  // (the normal: the technique's, ShadeSurface)
         if (const int l = one_request(s); l >= 0) {
-            per_point.Place(l, origin, uint32_t(s * nl), &scratch.batched_choices[s * nl]);
+            per_point.Place(l, h.p, h.ns, uint32_t(s * nl), &scratch.batched_choices[s * nl]);
             continue;
         }
         for (size_t j = s * nl; j < (s + 1) * nl; ++j)
             if (const ChosenLight& light = scratch.batched_choices[j]; light.batched)
-                per_sample.Place(light.index, origin, uint32_t(j), &light);
+                per_sample.Place(light.index, h.p, h.ns, uint32_t(j), &light);
     }
-    per_point.Sample(scene, scratch.batched_samples.data());
-    per_sample.Sample(scene, scratch.batched_samples.data());
+    per_point.Sample<K>(scene, scratch.batched_samples.data());
+    per_sample.Sample<K>(scene, scratch.batched_samples.data());
     light_ticks += ReadTicks() - t0;
 }
 

@@ -99,7 +99,7 @@ void ShadeCameraSamples(Technique technique, const ShadeContext& c, size_t n, Th
     DispatchTechnique(technique, [&](auto tag) {
         constexpr Technique K = decltype(tag)::value;
         const bool batched = BatchesLightSamples<K>(c);
-        if (batched) BatchLightSamples(c, n, scratch, light_ticks);
+        if (batched) BatchLightSamples<K>(c, n, scratch, light_ticks);
         for (uint32_t s = 0; s < uint32_t(n); ++s) {
             const PrimaryHit& ph = scratch.hits[s];
             scratch.sample_values[s] = ph.seen;
