@@ -39,6 +39,7 @@ struct ThreadScratch {
     // Light samples taken for a chunk at once (integrator/batched_light_samples.h): per (camera sample, light sample)
     // the light chosen and its sample; the batches' requests (per point, per sample).
     std::vector<ChosenLight> batched_choices;
+    std::vector<uint8_t> batched_chosen;  // per camera sample
     std::vector<LightSample<float>> batched_samples;
     std::vector<LightSampleRequests> batch_requests;
     ThreadScratch();

@@ -1,17 +1,19 @@
 // Light samples of rectangles taken for a whole chunk at once, before its shading: the batched
 // `rectangle` and `rectangle_cosine` techniques (core/rectangle_batch.h) over every (surface hit,
-// light sample) whose light is known before shading.  With "power" selection the light a light sample goes to
-// depends on its pattern point alone, so the lights are chosen for the whole chunk and the requests
+// light sample) whose light is known before shading: the lights are chosen for the whole chunk (by power from the
+// pattern point alone, or by the light tree at the hit, with the receiver normal shading will use) and the requests
 // gathered per light and sampled in SIMD batches; shading then takes its choice and sample from here
 // (ChosenLight::batched) and sets up no sampler unless a BSDF ray needs a pdf.  The samples equal the scalar sampler's
 // up to rounding (the batch's tests), so images change by rounding only.
 //
-// Requests that stay with the scalar path: the other techniques, the light tree
-// (its choice depends on the receiver), ellipses and triangles, lights with spread (sampled on
-// their clipped part) and textured rectangles sampled by their blocks.
+// Requests that stay with the scalar path: the other techniques, ellipses and triangles, lights with spread (sampled
+// on their clipped part) and textured rectangles sampled by their blocks.  Under the tree, hits that shade with a
+// hit-specific material (textured, normal-mapped, ...: its translucency, hence the tree's receiver normal, is known
+// only at shading) choose their lights at shading, as before.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "camera_stage.h"
@@ -20,6 +22,7 @@
 #include "render/kernel.h"
 #include "render/ticks.h"
 #include "shade_context.h"
+#include "shade_surface.h"
 
 namespace sphrect::render {
 
@@ -27,7 +30,7 @@ namespace sphrect::render {
 template <Technique K>
 static inline bool BatchesLightSamples(const ShadeContext& c) {
     return (K == Technique::Rectangle || K == Technique::RectangleCosine) &&
-           c.light_selection == LightSelection::Power && !c.scene.light_selector.Empty();
+           HasChoosableLights(c.scene, c.light_selection);
 }
 
 // Whether rectangle light l is sampled by technique K's plain map (what the batch computes) at every point.
@@ -92,16 +95,18 @@ struct LightSampleRequests {
 
 // Fills scratch.batched_choices for the chunk's n camera samples: per camera sample s and light sample j, at
 // s * light_samples + j, the light it goes to and, where that is a rectangle the batch samples, its sample
-// (ChosenLight::batched, in scratch.batched_samples).  Camera samples that shade no surface get no choice.  A point
-// whose light samples all go to the same rectangle is one request of them all (one setup, as the scalar sampler
+// (ChosenLight::batched, in scratch.batched_samples); scratch.batched_chosen[s] says whether s's lights were chosen
+// here (not for camera samples that shade no surface, nor under the tree for hits with a hit-specific material).  A
+// point whose light samples all go to the same rectangle is one request of them all (one setup, as the scalar sampler
 // kept for the point's samples); other points' samples are requests of one each.
-template <Technique K>
+template <Technique K, bool kGlossy>
 static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScratch& scratch, uint64_t& light_ticks) {
     const uint64_t t0 = ReadTicks();
     const RenderScene& scene = c.scene;
     const size_t nl = size_t(c.light_samples), lights = scene.area_lights.size();
     scratch.batched_choices.resize(n * nl);
     scratch.batched_samples.resize(n * nl);
+    scratch.batched_chosen.assign(n, 0);
     scratch.batch_requests.resize(2);
     LightSampleRequests &per_point = scratch.batch_requests[0], &per_sample = scratch.batch_requests[1];
     per_point.Start(lights, int(nl));
@@ -114,12 +119,21 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
             if (choices[j].index != choices[0].index) return -1;
         return choices[0].index;
     };
-    auto shaded = [&](size_t s) { return scratch.hits[s].hit && !IsBlack(scratch.hits[s].throughput); };
+    const bool tree = c.light_selection == LightSelection::Tree;
+    auto chosen = [&](size_t s) { return scratch.batched_chosen[s] != 0; };
     for (size_t s = 0; s < n; ++s) {
-        if (!shaded(s)) continue;
+        const PrimaryHit& ph = scratch.hits[s];
+        if (!ph.hit || IsBlack(ph.throughput) || (tree && !ShadesWithSceneBsdf<kGlossy>(scene, ph.surface))) continue;
+        scratch.batched_chosen[s] = 1;
+        // (Under the tree, one receiver for the point's light samples, as LightSamplingAt keeps.)
+        std::optional<LightTreeAt> receiver;
+        if (tree)
+            receiver.emplace(scene.light_tree(), ph.surface.p,
+                             TreeReceiverNormal<kGlossy>(ph.surface, scene.bsdfs[size_t(ph.surface.material)]), nl > 1);
         for (size_t j = s * nl; j < (s + 1) * nl; ++j) {
             ChosenLight& light = scratch.batched_choices[j];
-            light = ChooseLightByPower(scene.light_selector, scratch.light_points[j]);
+            light = tree ? ChooseLightFromTree(scene, *receiver, scratch.light_points[j])
+                         : ChooseLightByPower(scene.light_selector, scratch.light_points[j]);
             if (light.index >= 0 && BatchableRectangle<K>(c, scene.area_lights[size_t(light.index)]))
                 light.batched = &scratch.batched_samples[j];
         }
@@ -133,7 +147,7 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
     per_point.Size();
     per_sample.Size();
     for (size_t s = 0; s < n; ++s) {
-        if (!shaded(s)) continue;
+        if (!chosen(s)) continue;
         const SurfaceHit& h = scratch.hits[s].surface;  // (the normal: the technique's, ShadeSurface)
         if (const int l = one_request(s); l >= 0) {
             per_point.Place(l, h.p, h.ns, uint32_t(s * nl), &scratch.batched_choices[s * nl]);

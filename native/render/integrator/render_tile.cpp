@@ -99,15 +99,15 @@ void ShadeCameraSamples(Technique technique, const ShadeContext& c, size_t n, Th
     DispatchTechnique(technique, [&](auto tag) {
         constexpr Technique K = decltype(tag)::value;
         const bool batched = BatchesLightSamples<K>(c);
-        if (batched) BatchLightSamples<K>(c, n, scratch, light_ticks);
+        if (batched) BatchLightSamples<K, kGlossy>(c, n, scratch, light_ticks);
         for (uint32_t s = 0; s < uint32_t(n); ++s) {
             const PrimaryHit& ph = scratch.hits[s];
             scratch.sample_values[s] = ph.seen;
             if (IsBlack(ph.throughput)) continue;  // past too many transparent surfaces
-            ShadeCameraSample<K, kGlossy, kMedium>(c, ph, media ? &media[s] : nullptr, &scratch.light_points[s * nl],
-                                                   &scratch.bsdf_points[s * nl],
-                                                   batched ? &scratch.batched_choices[s * nl] : nullptr,
-                                                   ShadowSink{&queue, s, ph.throughput}, light_ticks);
+            ShadeCameraSample<K, kGlossy, kMedium>(
+                c, ph, media ? &media[s] : nullptr, &scratch.light_points[s * nl], &scratch.bsdf_points[s * nl],
+                batched && scratch.batched_chosen[s] ? &scratch.batched_choices[s * nl] : nullptr,
+                ShadowSink{&queue, s, ph.throughput}, light_ticks);
         }
     });
 }

@@ -256,14 +256,28 @@ template <Technique K, bool kMedium>
     return out;
 }
 
+// Whether the hit shades with its scene material as it is (no hit-specific Bsdf).
+template <bool kGlossy>
+static inline bool ShadesWithSceneBsdf(const RenderScene& scene, const SurfaceHit& h) {
+    const Bsdf& m = scene.bsdfs[size_t(h.material)];
+    if constexpr (!kGlossy) return true;  // Commit() sends scenes with any of these to the glossy kernel
+    return !m.textured && !m.normal_mapped && !m.anisotropic && !(m.has_dielectric && h.backfacing);
+}
+
 template <bool kGlossy>
 static inline const Bsdf& BsdfAtHit(const RenderScene& scene, const SurfaceHit& h, const Frame& frame,
                                     std::optional<Bsdf>& storage) {
     const Bsdf& m = scene.bsdfs[size_t(h.material)];
-    if constexpr (!kGlossy) return m;  // Commit() sends scenes with any of these to the glossy kernel
-    if (!m.textured && !m.normal_mapped && !m.anisotropic && !(m.has_dielectric && h.backfacing)) return m;
+    if (ShadesWithSceneBsdf<kGlossy>(scene, h)) return m;
     storage.emplace(HitSpecificBsdf(scene, h, frame));
     return *storage;
+}
+
+// The light tree's receiver normal at a surface hit shading with `material`: none for a translucent surface, which
+// receives light from both sides (no horizon).
+template <bool kGlossy>
+static inline Vec3f TreeReceiverNormal(const SurfaceHit& h, const Bsdf& material) {
+    return kGlossy && material.has_translucent ? Vec3f() : h.ns;
 }
 
 // Whether a hit on material m takes light samples alone (no MIS partner): a purely diffuse
@@ -301,8 +315,7 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     const ShadowSink pair_sink = sink.Scaled(1.0f / c.light_samples);
     // Without lights to choose and BSDF samples (only delta lights evaluated once) there is nothing to sample.
     const int n_pairs = (HasChoosableLights(scene, c.light_selection) || c.sample_bsdf) ? c.light_samples : 0;
-    // A translucent surface receives light from both sides: no horizon for the light tree.
-    const Vec3f tree_normal = kGlossy && sp.material.has_translucent ? Vec3f() : h.ns;
+    const Vec3f tree_normal = TreeReceiverNormal<kGlossy>(h, sp.material);
     // rectangle_projected samples only the light above the horizon of its normal: a translucent
     // surface gets none (the technique then switches to `rectangle`, rectangle_projected.h).
     const Vec3f technique_normal =
