@@ -48,10 +48,17 @@ namespace sphrect {
 // Largest accepted estimate of the sweep's relative error (in u); beyond it: `rectangle`.
 constexpr double kProjectedMaxError = 1e-7;
 
+// The sample's Newton steps (near/far sweep) stop after a step of at most this fraction of the
+// piece's arc-angle range: the error left is then of the order of its square in u.  In float,
+// whose output does not resolve 1e-12, one step fewer than in double.
+template <class T>
+constexpr double kProjectedNewtonStep = sizeof(T) < sizeof(double) ? 1e-6 : 1e-8;
+
 // A great-circle arc directed so that it sweeps counter-clockwise about n (shading frame).
 struct ProjectedArc {
     Vec3d a;                // start (unit)
     Vec3d t;                // unit tangent at a, g x a
+    Vec3d g;                // unit normal of its great circle (either sign: only g's line is used)
     double arc_length = 0;  // gamma above (not the paper's gamma_i, the rectangle's angles)
     double sweep_rate = 0;  // |g_z| / 2, k above (area per unit arc angle)
 };
@@ -66,6 +73,15 @@ inline double ArcAngleAtAzimuth(const ProjectedArc& arc, double px, double py) {
     return ClampNaN(std::atan2(-am, tm), 0, arc.arc_length);
 }
 
+// z^2 of the arc's great circle at the azimuth of (px, py), without a transcendental call: the
+// point (rho p / |p|, z) with rho^2 + z^2 = 1 lies on it where g_xy . p rho / |p| + g_z z = 0.
+// (Where the arc covers that azimuth above the horizon, that is the arc's point there.)
+inline double ArcZ2AtAzimuth(const ProjectedArc& arc, double px, double py) {
+    const double gp = arc.g.x * px + arc.g.y * py, q = gp * gp;
+    const double den = q + arc.g.z * arc.g.z * (px * px + py * py);
+    return den > 0 ? q / den : 1;
+}
+
 // One piece of the sweep: the area between the arcs `outer` (far) and `inner` (near, absent in
 // the star case) over an azimuth range, in which `outer` runs over arc angles [s0, s1] and
 // `inner` starts at arc angle r0.
@@ -74,6 +90,8 @@ struct ProjectedPiece {
     double s0 = 0, s1 = 0, r0 = 0;
     double cdf = 0;  // area of the pieces before this one
     double area = 0;
+    // d(area)/d(t) at the two ends, t = (s - s0) / (s1 - s0) (near/far pieces): the initial guess's.
+    double slope0 = 0, slope1 = 0;
     Vec3d from, to;  // unit directions (shading frame) at the range's two ends (for Invert)
 };
 
@@ -133,19 +151,16 @@ inline ProjectedPolygon ClipToHorizon(double x0, double y0, double wx, double wy
         const Vec3d& a = p.v[i];
         const Vec3d& b = p.v[(i + 1) % p.n];
         const int e = edge_after[i];
-        Vec3d axb;
         if (e >= 0) {
-            // b - a is along the exact direction dir[e]: a x b = a x (b - a) without cancellation.
-            axb = Cross(a, dir[e]) * Dot(b - a, dir[e]);
-        } else {
-            axb = Cross(a, b);
-        }
-        const double s = Length(axb);
-        p.arc_length[i] = std::atan2(s, Dot(a, b));
-        if (e >= 0) {
+            // b - a is along the exact direction dir[e]: a x b = a x (b - a) = (a x dir) ((b - a) . dir)
+            // without cancellation.
             const Vec3d g = Cross(a, dir[e]);
-            p.g[i] = g / Length(g);
+            const double lg = Length(g);
+            p.arc_length[i] = std::atan2(lg * std::abs(Dot(b - a, dir[e])), Dot(a, b));
+            p.g[i] = g / lg;
         } else {
+            const Vec3d axb = Cross(a, b);
+            p.arc_length[i] = std::atan2(Length(axb), Dot(a, b));
             p.g[i] = Dot(axb, nl) >= 0 ? nl : -nl;  // the horizon's great circle
         }
     }
@@ -179,8 +194,10 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
     auto make_arc = [&](int i, bool reversed) {
         ProjectedArc arc;
         const Vec3d gi = reversed ? -g[i] : g[i];
-        arc.a = reversed ? w[(i + 1) % n] : w[i];
-        arc.t = Normalize(Cross(gi, arc.a));
+        const Vec3d a = reversed ? w[(i + 1) % n] : w[i];
+        arc.a = a;
+        arc.t = Cross(gi, a);  // unit: g and a are unit and perpendicular (to rounding)
+        arc.g = gi;
         arc.arc_length = arc_length[i];
         arc.sweep_rate = 0.5 * std::abs(g[i].z);
         return arc;
@@ -224,32 +241,44 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
     for (int k = 0; k < nf; ++k) s.arcs[k] = make_arc(far_idx[k], false);
     for (int k = 0; k < nn; ++k) s.arcs[nf + k] = make_arc(near_idx[k], true);
     s.num_arcs = nf + nn;
-    // Merge the two chains' breakpoints (the ends of their arcs) in azimuth.
+    // Merge the two chains' breakpoints (the ends of their arcs, i.e. vertices) in azimuth.  At a
+    // breakpoint one arc ends (its arc angle there is its length) and the next starts (0); only the
+    // other chain's arc angle there takes an atan2.
     int fi = 0, ni = 0;
     Vec3d from = s.arcs[0].a;
+    double s_from = 0, r_from = 0;  // the current far and near arcs' angles at `from`
+    // d(area)/d(s_F) = k_F (1 - r_N^2 / r_F^2) = k_F (z_N^2 - z_F^2) / (1 - z_F^2) at a direction's azimuth.
+    auto rate = [](const ProjectedArc& F, const ProjectedArc& N, const Vec3d& d) {
+        const double zf2 = ArcZ2AtAzimuth(F, d.x, d.y), zn2 = ArcZ2AtAzimuth(N, d.x, d.y);
+        return zf2 < 1 ? F.sweep_rate * std::max(0.0, zn2 - zf2) / (1 - zf2) : 0.0;
+    };
     while (fi < nf && ni < nn && s.num_pieces < 5) {
         const ProjectedArc& F = s.arcs[fi];
         const ProjectedArc& N = s.arcs[nf + ni];
-        const Vec3d fend = ArcPoint(F, F.arc_length), nend = ArcPoint(N, N.arc_length);
+        const Vec3d& fend = w[(far_idx[fi] + 1) % n];  // F's end vertex
+        const Vec3d& nend = w[near_idx[ni]];           // N's end vertex (reversed: edge i's start)
+        const bool last = fi == nf - 1 && ni == nn - 1;
         const double c = Cross2(fend, nend);  // > 0: the far arc ends first
-        const Vec3d to = fi == nf - 1 && ni == nn - 1 ? fend : (c >= 0 ? fend : nend);
+        const bool far_ends = last || c >= 0;
+        const Vec3d& to = far_ends ? fend : nend;
         ProjectedPiece pc;
         pc.outer = fi;
         pc.inner = nf + ni;
-        pc.s0 = ArcAngleAtAzimuth(F, from.x, from.y);
-        pc.s1 = ArcAngleAtAzimuth(F, to.x, to.y);
-        if (fi == nf - 1 && ni == nn - 1) pc.s1 = F.arc_length;
-        pc.r0 = ArcAngleAtAzimuth(N, from.x, from.y);
-        const double r1 = ni == nn - 1 && fi == nf - 1 ? N.arc_length : ArcAngleAtAzimuth(N, to.x, to.y);
+        pc.s0 = s_from;
+        pc.r0 = r_from;
+        pc.s1 = far_ends ? F.arc_length : ArcAngleAtAzimuth(F, to.x, to.y);
+        const double r1 = last || !far_ends ? N.arc_length : ArcAngleAtAzimuth(N, to.x, to.y);
         pc.area = std::max(0.0, F.sweep_rate * (pc.s1 - pc.s0) - N.sweep_rate * (r1 - pc.r0));
         pc.from = from;
         pc.to = to;
         if (pc.s1 > pc.s0) {
             pc.cdf = cdf;
             cdf += pc.area;
+            pc.slope0 = rate(F, N, from) * (pc.s1 - pc.s0);
+            pc.slope1 = rate(F, N, to) * (pc.s1 - pc.s0);
             s.pieces[s.num_pieces++] = pc;
         }
-        if (fi == nf - 1 && ni == nn - 1) break;
+        if (last) break;
         if (c >= 0 && fi < nf - 1)
             ++fi;
         else if (c <= 0 && ni < nn - 1)
@@ -258,18 +287,56 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
             ++fi;
         else
             ++ni;
+        // The chain that moved on starts its next arc at `to`; the other continues.
+        s_from = fi != pc.outer ? 0.0 : pc.s1;
+        r_from = nf + ni != pc.inner ? 0.0 : r1;
         from = to;
     }
     s.swept = cdf;
 }
 
-// Area of piece pc swept up to the outer arc angle sf, and the inner arc's point there.
-inline double PieceArea(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double sf, Vec3d* wf,
-                        Vec3d* wn) {
-    *wf = ArcPoint(F, sf);
-    const double r = ArcAngleAtAzimuth(N, wf->x, wf->y);
-    *wn = ArcPoint(N, r);
+// Area of piece pc swept up to the outer arc's point wf = ArcPoint(F, sf), and z^2 of the inner
+// arc at its azimuth.
+inline double PieceArea(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double sf,
+                        const Vec3d& wf, double* zn2) {
+    const double r = ArcAngleAtAzimuth(N, wf.x, wf.y);
+    *zn2 = ArcZ2AtAzimuth(N, wf.x, wf.y);
     return F.sweep_rate * (sf - pc.s0) - N.sweep_rate * (r - pc.r0);
+}
+
+// The area swept by a near/far piece, in t = (s_F - s0) / (s1 - s0): the cubic with the piece's
+// area and end slopes (Hermite), an approximation for the initial guess.  Returns it at t minus
+// alpha, and its derivative.
+inline double PieceCubic(const ProjectedPiece& pc, double t, double alpha, double* derivative) {
+    const double t2 = t * t, t3 = t2 * t;
+    *derivative = pc.area * (6 * t - 6 * t2) + pc.slope0 * (1 - 4 * t + 3 * t2) + pc.slope1 * (3 * t2 - 2 * t);
+    return pc.area * (3 * t2 - 2 * t3) + pc.slope0 * (t - 2 * t2 + t3) + pc.slope1 * (t3 - t2) - alpha;
+}
+
+// Initial guess for the t at which a near/far piece has swept alpha: the quadratic with the
+// piece's area and the smaller end slope (a slope of 0 at an apex, where the two arcs meet, gives
+// the area's square-root behaviour there), then one Newton step on PieceCubic.
+inline double PieceGuess(const ProjectedPiece& pc, double alpha) {
+    if (!(pc.area > 0)) return 0;
+    const bool at_start = pc.slope0 <= pc.slope1;
+    const double d = ClampNaN(at_start ? pc.slope0 : pc.slope1, 0, pc.area), c = pc.area - d;
+    const double b = at_start ? alpha : pc.area - alpha;          // swept from that end
+    const double q = 2 * b / (d + std::sqrt(d * d + 4 * c * b));  // d q + c q^2 = b, without cancellation
+    const double t = ClampNaN(at_start ? q : 1 - q, 0, 1);
+    double dh;
+    const double h = PieceCubic(pc, t, alpha, &dh);
+    return dh > 0 ? ClampNaN(t - h / dh, 0, 1) : t;
+}
+
+// Rotates the unit arc point w with tangent t (d w / d s) by a small angle step (|step| <= 1e-2):
+// the Taylor series of cos and sin, whose next terms are below 1e-20.
+inline void RotateOnArc(Vec3d* w, Vec3d* t, double step) {
+    const double s2 = step * step;
+    const double c = 1 - s2 * (0.5 - s2 * (1.0 / 24 - s2 * (1.0 / 720)));
+    const double sn = step * (1 - s2 * (1.0 / 6 - s2 * (1.0 / 120 - s2 * (1.0 / 5040))));
+    const Vec3d w0 = *w;
+    *w = w0 * c + *t * sn;
+    *t = *t * c - w0 * sn;
 }
 
 }  // namespace projected_detail
@@ -282,15 +349,18 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
     s.rect.plane = MakeLocalRect(origin, frame);
     const LocalRect<T>& p = s.rect.plane;
     if (!p.valid) return s;
+    // (Every path returns `s` itself, so that it is built in place: the setup is large.)
     auto switch_to_rectangle = [&] {
         s.rect = MakeRectangleSetup(origin, frame);
         s.use_rectangle = true;
         s.valid = s.rect.valid;
-        return s;
     };
     const Vec3d n(normal);
     const double ln = Length(n);
-    if (!(ln > 0) || !std::isfinite(ln)) return switch_to_rectangle();  // no usable normal
+    if (!(ln > 0) || !std::isfinite(ln)) {  // no usable normal
+        switch_to_rectangle();
+        return s;
+    }
     s.nl = Vec3d(Dot(n, p.exh), Dot(n, p.eyh), Dot(n, p.az)) / ln;
     // A tangent frame (Duff et al.'s branchless orthonormal basis).
     {
@@ -330,8 +400,10 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
         err += 0.5 * std::abs(Dot(gk, s.nl)) + poly.arc_length[k] * dot_terms;
     }
     s.error_estimate = 8 * eps * err / s.E;
-    if (!(s.error_estimate <= kProjectedMaxError) || !(s.swept > 0) || s.num_pieces == 0) return switch_to_rectangle();
-    s.valid = true;
+    if (!(s.error_estimate <= kProjectedMaxError) || !(s.swept > 0) || s.num_pieces == 0)
+        switch_to_rectangle();
+    else
+        s.valid = true;
     return s;
 }
 
@@ -375,26 +447,47 @@ Vec3d RectangleProjectedDirection(const RectangleProjectedSetup<T>& s, double u,
         return Vec3d(wf.x * q, wf.y * q, std::sqrt((1 - v) + v * wf.z * wf.z));
     }
     const ProjectedArc& N = s.arcs[pc.inner];
-    // Safeguarded Newton for the outer arc angle sf with PieceArea(sf) = alpha.
+    // Safeguarded Newton for the outer arc angle sf with PieceArea(sf) = alpha, from PieceGuess's
+    // start.  Each step one atan2 (the inner arc's angle there), and a sincos only for large steps
+    // (small ones rotate wf by RotateOnArc).  A step below kProjectedNewtonStep of the range ends it.
     double lo = pc.s0, hi = pc.s1;
-    double sf = pc.area > 0 ? lo + (hi - lo) * (alpha / pc.area) : lo;
-    Vec3d wf, wn;
+    double sf = lo + (hi - lo) * PieceGuess(pc, alpha);
+    const double tol = kProjectedNewtonStep<T> * (pc.s1 - pc.s0);
+    Vec3d wf, tf;  // the outer arc's point at sf and its tangent
+    auto place = [&](double s) {
+        const double c = std::cos(s), sn = std::sin(s);
+        wf = F.a * c + F.t * sn;
+        tf = F.t * c - F.a * sn;
+    };
+    place(sf);
+    double zn2 = 0;
     for (int it = 0; it < 50; ++it) {
-        const double g = PieceArea(pc, F, N, sf, &wf, &wn) - alpha;
+        const double g = PieceArea(pc, F, N, sf, wf, &zn2) - alpha;
         if (g == 0) break;
         (g < 0 ? lo : hi) = sf;
         // d(area)/d(sf) = k_F (1 - r_N^2 / r_F^2), with r_F^2 - r_N^2 = z_N^2 - z_F^2.
         const double rf2 = wf.x * wf.x + wf.y * wf.y;
-        const double dg = F.sweep_rate * (wn.z * wn.z - wf.z * wf.z) / rf2;
-        double next = sf - g / dg;
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        const bool done = std::abs(next - sf) <= 1e-15 * (pc.s1 - pc.s0) || hi - lo <= 1e-16 * (pc.s1 - pc.s0);
-        sf = next;
-        if (done) break;
+        const double step = -g * rf2 / (F.sweep_rate * (zn2 - wf.z * wf.z));
+        const double next = sf + step;
+        if (std::abs(step) <= tol || next == sf) {  // converged (or at sf's resolution): the last step
+            RotateOnArc(&wf, &tf, step);
+            break;
+        }
+        if (next > lo && next < hi) {
+            sf = next;
+            if (std::abs(step) <= 1e-2) {
+                RotateOnArc(&wf, &tf, step);
+                continue;
+            }
+        } else {  // bisection
+            if (hi - lo <= 1e-16 * (pc.s1 - pc.s0)) break;
+            sf = 0.5 * (lo + hi);
+        }
+        place(sf);
     }
-    PieceArea(pc, F, N, sf, &wf, &wn);
+    zn2 = ArcZ2AtAzimuth(N, wf.x, wf.y);  // (at the final wf)
     // r^2 linear in v between the arcs: z^2 = z_N^2 - v (z_N^2 - z_F^2).
-    const double zf2 = wf.z * wf.z, zn2 = wn.z * wn.z;
+    const double zf2 = wf.z * wf.z;
     const double z2 = std::max(0.0, zn2 - v * (zn2 - zf2));
     const double rf = std::sqrt(wf.x * wf.x + wf.y * wf.y), r = std::sqrt(std::max(0.0, 1 - z2));
     const double q = rf > 0 ? r / rf : 0;
@@ -466,9 +559,9 @@ Point2<double> InvertRectangleProjected(const RectangleProjectedSetup<T>& s, con
         v = (d.x * d.x + d.y * d.y) / (wf.x * wf.x + wf.y * wf.y);
     } else {
         const ProjectedArc& N = s.arcs[pc.inner];
-        Vec3d wf2, wn;
-        area = PieceArea(pc, F, N, sf, &wf2, &wn);
-        const double zn2 = wn.z * wn.z, zf2 = wf.z * wf.z;
+        double zn2;
+        area = PieceArea(pc, F, N, sf, wf, &zn2);
+        const double zf2 = wf.z * wf.z;
         v = (zn2 - dz2) / (zn2 - zf2);
     }
     const double u = (pc.cdf + ClampNaN(area, 0, pc.area)) / s.swept;
