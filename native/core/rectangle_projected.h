@@ -48,9 +48,9 @@ namespace sphrect {
 // Largest accepted estimate of the sweep's relative error (in u); beyond it: `rectangle`.
 constexpr double kProjectedMaxError = 1e-7;
 
-// The sample's Newton steps (near/far sweep) stop after a step of at most this fraction of the
-// piece's arc-angle range: the error left is then of the order of its square in u.  In float,
-// whose output does not resolve 1e-12, one step fewer than in double.
+// The sample's Newton steps (near/far sweep) stop where u is met within the square of this
+// (relative to the piece's area): in float, whose output does not resolve 1e-12, often one step
+// fewer than in double.
 template <class T>
 constexpr double kProjectedNewtonStep = sizeof(T) < sizeof(double) ? 1e-6 : 1e-8;
 
@@ -348,8 +348,9 @@ inline double PieceGuess(const ProjectedPiece& pc, double alpha) {
     if (!(pc.area > 0)) return 0;
     const bool at_start = pc.slope0 <= pc.slope1;
     const double d = ClampNaN(at_start ? pc.slope0 : pc.slope1, 0, pc.area), c = pc.area - d;
-    const double b = at_start ? alpha : pc.area - alpha;          // swept from that end
-    const double q = 2 * b / (d + std::sqrt(d * d + 4 * c * b));  // d q + c q^2 = b, without cancellation
+    const double b = at_start ? alpha : pc.area - alpha;  // swept from that end
+    const double den = d + std::sqrt(d * d + 4 * c * b);
+    const double q = den > 0 ? 2 * b / den : 0;  // d q + c q^2 = b, without cancellation
     const double t = ClampNaN(at_start ? q : 1 - q, 0, 1);
     double dh;
     const double h = PieceCubic(pc, t, alpha, &dh);
@@ -365,6 +366,62 @@ inline void RotateOnArc(Vec3d* w, Vec3d* t, double step) {
     const Vec3d w0 = *w;
     *w = w0 * c + *t * sn;
     *t = *t * c - w0 * sn;
+}
+
+// The near/far piece's outer arc angle sf at which it has swept alpha, and the arc's point wf there.
+struct NearFarSolution {
+    double sf;
+    Vec3d wf;
+};
+
+template <class T>
+NearFarSolution SolveNearFar(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double alpha) {
+    // Safeguarded Newton for the outer arc angle sf with PieceArea(sf) = alpha, from PieceGuess's
+    // start.  Each step one atan2 (the inner arc's angle there), and a sincos only for large steps
+    // (small ones rotate wf by RotateOnArc).  It ends where the area is met within
+    // kProjectedNewtonStep^2 of the piece's: by the residual, or after a step whose predicted
+    // residual, |area''| step^2 / 2 (area'' from the last two derivatives), is that small.
+    double lo = pc.s0, hi = pc.s1;
+    double sf = lo + (hi - lo) * PieceGuess(pc, alpha);
+    const double tol_area = kProjectedNewtonStep<T> * kProjectedNewtonStep<T> * pc.area;
+    Vec3d wf, tf;  // the outer arc's point at sf and its tangent
+    auto place = [&](double s) {
+        const double c = std::cos(s), sn = std::sin(s);
+        wf = F.a * c + F.t * sn;
+        tf = F.t * c - F.a * sn;
+    };
+    place(sf);
+    double zn2, prev_s = 0, prev_dg = std::numeric_limits<double>::quiet_NaN();
+    for (int it = 0; it < 50; ++it) {
+        const double g = PieceArea(pc, F, N, sf, wf, &zn2) - alpha;
+        if (std::abs(g) <= tol_area) break;
+        (g < 0 ? lo : hi) = sf;
+        // d(area)/d(sf) = k_F (1 - r_N^2 / r_F^2), with r_F^2 - r_N^2 = z_N^2 - z_F^2.
+        const double dg = F.sweep_rate * (zn2 - wf.z * wf.z) / (wf.x * wf.x + wf.y * wf.y);
+        const double step = -g / dg, next = sf + step;
+        const double curvature = std::abs((dg - prev_dg) / (sf - prev_s));
+        prev_s = sf;
+        prev_dg = dg;
+        if (0.5 * curvature * step * step <= tol_area || next == sf) {  // converged: the last step
+            if (next > lo && next < hi) {                               // (else the root is even closer to sf)
+                RotateOnArc(&wf, &tf, step);
+                sf = next;
+            }
+            break;
+        }
+        if (next > lo && next < hi) {
+            sf = next;
+            if (std::abs(step) <= 1e-2) {
+                RotateOnArc(&wf, &tf, step);
+                continue;
+            }
+        } else {  // bisection
+            if (hi - lo <= 1e-16 * (pc.s1 - pc.s0)) break;
+            sf = 0.5 * (lo + hi);
+        }
+        place(sf);
+    }
+    return {sf, wf};
 }
 
 }  // namespace projected_detail
@@ -477,45 +534,8 @@ Vec3d RectangleProjectedDirection(const RectangleProjectedSetup<T>& s, double u,
         return Vec3d(wf.x * q, wf.y * q, std::sqrt((1 - v) + v * wf.z * wf.z));
     }
     const ProjectedArc& N = s.arcs[pc.inner];
-    // Safeguarded Newton for the outer arc angle sf with PieceArea(sf) = alpha, from PieceGuess's
-    // start.  Each step one atan2 (the inner arc's angle there), and a sincos only for large steps
-    // (small ones rotate wf by RotateOnArc).  A step below kProjectedNewtonStep of the range ends it.
-    double lo = pc.s0, hi = pc.s1;
-    double sf = lo + (hi - lo) * PieceGuess(pc, alpha);
-    const double tol = kProjectedNewtonStep<T> * (pc.s1 - pc.s0);
-    Vec3d wf, tf;  // the outer arc's point at sf and its tangent
-    auto place = [&](double s) {
-        const double c = std::cos(s), sn = std::sin(s);
-        wf = F.a * c + F.t * sn;
-        tf = F.t * c - F.a * sn;
-    };
-    place(sf);
-    double zn2 = 0;
-    for (int it = 0; it < 50; ++it) {
-        const double g = PieceArea(pc, F, N, sf, wf, &zn2) - alpha;
-        if (g == 0) break;
-        (g < 0 ? lo : hi) = sf;
-        // d(area)/d(sf) = k_F (1 - r_N^2 / r_F^2), with r_F^2 - r_N^2 = z_N^2 - z_F^2.
-        const double rf2 = wf.x * wf.x + wf.y * wf.y;
-        const double step = -g * rf2 / (F.sweep_rate * (zn2 - wf.z * wf.z));
-        const double next = sf + step;
-        if (std::abs(step) <= tol || next == sf) {  // converged (or at sf's resolution): the last step
-            RotateOnArc(&wf, &tf, step);
-            break;
-        }
-        if (next > lo && next < hi) {
-            sf = next;
-            if (std::abs(step) <= 1e-2) {
-                RotateOnArc(&wf, &tf, step);
-                continue;
-            }
-        } else {  // bisection
-            if (hi - lo <= 1e-16 * (pc.s1 - pc.s0)) break;
-            sf = 0.5 * (lo + hi);
-        }
-        place(sf);
-    }
-    zn2 = ArcZ2AtAzimuth(N, wf.x, wf.y);  // (at the final wf)
+    const Vec3d wf = SolveNearFar<T>(pc, F, N, alpha).wf;
+    const double zn2 = ArcZ2AtAzimuth(N, wf.x, wf.y);
     // r^2 linear in v between the arcs: z^2 = z_N^2 - v (z_N^2 - z_F^2).
     const double zf2 = wf.z * wf.z;
     const double z2 = std::max(0.0, zn2 - v * (zn2 - zf2));
