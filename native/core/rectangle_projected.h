@@ -186,7 +186,7 @@ inline ProjectedPolygon ClipToHorizon(double x0, double y0, double wx, double wy
             const Vec3d g = Cross(a, dir[e]);
             const double lg = Length(g);
             p.arc_length[i] = ArcTan2(lg * std::abs(Dot(b - a, dir[e])), Dot(a, b));
-            p.g[i] = g / lg;
+            p.g[i] = g * (1 / lg);
         } else {
             const Vec3d axb = Cross(a, b);
             p.arc_length[i] = ArcTan2(Length(axb), Dot(a, b));
@@ -276,10 +276,13 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
     int fi = 0, ni = 0;
     Vec3d from = s.arcs[0].a;
     double s_from = 0, r_from = 0;  // the current far and near arcs' angles at `from`
-    // d(area)/d(s_F) = k_F (1 - r_N^2 / r_F^2) = k_F (z_N^2 - z_F^2) / (1 - z_F^2) at a direction's azimuth.
+    // d(area)/d(s_F) = k_F (1 - r_N^2 / r_F^2) = k_F (z_N^2 - z_F^2) / (1 - z_F^2) at a direction's
+    // azimuth, with z^2 = q / den as in ArcZ2AtAzimuth (1 - z_F^2 = g_Fz^2 |p|^2 / den_F): one division.
     auto rate = [](const ProjectedArc& F, const ProjectedArc& N, const Vec3d& d) {
-        const double zf2 = ArcZ2AtAzimuth(F, d.x, d.y), zn2 = ArcZ2AtAzimuth(N, d.x, d.y);
-        return zf2 < 1 ? F.sweep_rate * std::max(0.0, zn2 - zf2) / (1 - zf2) : 0.0;
+        const double gf = F.g.x * d.x + F.g.y * d.y, gn = N.g.x * d.x + N.g.y * d.y, p2 = d.x * d.x + d.y * d.y;
+        const double qf = gf * gf, qn = gn * gn, den_f = qf + F.g.z * F.g.z * p2, den_n = qn + N.g.z * N.g.z * p2;
+        const double r = F.sweep_rate * (qn * den_f - qf * den_n) / (den_n * F.g.z * F.g.z * p2);
+        return r > 0 ? r : 0.0;  // (and 0 for 0 / 0)
     };
     while (fi < nf && ni < nn && s.num_pieces < 5) {
         const ProjectedArc& F = s.arcs[fi];
@@ -324,13 +327,10 @@ void BuildPieces(RectangleProjectedSetup<T>& s, const Vec3d* w, const Vec3d* g, 
     s.swept = cdf;
 }
 
-// Area of piece pc swept up to the outer arc's point wf = ArcPoint(F, sf), and z^2 of the inner
-// arc at its azimuth.
+// Area of piece pc swept up to the outer arc's point wf = ArcPoint(F, sf).
 inline double PieceArea(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double sf,
-                        const Vec3d& wf, double* zn2) {
-    const double r = ArcAngleAtAzimuth(N, wf.x, wf.y);
-    *zn2 = ArcZ2AtAzimuth(N, wf.x, wf.y);
-    return F.sweep_rate * (sf - pc.s0) - N.sweep_rate * (r - pc.r0);
+                        const Vec3d& wf) {
+    return F.sweep_rate * (sf - pc.s0) - N.sweep_rate * (ArcAngleAtAzimuth(N, wf.x, wf.y) - pc.r0);
 }
 
 // The area swept by a near/far piece, in t = (s_F - s0) / (s1 - s0): the cubic with the piece's
@@ -392,19 +392,23 @@ NearFarSolution SolveNearFar(const ProjectedPiece& pc, const ProjectedArc& F, co
         tf = F.t * c - F.a * sn;
     };
     place(sf);
-    double zn2, prev_s = 0, prev_dg = std::numeric_limits<double>::quiet_NaN();
+    double prev_s = 0, prev_dg = std::numeric_limits<double>::quiet_NaN();
     for (int it = 0; it < 50; ++it) {
-        const double g = PieceArea(pc, F, N, sf, wf, &zn2) - alpha;
+        const double g = PieceArea(pc, F, N, sf, wf) - alpha;
         if (std::abs(g) <= tol_area) break;
         (g < 0 ? lo : hi) = sf;
-        // d(area)/d(sf) = k_F (1 - r_N^2 / r_F^2), with r_F^2 - r_N^2 = z_N^2 - z_F^2.
-        const double dg = F.sweep_rate * (zn2 - wf.z * wf.z) / (wf.x * wf.x + wf.y * wf.y);
+        // d(area)/d(sf) = k_F (1 - r_N^2 / r_F^2) = k_F (z_N^2 - z_F^2) / r_F^2, with z_N^2 = q / den
+        // as in ArcZ2AtAzimuth (one division).
+        const double gp = N.g.x * wf.x + N.g.y * wf.y, q = gp * gp, rf2 = wf.x * wf.x + wf.y * wf.y;
+        const double den = q + N.g.z * N.g.z * rf2;
+        const double dg = F.sweep_rate * (q - wf.z * wf.z * den) / (den * rf2);
         const double step = -g / dg, next = sf + step;
-        const double curvature = std::abs((dg - prev_dg) / (sf - prev_s));
+        // The predicted residual |area''| step^2 / 2 against tol_area (area'' by the last two slopes).
+        const bool small = 0.5 * std::abs(dg - prev_dg) * step * step <= tol_area * std::abs(sf - prev_s);
         prev_s = sf;
         prev_dg = dg;
-        if (0.5 * curvature * step * step <= tol_area || next == sf) {  // converged: the last step
-            if (next > lo && next < hi) {                               // (else the root is even closer to sf)
+        if (small || next == sf) {         // converged: the last step
+            if (next > lo && next < hi) {  // (else the root is even closer to sf)
                 RotateOnArc(&wf, &tf, step);
                 sf = next;
             }
@@ -610,9 +614,8 @@ Point2<double> InvertRectangleProjected(const RectangleProjectedSetup<T>& s, con
         v = (d.x * d.x + d.y * d.y) / (wf.x * wf.x + wf.y * wf.y);
     } else {
         const ProjectedArc& N = s.arcs[pc.inner];
-        double zn2;
-        area = PieceArea(pc, F, N, sf, wf, &zn2);
-        const double zf2 = wf.z * wf.z;
+        area = PieceArea(pc, F, N, sf, wf);
+        const double zn2 = ArcZ2AtAzimuth(N, wf.x, wf.y), zf2 = wf.z * wf.z;
         v = (zn2 - dz2) / (zn2 - zf2);
     }
     const double u = (pc.cdf + ClampNaN(area, 0, pc.area)) / s.swept;

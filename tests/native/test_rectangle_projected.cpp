@@ -382,8 +382,7 @@ double MapResidual(const RectangleProjectedSetup<T>& s, double u, double* point_
     const double alpha = ClampNaN(target - pc.cdf, 0, pc.area);
     const NearFarSolution sol = SolveNearFar<T>(pc, F, N, alpha);
     *point_error = Length(sol.wf - ArcPoint(F, sol.sf));
-    double zn2;
-    return std::abs(PieceArea(pc, F, N, sol.sf, sol.wf, &zn2) - alpha) / s.swept;
+    return std::abs(PieceArea(pc, F, N, sol.sf, sol.wf) - alpha) / s.swept;
 }
 
 // The sample's Newton steps stop where u is met within kProjectedNewtonStep<T>^2 of the piece's
