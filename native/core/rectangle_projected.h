@@ -369,14 +369,16 @@ inline void RotateOnArc(Vec3d* w, Vec3d* t, double step) {
     *t = *t * c - w0 * sn;
 }
 
-// The near/far piece's outer arc angle sf at which it has swept alpha, and the arc's point wf there.
+// The near/far piece's outer arc angle sf at which it has swept alpha, and the arc's point wf
+// there; `resolution` is the sweep's rounding in area (its error estimate times its area).
 struct NearFarSolution {
     double sf;
     Vec3d wf;
 };
 
 template <class T>
-NearFarSolution SolveNearFar(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double alpha) {
+NearFarSolution SolveNearFar(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double alpha,
+                             double resolution) {
     // Safeguarded Newton for the outer arc angle sf with PieceArea(sf) = alpha, from PieceGuess's
     // start.  Each step one atan2 (the inner arc's angle there), and a sincos only for large steps
     // (small ones rotate wf by RotateOnArc).  It ends where the area is met within
@@ -384,7 +386,9 @@ NearFarSolution SolveNearFar(const ProjectedPiece& pc, const ProjectedArc& F, co
     // residual, |area''| step^2 / 2 (area'' from the last two derivatives), is that small.
     double lo = pc.s0, hi = pc.s1;
     double sf = lo + (hi - lo) * PieceGuess(pc, alpha);
-    const double tol_area = kProjectedNewtonStep<T> * kProjectedNewtonStep<T> * pc.area;
+    // (Or within the sweep's own rounding, `resolution`: where the residual is rounding, e.g. at an
+    // apex, where the area's derivative vanishes, steps would shrink only linearly.)
+    const double tol_area = kProjectedNewtonStep<T> * kProjectedNewtonStep<T> * pc.area + resolution;
     Vec3d wf, tf;  // the outer arc's point at sf and its tangent
     auto place = [&](double s) {
         const double c = std::cos(s), sn = std::sin(s);
@@ -407,23 +411,19 @@ NearFarSolution SolveNearFar(const ProjectedPiece& pc, const ProjectedArc& F, co
         const bool small = 0.5 * std::abs(dg - prev_dg) * step * step <= tol_area * std::abs(sf - prev_s);
         prev_s = sf;
         prev_dg = dg;
-        if (small || next == sf) {         // converged: the last step
-            if (next > lo && next < hi) {  // (else the root is even closer to sf)
-                RotateOnArc(&wf, &tf, step);
-                sf = next;
-            }
-            break;
-        }
+        if (next == sf) break;  // a step below sf's resolution
         if (next > lo && next < hi) {
             sf = next;
-            if (std::abs(step) <= 1e-2) {
+            if (std::abs(step) <= 1e-2)
                 RotateOnArc(&wf, &tf, step);
-                continue;
-            }
-        } else {  // bisection
-            if (hi - lo <= 1e-16 * (pc.s1 - pc.s0)) break;
-            sf = 0.5 * (lo + hi);
+            else
+                place(sf);
+            if (small) break;  // converged: that was the last step
+            continue;
         }
+        // Out of the bracket: bisection.
+        if (hi - lo <= 1e-16 * (pc.s1 - pc.s0)) break;
+        sf = 0.5 * (lo + hi);
         place(sf);
     }
     return {sf, wf};
@@ -539,7 +539,7 @@ Vec3d RectangleProjectedDirection(const RectangleProjectedSetup<T>& s, double u,
         return Vec3d(wf.x * q, wf.y * q, std::sqrt((1 - v) + v * wf.z * wf.z));
     }
     const ProjectedArc& N = s.arcs[pc.inner];
-    const Vec3d wf = SolveNearFar<T>(pc, F, N, alpha).wf;
+    const Vec3d wf = SolveNearFar<T>(pc, F, N, alpha, s.error_estimate * s.swept).wf;
     const double zn2 = ArcZ2AtAzimuth(N, wf.x, wf.y);
     // r^2 linear in v between the arcs: z^2 = z_N^2 - v (z_N^2 - z_F^2).
     const double zf2 = wf.z * wf.z;

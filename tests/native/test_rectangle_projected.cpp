@@ -380,7 +380,7 @@ double MapResidual(const RectangleProjectedSetup<T>& s, double u, double* point_
     const ProjectedArc& F = s.arcs[pc.outer];
     const ProjectedArc& N = s.arcs[pc.inner];
     const double alpha = ClampNaN(target - pc.cdf, 0, pc.area);
-    const NearFarSolution sol = SolveNearFar<T>(pc, F, N, alpha);
+    const NearFarSolution sol = SolveNearFar<T>(pc, F, N, alpha, s.error_estimate * s.swept);
     *point_error = Length(sol.wf - ArcPoint(F, sol.sf));
     return std::abs(PieceArea(pc, F, N, sol.sf, sol.wf) - alpha) / s.swept;
 }
