@@ -53,7 +53,7 @@ constexpr double kProjectedMaxError = 1e-7;
 // (relative to the piece's area): in float, whose output does not resolve 1e-12, often one step
 // fewer than in double.
 template <class T>
-constexpr double kProjectedNewtonStep = sizeof(T) < sizeof(double) ? 1e-6 : 1e-8;
+constexpr double kProjectedNewtonTolerance = sizeof(T) < sizeof(double) ? 1e-6 : 1e-8;
 
 // atan2(y, x) as accurate as std::atan2 (a few ulp; tested) at a fraction of its cost: one
 // division and a polynomial, inlined (the setup's independent calls overlap).  The reduction:
@@ -369,26 +369,27 @@ inline void RotateOnArc(Vec3d* w, Vec3d* t, double step) {
     *t = *t * c - w0 * sn;
 }
 
-// The near/far piece's outer arc angle sf at which it has swept alpha, and the arc's point wf
-// there; `resolution` is the sweep's rounding in area (its error estimate times its area).
+// A near/far piece's outer arc angle and the arc's point there.
 struct NearFarSolution {
     double sf;
     Vec3d wf;
 };
 
+// The near/far piece's outer arc angle sf at which it has swept alpha, and the arc's point wf
+// there; `resolution` is the sweep's rounding in area (its error estimate times its area).
 template <class T>
 NearFarSolution SolveNearFar(const ProjectedPiece& pc, const ProjectedArc& F, const ProjectedArc& N, double alpha,
                              double resolution) {
     // Safeguarded Newton for the outer arc angle sf with PieceArea(sf) = alpha, from PieceGuess's
     // start.  Each step one atan2 (the inner arc's angle there), and a sincos only for large steps
     // (small ones rotate wf by RotateOnArc).  It ends where the area is met within
-    // kProjectedNewtonStep^2 of the piece's: by the residual, or after a step whose predicted
+    // kProjectedNewtonTolerance^2 of the piece's: by the residual, or after a step whose predicted
     // residual, |area''| step^2 / 2 (area'' from the last two derivatives), is that small.
     double lo = pc.s0, hi = pc.s1;
     double sf = lo + (hi - lo) * PieceGuess(pc, alpha);
     // (Or within the sweep's own rounding, `resolution`: where the residual is rounding, e.g. at an
     // apex, where the area's derivative vanishes, steps would shrink only linearly.)
-    const double tol_area = kProjectedNewtonStep<T> * kProjectedNewtonStep<T> * pc.area + resolution;
+    const double tol_area = kProjectedNewtonTolerance<T> * kProjectedNewtonTolerance<T> * pc.area + resolution;
     Vec3d wf, tf;  // the outer arc's point at sf and its tangent
     auto place = [&](double s) {
         const double c = std::cos(s), sn = std::sin(s);

@@ -385,7 +385,7 @@ double MapResidual(const RectangleProjectedSetup<T>& s, double u, double* point_
     return std::abs(PieceArea(pc, F, N, sol.sf, sol.wf) - alpha) / s.swept;
 }
 
-// The sample's Newton steps stop where u is met within kProjectedNewtonStep<T>^2 of the piece's
+// The sample's Newton steps stop where u is met within kProjectedNewtonTolerance<T>^2 of the piece's
 // area (float 1e-12, double 1e-16): on the ordinary configurations the residual is within `bound`
 // beyond the rounding of the sweep's own areas (its error estimate, in u).  In the suites the
 // residual's own evaluation is ill-conditioned (thin or edge-on projections: an azimuth's rounding
