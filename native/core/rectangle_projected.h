@@ -129,14 +129,14 @@ struct RectangleProjectedSetup {
     RectangleSetup<T> rect;  // the plane (rect.plane); the whole `rectangle` setup where it switches
     bool valid = false;
     bool use_rectangle = false;  // the switch (see above)
-    Vec3d nl, tl, bl;            // shading frame (n, and the tangents) in the light's local frame
+    Vec3d nl{}, tl{}, bl{};      // shading frame (n, and the tangents) in the light's local frame
     double E = 0;                // projected solid angle (Lambert's formula, the accurate one)
     double swept = 0;            // total area of the pieces (the sweep's own E, for u)
     double error_estimate = 0;   // relative error estimate of the sweep
     bool star = false;           // n inside the polygon
     int num_arcs = 0, num_pieces = 0;
-    ProjectedArc arcs[5];
-    ProjectedPiece pieces[5];
+    ProjectedArc arcs[5]{};
+    ProjectedPiece pieces[5]{};
 };
 
 // The light's polygon clipped by the horizon n . w >= 0, in the light's local frame (x along
