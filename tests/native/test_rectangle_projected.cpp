@@ -315,3 +315,151 @@ TEST(RectangleProjected, HorizonValidity) {
     ASSERT_TRUE(s.Valid());
     EXPECT_NEAR(s.r.E, ReferenceIrradiance(o, Vec3d(down), L), 1e-12);
 }
+
+// ArcTan2 (the arcs' angles) against std::atan2: within 2 ulp over ratios from 1e-60 to 1e60, both
+// signs, near the reduction's boundary tan(pi/8) and near the diagonal; the special values
+// (zeros, infinities, NaN, subnormals) as std::atan2's within 1 ulp.
+TEST(RectangleProjected, ArcTan2MatchesStd) {
+    auto ulps = [](double a, double b) {
+        if (a == b) return 0.0;
+        const double ulp = std::nextafter(std::abs(b), INFINITY) - std::abs(b);
+        return std::abs(a - b) / ulp;
+    };
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> U(-1, 1), Exp(-30, 30);
+    double worst = 0;
+    for (int i = 0; i < 400000; ++i) {
+        double y = U(rng) * std::pow(10.0, i % 3 == 0 ? Exp(rng) : 0.0);
+        double x = U(rng) * std::pow(10.0, i % 5 == 0 ? Exp(rng) : 0.0);
+        if (i % 7 == 0) x = y * (1 + 1e-3 * U(rng));
+        if (i % 11 == 0) y = x * 0.41421356237309503 * (1 + 1e-6 * U(rng));
+        worst = std::max(worst, ulps(ArcTan2(y, x), std::atan2(y, x)));
+        ASSERT_LE(worst, 2.0) << "y " << y << " x " << x;
+    }
+    std::printf("ArcTan2: worst %.2f ulp from std::atan2\n", worst);
+    const double special[] = {0.0, -0.0, 1.0, -1.0, INFINITY, -INFINITY, 1e-320, -1e-320, 1e300};
+    for (double y : special)
+        for (double x : special) {
+            const double a = ArcTan2(y, x), b = std::atan2(y, x);
+            EXPECT_LE(ulps(a, b), 1.0) << "y " << y << " x " << x;
+            EXPECT_EQ(std::signbit(a), std::signbit(b)) << "y " << y << " x " << x;
+        }
+    EXPECT_TRUE(std::isnan(ArcTan2(NAN, 1.0)));
+    EXPECT_TRUE(std::isnan(ArcTan2(1.0, NAN)));
+}
+
+namespace {
+
+// Ordinary configurations (a 1 x 1.5 light seen from shading points around and below it, normals
+// up and tilted) followed by the hard-case and horizon suites.
+std::vector<HardCase> MapAccuracyCases() {
+    std::vector<HardCase> cases;
+    const RectLight<float> L{{-0.5f, -0.75f, 2}, {1, 0, 0}, {0, 1.5f, 0}, true};
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> U(-1, 1);
+    for (int i = 0; i < 200; ++i) {
+        const Vec3f o(float(2 * U(rng)), float(2 * U(rng)), float(1.7 - 3 * std::abs(U(rng))));
+        const Vec3d n = i % 2 ? Vec3d(0, 0, 1) : Normalize(Vec3d(U(rng), U(rng), U(rng) + 0.5));
+        cases.push_back({"ordinary" + std::to_string(i), L, o, Vec3f(n), 1});
+    }
+    for (const HardCase& hc : HardCaseSuite()) cases.push_back(hc);
+    for (const HardCase& hc : HorizonCases()) cases.push_back(hc);
+    return cases;
+}
+
+// Where the map's (u, v) falls in a near/far piece: |the area swept up to its solution - alpha|
+// in u (-1 in a star piece), and the solution's point against ArcPoint at its angle.
+template <class T>
+double MapResidual(const RectangleProjectedSetup<T>& s, double u, double* point_error) {
+    using namespace projected_detail;
+    const double target = u * s.swept;
+    int j = 0;
+    while (j + 1 < s.num_pieces && s.pieces[j + 1].cdf <= target) ++j;
+    const ProjectedPiece& pc = s.pieces[j];
+    if (pc.inner < 0) return -1;
+    const ProjectedArc& F = s.arcs[pc.outer];
+    const ProjectedArc& N = s.arcs[pc.inner];
+    const double alpha = ClampNaN(target - pc.cdf, 0, pc.area);
+    const NearFarSolution sol = SolveNearFar<T>(pc, F, N, alpha, s.error_estimate * s.swept);
+    *point_error = Length(sol.wf - ArcPoint(F, sol.sf));
+    return std::abs(PieceArea(pc, F, N, sol.sf, sol.wf) - alpha) / s.swept;
+}
+
+// The sample's Newton steps stop where u is met within kProjectedNewtonTolerance<T>^2 of the piece's
+// area (float 1e-12, double 1e-16): on the ordinary configurations the residual is within `bound`
+// beyond the rounding of the sweep's own areas (its error estimate, in u).  In the suites the
+// residual's own evaluation is ill-conditioned (thin or edge-on projections: an azimuth's rounding
+// moves the inner arc's angle far), and u is met within the sweep's accepted error,
+// kProjectedMaxError.
+template <class T>
+void CheckMapAccuracy(double bound) {
+    double worst_ordinary = 0, worst_suites = 0, worst_point = 0;
+    int near_far = 0;
+    for (const HardCase& hc : MapAccuracyCases()) {
+        const RectLight<T> L{Vec3<T>(hc.light.corner), Vec3<T>(hc.light.ex), Vec3<T>(hc.light.ey), hc.light.two_sided};
+        const RectangleProjectedSetup<T> s = MakeRectangleProjectedSetup(Vec3<T>(hc.origin), Vec3<T>(hc.normal), L);
+        if (!s.valid || s.use_rectangle) continue;
+        SCOPED_TRACE(hc.name);
+        const bool ordinary = hc.name.rfind("ordinary", 0) == 0;
+        for (const Point2<float>& uv : SuiteUVs()) {
+            double point_error = 0;
+            const double r = MapResidual(s, uv.u, &point_error);
+            if (r < 0) continue;
+            ++near_far;
+            EXPECT_LE(point_error, 1e-14) << "u " << uv.u;
+            worst_point = std::max(worst_point, point_error);
+            if (ordinary) {
+                EXPECT_LE(r, bound + s.error_estimate) << "u " << uv.u;
+                worst_ordinary = std::max(worst_ordinary, r - s.error_estimate);
+            } else {
+                EXPECT_LE(r, kProjectedMaxError) << "u " << uv.u;
+                worst_suites = std::max(worst_suites, r);
+            }
+        }
+    }
+    std::printf(
+        "map accuracy (%s): %d near/far samples; |u error| beyond the sweep's error estimate worst %.3g on the"
+        " ordinary setups, in the suites %.3g; point off its arc angle by %.3g\n",
+        sizeof(T) == 4 ? "float" : "double", near_far, worst_ordinary, worst_suites, worst_point);
+    EXPECT_GT(near_far, 10000);
+}
+
+}  // namespace
+
+TEST(RectangleProjected, MapAccuracyFloat) { CheckMapAccuracy<float>(1e-10); }
+TEST(RectangleProjected, MapAccuracyDouble) { CheckMapAccuracy<double>(1e-14); }
+
+// The helpers of the near/far sweep: z^2 of an arc at an azimuth (algebraic) against the arc's
+// point there, and the small-step rotation against ArcPoint, over the arcs of the ordinary setups.
+TEST(RectangleProjected, ArcHelpers) {
+    using namespace projected_detail;
+    double worst_z2 = 0, worst_rot = 0;
+    int arcs = 0;
+    for (const HardCase& hc : MapAccuracyCases()) {
+        if (hc.name.rfind("ordinary", 0) != 0) continue;
+        const RectangleProjectedSetup<double> s = MakeRectangleProjectedSetup(
+            Vec3d(hc.origin), Vec3d(hc.normal),
+            RectLight<double>{Vec3d(hc.light.corner), Vec3d(hc.light.ex), Vec3d(hc.light.ey), true});
+        if (!s.valid || s.use_rectangle) continue;
+        for (int k = 0; k < s.num_arcs; ++k) {
+            const ProjectedArc& arc = s.arcs[k];
+            ++arcs;
+            for (int i = 0; i <= 16; ++i) {
+                const double sa = arc.arc_length * i / 16;
+                const Vec3d w = ArcPoint(arc, sa);
+                // (z^2 moves with the azimuth as 1 / |g_z|: w's own rounding, relative.)
+                worst_z2 = std::max(worst_z2, std::abs(ArcZ2AtAzimuth(arc, w.x, w.y) - w.z * w.z) * std::abs(arc.g.z));
+                for (double step : {1e-2, -3e-3, 1e-5, -1e-9}) {
+                    Vec3d wr = w, tr = arc.t * std::cos(sa) - arc.a * std::sin(sa);
+                    RotateOnArc(&wr, &tr, step);
+                    worst_rot = std::max(worst_rot, Length(wr - ArcPoint(arc, sa + step)));
+                }
+            }
+        }
+    }
+    std::printf("arc helpers over %d arcs: z^2 at an azimuth worst %.3g, rotation worst %.3g\n", arcs, worst_z2,
+                worst_rot);
+    EXPECT_GT(arcs, 300);
+    EXPECT_LE(worst_z2, 1e-14);
+    EXPECT_LE(worst_rot, 1e-15);
+}
