@@ -13,6 +13,8 @@
 #include <hwy/contrib/math/math-inl.h>
 #include <hwy/highway.h>
 
+#include "core/simd_math-inl.h"
+
 #include <algorithm>
 #include <limits>
 
@@ -23,24 +25,6 @@ HWY_BEFORE_NAMESPACE();
 namespace sphrect {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-
-using DD = hn::ScalableTag<double>;
-using VD = hn::Vec<DD>;
-using MD = hn::Mask<DD>;
-
-// ClampNaN of vec3.h: x within [lo, hi], NaN -> lo.
-HWY_INLINE VD ClampNaNV(VD x, VD lo, VD hi) { return hn::IfThenElse(x > lo, hn::IfThenElse(x < hi, x, hi), lo); }
-
-// atan2(y, x) for y >= 0 (not both 0), from an arctangent on [0, 1].
-HWY_INLINE VD Atan2NonNegative(DD d, VD y, VD x) {
-    const VD ax = hn::Abs(x);
-    const MD steep = y > ax;
-    const VD t = hn::Div(hn::IfThenElse(steep, ax, y), hn::IfThenElse(steep, y, ax));
-    const VD a = hn::Atan(d, t);
-    const VD half_pi = hn::Set(d, 1.5707963267948966), pi = hn::Set(d, 3.141592653589793);
-    const VD r = hn::IfThenElse(steep, hn::Sub(half_pi, a), a);
-    return hn::IfThenElse(x < hn::Zero(d), hn::Sub(pi, r), r);
-}
 
 // DiffB of rectangle.h, eq. (15) where ya, yb have the same sign, as one quotient.
 HWY_INLINE VD DiffBV(DD d, VD ya, VD yb, VD ra, VD rb, VD d2, VD dy) {

@@ -14,8 +14,7 @@
 #include "core/light_sample.h"
 #include "core/rect_light.h"
 #include "core/solid_angle.h"
-#include "core/spherical_triangle.h"
-#include "core/triangles.h"  // kTrianglesStableAreaAbove
+#include "core/triangle_emitter.h"
 #include "light_bounds.h"
 #include "ray_visibility.h"
 #include "sampling_util.h"
@@ -240,41 +239,9 @@ inline LightSample<float> SampleTriangleArea(const AreaLight& l, const Vec3f& or
     return AreaSampleSeenFrom(l, origin, l.v0 + l.e1 * (su * (1 - u.v)) + l.e2 * (su * u.v));
 }
 
-// A triangle light seen from one point, for sampling by solid angle: the spherical triangle of
-// its vertices (in double, relative to the point, so nothing cancels for a distant light).
-// Arvo's map (core/spherical_triangle.h) resolves small, thin and distant triangles; what can be
-// lost is its solid angle, seen nearly edge-on (Van Oosterom & Strackee's denominator cancels:
-// area_error), which is then recomputed from the triangle in its plane's frame, as
-// core/triangles.h does.  Invalid (pdf 0) when the point lies in the triangle's plane, where the
-// triangle subtends no solid angle, or when anything is not finite.
-struct TriangleSolidAngleSetup {
-    SphericalTriangle tri;
-    Vec3d a;        // v0 - origin
-    Vec3d n;        // unit normal (double)
-    double h = 0;   // n . (v0 - origin): signed distance of the plane
-    float pdf = 0;  // 1 / Omega
-    bool valid = false;
-};
-
+// A triangle light seen from one point, sampled by solid angle: core/triangle_emitter.h on its vertex and edges.
 inline TriangleSolidAngleSetup MakeTriangleSolidAngleSetup(const AreaLight& l, const Vec3f& origin) {
-    TriangleSolidAngleSetup r;
-    const Vec3d o(origin), v0(l.v0), e1(l.e1), e2(l.e2);
-    r.a = v0 - o;
-    const Vec3d b = r.a + e1, c = r.a + e2;
-    r.n = Normalize(Cross(e1, e2));
-    r.h = Dot(r.n, r.a);
-    if (!(std::abs(r.h) > 0) || !IsFinite(r.n)) return r;
-    r.tri = MakeSphericalTriangle(r.a, b, c);
-    if (r.tri.area_error > kTrianglesStableAreaAbove * r.tri.area) {
-        const Vec3d ux = Normalize(e1), uy = Cross(r.n, ux);
-        const double xs[3] = {Dot(r.a, ux), Dot(b, ux), Dot(c, ux)}, ys[3] = {Dot(r.a, uy), Dot(b, uy), Dot(c, uy)};
-        r.tri.area = PlanarTriangleSolidAngleLocal(xs, ys, std::abs(r.h));
-        r.tri.area_error = 0;
-    }
-    if (!(r.tri.area > 0) || !std::isfinite(r.tri.area)) return r;
-    r.pdf = float(1 / r.tri.area);
-    r.valid = r.pdf > 0 && std::isfinite(r.pdf);
-    return r;
+    return sphrect::MakeTriangleSolidAngleSetup(l.v0, l.e1, l.e2, origin);
 }
 
 // Solid-angle pdf of the point p on the triangle: 1 / Omega (the map is uniform in solid angle).
@@ -285,19 +252,7 @@ inline float TriangleSolidAnglePDF(const TriangleSolidAngleSetup& r, const AreaL
 
 inline LightSample<float> SampleTriangleSolidAngle(const TriangleSolidAngleSetup& r, const AreaLight& /*l*/,
                                                    const Vec3f& origin, Point2<float> u) {
-    if (!r.valid) return {};
-    const Vec3d w = SampleSphericalTriangle(r.tri, u.u, u.v);
-    // The direction's hit on the triangle's plane, o + t w with t = h / (n . w), in double.
-    const double t = r.h / Dot(r.n, w);
-    LightSample<float> s;
-    if (!(t > 0) || !std::isfinite(t)) return s;
-    const Vec3d q = w * t;
-    s.point = origin + Vec3f(q);
-    s.dist = float(t);
-    s.dir = Vec3f(w);
-    s.pdf = r.pdf;
-    if (!(s.dist > 0) || !std::isfinite(s.dist)) s.pdf = 0;
-    return s;
+    return sphrect::SampleTriangleSolidAngle(r, origin, u);
 }
 
 // Emitted flux up to the common factor pi: luminance(L) * area * sides.

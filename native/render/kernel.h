@@ -23,6 +23,7 @@ struct PartialCoverage;
 struct DeferredShadowRay;
 struct ChosenLight;
 struct LightSampleRequests;
+struct TriangleSampleRequests;
 
 // Per-thread buffers reused across tiles.
 struct ThreadScratch {
@@ -42,6 +43,7 @@ struct ThreadScratch {
     std::vector<uint8_t> batched_chosen;  // per camera sample
     std::vector<LightSample<float>> batched_samples;
     std::vector<LightSampleRequests> batch_requests;
+    std::vector<TriangleSampleRequests> triangle_requests;
     ThreadScratch();
     ~ThreadScratch();
 };

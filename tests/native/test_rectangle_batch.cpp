@@ -30,6 +30,7 @@
 #include "core/rectangle_cosine.h"
 #include "core/rng.h"
 #include "hwy/targets.h"
+#include "simd_targets.h"
 
 namespace sphrect {
 namespace {
@@ -117,23 +118,17 @@ BatchComparison CompareBatch(const RectLight<float>& light, const std::vector<Ve
 void MatchesScalarOnTheHardCases();
 void MatchesScalarOnRandomLightsAndPoints();
 
-// Runs `check` once per instruction set the batch can take here, that one forced.
-template <class F>
-void ForEachTarget(F&& check) {
-    for (const int64_t target : hwy::SupportedAndGeneratedTargets()) {
-        hwy::SetSupportedTargetsForTest(target);
-        SCOPED_TRACE(hwy::TargetName(target));
-        EXPECT_STREQ(RectangleBatchTarget(), hwy::TargetName(target));
-        check();
-    }
-    hwy::SetSupportedTargetsForTest(0);  // back to what the machine supports
-}
-
 TEST(RectangleBatch, RunsOnEveryInstructionSet) {
     // The x86-64 targets a user's machine may take: AVX2 at least, AVX-512 where present.
     const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
     EXPECT_GE(targets.size(), 2u);
     EXPECT_NE(std::find(targets.begin(), targets.end(), int64_t(HWY_AVX2)), targets.end());
+    // Each forced in turn is the one the dispatch takes.
+    for (const int64_t target : targets) {
+        hwy::SetSupportedTargetsForTest(target);
+        EXPECT_STREQ(RectangleBatchTarget(), hwy::TargetName(target));
+    }
+    hwy::SetSupportedTargetsForTest(0);
 }
 
 TEST(RectangleBatch, MatchesScalarOnTheHardCases) {

@@ -1,15 +1,16 @@
-// Light samples of rectangles taken for a whole chunk at once, before its shading: the batched
-// `rectangle` and `rectangle_cosine` techniques (core/rectangle_batch.h) over every (surface hit,
-// light sample) whose light is known before shading: the lights are chosen for the whole chunk (by power from the
+// Light samples taken for a whole chunk at once, before its shading: the batched `rectangle` and
+// `rectangle_cosine` techniques (core/rectangle_batch.h) and, under every solid-angle technique, the
+// batched emissive triangles (core/triangle_batch.h), over every (surface hit, light sample) whose
+// light is known before shading: the lights are chosen for the whole chunk (by power from the
 // pattern point alone, or by the light tree at the hit, with the receiver normal shading will use) and the requests
 // gathered per light and sampled in SIMD batches; shading then takes its choice and sample from here
 // (ChosenLight::batched) and sets up no sampler unless a BSDF ray needs a pdf.  The samples equal the scalar sampler's
 // up to rounding (the batch's tests), so images change by rounding only.
 //
-// Requests that stay with the scalar path: the other techniques, ellipses and triangles, lights with spread (sampled
-// on their clipped part) and textured rectangles sampled by their blocks.  Under the tree, hits that shade with a
-// hit-specific material (textured, normal-mapped, ...: its translucency, hence the tree's receiver normal, is known
-// only at shading) choose their lights at shading, as before.
+// Requests that stay with the scalar path: `area`, ellipses, rectangles under the other techniques, lights with
+// spread (sampled on their clipped part) and textured rectangles sampled by their blocks.  Under the tree, hits that
+// shade with a hit-specific material (textured, normal-mapped, ...: its translucency, hence the tree's receiver normal,
+// is known only at shading) choose their lights at shading, as before.
 #pragma once
 
 #include <cstdint>
@@ -18,6 +19,7 @@
 
 #include "camera_stage.h"
 #include "core/rectangle_batch.h"
+#include "core/triangle_batch.h"
 #include "light_sampling_at.h"
 #include "render/kernel.h"
 #include "render/ticks.h"
@@ -29,15 +31,48 @@ namespace sphrect::render {
 // Whether light samples of technique K under this context are batched.
 template <Technique K>
 static inline bool BatchesLightSamples(const ShadeContext& c) {
-    return (K == Technique::Rectangle || K == Technique::RectangleCosine) &&
-           HasChoosableLights(c.scene, c.light_selection);
+    return K != Technique::Area && HasChoosableLights(c.scene, c.light_selection);
 }
 
 // Whether rectangle light l is sampled by technique K's plain map (what the batch computes) at every point.
 template <Technique K>
 static inline bool BatchableRectangle(const ShadeContext& c, const AreaLight& l) {
-    return l.shape == AreaShape::Rectangle && !l.HasSpread() && !SampledByBlocks(c.scene, l, K, c.emission_blocks);
+    return (K == Technique::Rectangle || K == Technique::RectangleCosine) && l.shape == AreaShape::Rectangle &&
+           !l.HasSpread() && !SampledByBlocks(c.scene, l, K, c.emission_blocks);
 }
+
+// Emissive triangles are sampled by solid angle under every technique but `area` (LightSamplingAt::Sample).
+template <Technique K>
+static inline bool BatchableTriangle(const AreaLight& l) {
+    return K != Technique::Area && l.shape == AreaShape::Triangle;
+}
+
+// Requests of emissive triangles, one sample each, in the order they come (each lane its own triangle).
+struct TriangleSampleRequests {
+    std::vector<uint32_t> slots;
+    std::vector<TriangleEmitter> triangles;
+    std::vector<Vec3f> origins;
+    std::vector<Point2<float>> points;
+    std::vector<LightSample<float>> out;
+
+    void Clear() {
+        slots.clear();
+        triangles.clear();
+        origins.clear();
+        points.clear();
+    }
+    void Add(const AreaLight& l, const Vec3f& origin, uint32_t slot, Point2<float> u) {
+        slots.push_back(slot);
+        triangles.push_back({l.v0, l.e1, l.e2});
+        origins.push_back(origin);
+        points.push_back(u);
+    }
+    void Sample(LightSample<float>* samples) {
+        out.resize(slots.size());
+        SampleTriangleEmitterBatch(triangles.data(), origins.data(), slots.size(), points.data(), out.data());
+        for (size_t r = 0; r < slots.size(); ++r) samples[slots[r]] = out[r];
+    }
+};
 
 // Requests of one kind, light by light (a counting sort): request r is a point `origins[r]` (its shading normal
 // `normals[r]`, for rectangle_cosine) with m sample points
@@ -108,13 +143,17 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
     scratch.batched_samples.resize(n * nl);
     scratch.batched_chosen.assign(n, 0);
     scratch.batch_requests.resize(2);
+    scratch.triangle_requests.resize(1);
     LightSampleRequests &per_point = scratch.batch_requests[0], &per_sample = scratch.batch_requests[1];
+    TriangleSampleRequests& triangles = scratch.triangle_requests[0];
+    triangles.Clear();
     per_point.Start(lights, int(nl));
     per_sample.Start(lights, 1);
     // Whether camera sample s's choices are one request (all the same batched light) and that light.
     auto one_request = [&](size_t s) {
         const ChosenLight* choices = &scratch.batched_choices[s * nl];
-        if (nl < 2 || !choices[0].batched) return -1;
+        if (nl < 2 || !choices[0].batched || scene.area_lights[size_t(choices[0].index)].shape != AreaShape::Rectangle)
+            return -1;
         for (size_t j = 1; j < nl; ++j)
             if (choices[j].index != choices[0].index) return -1;
         return choices[0].index;
@@ -134,15 +173,23 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
             ChosenLight& light = scratch.batched_choices[j];
             light = tree ? ChooseLightFromTree(scene, *receiver, scratch.light_points[j])
                          : ChooseLightByPower(scene.light_selector, scratch.light_points[j]);
-            if (light.index >= 0 && BatchableRectangle<K>(c, scene.area_lights[size_t(light.index)]))
-                light.batched = &scratch.batched_samples[j];
+            if (light.index < 0) continue;
+            const AreaLight& l = scene.area_lights[size_t(light.index)];
+            if (BatchableRectangle<K>(c, l) || BatchableTriangle<K>(l)) light.batched = &scratch.batched_samples[j];
         }
         if (const int l = one_request(s); l >= 0) {
             per_point.Count(l);
             continue;
         }
-        for (size_t j = s * nl; j < (s + 1) * nl; ++j)
-            if (scratch.batched_choices[j].batched) per_sample.Count(scratch.batched_choices[j].index);
+        for (size_t j = s * nl; j < (s + 1) * nl; ++j) {
+            const ChosenLight& light = scratch.batched_choices[j];
+            if (!light.batched) continue;
+            const AreaLight& l = scene.area_lights[size_t(light.index)];
+            if (l.shape == AreaShape::Triangle)
+                triangles.Add(l, ph.surface.p, uint32_t(j), light.u);
+            else
+                per_sample.Count(light.index);
+        }
     }
     per_point.Size();
     per_sample.Size();
@@ -154,11 +201,13 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
             continue;
         }
         for (size_t j = s * nl; j < (s + 1) * nl; ++j)
-            if (const ChosenLight& light = scratch.batched_choices[j]; light.batched)
+            if (const ChosenLight& light = scratch.batched_choices[j];
+                light.batched && scene.area_lights[size_t(light.index)].shape == AreaShape::Rectangle)
                 per_sample.Place(light.index, h.p, h.ns, uint32_t(j), &light);
     }
     per_point.Sample<K>(scene, scratch.batched_samples.data());
     per_sample.Sample<K>(scene, scratch.batched_samples.data());
+    triangles.Sample(scratch.batched_samples.data());
     light_ticks += ReadTicks() - t0;
 }
 
