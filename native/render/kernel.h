@@ -22,6 +22,8 @@ struct CameraRayMedia;
 struct PartialCoverage;
 struct DeferredShadowRay;
 struct ChosenLight;
+struct LightTreeReceiver;
+struct LightTreeSample;
 struct LightSampleRequests;
 struct TriangleSampleRequests;
 
@@ -40,7 +42,10 @@ struct ThreadScratch {
     // Light samples taken for a chunk at once (integrator/batched_light_samples.h): per (camera sample, light sample)
     // the light chosen and its sample; the batches' requests (per point, per sample).
     std::vector<ChosenLight> batched_choices;
-    std::vector<uint8_t> batched_chosen;  // per camera sample
+    std::vector<uint8_t> batched_chosen;            // per camera sample
+    std::vector<LightTreeReceiver> tree_receivers;  // the chunk's light samples under the tree: receiver and number,
+    std::vector<float> tree_u;                      // and the tree's choice
+    std::vector<LightTreeSample> tree_samples;
     std::vector<LightSample<float>> batched_samples;
     std::vector<LightSampleRequests> batch_requests;
     std::vector<TriangleSampleRequests> triangle_requests;

@@ -219,7 +219,14 @@ class LightTree {
         return MixturePMF(emitter, PathPMF(emitter, [&](uint32_t left) { return LeftProbability(left, r); }));
     }
 
+    // Sample for n receivers at once: out[i] = Sample(receivers[i].p, receivers[i].n, u[i]), the same floats (bit for
+    // bit), with the descent's node importances in SIMD lanes (light_tree_batch.cpp; the choices made by flux, a
+    // tenth, take the scalar path).  No allocation.
+    void SampleBatch(const LightTreeReceiver* receivers, const float* u, size_t n, LightTreeSample* out) const;
+
     // ---- The pieces of Sample and PMF, for LightTreeAt (which memoises p_left per node). ----
+
+    float FluxShare() const { return flux_share_; }
 
     // Whether anything in the tree can light r: the root's importance > 0.
     bool CanLight(const LightTreeReceiver& r) const {

@@ -14,7 +14,6 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
 #include <vector>
 
 #include "camera_stage.h"
@@ -162,16 +161,35 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
     auto chosen = [&](size_t s) { return scratch.batched_chosen[s] != 0; };
     for (size_t s = 0; s < n; ++s) {
         const PrimaryHit& ph = scratch.hits[s];
-        if (!ph.hit || IsBlack(ph.throughput) || (tree && !ShadesWithSceneBsdf<kGlossy>(scene, ph.surface))) continue;
-        scratch.batched_chosen[s] = 1;
-        // (Under the tree, one receiver for the point's light samples, as LightSamplingAt keeps.)
-        std::optional<LightTreeAt> receiver;
-        if (tree)
-            receiver.emplace(scene.light_tree(), ph.surface.p,
-                             TreeReceiverNormal<kGlossy>(ph.surface, scene.bsdfs[size_t(ph.surface.material)]), nl > 1);
+        scratch.batched_chosen[s] =
+            ph.hit && !IsBlack(ph.throughput) && (!tree || ShadesWithSceneBsdf<kGlossy>(scene, ph.surface));
+    }
+    // Under the tree, every choice of the chunk in one batched descent (LightTree::SampleBatch, the same floats as
+    // LightTreeAt's), at the receiver shading will use.
+    if (tree) {
+        auto& receivers = scratch.tree_receivers;
+        auto& u = scratch.tree_u;
+        receivers.clear();
+        u.clear();
+        for (size_t s = 0; s < n; ++s) {
+            if (!chosen(s)) continue;
+            const SurfaceHit& h = scratch.hits[s].surface;
+            const Vec3f normal = TreeReceiverNormal<kGlossy>(h, scene.bsdfs[size_t(h.material)]);
+            for (size_t j = s * nl; j < (s + 1) * nl; ++j) {
+                receivers.emplace_back(h.p, normal);
+                u.push_back(scratch.light_points[j].v);
+            }
+        }
+        scratch.tree_samples.resize(receivers.size());
+        scene.light_tree().SampleBatch(receivers.data(), u.data(), receivers.size(), scratch.tree_samples.data());
+    }
+    size_t tree_sample = 0;
+    for (size_t s = 0; s < n; ++s) {
+        if (!chosen(s)) continue;
+        const PrimaryHit& ph = scratch.hits[s];
         for (size_t j = s * nl; j < (s + 1) * nl; ++j) {
             ChosenLight& light = scratch.batched_choices[j];
-            light = tree ? ChooseLightFromTree(scene, *receiver, scratch.light_points[j])
+            light = tree ? ChosenFromTree(scene, scratch.tree_samples[tree_sample++], scratch.light_points[j])
                          : ChooseLightByPower(scene.light_selector, scratch.light_points[j]);
             if (light.index < 0) continue;
             const AreaLight& l = scene.area_lights[size_t(light.index)];

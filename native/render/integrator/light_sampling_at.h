@@ -42,12 +42,17 @@ static inline ChosenLight ChooseLightByPower(const LightSelector& selector, Poin
 }
 
 // `tree`: the tree at the receiver (its normal 0 in a medium: no horizon).
-static inline ChosenLight ChooseLightFromTree(const RenderScene& scene, LightTreeAt& tree, Point2<float> light_point) {
-    const LightTreeSample s = tree.Sample(light_point.v);
+// The light of the tree's sample s, for the light sample with pattern point light_point (s from its v).
+static inline ChosenLight ChosenFromTree(const RenderScene& scene, const LightTreeSample& s,
+                                         Point2<float> light_point) {
     if (s.emitter < 0 || !(s.pmf > 0)) return {};
     const TreeEmitterRef& ref = scene.light_tree_refs()[s.emitter];
     if (ref.kind == TreeEmitterKind::Delta) return {-1, ref.index, s.pmf, {light_point.u, s.u}};
     return {ref.index, -1, s.pmf, {light_point.u, s.u}};
+}
+
+static inline ChosenLight ChooseLightFromTree(const RenderScene& scene, LightTreeAt& tree, Point2<float> light_point) {
+    return ChosenFromTree(scene, tree.Sample(light_point.v), light_point);
 }
 
 // Whether light samples have an emitter to go to (otherwise only BSDF samples may be drawn).
