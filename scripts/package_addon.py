@@ -6,8 +6,8 @@
 
 The zip holds `sphrect_blender/` with the package under `sphrect_blender/lib/sphrect/`, where the
 add-on looks for it (see addon/sphrect_blender/native.py). The native module is built for Python 3.11
-and links the system's Embree, so the zip installs into Debian's Blender 3.4 on a machine with
-libembree3 installed."""
+and links the system's Embree and Highway, so the zip installs into Debian's Blender 3.4 on a machine with
+libembree3 and libhwy1 installed."""
 import argparse
 import glob
 import os
