@@ -429,16 +429,21 @@ void RawEmbreeCase(benchmark::State& state, const RenderScene& s, const RawRays&
     state.counters["secondary/sample"] = benchmark::Counter(double(secondary) / rays_in.camera.size());
 }
 
-void BM_RawEmbree(benchmark::State& state) {
-    const RenderScene& s = *Scene();
+// BM_RawEmbree's case on a scene of one rectangle light: arguments technique, MIS, light samples; name(technique)
+// starts the label.
+template <class Name>
+void RectRawEmbreeCase(benchmark::State& state, const RenderScene& s, Name name) {
     const Technique technique = kAllTechniques[state.range(0)];
     const bool mis = state.range(1) != 0;
     const int light_samples = int(state.range(2));
     const RawRays rays_in = DispatchTechnique(
         technique, [&](auto tag) { return MakeRawRays(s, mis, light_samples, RectSampling<decltype(tag)::value>(s)); });
-    RawEmbreeCase(state, s, rays_in,
-                  std::string(TechniqueName(technique)) + MisLabel(mis) + "/ls=" + std::to_string(light_samples));
+    RawEmbreeCase(state, s, rays_in, name(technique) + MisLabel(mis) + "/ls=" + std::to_string(light_samples));
 }
+
+std::string TechniqueLabel(Technique technique) { return TechniqueName(technique); }
+
+void BM_RawEmbree(benchmark::State& state) { RectRawEmbreeCase(state, *Scene(), TechniqueLabel); }
 BENCHMARK(BM_RawEmbree)
     ->ArgsProduct({{0, 1, 2, 3, 4}, {0, 1}, {1, 4}})
     ->Unit(benchmark::kMillisecond)
@@ -528,17 +533,20 @@ void RaysAndSamplerCase(benchmark::State& state, const RenderScene& s, const Raw
         benchmark::Counter(double(samples), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-void BM_RaysAndSampler(benchmark::State& state) {
-    const RenderScene& s = *Scene();
+// BM_RaysAndSampler's case on a scene of one rectangle light: arguments technique, light samples; name(technique)
+// starts the label.
+template <class Name>
+void RectRaysAndSamplerCase(benchmark::State& state, const RenderScene& s, Name name) {
     const Technique technique = kAllTechniques[state.range(0)];
     const int light_samples = int(state.range(1));
     DispatchTechnique(technique, [&](auto tag) {
         const auto sampling = RectSampling<decltype(tag)::value>(s);
-        const RawRays rays_in = MakeRawRays(s, false, light_samples, sampling);
-        RaysAndSamplerCase(state, s, rays_in, light_samples, sampling,
-                           std::string(TechniqueName(technique)) + "/no-mis/ls=" + std::to_string(light_samples));
+        RaysAndSamplerCase(state, s, MakeRawRays(s, false, light_samples, sampling), light_samples, sampling,
+                           name(technique) + "/no-mis/ls=" + std::to_string(light_samples));
     });
 }
+
+void BM_RaysAndSampler(benchmark::State& state) { RectRaysAndSamplerCase(state, *Scene(), TechniqueLabel); }
 BENCHMARK(BM_RaysAndSampler)
     ->ArgsProduct({{0, 1, 2, 3, 4}, {1, 4}})
     ->Unit(benchmark::kMillisecond)
@@ -635,25 +643,8 @@ void BM_GlossyRender(benchmark::State& state) {
                GlossyLabel(o.techniques[0]) + MisLabel(o.mis == MisMode::Balance) + "/" + PatternName(o.pattern) +
                    "/ls=" + std::to_string(o.light_samples));
 }
-void BM_GlossyRawEmbree(benchmark::State& state) {
-    const RenderScene& s = *GlossyScene();
-    const Technique technique = kAllTechniques[state.range(0)];
-    const bool mis = state.range(1) != 0;
-    const int light_samples = int(state.range(2));
-    const RawRays rays_in = DispatchTechnique(
-        technique, [&](auto tag) { return MakeRawRays(s, mis, light_samples, RectSampling<decltype(tag)::value>(s)); });
-    RawEmbreeCase(state, s, rays_in, GlossyLabel(technique) + MisLabel(mis) + "/ls=" + std::to_string(light_samples));
-}
-void BM_GlossyRaysAndSampler(benchmark::State& state) {
-    const RenderScene& s = *GlossyScene();
-    const Technique technique = kAllTechniques[state.range(0)];
-    const int light_samples = int(state.range(1));
-    DispatchTechnique(technique, [&](auto tag) {
-        const auto sampling = RectSampling<decltype(tag)::value>(s);
-        RaysAndSamplerCase(state, s, MakeRawRays(s, false, light_samples, sampling), light_samples, sampling,
-                           GlossyLabel(technique) + "/no-mis/ls=" + std::to_string(light_samples));
-    });
-}
+void BM_GlossyRawEmbree(benchmark::State& state) { RectRawEmbreeCase(state, *GlossyScene(), GlossyLabel); }
+void BM_GlossyRaysAndSampler(benchmark::State& state) { RectRaysAndSamplerCase(state, *GlossyScene(), GlossyLabel); }
 // Rectangle (kAllTechniques[2]), without and with balance MIS, one light sample.
 BENCHMARK(BM_GlossyRender)
     ->ArgsProduct({{2}, {0, 1}, {1}})
