@@ -251,7 +251,8 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
     HWY_ALIGN double lane_x[kMaxLanes], lane_y[kMaxLanes], lane_z[kMaxLanes];
     HWY_ALIGN double lane_u[kMaxLanes], lane_v[kMaxLanes];
     HWY_ALIGN double out_X[kMaxLanes], out_Y[kMaxLanes], out_dist[kMaxLanes], out_pdf[kMaxLanes];
-    HWY_ALIGN double out_warp_pdf[kMaxLanes], lane_nx[kMaxLanes], lane_ny[kMaxLanes], lane_nz[kMaxLanes];
+    HWY_ALIGN double vector_lane[kMaxLanes], out_warp_pdf[kMaxLanes], lane_nx[kMaxLanes], lane_ny[kMaxLanes],
+        lane_nz[kMaxLanes];
     HWY_ALIGN double plane_x0[kMaxLanes], plane_y0[kMaxLanes], plane_h[kMaxLanes], plane_az[kMaxLanes];
     HWY_ALIGN uint8_t lane_ok[kMaxLanes] = {};
     if (!f.valid) {  // every sample of a degenerate light has pdf 0
@@ -281,9 +282,9 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
                            s.vector_ok);
         }
         // (Non-finite origins make the comparisons false: those lanes are not vector lanes.)
-        hn::Store(hn::VecFromMask(d, s.vector_ok), d, out_pdf);
+        hn::Store(hn::IfThenElseZero(s.vector_ok, hn::Set(d, 1.0)), d, vector_lane);
         bool any_vector = false;
-        for (size_t i = 0; i < N; ++i) any_vector |= (lane_ok[i] = out_pdf[i] != 0);
+        for (size_t i = 0; i < N; ++i) any_vector |= (lane_ok[i] = vector_lane[i] > 0);
         for (size_t i = 0; i < count; ++i) vector_points += lane_ok[i];
         hn::Store(s.px0, d, plane_x0);
         hn::Store(s.py0, d, plane_y0);

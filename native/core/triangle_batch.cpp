@@ -121,10 +121,10 @@ size_t SampleTriangleEmitterBatchImpl(const TriangleEmitter* triangles, const Ve
         hn::Store(w.y, d, w_out[1]);
         hn::Store(w.z, d, w_out[2]);
         hn::Store(hn::Div(one, area), d, pdf_out);
-        hn::Store(hn::VecFromMask(d, ok), d, ok_out);
+        hn::Store(hn::IfThenElseZero(ok, one), d, ok_out);
         for (size_t i = 0; i < count; ++i) {
             const size_t j = first + i;
-            if (!(ok_out[i] != 0)) {  // the scalar reference
+            if (!(ok_out[i] > 0)) {  // the scalar reference
                 const TriangleEmitter& tri = triangles[j];
                 out[j] = SampleTriangleSolidAngle(MakeTriangleSolidAngleSetup(tri.v0, tri.e1, tri.e2, origins[j]),
                                                   origins[j], uv[j]);
