@@ -97,6 +97,51 @@ def tiny_config(**kw):
     return StudyConfig(**args)
 
 
+def assert_plots(out, names):
+    """Each of the study's plots `names` is a PNG of some substance."""
+    for png in names:
+        data = (out / "plots" / png).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, png
+
+
+def strip_axis(out, job_field, config_field=None):
+    """Make the stored runs (and, given config_field, the stored settings) look like a study made before the axis
+    `job_field` was recorded."""
+    for name in os.listdir(out / "runs"):
+        path = out / "runs" / name
+        record = json.loads(path.read_text())
+        del record["job"][job_field]
+        path.write_text(json.dumps(record))
+    if config_field:
+        config = json.loads((out / "config.json").read_text())
+        del config["study"][config_field]
+        (out / "config.json").write_text(json.dumps(config))
+
+
+def study_of_two_values_from_the_command_line(tmp_path, scene, option, values, column):
+    """The command line's study (rectangle, power MIS, sobol, 1-8 spp) of `scene` with `option` set to two `values`
+    (their column in runs.csv: `column`): both rendered at every count, every run finite, each converging, the two
+    different. Returns the report's text."""
+    from sphrect.study import cli
+    scene_path = str(tmp_path / "scene.sphrect.npz")
+    sphrect.save_scene(scene, scene_path)
+    out = tmp_path / "study"
+    assert cli.main([scene_path, "--out", str(out), "--techniques", "rectangle", "--mis", "power", "--patterns",
+                     "sobol", option, ",".join(values), "--max-samples", "8", "--reference-samples", "1024",
+                     "--reference-chunks", "4", "--grid-mis", "power", "--grid-pattern", "sobol", "--workers", "2",
+                     "--no-sampler-table", "--quiet"]) == 0
+    with open(out / "runs.csv") as f:
+        rows = list(csv.DictReader(f))
+    ladder = {(r[column], int(r["samples"])): r for r in rows if r["kind"] == "ladder"}
+    assert set(ladder) == {(v, n) for v in values for n in (1, 2, 4, 8)}
+    for r in rows:
+        assert r["finite"] == "True" and 0 < float(r["rmse"]) < math.inf
+    for v in values:
+        assert float(ladder[(v, 8)]["rmse"]) < float(ladder[(v, 1)]["rmse"]), v
+    assert ladder[(values[0], 1)]["rmse"] != ladder[(values[1], 1)]["rmse"]
+    return (out / "report.md").read_text()
+
+
 def study(scene_file, out, executor=None, report=True, **kw):
     """The tiny study (tiny_config(**kw)) of the fake renderer. report=False where the report would be one another
     test writes from the same results (its plots are most of a study's time)."""
@@ -263,9 +308,7 @@ def test_study_outputs_are_well_formed(scene_file, tmp_path):
     assert "reproduces" in report
     assert "selection" not in report.lower()  # a study of the default light selection only does not name it
     assert (out / "report.html").read_text().count("<img") >= 5
-    for png in ("rmse_vs_samples_sobol.png", "rmse_vs_time_sobol.png", "slopes.png", "equal_time_grid.png"):
-        data = (out / "plots" / png).read_bytes()
-        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, png
+    assert_plots(out, ("rmse_vs_samples_sobol.png", "rmse_vs_time_sobol.png", "slopes.png", "equal_time_grid.png"))
     assert_store_clean(out)  # the report's files too (the interrupted study's resume writes this same report)
 
 

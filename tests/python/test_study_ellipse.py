@@ -3,9 +3,7 @@ its keys and labels, the option's validation before any rendering, resuming stor
 before the axis existed), the report's finding on the two techniques (with the fake renderer of test_study), and
 on the real renderer that the axis reaches it (a disk scene renders differently with each technique)."""
 import csv
-import json
 import math
-import os
 
 import numpy as np
 import pytest
@@ -16,7 +14,9 @@ from sphrect.study.jobs import (CYCLES, CYCLES_CURVE, DEFAULT_ELLIPSE_TECHNIQUE,
                                 cost_key, curve_key, equal_time_jobs)
 from sphrect.study.report import results as report_results
 from sphrect.study.runner import RunContext, render_sphrect
-from test_study import AREA_DISK_COST, AREA_DISK_NOISE, scene_file, study, tiny_config  # noqa: F401 (fixture)
+from test_study import (  # noqa: F401 (scene_file: a fixture)
+    AREA_DISK_COST, AREA_DISK_NOISE, assert_plots, scene_file, strip_axis, study,
+    study_of_two_values_from_the_command_line, tiny_config)
 from test_study_render import paper_like_scene
 
 pytestmark = pytest.mark.study
@@ -83,15 +83,6 @@ def test_unknown_ellipse_technique_is_refused_before_rendering(scene_file, tmp_p
     assert not out.exists()
 
 
-def strip_ellipse_technique(out):
-    """Make the stored runs look like a study made before the ellipse technique was recorded."""
-    for name in os.listdir(out / "runs"):
-        path = out / "runs" / name
-        record = json.loads(path.read_text())
-        del record["job"]["ellipse_technique"]
-        path.write_text(json.dumps(record))
-
-
 def test_study_of_two_ellipse_techniques_resumes_a_study_of_one(scene_file, tmp_path, monkeypatch):
     """A study of the default ellipse technique (its records stripped of the field, as if stored before the axis)
     still resumes with nothing rendered again; adding --ellipse-techniques area renders only area's runs. Both are
@@ -106,7 +97,7 @@ def test_study_of_two_ellipse_techniques_resumes_a_study_of_one(scene_file, tmp_
     first = log.read_text().split()
     plain = (out / "report.md").read_text()
     assert not any(word in plain for word in ("ellipse=", "ellipse technique", "Disk and ellipse", "disk and ellipse"))
-    strip_ellipse_technique(out)
+    strip_axis(out, "ellipse_technique")
     study(scene_file, out)
     assert log.read_text().split() == first  # an old study resumes: nothing rendered again
     summary = study(scene_file, out, ellipse_techniques=BOTH, report=False)  # the next study's, which renders nothing
@@ -139,9 +130,7 @@ def test_study_of_two_ellipse_techniques_resumes_a_study_of_one(scene_file, tmp_
     assert 0.42 < median < 0.6 and 1 / AREA_DISK_NOISE == 0.5, line
     html = (out / "report.html").read_text()
     assert "ellipse=area" in html and "6. Disk and ellipse lights" in html
-    for png in ("rmse_vs_samples_sobol.png", "slopes.png", "equal_time_grid.png"):
-        data = (out / "plots" / png).read_bytes()
-        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, png
+    assert_plots(out, ("rmse_vs_samples_sobol.png", "slopes.png", "equal_time_grid.png"))
 
 
 def disk_scene(width=24, height=16):
@@ -173,24 +162,8 @@ def test_the_ellipse_technique_reaches_the_renderer(tmp_path):
 def test_study_of_both_ellipse_techniques_from_the_command_line(tmp_path):
     """The command line with both ellipse techniques on the disk scene: both rendered, every run finite and
     converging, the report compares them."""
-    from sphrect.study import cli
-    scene_path = str(tmp_path / "disk.sphrect.npz")
-    sphrect.save_scene(disk_scene(), scene_path)
-    out = tmp_path / "study"
-    assert cli.main([scene_path, "--out", str(out), "--techniques", "rectangle", "--mis", "power", "--patterns",
-                     "sobol", "--ellipse-techniques", "area,spherical_ellipse", "--max-samples", "8",
-                     "--reference-samples", "1024", "--reference-chunks", "4", "--grid-mis", "power",
-                     "--grid-pattern", "sobol", "--workers", "2", "--no-sampler-table", "--quiet"]) == 0
-    with open(out / "runs.csv") as f:
-        rows = list(csv.DictReader(f))
-    ladder = {(r["ellipse_technique"], int(r["samples"])): r for r in rows if r["kind"] == "ladder"}
-    assert set(ladder) == {(e, n) for e in BOTH for n in (1, 2, 4, 8)}
-    for r in rows:
-        assert r["finite"] == "True" and 0 < float(r["rmse"]) < math.inf
-    for e in BOTH:
-        assert float(ladder[(e, 8)]["rmse"]) < float(ladder[(e, 1)]["rmse"]), e
-    assert ladder[("area", 1)]["rmse"] != ladder[("spherical_ellipse", 1)]["rmse"]
-    report = (out / "report.md").read_text()
+    report = study_of_two_values_from_the_command_line(tmp_path, disk_scene(), "--ellipse-techniques", BOTH,
+                                                       "ellipse_technique")
     assert "rectangle / mis=power / sobol / ellipse=spherical_ellipse" in report
     assert "rectangle / mis=power / sobol / ellipse=area" in report
     assert "- Disk and ellipse lights: at equal samples RMSE(spherical_ellipse) / RMSE(area) = **" in report

@@ -5,9 +5,7 @@ place in a report with the fake renderer of test_study), and on the real rendere
 scene renders differently with each medium sampling, a scene without a medium identically) and a tiny study of a
 fog box from the command line."""
 import csv
-import json
 import math
-import os
 
 import numpy as np
 import pytest
@@ -19,7 +17,8 @@ from sphrect.study.jobs import (CYCLES, CYCLES_CURVE, DEFAULT_MEDIUM_SAMPLING, C
 from sphrect.study.report import results as report_results
 from sphrect.study.runner import RunContext, render_sphrect
 from test_object_volumes import box_volume
-from test_study import scene_file, study, tiny_config  # noqa: F401 (fixture)
+from test_study import (  # noqa: F401 (scene_file: a fixture)
+    assert_plots, scene_file, strip_axis, study, study_of_two_values_from_the_command_line, tiny_config)
 from test_study_render import paper_like_scene
 
 pytestmark = pytest.mark.study
@@ -88,18 +87,6 @@ def test_unknown_medium_sampling_is_refused_before_rendering(scene_file, tmp_pat
     assert not out.exists()  # refused before anything was rendered or written
 
 
-def strip_medium_sampling(out):
-    """Make the stored runs and settings look like a study made before the medium sampling was recorded."""
-    for name in os.listdir(out / "runs"):
-        path = out / "runs" / name
-        record = json.loads(path.read_text())
-        del record["job"]["medium_sampling"]
-        path.write_text(json.dumps(record))
-    config = json.loads((out / "config.json").read_text())
-    del config["study"]["medium_samplings"]
-    (out / "config.json").write_text(json.dumps(config))
-
-
 @pytest.mark.slow
 def test_study_of_two_medium_samplings_resumes_a_study_of_one(scene_file, tmp_path, monkeypatch):
     """A study of the default medium sampling (its records stripped of the field, as if stored before the axis)
@@ -111,7 +98,7 @@ def test_study_of_two_medium_samplings_resumes_a_study_of_one(scene_file, tmp_pa
     monkeypatch.setenv("STUDY_FAKE_LOG", str(log))
     study(scene_file, out, techniques=("area", "rectangle"), report=False)
     first = log.read_text().split()
-    strip_medium_sampling(out)
+    strip_axis(out, "medium_sampling", "medium_samplings")
     old = report_results.load_study(str(out))  # an old study's results load: the default's
     assert old.settings.medium_samplings == ("mis",)
     assert {curve_key(r["job"]).medium_sampling for r in old.ladder} == {"mis"}
@@ -139,9 +126,7 @@ def test_study_of_two_medium_samplings_resumes_a_study_of_one(scene_file, tmp_pa
     assert "| RMSE mis | RMSE distance | cost per sample [ms per spp] mis |" in report
     assert sum(l.startswith("- Medium sampling (rectangle, MIS none, sobol): RMSE at 8 spp: mis ")
                for l in report.splitlines()) == 2  # the summary's and finding 7's (no Cycles: no time ratio)
-    for png in ("rmse_vs_samples_sobol.png", "slopes.png", "equal_time_grid.png"):
-        data = (out / "plots" / png).read_bytes()
-        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 5000, png
+    assert_plots(out, ("rmse_vs_samples_sobol.png", "slopes.png", "equal_time_grid.png"))
 
 
 def test_finding_7_gives_each_medium_samplings_time_to_cycles_error_as_a_share_of_cycles_time():
@@ -208,24 +193,8 @@ def test_the_medium_sampling_reaches_the_renderer(tmp_path):
 def test_study_of_two_medium_samplings_from_the_command_line(tmp_path):
     """The command line with two medium samplings on the fog scene: both rendered, every run finite and converging,
     the report compares them in finding 7."""
-    from sphrect.study import cli
-    scene_path = str(tmp_path / "fog.sphrect.npz")
-    sphrect.save_scene(fog_scene(), scene_path)
-    out = tmp_path / "study"
-    assert cli.main([scene_path, "--out", str(out), "--techniques", "rectangle", "--mis", "power", "--patterns",
-                     "sobol", "--medium-samplings", "distance,equiangular", "--max-samples", "8",
-                     "--reference-samples", "1024", "--reference-chunks", "4", "--grid-mis", "power",
-                     "--grid-pattern", "sobol", "--workers", "2", "--no-sampler-table", "--quiet"]) == 0
-    with open(out / "runs.csv") as f:
-        rows = list(csv.DictReader(f))
-    ladder = {(r["medium_sampling"], int(r["samples"])): r for r in rows if r["kind"] == "ladder"}
-    assert set(ladder) == {(v, n) for v in TWO for n in (1, 2, 4, 8)}
-    for r in rows:
-        assert r["finite"] == "True" and 0 < float(r["rmse"]) < math.inf
-    for v in TWO:
-        assert float(ladder[(v, 8)]["rmse"]) < float(ladder[(v, 1)]["rmse"]), v
-    assert ladder[("distance", 1)]["rmse"] != ladder[("equiangular", 1)]["rmse"]
-    report = (out / "report.md").read_text()
+    report = study_of_two_values_from_the_command_line(tmp_path, fog_scene(), "--medium-samplings", TWO,
+                                                       "medium_sampling")
     assert "rectangle / mis=power / sobol / medium=distance" in report
     assert "rectangle / mis=power / sobol / medium=equiangular" in report
     assert "- Medium sampling (rectangle, MIS power, sobol): RMSE at 8 spp: distance " in report
