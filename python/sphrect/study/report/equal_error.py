@@ -3,6 +3,7 @@ target RMSE, the time our fastest configuration takes to reach each of Cycles' e
 against power selection's for the same error, and the ellipse techniques side by side (disk and ellipse lights)."""
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from typing import Dict, List, Optional, Tuple
@@ -224,34 +225,51 @@ class EllipseComparison:
         return noise_verdict(self.efficiency, self.noise, "better than area", "worse than area")
 
 
+def cycles_top(all_curves: Curves) -> Tuple[Optional[float], Optional[int], Optional[float]]:
+    """Cycles' RMSE at the top of its ladder, its sample count there and its time for it (its samples x its cost per
+    sample); all None without Cycles (or with a non-finite top RMSE)."""
+    cycles = all_curves.get(CYCLES_CURVE)
+    if not cycles or not math.isfinite(cycles[-1]["rmse"]):
+        return None, None, None
+    samples = cycles[-1]["job"]["samples"]
+    return cycles[-1]["rmse"], samples, samples * curve_cost(cycles)[0]
+
+
+def curves_along(cfg: StudyConfig, all_curves: Curves, axis: str, **fixed: str):
+    """For every combination of the study's other settings (MIS, pattern, light selection, ellipse technique, medium
+    sampling, technique, in that order of nesting; those in `fixed` held at the value given), the CurveKey of the
+    first value of `axis` (a CurveKey field) and {value of `axis`: its curve} over the study's values of it."""
+    values = {"mis": cfg.mis, "pattern": cfg.patterns, "light_selection": cfg.light_selections,
+              "ellipse_technique": cfg.ellipse_techniques, "medium_sampling": cfg.medium_samplings,
+              "technique": cfg.techniques}
+    along = values.pop(axis)
+    for field, value in fixed.items():
+        values[field] = (value,)
+    for combination in itertools.product(*values.values()):
+        key = CurveKey(**dict(zip(values, combination)), **{axis: along[0]})
+        yield key, {v: all_curves.get(key._replace(**{axis: v}), []) for v in along}
+
+
 def ellipse_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: float
                         ) -> Optional[List[EllipseComparison]]:
     """The ellipse techniques side by side for every (technique, MIS, pattern, light selection) all were measured
     with; None when the study does not have both spherical_ellipse and area."""
     if not {ELLIPSE_MAP, ELLIPSE_AREA} <= set(cfg.ellipse_techniques):
         return None
-    cycles = all_curves.get(CYCLES_CURVE)
-    target = cycles[-1]["rmse"] if cycles and math.isfinite(cycles[-1]["rmse"]) else None
-    cycles_time = cycles[-1]["job"]["samples"] * curve_cost(cycles)[0] if target is not None else None
+    target, _, cycles_time = cycles_top(all_curves)
     out = []
-    for mis in cfg.mis:
-        for pattern in cfg.patterns:
-            for selection in cfg.light_selections:
-                for technique in cfg.techniques:
-                    runs = {e: all_curves.get(CurveKey(technique, mis, pattern, selection, e,
-                                                       cfg.findings_medium_sampling), [])
-                            for e in cfg.ellipse_techniques}
-                    n = top_common_samples(runs)
-                    if n is None:
-                        continue
-                    measures = {}
-                    for e, curve in runs.items():
-                        cost, cost_error = curve_cost(curve)
-                        measures[e] = EllipseCurve(
-                            rmse_at(curve, n),
-                            fitted_slope(curve, "samples", reference_rmse), cost, cost_error,
-                            time_to_target(curve, target, reference_rmse) if target is not None else None)
-                    out.append(EllipseComparison(technique, mis, pattern, selection, n, measures, cycles_time))
+    for key, runs in curves_along(cfg, all_curves, "ellipse_technique", medium_sampling=cfg.findings_medium_sampling):
+        n = top_common_samples(runs)
+        if n is None:
+            continue
+        measures = {}
+        for e, curve in runs.items():
+            cost, cost_error = curve_cost(curve)
+            measures[e] = EllipseCurve(
+                rmse_at(curve, n), fitted_slope(curve, "samples", reference_rmse), cost, cost_error,
+                time_to_target(curve, target, reference_rmse) if target is not None else None)
+        out.append(EllipseComparison(key.technique, key.mis, key.pattern, key.light_selection, n, measures,
+                                     cycles_time))
     return out
 
 
@@ -300,27 +318,17 @@ def medium_comparisons(cfg: StudyConfig, all_curves: Curves, reference_rmse: flo
     all were measured with; None when the study has only one."""
     if len(cfg.medium_samplings) < 2:
         return None
-    cycles = all_curves.get(CYCLES_CURVE)
-    target = cycles[-1]["rmse"] if cycles and math.isfinite(cycles[-1]["rmse"]) else None
-    cycles_samples = cycles[-1]["job"]["samples"] if target is not None else None
-    cycles_time = cycles_samples * curve_cost(cycles)[0] if target is not None else None
+    target, cycles_samples, cycles_time = cycles_top(all_curves)
     out = []
-    for mis in cfg.mis:
-        for pattern in cfg.patterns:
-            for selection in cfg.light_selections:
-                for ellipse in cfg.ellipse_techniques:
-                    for technique in cfg.techniques:
-                        runs = {v: all_curves.get(CurveKey(technique, mis, pattern, selection, ellipse, v), [])
-                                for v in cfg.medium_samplings}
-                        n = top_common_samples(runs)
-                        if n is None:
-                            continue
-                        measures = {}
-                        for v, curve in runs.items():
-                            cost, cost_error = curve_cost(curve)
-                            measures[v] = MediumCurve(
-                                rmse_at(curve, n), cost, cost_error,
-                                time_to_target(curve, target, reference_rmse) if target is not None else None)
-                        out.append(MediumComparison(technique, mis, pattern, selection, ellipse, n, measures,
-                                                    cycles_samples, cycles_time))
+    for key, runs in curves_along(cfg, all_curves, "medium_sampling"):
+        n = top_common_samples(runs)
+        if n is None:
+            continue
+        measures = {}
+        for v, curve in runs.items():
+            cost, cost_error = curve_cost(curve)
+            measures[v] = MediumCurve(rmse_at(curve, n), cost, cost_error,
+                                      time_to_target(curve, target, reference_rmse) if target is not None else None)
+        out.append(MediumComparison(key.technique, key.mis, key.pattern, key.light_selection, key.ellipse_technique,
+                                    n, measures, cycles_samples, cycles_time))
     return out
