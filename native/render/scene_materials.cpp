@@ -96,6 +96,7 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
                 MixIntoBsdf(bsdf, part, layer.factors.empty() ? layer.weight : layer.weight * 0.5f);
                 bsdf.emission += part.emission * layer.weight;
                 bsdf.textured = bsdf.textured || part.textured || !layer.factors.empty();
+                bsdf.may_be_translucent = bsdf.may_be_translucent || part.may_be_translucent;
             } catch (const std::invalid_argument& e) {
                 Fail("layer " + std::to_string(i) + " ('" + layer.material.name + "'): " + e.what());
             }
@@ -106,6 +107,7 @@ Bsdf RenderScene::MakeMaterialBsdf(const Material& m) const {
     } else {
         bsdf = MakeBsdfFromInputs(m, m.inputs);
         bsdf.emission = m.emission;
+        bsdf.may_be_translucent = m.kind == MaterialKind::kTranslucent;
     }
     for (int i = 0; i < kNumTexturedInputs; ++i) {
         const TextureLookup& lookup = m.textures[i];

@@ -78,3 +78,19 @@ def test_projected_light_samples_reach_behind_a_translucent_surface():
     reps = replicate_images(s, ["rectangle_projected"], replicates=6, samples=16, mis="none")
     ok, p, alpha = pixel_t_test(reps["rectangle_projected"], expected_translucent(), 1e-4)
     assert ok, f"worst p {p:.2e} < {alpha:.2e}"
+
+
+@pytest.mark.parametrize("technique", ["rectangle", "triangles"])
+def test_textured_translucent_surface_under_the_tree(technique):
+    """Its colour from an image, black without it: whether a hit has the translucent lobe is known only once its
+    texture is read, so the light tree chooses at shading (no horizon) -- not with the chunk's early choices,
+    whose receiver would be the untextured material's (a horizon, which culls the light below)."""
+    texture = sphrect.Texture(name="colour", colorspace="linear",
+                              pixels=np.array(COLOR + (1.0,), np.float32).reshape(1, 1, 4))
+    material = sphrect.Material(kind="translucent", base_color=(0.0, 0.0, 0.0),
+                                textures={"base_color": sphrect.TextureLookup(texture=0)})
+    s = sphrect.Scene(camera=top_camera(8, 8, half=1.0), materials=[material], meshes=[plane_mesh(1.0)],
+                      lights=[square_light(True), square_light(False)], textures=[texture])
+    reps = replicate_images(s, [technique], replicates=6, samples=16, light_selection="tree")
+    ok, p, alpha = pixel_t_test(reps[technique], expected_translucent(), 1e-4)
+    assert ok, f"worst p {p:.2e} < {alpha:.2e}"

@@ -91,6 +91,10 @@ struct Bsdf {
     Spectrum translucent;
     float translucent_probability = 0;
     bool has_translucent = false;
+    // A hit's Bsdf may have the translucent lobe: a Translucent BSDF is in the material, whatever its textures make of
+    // it (has_translucent is the untextured values').  Without it a textured hit's light-tree receiver is known
+    // before shading (TreeReceiverKnownEarly).
+    bool may_be_translucent = false;
     // At a normal-mapped hit: the normal before the map, in the shading frame of the mapped one, which scales the
     // diffuse lobes by BumpShadowingTerm (Cycles does for closures labelled diffuse whose normal differs).
     bool bump_shadowing = false;

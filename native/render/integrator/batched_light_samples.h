@@ -8,9 +8,9 @@
 // up to rounding (the batch's tests), so images change by rounding only.
 //
 // Requests that stay with the scalar path: `area`, ellipses, rectangles under the other techniques, lights with
-// spread (sampled on their clipped part) and textured rectangles sampled by their blocks.  Under the tree, hits that
-// shade with a hit-specific material (textured, normal-mapped, ...: its translucency, hence the tree's receiver normal,
-// is known only at shading) choose their lights at shading, as before.
+// spread (sampled on their clipped part) and textured rectangles sampled by their blocks.  Under the tree, hits whose
+// material may have a translucent lobe only where its textures say (then the tree's receiver normal is known only at
+// shading, TreeReceiverKnownEarly) choose their lights at shading.
 #pragma once
 
 #include <cstdint>
@@ -130,7 +130,7 @@ struct LightSampleRequests {
 // Fills scratch.batched_choices for the chunk's n camera samples: per camera sample s and light sample j, at
 // s * light_samples + j, the light it goes to and, where that is a rectangle the batch samples, its sample
 // (ChosenLight::batched, in scratch.batched_samples); scratch.batched_chosen[s] says whether s's lights were chosen
-// here (not for camera samples that shade no surface, nor under the tree for hits with a hit-specific material).  A
+// here (not for camera samples that shade no surface, nor under the tree for hits TreeReceiverKnownEarly rejects).  A
 // point whose light samples all go to the same rectangle is one request of them all (one setup, as the scalar sampler
 // kept for the point's samples); other points' samples are requests of one each.
 template <Technique K, bool kGlossy>
@@ -162,7 +162,7 @@ static inline void BatchLightSamples(const ShadeContext& c, size_t n, ThreadScra
     for (size_t s = 0; s < n; ++s) {
         const PrimaryHit& ph = scratch.hits[s];
         scratch.batched_chosen[s] =
-            ph.hit && !IsBlack(ph.throughput) && (!tree || ShadesWithSceneBsdf<kGlossy>(scene, ph.surface));
+            ph.hit && !IsBlack(ph.throughput) && (!tree || TreeReceiverKnownEarly<kGlossy>(scene, ph.surface));
     }
     // Under the tree, every choice of the chunk in one batched descent (LightTree::SampleBatch, the same floats as
     // LightTreeAt's), at the receiver shading will use.

@@ -280,6 +280,14 @@ static inline Vec3f TreeReceiverNormal(const SurfaceHit& h, const Bsdf& material
     return kGlossy && material.has_translucent ? Vec3f() : h.ns;
 }
 
+// Whether the hit's light-tree receiver (TreeReceiverNormal of the Bsdf it shades with) is that of its scene
+// material, so known before its hit-specific Bsdf is built: a textured, normal-mapped or anisotropic hit changes
+// only lobes' inputs, normals the hit carries already and tangents -- all but a translucent lobe's presence.
+template <bool kGlossy>
+static inline bool TreeReceiverKnownEarly(const RenderScene& scene, const SurfaceHit& h) {
+    return ShadesWithSceneBsdf<kGlossy>(scene, h) || !scene.bsdfs[size_t(h.material)].may_be_translucent;
+}
+
 // Whether a hit on material m takes light samples alone (no MIS partner): a purely diffuse
 // material with the lights sampled by solid angle (not `area`, for rectangles nor for the scene's
 // ellipses), unless RenderOptions::bsdf_samples_on_diffuse (ShadeContext).  There the light sample's density already
