@@ -60,6 +60,7 @@
 
 #include "core/ellipse_technique.h"
 #include "core/rectangle_batch.h"
+#include "core/triangles_batch.h"
 #include "core/rng.h"
 #include "core/technique.h"
 #include "render/embree_rays.h"
@@ -301,8 +302,9 @@ void AddShadowRay(const Vec3f& origin, const Vec3f& n, const LightSample<float>&
 // sampler (core/technique.h), or for an ellipse light the renderer's own EllipseSamplingAt (its area fallback
 // where the map cannot pay, its setup kept for the point's samples).  make(p, n) -> an object with Valid() and
 // Sample(uv).
-// `rectangle`'s and `rectangle_cosine`'s: batched over a tile's points (core/rectangle_batch.h), as the renderer
-// takes them (TraceTileWithSampler's overload); one point at a time where rays are drawn (MakeRawRays).
+// `rectangle`'s, `rectangle_cosine`'s and `triangles`': batched over a tile's points (core/rectangle_batch.h,
+// core/triangles_batch.h), as the renderer takes them (TraceTileWithSampler's overload); one point at a time where
+// rays are drawn (MakeRawRays).
 template <Technique K>
 struct BatchedRectangleSampling {
     const RectLightFrame<float>* frame;
@@ -312,7 +314,7 @@ struct BatchedRectangleSampling {
 template <Technique K>
 auto RectSampling(const RenderScene& s) {
     const RectLightFrame<float>* frame = &s.area_lights[0].frame;
-    if constexpr (K == Technique::Rectangle || K == Technique::RectangleCosine) {
+    if constexpr (K == Technique::Rectangle || K == Technique::RectangleCosine || K == Technique::Triangles) {
         return BatchedRectangleSampling<K>{frame};
     } else {
         return [frame](const Vec3f& p, const Vec3f& n) { return LightSampler<K, float>(p, n, *frame); };
@@ -468,7 +470,7 @@ uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light
     return blocked + TraceShadowRays(s, queue.data(), queue.size());
 }
 
-// The same with `rectangle` or `rectangle_cosine` batched: the tile's points and their light samples in one batch.
+// The same with a batched technique: the tile's points and their light samples in one batch.
 template <Technique K>
 uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light_samples, size_t tile,
                               RTCRayHit* camera, std::vector<RTCRay>& queue,
@@ -489,6 +491,8 @@ uint64_t TraceTileWithSampler(const RenderScene& s, const RawRays& in, int light
     if constexpr (K == Technique::RectangleCosine)
         SampleRectangleCosineBatch(*sampling.frame, origins.data(), normals.data(), count, uv, light_samples,
                                    samples.data());
+    else if constexpr (K == Technique::Triangles)
+        SampleTrianglesBatch(*sampling.frame, origins.data(), count, uv, light_samples, samples.data());
     else
         SampleRectangleBatch(*sampling.frame, origins.data(), count, uv, light_samples, samples.data());
     for (uint32_t k = 0; k < count; ++k) {

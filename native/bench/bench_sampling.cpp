@@ -6,9 +6,9 @@
 // inscribed in sampler_timing's 1 x 1.5 light, seen from the same shading points, named
 // "Ellipse<stage>/<technique>/<precision>" (next to the rectangle map's "<stage>/rectangle/...").
 //
-// The batched rectangle (core/rectangle_batch.h) against the scalar setup + map it batches, per point and one sample
-// (as the renderer with one light sample): "SetupAndSample/rectangle/scalar" and ".../batch" (the instruction set the
-// batch runs on in its label), over sampler_timing's 64 shading points.
+// The batched rectangle and triangles (core/rectangle_batch.h, core/triangles_batch.h) against the scalar setup + map
+// they batch, per point and one sample (as the renderer with one light sample): "SetupAndSample/<technique>/scalar"
+// and ".../batch" (the instruction set the batch runs on in its label), over sampler_timing's 64 shading points.
 //
 //   build/native/bench/bench_sampling [--benchmark_filter=Sample]
 #include <benchmark/benchmark.h>
@@ -20,6 +20,7 @@
 #include "core/ellipse_technique.h"
 #include "core/rectangle_batch.h"
 #include "core/sampler_timing.h"
+#include "core/triangles_batch.h"
 
 namespace {
 
@@ -90,32 +91,48 @@ void Register(const std::string& name, Stage stage) {
     });
 }
 
-// One setup and one sample per point, the scalar way and batched.
-void RegisterSetupAndSample() {
+// One setup and one sample per point of a technique, the scalar way (scalar(origin, frame, uv)) and batched
+// (batch(frame, origins, n, uv, m, out), returning the points it vectorised).
+template <class Scalar, class Batch>
+void RegisterSetupAndSampleOf(const std::string& technique, Scalar scalar, Batch batch) {
     const RectLightFrame<float> frame = MakeRectLightFrame(Light<float>());
     const std::vector<Vec3f>& origins = Origins<float>();
     std::vector<Point2<float>> uv;
     for (size_t i = 0; i < origins.size(); ++i) uv.push_back({float((i * 37 % 64) + 0.5f) / 64, float(i + 0.5f) / 64});
-    benchmark::RegisterBenchmark("SetupAndSample/rectangle/scalar", [=](benchmark::State& state) {
+    benchmark::RegisterBenchmark(("SetupAndSample/" + technique + "/scalar").c_str(), [=](benchmark::State& state) {
         std::vector<LightSample<float>> out(origins.size());
         for (auto _ : state) {
-            for (size_t i = 0; i < origins.size(); ++i)
-                out[i] = SampleRectangle(MakeRectangleSetup(origins[i], frame), uv[i]);
+            for (size_t i = 0; i < origins.size(); ++i) out[i] = scalar(origins[i], frame, uv[i]);
             benchmark::DoNotOptimize(out.data());
         }
         state.SetItemsProcessed(int64_t(state.iterations() * origins.size()));
     });
-    benchmark::RegisterBenchmark("SetupAndSample/rectangle/batch", [=](benchmark::State& state) {
+    benchmark::RegisterBenchmark(("SetupAndSample/" + technique + "/batch").c_str(), [=](benchmark::State& state) {
         std::vector<LightSample<float>> out(origins.size());
         size_t vector_points = 0;
         for (auto _ : state) {
-            vector_points = SampleRectangleBatch(frame, origins.data(), origins.size(), uv.data(), 1, out.data());
+            vector_points = batch(frame, origins.data(), origins.size(), uv.data(), 1, out.data());
             benchmark::DoNotOptimize(out.data());
         }
         state.SetItemsProcessed(int64_t(state.iterations() * origins.size()));
         state.SetLabel(std::string(RectangleBatchTarget()) + ", " + std::to_string(vector_points) + "/" +
                        std::to_string(origins.size()) + " points vectorised");
     });
+}
+
+void RegisterSetupAndSample() {
+    RegisterSetupAndSampleOf(
+        "rectangle",
+        [](const Vec3f& o, const RectLightFrame<float>& f, Point2<float> uv) {
+            return SampleRectangle(MakeRectangleSetup(o, f), uv);
+        },
+        SampleRectangleBatch);
+    RegisterSetupAndSampleOf(
+        "triangles",
+        [](const Vec3f& o, const RectLightFrame<float>& f, Point2<float> uv) {
+            return SampleTriangles(MakeTrianglesSetup(o, f), uv);
+        },
+        SampleTrianglesBatch);
 }
 
 }  // namespace

@@ -14,17 +14,12 @@
 #include <limits>
 
 #include "core/simd_math-inl.h"
+#include "core/spherical_triangle-inl.h"
 #include "core/triangle_emitter.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace sphrect {
 namespace HWY_NAMESPACE {
-
-// TanHalfAngle of spherical_triangle.h: tan(w/2) from |x cross y|, x . y and |x||y|, in the form that does not cancel.
-HWY_INLINE VD TanHalfAngleV(VD cross, VD dot, VD lengths) {
-    return hn::IfThenElse(dot >= hn::Zero(DD()), hn::Div(cross, hn::Add(lengths, dot)),
-                          hn::Div(hn::Sub(lengths, dot), cross));
-}
 
 size_t SampleTriangleEmitterBatchImpl(const TriangleEmitter* triangles, const Vec3f* origins, size_t n,
                                       const Point2<float>* uv, LightSample<float>* out) {
@@ -35,7 +30,6 @@ size_t SampleTriangleEmitterBatchImpl(const TriangleEmitter* triangles, const Ve
     HWY_ALIGN double in[14][kMaxLanes];
     HWY_ALIGN double w_out[3][kMaxLanes], t_out[kMaxLanes], pdf_out[kMaxLanes], ok_out[kMaxLanes];
     const VD zero = hn::Zero(d), one = hn::Set(d, 1.0), two = hn::Set(d, 2.0);
-    constexpr double eps = 1.1102230246251565e-16;  // (spherical_triangle.h's area_error)
     size_t vector_requests = 0;
     for (size_t first = 0; first < n; first += N) {
         const size_t count = std::min(N, n - first);
@@ -64,52 +58,17 @@ size_t SampleTriangleEmitterBatchImpl(const TriangleEmitter* triangles, const Ve
         ok = hn::And(ok, hn::And(IsFiniteV(d, Dot3(a, a)), IsFiniteV(d, Dot3(e1, e1) + Dot3(e2, e2))));
         // The spherical triangle (MakeSphericalTriangleFromEdges).
         const VD la = Length3(a), lb = Length3(b), lc = Length3(c);
-        const VD triple = hn::Abs(Dot3(a, normal));
-        const VD ab = Dot3(a, b), ac = Dot3(a, c), bc = Dot3(b, c);
-        const VD den =
-            hn::Add(hn::Add(hn::Mul(hn::Mul(la, lb), lc), hn::Mul(ab, lc)), hn::Add(hn::Mul(ac, lb), hn::Mul(bc, la)));
-        const VD area = hn::Mul(two, Atan2NonNegative(d, triple, den));
-        const VD area_error =
-            hn::Add(hn::Div(hn::Mul(hn::Mul(two, triple), hn::Mul(hn::Set(d, 8 * eps), hn::Mul(hn::Mul(la, lb), lc))),
-                            hn::MulAdd(triple, triple, hn::Mul(den, den))),
-                    hn::Mul(hn::Set(d, 8 * eps), area));
+        const SphericalTriangleV tri = MakeSphericalTriangleV(d, a, e1, e2, la, lb, lc, hn::Abs(Dot3(a, normal)));
         // (Where the estimate nears kTrianglesStableAreaAbove the scalar path recomputes the area in the plane.)
-        ok = hn::And(ok, hn::Mul(two, area_error) <= hn::Mul(hn::Set(d, kTrianglesStableAreaAbove), area));
-        ok = hn::And(ok, hn::And(area > hn::Set(d, 1e-38), IsFiniteV(d, area)));
-        const V3 nab = Cross3(a, e1), nac = Cross3(a, e2);
-        const VD y = hn::Mul(la, triple), x = Dot3(nab, nac), r = hn::Sqrt(hn::MulAdd(x, x, hn::Mul(y, y)));
-        ok = hn::And(ok, hn::And(r > zero, IsFiniteV(d, r)));
-        const VD cos_alpha = hn::Div(x, r), sin_alpha = hn::Div(y, r);
-        const VD tan_half_c = TanHalfAngleV(Length3(nab), ab, hn::Mul(la, lb));
-        const VD a_cross_ec = Length3(nac), a_dot_ec = Dot3(a, e2);
-        const VD tan_half_b = TanHalfAngleV(a_cross_ec, ac, hn::Mul(la, lc));
-        // The map (SampleSphericalTriangleBarycentrics): (T1) the sub-triangle of area u Omega.
-        const VD u = hn::Load(d, in[12]), v = hn::Load(d, in[13]);
-        const VD half = hn::Mul(hn::Mul(hn::Set(d, 0.5), u), area);
-        const VD sh = hn::Sin(d, half), ch = hn::Cos(d, half);
-        const VD sin_rest = hn::Sub(hn::Mul(sin_alpha, ch), hn::Mul(cos_alpha, sh));
-        const VD tb = hn::Div(sh, hn::Mul(sin_rest, tan_half_c));
-        // (T2) C' on the edge ac.
-        const VD tc_inside = ClampNaNV(
-            hn::Div(hn::Mul(hn::Mul(hn::Mul(two, la), la), tb),
-                    hn::Sub(hn::Mul(a_cross_ec, hn::Sub(one, hn::Mul(tb, tb))), hn::Mul(hn::Mul(two, a_dot_ec), tb))),
-            zero, one);
-        const VD tc = hn::IfThenElse(hn::And(sin_rest > zero, tb < tan_half_b), tc_inside, one);
-        // (T3) P on the arc B C'.
-        const V3 f = Sub3(Scale3(e2, tc), e1), cp = Add3(a, Scale3(e2, tc));
-        const VD g = Length3(Cross3(b, f)), hb = Dot3(b, f), k = Dot3(b, cp), m = hn::Mul(lb, Length3(cp));
-        const MD k_pos = k >= zero;
-        const VD two_m = hn::Mul(two, m), g2 = hn::Mul(g, g);
-        const VD m_plus = hn::Add(m, k), m_minus = hn::Sub(m, k);
-        const VD c1 = hn::IfThenElse(k_pos, hn::Div(m_plus, two_m), hn::Div(g2, hn::Mul(two_m, m_minus)));
-        const VD s1 = hn::IfThenElse(k_pos, hn::Div(g2, hn::Mul(two_m, m_plus)), hn::Div(m_minus, two_m));
-        const VD sh2 = hn::Mul(v, s1), ch2 = hn::MulAdd(v, c1, hn::Sub(one, v));
-        const VD sin_phi = hn::Mul(two, hn::Sqrt(hn::Mul(sh2, ch2))), cos_phi = hn::Sub(ch2, sh2);
-        const VD den2 = hn::Sub(hn::Mul(g, cos_phi), hn::Mul(hb, sin_phi));
-        const VD s = hn::IfThenElse(den2 > zero, ClampNaNV(hn::Div(hn::Mul(hn::Mul(lb, lb), sin_phi), den2), zero, one),
-                                    hn::IfThenElse(sin_phi > zero, one, zero));
-        // SampleSphericalTriangle: the direction through a + (1 - s) eb + s tc ec (A where that is 0 or not finite).
-        const V3 p = Add3(a, Add3(Scale3(e1, hn::Sub(one, s)), Scale3(e2, hn::Mul(s, tc))));
+        ok = hn::And(ok, hn::Mul(two, tri.area_error) <= hn::Mul(hn::Set(d, kTrianglesStableAreaAbove), tri.area));
+        ok = hn::And(ok, hn::And(tri.area > hn::Set(d, 1e-38), IsFiniteV(d, tri.area)));
+        ok = hn::And(ok, tri.angle_ok);
+        const VD area = tri.area;
+        // The map (SampleSphericalTriangleBarycentrics).
+        VD beta, gamma;
+        SampleSphericalTriangleBarycentricsV(d, tri, hn::Load(d, in[12]), hn::Load(d, in[13]), beta, gamma);
+        // SampleSphericalTriangle: the direction through a + beta eb + gamma ec (A where that is 0 or not finite).
+        const V3 p = Add3(a, Add3(Scale3(e1, beta), Scale3(e2, gamma)));
         const VD lp = Length3(p);
         const MD lp_ok = hn::And(lp > zero, IsFiniteV(d, lp));
         const V3 w = {hn::IfThenElse(lp_ok, hn::Div(p.x, lp), hn::Div(a.x, la)),
@@ -125,9 +84,9 @@ size_t SampleTriangleEmitterBatchImpl(const TriangleEmitter* triangles, const Ve
         for (size_t i = 0; i < count; ++i) {
             const size_t j = first + i;
             if (!(ok_out[i] > 0)) {  // the scalar reference
-                const TriangleEmitter& tri = triangles[j];
-                out[j] = SampleTriangleSolidAngle(MakeTriangleSolidAngleSetup(tri.v0, tri.e1, tri.e2, origins[j]),
-                                                  origins[j], uv[j]);
+                const TriangleEmitter& emitter = triangles[j];
+                out[j] = SampleTriangleSolidAngle(
+                    MakeTriangleSolidAngleSetup(emitter.v0, emitter.e1, emitter.e2, origins[j]), origins[j], uv[j]);
                 continue;
             }
             ++vector_requests;

@@ -1,11 +1,11 @@
-// Light samples taken for a whole chunk at once, before its shading: the batched `rectangle` and
-// `rectangle_cosine` techniques (core/rectangle_batch.h) and, under every solid-angle technique, the
-// batched emissive triangles (core/triangle_batch.h), over every (surface hit, light sample) whose
-// light is known before shading: the lights are chosen for the whole chunk (by power from the
-// pattern point alone, or by the light tree at the hit, with the receiver normal shading will use) and the requests
-// gathered per light and sampled in SIMD batches; shading then takes its choice and sample from here
-// (ChosenLight::batched) and sets up no sampler unless a BSDF ray needs a pdf.  The samples equal the scalar sampler's
-// up to rounding (the batch's tests), so images change by rounding only.
+// Light samples taken for a whole chunk at once, before its shading: the batched `rectangle`, `rectangle_cosine`
+// (core/rectangle_batch.h) and `triangles` (core/triangles_batch.h) techniques and, under every solid-angle technique,
+// the batched emissive triangles (core/triangle_batch.h), over every (surface hit, light sample) whose light is known
+// before shading: the lights are chosen for the whole chunk (by power from the pattern point alone, or by the light
+// tree at the hit, with the receiver normal shading will use) and the requests gathered per light and sampled in SIMD
+// batches; shading then takes its choice and sample from here (ChosenLight::batched) and sets up no sampler unless a
+// BSDF ray needs a pdf.  The samples equal the scalar sampler's up to rounding (the batch's tests), so images change by
+// rounding only.
 //
 // Requests that stay with the scalar path: `area`, ellipses, rectangles under the other techniques, lights with
 // spread (sampled on their clipped part) and textured rectangles sampled by their blocks.  Under the tree, hits whose
@@ -19,6 +19,7 @@
 #include "camera_stage.h"
 #include "core/rectangle_batch.h"
 #include "core/triangle_batch.h"
+#include "core/triangles_batch.h"
 #include "light_sampling_at.h"
 #include "render/kernel.h"
 #include "render/ticks.h"
@@ -36,8 +37,8 @@ static inline bool BatchesLightSamples(const ShadeContext& c) {
 // Whether rectangle light l is sampled by technique K's plain map (what the batch computes) at every point.
 template <Technique K>
 static inline bool BatchableRectangle(const ShadeContext& c, const AreaLight& l) {
-    return (K == Technique::Rectangle || K == Technique::RectangleCosine) && l.shape == AreaShape::Rectangle &&
-           !l.HasSpread() && !SampledByBlocks(c.scene, l, K, c.emission_blocks);
+    return (K == Technique::Rectangle || K == Technique::RectangleCosine || K == Technique::Triangles) &&
+           l.shape == AreaShape::Rectangle && !l.HasSpread() && !SampledByBlocks(c.scene, l, K, c.emission_blocks);
 }
 
 // Emissive triangles are sampled by solid angle under every technique but `area` (LightSamplingAt::Sample).
@@ -119,6 +120,8 @@ struct LightSampleRequests {
             const RectLightFrame<float>& frame = scene.area_lights[l].frame;
             if constexpr (K == Technique::RectangleCosine)
                 SampleRectangleCosineBatch(frame, &origins[r], &normals[r], count, &points[r * m], m, &out[r * m]);
+            else if constexpr (K == Technique::Triangles)
+                SampleTrianglesBatch(frame, &origins[r], count, &points[r * m], m, &out[r * m]);
             else
                 SampleRectangleBatch(frame, &origins[r], count, &points[r * m], m, &out[r * m]);
         }
