@@ -1,5 +1,6 @@
 // Cost of the sample patterns: ns per point for a per-pixel set of n points
-// (GeneratePattern), and for one index-wise Sobol' point (progressive passes).
+// (GeneratePattern), for one pixel's points of one dimension as the renderer draws them (SampleDimensionPoints),
+// and for one index-wise Sobol' point (progressive passes).
 //   build/native/bench/bench_patterns
 #include <benchmark/benchmark.h>
 
@@ -33,6 +34,23 @@ static void BM_SobolPoint(benchmark::State& state) {
     state.SetItemsProcessed(int64_t(state.iterations()));
 }
 BENCHMARK(BM_SobolPoint);
+
+// One pixel's points of one dimension as the renderer draws them (SampleDimensionPoints: the dimension's seed, its
+// keys, the shuffled indices), n points a call: BM_DimensionPoints/<pattern>/<n>.
+static void BM_DimensionPoints(benchmark::State& state) {
+    const Pattern p = Pattern(state.range(0));
+    const uint32_t n = uint32_t(state.range(1));
+    std::vector<Point2<float>> pts(n);
+    uint64_t pixel = 0;
+    for (auto _ : state) {
+        SampleDimensionPoints(p, n, 0, 0, DimensionSeed(MixBits(++pixel), 3), true, pts.data());
+        benchmark::DoNotOptimize(pts.data());
+        benchmark::ClobberMemory();
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * n);
+    state.SetLabel(PatternName(p));
+}
+BENCHMARK(BM_DimensionPoints)->ArgsProduct({{1, 4}, {1, 4, 16}});
 
 static void BM_PCG32NextFloat(benchmark::State& state) {
     PCG32 rng(1);

@@ -452,6 +452,117 @@ BENCHMARK(BM_RawEmbree)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);
 
+// Embree's call forms on the rays BM_RawEmbree traces (rectangle, no MIS, one light sample), tile by tile:
+// BM_EmbreeCalls/<rays>/<form>, rays 0 the camera rays (intersection), 1 the shadow rays (occlusion); form 0 the
+// renderer's streams (IntersectCameraRays / OccludeShadowRays), 1 and 2 packets of 8 and 16 rays
+// (rtcIntersect8/16, rtcOccluded8/16, flagged coherent for the camera rays), 3 a ray at a time.  What issue 31 asks
+// to measure before choosing (docs/renderer.md).
+template <int W, class Packet>
+void LoadPacket(const RTCRay* const* rays, size_t count, Packet& p, int* valid) {
+    for (size_t i = 0; i < size_t(W); ++i) {
+        const RTCRay& r = *rays[std::min(i, count - 1)];
+        valid[i] = i < count ? -1 : 0;
+        p.org_x[i] = r.org_x;
+        p.org_y[i] = r.org_y;
+        p.org_z[i] = r.org_z;
+        p.tnear[i] = r.tnear;
+        p.dir_x[i] = r.dir_x;
+        p.dir_y[i] = r.dir_y;
+        p.dir_z[i] = r.dir_z;
+        p.time[i] = 0;
+        p.tfar[i] = r.tfar;
+        p.mask[i] = r.mask;
+        p.id[i] = unsigned(i);
+        p.flags[i] = 0;
+    }
+}
+
+template <int W, class RayHitN, class RayN>
+uint64_t TracePackets(const RenderScene& s, bool camera, RTCRayHit* hits, RTCRay* rays, size_t n) {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    if (camera) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    uint64_t result = 0;
+    alignas(64) int valid[W];
+    for (size_t first = 0; first < n; first += W) {
+        const size_t count = std::min(n - first, size_t(W));
+        const RTCRay* in[W];
+        for (size_t i = 0; i < count; ++i) in[i] = camera ? &hits[first + i].ray : &rays[first + i];
+        if (camera) {
+            alignas(64) RayHitN p;
+            LoadPacket<W>(in, count, p.ray, valid);
+            for (int i = 0; i < W; ++i) p.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+            if constexpr (W == 8)
+                rtcIntersect8(valid, s.rtc_scene, &ctx, &p);
+            else
+                rtcIntersect16(valid, s.rtc_scene, &ctx, &p);
+            for (size_t i = 0; i < count; ++i) result += p.hit.geomID[i];
+        } else {
+            alignas(64) RayN p;
+            LoadPacket<W>(in, count, p, valid);
+            if constexpr (W == 8)
+                rtcOccluded8(valid, s.rtc_scene, &ctx, &p);
+            else
+                rtcOccluded16(valid, s.rtc_scene, &ctx, &p);
+            for (size_t i = 0; i < count; ++i) result += p.tfar[i] < 0;
+        }
+    }
+    return result;
+}
+
+void BM_EmbreeCalls(benchmark::State& state) {
+    const bool camera = state.range(0) == 0;
+    const int form = int(state.range(1));
+    const RenderScene& s = *Scene();
+    static const RawRays rays_in = MakeRawRays(s, false, 1, RectSampling<Technique::Rectangle>(s));
+    std::vector<RTCRayHit> hits;
+    std::vector<RTCRay> shadow;
+    uint64_t rays = 0;
+    for (auto _ : state) {
+        hits = rays_in.camera;
+        shadow = rays_in.shadow;
+        const double t0 = ProcessCpuSeconds();
+        uint64_t result = 0;
+        for (size_t t = 0; t + 1 < rays_in.tile_first.size(); ++t) {
+            const uint32_t c0 = camera ? rays_in.tile_first[t] : rays_in.tile_shadow[t];
+            const uint32_t c1 = camera ? rays_in.tile_first[t + 1] : rays_in.tile_shadow[t + 1];
+            RTCRayHit* h = hits.data() + c0;
+            RTCRay* r = shadow.data() + c0;
+            const size_t n = c1 - c0;
+            if (form == 0 && camera) {
+                IntersectCameraRays(s.rtc_scene, h, n);
+            } else if (form == 0) {
+                OccludeShadowRays(s.rtc_scene, r, n, sizeof(RTCRay));
+            } else if (form == 1) {
+                result += TracePackets<8, RTCRayHit8, RTCRay8>(s, camera, h, r, n);
+            } else if (form == 2) {
+                result += TracePackets<16, RTCRayHit16, RTCRay16>(s, camera, h, r, n);
+            } else {
+                RTCIntersectContext ctx;
+                rtcInitIntersectContext(&ctx);
+                for (size_t i = 0; i < n; ++i) {
+                    if (camera)
+                        rtcIntersect1(s.rtc_scene, &ctx, &h[i]);
+                    else
+                        rtcOccluded1(s.rtc_scene, &ctx, &r[i]);
+                }
+            }
+            rays += n;
+        }
+        benchmark::DoNotOptimize(result);
+        state.SetIterationTime(ProcessCpuSeconds() - t0);
+    }
+    static const char* const kForms[] = {"stream", "packets of 8", "packets of 16", "one at a time"};
+    state.SetLabel(std::string(camera ? "camera rays, " : "shadow rays, ") + kForms[form]);
+    state.counters["s/ray"] =
+        benchmark::Counter(double(rays), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_EmbreeCalls)
+    ->ArgsProduct({{0, 1}, {0, 1, 2, 3}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseManualTime()
+    ->ComputeStatistics("min", MinOf);
+
 // One tile of BM_RaysAndSampler: the camera stream, then per shading point the technique's
 // setup and its light samples, queued as shadow rays, then the queue traced as one stream.
 template <class MakeSampling>

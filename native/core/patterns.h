@@ -32,9 +32,11 @@
 #include <cstdint>
 #include <cstring>
 #include <utility>
+#include <vector>
 
 #include "enum_names.h"
 #include "rng.h"
+#include "sobol_batch.h"
 #include "vec3.h"
 
 namespace sphrect {
@@ -289,6 +291,11 @@ inline uint64_t DimensionSeed(uint64_t pixel_seed, uint64_t dimension) {
     return MixBits(pixel_seed ^ (dimension * 0x9e3779b97f4a7c15ull));
 }
 
+namespace pattern_detail {
+// The seed of a dimension's shuffle (SampleDimensionPoints).
+inline uint32_t ShuffleSeed(uint64_t seed) { return uint32_t(MixBits(seed ^ 0x2545f4914f6cdd1dull) >> 32); }
+}  // namespace pattern_detail
+
 // The points of one sample dimension for the global sample indices first .. first + n - 1 of a
 // pixel (seed: DimensionSeed).  Sobol' continues one sequence across passes (index-wise); the
 // other patterns draw a fresh set per pass.
@@ -304,9 +311,10 @@ inline uint64_t DimensionSeed(uint64_t pixel_seed, uint64_t dimension) {
 inline void SampleDimensionPoints(Pattern pattern, uint32_t n, uint32_t first, uint32_t pass, uint64_t seed,
                                   bool shuffle, Point2<float>* out) {
     using namespace pattern_detail;
-    const uint32_t shuffle_seed = uint32_t(MixBits(seed ^ 0x2545f4914f6cdd1dull) >> 32);
+    const uint32_t shuffle_seed = ShuffleSeed(seed);
     if (pattern == Pattern::Sobol) {
-        // SobolPoint(index, seed) point by point, with the scramble keys derived once.
+        // SobolPoint(index, seed) point by point, with the scramble keys derived once (many pixels' points at once:
+        // SobolPointsBatch).
         const SobolKeys keys = MakeSobolKeys(seed);
         if (shuffle) {
             for (uint32_t i = 0; i < n; ++i)
@@ -322,5 +330,48 @@ inline void SampleDimensionPoints(Pattern pattern, uint32_t n, uint32_t first, u
     PCG32 rng(MixBits(pass_seed ^ shuffle_seed), 0x9e3779b9ull);
     ShufflePoints(out, n, rng);
 }
+
+// Sobol' sample dimensions of many pixels at once: Add(n, first, seed, shuffle, out) stands for
+// SampleDimensionPoints(Pattern::Sobol, n, first, pass, seed, shuffle, out) (Sobol' ignores the pass), whose points
+// Generate() writes, bit for bit the same, in SIMD batches (sobol_batch.h).  Its buffers are kept: no allocation once
+// they fit.
+class SobolPointsBatch {
+  public:
+    void Clear() {
+        size_ = 0;
+        outs_.clear();
+    }
+    void Add(uint32_t n, uint32_t first, uint64_t seed, bool shuffle, Point2<float>* out) {
+        using namespace pattern_detail;
+        const SobolKeys keys = MakeSobolKeys(seed);
+        const size_t at = size_;
+        size_ += n;
+        if (index_.size() < size_) {  // (grown, then kept)
+            for (auto* v : {&index_, &shuffled_, &shuffle_seed_, &key_x_, &key_y_}) v->resize(2 * size_);
+        }
+        for (uint32_t i = 0; i < n; ++i) index_[at + i] = first + i;
+        std::fill_n(&shuffled_[at], n, shuffle ? ~0u : 0u);
+        std::fill_n(&shuffle_seed_[at], n, ShuffleSeed(seed));
+        std::fill_n(&key_x_[at], n, keys.x);
+        std::fill_n(&key_y_[at], n, keys.y);
+        outs_.push_back({out, n});
+    }
+    void Generate() {
+        points_.resize(size_);
+        ScrambledSobolPointsBatch({index_.data(), shuffled_.data(), shuffle_seed_.data(), key_x_.data(), key_y_.data()},
+                                  size_, points_.data());
+        size_t next = 0;
+        for (const auto& [out, n] : outs_) {
+            std::copy(points_.begin() + ptrdiff_t(next), points_.begin() + ptrdiff_t(next + n), out);
+            next += n;
+        }
+    }
+
+  private:
+    size_t size_ = 0;  // points added (the vectors hold at least as many)
+    std::vector<uint32_t> index_, shuffled_, shuffle_seed_, key_x_, key_y_;
+    std::vector<Point2<float>> points_;
+    std::vector<std::pair<Point2<float>*, uint32_t>> outs_;
+};
 
 }  // namespace sphrect

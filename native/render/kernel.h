@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/patterns.h"
 #include "options.h"
 #include "camera_view.h"
 #include "scene.h"
@@ -34,7 +35,8 @@ struct ThreadScratch {
     std::vector<Spectrum> sample_values;         // radiance per camera sample of a chunk
     std::vector<DeferredShadowRay> shadow_rays;  // queued by shading, traced after it
     std::vector<uint8_t> shadow_crossed;         // per shadow ray: it crossed a transparent surface
-    std::vector<Point2<float>> pixel_points, lens_points, light_points, bsdf_points;
+    std::vector<Point2<float>> pixel_points, lens_points, light_points, bsdf_points;  // per camera sample of a chunk
+    SobolPointsBatch sobol_points;                   // (their points drawn together, sample_dimensions.h)
     std::vector<Vec3d> pixel_sums;                   // per technique, per pixel of a chunk
     std::vector<int> tile_screen_lights;             // light_coverage.h: the lights over the tile,
     std::vector<PartialCoverage> partial_coverages;  // and those partly covering the pixel

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/patterns.h"
+#include "simd_targets.h"
 
 using namespace sphrect;
 
@@ -292,4 +293,33 @@ TEST(Patterns, PointIndexIsUniformAcrossConsecutiveSeeds) {
                 EXPECT_LT(std::abs(r), 4.89 / std::sqrt(N)) << PatternName(p) << " index " << index << " dim " << dim;
             }
         }
+}
+
+// The chunk-wide Sobol' batch (SobolPointsBatch, core/sobol_batch.h) gives SampleDimensionPoints' points bit for bit,
+// shuffled or not, for requests of every length around a vector's lanes, on every instruction set.
+TEST(Patterns, SobolPointsBatchEqualsSampleDimensionPoints) {
+    ForEachTarget([] {
+        SobolPointsBatch batch;
+        for (int round = 0; round < 3; ++round) {  // (a reused batch: cleared, its buffers kept)
+            batch.Clear();
+            std::vector<std::vector<Point2<float>>> got, want;
+            uint64_t seed = 7 + uint64_t(round);
+            for (uint32_t n = 1; n <= 37; n += 3) {
+                for (bool shuffle : {false, true}) {
+                    seed = MixBits(seed);
+                    const uint32_t first = uint32_t(seed % 1000) * uint32_t(n % 4 + 1);
+                    want.emplace_back(n);
+                    SampleDimensionPoints(Pattern::Sobol, n, first, 2, seed, shuffle, want.back().data());
+                    got.emplace_back(n, Point2<float>{-1, -1});
+                    batch.Add(n, first, seed, shuffle, got.back().data());
+                }
+            }
+            batch.Generate();
+            for (size_t r = 0; r < want.size(); ++r)
+                for (size_t i = 0; i < want[r].size(); ++i) {
+                    EXPECT_EQ(std::memcmp(&got[r][i], &want[r][i], sizeof(Point2<float>)), 0)
+                        << "request " << r << " point " << i;
+                }
+        }
+    });
 }

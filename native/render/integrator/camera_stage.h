@@ -46,16 +46,15 @@ template <bool kDof>
 static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk& chunk, bool sample_bsdf,
                                          ThreadScratch& scratch) {
     const CameraModel& camera = p.view->camera;
-    const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
+    const uint32_t n = uint32_t(p.samples);
     const bool coverage = !kDof && UsesLightCoverage(*p.scene, *p.view, *p.options);
     if (coverage) ScreenLightsOverTile(*p.view, chunk.tile, scratch.tile_screen_lights);
+    FillChunkSamplePoints<kDof>(p, chunk, camera.width, sample_bsdf, scratch);
     for (int c = 0; c < chunk.count; ++c) {
         const int x = chunk.X(c), y = chunk.Y(c);
         const uint64_t pixel_seed = PixelSeed(p.options->seed, chunk.PixelIndex(c, camera.width));
-        const size_t first_point = size_t(c) * n * nl;
-        FillPixelSamplePoints<kDof>(p, pixel_seed, sample_bsdf,
-                                    {scratch.pixel_points.data(), scratch.lens_points.data(),
-                                     &scratch.light_points[first_point], &scratch.bsdf_points[first_point]});
+        const Point2<float>* pixel_points = &scratch.pixel_points[size_t(c) * n];
+        const Point2<float>* lens_points = &scratch.lens_points[size_t(c) * n];
         PrimaryHit* hits = &scratch.hits[size_t(c) * n];
         auto& partial = scratch.partial_coverages;
         partial.clear();
@@ -65,10 +64,10 @@ static inline void GenerateCameraSamples(const KernelParams& p, const TileChunk&
         const int light_seen_by_estimate = LightSeenByEstimate(partial);
         for (uint32_t i = 0; i < n; ++i) {
             // The pixel pattern's point, through the pixel filter in x and y separately (stratification kept).
-            const Point2<float> jitter = scratch.pixel_points[i];
+            const Point2<float> jitter = pixel_points[i];
             const float fx = FilmCoordinate(camera.filter, x, jitter.u);
             const float fy = FilmCoordinate(camera.filter, y, jitter.v);
-            hits[i].ray = GenerateCameraRay<kDof>(camera, fx, fy, kDof ? scratch.lens_points[i] : Point2<float>{});
+            hits[i].ray = GenerateCameraRay<kDof>(camera, fx, fy, kDof ? lens_points[i] : Point2<float>{});
             hits[i].rng_seed = CameraSampleRngSeed(pixel_seed, p.first_sample + i);
             hits[i].seen = partial.empty() ? Spectrum() : CoverageOffset(partial, fx, fy);
             hits[i].light_seen_by_estimate = light_seen_by_estimate;

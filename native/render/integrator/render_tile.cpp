@@ -119,8 +119,8 @@ void ReserveScratch(const RenderScene& scene, ThreadScratch& scratch, int chunk_
     scratch.hits.resize(chunk_samples);
     scratch.camera_hits.resize(chunk_samples);
     scratch.sample_values.resize(chunk_samples);
-    scratch.pixel_points.resize(samples);
-    scratch.lens_points.resize(samples);
+    scratch.pixel_points.resize(chunk_samples);
+    scratch.lens_points.resize(chunk_samples);
     scratch.light_points.resize(chunk_samples * light_samples);
     scratch.bsdf_points.resize(chunk_samples * light_samples);
     scratch.pixel_sums.resize(size_t(chunk_pixels) * techniques);

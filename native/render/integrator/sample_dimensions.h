@@ -7,6 +7,7 @@
 
 #include "core/patterns.h"
 #include "core/rng.h"
+#include "chunk.h"
 #include "render/kernel.h"
 
 namespace sphrect::render {
@@ -45,6 +46,37 @@ static inline void FillPixelSamplePoints(const KernelParams& p, uint64_t pixel_s
     if (sample_bsdf)  // BSDF/phase sample positions only when those samples are drawn
         SampleDimensionPoints(pattern, n * nl, p.first_sample * nl, p.pass, DimensionSeed(pixel_seed, kDimBsdf), true,
                               out.bsdf);
+}
+
+// The points of the pass's camera samples of every pixel of the chunk: pixel c's at pixel_points / lens_points
+// [c samples ...] and light_points / bsdf_points [c samples light_samples ...] (FillPixelSamplePoints' points).  Sobol'
+// draws them for all pixels in one SIMD batch (SobolPointsBatch), the other patterns pixel by pixel.
+template <bool kDof>
+static inline void FillChunkSamplePoints(const KernelParams& p, const TileChunk& chunk, int width, bool sample_bsdf,
+                                         ThreadScratch& scratch) {
+    const uint32_t n = uint32_t(p.samples), nl = uint32_t(p.options->light_samples);
+    auto pixel_points = [&](int c) {
+        const size_t first = size_t(c) * n, first_point = first * nl;
+        return PixelSamplePoints{&scratch.pixel_points[first], &scratch.lens_points[first],
+                                 &scratch.light_points[first_point], &scratch.bsdf_points[first_point]};
+    };
+    if (p.options->pattern != Pattern::Sobol) {
+        for (int c = 0; c < chunk.count; ++c)
+            FillPixelSamplePoints<kDof>(p, PixelSeed(p.options->seed, chunk.PixelIndex(c, width)), sample_bsdf,
+                                        pixel_points(c));
+        return;
+    }
+    SobolPointsBatch& batch = scratch.sobol_points;
+    batch.Clear();
+    for (int c = 0; c < chunk.count; ++c) {  // as FillPixelSamplePoints
+        const uint64_t pixel_seed = PixelSeed(p.options->seed, chunk.PixelIndex(c, width));
+        const PixelSamplePoints out = pixel_points(c);
+        batch.Add(n, p.first_sample, DimensionSeed(pixel_seed, kDimPixel), false, out.pixel);
+        if constexpr (kDof) batch.Add(n, p.first_sample, DimensionSeed(pixel_seed, kDimLens), true, out.lens);
+        batch.Add(n * nl, p.first_sample * nl, DimensionSeed(pixel_seed, kDimLight), true, out.light);
+        if (sample_bsdf) batch.Add(n * nl, p.first_sample * nl, DimensionSeed(pixel_seed, kDimBsdf), true, out.bsdf);
+    }
+    batch.Generate();
 }
 
 // The seed of the random numbers camera sample `sample_index` (global) of the pixel draws
