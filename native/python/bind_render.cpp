@@ -668,6 +668,15 @@ void BindRender(py::module_& m) {
         .def_property_readonly("features", [](const RenderScene& s) { return s.features().Names(); })
         .def_property_readonly("warnings", [](const RenderScene& s) { return s.warnings; })
         .def_property_readonly("num_area_lights", [](const RenderScene& s) { return s.area_lights.size(); })
+        .def_property_readonly(
+            "area_light_radiance",
+            [](const RenderScene& s) {
+                std::vector<V3> out;
+                for (const auto& l : s.area_lights) out.push_back({l.radiance.x, l.radiance.y, l.radiance.z});
+                return out;
+            },
+            "The radiance light selection weighs each area light by (a textured emitter's mean over its points and, "
+            "for a node program's, the directions it is seen from)")
         .def_property_readonly("num_triangles", &RenderScene::NumTriangles);
 
     py::class_<EnvironmentSampler>(m, "EnvironmentSampler",

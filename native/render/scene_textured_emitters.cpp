@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/patterns.h"
 #include "integrator/textured_emission.h"
 #include "scene.h"
+#include "sampling_util.h"
 #include "scene_checks.h"
 
 namespace sphrect::render {
@@ -46,6 +48,17 @@ double TexelsBetween(const RenderScene& scene, const TexturedEmitter& e, const A
 // filtering brings the bright one in over half a texel -- light its block's floor would sample rarely (high variance).
 int LookupsAlong(double texels) { return std::clamp(int(std::ceil(2 * texels)), 1, kMaxLookupsPerSide); }
 
+// Direction k of the views a program's emitter is measured from (unit, away from the surface): cosine-weighted over the
+// side of `normal` for even k, the other side for odd k (a mesh emits from both), from consecutive points of a (0, 2)
+// sequence through Malley's polar map (u -> cos^2 theta = 1 - u: strata of u are strata of the cosine), so that any
+// run of lookups covers the angles from the normal evenly.
+Vec3f ProgramViewDirection(const Vec3f& normal, uint32_t k) {
+    const Point2<float> u = SobolPoint(k / 2, 0x5eed);
+    const float r = std::sqrt(u.u), phi = 2 * kPi * u.v;
+    const Vec3f d = Frame::FromZ(normal).FromLocal({r * std::cos(phi), r * std::sin(phi), std::sqrt(1 - u.u)});
+    return k % 2 == 0 ? d : -d;
+}
+
 }  // namespace
 
 // The light's mean radiance and, for a rectangle without spread, its blocks' powers: from lookups at cell centres about
@@ -57,10 +70,15 @@ void RenderScene::AddTexturedEmitter(TexturedEmitter e) {
     const Spectrum scale = e.multiplier;
     double sum[3] = {0, 0, 0};
     auto add = [&](const Spectrum& c) { sum[0] += c.x, sum[1] += c.y, sum[2] += c.z; };
-    auto radiance = [&](const Vec3f& p) {
-        if (e.programmed) {  // seen from the front (the side the winding faces) by a light sample
+    // Lookup k at point p.  A program's emission may depend on the direction it is seen from (a Layer Weight's
+    // facing), so lookup k sees it from direction k of a cosine-weighted set over both sides (ProgramViewDirection):
+    // the mean is then the emitter's power per unit area over pi, as light selection wants, not its radiance seen
+    // face-on (near 0 for a glow that shows at grazing angles: a pmf that small made fireflies where it does show).
+    auto radiance = [&](const Vec3f& p, uint32_t k) {
+        if (e.programmed) {
             const EmitterTrianglePoint q = EmitterTrianglePointAt(*this, e, p);
-            return ProgramEmitterRadianceAt(*this, e, q.prim, q.b1, q.b2, p, TriangleNormal(meshes[e.mesh], q.prim), 0);
+            const Vec3f toward = ProgramViewDirection(TriangleNormal(meshes[e.mesh], q.prim), k);
+            return ProgramEmitterRadianceAt(*this, e, q.prim, q.b1, q.b2, p, toward, 0);
         }
         return EmitterRadianceAt(*this, e, EmitterLookupCoordinates(*this, e, l, p));
     };
@@ -76,7 +94,7 @@ void RenderScene::AddTexturedEmitter(TexturedEmitter e) {
         for (int j = 0; j < ny * sy; ++j)
             for (int i = 0; i < nx * sx; ++i) {
                 const float s = (i + 0.5f) / float(nx * sx), t = (j + 0.5f) / float(ny * sy);
-                const Spectrum c = radiance(r.corner + r.ex * s + r.ey * t);
+                const Spectrum c = radiance(r.corner + r.ex * s + r.ey * t, uint32_t(j * nx * sx + i));
                 add(c);
                 power[size_t((j / sy) * nx + i / sx)] += std::max(double(Luminance(c)), 0.0);
             }
@@ -100,7 +118,7 @@ void RenderScene::AddTexturedEmitter(TexturedEmitter e) {
             for (int i = 0; i < s; ++i) {
                 const float x = 2 * (i + 0.5f) / float(s) - 1, y = 2 * (j + 0.5f) / float(s) - 1;
                 if (x * x + y * y > 1) continue;
-                add(radiance(l.center + l.ax * x + l.ay * y));
+                add(radiance(l.center + l.ax * x + l.ay * y, uint32_t(n)));
                 ++n;
             }
     } else {
@@ -112,7 +130,7 @@ void RenderScene::AddTexturedEmitter(TexturedEmitter e) {
         for (int j = 0; j < s; ++j)
             for (int i = 0; i < s; ++i) {
                 const float su = std::sqrt((i + 0.5f) / s), v = (j + 0.5f) / s;
-                add(radiance(l.v0 + l.e1 * (su * (1 - v)) + l.e2 * (su * v)));
+                add(radiance(l.v0 + l.e1 * (su * (1 - v)) + l.e2 * (su * v), uint32_t(j * s + i)));
             }
         n = size_t(s) * size_t(s);
     }

@@ -2,7 +2,7 @@
 native/render/integrator/shade_surface.h, LightSamplesAlone): with MIS on and the lights sampled by solid angle,
 a Lambert hit draws no BSDF sample for the area lights.  Checked by identities that hold bit for bit (fixed
 seeds): a Lambert-only scene renders as without MIS; with BSDF samples on diffuse hits, as before the option;
-glossy hits, the area technique and ellipses sampled by area keep MIS.  Unbiasedness of both settings is
+glossy hits, the area technique, ellipses sampled by area and scenes with emissive meshes keep MIS.  Unbiasedness of both settings is
 test_render_analytic.py's (every rectangle scene, technique and heuristic)."""
 import numpy as np
 import pytest
@@ -45,10 +45,21 @@ def test_disks_sampled_by_the_spherical_ellipse_map_too():
     assert np.array_equal(image(scene, mis="power"), none)
 
 
-@pytest.mark.parametrize("case", ["glossy", "area technique", "disk by area"])
+def with_emissive_mesh(scene):
+    """The scene with a small emissive mesh triangle beside its light."""
+    scene.meshes.append(sphrect.Mesh(vertices=np.array([[0.6, 0.6, 0.4], [0.8, 0.6, 0.4], [0.6, 0.8, 0.4]], np.float32),
+                                     triangles=np.array([[0, 1, 2]], np.int32), name="emitter",
+                                     material_ids=np.array([1], np.int32)))
+    scene.materials.append(sphrect.Material(name="emitter", base_color=(0, 0, 0), emission=(2, 2, 2)))
+    return scene
+
+
+@pytest.mark.parametrize("case", ["glossy", "area technique", "disk by area", "emissive mesh"])
 def test_mis_is_kept_where_the_light_sample_is_not_by_solid_angle_or_the_hit_not_diffuse(case):
     kw = {}
-    if case == "glossy":
+    if case == "emissive mesh":
+        scene = with_emissive_mesh(scene_with(LAMBERT))
+    elif case == "glossy":
         scene = scene_with(sphrect.Material(base_color=(0.5, 0.5, 0.5), kind="principled", roughness=0.3))
     elif case == "area technique":
         scene, kw = scene_with(LAMBERT), {"techniques": ["area"]}

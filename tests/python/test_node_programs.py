@@ -126,6 +126,30 @@ def emitter_scene():
                          materials=[sphrect.Material(name="ground", base_color=(ALBEDO,) * 3), emitter])
 
 
+def facing_program():
+    """A Layer Weight's Facing (blend 1/2: 1 - |N.I|) as a colour: 0 seen face-on, 1 edge-on."""
+    return sphrect.NodeProgram(instructions=[
+        I(op="constant", regs=[0], value=(0.5, 0, 0)),
+        I(op="global", regs=[1], mode=OPS.NODE_GLOBALS.index("normal")),
+        I(op="layer_weight", regs=[0, 1, 2, 3]),
+        I(op="convert", regs=[3, 4], mode=OPS.NODE_CONVERSIONS.index("float_to_vector"))],
+        output=4, num_registers=5)
+
+
+def test_a_view_dependent_emitter_is_chosen_by_its_power():
+    """Light selection weighs a program's emitter by its mean over the directions it is seen from, cosine-weighted
+    (its power): a glow only seen at grazing angles is not taken for black, which made its rare samples fireflies.
+    1 - |cos| over the cosine-weighted hemisphere averages 1/3 (16 directions here: within 10%)."""
+    emitter = sphrect.Material(name="emitter", base_color=(0.0, 0.0, 0.0), emission=(RADIANCE,) * 3,
+                               programs={"emission": facing_program()})
+    scene = dataclasses.replace(emitter_scene(), materials=[emitter_scene().materials[0], emitter])
+    scene.meshes[1].vertices[2, 0] += 0.05  # no longer a rectangle: two triangle lights
+    native, _ = build_native_scene(scene)
+    radiance = np.array(native.area_light_radiance)
+    assert radiance.shape == (2, 3)
+    np.testing.assert_allclose(radiance, RADIANCE / 3, rtol=0.1)
+
+
 def two_tone_irradiance(P):
     return RADIANCE * (polygon_irradiance(P, (0, 0, 1), FIRST) + 0.25 * polygon_irradiance(P, (0, 0, 1), SECOND))
 

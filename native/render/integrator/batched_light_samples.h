@@ -74,56 +74,64 @@ struct TriangleSampleRequests {
     }
 };
 
-// Requests of one kind, light by light (a counting sort): request r is a point `origins[r]` (its shading normal
-// `normals[r]`, for rectangle_cosine) with m sample points
-// `points[r m + k]`, whose samples go to `out[r m + k]` and from there to the chunk's slots `slots[r] + k`; light l's
-// requests are [first[l], first[l + 1]).
+// Requests of one kind, light by light (a counting sort over the lights that have requests, so that a chunk costs
+// nothing per light of a scene of thousands): request r is a point `origins[r]` (its shading normal `normals[r]`, for
+// rectangle_cosine) with m sample points `points[r m + k]`, whose samples go to `out[r m + k]` and from there to the
+// chunk's slots `slots[r] + k`; light l's requests are [first[l], first[l] + count[l]), lights `lights` in the order
+// counted.
 struct LightSampleRequests {
     int m = 1;
-    std::vector<uint32_t> first, next, slots;
+    std::vector<uint32_t> count, first, slots;  // count and first per light of the scene, 0 outside a chunk
+    std::vector<int> lights;                    // those with requests
     std::vector<Vec3f> origins, normals;
     std::vector<Point2<float>> points;
     std::vector<LightSample<float>> out;
 
-    void Start(size_t lights, int samples_per_request) {
+    void Start(size_t scene_lights, int samples_per_request) {
         m = samples_per_request;
-        first.assign(lights + 1, 0);
+        if (count.size() != scene_lights) {  // (the first chunk; the counts are restored to 0 after each)
+            count.assign(scene_lights, 0);
+            first.assign(scene_lights, 0);
+        }
+        lights.clear();
     }
-    void Count(int light) { ++first[size_t(light) + 1]; }
-    // After the counting: the requests' storage, and each light's first place.
+    void Count(int light) {
+        if (count[size_t(light)]++ == 0) lights.push_back(light);
+    }
+    // After the counting: the requests' storage, and each light's first place (its next while placing).
     void Size() {
-        const size_t lights = first.size() - 1;
-        for (size_t l = 0; l < lights; ++l) first[l + 1] += first[l];
-        const size_t n = first[lights];
+        uint32_t n = 0;
+        for (const int l : lights) {
+            first[size_t(l)] = n;
+            n += count[size_t(l)];
+        }
         slots.resize(n);
         origins.resize(n);
         normals.resize(n);
-        points.resize(n * size_t(m));
-        out.resize(n * size_t(m));
-        next.assign(first.begin(), first.end() - 1);
+        points.resize(size_t(n) * size_t(m));
+        out.resize(size_t(n) * size_t(m));
     }
     // Request of light `light` at `origin` for the slots [slot, slot + m), the choices' points from `choices`.
     void Place(int light, const Vec3f& origin, const Vec3f& normal, uint32_t slot, const ChosenLight* choices) {
-        const uint32_t r = next[size_t(light)]++;
+        const uint32_t r = first[size_t(light)]++;
         slots[r] = slot;
         origins[r] = origin;
         normals[r] = normal;
         for (int k = 0; k < m; ++k) points[size_t(r) * m + k] = choices[k].u;
     }
-    // Samples them by technique K, light by light, into samples[slot].
+    // Samples them by technique K, light by light, into samples[slot]; the counts back to 0.
     template <Technique K>
     void Sample(const RenderScene& scene, LightSample<float>* samples) {
-        const size_t lights = first.size() - 1;
-        for (size_t l = 0; l < lights; ++l) {
-            const size_t r = first[l], count = first[l + 1] - r;
-            if (count == 0) continue;
-            const RectLightFrame<float>& frame = scene.area_lights[l].frame;
+        for (const int l : lights) {
+            const size_t n = count[size_t(l)], r = first[size_t(l)] - n;  // (Place advanced first by n)
+            count[size_t(l)] = 0;
+            const RectLightFrame<float>& frame = scene.area_lights[size_t(l)].frame;
             if constexpr (K == Technique::RectangleCosine)
-                SampleRectangleCosineBatch(frame, &origins[r], &normals[r], count, &points[r * m], m, &out[r * m]);
+                SampleRectangleCosineBatch(frame, &origins[r], &normals[r], n, &points[r * m], m, &out[r * m]);
             else if constexpr (K == Technique::Triangles)
-                SampleTrianglesBatch(frame, &origins[r], count, &points[r * m], m, &out[r * m]);
+                SampleTrianglesBatch(frame, &origins[r], n, &points[r * m], m, &out[r * m]);
             else
-                SampleRectangleBatch(frame, &origins[r], count, &points[r * m], m, &out[r * m]);
+                SampleRectangleBatch(frame, &origins[r], n, &points[r * m], m, &out[r * m]);
         }
         for (size_t r = 0; r < slots.size(); ++r)
             for (int k = 0; k < m; ++k) samples[slots[r] + k] = out[r * m + k];

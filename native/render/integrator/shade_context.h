@@ -17,8 +17,10 @@ struct ShadeContext {
     EllipseTechnique ellipse_technique;  // how disk and ellipse lights are sampled
     // Purely diffuse hits may take light samples alone (shade_surface.h, LightSamplesAlone): MIS on,
     // not RenderOptions::bsdf_samples_on_diffuse, no Light Path program (RenderScene::light_path_programs: an emitter
-    // may send its BSDF rays other light than its light samples, Cycles' estimate weighs both), and no ellipse light
-    // sampled by area.
+    // may send its BSDF rays other light than its light samples, Cycles' estimate weighs both), no ellipse light
+    // sampled by area, and no emissive mesh: its many small emitters sit on or beside other geometry, where the
+    // choice among them (by power, or the tree's bounds) can be far below a near emitter's share, and only the BSDF
+    // sample's MIS weight keeps that sample from being a firefly (docs/renderer.md, "MIS at diffuse hits").
     bool diffuse_light_samples_alone;
     // The image world where it can light anything (null: none, all black, or nothing of it crosses the medium):
     // sampled once per light sample, and found by BSDF/phase rays that escape (MIS).  environment_transmittance:
@@ -39,7 +41,8 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
             scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf),
             opt.ellipse_technique,
             opt.mis != MisMode::None && !opt.bsdf_samples_on_diffuse && !scene.light_path_programs &&
-                !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights),
+                !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights) &&
+                !scene.features().emissive_meshes,
             scene.has_environment && !scene.environment.distribution.Empty() &&
                     !IsBlack(SegmentTransmittance<kMedium>(scene.medium, kInf))
                 ? &scene.environment
