@@ -2,8 +2,8 @@
 native/render/integrator/shade_surface.h, LightSamplesAlone): with MIS on and the lights sampled by solid angle,
 a Lambert hit draws no BSDF sample for the area lights.  Checked by identities that hold bit for bit (fixed
 seeds): a Lambert-only scene renders as without MIS; with BSDF samples on diffuse hits, as before the option;
-glossy hits, the area technique, ellipses sampled by area and scenes with emissive meshes keep MIS.  Unbiasedness of both settings is
-test_render_analytic.py's (every rectangle scene, technique and heuristic)."""
+glossy hits, the area technique, ellipses sampled by area and scenes with emissive meshes keep MIS.  Unbiasedness
+of both settings is test_render_analytic.py's (every rectangle scene, technique and heuristic)."""
 import numpy as np
 import pytest
 
