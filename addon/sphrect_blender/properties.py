@@ -52,7 +52,8 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
         name="MIS on Diffuse", default=RENDER_DEFAULTS["bsdf_samples_on_diffuse"],
         description="Also draw BSDF samples (MIS) at purely diffuse surfaces. Off, they take light samples alone "
                     "where the lights are sampled by solid angle: the same image on average, faster, and less "
-                    "noisy in most scenes; glossy surfaces and area sampling keep MIS either way")
+                    "noisy in most scenes; glossy surfaces, area sampling and scenes with emissive meshes keep "
+                    "MIS either way")
     seed: IntProperty(name="Seed", default=RENDER_DEFAULTS["seed"], min=0)
     pixel_filter: EnumProperty(name="Pixel Filter", items=enum_items(PIXEL_FILTERS, PIXEL_FILTER_LABELS),
                                default=identifier(DEFAULT_PIXEL_FILTER),

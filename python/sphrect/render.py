@@ -31,7 +31,9 @@ the camera samples as before.
 MIS at diffuse hits (bsdf_samples_on_diffuse, default False): with MIS on and the lights sampled by
 solid angle (every technique but "area", and ellipse_technique "spherical_ellipse"), a hit on a purely
 diffuse (Lambert) material takes light samples alone, and BSDF samples only to find the background;
-glossy and Principled hits keep both.  True gives diffuse hits their BSDF samples too.
+glossy and Principled hits keep both, and so does every hit of a scene with an emissive mesh (near its
+small emitters only MIS keeps light samples from being fireflies).  True gives diffuse hits their BSDF
+samples too.
 
 Textured emitters (an emissive mesh whose Material.textures["emission"] drives its colour): evaluated per point
 for camera rays, BSDF rays and light samples.  A textured rectangle (an image on a quad) is sampled by the power of

@@ -2,8 +2,9 @@
 native/render/integrator/shade_surface.h, LightSamplesAlone): with MIS on and the lights sampled by solid angle,
 a Lambert hit draws no BSDF sample for the area lights.  Checked by identities that hold bit for bit (fixed
 seeds): a Lambert-only scene renders as without MIS; with BSDF samples on diffuse hits, as before the option;
-glossy hits, the area technique, ellipses sampled by area and scenes with emissive meshes keep MIS.  Unbiasedness
-of both settings is test_render_analytic.py's (every rectangle scene, technique and heuristic)."""
+glossy hits, the area technique, ellipses sampled by area, scenes with emissive meshes and lights chosen by power
+among several keep MIS.  Unbiasedness of both settings is test_render_analytic.py's (every rectangle scene, technique
+and heuristic)."""
 import numpy as np
 import pytest
 
@@ -31,12 +32,23 @@ DISK = sphrect.EllipseLight(center=(0, 0, 0.5), axis_x=(0, 0.4, 0), axis_y=(0.4,
 
 @pytest.mark.parametrize("mis", ["balance", "power"])
 @pytest.mark.parametrize("technique", ["rectangle", "rectangle_cosine", "triangles"])
-def test_lambert_hits_render_as_without_mis(mis, technique):
+@pytest.mark.parametrize("light_selection", ["tree", "power"])
+def test_lambert_hits_render_as_without_mis(mis, technique, light_selection):
+    """One light (either selection), or several under the tree."""
     scene = scene_with(LAMBERT)
-    none = image(scene, techniques=[technique], mis="none")
+    kw = dict(techniques=[technique], light_selection=light_selection)
+    none = image(scene, mis="none", **kw)
     assert none[..., :3].mean() > 0.01
-    assert np.array_equal(image(scene, techniques=[technique], mis=mis), none)
-    assert not np.array_equal(image(scene, techniques=[technique], mis=mis, bsdf_samples_on_diffuse=True), none)
+    assert np.array_equal(image(scene, mis=mis, **kw), none)
+    assert not np.array_equal(image(scene, mis=mis, bsdf_samples_on_diffuse=True, **kw), none)
+
+
+def test_several_lights_under_the_tree_take_light_samples_alone():
+    scene = scene_with(LAMBERT)
+    scene.lights.append(sphrect.RectLight(corner=(0.6, 0.6, 0.3), edge_x=(0, 0.2, 0), edge_y=(0.2, 0, 0),
+                                          radiance=(1, 1, 1), visible=False))
+    assert np.array_equal(image(scene, mis="power", light_selection="tree"),
+                          image(scene, mis="none", light_selection="tree"))
 
 
 def test_disks_sampled_by_the_spherical_ellipse_map_too():
@@ -54,11 +66,16 @@ def with_emissive_mesh(scene):
     return scene
 
 
-@pytest.mark.parametrize("case", ["glossy", "area technique", "disk by area", "emissive mesh"])
+@pytest.mark.parametrize("case", ["glossy", "area technique", "disk by area", "emissive mesh",
+                                  "two lights by power"])
 def test_mis_is_kept_where_the_light_sample_is_not_by_solid_angle_or_the_hit_not_diffuse(case):
     kw = {}
     if case == "emissive mesh":
         scene = with_emissive_mesh(scene_with(LAMBERT))
+    elif case == "two lights by power":
+        scene, kw = scene_with(LAMBERT), {"light_selection": "power"}
+        scene.lights.append(sphrect.RectLight(corner=(0.6, 0.6, 0.3), edge_x=(0, 0.2, 0), edge_y=(0.2, 0, 0),
+                                              radiance=(1, 1, 1), visible=False))
     elif case == "glossy":
         scene = scene_with(sphrect.Material(base_color=(0.5, 0.5, 0.5), kind="principled", roughness=0.3))
     elif case == "area technique":

@@ -18,9 +18,10 @@ struct ShadeContext {
     // Purely diffuse hits may take light samples alone (shade_surface.h, LightSamplesAlone): MIS on,
     // not RenderOptions::bsdf_samples_on_diffuse, no Light Path program (RenderScene::light_path_programs: an emitter
     // may send its BSDF rays other light than its light samples, Cycles' estimate weighs both), no ellipse light
-    // sampled by area, and no emissive mesh: its many small emitters sit on or beside other geometry, where the
-    // choice among them (by power, or the tree's bounds) can be far below a near emitter's share, and only the BSDF
-    // sample's MIS weight keeps that sample from being a firefly (docs/renderer.md, "MIS at diffuse hits").
+    // sampled by area, and the choice among the lights made knowing the point: the tree's, or one area light to
+    // choose.  By power a near, weak light is chosen far below its share of the point's light, and an emissive mesh
+    // puts many small emitters on or beside other geometry, where even the tree's bounds do: there only the BSDF
+    // sample's MIS weight keeps such a light sample from being a firefly (docs/renderer.md, "MIS at diffuse hits").
     bool diffuse_light_samples_alone;
     // The image world where it can light anything (null: none, all black, or nothing of it crosses the medium):
     // sampled once per light sample, and found by BSDF/phase rays that escape (MIS).  environment_transmittance:
@@ -42,6 +43,7 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
             opt.ellipse_technique,
             opt.mis != MisMode::None && !opt.bsdf_samples_on_diffuse && !scene.light_path_programs &&
                 !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights) &&
+                (opt.light_selection == LightSelection::Tree || scene.area_lights.size() <= 1) &&
                 !scene.features().emissive_meshes,
             scene.has_environment && !scene.environment.distribution.Empty() &&
                     !IsBlack(SegmentTransmittance<kMedium>(scene.medium, kInf))
