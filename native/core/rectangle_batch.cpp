@@ -248,11 +248,8 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
     const DD d;
     constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
     const size_t N = hn::Lanes(d);
-    HWY_ALIGN double lane_x[kMaxLanes], lane_y[kMaxLanes], lane_z[kMaxLanes];
-    HWY_ALIGN double lane_u[kMaxLanes], lane_v[kMaxLanes];
     HWY_ALIGN double out_X[kMaxLanes], out_Y[kMaxLanes], out_dist[kMaxLanes], out_pdf[kMaxLanes];
-    HWY_ALIGN double vector_lane[kMaxLanes], out_warp_pdf[kMaxLanes], lane_nx[kMaxLanes], lane_ny[kMaxLanes],
-        lane_nz[kMaxLanes];
+    HWY_ALIGN double vector_lane[kMaxLanes], out_warp_pdf[kMaxLanes];
     HWY_ALIGN double plane_x0[kMaxLanes], plane_y0[kMaxLanes], plane_h[kMaxLanes], plane_az[kMaxLanes];
     HWY_ALIGN uint8_t lane_ok[kMaxLanes] = {};
     if (!f.valid) {  // every sample of a degenerate light has pdf 0
@@ -263,23 +260,12 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
     const Vec3d corner(f.light.corner), edge_x(f.light.ex), edge_y(f.light.ey);
     for (size_t first = 0; first < n; first += N) {
         const size_t count = std::min(N, n - first);
-        for (size_t i = 0; i < N; ++i) {  // (a short batch repeats its last point)
-            const Vec3f& o = origins[first + std::min(i, count - 1)];
-            lane_x[i] = o.x;
-            lane_y[i] = o.y;
-            lane_z[i] = o.z;
-        }
-        SetupV s = MakeSetupV(d, f, hn::Load(d, lane_x), hn::Load(d, lane_y), hn::Load(d, lane_z));
+        const V3 o = LoadPointLanes(d, origins, first, count);
+        SetupV s = MakeSetupV(d, f, o.x, o.y, o.z);
         VD weights[4];
         if (normals) {
-            for (size_t i = 0; i < N; ++i) {
-                const Vec3f& nn = normals[first + std::min(i, count - 1)];
-                lane_nx[i] = nn.x;
-                lane_ny[i] = nn.y;
-                lane_nz[i] = nn.z;
-            }
-            CornerWeightsV(d, f, s, hn::Load(d, lane_nx), hn::Load(d, lane_ny), hn::Load(d, lane_nz), weights,
-                           s.vector_ok);
+            const V3 nn = LoadPointLanes(d, normals, first, count);
+            CornerWeightsV(d, f, s, nn.x, nn.y, nn.z, weights, s.vector_ok);
         }
         // (Non-finite origins make the comparisons false: those lanes are not vector lanes.)
         hn::Store(hn::IfThenElseZero(s.vector_ok, hn::Set(d, 1.0)), d, vector_lane);
@@ -293,12 +279,8 @@ size_t SampleRectangleBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
         const VD pdf = hn::Div(hn::Set(d, 1.0), s.omega);
         for (int k = 0; k < m; ++k) {
             if (any_vector) {
-                for (size_t i = 0; i < N; ++i) {
-                    const Point2<float>& p = uv[(first + std::min(i, count - 1)) * size_t(m) + size_t(k)];
-                    lane_u[i] = p.u;
-                    lane_v[i] = p.v;
-                }
-                VD X, Y, dist, u = hn::Load(d, lane_u), v = hn::Load(d, lane_v);
+                VD X, Y, dist, u, v;
+                LoadSampleLanes(d, uv, first, count, m, k, u, v);
                 hn::Store(normals ? WarpBilinearV(d, weights, u, v) : hn::Set(d, 1.0), d, out_warp_pdf);
                 MapV(d, s, u, v, X, Y, dist);
                 hn::Store(X, d, out_X);

@@ -1,6 +1,10 @@
 // Vector helpers shared by the batched kernels (rectangle_batch.cpp, triangle_batch.cpp), in Highway's per-target
 // namespace: a "-inl.h" header, re-included once per instruction set by foreach_target.h (hence the toggled guard).
+#include <algorithm>
+#include <cstddef>
 #include <limits>
+
+#include "core/vec3.h"
 
 #if defined(SPHRECT_CORE_SIMD_MATH_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef SPHRECT_CORE_SIMD_MATH_INL_H_
@@ -50,6 +54,28 @@ HWY_INLINE V3 Cross3(const V3& a, const V3& b) {
 HWY_INLINE VD Length3(const V3& a) { return hn::Sqrt(Dot3(a, a)); }
 // Whether every lane of v is finite.
 HWY_INLINE MD IsFiniteV(DD d, VD v) { return hn::Abs(v) < hn::Set(d, std::numeric_limits<double>::infinity()); }
+
+// The lanes of a batch of `count` requests from `first` (a short batch repeats its last request): point
+// points[first + i], and sample k of each request's m at uv[(first + i) m + k].
+HWY_INLINE V3 LoadPointLanes(DD d, const Vec3f* points, size_t first, size_t count) {
+    constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+    HWY_ALIGN double x[kMaxLanes], y[kMaxLanes], z[kMaxLanes];
+    for (size_t i = 0; i < hn::Lanes(d); ++i) {
+        const Vec3f& p = points[first + std::min(i, count - 1)];
+        x[i] = p.x, y[i] = p.y, z[i] = p.z;
+    }
+    return {hn::Load(d, x), hn::Load(d, y), hn::Load(d, z)};
+}
+HWY_INLINE void LoadSampleLanes(DD d, const Point2<float>* uv, size_t first, size_t count, int m, int k, VD& u, VD& v) {
+    constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
+    HWY_ALIGN double lane_u[kMaxLanes], lane_v[kMaxLanes];
+    for (size_t i = 0; i < hn::Lanes(d); ++i) {
+        const Point2<float>& p = uv[(first + std::min(i, count - 1)) * size_t(m) + size_t(k)];
+        lane_u[i] = p.u, lane_v[i] = p.v;
+    }
+    u = hn::Load(d, lane_u);
+    v = hn::Load(d, lane_v);
+}
 
 }  // namespace HWY_NAMESPACE
 }  // namespace sphrect

@@ -30,7 +30,6 @@ size_t SampleTrianglesBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
     const DD d;
     constexpr size_t kMaxLanes = HWY_MAX_BYTES / sizeof(double);
     const size_t N = hn::Lanes(d);
-    HWY_ALIGN double lane_x[kMaxLanes], lane_y[kMaxLanes], lane_z[kMaxLanes], lane_u[kMaxLanes], lane_v[kMaxLanes];
     HWY_ALIGN double plane_x0[kMaxLanes], plane_y0[kMaxLanes], plane_z[kMaxLanes], pdf_out[kMaxLanes];
     HWY_ALIGN double out_a[kMaxLanes], out_b[kMaxLanes], vector_lane[kMaxLanes];
     if (!f.valid) {  // every sample of a degenerate light has pdf 0
@@ -43,13 +42,8 @@ size_t SampleTrianglesBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
     size_t vector_points = 0;
     for (size_t first = 0; first < n; first += N) {
         const size_t count = std::min(N, n - first);
-        for (size_t i = 0; i < N; ++i) {  // (a short batch repeats its last point)
-            const Vec3f& o = origins[first + std::min(i, count - 1)];
-            lane_x[i] = o.x;
-            lane_y[i] = o.y;
-            lane_z[i] = o.z;
-        }
-        const VD ox = hn::Load(d, lane_x), oy = hn::Load(d, lane_y), oz = hn::Load(d, lane_z);
+        const V3 o = LoadPointLanes(d, origins, first, count);
+        const VD ox = o.x, oy = o.y, oz = o.z;
         // MakeLocalRect: the light's plane around o, signed height z (h = |z|), corner at (x0, y0).
         const VD dx = hn::Sub(hn::Set(d, f.corner.x), ox), dy = hn::Sub(hn::Set(d, f.corner.y), oy),
                  dz = hn::Sub(hn::Set(d, f.corner.z), oz);
@@ -89,14 +83,8 @@ size_t SampleTrianglesBatchImpl(const RectLightFrame<float>& f, const Vec3f* ori
         hn::Store(hn::Div(one, sum), d, pdf_out);
         for (int k = 0; k < m; ++k) {
             if (any_vector) {
-                for (size_t i = 0; i < N; ++i) {
-                    const Point2<float>& p = uv[(first + std::min(i, count - 1)) * size_t(m) + size_t(k)];
-                    lane_u[i] = p.u;
-                    lane_v[i] = p.v;
-                }
-                // SampleTriangles: u < p1 picks the first triangle with u / p1, else the second with
-                // (u - p1) / (1 - p1).
-                const VD u = hn::Load(d, lane_u), v = hn::Load(d, lane_v);
+                VD u, v;
+                LoadSampleLanes(d, uv, first, count, m, k, u, v);
                 const MD first_triangle = u < p1;
                 const VD u_tri = hn::Min(
                     hn::IfThenElse(first_triangle, hn::Div(u, p1), hn::Div(hn::Sub(u, p1), hn::Sub(one, p1))), one);

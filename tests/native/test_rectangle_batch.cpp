@@ -30,6 +30,7 @@
 #include "core/rectangle_cosine.h"
 #include "core/rng.h"
 #include "hwy/targets.h"
+#include "rect_batch_inputs.h"
 #include "simd_targets.h"
 
 namespace sphrect {
@@ -103,7 +104,9 @@ BatchComparison CompareBatch(const RectLight<float>& light, const std::vector<Ve
                 const double on_light = 1e-5 * std::max(frame.wx, frame.wy);
                 EXPECT_TRUE(e.u >= -on_light && e.u <= frame.wx + on_light && e.v >= -on_light &&
                             e.v <= frame.wy + on_light);
-                if (!normals) EXPECT_NEAR(RectanglePDF(setup, got.point) / got.pdf, 1.0, 2e-7);
+                if (!normals) {
+                    EXPECT_NEAR(RectanglePDF(setup, got.point) / got.pdf, 1.0, 2e-7);
+                }
                 EXPECT_LE(Length(Vec3d(got.dir) - Vec3d(ref.dir)), 1e-4);
             } else {
                 EXPECT_TRUE(InImageOfSquare(setup, at.u, at.v, 1e-9, got.point, slack));
@@ -140,20 +143,13 @@ TEST(RectangleBatch, MatchesScalarOnRandomLightsAndPoints) {
 }
 
 void MatchesScalarOnTheHardCases() {
-    std::vector<Point2<float>> grid;
-    for (float u : HardCaseUV())
-        for (float v : HardCaseUV()) grid.push_back({u, v});
-    const int m = int(grid.size());
     size_t vector_points = 0, points = 0;
     for (const HardCase& hc : HardCaseSuite()) {
-        // Each case's point three times (a batch of one light): every lane position of a vector.
-        const std::vector<Vec3f> origins(3, hc.origin);
-        std::vector<Point2<float>> uv;
-        for (int r = 0; r < 3; ++r) uv.insert(uv.end(), grid.begin(), grid.end());
-        vector_points += CompareBatch(hc.light, origins, uv, m, hc.name, true).vector_points;
-        points += origins.size();
-        const std::vector<Vec3f> normals(3, hc.normal);  // rectangle_cosine, with the suite's normals
-        CompareBatch(hc.light, origins, uv, m, hc.name + " cosine", true, &normals);
+        const RectBatchInputs b = HardCaseBatch(hc);
+        vector_points += CompareBatch(b.light, b.origins, b.uv, b.m, b.name, true).vector_points;
+        points += b.origins.size();
+        const std::vector<Vec3f> normals(b.origins.size(), hc.normal);  // rectangle_cosine, with the suite's normals
+        CompareBatch(b.light, b.origins, b.uv, b.m, b.name + " cosine", true, &normals);
     }
     // Most of the suite is handled by the vector code (the rest, nearly edge-on or degenerate, by the scalar path).
     std::printf("hard cases: %zu of %zu points on the vector path (%s)\n", vector_points, points,
@@ -165,28 +161,15 @@ void MatchesScalarOnRandomLightsAndPoints() {
     PCG32 rng(7, 3);
     size_t vector_points = 0, points = 0, cosine_vector_points = 0, cosine_points = 0;
     for (int trial = 0; trial < 200; ++trial) {
-        // A random orthogonal pair of edges of random lengths, one- or two-sided.
-        const Vec3d a = Normalize(Vec3d(rng.NextFloat() - 0.5, rng.NextFloat() - 0.5, rng.NextFloat() - 0.5));
-        const Vec3d b = Normalize(Cross(a, Vec3d(0.3, 0.5, 0.8)));
-        RectLight<float> light{Vec3f(float(rng.NextFloat() * 4 - 2), float(rng.NextFloat() * 4 - 2), 1.f),
-                               Vec3f(a * (0.05 + 3 * rng.NextFloat())), Vec3f(b * (0.05 + 3 * rng.NextFloat())),
-                               trial % 3 != 0};
-        const int n = 1 + trial % 19, m = 1 + trial % 4;  // every remainder of a vector's lanes
-        std::vector<Vec3f> origins;
-        std::vector<Point2<float>> uv;
-        for (int i = 0; i < n; ++i) {
-            origins.push_back(Vec3f(rng.NextFloat() * 10 - 5, rng.NextFloat() * 10 - 5, rng.NextFloat() * 10 - 5));
-            for (int k = 0; k < m; ++k) uv.push_back({rng.NextFloat(), rng.NextFloat()});
-        }
-        const BatchComparison c = CompareBatch(light, origins, uv, m, "trial " + std::to_string(trial));
+        const RectBatchInputs b = RandomRectBatch(rng, trial);
+        const BatchComparison c = CompareBatch(b.light, b.origins, b.uv, b.m, b.name);
         vector_points += c.vector_points;
         points += c.valid_points;
         // rectangle_cosine at the same points, with random normals (some facing away: weights 0 or invalid).
         std::vector<Vec3f> normals;
-        for (size_t i = 0; i < origins.size(); ++i)
+        for (size_t i = 0; i < b.origins.size(); ++i)
             normals.push_back(Vec3f(rng.NextFloat() - 0.5f, rng.NextFloat() - 0.5f, rng.NextFloat() - 0.5f));
-        const BatchComparison cc =
-            CompareBatch(light, origins, uv, m, "cosine trial " + std::to_string(trial), false, &normals);
+        const BatchComparison cc = CompareBatch(b.light, b.origins, b.uv, b.m, "cosine " + b.name, false, &normals);
         cosine_vector_points += cc.vector_points;
         cosine_points += cc.valid_points;
     }
@@ -196,17 +179,9 @@ void MatchesScalarOnRandomLightsAndPoints() {
 }
 
 TEST(RectangleBatch, FollowsTheScalarPathWhereTheSetupIsInvalid) {
-    const RectLight<float> one_sided{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, false};  // emits towards +z
-    const std::vector<Vec3f> origins = {{0.5f, 0.5f, 2},                       // behind: pdf 0
-                                        {0.5f, 0.5f, 0},                       // in front
-                                        {0.5f, 0.5f, 1},                       // in its plane: pdf 0
-                                        {NAN, 0, 0},                           // not finite: pdf 0
-                                        {0, INFINITY, 0}};
-    const std::vector<Point2<float>> uv(origins.size(), {0.3f, 0.6f});
-    const BatchComparison c = CompareBatch(one_sided, origins, uv, 1, "one-sided");
-    EXPECT_EQ(c.vector_points, 1u);
-    // A degenerate light: every sample invalid.
-    CompareBatch({{0, 0, 1}, {0, 0, 0}, {0, 1, 0}, true}, origins, uv, 1, "degenerate");
+    const RectBatchInputs b = InvalidSetupBatch();
+    EXPECT_EQ(CompareBatch(b.light, b.origins, b.uv, 1, b.name).vector_points, 1u);
+    CompareBatch(DegenerateRectLight(), b.origins, b.uv, 1, "degenerate");
 }
 
 }  // namespace

@@ -21,10 +21,9 @@
 #include <string>
 #include <vector>
 
-#include "core/hard_cases.h"
-#include "core/rng.h"
 #include "core/triangles.h"
 #include "core/triangles_batch.h"
+#include "rect_batch_inputs.h"
 #include "simd_targets.h"
 
 namespace sphrect {
@@ -69,18 +68,11 @@ BatchComparison CompareBatch(const RectLight<float>& light, const std::vector<Ve
 }
 
 void MatchesScalarOnTheHardCases() {
-    std::vector<Point2<float>> grid;
-    for (float u : HardCaseUV())
-        for (float v : HardCaseUV()) grid.push_back({u, v});
-    const int m = int(grid.size());
     size_t vector_points = 0, points = 0;
     for (const HardCase& hc : HardCaseSuite()) {
-        // Each case's point three times (a batch of one light): every lane position of a vector.
-        const std::vector<Vec3f> origins(3, hc.origin);
-        std::vector<Point2<float>> uv;
-        for (int r = 0; r < 3; ++r) uv.insert(uv.end(), grid.begin(), grid.end());
-        vector_points += CompareBatch(hc.light, origins, uv, m, hc.name, true).vector_points;
-        points += origins.size();
+        const RectBatchInputs b = HardCaseBatch(hc);
+        vector_points += CompareBatch(b.light, b.origins, b.uv, b.m, b.name, true).vector_points;
+        points += b.origins.size();
     }
     // Most of the suite is handled by the vector code (the rest, nearly edge-on or degenerate, by the scalar path).
     std::printf("hard cases: %zu of %zu points on the vector path\n", vector_points, points);
@@ -91,20 +83,8 @@ void MatchesScalarOnRandomLightsAndPoints() {
     PCG32 rng(13, 9);
     size_t vector_points = 0, points = 0;
     for (int trial = 0; trial < 200; ++trial) {
-        // A random orthogonal pair of edges of random lengths, one- or two-sided.
-        const Vec3d a = Normalize(Vec3d(rng.NextFloat() - 0.5, rng.NextFloat() - 0.5, rng.NextFloat() - 0.5));
-        const Vec3d b = Normalize(Cross(a, Vec3d(0.3, 0.5, 0.8)));
-        const RectLight<float> light{Vec3f(float(rng.NextFloat() * 4 - 2), float(rng.NextFloat() * 4 - 2), 1.f),
-                                     Vec3f(a * (0.05 + 3 * rng.NextFloat())), Vec3f(b * (0.05 + 3 * rng.NextFloat())),
-                                     trial % 3 != 0};
-        const int n = 1 + trial % 19, m = 1 + trial % 4;  // every remainder of a vector's lanes
-        std::vector<Vec3f> origins;
-        std::vector<Point2<float>> uv;
-        for (int i = 0; i < n; ++i) {
-            origins.push_back(Vec3f(rng.NextFloat() * 10 - 5, rng.NextFloat() * 10 - 5, rng.NextFloat() * 10 - 5));
-            for (int k = 0; k < m; ++k) uv.push_back({rng.NextFloat(), rng.NextFloat()});
-        }
-        const BatchComparison c = CompareBatch(light, origins, uv, m, "trial " + std::to_string(trial), false);
+        const RectBatchInputs b = RandomRectBatch(rng, trial);
+        const BatchComparison c = CompareBatch(b.light, b.origins, b.uv, b.m, b.name, false);
         vector_points += c.vector_points;
         points += c.valid_points;
     }
@@ -122,16 +102,9 @@ TEST(TrianglesBatch, MatchesScalarOnRandomLightsAndPoints) {
 
 TEST(TrianglesBatch, FollowsTheScalarPathWhereTheSetupIsInvalid) {
     ForEachTarget([] {
-        const RectLight<float> one_sided{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, false};  // emits towards -z
-        const std::vector<Vec3f> origins = {{0.5f, 0.5f, 2},                       // behind: pdf 0
-                                            {0.5f, 0.5f, 0},                       // in front
-                                            {0.5f, 0.5f, 1},                       // in its plane: pdf 0
-                                            {NAN, 0, 0},                           // not finite: pdf 0
-                                            {0, INFINITY, 0}};
-        const std::vector<Point2<float>> uv(origins.size(), {0.3f, 0.6f});
-        EXPECT_EQ(CompareBatch(one_sided, origins, uv, 1, "one-sided", false).vector_points, 1u);
-        // A degenerate light: every sample invalid.
-        CompareBatch({{0, 0, 1}, {0, 0, 0}, {0, 1, 0}, true}, origins, uv, 1, "degenerate", false);
+        const RectBatchInputs b = InvalidSetupBatch();
+        EXPECT_EQ(CompareBatch(b.light, b.origins, b.uv, 1, b.name, false).vector_points, 1u);
+        CompareBatch(DegenerateRectLight(), b.origins, b.uv, 1, "degenerate", false);
     });
 }
 
