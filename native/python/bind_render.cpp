@@ -346,8 +346,12 @@ py::dict Stats(const Renderer& r, int k) {
     d["light_time"] = s.light_time;
     d["shading_time"] = s.shading_time;
     d["camera_time"] = s.camera_time;
+    d["tile_time"] = s.tile_time;
+    d["trace_time"] = s.trace_time;
+    d["camera_trace_time"] = s.camera_trace_time;
     d["rays"] = s.rays;
     d["camera_rays"] = s.camera_rays;
+    d["surface_hits"] = s.surface_hits;
     d["dropped_samples"] = s.dropped_samples;
     return d;
 }

@@ -57,13 +57,15 @@ struct ThreadScratch {
 
 struct TechniqueTally {
     uint64_t light_ticks = 0;  // ReadTicks() units (ticks.h), counted by TimedLightSamplingAt
-    double total_seconds = 0;  // whole per-technique pass (light sampling included)
+    double total_seconds = 0;  // whole per-technique pass (light sampling and tracing included)
+    double trace_seconds = 0;  // tracing its occlusion rays (ResolveShadowRays)
     uint64_t rays = 0;         // occlusion rays traced (the shadow-ray queue's lengths)
     uint64_t dropped = 0;      // non-finite samples left out of the image
 
     TechniqueTally& operator+=(const TechniqueTally& o) {
         light_ticks += o.light_ticks;
         total_seconds += o.total_seconds;
+        trace_seconds += o.trace_seconds;
         rays += o.rays;
         dropped += o.dropped;
         return *this;
@@ -72,13 +74,19 @@ struct TechniqueTally {
 
 struct TileTally {
     std::vector<TechniqueTally> technique;
-    double camera_seconds = 0;
+    double tile_seconds = 0;          // the tiles, whole: every stage and technique, the image's accumulation
+    double camera_seconds = 0;        // the camera stage (camera_trace_seconds included)
+    double camera_trace_seconds = 0;  // tracing its camera rays
     uint64_t camera_rays = 0;
+    uint64_t surface_hits = 0;  // camera samples whose ray hit a surface
 
     // (Both tallies have one entry per technique.)
     TileTally& operator+=(const TileTally& o) {
+        tile_seconds += o.tile_seconds;
         camera_seconds += o.camera_seconds;
+        camera_trace_seconds += o.camera_trace_seconds;
         camera_rays += o.camera_rays;
+        surface_hits += o.surface_hits;
         for (size_t k = 0; k < o.technique.size(); ++k) technique[k] += o.technique[k];
         return *this;
     }

@@ -127,9 +127,13 @@ bool Renderer::RenderPass(int samples, const std::function<void(int, int)>& prog
             st.light_time += light;
             st.shading_time += std::max(0.0, tt.total_seconds - light);
             st.camera_time += run.tally.camera_seconds;
+            st.tile_time += run.tally.tile_seconds;
+            st.trace_time += tt.trace_seconds;
+            st.camera_trace_time += run.tally.camera_trace_seconds;
             st.rays += tt.rays;
             st.dropped_samples += tt.dropped;
             st.camera_rays += run.tally.camera_rays;
+            st.surface_hits += run.tally.surface_hits;
             if (complete) st.samples += uint64_t(samples);
         }
     }

@@ -23,8 +23,12 @@ struct TechniqueStats {
     double light_time = 0;         // thread-seconds in this technique's light sampling (setup, Sample, PDF)
     double shading_time = 0;       // thread-seconds in the rest of its direct lighting: BSDF, MIS, shadow rays
     double camera_time = 0;        // thread-seconds of camera rays and first hits (shared)
+    double tile_time = 0;          // thread-seconds in the tiles, whole: all stages and techniques (shared)
+    double trace_time = 0;         // thread-seconds tracing this technique's occlusion rays (within shading_time)
+    double camera_trace_time = 0;  // thread-seconds tracing the camera rays (within camera_time; shared)
     uint64_t rays = 0;             // shadow and BSDF/phase rays cast for this technique
     uint64_t camera_rays = 0;      // camera rays (shared)
+    uint64_t surface_hits = 0;     // camera rays that hit a surface (shared)
     uint64_t dropped_samples = 0;  // non-finite camera samples left out of the image (expected 0)
 };
 

@@ -34,6 +34,11 @@ POWER_NOISE, POWER_COST = 1.5, 1 / 1.2
 # Ellipse technique 'area' (of the fake renderer): 2x the noise at half the cost per sample, so at equal samples
 # spherical_ellipse has half the RMSE, twice the cost and (2^2 x 0.5) = 2x the efficiency.
 AREA_DISK_NOISE, AREA_DISK_COST = 2.0, 0.5
+# The fake's time as the cost model's terms (cost_model.py): a camera ray and an occlusion ray per camera sample at
+# T_RAY seconds each, light sampling this share of the rest (rectangle_cosine's costlier sampler most of it), the
+# rest fixed work.
+T_RAY = 1e-3 / (W * H) / 6
+SAMPLER_SHARE = {"rectangle_cosine": 0.75}
 
 
 def truth(width=W, height=H):
@@ -76,9 +81,12 @@ def fake_render(context, job):
         image[::2, ::3, 1] = np.nan
     time = samples * 1e-3 * (1.5 if job.technique == "rectangle_cosine" else 1.0) * (POWER_COST if power else 1.0) \
         * (AREA_DISK_COST if area_disks else 1.0)
-    return image, {"build_time": 0.01, "call_time": time, "wall_time": time, "light_time": time / 3,
-                   "shading_time": time / 3, "rays": samples * context.width * context.height * 2,
-                   "samples_done": samples}
+    n = samples * context.width * context.height
+    rest = max(0.0, time - 2 * n * T_RAY)
+    light = rest * SAMPLER_SHARE.get(job.technique, 0.5)
+    return image, {"build_time": 0.01, "call_time": time, "wall_time": time, "cpu_time": time, "light_time": light,
+                   "shading_time": time / 3, "rays": n, "camera_rays": n, "surface_hits": n, "tile_time": time,
+                   "trace_time": n * T_RAY, "camera_trace_time": n * T_RAY, "samples_done": samples}
 
 
 @pytest.fixture
@@ -303,7 +311,8 @@ def test_study_outputs_are_well_formed(scene_file, tmp_path):
     # Report and plots exist and are non-trivial.
     report = (out / "report.md").read_text()
     for needle in ("Reference", "rmse_vs_samples_sobol.png", "rmse_vs_time_independent.png", "equal_time_grid.png",
-                   "Time to reach a target error", "rectangle < triangles < area"):
+                   "Time to reach a target error", "rectangle < triangles < area", "relative_efficiency.png",
+                   "B faster at a ray cost", "A ray costs **868 ns** here"):
         assert needle in report, needle
     assert "reproduces" in report
     assert "selection" not in report.lower()  # a study of the default light selection only does not name it

@@ -129,6 +129,7 @@ void ReserveScratch(const RenderScene& scene, ThreadScratch& scratch, int chunk_
 
 template <bool kDof, bool kGlossy, bool kMedium>
 void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scratch, TileTally& tally) {
+    const Stopwatch whole_tile;
     const RenderScene& scene = *p.scene;
     const RenderOptions& opt = *p.options;
     const uint32_t n = uint32_t(p.samples);
@@ -142,11 +143,14 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
 
         const Stopwatch camera;
         GenerateCameraSamples<kDof>(p, chunk, ctx.sample_bsdf, scratch);
+        const Stopwatch camera_trace;
         TraceCameraRays(scene.rtc_scene, scratch.hits.data(), chunk_n, scratch.camera_hits.data());
+        tally.camera_trace_seconds += camera_trace.Seconds();
         FinishCameraSamples<kGlossy, kMedium>(scene, scratch.camera_hits.data(), chunk_n, scratch.hits.data(),
                                               scratch.camera_ray_media.data());
         tally.camera_seconds += camera.Seconds();
         tally.camera_rays += chunk_n;
+        for (size_t s = 0; s < chunk_n; ++s) tally.surface_hits += scratch.hits[s].hit;
 
         // Every technique over the same camera samples.
         for (size_t k = 0; k < opt.techniques.size(); ++k) {
@@ -154,13 +158,16 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             const Stopwatch shading;
             ShadeCameraSamples<kGlossy, kMedium>(opt.techniques[k], ctx, chunk_n, scratch, tt.light_ticks);
             tt.rays += scratch.shadow_rays.size();
+            const Stopwatch trace;
             ResolveShadowRays(scene, scratch.shadow_rays, scratch.sample_values.data(), scratch.shadow_crossed);
+            tt.trace_seconds += trace.Seconds();
             tt.dropped +=
                 SumPixelSamples(scratch.sample_values.data(), chunk.count, n, &scratch.pixel_sums[k * chunk_pixels]);
             tt.total_seconds += shading.Seconds();
         }
         AddChunkToImage(p, chunk, scratch.pixel_sums.data(), chunk_pixels, scratch.hits.data());
     }
+    tally.tile_seconds += whole_tile.Seconds();
 }
 
 template <bool kDof, bool kGlossy>

@@ -23,7 +23,8 @@ import numpy as np
 
 SLOWDOWN_ENV = "SPHRECT_STUDY_SLOWDOWN"
 # The times a run's measurements carry (runner.py); all scale with the machine's speed.
-TIME_FIELDS = ("build_time", "call_time", "wall_time", "cpu_time", "light_time", "shading_time", "camera_time")
+TIME_FIELDS = ("build_time", "call_time", "wall_time", "cpu_time", "light_time", "shading_time", "camera_time",
+               "tile_time", "trace_time", "camera_trace_time")
 # The calibration render: a ground lit by one rectangle, CALIBRATION_SIDE^2 pixels, one thread, the best of
 # CALIBRATION_REPEATS (the least disturbed by other load).
 CALIBRATION_SIDE = 64

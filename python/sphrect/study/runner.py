@@ -74,7 +74,9 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     """One render with our renderer. build_time: constructing the renderer (scene upload, BVH);
     call_time: the render() call measured here; cpu_time: the process's CPU time during it (with one render
     thread, the render's own compute time, insensitive to other load on the machine);
-    wall_time/light_time/shading_time/rays: the renderer's own stats."""
+    wall_time/light_time/shading_time/camera_time/tile_time/trace_time/camera_trace_time/rays/surface_hits: the
+    renderer's own
+    stats (the cost model's terms, cost_model.py)."""
     import sphrect
     scene = load_study_scene(context.scene_path, context.width, context.height)
     t0 = time.perf_counter()
@@ -102,6 +104,10 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
         "samples_done": int(stats["samples"]),
         "camera_rays": int(stats["camera_rays"]),
         "camera_time": float(stats["camera_time"]),
+        "tile_time": float(stats["tile_time"]),
+        "trace_time": float(stats["trace_time"]),
+        "camera_trace_time": float(stats["camera_trace_time"]),
+        "surface_hits": int(stats["surface_hits"]),
         "dropped_samples": int(stats["dropped_samples"]),
     }
     return image, measured

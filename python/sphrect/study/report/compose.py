@@ -7,9 +7,9 @@ import os
 from dataclasses import dataclass
 from typing import List, Optional
 
-from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, DEFAULT_MEDIUM_SAMPLING, StudyConfig
+from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, DEFAULT_MEDIUM_SAMPLING, CurveKey, StudyConfig
 from ..store import atomic_write_bytes
-from . import equal_error, findings, plots, wording
+from . import cost_wording, costs, equal_error, findings, plots, wording
 from .curves import REFERENCE_NOISE_FACTOR
 from .document import Document
 from .results import (Curves, StudyResults, curves, equal_time_grid, load_study, smallest_rmse, study_warnings,
@@ -264,6 +264,43 @@ def equal_time_section(report: Report) -> None:
               wording.equal_time_rows(grid, report.show_selection, report.show_ellipse, report.show_medium))
 
 
+def cost_model_section(report: Report) -> None:
+    """The cost model (cost_model.py): the terms and their check, the break-even ray and shading costs of every pair,
+    the efficiency against the ray cost drawn for the headline setting, and Cycles' cost per camera sample."""
+    doc, cfg, results = report.doc, report.results.settings, report.results
+    show = (report.show_selection, report.show_ellipse, report.show_medium)
+    doc.heading("What a sample costs, and at what ray cost accuracy pays")
+    model = costs.configuration_costs(report.curves)
+    within, checked, largest, setup = costs.checks_within(model)
+    ray_cost = costs.ray_cost_here(model)
+    for line in cost_wording.model_lines(checked, within, largest, setup, ray_cost):
+        doc.para(line)
+    if not model:
+        return
+    doc.table(cost_wording.TERM_HEADER, cost_wording.term_rows(model, *show))
+    pairs = costs.pair_costs(cfg, report.curves, model, results.reference_rmse)
+    techniques = [p for p in pairs if p.a.technique != p.b.technique]
+    headline = CurveKey(cfg.techniques[0], cfg.grid_mis[0] if cfg.grid_mis[0] in cfg.mis else cfg.mis[0],
+                        headline_pattern(cfg), *cfg.variants[0])
+    for p in techniques:
+        if p.a._replace(technique=headline.technique) == headline:
+            doc.para(cost_wording.pair_finding(p, ray_cost))
+    baseline = costs.BASELINE if costs.BASELINE in cfg.techniques else cfg.techniques[0]
+    lines = {t: costs.pair_cost(headline._replace(technique=baseline), headline._replace(technique=t), report.curves,
+                                model, results.reference_rmse, ordered=False) for t in cfg.techniques}
+    lines = {t: p for t, p in lines.items() if p is not None}
+    if lines:
+        name = "relative_efficiency.png"
+        plots.plot_relative_efficiency(lines, baseline, f"MIS {headline.mis}, {headline.pattern}", ray_cost,
+                                       report.plot(name))
+        doc.image(f"{PLOTS}/{name}", "efficiency at equal error against the cost of a ray and of shading a hit")
+    doc.para("Every pair (B needs no more samples than A for the larger of their top-rung RMSEs; the break-even costs "
+             "are where B's time to that error equals A's; efficiency = A's time / B's):")
+    doc.table(cost_wording.PAIR_HEADER, cost_wording.pair_rows(pairs, *show))
+    width, height = results.config.get("width"), results.config.get("height")
+    doc.para(cost_wording.cycles_line(costs.cycles_cost(report.curves, model, (width or 0) * (height or 0)), *show))
+
+
 def sampler_section(report: Report, sampler_table: bool) -> None:
     doc = report.doc
     doc.heading("The sampler itself: accuracy and cost")
@@ -302,6 +339,7 @@ def write_report(out_dir: str, sampler_table: bool = True, target_rmse: Optional
     findings_section(report)
     target_section(report, target_rmse)
     equal_time_section(report)
+    cost_model_section(report)
     sampler_section(report, sampler_table)
     files_section(report)
     atomic_write_bytes(os.path.join(out_dir, "report.md"), report.doc.markdown().encode("utf-8"))

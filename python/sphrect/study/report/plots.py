@@ -2,7 +2,7 @@
 equal-time renders with their error heat maps."""
 from __future__ import annotations
 
-from typing import List, Tuple
+from typing import Dict, List, Tuple
 
 import numpy as np
 
@@ -162,4 +162,30 @@ def plot_equal_time_grid(results: StudyResults, grid: EqualTimeGrid, path: str) 
     fig.suptitle(f"Equal time: {fmt(results.state.get('equal_time_budget'))} s per image (sample counts "
                  f"predicted from the ladder's time per sample) "
                  f"(pattern {results.settings.grid_pattern}); heat maps share one colour scale", fontsize=9)
+    _save(plt, fig, path)
+
+
+def plot_relative_efficiency(lines: Dict[str, object], baseline: str, setting: str, ray_cost: float,
+                             path: str) -> None:
+    """Each technique's efficiency at equal error over `baseline`'s (costs.PairCost, B the technique), against the
+    cost of a ray (left: shading as measured) and against a shading cost added per hit (right: rays as measured),
+    log-log; this renderer's own ray cost marked."""
+    from .costs import RAY_COSTS, SHADING_COSTS
+    plt = _plt()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), squeeze=False, sharey=True)
+    ray_ax, shading_ax = axes[0]
+    for technique, pair in lines.items():
+        colour = technique_colour(technique)
+        ray_ax.loglog([x * 1e9 for x in RAY_COSTS], [pair.efficiency(x) for x in RAY_COSTS], color=colour,
+                      label=technique)
+        shading_ax.loglog([y * 1e9 for y in SHADING_COSTS], [pair.efficiency(None, y) for y in SHADING_COSTS],
+                          color=colour, label=technique)
+    ray_ax.axvline(ray_cost * 1e9, color="grey", ls="--", lw=1, label="a ray here")
+    for ax, xlabel in ((ray_ax, "cost of a ray [ns]"), (shading_ax, "shading cost added per hit [ns]")):
+        ax.axhline(1.0, color="grey", ls=":", lw=1)
+        ax.set_xlabel(xlabel)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    ray_ax.set_ylabel(f"efficiency at equal error / {baseline}'s")
+    fig.suptitle(f"Time to the same error, {setting}: above 1 the technique reaches it sooner than {baseline}")
     _save(plt, fig, path)

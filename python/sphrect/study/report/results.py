@@ -23,8 +23,9 @@ Curves = Dict[CurveKey, List[Dict]]
 CSV_COLUMNS = ("key", "kind", "engine", "technique", "mis", "pattern", "light_selection", "ellipse_technique",
                "medium_sampling", "samples", "light_samples",
                "seed", "threads", "time_budget", "samples_done", "time", "cpu_time", "wall_time", "call_time",
-               "build_time", "light_time", "shading_time", "camera_time", "rays", "camera_rays", "rmse", "relmse",
-               "finite", "dropped_samples", *MACHINE_FIELDS)
+               "build_time", "light_time", "shading_time", "camera_time", "tile_time", "trace_time",
+               "camera_trace_time", "rays", "camera_rays", "surface_hits", "rmse", "relmse", "finite",
+               "dropped_samples", *MACHINE_FIELDS)
 
 
 @dataclass

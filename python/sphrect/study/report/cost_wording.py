@@ -1,0 +1,101 @@
+"""The cost model's section in words (costs.py has its numbers): the check of the terms against the measured time,
+every configuration's terms, the break-even ray and shading costs of each pair, and Cycles' cost per camera sample."""
+from __future__ import annotations
+
+import math
+from typing import Dict, List, Optional
+
+from ..cost_model import BreakEven
+from ..jobs import CurveKey, curve_label
+from .costs import CHECK_MIN_TIME, CHECK_TOLERANCE, ConfigurationCost, CyclesCost, PairCost
+from .wording import PLACEHOLDER, fmt
+
+
+def duration(seconds: float) -> str:
+    """A time per sample or per ray: in ns below a microsecond, else in µs."""
+    if seconds is None or not math.isfinite(seconds):
+        return PLACEHOLDER
+    return f"{fmt(seconds * 1e9)} ns" if abs(seconds) < 1e-6 else f"{fmt(seconds * 1e6)} µs"
+
+
+def model_lines(checked: int, within: int, largest: float, setup: float, ray_cost: float) -> List[str]:
+    lines = ["Time per camera sample = fixed work + light sampling + rays × the cost of a ray, each term from the "
+             "renderer's own stage timers and counters in the run (the fixed work: pattern, camera rays, hits, BSDFs, "
+             "MIS, the shadow queue; light sampling: the choice, the technique's setup, map and pdfs; a ray: the "
+             "Embree streams' time over the camera and occlusion rays). Another renderer differs chiefly in what a "
+             "ray and what shading a hit cost: below, each pair's time to the same error as those two change."]
+    if checked:
+        lines.append(f"- Check: the terms add up to within {fmt(100 * CHECK_TOLERANCE)}% of the CPU time measured "
+                     f"around the render call in **{within} of {checked}** runs of at least "
+                     f"{fmt(1000 * CHECK_MIN_TIME)} ms (largest difference {fmt(100 * largest)}%). A render call "
+                     f"also costs {duration(setup)} besides its samples (cutting tiles, starting threads: the "
+                     f"intercept of CPU time against samples, median over the configurations), which shorter runs "
+                     f"are not checked against.")
+    else:
+        lines.append("- No run of at least the checked length carries the renderer's stage timers (or the runs were "
+                     "measured before they existed: run the study again).")
+    lines.append(f"- A ray costs **{duration(ray_cost)}** here (the median over the configurations).")
+    return lines
+
+
+def term_rows(costs: Dict[CurveKey, ConfigurationCost], show_selection: bool, show_ellipse: bool,
+              show_medium: bool) -> List[List[str]]:
+    rows = []
+    for key, c in sorted(costs.items()):
+        t = c.terms
+        rows.append([curve_label(key, show_selection, show_ellipse, show_medium), duration(t.fixed),
+                     duration(t.sampler), fmt(t.rays), duration(t.t_ray), fmt(t.hits), duration(t.modelled),
+                     duration(t.measured), f"{fmt(100 * t.check, 2)}%"])
+    return rows
+
+
+TERM_HEADER = ["configuration", "fixed", "light sampling", "rays", "per ray", "hits", "modelled", "measured",
+               "check"]
+
+
+def crossing(be: BreakEven) -> str:
+    if be.side == "always":
+        return "at every cost"
+    if be.side == "never":
+        return "at no cost"
+    return f"{'above' if be.side == 'above' else 'below'} {duration(be.threshold)}"
+
+
+def pair_rows(pairs: List[PairCost], show_selection: bool, show_ellipse: bool, show_medium: bool) -> List[List[str]]:
+    rows = []
+    for p in pairs:
+        rows.append([curve_label(p.b, show_selection, show_ellipse, show_medium),
+                     curve_label(p.a, show_selection, show_ellipse, show_medium), fmt(p.target),
+                     f"{fmt(p.n_b)} / {fmt(p.n_a)}", crossing(p.ray), fmt(p.efficiency()),
+                     fmt(p.efficiency(1e-6)), fmt(p.efficiency(100e-6)), crossing(p.shading)])
+    return rows
+
+
+PAIR_HEADER = ["B", "against A", "RMSE", "spp B / A", "B faster at a ray cost", "efficiency B/A here", "at 1 µs",
+               "at 100 µs", "B faster at a shading cost per hit"]
+
+
+def pair_finding(p: PairCost, ray_cost: float) -> str:
+    """One pair's verdict in a sentence."""
+    same_technique = p.b.technique == p.a.technique
+    b = f"MIS {p.b.mis}" if same_technique else p.b.technique
+    a = f"MIS {p.a.mis}" if same_technique else p.a.technique
+    here = p.efficiency()
+    if p.ray.side == "above":
+        return (f"- {b} pays off against {a} above a ray cost of **{duration(p.ray.threshold)}** (here a ray costs "
+                f"{duration(ray_cost)}: efficiency {fmt(here)}×; at 100 µs per ray {fmt(p.efficiency(100e-6))}×).")
+    if p.ray.side == "below":
+        return (f"- {b} reaches the error sooner than {a} only below a ray cost of **{duration(p.ray.threshold)}** "
+                f"(here {fmt(here)}×).")
+    verdict = "sooner" if p.ray.side == "always" else "later"
+    return (f"- {b} reaches the error {verdict} than {a} at every ray cost (here {fmt(here)}×, at 100 µs per ray "
+            f"{fmt(p.efficiency(100e-6))}×).")
+
+
+def cycles_line(c: Optional[CyclesCost], show_selection: bool, show_ellipse: bool, show_medium: bool) -> str:
+    if c is None:
+        return "Cycles 3.4 was not measured (or without its CPU time)."
+    return (f"Cycles 3.4 takes {duration(c.cycles)} of CPU time per camera sample at its top rung (it reports no "
+            f"count of rays); our cheapest configuration per camera sample, "
+            f"{curve_label(c.ours_key, show_selection, show_ellipse, show_medium)}, {duration(c.ours)} "
+            f"({fmt(c.ours / c.cycles)}× Cycles').")
