@@ -52,7 +52,12 @@ struct RenderOptions {
     // Benchmarks only: run the kernel with every feature compiled in (medium, glossy, depth of
     // field) whatever the scene needs, to measure what the specialised kernels save.
     bool force_all_features = false;
+    // The study's cost-model sweep only (python/sphrect/study/sweep.py): seconds of busy waiting at every surface hit
+    // shaded, per technique -- a costlier shader's stand-in, which changes no image.  At most kMaxAddedShadingCost.
+    double added_shading_cost = 0;
 };
+
+constexpr double kMaxAddedShadingCost = 1e-3;
 
 // Throws std::invalid_argument naming the first option out of range.
 void ValidateOptions(const RenderOptions& o);

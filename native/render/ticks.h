@@ -22,4 +22,14 @@ inline uint64_t ReadTicks() {
 #endif
 }
 
+// ReadTicks() units per second, measured once (over ~2 ms of the steady clock) at the first call.
+double TicksPerSecond();
+
+// Busy-waits `ticks` ReadTicks() units (RenderOptions::added_shading_cost).
+inline void SpinTicks(uint64_t ticks) {
+    const uint64_t end = ReadTicks() + ticks;
+    while (ReadTicks() < end) {
+    }
+}
+
 }  // namespace sphrect::render

@@ -137,3 +137,28 @@ def test_study_of_a_blend_with_cycles(tmp_path):
         assert float(r["wall_time"]) > 0 and 0 < float(r["rmse"]) < math.inf
     report = (out / "report.md").read_text()
     assert "Cycles 3.4" in report and "time ratio (ours/Cycles)" in report
+
+
+def test_cost_model_and_sweep_on_the_renderer(tmp_path):
+    """The report's cost-model section on real runs (the terms from the renderer's timers), and the sweep: the scene
+    subdivided (16x the triangles at level 2) and a shading cost added, each configuration rendered again, the
+    predicted and measured ratios written for every pair."""
+    from sphrect.study.sweep import run_sweep
+    scene_path = str(tmp_path / "paper_like.sphrect.npz")
+    sphrect.save_scene(paper_like_scene(), scene_path)
+    out = tmp_path / "study"
+    config = StudyConfig(techniques=("area", "rectangle"), mis=("power",), patterns=("sobol",), ladder=(1, 2, 4, 8),
+                         grid_mis=("power",), grid_pattern="sobol")
+    run_study(scene_path, str(out), config, ReferenceSettings(samples=512, chunks=2), executor=LocalProcessPool(1),
+              progress=False, sampler_table=False)
+    report = (out / "report.md").read_text()
+    assert "What a sample costs" in report and "relative_efficiency.png" in report
+    assert "| rectangle / mis=power / sobol | area / mis=power / sobol |" in report
+    path = run_sweep(str(out), geometry_levels=(0, 2), shading_costs=(0.0, 1e-6), repeats=1)
+    sweep = json.load(open(os.path.join(os.path.dirname(path), "sweep.json")))
+    geometry = sweep["ray cost"]["levels"]
+    assert geometry[1]["triangles"] == 16 * geometry[0]["triangles"]
+    assert all(len(lv["costs"]) == 2 and all(c > 0 for c in lv["costs"].values()) for lv in geometry)
+    (pair,) = sweep["shading cost per hit"]["pairs"]
+    assert pair["b"] == "rectangle / mis=power" and len(pair["measured"]) == len(pair["predicted"]) == 2
+    assert os.path.exists(os.path.join(os.path.dirname(path), "sweep.png"))

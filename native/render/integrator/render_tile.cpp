@@ -104,6 +104,7 @@ void ShadeCameraSamples(Technique technique, const ShadeContext& c, size_t n, Th
             const PrimaryHit& ph = scratch.hits[s];
             scratch.sample_values[s] = ph.seen;
             if (IsBlack(ph.throughput)) continue;  // past too many transparent surfaces
+            if (c.added_shading_ticks && ph.hit) SpinTicks(c.added_shading_ticks);  // (the cost-model sweep's)
             ShadeCameraSample<K, kGlossy, kMedium>(
                 c, ph, media ? &media[s] : nullptr, &scratch.light_points[s * nl], &scratch.bsdf_points[s * nl],
                 batched && scratch.batched_chosen[s] ? &scratch.batched_choices[s * nl] : nullptr,

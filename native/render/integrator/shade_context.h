@@ -3,6 +3,7 @@
 
 #include "render/options.h"
 #include "render/scene.h"
+#include "render/ticks.h"
 
 namespace sphrect::render {
 
@@ -28,7 +29,8 @@ struct ShadeContext {
     // the medium's transmittance to infinity.
     const EnvironmentLight* environment;
     Spectrum environment_transmittance;
-    bool emission_blocks;  // RenderOptions::emission_blocks
+    bool emission_blocks;          // RenderOptions::emission_blocks
+    uint64_t added_shading_ticks;  // RenderOptions::added_shading_cost in ReadTicks() units (0: none)
 };
 
 template <bool kMedium>
@@ -50,7 +52,8 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
                 ? &scene.environment
                 : nullptr,
             SegmentTransmittance<kMedium>(scene.medium, kInf),
-            opt.emission_blocks};
+            opt.emission_blocks,
+            uint64_t(opt.added_shading_cost * TicksPerSecond())};
 }
 
 // The same context without MIS: light samples alone, and BSDF samples only to find the background.

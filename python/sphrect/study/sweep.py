@@ -1,0 +1,238 @@
+"""The cost model's validation: a finished study's scene made costlier, level by level, and each pair's verdict at
+equal error measured against the model's prediction.
+
+    PYTHONPATH=build/python /usr/bin/python3 -m sphrect.study.sweep STUDY_DIR [--levels 0,2,4,6]
+        [--shading-costs 0,1e-7,1e-6,1e-5] [--repeats 3]
+
+Two axes.  Geometry: the scene's non-emissive meshes split `level` times (complexity.subdivide_scene: the same image,
+deeper BVH), so that a ray costs more.  Shading: a busy wait added at every surface hit (Renderer's
+added_shading_cost), a costlier shader's stand-in.  Neither changes the image, so the samples each configuration
+needs for an error are the study's (its ladder, level 0); at every level each configuration at the study's headline
+pattern (its techniques under each of its MIS modes: headline_keys) is rendered again for its cost per camera sample
+(the least CPU time of --repeats renders).  Per pair -- every two techniques under one MIS mode, every two MIS modes of
+a technique (report/costs.py: B needs fewer samples than A for the larger of their top-rung RMSEs):
+
+- predicted: A's time to the error over B's at that level, from the study's own terms (cost_model.CostTerms) with the
+  level's ray cost (the median t_ray measured there) or its added shading cost, and the break-even cost;
+- measured: the same ratio from the costs per camera sample measured at that level, and where it crosses 1.
+
+Writes STUDY_DIR/sweep/sweep.md, sweep.json and sweep.png.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+from dataclasses import asdict, dataclass
+from typing import Dict, List, Optional, Sequence
+
+from . import complexity
+from .cost_model import RAY_AXIS, SHADING_AXIS, break_even, cost_terms
+from .jobs import CurveKey
+from .store import atomic_write_bytes, atomic_write_json
+
+# Each render of the sweep lasts about this long (its samples per pixel chosen from the study's cost per sample), so
+# that the timers' resolution and the call's own setup stay small against it.
+RENDER_SECONDS = 0.3
+MAX_SWEEP_SAMPLES = 64
+
+
+@dataclass(frozen=True)
+class Level:
+    axis: str            # RAY_AXIS (geometry) or SHADING_AXIS
+    value: float         # subdivision levels, or the added shading cost per hit [s]
+    triangles: int
+    ray_cost: float      # the median t_ray measured at this level [s]
+    costs: Dict[str, float]   # configuration (label) -> measured CPU time per camera sample [s]
+    terms: Dict[str, Dict]    # configuration -> its measured CostTerms (as a dict)
+
+
+@dataclass(frozen=True)
+class PairVerdict:
+    a: str
+    b: str
+    n_a: float
+    n_b: float
+    break_even: float        # predicted break-even along the axis [s] (NaN: none)
+    side: str                # BreakEven.side
+    predicted: List[float]   # per level: A's time to the error over B's, from the study's terms
+    measured: List[float]    # per level: the same from the measured costs
+    measured_crossing: Optional[float]  # where the measured ratio crosses 1 along the axis (interpolated), or None
+
+
+def headline_keys(settings, all_curves) -> List[CurveKey]:
+    """The study's techniques under each of its MIS modes at its headline pattern and first light selection (ellipse
+    technique, medium sampling): the configurations the sweep renders again."""
+    from .report.compose import headline_pattern
+    keys = [CurveKey(t, m, headline_pattern(settings), *settings.variants[0]) for m in settings.mis
+            for t in settings.techniques]
+    return [k for k in keys if all_curves.get(k)]
+
+
+def label(key: CurveKey) -> str:
+    """A configuration's name in the sweep: its technique and MIS mode (the rest is the headline's)."""
+    return f"{key.technique} / mis={key.mis}"
+
+
+def measure_level(scene, keys: Sequence[CurveKey], samples: Dict[str, int], repeats: int, axis: str, value: float,
+                  light_samples: Dict[str, int]) -> Level:
+    import sphrect
+    shading = value if axis == SHADING_AXIS else 0.0
+    costs, terms = {}, {}
+    for key in keys:
+        best = None
+        for r in range(repeats):
+            renderer = sphrect.Renderer(scene, techniques=[key.technique], mis=key.mis, pattern=key.pattern,
+                                        light_selection=key.light_selection, ellipse_technique=key.ellipse_technique,
+                                        medium_sampling=key.medium_sampling, light_samples=light_samples[label(key)],
+                                        threads=1,
+                                        seed=7 + r, added_shading_cost=shading)
+            c0 = time.process_time()
+            renderer.render(samples[label(key)])
+            cpu = time.process_time() - c0
+            t = cost_terms({**renderer.stats(), "cpu_time": cpu})
+            if best is None or t.measured < best.measured:
+                best = t
+        costs[label(key)], terms[label(key)] = best.measured, asdict(best)
+    rays = sorted(t["t_ray"] for t in terms.values())
+    return Level(axis, value, complexity.triangle_count(scene), rays[len(rays) // 2], costs, terms)
+
+
+def crossing(xs: Sequence[float], ratios: Sequence[float]) -> Optional[float]:
+    """Where ratio - 1 changes sign between consecutive points (log-linear interpolation in x; x = 0 kept linear),
+    the first such place; None where it does not."""
+    for (x0, r0), (x1, r1) in zip(zip(xs, ratios), zip(xs[1:], ratios[1:])):
+        if (r0 - 1) * (r1 - 1) <= 0 and r0 != r1:
+            f = (1 - r0) / (r1 - r0)
+            if x0 > 0 and x1 > 0:
+                return math.exp(math.log(x0) + f * (math.log(x1) - math.log(x0)))
+            return x0 + f * (x1 - x0)
+    return None
+
+
+def verdicts(pairs, levels: List[Level], axis: str) -> List[PairVerdict]:
+    xs = [lv.ray_cost if axis == RAY_AXIS else lv.value for lv in levels]
+    out = []
+    for p in pairs:
+        a, b = label(p.a), label(p.b)
+        predicted = [p.efficiency(x) if axis == RAY_AXIS else p.efficiency(None, x) for x in xs]
+        measured = [(p.n_a * lv.costs[a]) / (p.n_b * lv.costs[b]) for lv in levels]
+        be = break_even(p.n_a, p.terms_a, p.n_b, p.terms_b, axis)
+        out.append(PairVerdict(a, b, p.n_a, p.n_b, be.threshold, be.side, predicted, measured,
+                               crossing(xs, measured)))
+    return out
+
+
+def ns(seconds: Optional[float]) -> str:
+    if seconds is None or not math.isfinite(seconds):
+        return "–"
+    return f"{seconds * 1e9:.3g} ns" if seconds < 1e-6 else f"{seconds * 1e6:.3g} µs"
+
+
+def predicted_side(v: PairVerdict) -> str:
+    if v.side in ("always", "never"):
+        return "B faster at every cost" if v.side == "always" else "A faster at every cost"
+    return f"B faster {v.side} {ns(v.break_even)}"
+
+
+def write_outputs(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, List[PairVerdict]]) -> str:
+    os.makedirs(out_dir, exist_ok=True)
+    atomic_write_json(os.path.join(out_dir, "sweep.json"),
+                      {axis: {"levels": [asdict(lv) for lv in levels[axis]],
+                              "pairs": [asdict(v) for v in pair_verdicts[axis]]} for axis in levels})
+    lines = ["# The cost model against a sweep of the scene's cost\n",
+             "A's time to the same error over B's (> 1: B reaches it sooner), predicted from the study's own terms "
+             "and measured at each level; the break-even cost predicted from the study's terms, and where the "
+             "measured ratio crosses 1.\n"]
+    for axis, axis_levels in levels.items():
+        name = "geometry (subdivision levels)" if axis == RAY_AXIS else "added shading cost per hit"
+        lines.append(f"## {name}\n")
+        lines.append("| level | triangles | ray cost | " + " | ".join(
+            f"{t} [ns per camera sample]" for t in axis_levels[0].costs) + " |")
+        lines.append("|" + "---|" * (3 + len(axis_levels[0].costs)))
+        for lv in axis_levels:
+            label = f"{lv.value:g}" if axis == RAY_AXIS else ns(lv.value)
+            lines.append(f"| {label} | {lv.triangles} | {ns(lv.ray_cost)} | " + " | ".join(
+                f"{c * 1e9:.0f}" for c in lv.costs.values()) + " |")
+        lines.append("")
+        lines.append("| B | against A | spp B / A | predicted | measured crossing | " + " | ".join(
+            f"level {lv.value:g}" if axis == RAY_AXIS else ns(lv.value) for lv in axis_levels)
+            + " (measured / predicted) |")
+        lines.append("|" + "---|" * (5 + len(axis_levels)))
+        for v in pair_verdicts[axis]:
+            cells = " | ".join(f"{m:.3g} / {p:.3g}" for m, p in zip(v.measured, v.predicted))
+            lines.append(f"| {v.b} | {v.a} | {v.n_b:.3g} / {v.n_a:.3g} | {predicted_side(v)} | "
+                         f"{ns(v.measured_crossing) if v.measured_crossing is not None else 'none'} | {cells} |")
+        lines.append("")
+    path = os.path.join(out_dir, "sweep.md")
+    atomic_write_bytes(path, "\n".join(lines).encode("utf-8"))
+    plot(out_dir, levels, pair_verdicts)
+    return path
+
+
+def plot(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, List[PairVerdict]]) -> None:
+    from .report.plots import _plt, _save, technique_colour
+    plt = _plt()
+    fig, axes = plt.subplots(1, len(levels), figsize=(5.5 * len(levels), 4.4), squeeze=False)
+    for ax, (axis, axis_levels) in zip(axes[0], levels.items()):
+        xs = [(lv.ray_cost if axis == RAY_AXIS else max(lv.value, 1e-9)) * 1e9 for lv in axis_levels]
+        for v in pair_verdicts[axis]:
+            colour = technique_colour(v.b.split(" / ")[0])
+            ax.semilogx(xs, v.predicted, "-", color=colour, lw=1)
+            ax.semilogx(xs, v.measured, "o", color=colour, ms=4, label=f"{v.b} / {v.a}")
+        ax.axhline(1.0, color="grey", ls=":", lw=1)
+        ax.set_xlabel("cost of a ray [ns]" if axis == RAY_AXIS else "shading cost added per hit [ns]")
+        ax.set_ylabel("A's time to the error / B's (line: predicted, dots: measured)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=6)
+    _save(plt, fig, os.path.join(out_dir, "sweep.png"))
+
+
+def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
+              shading_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5), repeats: int = 3) -> str:
+    from .report import costs as report_costs
+    from .report.results import curves, load_study
+    from .runner import load_study_scene
+    results = load_study(study_dir)
+    cfg, all_curves = results.settings, curves(results.ladder)
+    model = report_costs.configuration_costs(all_curves)
+    keys = [k for k in headline_keys(cfg, all_curves) if k in model]
+    if len(keys) < 2:
+        raise ValueError("the study has fewer than two configurations with the cost model's measurements at its "
+                         "headline setting: run it again with this build")
+    pairs = [p for p in report_costs.pair_costs(cfg, all_curves, model, results.reference_rmse)
+             if p.a in keys and p.b in keys]
+    width, height = results.config["width"], results.config["height"]
+    base = load_study_scene(results.config["scene_file"], width, height)
+    base_terms = {label(k): model[k].terms for k in keys}  # (the study's: the sweep's first estimate of a cost)
+    light_samples = {label(k): all_curves[k][0]["job"]["light_samples"] for k in keys}
+    levels: Dict[str, List[Level]] = {RAY_AXIS: [], SHADING_AXIS: []}
+    for axis, values in ((RAY_AXIS, geometry_levels), (SHADING_AXIS, shading_costs)):
+        for value in values:
+            scene = complexity.subdivide_scene(base, int(value)) if axis == RAY_AXIS else base
+            estimate = {t: terms.at(None, value if axis == SHADING_AXIS else 0.0) for t, terms in base_terms.items()}
+            samples = {t: max(1, min(MAX_SWEEP_SAMPLES, round(RENDER_SECONDS / (c * width * height))))
+                       for t, c in estimate.items()}
+            levels[axis].append(measure_level(scene, keys, samples, repeats, axis, value, light_samples))
+            print(f"{axis} {value:g}: ray {ns(levels[axis][-1].ray_cost)}", file=sys.stderr, flush=True)
+    return write_outputs(os.path.join(study_dir, "sweep"), levels,
+                         {axis: verdicts(pairs, levels[axis], axis) for axis in levels})
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("study_dir")
+    ap.add_argument("--levels", default="0,2,4,6", help="subdivision levels (comma list)")
+    ap.add_argument("--shading-costs", default="0,1e-7,1e-6,1e-5", help="seconds added per hit (comma list)")
+    ap.add_argument("--repeats", type=int, default=3, help="renders per configuration and level (the least time)")
+    a = ap.parse_args(argv)
+    path = run_sweep(a.study_dir, [int(x) for x in a.levels.split(",")],
+                     [float(x) for x in a.shading_costs.split(",")], a.repeats)
+    print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
