@@ -734,8 +734,7 @@ void BindRender(py::module_& m) {
              py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("light_selection"),
              py::arg("ellipse_technique"), py::arg("seed"), py::arg("threads"), py::arg("tile_size"),
              py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"), py::arg("memory_limit"),
-             py::arg("emission_blocks") = render::RenderOptions{}.emission_blocks,
-             py::arg("added_shading_cost") = 0.0)
+             py::arg("emission_blocks") = render::RenderOptions{}.emission_blocks, py::arg("added_shading_cost") = 0.0)
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
         .def("cancel", &Renderer::Cancel)
         .def("set_camera", &SetCamera<Renderer>, CAMERA_ARGS)
