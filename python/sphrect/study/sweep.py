@@ -16,11 +16,12 @@ a technique (report/costs.py: B needs fewer samples than A for the larger of the
   level's ray cost (the median t_ray measured there) or its added shading cost, and the break-even cost;
 - measured: the same ratio from the costs per camera sample measured at that level, and where it crosses 1.
 
-Writes STUDY_DIR/sweep/sweep.md, sweep.json and sweep.png.
+Writes STUDY_DIR/sweep/sweep.md, sweep.json and sweep.png (--report-only: sweep.md and sweep.png again from sweep.json).
 """
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import os
 import sys
@@ -37,6 +38,9 @@ from .store import atomic_write_bytes, atomic_write_json
 # that the timers' resolution and the call's own setup stay small against it.
 RENDER_SECONDS = 0.3
 MAX_SWEEP_SAMPLES = 64
+# A measured time ratio within this of 1 is a tie: the least of three renders' CPU times scatters by ~1-3% between
+# levels on the shared machine (the paper scene's MIS pairs, whose images are the same, measured 0.975-1.01).
+TIMING_NOISE = 0.03
 
 
 @dataclass(frozen=True)
@@ -100,15 +104,22 @@ def measure_level(scene, keys: Sequence[CurveKey], samples: Dict[str, int], repe
     return Level(axis, value, complexity.triangle_count(scene), rays[len(rays) // 2], costs, terms)
 
 
-def crossing(xs: Sequence[float], ratios: Sequence[float]) -> Optional[float]:
-    """Where ratio - 1 changes sign between consecutive points (log-linear interpolation in x; x = 0 kept linear),
-    the first such place; None where it does not."""
-    for (x0, r0), (x1, r1) in zip(zip(xs, ratios), zip(xs[1:], ratios[1:])):
-        if (r0 - 1) * (r1 - 1) <= 0 and r0 != r1:
+def crossing(xs: Sequence[float], ratios: Sequence[float], noise: float = 0.0) -> Optional[float]:
+    """Where the ratio goes from one side of 1 to the other, each by more than `noise` (relative: a ratio within it of
+    1 is a tie, not a side) -- between the last point on the first side and the next point on the other, in
+    log-linear interpolation (x = 0 kept linear); the first such place; None where it does not."""
+    sides = [0 if abs(r - 1) <= noise else (1 if r > 1 else -1) for r in ratios]
+    last = None
+    for i, side in enumerate(sides):
+        if side == 0:
+            continue
+        if last is not None and sides[last] != side:
+            x0, r0, x1, r1 = xs[last], ratios[last], xs[i], ratios[i]
             f = (1 - r0) / (r1 - r0)
             if x0 > 0 and x1 > 0:
                 return math.exp(math.log(x0) + f * (math.log(x1) - math.log(x0)))
             return x0 + f * (x1 - x0)
+        last = i
     return None
 
 
@@ -121,7 +132,7 @@ def verdicts(pairs, levels: List[Level], axis: str) -> List[PairVerdict]:
         measured = [(p.n_a * lv.costs[a]) / (p.n_b * lv.costs[b]) for lv in levels]
         be = break_even(p.n_a, p.terms_a, p.n_b, p.terms_b, axis)
         out.append(PairVerdict(a, b, p.n_a, p.n_b, be.threshold, be.side, predicted, measured,
-                               crossing(xs, measured)))
+                               crossing(xs, measured, TIMING_NOISE)))
     return out
 
 
@@ -137,6 +148,30 @@ def predicted_side(v: PairVerdict) -> str:
     return f"B faster {v.side} {ns(v.break_even)}"
 
 
+def summary(pair_verdicts: List[PairVerdict], levels: List[Level], axis: str) -> str:
+    """The agreement in words: the predicted ratios against the measured, the verdicts beyond the timing noise, the
+    flips predicted within the levels' range and those measured."""
+    differences = sorted(abs(p / m - 1) for v in pair_verdicts for p, m in zip(v.predicted, v.measured))
+    side = [(0 if abs(r - 1) <= TIMING_NOISE else (1 if r > 1 else -1)) for v in pair_verdicts for r in v.measured]
+    predicted_side = [(1 if r > 1 else -1) for v in pair_verdicts for r in v.predicted]
+    decided = [(s, p) for s, p in zip(side, predicted_side) if s != 0]
+    xs = [lv.ray_cost if axis == RAY_AXIS else lv.value for lv in levels]
+    inside = [v for v in pair_verdicts if v.side in ("above", "below") and min(xs) <= v.break_even <= max(xs)]
+    measured = [v for v in pair_verdicts if v.measured_crossing is not None]
+    if not differences:
+        return "No pair to compare."
+    return (f"Over {len(pair_verdicts)} pairs x {len(levels)} levels ({ns(min(xs))} to {ns(max(xs))}): the predicted "
+            f"ratio is within {100 * differences[len(differences) // 2]:.2g}% of the measured one at the median, "
+            f"{100 * differences[-1]:.2g}% at worst; where the measured ratio is beyond the ±{100 * TIMING_NOISE:.0f}% "
+            f"timing noise, the predicted verdict (which of the two is faster) agrees in "
+            f"**{sum(s == p for s, p in decided)} of {len(decided)}** cases. Break-even costs the model puts within "
+            f"the levels' range: {len(inside)}; crossings measured: {len(measured)}"
+            + (" -- " + "; ".join(f"{v.b} / {v.a}: predicted {ns(v.break_even)}, measured "
+                                  f"{ns(v.measured_crossing) if v.measured_crossing is not None else 'none'}"
+                                  for v in {id(v): v for v in inside + measured}.values()) if inside or measured
+               else "") + ".")
+
+
 def write_outputs(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, List[PairVerdict]]) -> str:
     os.makedirs(out_dir, exist_ok=True)
     atomic_write_json(os.path.join(out_dir, "sweep.json"),
@@ -149,6 +184,7 @@ def write_outputs(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: D
     for axis, axis_levels in levels.items():
         name = "geometry (subdivision levels)" if axis == RAY_AXIS else "added shading cost per hit"
         lines.append(f"## {name}\n")
+        lines.append(summary(pair_verdicts[axis], axis_levels, axis) + "\n")
         lines.append("| level | triangles | ray cost | " + " | ".join(
             f"{t} [ns per camera sample]" for t in axis_levels[0].costs) + " |")
         lines.append("|" + "---|" * (3 + len(axis_levels[0].costs)))
@@ -191,7 +227,9 @@ def plot(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, 
 
 
 def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
-              shading_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5), repeats: int = 3) -> str:
+              shading_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5), repeats: int = 3,
+              report_only: bool = False) -> str:
+    """Measure the levels (or, report_only, read them from the last sweep's sweep.json) and write the outputs."""
     from .report import costs as report_costs
     from .report.results import curves, load_study
     from .runner import load_study_scene
@@ -204,6 +242,12 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
                          "headline setting: run it again with this build")
     pairs = [p for p in report_costs.pair_costs(cfg, all_curves, model, results.reference_rmse)
              if p.a in keys and p.b in keys]
+    out_dir = os.path.join(study_dir, "sweep")
+    if report_only:
+        with open(os.path.join(out_dir, "sweep.json")) as f:
+            stored = json.load(f)
+        levels = {axis: [Level(**lv) for lv in stored[axis]["levels"]] for axis in stored}
+        return write_outputs(out_dir, levels, {axis: verdicts(pairs, levels[axis], axis) for axis in levels})
     width, height = results.config["width"], results.config["height"]
     base = load_study_scene(results.config["scene_file"], width, height)
     base_terms = {label(k): model[k].terms for k in keys}  # (the study's: the sweep's first estimate of a cost)
@@ -217,8 +261,7 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
                        for t, c in estimate.items()}
             levels[axis].append(measure_level(scene, keys, samples, repeats, axis, value, light_samples))
             print(f"{axis} {value:g}: ray {ns(levels[axis][-1].ray_cost)}", file=sys.stderr, flush=True)
-    return write_outputs(os.path.join(study_dir, "sweep"), levels,
-                         {axis: verdicts(pairs, levels[axis], axis) for axis in levels})
+    return write_outputs(out_dir, levels, {axis: verdicts(pairs, levels[axis], axis) for axis in levels})
 
 
 def main(argv=None) -> int:
@@ -227,9 +270,10 @@ def main(argv=None) -> int:
     ap.add_argument("--levels", default="0,2,4,6", help="subdivision levels (comma list)")
     ap.add_argument("--shading-costs", default="0,1e-7,1e-6,1e-5", help="seconds added per hit (comma list)")
     ap.add_argument("--repeats", type=int, default=3, help="renders per configuration and level (the least time)")
+    ap.add_argument("--report-only", action="store_true", help="rewrite sweep.md from the last sweep's sweep.json")
     a = ap.parse_args(argv)
     path = run_sweep(a.study_dir, [int(x) for x in a.levels.split(",")],
-                     [float(x) for x in a.shading_costs.split(",")], a.repeats)
+                     [float(x) for x in a.shading_costs.split(",")], a.repeats, a.report_only)
     print(path)
     return 0
 

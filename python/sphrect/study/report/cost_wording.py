@@ -12,10 +12,12 @@ from .wording import PLACEHOLDER, fmt
 
 
 def duration(seconds: float) -> str:
-    """A time per sample or per ray: in ns below a microsecond, else in µs."""
+    """A time per sample or per ray: in ns below a microsecond, µs below a millisecond, else ms."""
     if seconds is None or not math.isfinite(seconds):
         return PLACEHOLDER
-    return f"{fmt(seconds * 1e9)} ns" if abs(seconds) < 1e-6 else f"{fmt(seconds * 1e6)} µs"
+    if abs(seconds) < 1e-6:
+        return f"{fmt(seconds * 1e9)} ns"
+    return f"{fmt(seconds * 1e6)} µs" if abs(seconds) < 1e-3 else f"{fmt(seconds * 1e3)} ms"
 
 
 def model_lines(checked: int, within: int, largest: float, setup: float, ray_cost: float) -> List[str]:
