@@ -64,6 +64,7 @@ class PairVerdict:
     predicted: List[float]   # per level: A's time to the error over B's, from the study's terms
     measured: List[float]    # per level: the same from the measured costs
     measured_crossing: Optional[float]  # where the measured ratio crosses 1 along the axis (interpolated), or None
+    accuracy_tie: bool = False          # report/costs.PairCost.accuracy_tie: the break-even means nothing
 
 
 def headline_keys(settings, all_curves) -> List[CurveKey]:
@@ -132,7 +133,7 @@ def verdicts(pairs, levels: List[Level], axis: str) -> List[PairVerdict]:
         measured = [(p.n_a * lv.costs[a]) / (p.n_b * lv.costs[b]) for lv in levels]
         be = break_even(p.n_a, p.terms_a, p.n_b, p.terms_b, axis)
         out.append(PairVerdict(a, b, p.n_a, p.n_b, be.threshold, be.side, predicted, measured,
-                               crossing(xs, measured, TIMING_NOISE)))
+                               crossing(xs, measured, TIMING_NOISE), p.accuracy_tie))
     return out
 
 
@@ -143,6 +144,8 @@ def ns(seconds: Optional[float]) -> str:
 
 
 def predicted_side(v: PairVerdict) -> str:
+    if v.accuracy_tie:
+        return "tie in accuracy"
     if v.side in ("always", "never"):
         return "B faster at every cost" if v.side == "always" else "A faster at every cost"
     return f"B faster {v.side} {ns(v.break_even)}"
@@ -156,7 +159,8 @@ def summary(pair_verdicts: List[PairVerdict], levels: List[Level], axis: str) ->
     predicted_side = [(1 if r > 1 else -1) for v in pair_verdicts for r in v.predicted]
     decided = [(s, p) for s, p in zip(side, predicted_side) if s != 0]
     xs = [lv.ray_cost if axis == RAY_AXIS else lv.value for lv in levels]
-    inside = [v for v in pair_verdicts if v.side in ("above", "below") and min(xs) <= v.break_even <= max(xs)]
+    inside = [v for v in pair_verdicts if v.side in ("above", "below") and min(xs) <= v.break_even <= max(xs)
+              and not v.accuracy_tie]
     measured = [v for v in pair_verdicts if v.measured_crossing is not None]
     if not differences:
         return "No pair to compare."

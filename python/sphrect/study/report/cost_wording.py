@@ -7,7 +7,7 @@ from typing import Dict, List, Optional
 
 from ..cost_model import BreakEven
 from ..jobs import CurveKey, curve_label
-from .costs import CHECK_MIN_TIME, CHECK_TOLERANCE, ConfigurationCost, CyclesCost, PairCost
+from .costs import ACCURACY_TIE, CHECK_MIN_TIME, CHECK_TOLERANCE, ConfigurationCost, CyclesCost, PairCost
 from .wording import PLACEHOLDER, fmt
 
 
@@ -55,7 +55,9 @@ TERM_HEADER = ["configuration", "fixed", "light sampling", "rays", "per ray", "h
                "check"]
 
 
-def crossing(be: BreakEven) -> str:
+def crossing(be: BreakEven, accuracy_tie: bool = False) -> str:
+    if accuracy_tie:
+        return "tie in accuracy"
     if be.side == "always":
         return "at every cost"
     if be.side == "never":
@@ -68,13 +70,14 @@ def pair_rows(pairs: List[PairCost], show_selection: bool, show_ellipse: bool, s
     for p in pairs:
         rows.append([curve_label(p.b, show_selection, show_ellipse, show_medium),
                      curve_label(p.a, show_selection, show_ellipse, show_medium), fmt(p.target),
-                     f"{fmt(p.n_b)} / {fmt(p.n_a)}", crossing(p.ray), fmt(p.efficiency()),
-                     fmt(p.efficiency(1e-6)), fmt(p.efficiency(100e-6)), crossing(p.shading)])
+                     f"{fmt(p.n_b)} / {fmt(p.n_a)}", crossing(p.ray, p.accuracy_tie), fmt(p.efficiency()),
+                     fmt(p.efficiency(1e-6)), fmt(p.efficiency(100e-6)), crossing(p.shading, p.accuracy_tie)])
     return rows
 
 
 PAIR_HEADER = ["B", "against A", "RMSE", "spp B / A", "B faster at a ray cost", "efficiency B/A here", "at 1 µs",
                "at 100 µs", "B faster at a shading cost per hit"]
+# ("tie in accuracy": samples within costs.ACCURACY_TIE of each other.)
 
 
 def pair_finding(p: PairCost, ray_cost: float) -> str:
@@ -83,6 +86,10 @@ def pair_finding(p: PairCost, ray_cost: float) -> str:
     b = f"MIS {p.b.mis}" if same_technique else p.b.technique
     a = f"MIS {p.a.mis}" if same_technique else p.a.technique
     here = p.efficiency()
+    if p.accuracy_tie:
+        return (f"- {b} and {a} are as accurate as each other here (samples to the same error within "
+                f"{fmt(100 * ACCURACY_TIE)}%): the one that costs less per sample wins, by {fmt(max(here, 1 / here))}× "
+                f"at this renderer's ray cost, and neither by much where rays or shading dominate.")
     if p.ray.side == "above":
         return (f"- {b} pays off against {a} above a ray cost of **{duration(p.ray.threshold)}** (here a ray costs "
                 f"{duration(ray_cost)}: efficiency {fmt(here)}×; at 100 µs per ray {fmt(p.efficiency(100e-6))}×).")

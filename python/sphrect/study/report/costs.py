@@ -26,6 +26,10 @@ CHECK_MIN_TIME = 0.02
 # The ray costs and shading costs per hit the efficiency is drawn over: from this renderer's rays to a production
 # scene's, and from a Lambert lobe to a production shader network.
 RAY_COSTS = log_grid(10e-9, 100e-6, 41)
+# Two configurations whose samples to the same error differ by less than this share are as accurate as each other
+# within the noise of the RMSEs they are read from (one image's RMSE and the reference's own): their break-even cost
+# is then the ratio of near-equal numbers, and the report calls them a tie in accuracy instead.
+ACCURACY_TIE = 0.05
 # The technique the others' efficiency is drawn against, when the study has it: the paper's map.
 BASELINE = "rectangle"
 SHADING_COSTS = log_grid(10e-9, 100e-6, 41)
@@ -51,6 +55,11 @@ class PairCost:
     terms_b: CostTerms
     ray: BreakEven      # along the ray cost, no shading cost added
     shading: BreakEven  # along the shading cost per hit, each at its own ray cost
+
+    @property
+    def accuracy_tie(self) -> bool:
+        """Whether A and B need the same samples within ACCURACY_TIE (then only their costs per sample differ)."""
+        return self.n_a <= self.n_b * (1 + ACCURACY_TIE)
 
     def efficiency(self, ray_cost: Optional[float] = None, shading_cost: float = 0.0) -> float:
         """B's efficiency over A's at equal error (> 1: B reaches the error sooner)."""
