@@ -269,7 +269,8 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
                                        const std::string& medium_sampling, const std::string& light_selection,
                                        const std::string& ellipse_technique, uint64_t seed, int threads, int tile_size,
                                        bool analytic_light_coverage, bool bsdf_samples_on_diffuse,
-                                       uint64_t memory_limit, bool emission_blocks, double added_shading_cost) {
+                                       uint64_t memory_limit, bool emission_blocks, double added_shading_cost,
+                                       double added_ray_cost) {
     if (!scene->committed()) throw py::value_error("the scene must be committed before rendering");
     render::RenderOptions o;
     o.techniques.clear();
@@ -295,6 +296,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
     o.memory_limit = memory_limit;
     o.emission_blocks = emission_blocks;
     o.added_shading_cost = added_shading_cost;
+    o.added_ray_cost = added_ray_cost;
     return std::make_unique<Renderer>(std::move(scene), std::move(o));
 }
 
@@ -386,6 +388,7 @@ py::dict RenderDefaults() {
     d["bsdf_samples_on_diffuse"] = o.bsdf_samples_on_diffuse;
     d["emission_blocks"] = o.emission_blocks;
     d["added_shading_cost"] = o.added_shading_cost;
+    d["added_ray_cost"] = o.added_ray_cost;
     d["memory_limit"] = o.memory_limit ? py::object(py::int_(o.memory_limit)) : py::object(py::none());
     return d;
 }
@@ -734,7 +737,8 @@ void BindRender(py::module_& m) {
              py::arg("pattern"), py::arg("mis"), py::arg("medium_sampling"), py::arg("light_selection"),
              py::arg("ellipse_technique"), py::arg("seed"), py::arg("threads"), py::arg("tile_size"),
              py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"), py::arg("memory_limit"),
-             py::arg("emission_blocks") = render::RenderOptions{}.emission_blocks, py::arg("added_shading_cost") = 0.0)
+             py::arg("emission_blocks") = render::RenderOptions{}.emission_blocks, py::arg("added_shading_cost") = 0.0,
+             py::arg("added_ray_cost") = 0.0)
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
         .def("cancel", &Renderer::Cancel)
         .def("set_camera", &SetCamera<Renderer>, CAMERA_ARGS)

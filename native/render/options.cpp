@@ -26,9 +26,11 @@ void ValidateOptions(const RenderOptions& o) {
         throw std::invalid_argument("threads must be at most " + std::to_string(kMaxThreads) + " (got " +
                                     std::to_string(o.threads) + "; 0: all cores)");
     if (o.tile_size < 1) throw std::invalid_argument("tile_size must be positive");
-    if (!(o.added_shading_cost >= 0 && o.added_shading_cost <= kMaxAddedShadingCost))
-        throw std::invalid_argument("added_shading_cost must be in [0, " + std::to_string(kMaxAddedShadingCost) +
-                                    "] seconds");
+    for (const auto& [name, value] :
+         {std::pair{"added_shading_cost", o.added_shading_cost}, std::pair{"added_ray_cost", o.added_ray_cost}})
+        if (!(value >= 0 && value <= kMaxAddedCost))
+            throw std::invalid_argument(std::string(name) + " must be in [0, " + std::to_string(kMaxAddedCost) +
+                                        "] seconds");
 }
 
 uint64_t RenderMemoryBytes(const RenderOptions& o, int width, int height) {

@@ -53,11 +53,13 @@ struct RenderOptions {
     // field) whatever the scene needs, to measure what the specialised kernels save.
     bool force_all_features = false;
     // The study's cost-model sweep only (python/sphrect/study/sweep.py): seconds of busy waiting at every surface hit
-    // shaded, per technique -- a costlier shader's stand-in, which changes no image.  At most kMaxAddedShadingCost.
+    // shaded, per technique -- a costlier shader's stand-in -- and per ray traced -- a costlier scene's; neither
+    // changes an image.  Each at most kMaxAddedCost.
     double added_shading_cost = 0;
+    double added_ray_cost = 0;
 };
 
-constexpr double kMaxAddedShadingCost = 1e-3;
+constexpr double kMaxAddedCost = 1e-3;
 
 // Throws std::invalid_argument naming the first option out of range.
 void ValidateOptions(const RenderOptions& o);

@@ -40,8 +40,9 @@ for camera rays, BSDF rays and light samples.  A textured rectangle (an image on
 its blocks and the solid angle of each (emission_blocks, default True; every technique but "area"); False samples it
 by the technique over the whole light.
 
-The study's cost-model sweep (added_shading_cost, seconds, default 0): a busy wait at every surface hit shaded, a
-costlier shader's stand-in that changes no image (sphrect.study.sweep).
+The study's cost-model sweep (added_shading_cost and added_ray_cost, seconds, default 0): a busy wait at every surface
+hit shaded and for every ray traced, a costlier shader's and a costlier scene's stand-ins that change no image
+(sphrect.study.sweep).
 
 Defaults (mis="power", pattern="sobol": best at equal samples; light_samples=2: best at equal time over
 the blend_scenes, the lights in view and their edges' coverage exact): docs/renderer.md, "Light selection and
@@ -392,7 +393,8 @@ class Renderer:
                  bsdf_samples_on_diffuse: bool = _DEFAULTS["bsdf_samples_on_diffuse"],
                  memory_limit: Optional[int] = _DEFAULTS["memory_limit"],
                  emission_blocks: bool = _DEFAULTS["emission_blocks"],
-                 added_shading_cost: float = _DEFAULTS["added_shading_cost"]):
+                 added_shading_cost: float = _DEFAULTS["added_shading_cost"],
+                 added_ray_cost: float = _DEFAULTS["added_ray_cost"]):
         if not isinstance(scene, Scene):
             raise ValueError(f"expected a sphrect.Scene, got {type(scene).__name__}")
         if isinstance(techniques, str):
@@ -423,7 +425,7 @@ class Renderer:
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
                                     str(light_selection), str(ellipse_technique), seed, threads, tile_size,
                                     bool(analytic_light_coverage), bool(bsdf_samples_on_diffuse), memory_limit,
-                                    bool(emission_blocks), float(added_shading_cost))
+                                    bool(emission_blocks), float(added_shading_cost), float(added_ray_cost))
         self._techniques = techniques
         self._memory_limit = memory_limit
 

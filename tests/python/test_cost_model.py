@@ -175,10 +175,32 @@ def test_sweep_crossing_and_verdicts():
     a, b = terms(1 * US, 1 * US, 2, 0.5 * US), terms(1 * US, 3 * US, 2, 0.5 * US)
     pair = costs.PairCost(ka, kb, 0.025, 16, 10.24, a, b, cm.break_even(16, a, 10.24, b),
                           cm.break_even(16, a, 10.24, b, cm.SHADING_AXIS))
-    levels = [sweep.Level(cm.RAY_AXIS, lv, 0, x, {sweep.label(ka): a.at(x), sweep.label(kb): b.at(x)}, {})
+    levels = [sweep.Level(sweep.ADDED_RAY, lv, 0, x, {sweep.label(ka): a.at(x), sweep.label(kb): b.at(x)}, {})
               for lv, x in ((0, 0.3 * US), (1, 0.7 * US), (2, 1.5 * US))]
-    (v,) = sweep.verdicts([pair], levels, cm.RAY_AXIS)
+    (v,) = sweep.verdicts([pair], levels, sweep.ADDED_RAY)
     assert v.side == "above" and v.break_even == pytest.approx(8.96 / 11.52 * US)
     assert v.measured == pytest.approx(v.predicted)
     assert 0.3 * US < v.measured_crossing < 1.5 * US
     assert v.measured_crossing == pytest.approx(v.break_even, rel=0.2)
+
+
+def test_added_costs_change_no_image_and_are_in_the_terms():
+    """Renderer(added_ray_cost=..., added_shading_cost=...): the same image bit for bit, and the busy waits in the
+    terms they belong to -- at least the cost added per ray in t_ray, and per hit in the fixed work (each wait lasts
+    at least as long as asked)."""
+    light = sphrect.RectLight(corner=(-0.4, -0.3, 0.6), edge_x=(0, 0.8, 0), edge_y=(0.8, 0, 0), radiance=(3, 3, 3),
+                              visible=False)
+    scene = sphrect.Scene(camera=top_camera(width=8, height=8), meshes=[plane_mesh()], lights=[light])
+
+    def run(**kw):
+        r = sphrect.Renderer(scene, techniques=["rectangle"], threads=1, seed=2, **kw)
+        r.render(4)
+        return np.asarray(r.image()), cm.cost_terms({**r.stats(), "cpu_time": None})
+    base, _ = run()
+    image, t = run(added_ray_cost=2 * US)
+    assert np.array_equal(image, base) and t.t_ray >= 2 * US
+    image, t = run(added_shading_cost=3 * US)
+    assert np.array_equal(image, base) and t.fixed >= 3 * US * t.hits
+    for bad in (-1e-9, 2e-3, float("nan")):
+        with pytest.raises(ValueError):
+            sphrect.Renderer(scene, added_ray_cost=bad)

@@ -154,11 +154,12 @@ def test_cost_model_and_sweep_on_the_renderer(tmp_path):
     report = (out / "report.md").read_text()
     assert "What a sample costs" in report and "relative_efficiency.png" in report
     assert "| rectangle / mis=power / sobol | area / mis=power / sobol |" in report
-    path = run_sweep(str(out), geometry_levels=(0, 2), shading_costs=(0.0, 1e-6), repeats=1)
+    path = run_sweep(str(out), geometry_levels=(0, 2), shading_costs=(0.0, 1e-6), repeats=1, ray_costs=(0.0, 1e-6))
     sweep = json.load(open(os.path.join(os.path.dirname(path), "sweep.json")))
-    geometry = sweep["ray cost"]["levels"]
+    geometry = sweep["geometry"]["levels"]
     assert geometry[1]["triangles"] == 16 * geometry[0]["triangles"]
     assert all(len(lv["costs"]) == 2 and all(c > 0 for c in lv["costs"].values()) for lv in geometry)
-    (pair,) = sweep["shading cost per hit"]["pairs"]
+    (pair,) = sweep["added shading cost"]["pairs"]
     assert pair["b"] == "rectangle / mis=power" and len(pair["measured"]) == len(pair["predicted"]) == 2
+    assert len(sweep["added ray cost"]["levels"]) == 2
     assert os.path.exists(os.path.join(os.path.dirname(path), "sweep.png"))

@@ -146,6 +146,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
         GenerateCameraSamples<kDof>(p, chunk, ctx.sample_bsdf, scratch);
         const Stopwatch camera_trace;
         TraceCameraRays(scene.rtc_scene, scratch.hits.data(), chunk_n, scratch.camera_hits.data());
+        if (ctx.added_ray_ticks) SpinTicks(ctx.added_ray_ticks * chunk_n);  // (the cost-model sweep's)
         tally.camera_trace_seconds += camera_trace.Seconds();
         FinishCameraSamples<kGlossy, kMedium>(scene, scratch.camera_hits.data(), chunk_n, scratch.hits.data(),
                                               scratch.camera_ray_media.data());
@@ -161,6 +162,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             tt.rays += scratch.shadow_rays.size();
             const Stopwatch trace;
             ResolveShadowRays(scene, scratch.shadow_rays, scratch.sample_values.data(), scratch.shadow_crossed);
+            if (ctx.added_ray_ticks) SpinTicks(ctx.added_ray_ticks * scratch.shadow_rays.size());
             tt.trace_seconds += trace.Seconds();
             tt.dropped +=
                 SumPixelSamples(scratch.sample_values.data(), chunk.count, n, &scratch.pixel_sums[k * chunk_pixels]);

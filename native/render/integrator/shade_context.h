@@ -31,6 +31,7 @@ struct ShadeContext {
     Spectrum environment_transmittance;
     bool emission_blocks;          // RenderOptions::emission_blocks
     uint64_t added_shading_ticks;  // RenderOptions::added_shading_cost in ReadTicks() units (0: none)
+    uint64_t added_ray_ticks;      // RenderOptions::added_ray_cost likewise
 };
 
 template <bool kMedium>
@@ -53,7 +54,8 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
                 : nullptr,
             SegmentTransmittance<kMedium>(scene.medium, kInf),
             opt.emission_blocks,
-            uint64_t(opt.added_shading_cost * TicksPerSecond())};
+            uint64_t(opt.added_shading_cost * TicksPerSecond()),
+            uint64_t(opt.added_ray_cost * TicksPerSecond())};
 }
 
 // The same context without MIS: light samples alone, and BSDF samples only to find the background.

@@ -2,15 +2,17 @@
 equal error measured against the model's prediction.
 
     PYTHONPATH=build/python /usr/bin/python3 -m sphrect.study.sweep STUDY_DIR [--levels 0,2,4,6]
-        [--shading-costs 0,1e-7,1e-6,1e-5] [--repeats 3]
+        [--ray-costs 0,1e-7,1e-6,1e-5] [--shading-costs 0,1e-7,1e-6,1e-5] [--repeats 3] [--report-only]
 
-Two axes.  Geometry: the scene's non-emissive meshes split `level` times (complexity.subdivide_scene: the same image,
-deeper BVH), so that a ray costs more.  Shading: a busy wait added at every surface hit (Renderer's
-added_shading_cost), a costlier shader's stand-in.  Neither changes the image, so the samples each configuration
-needs for an error are the study's (its ladder, level 0); at every level each configuration at the study's headline
-pattern (its techniques under each of its MIS modes: headline_keys) is rendered again for its cost per camera sample
-(the least CPU time of --repeats renders).  Per pair -- every two techniques under one MIS mode, every two MIS modes of
-a technique (report/costs.py: B needs fewer samples than A for the larger of their top-rung RMSEs):
+Three axes.  Geometry: the scene's non-emissive meshes split `level` times (complexity.subdivide_scene: the same
+image, a deeper BVH), so that a ray costs more -- really, but only over what one scene's BVH can span (here tens of
+ns).  A cost added per ray traced and one added per surface hit shaded (Renderer's added_ray_cost and
+added_shading_cost: busy waits): a production scene's rays and shaders, over microseconds.  None changes the image, so
+the samples each configuration needs for an error are the study's (its ladder, level 0); at every level each
+configuration at the study's headline pattern (its techniques under each of its MIS modes: headline_keys) is rendered
+again for its cost per camera sample (the least CPU time of --repeats renders).  Per pair -- every two techniques
+under one MIS mode, every two MIS modes of a technique (report/costs.py: B needs fewer samples than A for the larger
+of their top-rung RMSEs):
 
 - predicted: A's time to the error over B's at that level, from the study's own terms (cost_model.CostTerms) with the
   level's ray cost (the median t_ray measured there) or its added shading cost, and the break-even cost;
@@ -38,6 +40,12 @@ from .store import atomic_write_bytes, atomic_write_json
 # that the timers' resolution and the call's own setup stay small against it.
 RENDER_SECONDS = 0.3
 MAX_SWEEP_SAMPLES = 64
+# The sweep's axes: the geometry subdivided, a cost added per ray traced, a cost added per surface hit shaded; the
+# model's axis each moves along (the first two: the ray cost, measured at each level), and their titles.
+GEOMETRY, ADDED_RAY, ADDED_SHADING = "geometry", "added ray cost", "added shading cost"
+MODEL_AXIS = {GEOMETRY: RAY_AXIS, ADDED_RAY: RAY_AXIS, ADDED_SHADING: SHADING_AXIS}
+AXIS_TITLES = {GEOMETRY: "geometry (subdivision levels)", ADDED_RAY: "a cost added per ray traced",
+               ADDED_SHADING: "a cost added per surface hit shaded"}
 # A measured time ratio within this of 1 is a tie: the least of three renders' CPU times scatters by ~1-3% between
 # levels on the shared machine (the paper scene's MIS pairs, whose images are the same, measured 0.975-1.01).
 TIMING_NOISE = 0.03
@@ -45,8 +53,8 @@ TIMING_NOISE = 0.03
 
 @dataclass(frozen=True)
 class Level:
-    axis: str            # RAY_AXIS (geometry) or SHADING_AXIS
-    value: float         # subdivision levels, or the added shading cost per hit [s]
+    axis: str            # GEOMETRY, ADDED_RAY or ADDED_SHADING
+    value: float         # subdivision levels, or the cost added per ray or per hit [s]
     triangles: int
     ray_cost: float      # the median t_ray measured at this level [s]
     costs: Dict[str, float]   # configuration (label) -> measured CPU time per camera sample [s]
@@ -84,7 +92,8 @@ def label(key: CurveKey) -> str:
 def measure_level(scene, keys: Sequence[CurveKey], samples: Dict[str, int], repeats: int, axis: str, value: float,
                   light_samples: Dict[str, int]) -> Level:
     import sphrect
-    shading = value if axis == SHADING_AXIS else 0.0
+    shading = value if axis == ADDED_SHADING else 0.0
+    ray = value if axis == ADDED_RAY else 0.0
     costs, terms = {}, {}
     for key in keys:
         best = None
@@ -93,7 +102,7 @@ def measure_level(scene, keys: Sequence[CurveKey], samples: Dict[str, int], repe
                                         light_selection=key.light_selection, ellipse_technique=key.ellipse_technique,
                                         medium_sampling=key.medium_sampling, light_samples=light_samples[label(key)],
                                         threads=1,
-                                        seed=7 + r, added_shading_cost=shading)
+                                        seed=7 + r, added_shading_cost=shading, added_ray_cost=ray)
             c0 = time.process_time()
             renderer.render(samples[label(key)])
             cpu = time.process_time() - c0
@@ -124,14 +133,21 @@ def crossing(xs: Sequence[float], ratios: Sequence[float], noise: float = 0.0) -
     return None
 
 
+def axis_positions(levels: List[Level], axis: str) -> List[float]:
+    """Where the levels of a sweep axis lie on the model's axis: the ray cost measured there, or the shading cost."""
+    return [lv.ray_cost if MODEL_AXIS[axis] == RAY_AXIS else lv.value for lv in levels]
+
+
 def verdicts(pairs, levels: List[Level], axis: str) -> List[PairVerdict]:
-    xs = [lv.ray_cost if axis == RAY_AXIS else lv.value for lv in levels]
+    """Every pair along the sweep axis `axis` (GEOMETRY, ADDED_RAY, ADDED_SHADING)."""
+    xs = axis_positions(levels, axis)
+    model_axis = MODEL_AXIS[axis]
     out = []
     for p in pairs:
         a, b = label(p.a), label(p.b)
-        predicted = [p.efficiency(x) if axis == RAY_AXIS else p.efficiency(None, x) for x in xs]
+        predicted = [p.efficiency(x) if model_axis == RAY_AXIS else p.efficiency(None, x) for x in xs]
         measured = [(p.n_a * lv.costs[a]) / (p.n_b * lv.costs[b]) for lv in levels]
-        be = break_even(p.n_a, p.terms_a, p.n_b, p.terms_b, axis)
+        be = break_even(p.n_a, p.terms_a, p.n_b, p.terms_b, model_axis)
         out.append(PairVerdict(a, b, p.n_a, p.n_b, be.threshold, be.side, predicted, measured,
                                crossing(xs, measured, TIMING_NOISE), p.accuracy_tie))
     return out
@@ -158,7 +174,7 @@ def summary(pair_verdicts: List[PairVerdict], levels: List[Level], axis: str) ->
     side = [(0 if abs(r - 1) <= TIMING_NOISE else (1 if r > 1 else -1)) for v in pair_verdicts for r in v.measured]
     predicted_side = [(1 if r > 1 else -1) for v in pair_verdicts for r in v.predicted]
     decided = [(s, p) for s, p in zip(side, predicted_side) if s != 0]
-    xs = [lv.ray_cost if axis == RAY_AXIS else lv.value for lv in levels]
+    xs = axis_positions(levels, axis)
     inside = [v for v in pair_verdicts if v.side in ("above", "below") and min(xs) <= v.break_even <= max(xs)
               and not v.accuracy_tie]
     measured = [v for v in pair_verdicts if v.measured_crossing is not None]
@@ -186,19 +202,18 @@ def write_outputs(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: D
              "and measured at each level; the break-even cost predicted from the study's terms, and where the "
              "measured ratio crosses 1.\n"]
     for axis, axis_levels in levels.items():
-        name = "geometry (subdivision levels)" if axis == RAY_AXIS else "added shading cost per hit"
-        lines.append(f"## {name}\n")
+        lines.append(f"## {AXIS_TITLES[axis]}\n")
         lines.append(summary(pair_verdicts[axis], axis_levels, axis) + "\n")
         lines.append("| level | triangles | ray cost | " + " | ".join(
             f"{t} [ns per camera sample]" for t in axis_levels[0].costs) + " |")
         lines.append("|" + "---|" * (3 + len(axis_levels[0].costs)))
         for lv in axis_levels:
-            label = f"{lv.value:g}" if axis == RAY_AXIS else ns(lv.value)
+            label = f"{lv.value:g}" if axis == GEOMETRY else ns(lv.value)
             lines.append(f"| {label} | {lv.triangles} | {ns(lv.ray_cost)} | " + " | ".join(
                 f"{c * 1e9:.0f}" for c in lv.costs.values()) + " |")
         lines.append("")
         lines.append("| B | against A | spp B / A | predicted | measured crossing | " + " | ".join(
-            f"level {lv.value:g}" if axis == RAY_AXIS else ns(lv.value) for lv in axis_levels)
+            f"level {lv.value:g}" if axis == GEOMETRY else ns(lv.value) for lv in axis_levels)
             + " (measured / predicted) |")
         lines.append("|" + "---|" * (5 + len(axis_levels)))
         for v in pair_verdicts[axis]:
@@ -217,13 +232,14 @@ def plot(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, 
     plt = _plt()
     fig, axes = plt.subplots(1, len(levels), figsize=(5.5 * len(levels), 4.4), squeeze=False)
     for ax, (axis, axis_levels) in zip(axes[0], levels.items()):
-        xs = [(lv.ray_cost if axis == RAY_AXIS else max(lv.value, 1e-9)) * 1e9 for lv in axis_levels]
+        xs = [max(x, 1e-9) * 1e9 for x in axis_positions(axis_levels, axis)]
         for v in pair_verdicts[axis]:
             colour = technique_colour(v.b.split(" / ")[0])
             ax.semilogx(xs, v.predicted, "-", color=colour, lw=1)
             ax.semilogx(xs, v.measured, "o", color=colour, ms=4, label=f"{v.b} / {v.a}")
         ax.axhline(1.0, color="grey", ls=":", lw=1)
-        ax.set_xlabel("cost of a ray [ns]" if axis == RAY_AXIS else "shading cost added per hit [ns]")
+        ax.set_title(AXIS_TITLES[axis], fontsize=9)
+        ax.set_xlabel("cost of a ray [ns]" if MODEL_AXIS[axis] == RAY_AXIS else "shading cost added per hit [ns]")
         ax.set_ylabel("A's time to the error / B's (line: predicted, dots: measured)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=6)
@@ -232,7 +248,7 @@ def plot(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, 
 
 def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
               shading_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5), repeats: int = 3,
-              report_only: bool = False) -> str:
+              report_only: bool = False, ray_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5)) -> str:
     """Measure the levels (or, report_only, read them from the last sweep's sweep.json) and write the outputs."""
     from .report import costs as report_costs
     from .report.results import curves, load_study
@@ -256,11 +272,13 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
     base = load_study_scene(results.config["scene_file"], width, height)
     base_terms = {label(k): model[k].terms for k in keys}  # (the study's: the sweep's first estimate of a cost)
     light_samples = {label(k): all_curves[k][0]["job"]["light_samples"] for k in keys}
-    levels: Dict[str, List[Level]] = {RAY_AXIS: [], SHADING_AXIS: []}
-    for axis, values in ((RAY_AXIS, geometry_levels), (SHADING_AXIS, shading_costs)):
+    axes = ((GEOMETRY, geometry_levels), (ADDED_RAY, ray_costs), (ADDED_SHADING, shading_costs))
+    levels: Dict[str, List[Level]] = {axis: [] for axis, values in axes if values}
+    for axis, values in axes:
         for value in values:
-            scene = complexity.subdivide_scene(base, int(value)) if axis == RAY_AXIS else base
-            estimate = {t: terms.at(None, value if axis == SHADING_AXIS else 0.0) for t, terms in base_terms.items()}
+            scene = complexity.subdivide_scene(base, int(value)) if axis == GEOMETRY else base
+            estimate = {t: terms.at(terms.t_ray + (value if axis == ADDED_RAY else 0.0),
+                                    value if axis == ADDED_SHADING else 0.0) for t, terms in base_terms.items()}
             samples = {t: max(1, min(MAX_SWEEP_SAMPLES, round(RENDER_SECONDS / (c * width * height))))
                        for t, c in estimate.items()}
             levels[axis].append(measure_level(scene, keys, samples, repeats, axis, value, light_samples))
@@ -272,12 +290,14 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("study_dir")
     ap.add_argument("--levels", default="0,2,4,6", help="subdivision levels (comma list)")
+    ap.add_argument("--ray-costs", default="0,1e-7,1e-6,1e-5", help="seconds added per ray (comma list)")
     ap.add_argument("--shading-costs", default="0,1e-7,1e-6,1e-5", help="seconds added per hit (comma list)")
     ap.add_argument("--repeats", type=int, default=3, help="renders per configuration and level (the least time)")
     ap.add_argument("--report-only", action="store_true", help="rewrite sweep.md from the last sweep's sweep.json")
     a = ap.parse_args(argv)
     path = run_sweep(a.study_dir, [int(x) for x in a.levels.split(",")],
-                     [float(x) for x in a.shading_costs.split(",")], a.repeats, a.report_only)
+                     [float(x) for x in a.shading_costs.split(",")], a.repeats, a.report_only,
+                     [float(x) for x in a.ray_costs.split(",")])
     print(path)
     return 0
 

@@ -282,6 +282,7 @@ def cost_model_section(report: Report) -> None:
     techniques = [p for p in pairs if p.a.technique != p.b.technique]
     headline = CurveKey(cfg.techniques[0], cfg.grid_mis[0] if cfg.grid_mis[0] in cfg.mis else cfg.mis[0],
                         headline_pattern(cfg), *cfg.variants[0])
+    doc.para(f"At MIS {headline.mis}, pattern {headline.pattern} (every setting in the table below):")
     for p in techniques:
         if p.a._replace(technique=headline.technique) == headline:
             doc.para(cost_wording.pair_finding(p, ray_cost))
