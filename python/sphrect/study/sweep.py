@@ -246,6 +246,25 @@ def plot(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, 
     _save(plt, fig, os.path.join(out_dir, "sweep.png"))
 
 
+def stored_levels(study_dir: str) -> Optional[Dict[str, List[Level]]]:
+    """The levels the last sweep of the study measured (its sweep.json), or None."""
+    path = os.path.join(study_dir, "sweep", "sweep.json")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        stored = json.load(f)
+    return {axis: [Level(**lv) for lv in stored[axis]["levels"]] for axis in stored if axis in MODEL_AXIS}
+
+
+def summaries(study_dir: str, pairs) -> List[str]:
+    """The last sweep's agreement in words per axis (summary), for the study's report; [] without a sweep."""
+    levels = stored_levels(study_dir)
+    if not levels:
+        return []
+    return [f"- {AXIS_TITLES[axis]}: " + summary(verdicts(pairs, axis_levels, axis), axis_levels, axis)
+            for axis, axis_levels in levels.items()]
+
+
 def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
               shading_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5), repeats: int = 3,
               report_only: bool = False, ray_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5)) -> str:
@@ -264,9 +283,9 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
              if p.a in keys and p.b in keys]
     out_dir = os.path.join(study_dir, "sweep")
     if report_only:
-        with open(os.path.join(out_dir, "sweep.json")) as f:
-            stored = json.load(f)
-        levels = {axis: [Level(**lv) for lv in stored[axis]["levels"]] for axis in stored}
+        levels = stored_levels(study_dir)
+        if not levels:
+            raise ValueError(f"{out_dir} has no sweep.json to report: run the sweep first")
         return write_outputs(out_dir, levels, {axis: verdicts(pairs, levels[axis], axis) for axis in levels})
     width, height = results.config["width"], results.config["height"]
     base = load_study_scene(results.config["scene_file"], width, height)

@@ -300,6 +300,14 @@ def cost_model_section(report: Report) -> None:
     doc.table(cost_wording.PAIR_HEADER, cost_wording.pair_rows(pairs, *show))
     width, height = results.config.get("width"), results.config.get("height")
     doc.para(cost_wording.cycles_line(costs.cycles_cost(report.curves, model, (width or 0) * (height or 0)), *show))
+    from ..sweep import headline_keys, summaries  # (sweep.py draws on this package: imported when used)
+    swept = summaries(report.out_dir, [p for p in pairs if p.a in headline_keys(cfg, report.curves)
+                                       and p.b in headline_keys(cfg, report.curves)])
+    if swept:
+        doc.para("**The model against a sweep of this scene's cost** (`python -m sphrect.study.sweep`, "
+                 "sweep/sweep.md):")
+        for line in swept:
+            doc.para(line)
 
 
 def sampler_section(report: Report, sampler_table: bool) -> None:
