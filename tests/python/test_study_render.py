@@ -163,3 +163,7 @@ def test_cost_model_and_sweep_on_the_renderer(tmp_path):
     assert pair["b"] == "rectangle / mis=power" and len(pair["measured"]) == len(pair["predicted"]) == 2
     assert len(sweep["added ray cost"]["levels"]) == 2
     assert os.path.exists(os.path.join(os.path.dirname(path), "sweep.png"))
+    # The study's report, written again, summarises the sweep.
+    from sphrect.study.report import write_report
+    write_report(str(out), sampler_table=False)
+    assert "against a sweep of this scene's cost" in (out / "report.md").read_text()
