@@ -2,7 +2,7 @@
 equal error measured against the model's prediction.
 
     PYTHONPATH=build/python /usr/bin/python3 -m sphrect.study.sweep STUDY_DIR [--levels 0,2,4,6]
-        [--ray-costs 0,1e-7,1e-6,1e-5] [--shading-costs 0,1e-7,1e-6,1e-5] [--repeats 3] [--report-only]
+        [--ray-costs 0,1e-7,3e-7,1e-6,3e-6,1e-5] [--shading-costs ...] [--repeats 3] [--report-only]
 
 Three axes.  Geometry: the scene's non-emissive meshes split `level` times (complexity.subdivide_scene: the same
 image, a deeper BVH), so that a ray costs more -- really, but only over what one scene's BVH can span (here tens of
@@ -177,7 +177,8 @@ def summary(pair_verdicts: List[PairVerdict], levels: List[Level], axis: str) ->
     xs = axis_positions(levels, axis)
     inside = [v for v in pair_verdicts if v.side in ("above", "below") and min(xs) <= v.break_even <= max(xs)
               and not v.accuracy_tie]
-    measured = [v for v in pair_verdicts if v.measured_crossing is not None]
+    measured = [v for v in pair_verdicts if v.measured_crossing is not None and not v.accuracy_tie]
+    ties = [v for v in pair_verdicts if v.measured_crossing is not None and v.accuracy_tie]
     if not differences:
         return "No pair to compare."
     return (f"Over {len(pair_verdicts)} pairs x {len(levels)} levels ({ns(min(xs))} to {ns(max(xs))}): the predicted "
@@ -186,10 +187,13 @@ def summary(pair_verdicts: List[PairVerdict], levels: List[Level], axis: str) ->
             f"timing noise, the predicted verdict (which of the two is faster) agrees in "
             f"**{sum(s == p for s, p in decided)} of {len(decided)}** cases. Break-even costs the model puts within "
             f"the levels' range: {len(inside)}; crossings measured: {len(measured)}"
-            + (" -- " + "; ".join(f"{v.b} / {v.a}: predicted {ns(v.break_even)}, measured "
+            + (" -- " + "; ".join(f"{v.b} / {v.a}: predicted {predicted_side(v)}, measured "
                                   f"{ns(v.measured_crossing) if v.measured_crossing is not None else 'none'}"
                                   for v in {id(v): v for v in inside + measured}.values()) if inside or measured
-               else "") + ".")
+               else "")
+            + (f"; pairs tied in accuracy whose measured ratio strays across 1 by more than the noise: {len(ties)}"
+               if ties else "") + ". A measured crossing lies between the last level on one side of 1 and the "
+            "next beyond the noise on the other: it is located to within the levels' spacing.")
 
 
 def write_outputs(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, List[PairVerdict]]) -> str:
@@ -265,9 +269,12 @@ def summaries(study_dir: str, pairs) -> List[str]:
             for axis, axis_levels in levels.items()]
 
 
+ADDED_COSTS = (0.0, 1e-7, 3e-7, 1e-6, 3e-6, 1e-5)  # the added costs' default levels [s]
+
+
 def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
-              shading_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5), repeats: int = 3,
-              report_only: bool = False, ray_costs: Sequence[float] = (0.0, 1e-7, 1e-6, 1e-5)) -> str:
+              shading_costs: Sequence[float] = ADDED_COSTS, repeats: int = 3,
+              report_only: bool = False, ray_costs: Sequence[float] = ADDED_COSTS) -> str:
     """Measure the levels (or, report_only, read them from the last sweep's sweep.json) and write the outputs."""
     from .report import costs as report_costs
     from .report.results import curves, load_study
@@ -309,8 +316,9 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("study_dir")
     ap.add_argument("--levels", default="0,2,4,6", help="subdivision levels (comma list)")
-    ap.add_argument("--ray-costs", default="0,1e-7,1e-6,1e-5", help="seconds added per ray (comma list)")
-    ap.add_argument("--shading-costs", default="0,1e-7,1e-6,1e-5", help="seconds added per hit (comma list)")
+    costs = ",".join(f"{c:g}" for c in ADDED_COSTS)
+    ap.add_argument("--ray-costs", default=costs, help="seconds added per ray (comma list)")
+    ap.add_argument("--shading-costs", default=costs, help="seconds added per hit (comma list)")
     ap.add_argument("--repeats", type=int, default=3, help="renders per configuration and level (the least time)")
     ap.add_argument("--report-only", action="store_true", help="rewrite sweep.md from the last sweep's sweep.json")
     a = ap.parse_args(argv)
