@@ -172,8 +172,8 @@ def summary(pair_verdicts: List[PairVerdict], levels: List[Level], axis: str) ->
     flips predicted within the levels' range and those measured."""
     differences = sorted(abs(p / m - 1) for v in pair_verdicts for p, m in zip(v.predicted, v.measured))
     side = [(0 if abs(r - 1) <= TIMING_NOISE else (1 if r > 1 else -1)) for v in pair_verdicts for r in v.measured]
-    predicted_side = [(1 if r > 1 else -1) for v in pair_verdicts for r in v.predicted]
-    decided = [(s, p) for s, p in zip(side, predicted_side) if s != 0]
+    predicted_sides = [(1 if r > 1 else -1) for v in pair_verdicts for r in v.predicted]
+    decided = [(s, p) for s, p in zip(side, predicted_sides) if s != 0]
     xs = axis_positions(levels, axis)
     inside = [v for v in pair_verdicts if v.side in ("above", "below") and min(xs) <= v.break_even <= max(xs)
               and not v.accuracy_tie]
@@ -257,7 +257,7 @@ def stored_levels(study_dir: str) -> Optional[Dict[str, List[Level]]]:
         return None
     with open(path) as f:
         stored = json.load(f)
-    return {axis: [Level(**lv) for lv in stored[axis]["levels"]] for axis in stored if axis in MODEL_AXIS}
+    return {axis: [Level(**lv) for lv in stored[axis]["levels"]] for axis in MODEL_AXIS if axis in stored}
 
 
 def summaries(study_dir: str, pairs) -> List[str]:
