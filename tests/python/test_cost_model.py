@@ -182,6 +182,9 @@ def test_sweep_crossing_and_verdicts():
     assert v.measured == pytest.approx(v.predicted)
     assert 0.3 * US < v.measured_crossing < 1.5 * US
     assert v.measured_crossing == pytest.approx(v.break_even, rel=0.2)
+    text = sweep.summary([v], levels, sweep.ADDED_RAY)
+    assert "agrees in **2 of 2**" in text and "within the levels' range: 1; crossings measured: 1" in text
+    assert "predicted B faster above 778 ns" in text
 
 
 def test_added_costs_change_no_image_and_are_in_the_terms():
