@@ -58,8 +58,8 @@ struct ThreadScratch {
 struct TechniqueTally {
     uint64_t light_ticks = 0;  // ReadTicks() units (ticks.h), counted by TimedLightSamplingAt
     double total_seconds = 0;  // whole per-technique pass (light sampling and tracing included)
-    double trace_seconds = 0;  // tracing its occlusion rays (ResolveShadowRays)
-    uint64_t rays = 0;         // occlusion rays traced (the shadow-ray queue's lengths)
+    double trace_seconds = 0;  // tracing its rays: the occlusion stream, and BSDF rays' emitter search (InlineRayTally)
+    uint64_t rays = 0;         // rays traced: the shadow-ray queue's lengths and the emitter-search rays
     uint64_t dropped = 0;      // non-finite samples left out of the image
 
     TechniqueTally& operator+=(const TechniqueTally& o) {

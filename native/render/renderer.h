@@ -24,7 +24,8 @@ struct TechniqueStats {
     double shading_time = 0;       // thread-seconds in the rest of its direct lighting: BSDF, MIS, shadow rays
     double camera_time = 0;        // thread-seconds of camera rays and first hits (shared)
     double tile_time = 0;          // thread-seconds in the tiles, whole: all stages and techniques (shared)
-    double trace_time = 0;         // thread-seconds tracing this technique's occlusion rays (within shading_time)
+    double trace_time = 0;         // thread-seconds tracing this technique's rays (within shading_time): the occlusion
+                                   // stream and emissive meshes' search by BSDF rays
     double camera_trace_time = 0;  // thread-seconds tracing the camera rays (within camera_time; shared)
     uint64_t rays = 0;             // shadow and BSDF/phase rays cast for this technique
     uint64_t camera_rays = 0;      // camera rays (shared)

@@ -100,6 +100,23 @@ static inline void QueueMeshEmitterHit(const ShadeContext& c, const RTCRayHit& r
     sink.Add(o, d, t, le * SegmentTransmittance<kMedium>(c.scene.medium, t) * w, ray);
 }
 
+// The emitter-search rays shading traces one at a time (a BSDF ray in a scene with emissive meshes), counted and timed
+// per thread for the cost model: RenderTile reads and clears them per technique pass (TechniqueTally::rays,
+// trace_seconds), as it times the occlusion stream.
+struct InlineRayTally {
+    uint64_t rays = 0, ticks = 0;
+};
+inline thread_local InlineRayTally inline_rays;
+
+// rtcIntersect1, counted and timed in inline_rays (and with RenderOptions::added_ray_cost's wait).
+static inline void IntersectInline(const ShadeContext& c, RTCIntersectContext* ctx, RTCRayHit* rh) {
+    const uint64_t t0 = ReadTicks();
+    rtcIntersect1(c.scene.rtc_scene, ctx, rh);
+    if (c.added_ray_ticks) SpinTicks(c.added_ray_ticks);
+    inline_rays.ticks += ReadTicks() - t0;
+    ++inline_rays.rays;
+}
+
 // In a scene with transparent surfaces: the emitters the ray (o, d) finds from its first hit rh on, past the
 // transparent surfaces (their filtering is the occlusion ray's: ResolveShadowRays) -- an emitter that may be
 // transparent counts and lets the ray on, as a Cycles path adds a surface's emission before going through it.
@@ -115,7 +132,7 @@ template <Technique K, bool kMedium, typename LightPdfs>
         QueueMeshEmitterHit<K, kMedium>(c, rh, o, d, pdf_dir, ray, crossed, light_sampling, sink);
         if (!through) return;
         rh = MakeRTCRayHit(o, d, BeyondHit(rh.ray.tfar), kInf, ray);
-        rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
+        IntersectInline(c, &ctx, &rh);
     }
 }
 
@@ -127,7 +144,7 @@ static inline void QueueMeshEmitterAlongRay(const ShadeContext& c, const Vec3f& 
     RTCRayHit rh = MakeRTCRayHit(o, d, 0, kInf, ray);
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
-    rtcIntersect1(c.scene.rtc_scene, &ctx, &rh);
+    IntersectInline(c, &ctx, &rh);
     if (c.scene.has_transparency)
         return QueueMeshEmittersThroughTransparent<K, kMedium>(c, rh, o, d, pdf_dir, ray, light_sampling, sink);
     if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID)
