@@ -520,8 +520,8 @@ class Renderer:
 
     def stats(self, technique=None) -> dict:
         """samples, wall_time (s, shared), light_time and shading_time (thread-seconds of this
-        technique), trace_time (the part of shading_time tracing its rays: the occlusion stream, and the emitter search of
-        BSDF rays in a scene with emissive meshes), rays (its shadow/BSDF rays),
+        technique), trace_time (the part of shading_time tracing its rays: the occlusion stream, and the emitter
+        search of BSDF rays in a scene with emissive meshes), rays (its shadow/BSDF rays),
         camera_time, camera_trace_time (the part tracing the camera rays), tile_time (the tiles whole: every stage and
         technique, the image's accumulation), camera_rays and surface_hits (camera rays that hit a surface; all
         shared), dropped_samples (non-finite samples left out of the image; expected 0)."""
