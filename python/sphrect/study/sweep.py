@@ -91,25 +91,27 @@ def label(key: CurveKey) -> str:
 
 def measure_level(scene, keys: Sequence[CurveKey], samples: Dict[str, int], repeats: int, axis: str, value: float,
                   light_samples: Dict[str, int]) -> Level:
+    """Every configuration rendered `repeats` times at this level, the repeats interleaved (a round over all of them,
+    then the next), so that a stretch of other load on the machine slows one round, not every repeat of one
+    configuration; each keeps its least CPU time per camera sample."""
     import sphrect
     shading = value if axis == ADDED_SHADING else 0.0
     ray = value if axis == ADDED_RAY else 0.0
-    costs, terms = {}, {}
-    for key in keys:
-        best = None
-        for r in range(repeats):
+    best: Dict[str, object] = {}
+    for r in range(repeats):
+        for key in keys:
             renderer = sphrect.Renderer(scene, techniques=[key.technique], mis=key.mis, pattern=key.pattern,
                                         light_selection=key.light_selection, ellipse_technique=key.ellipse_technique,
                                         medium_sampling=key.medium_sampling, light_samples=light_samples[label(key)],
-                                        threads=1,
-                                        seed=7 + r, added_shading_cost=shading, added_ray_cost=ray)
+                                        threads=1, seed=7 + r, added_shading_cost=shading, added_ray_cost=ray)
             c0 = time.process_time()
             renderer.render(samples[label(key)])
             cpu = time.process_time() - c0
             t = cost_terms({**renderer.stats(), "cpu_time": cpu})
-            if best is None or t.measured < best.measured:
-                best = t
-        costs[label(key)], terms[label(key)] = best.measured, asdict(best)
+            if label(key) not in best or t.measured < best[label(key)].measured:
+                best[label(key)] = t
+    costs = {name: t.measured for name, t in best.items()}
+    terms = {name: asdict(t) for name, t in best.items()}
     rays = sorted(t["t_ray"] for t in terms.values())
     return Level(axis, value, complexity.triangle_count(scene), rays[len(rays) // 2], costs, terms)
 
