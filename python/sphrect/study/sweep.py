@@ -78,7 +78,7 @@ class PairVerdict:
 def headline_keys(settings, all_curves) -> List[CurveKey]:
     """The study's techniques under each of its MIS modes at its headline pattern and first light selection (ellipse
     technique, medium sampling): the configurations the sweep renders again."""
-    from .report.compose import headline_pattern
+    from .report.findings import headline_pattern
     keys = [CurveKey(t, m, headline_pattern(settings), *settings.variants[0]) for m in settings.mis
             for t in settings.techniques]
     return [k for k in keys if all_curves.get(k)]
@@ -234,22 +234,11 @@ def write_outputs(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: D
 
 
 def plot(out_dir: str, levels: Dict[str, List[Level]], pair_verdicts: Dict[str, List[PairVerdict]]) -> None:
-    from .report.plots import _plt, _save, technique_colour
-    plt = _plt()
-    fig, axes = plt.subplots(1, len(levels), figsize=(5.5 * len(levels), 4.4), squeeze=False)
-    for ax, (axis, axis_levels) in zip(axes[0], levels.items()):
-        xs = [max(x, 1e-9) * 1e9 for x in axis_positions(axis_levels, axis)]
-        for v in pair_verdicts[axis]:
-            colour = technique_colour(v.b.split(" / ")[0])
-            ax.semilogx(xs, v.predicted, "-", color=colour, lw=1)
-            ax.semilogx(xs, v.measured, "o", color=colour, ms=4, label=f"{v.b} / {v.a}")
-        ax.axhline(1.0, color="grey", ls=":", lw=1)
-        ax.set_title(AXIS_TITLES[axis], fontsize=9)
-        ax.set_xlabel("cost of a ray [ns]" if MODEL_AXIS[axis] == RAY_AXIS else "shading cost added per hit [ns]")
-        ax.set_ylabel("A's time to the error / B's (line: predicted, dots: measured)")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=6)
-    _save(plt, fig, os.path.join(out_dir, "sweep.png"))
+    from .report.plots import plot_sweep
+    panels = [(AXIS_TITLES[axis], "cost of a ray [ns]" if MODEL_AXIS[axis] == RAY_AXIS else
+               "shading cost added per hit [ns]", axis_positions(axis_levels, axis), pair_verdicts[axis])
+              for axis, axis_levels in levels.items()]
+    plot_sweep(panels, os.path.join(out_dir, "sweep.png"))
 
 
 def stored_levels(study_dir: str) -> Optional[Dict[str, List[Level]]]:

@@ -7,7 +7,7 @@ import os
 from dataclasses import dataclass
 from typing import List, Optional
 
-from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, DEFAULT_MEDIUM_SAMPLING, CurveKey, StudyConfig
+from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, DEFAULT_MEDIUM_SAMPLING, CurveKey
 from ..store import atomic_write_bytes
 from . import cost_wording, costs, equal_error, findings, plots, wording
 from .curves import REFERENCE_NOISE_FACTOR
@@ -69,13 +69,6 @@ def measure(out_dir: str, results: StudyResults) -> Report:
                   equal_error.selection_comparisons(cfg, all_curves, ref_rmse),
                   equal_error.ellipse_comparisons(cfg, all_curves, ref_rmse),
                   equal_error.medium_comparisons(cfg, all_curves, ref_rmse), Document())
-
-
-def headline_pattern(cfg: StudyConfig) -> str:
-    """The pattern of the summary's figure: the equal-time grid's if studied, else the first stratifying one."""
-    if cfg.grid_pattern in cfg.patterns:
-        return cfg.grid_pattern
-    return next((p for p in cfg.patterns if p != findings.UNSTRATIFIED), cfg.patterns[0])
 
 
 def shown_path(path: str) -> str:
@@ -170,7 +163,7 @@ def summary_section(report: Report) -> None:
                                       report.show_selection, report.ellipse, report.show_ellipse,
                                       report.projected, report.medium):
         report.doc.para(line)
-    pattern = headline_pattern(report.results.settings)
+    pattern = findings.headline_pattern(report.results.settings)
     report.doc.image(f"{PLOTS}/rmse_vs_time_{pattern}.png", f"RMSE vs time, pattern {pattern} (more below)")
 
 
@@ -281,7 +274,7 @@ def cost_model_section(report: Report) -> None:
     pairs = costs.pair_costs(cfg, report.curves, model, results.reference_rmse)
     techniques = [p for p in pairs if p.a.technique != p.b.technique]
     headline = CurveKey(cfg.techniques[0], cfg.grid_mis[0] if cfg.grid_mis[0] in cfg.mis else cfg.mis[0],
-                        headline_pattern(cfg), *cfg.variants[0])
+                        findings.headline_pattern(cfg), *cfg.variants[0])
     doc.para(f"At MIS {headline.mis}, pattern {headline.pattern} (every setting in the table below):")
     for p in techniques:
         if p.a._replace(technique=headline.technique) == headline:

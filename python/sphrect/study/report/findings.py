@@ -24,6 +24,14 @@ ELLIPSE_MAP, ELLIPSE_AREA = "spherical_ellipse", "area"
 SLOPE_DIFFERENCE = 0.03  # smallest slope difference reported as a difference
 
 
+def headline_pattern(cfg: StudyConfig) -> str:
+    """The pattern of the report's headline figures: the equal-time grid's if studied, else the first stratifying
+    one."""
+    if cfg.grid_pattern in cfg.patterns:
+        return cfg.grid_pattern
+    return next((p for p in cfg.patterns if p != UNSTRATIFIED), cfg.patterns[0])
+
+
 def ratio_of(a: float, b: float) -> float:
     """a / b, NaN when b is 0 (a run can be infinitely wrong; a ratio is then no number)."""
     return a / b if b else float("nan")

@@ -189,3 +189,23 @@ def plot_relative_efficiency(lines: Dict[str, object], baseline: str, setting: s
     ray_ax.set_ylabel(f"efficiency at equal error / {baseline}'s")
     fig.suptitle(f"Time to the same error, {setting}: above 1 the technique reaches it sooner than {baseline}")
     _save(plt, fig, path)
+
+
+def plot_sweep(panels, path: str) -> None:
+    """The cost model's sweep (sweep.py): a panel per axis (title, x label, the levels' positions on it [s], the pairs'
+    verdicts), each pair's time ratio at equal error predicted (line) and measured (dots) against the position."""
+    plt = _plt()
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.4), squeeze=False)
+    for ax, (title, xlabel, positions, verdicts) in zip(axes[0], panels):
+        xs = [max(x, 1e-9) * 1e9 for x in positions]
+        for v in verdicts:
+            colour = technique_colour(v.b.split(" / ")[0])
+            ax.semilogx(xs, v.predicted, "-", color=colour, lw=1)
+            ax.semilogx(xs, v.measured, "o", color=colour, ms=4, label=f"{v.b} / {v.a}")
+        ax.axhline(1.0, color="grey", ls=":", lw=1)
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("A's time to the error / B's (line: predicted, dots: measured)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=6)
+    _save(plt, fig, path)
