@@ -25,6 +25,10 @@ inline uint64_t ReadTicks() {
 // ReadTicks() units per second, measured once (over ~2 ms of the steady clock) at the first call.
 double TicksPerSecond();
 
+// `seconds` in ReadTicks() units; 0 without measuring the rate (the measurement spins ~2 ms, once per process: only
+// what needs ticks pays it).
+inline uint64_t SecondsToTicks(double seconds) { return seconds > 0 ? uint64_t(seconds * TicksPerSecond()) : 0; }
+
 // Busy-waits `ticks` ReadTicks() units (RenderOptions::added_shading_cost).
 inline void SpinTicks(uint64_t ticks) {
     const uint64_t end = ReadTicks() + ticks;

@@ -161,7 +161,7 @@ void RenderTile(const KernelParams& p, const TileRect& tile, ThreadScratch& scra
             inline_rays = {};
             ShadeCameraSamples<kGlossy, kMedium>(opt.techniques[k], ctx, chunk_n, scratch, tt.light_ticks);
             tt.rays += scratch.shadow_rays.size() + inline_rays.rays;
-            tt.trace_seconds += double(inline_rays.ticks) / TicksPerSecond();
+            if (inline_rays.ticks) tt.trace_seconds += double(inline_rays.ticks) / TicksPerSecond();
             const Stopwatch trace;
             ResolveShadowRays(scene, scratch.shadow_rays, scratch.sample_values.data(), scratch.shadow_crossed);
             if (ctx.added_ray_ticks) SpinTicks(ctx.added_ray_ticks * scratch.shadow_rays.size());

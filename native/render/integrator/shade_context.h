@@ -54,8 +54,8 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
                 : nullptr,
             SegmentTransmittance<kMedium>(scene.medium, kInf),
             opt.emission_blocks,
-            uint64_t(opt.added_shading_cost * TicksPerSecond()),
-            uint64_t(opt.added_ray_cost * TicksPerSecond())};
+            SecondsToTicks(opt.added_shading_cost),
+            SecondsToTicks(opt.added_ray_cost)};
 }
 
 // The same context without MIS: light samples alone, and BSDF samples only to find the background.

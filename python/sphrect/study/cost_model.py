@@ -25,7 +25,7 @@ A at equal error, (N_A cost_A) / (N_B cost_B), is what the report plots against 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Dict, List, Optional, Sequence
 
 from .metrics import COST_RUNS
@@ -148,8 +148,3 @@ def log_grid(low: float, high: float, points: int) -> List[float]:
     """`points` values from low to high, evenly spaced in log."""
     step = (math.log(high) - math.log(low)) / (points - 1)
     return [math.exp(math.log(low) + i * step) for i in range(points)]
-
-
-def with_ray_cost(terms: CostTerms, ray_cost: float) -> CostTerms:
-    """The same terms with another ray cost (what the run would cost on a scene whose rays cost that)."""
-    return replace(terms, t_ray=ray_cost)
