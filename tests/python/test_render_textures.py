@@ -11,6 +11,7 @@ import pytest
 
 import sphrect
 from render_testing import plane_mesh, top_camera
+from sphrect._native import svm_color as svm
 
 SRGB_128 = ((128 / 255 + 0.055) / 1.055) ** 2.4  # the sRGB decoding of byte 128
 
@@ -179,6 +180,24 @@ def test_flat_normal_map_keeps_the_normal_and_a_tilted_one_tilts_it():
     scene.meshes[0].normals = np.tile((m / np.linalg.norm(m)).astype(np.float32), (4, 1))
     np.testing.assert_allclose(render(lit_scene(half, [constant(tuple((n + 1) / 2))])), render(scene),
                                rtol=1e-4, atol=1e-6)
+
+
+def test_a_map_tilting_the_normal_past_the_viewer_is_kept_valid_for_reflection():
+    # Cycles 3.4 passes a closure's Normal input through ensure_valid_reflection: a tangent-space map that leans
+    # the normal so far that the view would reflect below the surface (a missing map's magenta, (1, 0, 1), leans
+    # it 45 degrees in two axes; here 80 degrees) shades with the normal turned back, as smooth normals set to
+    # that turned normal do.  It was shaded with the leaning normal: a black glossy surface (third-party chair).
+    mat = sphrect.Material(kind="glossy_bsdf", base_color=(0.7, 0.7, 0.7), roughness=0.4)
+    lean = np.array([np.sin(np.radians(80)), 0.0, np.cos(np.radians(80))])
+    mapped = render(lit_scene(sphrect.Material(**{**mat.__dict__, "normal_map": LOOKUP}),
+                              [constant(tuple((lean + 1) / 2))]))
+    up = np.array([0.0, 0.0, 1.0])
+    turned = svm.ensure_valid_reflection(up, up, lean)[0]  # orthographic camera: I = +z everywhere
+    assert turned[2] > lean[2] + 0.1  # the case turns the normal
+    scene = lit_scene(mat)
+    scene.meshes[0].normals = np.tile(np.asarray(turned, np.float32), (4, 1))
+    np.testing.assert_allclose(mapped, render(scene), rtol=1e-4, atol=1e-6)
+    assert mapped.mean() > 0.01
 
 
 def bump_shadowing_term(n0, n, wi):

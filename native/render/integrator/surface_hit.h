@@ -5,6 +5,7 @@
 #include "render/camera.h"
 #include "render/embree_rays.h"
 #include "render/scene.h"
+#include "render/svm/shading_nodes.h"
 #include "terminator.h"
 
 namespace sphrect::render {
@@ -149,6 +150,10 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
         s.ns_unmapped = ns;
         s.mapped = true;
         ns = ApplyNormalMap(scene, m, scene.normal_maps[size_t(s.material)], p, uv, s.tc, ns * side) * side;
+        // Cycles 3.4 hands a closure's Normal input through ensure_valid_reflection (svm_node_closure_bsdf): a map
+        // that tilts the normal away from the viewer is turned back (seen from the facing side).
+        const float facing = Dot(ng, ray.d) > 0 ? -1.0f : 1.0f;
+        ns = svm::EnsureValidReflection(ng * facing, -ray.d, ns * facing) * facing;
     }
 }
 
