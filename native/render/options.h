@@ -39,7 +39,7 @@ struct RenderOptions {
     MediumSampling medium_sampling = MediumSampling::Mis;
     LightSelection light_selection = LightSelection::Tree;
     // Under light_selection "ris": the candidates each light sample resamples (integrator/resampled_light_choice.h).
-    int ris_candidates = 8;
+    int ris_candidates = 4;
     uint64_t seed = 0;
     int threads = 0;  // 0: all hardware threads
     int tile_size = 16;

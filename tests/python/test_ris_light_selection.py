@@ -12,7 +12,7 @@ from test_light_selection import ALBEDO, FOUR_LIGHTS, plane_scene, rect_verts
 
 
 def test_ris_is_a_light_selection_with_its_candidates_default():
-    assert "ris" in sphrect.LIGHT_SELECTIONS
+    assert "ris" in sphrect.light_selections
     assert 1 <= sphrect.RENDER_DEFAULTS["ris_candidates"] <= sphrect.MAX_RIS_CANDIDATES
     r = sphrect.Renderer(plane_scene(FOUR_LIGHTS, top_camera(4, 4)), light_selection="ris", ris_candidates=3)
     assert r.render(2)
