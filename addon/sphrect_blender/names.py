@@ -50,6 +50,8 @@ MIS_LABELS = {
 LIGHT_SELECTION_LABELS = {
     "power": ("Power", "Area lights by power; point and spot lights each on every sample"),
     "tree": ("Light Tree", "Every area, point and spot light through a light tree (power, distance, orientation)"),
+    "ris": ("Light Tree + RIS", "Several light-tree candidates per light sample, one kept by its unshadowed "
+                                "contribution (resampled importance sampling)"),
 }
 
 ELLIPSE_TECHNIQUE_LABELS = {

@@ -7,7 +7,8 @@
 //                                  the same places.  The total power is the same at every count
 //                                  (each light has 1/<lights> of it), so the image stays alike.
 //                                  The ground is two triangles, with four boxes on it.
-//                                  selection: kAllLightSelections' index (0 power, 1 tree).
+//                                  selection: kAllLightSelections' index (0 power, 1 tree, 2 ris with
+//                                  the default ris_candidates).
 //                                  Rectangle technique, power-heuristic MIS, Sobol', 1 light
 //                                  sample, 1 thread.
 //                                  Counters: ns/sample (process CPU time per camera sample),
@@ -167,7 +168,7 @@ void BM_ManyLights(benchmark::State& state) {
     state.counters["lights"] = benchmark::Counter(double(n));
 }
 BENCHMARK(BM_ManyLights)
-    ->ArgsProduct({{int(LightKind::Rectangle), int(LightKind::Point)}, {1, 10, 100, 1000, 10000, 100000}, {0, 1}})
+    ->ArgsProduct({{int(LightKind::Rectangle), int(LightKind::Point)}, {1, 10, 100, 1000, 10000, 100000}, {0, 1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseManualTime()
     ->ComputeStatistics("min", MinOf);

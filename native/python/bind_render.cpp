@@ -270,7 +270,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
                                        const std::string& ellipse_technique, uint64_t seed, int threads, int tile_size,
                                        bool analytic_light_coverage, bool bsdf_samples_on_diffuse,
                                        uint64_t memory_limit, bool emission_blocks, double added_shading_cost,
-                                       double added_ray_cost) {
+                                       double added_ray_cost, int ris_candidates) {
     if (!scene->committed()) throw py::value_error("the scene must be committed before rendering");
     render::RenderOptions o;
     o.techniques.clear();
@@ -297,6 +297,7 @@ std::unique_ptr<Renderer> MakeRenderer(std::shared_ptr<RenderScene> scene, const
     o.emission_blocks = emission_blocks;
     o.added_shading_cost = added_shading_cost;
     o.added_ray_cost = added_ray_cost;
+    o.ris_candidates = ris_candidates;
     return std::make_unique<Renderer>(std::move(scene), std::move(o));
 }
 
@@ -383,6 +384,7 @@ py::dict RenderDefaults() {
     d["medium_sampling"] = render::MediumSamplingName(o.medium_sampling);
     d["tile_size"] = o.tile_size;
     d["light_selection"] = render::LightSelectionName(o.light_selection);
+    d["ris_candidates"] = o.ris_candidates;
     d["ellipse_technique"] = EllipseTechniqueName(o.ellipse_technique);
     d["analytic_light_coverage"] = o.analytic_light_coverage;
     d["bsdf_samples_on_diffuse"] = o.bsdf_samples_on_diffuse;
@@ -738,7 +740,7 @@ void BindRender(py::module_& m) {
              py::arg("ellipse_technique"), py::arg("seed"), py::arg("threads"), py::arg("tile_size"),
              py::arg("analytic_light_coverage"), py::arg("bsdf_samples_on_diffuse"), py::arg("memory_limit"),
              py::arg("emission_blocks") = render::RenderOptions{}.emission_blocks, py::arg("added_shading_cost") = 0.0,
-             py::arg("added_ray_cost") = 0.0)
+             py::arg("added_ray_cost") = 0.0, py::arg("ris_candidates") = render::RenderOptions{}.ris_candidates)
         .def("render", &Render, py::arg("samples"), py::arg("time_budget"), py::arg("progress"))
         .def("cancel", &Renderer::Cancel)
         .def("set_camera", &SetCamera<Renderer>, CAMERA_ARGS)
@@ -768,6 +770,7 @@ void BindRender(py::module_& m) {
           py::arg("film_alpha"), "RGBA float32 [H, W, 4] from accumulation buffers, exactly as a Renderer's image()");
     m.attr("SAMPLE_INDEX_LIMIT") = render::kSampleIndexLimit;
     m.attr("MAX_LIGHT_SAMPLES") = render::kMaxLightSamples;
+    m.attr("MAX_RIS_CANDIDATES") = render::kMaxRisCandidates;
     m.def("_render_defaults", &RenderDefaults, "sphrect.RENDER_DEFAULTS: render/options.h RenderOptions' defaults");
     m.attr("MAX_THREADS") = render::kMaxThreads;
     m.def("default_memory_limit", &render::DefaultMemoryLimit,

@@ -21,6 +21,8 @@ void ValidateOptions(const RenderOptions& o) {
         throw std::invalid_argument("ellipse_technique must be one of the EllipseTechnique values");
     if (o.light_samples < 1 || o.light_samples > kMaxLightSamples)
         throw std::invalid_argument("light_samples must be in 1.." + std::to_string(kMaxLightSamples));
+    if (o.ris_candidates < 1 || o.ris_candidates > kMaxRisCandidates)
+        throw std::invalid_argument("ris_candidates must be in 1.." + std::to_string(kMaxRisCandidates));
     if (o.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");
     if (o.threads > kMaxThreads)
         throw std::invalid_argument("threads must be at most " + std::to_string(kMaxThreads) + " (got " +

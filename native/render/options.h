@@ -16,6 +16,9 @@
 namespace sphrect::render {
 
 constexpr int kMaxLightSamples = 4096;
+// Candidates per light sample under light_selection "ris" (each costs a tree descent, a light sample and a BSDF
+// evaluation).
+constexpr int kMaxRisCandidates = 1024;
 // More render threads than this are refused (each is an OS thread; thousands fail to start).
 constexpr int kMaxThreads = 256;
 constexpr int kMaxSamplesPerCall = 1 << 20;
@@ -35,6 +38,8 @@ struct RenderOptions {
     MisMode mis = MisMode::Power;      // light sampling vs BSDF (or phase) sampling
     MediumSampling medium_sampling = MediumSampling::Mis;
     LightSelection light_selection = LightSelection::Tree;
+    // Under light_selection "ris": the candidates each light sample resamples (integrator/resampled_light_choice.h).
+    int ris_candidates = 4;
     uint64_t seed = 0;
     int threads = 0;  // 0: all hardware threads
     int tile_size = 16;

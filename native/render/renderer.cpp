@@ -19,7 +19,7 @@ Renderer::Renderer(std::shared_ptr<const RenderScene> scene, RenderOptions optio
     ValidateOptions(options_);
     CheckRenderMemory(options_, scene_->camera.width, scene_->camera.height,
                       scene_->ImageMemoryBytes());  // before the tree and the images
-    if (options_.light_selection == LightSelection::Tree) scene_->BuildLightTree();
+    if (ChoosesByLightTree(options_.light_selection)) scene_->BuildLightTree();
     threads_ = options_.threads > 0 ? options_.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     view_ = MakeCameraView(*scene_, scene_->camera);
     ClearImages();

@@ -12,10 +12,12 @@ the v of the light sample's pattern point, which is then rescaled for the point 
 choice is stratified with the pattern).  "tree" (default): a light tree over the area lights
 (rectangles, ellipses, emissive triangles) and, when there are more than MAX_DELTA_LIGHTS_BESIDE_TREE, the point
 and spot lights picks one in proportion to an estimate of its contribution at the shading point (power, distance,
-orientation), a TREE_FLUX_SHARE of the choices by flux so that no light starves; "power": an
-area light with probability proportional to its power (luminance x area x sides), and point and
-spot lights evaluated once per camera sample each.  Suns are evaluated once per camera sample with
-either.  Pixels are filtered as Camera.pixel_filter says (box, gaussian or blackman_harris of Camera.filter_width
+orientation), a TREE_FLUX_SHARE of the choices by flux so that no light starves; "ris": at surface hits,
+ris_candidates (1..MAX_RIS_CANDIDATES) of the tree's choices with a point on each, one kept in proportion to its
+unshadowed contribution over its pdf (resampled importance sampling; docs/light_selection_ris.md), scattering points
+in a medium as "tree"; "power": an area light with probability proportional to its power (luminance x area x
+sides), and point and spot lights evaluated once per camera sample each.  Suns are evaluated once per camera sample
+with each.  Pixels are filtered as Camera.pixel_filter says (box, gaussian or blackman_harris of Camera.filter_width
 pixels, as Cycles' Film > Pixel Filter): camera samples land around the pixel centre as the filter is distributed.
 
 Disk and ellipse lights (ellipse_technique, one of ELLIPSE_TECHNIQUES, for every technique's pass):
@@ -394,7 +396,8 @@ class Renderer:
                  memory_limit: Optional[int] = _DEFAULTS["memory_limit"],
                  emission_blocks: bool = _DEFAULTS["emission_blocks"],
                  added_shading_cost: float = _DEFAULTS["added_shading_cost"],
-                 added_ray_cost: float = _DEFAULTS["added_ray_cost"]):
+                 added_ray_cost: float = _DEFAULTS["added_ray_cost"],
+                 ris_candidates: int = _DEFAULTS["ris_candidates"]):
         if not isinstance(scene, Scene):
             raise ValueError(f"expected a sphrect.Scene, got {type(scene).__name__}")
         if isinstance(techniques, str):
@@ -408,6 +411,7 @@ class Renderer:
         if not isinstance(scene.camera, Camera):
             raise ValueError(f"camera must be a sphrect.Camera, got {type(scene.camera).__name__}")
         light_samples = int_argument("light_samples", light_samples, 1, _native.MAX_LIGHT_SAMPLES)
+        ris_candidates = int_argument("ris_candidates", ris_candidates, 1, _native.MAX_RIS_CANDIDATES)
         threads = int_argument("threads", threads, 0, _native.MAX_THREADS)
         tile_size = int_argument("tile_size", tile_size, 1)
         seed = int_argument("seed", seed, 0, 2 ** 64 - 1)
@@ -425,7 +429,8 @@ class Renderer:
         self._r = _native._Renderer(native, techniques, light_samples, str(pattern), str(mis), str(medium_sampling),
                                     str(light_selection), str(ellipse_technique), seed, threads, tile_size,
                                     bool(analytic_light_coverage), bool(bsdf_samples_on_diffuse), memory_limit,
-                                    bool(emission_blocks), float(added_shading_cost), float(added_ray_cost))
+                                    bool(emission_blocks), float(added_shading_cost), float(added_ray_cost),
+                                    ris_candidates)
         self._techniques = techniques
         self._memory_limit = memory_limit
 

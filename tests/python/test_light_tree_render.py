@@ -175,7 +175,7 @@ def test_tree_beats_power_on_many_small_lights():
 
 
 def test_light_selection_names():
-    assert sphrect.light_selections == ("power", "tree")
+    assert sphrect.light_selections == ("power", "tree", "ris")
     with pytest.raises(ValueError, match="light_selection"):
         sphrect.Renderer(mixed_scene(), light_selection="bvh")
 

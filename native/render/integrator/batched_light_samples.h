@@ -28,10 +28,12 @@
 
 namespace sphrect::render {
 
-// Whether light samples of technique K under this context are batched.
+// Whether light samples of technique K under this context are batched (not under "ris": its candidates are drawn and
+// weighed at shading).
 template <Technique K>
 static inline bool BatchesLightSamples(const ShadeContext& c) {
-    return K != Technique::Area && HasChoosableLights(c.scene, c.light_selection);
+    return K != Technique::Area && c.light_selection != LightSelection::Ris &&
+           HasChoosableLights(c.scene, c.light_selection);
 }
 
 // Whether rectangle light l is sampled by technique K's plain map (what the batch computes) at every point.

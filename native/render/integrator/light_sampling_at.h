@@ -57,11 +57,11 @@ static inline ChosenLight ChooseLightFromTree(const RenderScene& scene, LightTre
 
 // Whether light samples have an emitter to go to (otherwise only BSDF samples may be drawn).
 static inline bool HasChoosableLights(const RenderScene& scene, LightSelection selection) {
-    return selection == LightSelection::Tree ? !scene.light_tree().Empty() : !scene.light_selector.Empty();
+    return ChoosesByLightTree(selection) ? !scene.light_tree().Empty() : !scene.light_selector.Empty();
 }
 
 // Delta lights evaluated once per camera sample (each casts its shadow ray): all of them with
-// "power"; with "tree" those beside the tree (suns, and point and spot lights while they are few).
+// "power"; with "tree" and "ris" those beside the tree (suns, and point and spot lights while they are few).
 template <class F>
 static inline void ForEachDeltaLightEvaluatedOnce(const RenderScene& scene, LightSelection selection, F&& f) {
     if (selection == LightSelection::Power) {
@@ -108,9 +108,9 @@ class LightSamplingAt {
           ellipse_(ellipse_technique),
           emission_blocks_(emission_blocks) {}
 
-    // The emitter of the light sample with pattern point light_point, at this receiver.
+    // The emitter of the light sample with pattern point light_point, at this receiver (under "ris": one candidate).
     ChosenLight Choose(Point2<float> light_point) {
-        if (selection_ == LightSelection::Tree) return ChooseLightFromTree(scene_, tree_, light_point);
+        if (ChoosesByLightTree(selection_)) return ChooseLightFromTree(scene_, tree_, light_point);
         return ChooseLightByPower(scene_.light_selector, light_point);
     }
 
@@ -128,9 +128,10 @@ class LightSamplingAt {
 
     // Solid-angle pdf with which Sample, after Choose picked area light `index`, produces
     // point p on it: pmf(index) * pdf(p) (the tree's pmf at this receiver: area light i is tree
-    // emitter i).
+    // emitter i; under "ris" the pdf of its candidates, the proposal, which the MIS weights use:
+    // resampled_light_choice.h).
     float PDF(int index, const Vec3f& p) {
-        const float pmf = selection_ == LightSelection::Tree ? tree_.PMF(index) : scene_.light_selector.pmf[index];
+        const float pmf = ChoosesByLightTree(selection_) ? tree_.PMF(index) : scene_.light_selector.pmf[index];
         if (!(pmf > 0)) return 0;
         return pmf * PointPDF(index, p);
     }
@@ -140,7 +141,7 @@ class LightSamplingAt {
     // 1 for the lights evaluated once: suns, and every one under "power") times the cone's uniform pdf here,
     // at the point its light samples start from (not a BSDF ray's offset origin), as PDF() for area lights.
     float SoftLightPDF(const DeltaLight& l, int tree_emitter) {
-        const float pmf = selection_ == LightSelection::Tree && tree_emitter >= 0 ? tree_.PMF(tree_emitter) : 1.0f;
+        const float pmf = ChoosesByLightTree(selection_) && tree_emitter >= 0 ? tree_.PMF(tree_emitter) : 1.0f;
         if (!(pmf > 0)) return 0;
         const float one_minus_cos = SoftConeAt(l, origin_).one_minus_cos;
         return one_minus_cos > 0 ? pmf * UniformConePDF(one_minus_cos) : 0.0f;

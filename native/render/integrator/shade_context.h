@@ -13,16 +13,18 @@ struct ShadeContext {
     MediumSampling medium_sampling;
     LightSelection light_selection;
     int light_samples;
-    bool sample_bsdf;  // BSDF/phase samples are drawn: MIS on, or a background to find
-    Spectrum sky;      // what a BSDF/phase ray that escapes brings: background x transmittance to infinity
+    int ris_candidates;  // RenderOptions::ris_candidates (read under light_selection "ris")
+    bool sample_bsdf;    // BSDF/phase samples are drawn: MIS on, or a background to find
+    Spectrum sky;        // what a BSDF/phase ray that escapes brings: background x transmittance to infinity
     EllipseTechnique ellipse_technique;  // how disk and ellipse lights are sampled
     // Purely diffuse hits may take light samples alone (shade_surface.h, LightSamplesAlone): MIS on,
     // not RenderOptions::bsdf_samples_on_diffuse, no Light Path program (RenderScene::light_path_programs: an emitter
     // may send its BSDF rays other light than its light samples, Cycles' estimate weighs both), no ellipse light
-    // sampled by area, and the choice among the lights made knowing the point: the tree's, or one area light to
-    // choose.  By power a near, weak light is chosen far below its share of the point's light, and an emissive mesh
-    // puts many small emitters on or beside other geometry, where even the tree's bounds do: there only the BSDF
-    // sample's MIS weight keeps such a light sample from being a firefly (docs/renderer.md, "MIS at diffuse hits").
+    // sampled by area, and the choice among the lights made knowing the point: the tree's (or its resampled
+    // candidates', `ris`), or one area light to choose.  By power a near, weak light is chosen far below its share of
+    // the point's light, and an emissive mesh puts many small emitters on or beside other geometry, where even the
+    // tree's bounds do: there only the BSDF sample's MIS weight keeps such a light sample from being a firefly
+    // (docs/renderer.md, "MIS at diffuse hits").
     bool diffuse_light_samples_alone;
     // The image world where it can light anything (null: none, all black, or nothing of it crosses the medium):
     // sampled once per light sample, and found by BSDF/phase rays that escape (MIS).  environment_transmittance:
@@ -41,12 +43,13 @@ static inline ShadeContext MakeShadeContext(const RenderScene& scene, const Rend
             opt.medium_sampling,
             opt.light_selection,
             opt.light_samples,
+            opt.ris_candidates,
             opt.mis != MisMode::None || !IsBlack(scene.background),
             scene.background * SegmentTransmittance<kMedium>(scene.medium, kInf),
             opt.ellipse_technique,
             opt.mis != MisMode::None && !opt.bsdf_samples_on_diffuse && !scene.light_path_programs &&
                 !(opt.ellipse_technique == EllipseTechnique::Area && scene.features().ellipse_lights) &&
-                (opt.light_selection == LightSelection::Tree || scene.area_lights.size() <= 1) &&
+                (ChoosesByLightTree(opt.light_selection) || scene.area_lights.size() <= 1) &&
                 !scene.features().emissive_meshes,
             scene.has_environment && !scene.environment.distribution.Empty() &&
                     !IsBlack(SegmentTransmittance<kMedium>(scene.medium, kInf))

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "emitters.h"
+#include "resampled_light_choice.h"
 #include "render/bsdf.h"
 #include "shader_globals.h"
 #include "surface_hit.h"
@@ -184,6 +185,34 @@ static inline void QueueSurfaceDeltaLight(const ShadeContext& c, const SurfaceSh
              f * di.li * SegmentTransmittance<kMedium>(c.scene.medium, di.dist) * (std::abs(wi.z) * w));
 }
 
+// The light sample of the emitter `light` that was chosen (none if it is neither): a point or spot light the tree
+// chose, f Li T cos / pmf (MIS if soft), or a point on an area light.
+template <Technique K, bool kGlossy, bool kMedium>
+static inline void QueueChosenLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp, ChosenLight light,
+                                          TimedLightSamplingAt<K>& light_sampling, const ShadowSink& sink) {
+    if (light.delta >= 0)
+        return QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, c.scene.delta_lights[light.delta], light.u, light.pmf,
+                                                        sink.Scaled(1.0f / light.pmf));
+    QueueSurfaceLightSample<K, kGlossy, kMedium>(c, sp, light, light_sampling, sink);
+}
+
+// Light selection "ris": the light sample resampled from c.ris_candidates candidates, the first from light_point, the
+// others from it shifted by rng (resampled_light_choice.h); only the kept one's shadow ray stays queued.
+template <Technique K, bool kGlossy, bool kMedium>
+static inline void QueueResampledLightSample(const ShadeContext& c, const SurfaceShadingPoint& sp,
+                                             Point2<float> light_point, TimedLightSamplingAt<K>& light_sampling,
+                                             PCG32& rng, const ShadowSink& sink) {
+    LightSampleReservoir reservoir(sink);
+    const ShadowSink candidate_sink = reservoir.CandidateSink();
+    for (int k = 0; k < c.ris_candidates; ++k) {
+        const Point2<float> point = k == 0 ? light_point : ShiftedCandidatePoint(light_point, rng);
+        QueueChosenLightSample<K, kGlossy, kMedium>(c, sp, light_sampling.Choose(point), light_sampling,
+                                                    candidate_sink);
+        reservoir.Weigh(rng.NextFloat());
+    }
+    reservoir.Finish();
+}
+
 // The delta lights evaluated once per camera sample (ForEachDeltaLightEvaluatedOnce: all with "power",
 // suns with "tree"); a soft one sampled once per light sample instead, with its light point (of
 // light_points[0, light_samples)), like the lights chosen per light sample.
@@ -305,7 +334,8 @@ static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
 // pairs averaged, as many light samples of the image world, then the delta lights evaluated once (soft ones once per
 // light sample), then the singular lobes' rays (once).  Light sample j's emitter and its point come from
 // light_points[j] (LightSamplingAt::Choose), or where the chunk chose it (batched_choices, else null) from
-// batched_choices[j], with its sample where that was taken too; rng is only advanced for the medium that may follow.
+// batched_choices[j], with its sample where that was taken too; under "ris" (never batched) resampled from candidates
+// shifted by rng (QueueResampledLightSample); else rng is only advanced for the medium that may follow.
 // light_ticks counts the time in light sampling.
 template <Technique K, bool kGlossy, bool kMedium>
 static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h, const Vec3f& wo_world,
@@ -328,15 +358,18 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     // surface gets none (the technique then switches to `rectangle`, rectangle_projected.h).
     const Vec3f technique_normal =
         K == Technique::RectangleProjected && kGlossy && sp.material.has_translucent ? Vec3f() : h.ns;
-    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, technique_normal, tree_normal, n_pairs,
-                                           c.ellipse_technique, light_ticks, c.emission_blocks);
+    const bool resampled = c.light_selection == LightSelection::Ris;
+    TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, technique_normal, tree_normal,
+                                           resampled ? n_pairs * c.ris_candidates : n_pairs, c.ellipse_technique,
+                                           light_ticks, c.emission_blocks);
     for (int j = 0; j < n_pairs; ++j) {
-        const ChosenLight light = batched_choices ? batched_choices[j] : light_sampling.Choose(light_points[j]);
         if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow
-        if (light.delta >= 0)  // a point or spot light the tree chose: f Li T cos / pmf (MIS if soft)
-            QueueSurfaceDeltaLight<kGlossy, kMedium>(c, sp, scene.delta_lights[light.delta], light.u, light.pmf,
-                                                     pair_sink.Scaled(1.0f / light.pmf));
-        QueueSurfaceLightSample<K, kGlossy, kMedium>(c, sp, light, light_sampling, pair_sink);
+        if (resampled) {
+            QueueResampledLightSample<K, kGlossy, kMedium>(c, sp, light_points[j], light_sampling, rng, pair_sink);
+        } else {
+            const ChosenLight light = batched_choices ? batched_choices[j] : light_sampling.Choose(light_points[j]);
+            QueueChosenLightSample<K, kGlossy, kMedium>(c, sp, light, light_sampling, pair_sink);
+        }
         if (c.sample_bsdf)
             QueueSurfaceBsdfSample<K, kGlossy, kMedium>(c, sp, bsdf_points[j], light_sampling, pair_sink);
     }

@@ -113,7 +113,8 @@ static inline void QueueMediumDeltaLights(const ShadeContext& c, const Scatterin
 // Light scattered towards the camera at sp: sigma_s * integral of phase * Le * T over the lights (T: the world
 // medium's here, object volumes' as the shadow rays are resolved).
 // The light sample's emitter is chosen here from light_point (by power: the same for every
-// scattering point of the camera sample; by the tree: at sp.x, with no normal).
+// scattering point of the camera sample; by the tree: at sp.x, with no normal; "ris" chooses as the tree here: its
+// resampling is the surfaces', whose candidates the BSDF weighs).
 template <Technique K>
 static inline void InScatteredLight(const ShadeContext& c, const ScatteringPoint& sp, const Spectrum& sigma_s,
                                     Point2<float> light_point, Point2<float> phase_point, const ShadowSink& sink,
