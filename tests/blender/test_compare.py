@@ -105,14 +105,14 @@ def test_compare_settings_side_by_side(tmp_path, setting):
     for name in entries + ["reference"]:
         assert f"{engine_module().technique_pass_name(name)}.R".encode() in header, name
     for t in ("area", "rectangle"):
-        first, second = (rec["images"][f"{t} {value}"] for value in values)
-        assert np.isfinite(first).all() and np.isfinite(second).all()
-        assert not np.array_equal(first, second), t
-        stats = rec["stats"][f"{t} {values[1]}"]
-        assert stats[setting] == values[1] and stats["samples"] == 4
-        assert all(np.isfinite(rec["stats"][f"{t} {value}"]["rmse"]) for value in values)
+        images = [rec["images"][f"{t} {value}"] for value in values]
+        assert all(np.isfinite(image).all() for image in images)
+        assert all(not np.array_equal(images[0], other) for other in images[1:]), t
+        for value in values:
+            stats = rec["stats"][f"{t} {value}"]
+            assert stats[setting] == value and stats["samples"] == 4 and np.isfinite(stats["rmse"])
     width, height = png_size(rec["comparison"])
-    assert width == 4 + 5 * (32 + 4)  # four entries and the reference (scale 1, 4 pixels of padding)
+    assert width == 4 + (len(entries) + 1) * (32 + 4)  # the entries and the reference (scale 1, 4 pixels of padding)
     # Unticked again: the scene's value alone, with the pass names of a single value.
     for value in values:
         setattr(s, switch(value), False)
@@ -121,7 +121,7 @@ def test_compare_settings_side_by_side(tmp_path, setting):
     rec = engine_module().last_render
     assert set(rec["images"]) == {"area", "rectangle", "reference"}
     assert rec["stats"]["area"][setting] == values[1]
-    # Two panels fewer, and one label line (7 pixels at scale 1) less over images and error maps.
+    # Panels for the two techniques alone, and one label line (7 pixels at scale 1) less over images and error maps.
     assert png_size(rec["comparison"]) == (4 + 3 * (32 + 4), height - 2 * 7)
 
 
