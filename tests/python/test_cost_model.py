@@ -157,6 +157,23 @@ def test_a_pair_from_the_studys_curves():
     assert costs.pair_cost(kb, ka, curves, model, 0.0, ordered=False).b == ka
 
 
+def test_the_check_summary_and_a_busy_machine():
+    """Checks of +2%, -5%, +30% and +40% (and a NaN, not checked): 2 of 4 within 10%, the largest 40%, the median
+    (the upper middle) 30%: above the tolerance, so the report says the timers ran ahead (elapsed time on a busy
+    machine); a quiet run's checks do not say so."""
+    from sphrect.study.jobs import CurveKey
+    from sphrect.study.report import cost_wording, costs
+    key = CurveKey("rectangle", "power", "sobol", "tree")
+    busy = {key: costs.ConfigurationCost(key, terms(1 * US, 1 * US, 2.0), [0.02, -0.05, float("nan"), 0.3, 0.4],
+                                         2e-3)}
+    check = costs.checks_within(busy)
+    assert (check.within, check.checked) == (2, 4)
+    assert check.largest == pytest.approx(0.4) and check.median == pytest.approx(0.3) and check.setup == 2e-3
+    assert any("run ahead" in line for line in cost_wording.model_lines(check, 0.1 * US))
+    quiet = costs.checks_within({key: costs.ConfigurationCost(key, terms(1 * US, 1 * US, 2.0), [0.02, -0.05], 0.0)})
+    assert not any("run ahead" in line for line in cost_wording.model_lines(quiet, 0.1 * US))
+
+
 def test_sweep_crossing_and_verdicts():
     from sphrect.study import sweep
     from sphrect.study.jobs import CurveKey

@@ -264,9 +264,8 @@ def cost_model_section(report: Report) -> None:
     show = (report.show_selection, report.show_ellipse, report.show_medium)
     doc.heading("What a sample costs, and at what ray cost accuracy pays")
     model = costs.configuration_costs(report.curves)
-    within, checked, largest, setup = costs.checks_within(model)
     ray_cost = costs.ray_cost_here(model)
-    for line in cost_wording.model_lines(checked, within, largest, setup, ray_cost):
+    for line in cost_wording.model_lines(costs.checks_within(model), ray_cost):
         doc.para(line)
     if not model:
         return

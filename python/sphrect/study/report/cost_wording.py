@@ -7,7 +7,8 @@ from typing import Dict, List, Optional
 
 from ..cost_model import BreakEven
 from ..jobs import CurveKey, curve_label
-from .costs import ACCURACY_TIE, CHECK_MIN_TIME, CHECK_TOLERANCE, ConfigurationCost, CyclesCost, PairCost
+from .costs import (ACCURACY_TIE, CHECK_MIN_TIME, CHECK_TOLERANCE, CheckSummary, ConfigurationCost, CyclesCost,
+                    PairCost)
 from .wording import PLACEHOLDER, fmt
 
 
@@ -20,19 +21,24 @@ def duration(seconds: float) -> str:
     return f"{fmt(seconds * 1e6)} µs" if abs(seconds) < 1e-3 else f"{fmt(seconds * 1e3)} ms"
 
 
-def model_lines(checked: int, within: int, largest: float, setup: float, ray_cost: float) -> List[str]:
+def model_lines(check: CheckSummary, ray_cost: float) -> List[str]:
     lines = ["Time per camera sample = fixed work + light sampling + rays × the cost of a ray, each term from the "
              "renderer's own stage timers and counters in the run (the fixed work: pattern, camera rays, hits, BSDFs, "
              "MIS, the shadow queue; light sampling: the choice, the technique's setup, map and pdfs; a ray: the "
              "Embree streams' time over the camera and occlusion rays). Another renderer differs chiefly in what a "
              "ray and what shading a hit cost: below, each pair's time to the same error as those two change."]
-    if checked:
+    if check.checked:
         lines.append(f"- Check: the terms add up to within {fmt(100 * CHECK_TOLERANCE)}% of the CPU time measured "
-                     f"around the render call in **{within} of {checked}** runs of at least "
-                     f"{fmt(1000 * CHECK_MIN_TIME)} ms (largest difference {fmt(100 * largest)}%). A render call "
-                     f"also costs {duration(setup)} besides its samples (cutting tiles, starting threads: the "
+                     f"around the render call in **{check.within} of {check.checked}** runs of at least "
+                     f"{fmt(1000 * CHECK_MIN_TIME)} ms (largest difference {fmt(100 * check.largest)}%). A render call "
+                     f"also costs {duration(check.setup)} besides its samples (cutting tiles, starting threads: the "
                      f"intercept of CPU time against samples, median over the configurations), which shorter runs "
                      f"are not checked against.")
+        if check.median > CHECK_TOLERANCE:
+            lines.append(f"- **The terms run ahead of the CPU time** (by {fmt(100 * check.median)}% at the median): "
+                         "the stage timers count elapsed time, which includes the time the render's threads waited "
+                         "for a core while other work ran on the machine. The figures below are inflated by that "
+                         "wait: run the study alone for a model to trust.")
     else:
         lines.append("- No run of at least the checked length carries the renderer's stage timers (or the runs were "
                      "measured before they existed: run the study again).")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, NamedTuple, Optional, Tuple
 
 from ..cost_model import (RAY_AXIS, SHADING_AXIS, BreakEven, CostTerms, break_even, cost_terms, log_grid, mean_terms,
                           relative_efficiency)
@@ -93,12 +93,21 @@ def setup_time(runs: List[Dict]) -> float:
     return t_mean - slope * n_mean
 
 
-def checks_within(costs: Dict[CurveKey, ConfigurationCost]) -> Tuple[int, int, float, float]:
-    """(runs whose check is within CHECK_TOLERANCE, runs checked, the largest |check|, the median setup time)."""
-    checks = [c for cost in costs.values() for c in cost.checks if not math.isnan(c)]
+class CheckSummary(NamedTuple):
+    within: int  # runs whose check is within CHECK_TOLERANCE
+    checked: int  # runs checked (at least CHECK_MIN_TIME)
+    largest: float  # the largest |check|
+    median: float  # the median check (signed: > 0 where the terms add up to more than the CPU time)
+    setup: float  # the median setup time of a render call
+
+
+def checks_within(costs: Dict[CurveKey, ConfigurationCost]) -> CheckSummary:
+    checks = sorted(c for cost in costs.values() for c in cost.checks if not math.isnan(c))
     setups = sorted(c.setup for c in costs.values() if not math.isnan(c.setup))
-    return (sum(abs(c) <= CHECK_TOLERANCE for c in checks), len(checks),
-            max((abs(c) for c in checks), default=float("nan")), setups[len(setups) // 2] if setups else float("nan"))
+    return CheckSummary(sum(abs(c) <= CHECK_TOLERANCE for c in checks), len(checks),
+                        max((abs(c) for c in checks), default=float("nan")),
+                        checks[len(checks) // 2] if checks else float("nan"),
+                        setups[len(setups) // 2] if setups else float("nan"))
 
 
 def pair_cost(a: CurveKey, b: CurveKey, all_curves: Curves, costs: Dict[CurveKey, ConfigurationCost],
