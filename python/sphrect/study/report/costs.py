@@ -8,7 +8,7 @@ from __future__ import annotations
 import itertools
 import math
 from dataclasses import dataclass
-from typing import Dict, List, NamedTuple, Optional, Tuple
+from typing import Dict, List, NamedTuple, Optional
 
 from ..cost_model import (RAY_AXIS, SHADING_AXIS, BreakEven, CostTerms, break_even, cost_terms, log_grid, mean_terms,
                           relative_efficiency)
