@@ -103,6 +103,9 @@ inline Vec3d ApplyLtcInverse(const LtcInverse& r, const Vec3d& v) {
     return {r.ia * v.x + r.ib * v.z, r.ic * v.y, r.id * v.x + r.iz * v.z};
 }
 
+// Why a setup fell back to `rectangle_projected` (for tests and statistics).
+enum class LtcFallback { kNone, kNoShadingInput, kWoBelowHorizon, kSingularMatrix, kOutsideSupport, kUnresolved };
+
 template <class T>
 struct RectangleLtcSetup {
     // Without the fallback: the sweep in cosine space (its nl, tl, bl: the cosine space's axes in the frame of
@@ -111,7 +114,8 @@ struct RectangleLtcSetup {
     RectangleProjectedSetup<T> proj;
     bool valid = false;
     bool use_projected = false;  // the fallback (see above)
-    Vec3d nl{}, tl{}, bl{};      // shading frame in the light's local frame; tl along wo's tangential part
+    LtcFallback fallback = LtcFallback::kNone;
+    Vec3d nl{}, tl{}, bl{};  // shading frame in the light's local frame; tl along wo's tangential part
     LtcMatrix m;
     LtcInverse inv;
     double E = 0;  // projected solid angle of the light's parallelogram in cosine space (E_o)
@@ -132,7 +136,8 @@ RectangleLtcSetup<T> MakeRectangleLtcSetup(const Vec3<T>& origin, const Vec3<T>&
     s.proj.rect.plane = MakeLocalRect(origin, frame);
     const LocalRect<T>& p = s.proj.rect.plane;
     if (!p.valid) return s;
-    auto fall_back = [&] {
+    auto fall_back = [&](LtcFallback why) {
+        s.fallback = why;
         s.proj = MakeRectangleProjectedSetup(origin, normal, frame);
         s.use_projected = true;
         s.valid = s.proj.valid;
@@ -140,14 +145,14 @@ RectangleLtcSetup<T> MakeRectangleLtcSetup(const Vec3<T>& origin, const Vec3<T>&
     const Vec3d n(normal), v(wo);
     const double ln = Length(n), lv = Length(v);
     if (!(ln > 0) || !std::isfinite(ln) || !(lv > 0) || !std::isfinite(lv) || !(alpha > 0) || !std::isfinite(alpha)) {
-        fall_back();
+        fall_back(LtcFallback::kNoShadingInput);
         return s;
     }
     s.nl = Vec3d(Dot(n, p.exh), Dot(n, p.eyh), Dot(n, p.az)) / ln;
     const Vec3d vl = Vec3d(Dot(v, p.exh), Dot(v, p.eyh), Dot(v, p.az)) / lv;
     const double cos_theta = Dot(vl, s.nl);
     if (!(cos_theta > 0)) {  // wo on or below the horizon
-        fall_back();
+        fall_back(LtcFallback::kWoBelowHorizon);
         return s;
     }
     // tl: wo's part along the tangent plane; at normal incidence (none) any tangent does (the LTC is then
@@ -173,7 +178,7 @@ RectangleLtcSetup<T> MakeRectangleLtcSetup(const Vec3<T>& origin, const Vec3<T>&
     s.m = LookupLtcGgx(double(alpha), cos_theta);
     s.inv = InvertLtc(s.m);
     if (!s.inv.valid) {
-        fall_back();
+        fall_back(LtcFallback::kSingularMatrix);
         return s;
     }
     // The parallelogram in cosine space, in an orthonormal frame (U, V, W) of its own plane (U along the first
@@ -199,9 +204,12 @@ RectangleLtcSetup<T> MakeRectangleLtcSetup(const Vec3<T>& origin, const Vec3<T>&
     sweep.tl = Vec3d(U.x, V.x, W.x);
     sweep.bl = Vec3d(U.y, V.y, W.y);
     const ProjectedPolygon poly = ClipPolygonToHorizon(c, dir, len, 4, sweep.nl);
-    if (poly.n == 0 || !BuildProjectedSweep(sweep, poly) || !(sweep.error_estimate <= kProjectedMaxError) ||
-        !(sweep.swept > 0) || sweep.num_pieces == 0) {
-        fall_back();
+    if (poly.n == 0 || !BuildProjectedSweep(sweep, poly)) {
+        fall_back(LtcFallback::kOutsideSupport);
+        return s;
+    }
+    if (!(sweep.error_estimate <= kProjectedMaxError) || !(sweep.swept > 0) || sweep.num_pieces == 0) {
+        fall_back(LtcFallback::kUnresolved);
         return s;
     }
     sweep.valid = true;

@@ -266,7 +266,7 @@ double ReferenceLtcE(const RectangleLtcSetup<T>& s, const Vec3<T>& o, const Rect
 }
 
 struct HardStats {
-    int setups = 0, fallbacks = 0, invalid = 0, samples = 0, zero_pdf = 0;
+    int setups = 0, fallbacks = 0, unresolved = 0, invalid = 0, samples = 0, zero_pdf = 0;
     double worst_e = 0;
 };
 
@@ -288,6 +288,7 @@ void CheckHardCase(const HardCase& hc, const Vec3d& wo_dir, double alpha, HardSt
     ++st->setups;
     if (s.use_projected) {
         ++st->fallbacks;
+        st->unresolved += s.fallback == LtcFallback::kUnresolved;
     } else {
         const double ref = ReferenceLtcE(s, o, L), err = std::abs(s.E - ref) / ref;
         // (The suite's worst is 1.5e-7, a thin light seen edge-on from 1e-9 of its size.)
@@ -332,9 +333,10 @@ void HardCasesOver(const char* what) {
             }
     }
     std::printf(
-        "hard cases %s: setups %d (fallback to rectangle_projected %d), invalid %d; samples %d (pdf 0: %d);"
+        "hard cases %s: setups %d (fallback to rectangle_projected %d, of which the sweep unresolved %d), invalid %d; "
+        "samples %d (pdf 0: %d);"
         " E_o worst relative error %.3g\n",
-        what, st.setups, st.fallbacks, st.invalid, st.samples, st.zero_pdf, st.worst_e);
+        what, st.setups, st.fallbacks, st.unresolved, st.invalid, st.samples, st.zero_pdf, st.worst_e);
     EXPECT_GT(st.setups - st.fallbacks, st.setups / 3);
 }
 
@@ -352,16 +354,20 @@ TEST(RectangleLtc, Fallbacks) {
         const char* name;
         Vec3f normal, wo;
         float alpha;
+        LtcFallback why;
     };
+    constexpr LtcFallback kBelow = LtcFallback::kWoBelowHorizon, kInput = LtcFallback::kNoShadingInput;
     for (const Case& c :
-         {Case{"wo_below", up, Vec3f(0.3f, 0, -0.2f), 0.3f}, Case{"wo_on_horizon", up, Vec3f(1, 0, 0), 0.3f},
-          Case{"alpha_zero", up, wo, 0.0f}, Case{"alpha_nan", up, wo, NAN}, Case{"wo_zero", up, Vec3f(0, 0, 0), 0.3f},
-          Case{"normal_zero", Vec3f(0, 0, 0), wo, 0.3f}}) {
+         {Case{"wo_below", up, Vec3f(0.3f, 0, -0.2f), 0.3f, kBelow},
+          Case{"wo_on_horizon", up, Vec3f(1, 0, 0), 0.3f, kBelow}, Case{"alpha_zero", up, wo, 0.0f, kInput},
+          Case{"alpha_nan", up, wo, NAN, kInput}, Case{"wo_zero", up, Vec3f(0, 0, 0), 0.3f, kInput},
+          Case{"normal_zero", Vec3f(0, 0, 0), wo, 0.3f, kInput}}) {
         SCOPED_TRACE(c.name);
         const RectangleLtcSetup<float> s = MakeRectangleLtcSetup(o, c.normal, c.wo, c.alpha, L);
         const RectangleProjectedSetup<float> p = MakeRectangleProjectedSetup(o, c.normal, L);
         ASSERT_TRUE(s.valid);
         EXPECT_TRUE(s.use_projected);
+        EXPECT_EQ(int(s.fallback), int(c.why));
         for (const Point2<float>& uv : GridAndRandomUVs(5, 10)) {
             const LightSample<float> a = SampleRectangleLtc(s, uv), b = SampleRectangleProjected(p, uv);
             EXPECT_EQ(a.point.x, b.point.x);
@@ -378,7 +384,7 @@ TEST(RectangleLtc, Fallbacks) {
     EXPECT_EQ(RectangleLtcPDF(below, Vec3f(0, 0, 1)), 0);
     // An ordinary setup does not fall back.
     const RectangleLtcSetup<float> ok = MakeRectangleLtcSetup(o, up, wo, 0.3f, L);
-    EXPECT_TRUE(ok.valid && !ok.use_projected);
+    EXPECT_TRUE(ok.valid && !ok.use_projected && ok.fallback == LtcFallback::kNone);
 }
 
 // Degenerate inputs: a zero-area light, a shading point in the light's plane or not finite: invalid, pdf 0,
