@@ -19,9 +19,10 @@
 // Fallbacks to `rectangle_projected` (RectangleProjectedSetup, which may itself switch to `rectangle`): no
 // usable normal or wo, wo on or below the horizon, alpha not positive and finite, a singular interpolated M, a
 // light wholly outside the LTC's support (E_o = 0) and a sweep that cannot be resolved in cosine space (its
-// error estimate beyond kProjectedMaxError: the light spans a tiny angle there, so the density is nearly
-// uniform over it anyway).  A light wholly below the shading horizon (where the BRDF vanishes) is invalid, as
-// for `rectangle_projected`.
+// error estimate beyond kProjectedMaxError: the light's projected solid angle there is tiny -- a far or thin
+// light, over which the density is nearly uniform, or one away from a glossy lobe, near the cosine space's
+// horizon, where the lobe contributes little).  The setup records which (LtcFallback).  A light wholly below
+// the shading horizon (where the BRDF vanishes) is invalid, as for `rectangle_projected`.
 #pragma once
 
 #include <algorithm>
