@@ -10,6 +10,10 @@
 // they batch, per point and one sample (as the renderer with one light sample): "SetupAndSample/<technique>/scalar"
 // and ".../batch" (the instruction set the batch runs on in its label), over sampler_timing's 64 shading points.
 //
+// rectangle_ltc (core only, not a Technique yet, so not in sampler_timing's list): the Setup, SetupFromFrame, Sample,
+// SampleOffAxis and Pdf stages as there, with wo the mirror direction of the light's centre about n (the GGX lobe's
+// peak on the light) and alpha 0.2, named "<stage>/rectangle_ltc/float".
+//
 //   build/native/bench/bench_sampling [--benchmark_filter=Sample]
 #include <benchmark/benchmark.h>
 
@@ -19,6 +23,7 @@
 
 #include "core/ellipse_technique.h"
 #include "core/rectangle_batch.h"
+#include "core/rectangle_ltc.h"
 #include "core/sampler_timing.h"
 #include "core/triangles_batch.h"
 
@@ -135,12 +140,43 @@ void RegisterSetupAndSample() {
         SampleTrianglesBatch);
 }
 
+// wo for rectangle_ltc's stages: the mirror direction of the light's centre about n from o.
+Vec3f MirrorOfLightCentre(const Vec3f& o, const Vec3f& n) {
+    const RectLight<float> L = Light<float>();
+    const Vec3f c = Normalize(L.corner + L.ex * 0.5f + L.ey * 0.5f - o);
+    return n * (2 * Dot(c, n)) - c;
+}
+
+void RegisterLtcStages() {
+    constexpr float kAlpha = 0.2f;
+    const Vec3f up(0, 0, 1), tilted = Normalize(Vec3f(1, 0, 0.2f)), o(0.2f, -0.1f, 0.5f);
+    std::vector<Vec3f> wo;
+    for (const Vec3f& p : Origins<float>()) wo.push_back(MirrorOfLightCentre(p, up));
+    Register("Setup/rectangle_ltc/float", [L = Light<float>(), wo](size_t i) {
+        return MakeRectangleLtcSetup(Origins<float>()[i & 63], Vec3f(0, 0, 1), wo[i & 63], kAlpha, L);
+    });
+    Register("SetupFromFrame/rectangle_ltc/float", [F = MakeRectLightFrame(Light<float>()), wo](size_t i) {
+        return MakeRectangleLtcSetup(Origins<float>()[i & 63], Vec3f(0, 0, 1), wo[i & 63], kAlpha, F);
+    });
+    const RectangleLtcSetup<float> s = MakeRectangleLtcSetup(o, up, MirrorOfLightCentre(o, up), kAlpha, Light<float>());
+    Register("Sample/rectangle_ltc/float", [s](size_t i) { return SampleRectangleLtc(s, UVs<float>()[i & 1023]); });
+    const RectangleLtcSetup<float> off =
+        MakeRectangleLtcSetup(o, tilted, MirrorOfLightCentre(o, tilted), kAlpha, Light<float>());
+    Register("SampleOffAxis/rectangle_ltc/float",
+             [off](size_t i) { return SampleRectangleLtc(off, UVs<float>()[i & 1023]); });
+    std::vector<Vec3f> pts;
+    const RectLight<float> L = Light<float>();
+    for (const Point2<float>& uv : UVs<float>()) pts.push_back(L.corner + L.ex * uv.u + L.ey * uv.v);
+    Register("Pdf/rectangle_ltc/float", [s, pts](size_t i) { return RectangleLtcPDF(s, pts[i & 1023]); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     sphrect::sampler_timing::ForEachStage([](const std::string& name, auto stage) { Register(name, stage); });
     ForEachEllipseStage([](const std::string& name, auto stage) { Register(name, stage); });
     RegisterSetupAndSample();
+    RegisterLtcStages();
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();

@@ -150,17 +150,19 @@ struct ProjectedPolygon {
     int n = 0;
 };
 
-inline ProjectedPolygon ClipToHorizon(double x0, double y0, double wx, double wy, double h, const Vec3d& nl) {
-    const Vec3d c[4] = {{x0, y0, h}, {x0 + wx, y0, h}, {x0 + wx, y0 + wy, h}, {x0, y0 + wy, h}};
-    const Vec3d dir[4] = {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};  // exact edge directions
-    const double len[4] = {wx, wy, wx, wy};
+// Any convex polygon of up to 4 vertices c (relative to the shading point, in any orthonormal
+// frame that nl is also expressed in), edge i running from c_i to c_(i+1) along the unit
+// direction dir_i with length len_i: the exact directions keep the arcs' cross products free of
+// cancellation (rectangle_ltc.h passes the light's parallelogram in the LTC's cosine space).
+inline ProjectedPolygon ClipPolygonToHorizon(const Vec3d* c, const Vec3d* dir, const double* len, int count,
+                                             const Vec3d& nl) {
     double z[4];
-    for (int i = 0; i < 4; ++i) z[i] = Dot(nl, c[i]);
+    for (int i = 0; i < count; ++i) z[i] = Dot(nl, c[i]);
     ProjectedPolygon p;
     // Sutherland-Hodgman on z >= 0; each kept vertex records which edge follows it (-1: the horizon).
     int edge_after[5];
-    for (int i = 0; i < 4; ++i) {
-        const int j = (i + 1) % 4;
+    for (int i = 0; i < count; ++i) {
+        const int j = (i + 1) % count;
         if (z[i] >= 0) {
             p.v[p.n] = c[i];
             edge_after[p.n++] = i;
@@ -194,6 +196,13 @@ inline ProjectedPolygon ClipToHorizon(double x0, double y0, double wx, double wy
         }
     }
     return p;
+}
+
+inline ProjectedPolygon ClipToHorizon(double x0, double y0, double wx, double wy, double h, const Vec3d& nl) {
+    const Vec3d c[4] = {{x0, y0, h}, {x0 + wx, y0, h}, {x0 + wx, y0 + wy, h}, {x0, y0 + wy, h}};
+    const Vec3d dir[4] = {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};  // exact edge directions
+    const double len[4] = {wx, wy, wx, wy};
+    return ClipPolygonToHorizon(c, dir, len, 4, nl);
 }
 
 // Projected solid angle E = 1/2 sum_i gamma_i g_i . n of the clipped polygon (Lambert), and the
@@ -432,6 +441,44 @@ NearFarSolution SolveNearFar(const ProjectedPiece& pc, const ProjectedArc& F, co
 
 }  // namespace projected_detail
 
+// The sweep (steps 3, 4) of a polygon clipped to the horizon of s.nl, in the frame that poly and
+// s.nl, s.tl, s.bl share: sets s.E, the pieces and s.error_estimate.  False where E is 0 or not
+// finite (then the pieces are unset).  The caller decides on the switch (error_estimate).
+template <class T>
+bool BuildProjectedSweep(RectangleProjectedSetup<T>& s, const ProjectedPolygon& poly) {
+    double abs_sum = 0;
+    const double signed_e = LambertSum(poly, s.nl, &abs_sum);
+    s.E = std::abs(signed_e);
+    if (!(s.E > 0) || !std::isfinite(s.E)) return false;
+    // To the shading frame, oriented counter-clockwise about n.
+    Vec3d w[5], g[5];
+    double arc_length[5];
+    const int m = poly.n;
+    const bool flip = signed_e < 0;
+    auto to_shading = [&](const Vec3d& v) { return Vec3d(Dot(v, s.tl), Dot(v, s.bl), Dot(v, s.nl)); };
+    for (int k = 0; k < m; ++k) {
+        // Reversing the polygon: vertex k is old vertex m-1-k, edge k (k -> k+1) is old edge m-2-k.
+        const int vi = flip ? m - 1 - k : k, ei = flip ? (2 * m - 2 - k) % m : k;
+        const Vec3d d = to_shading(poly.v[vi]);
+        w[k] = d * (1 / Length(d));
+        g[k] = to_shading(flip ? -poly.g[ei] : poly.g[ei]);
+        arc_length[k] = poly.arc_length[ei];
+    }
+    projected_detail::BuildPieces(s, w, g, arc_length, m);
+    // The sweep's error against E: ~eps in each arc angle (unit vectors in the shading frame) times
+    // its sweep_rate, plus each rate's own rounding (that of the dot product g . n, eps times the sum
+    // of its terms' magnitudes) times the arc's length, plus the rounding of Lambert's sum.
+    constexpr double eps = std::numeric_limits<double>::epsilon();
+    double err = abs_sum;
+    for (int k = 0; k < m; ++k) {
+        const Vec3d& gk = poly.g[k];
+        const double dot_terms = std::abs(gk.x * s.nl.x) + std::abs(gk.y * s.nl.y) + std::abs(gk.z * s.nl.z);
+        err += 0.5 * std::abs(Dot(gk, s.nl)) + poly.arc_length[k] * dot_terms;
+    }
+    s.error_estimate = 8 * eps * err / s.E;
+    return true;
+}
+
 template <class T>
 RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, const Vec3<T>& normal,
                                                        const RectLightFrame<T>& frame) {
@@ -462,36 +509,7 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
     }
     const ProjectedPolygon poly = ClipToHorizon(p.x0, p.y0, p.wx, p.wy, p.h, s.nl);
     if (poly.n == 0) return s;  // below the horizon: invalid
-    double abs_sum = 0;
-    const double signed_e = LambertSum(poly, s.nl, &abs_sum);
-    s.E = std::abs(signed_e);
-    if (!(s.E > 0) || !std::isfinite(s.E)) return s;
-    // To the shading frame, oriented counter-clockwise about n.
-    Vec3d w[5], g[5];
-    double arc_length[5];
-    const int m = poly.n;
-    const bool flip = signed_e < 0;
-    auto to_shading = [&](const Vec3d& v) { return Vec3d(Dot(v, s.tl), Dot(v, s.bl), Dot(v, s.nl)); };
-    for (int k = 0; k < m; ++k) {
-        // Reversing the polygon: vertex k is old vertex m-1-k, edge k (k -> k+1) is old edge m-2-k.
-        const int vi = flip ? m - 1 - k : k, ei = flip ? (2 * m - 2 - k) % m : k;
-        const Vec3d d = to_shading(poly.v[vi]);
-        w[k] = d * (1 / Length(d));
-        g[k] = to_shading(flip ? -poly.g[ei] : poly.g[ei]);
-        arc_length[k] = poly.arc_length[ei];
-    }
-    projected_detail::BuildPieces(s, w, g, arc_length, m);
-    // The sweep's error against E: ~eps in each arc angle (unit vectors in the shading frame) times
-    // its sweep_rate, plus each rate's own rounding (that of the dot product g . n, eps times the sum
-    // of its terms' magnitudes) times the arc's length, plus the rounding of Lambert's sum.
-    constexpr double eps = std::numeric_limits<double>::epsilon();
-    double err = abs_sum;
-    for (int k = 0; k < m; ++k) {
-        const Vec3d& gk = poly.g[k];
-        const double dot_terms = std::abs(gk.x * s.nl.x) + std::abs(gk.y * s.nl.y) + std::abs(gk.z * s.nl.z);
-        err += 0.5 * std::abs(Dot(gk, s.nl)) + poly.arc_length[k] * dot_terms;
-    }
-    s.error_estimate = 8 * eps * err / s.E;
+    if (!BuildProjectedSweep(s, poly)) return s;
     if (!(s.error_estimate <= kProjectedMaxError) || !(s.swept > 0) || s.num_pieces == 0)
         switch_to_rectangle();
     else

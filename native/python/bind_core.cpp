@@ -19,6 +19,7 @@
 #include "core/rectangle.h"
 #include "core/cone.h"
 #include "core/rectangle_blocks.h"
+#include "core/rectangle_ltc.h"
 #include "core/technique.h"
 
 namespace py = pybind11;
@@ -509,6 +510,65 @@ py::array PatternImpl(const std::string& name, const py::object& n_obj, const py
 
 }  // namespace
 
+// rectangle_ltc (core only: not a Technique until the renderer passes wo and alpha): one shading configuration
+// (origin, normal, wo, alpha) per call.
+template <class T>
+struct LtcCall {
+    RectLight<T> light;
+    RectangleLtcSetup<T> setup;
+};
+
+template <class T>
+LtcCall<T> ReadLtcCall(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                       const py::object& normal, const py::object& wo, double alpha, bool two_sided) {
+    const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
+    const Vec3<T> o = ReadVec3s<T>(origin, "origin", false)[0];
+    const Vec3<T> n = ReadNormals<T>(Technique::RectangleProjected, normal)[0];
+    const Vec3<T> w = ReadVec3s<T>(wo, "wo", false)[0];
+    if (!(Length(w) > 0)) throw py::value_error("wo must be a non-zero vector");
+    if (!(alpha > 0) || !std::isfinite(alpha)) throw py::value_error("alpha must be positive and finite");
+    return {light, MakeRectangleLtcSetup(o, n, w, T(alpha), light)};
+}
+
+template <class T>
+py::tuple LtcSampleImpl(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                        const py::object& uv_obj, const py::object& normal, const py::object& wo, double alpha,
+                        bool two_sided) {
+    const LtcCall<T> c = ReadLtcCall<T>(origin, corner, ex, ey, normal, wo, alpha, two_sided);
+    const auto uv = ReadUV<T>(uv_obj);
+    const size_t n = uv.size();
+    py::array_t<T> points = NewArray<T>(n, 3), pdf = NewArray<T>(n, 0);
+    T* P = points.mutable_data();
+    T* Q = pdf.mutable_data();
+    {
+        py::gil_scoped_release release;
+        for (size_t i = 0; i < n; ++i) {
+            const LightSample<T> ls = SampleRectangleLtc(c.setup, Point2<T>{uv[i][0], uv[i][1]});
+            P[3 * i] = ls.point.x, P[3 * i + 1] = ls.point.y, P[3 * i + 2] = ls.point.z;
+            Q[i] = ls.pdf;
+        }
+    }
+    return py::make_tuple(points, pdf);
+}
+
+template <class T>
+py::array LtcPDFImpl(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+                     const py::object& points_obj, const py::object& normal, const py::object& wo, double alpha,
+                     bool two_sided) {
+    const LtcCall<T> c = ReadLtcCall<T>(origin, corner, ex, ey, normal, wo, alpha, two_sided);
+    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
+    py::array_t<T> pdf = NewArray<T>(pts.size(), 0);
+    T* Q = pdf.mutable_data();
+    {
+        py::gil_scoped_release release;
+        for (size_t i = 0; i < pts.size(); ++i) {
+            const Vec3<T> p(pts[i][0], pts[i][1], pts[i][2]);
+            Q[i] = OnLight(c.light, p) ? RectangleLtcPDF(c.setup, p) : T(0);
+        }
+    }
+    return pdf;
+}
+
 void BindCore(py::module_& m) {
     using py::arg;
     m.attr("techniques") = NameTuple(kAllTechniques, TechniqueName);
@@ -606,6 +666,36 @@ tolerance of pdf()).)doc");
         R"doc(Projected solid angle (integral of cos theta over the light's solid angle, the part above the
 horizon of normal) of the rectangle seen from origin: the irradiance of a unit-radiance light,
 Lambert's polygon formula.  origin (3,) -> float (computed in double), (N, 3) -> array [N].)doc");
+
+    m.def(
+        "_rectangle_ltc_sample",
+        [](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+           const py::object& uv, const py::object& normal, const py::object& wo, double alpha, const py::object& dtype,
+           bool two_sided) -> py::tuple {
+            if (ToPrecision(dtype) == Precision::Float64)
+                return LtcSampleImpl<double>(origin, corner, ex, ey, uv, normal, wo, alpha, two_sided);
+            return LtcSampleImpl<float>(origin, corner, ex, ey, uv, normal, wo, alpha, two_sided);
+        },
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("uv"), arg("normal"), arg("wo"), arg("alpha"),
+        arg("dtype") = "float32", arg("two_sided") = true,
+        R"doc(rectangle_ltc (core only, not in sphrect.techniques yet; docs/rectangle_ltc.md): points on the light
+with density proportional to the linearly transformed cosine fitted to the isotropic GGX lobe of roughness alpha
+seen from wo (unit, away from the surface like normal), for one shading configuration (origin, normal, wo: (3,)).
+
+Returns (points [N, 3], pdf [N]) as sample().)doc");
+    m.def(
+        "_rectangle_ltc_pdf",
+        [](const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
+           const py::object& points, const py::object& normal, const py::object& wo, double alpha,
+           const py::object& dtype, bool two_sided) -> py::array {
+            if (ToPrecision(dtype) == Precision::Float64)
+                return LtcPDFImpl<double>(origin, corner, ex, ey, points, normal, wo, alpha, two_sided);
+            return LtcPDFImpl<float>(origin, corner, ex, ey, points, normal, wo, alpha, two_sided);
+        },
+        arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("points"), arg("normal"), arg("wo"),
+        arg("alpha"), arg("dtype") = "float32", arg("two_sided") = true,
+        R"doc(rectangle_ltc's solid-angle pdf [N] of points [N, 3] on the light (0 off it, as pdf()), for one
+shading configuration; see _rectangle_ltc_sample.)doc");
 
     m.attr("ellipse_techniques") = NameTuple(kAllEllipseTechniques, EllipseTechniqueName);
     m.def(

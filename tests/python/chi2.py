@@ -162,14 +162,16 @@ def adaptive_cell_integrals(integrand: Callable, s_edges: np.ndarray, t_edges: n
 
 def cell_probabilities(technique: str, config: LightConfig, s_edges: np.ndarray, t_edges: np.ndarray,
                        dtype: str, nodes: int = 6, rtol: float = 1e-5, atol: float = 1e-10,
-                       max_depth: int = 12, pdf_factor: Optional[Callable] = None) -> np.ndarray:
+                       max_depth: int = 12, pdf_factor: Optional[Callable] = None,
+                       pdf_fn: Optional[Callable] = None) -> np.ndarray:
     """Integral of the technique's solid-angle pdf over each cell, [len(s_edges)-1, len(t_edges)-1].
 
     With P(s, t) = corner + s ex + t ey, the solid angle element is
     d omega = h |ex x ey| / |P - origin|^3 ds dt, h the origin's distance to the light's plane;
     near a shading point close to the light that factor is sharply peaked, so each cell is
     integrated adaptively (adaptive_cell_integrals).
-    `pdf_factor(points)`, when given, multiplies the pdf (how the tests make a wrong one)."""
+    `pdf_factor(points)`, when given, multiplies the pdf (how the tests make a wrong one); `pdf_fn(points)`, when
+    given, replaces sphrect.pdf (a sampler outside sphrect.techniques)."""
     origin, corner, ex, ey = config.light_args()
     n = np.cross(ex, ey)
     area = np.linalg.norm(n)
@@ -178,8 +180,11 @@ def cell_probabilities(technique: str, config: LightConfig, s_edges: np.ndarray,
     def integrand(s, t):
         P = corner + s[:, None] * ex + t[:, None] * ey
         d = np.linalg.norm(P - origin, axis=1)
-        pdf = sphrect.pdf(technique, config.origin, config.corner, config.edge_x, config.edge_y, P,
-                          normal=config.normal, dtype=dtype, two_sided=config.two_sided).astype(np.float64)
+        if pdf_fn is not None:
+            pdf = np.asarray(pdf_fn(P), np.float64)
+        else:
+            pdf = sphrect.pdf(technique, config.origin, config.corner, config.edge_x, config.edge_y, P,
+                              normal=config.normal, dtype=dtype, two_sided=config.two_sided).astype(np.float64)
         if pdf_factor is not None:
             pdf = pdf * pdf_factor(P)
         return pdf * h * area / d ** 3
@@ -234,18 +239,23 @@ def pearson(observed: np.ndarray, probability: np.ndarray, invalid: int, sample_
 def chi2_test(technique: str, config: LightConfig, dtype: str = "float32", sample_count: int = 500_000,
               resolution: int = 24, seed: int = 1, significance: float = 1e-3, test_count: int = 1,
               tolerance: float = 1e-4, against: Optional[str] = None,
-              pdf_factor: Optional[Callable] = None) -> Chi2Result:
+              pdf_factor: Optional[Callable] = None, sample_fn: Optional[Callable] = None,
+              pdf_fn: Optional[Callable] = None) -> Chi2Result:
     """Samples of `technique` against the pdf of `against` (default: its own), times
     `pdf_factor(points)` when given (another technique's pdf, or a factor, is how the tests check
-    that this test can fail)."""
+    that this test can fail).  A sampler outside sphrect.techniques passes `sample_fn(uv) -> (points, pdf)` and
+    `pdf_fn(points) -> pdf` instead (`technique` then only names it)."""
     s_edges = grid_edges(config, resolution, 0)
     t_edges = grid_edges(config, resolution, 1)
     probability = cell_probabilities(against or technique, config, s_edges, t_edges, dtype,
-                                     pdf_factor=pdf_factor)
+                                     pdf_factor=pdf_factor, pdf_fn=pdf_fn)
 
     uv = sphrect.pattern("independent", sample_count, seed=seed)
-    points, pdf = sphrect.sample(technique, config.origin, config.corner, config.edge_x, config.edge_y, uv,
-                                 normal=config.normal, dtype=dtype, two_sided=config.two_sided)
+    if sample_fn is not None:
+        points, pdf = sample_fn(uv)
+    else:
+        points, pdf = sphrect.sample(technique, config.origin, config.corner, config.edge_x, config.edge_y, uv,
+                                     normal=config.normal, dtype=dtype, two_sided=config.two_sided)
     valid = pdf > 0
     s, t = light_coordinates(points[valid], config)
     off = (s < -tolerance) | (s > 1 + tolerance) | (t < -tolerance) | (t > 1 + tolerance) | \
