@@ -29,7 +29,9 @@ import numpy as np
 import sphrect
 from sphrect.study.metrics import rmse, tonemap
 
-TECHNIQUES = sphrect.techniques  # area, triangles, rectangle, rectangle_cosine, rectangle_projected
+# area, triangles, rectangle, rectangle_cosine, rectangle_projected (rectangle_ltc follows glossy lobes: on this
+# diffuse scene it samples as rectangle_projected, sample for sample).
+TECHNIQUES = tuple(t for t in sphrect.techniques if t != "rectangle_ltc")
 LABELS = {"area": "area", "triangles": "solid angle (two triangles)", "rectangle": "solid angle (rectangle)",
           "rectangle_cosine": "rectangle + cosine warp", "rectangle_projected": "projected solid angle (exact cosine)"}
 MIS_MODES = ("none", "balance")  # the figure's rows: light sampling only, then the paper's MIS

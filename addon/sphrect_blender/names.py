@@ -33,6 +33,10 @@ TECHNIQUE_LABELS = {
                             "Rectangle lights: points spread in proportion to the cosine at the shaded point, exactly "
                             "(Peters 2021), over the part of the light above its horizon: on a diffuse surface an "
                             "unshadowed light is noise-free"),
+    "rectangle_ltc": ("Projected + glossy lobe (LTC)",
+                      "Rectangle lights: on glossy surfaces, points also spread in proportion to the GGX highlight "
+                      "(its linearly transformed cosine, Heitz et al. 2016; Peters 2021), mixed with the projected "
+                      "solid angle for the rest of the surface's reflection"),
 }
 PATTERN_LABELS = {
     "independent": ("Independent", "Independent uniform random numbers"),

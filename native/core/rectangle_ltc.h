@@ -1,7 +1,7 @@
-// Technique `rectangle_ltc` (core only; not in the Technique lists): points on the light with density
-// proportional to a linearly transformed cosine (LTC; Heitz, Dupuy, Hill, Neubelt 2016) fitted to the
-// isotropic GGX lobe at (alpha, wo), after C. Peters, "BRDF Importance Sampling for Polygonal Lights"
-// (ACM TOG 40(4), SIGGRAPH 2021).  In short (docs/rectangle_ltc.md):
+// Technique `rectangle_ltc`'s glossy part (its mixture with rectangle_projected: technique.h): points on the light with
+// density proportional to a linearly transformed cosine (LTC; Heitz, Dupuy, Hill, Neubelt 2016) fitted to the isotropic
+// GGX lobe at (alpha, wo), after C. Peters, "BRDF Importance Sampling for Polygonal Lights" (ACM TOG 40(4), SIGGRAPH
+// 2021).  In short (docs/rectangle_ltc.md):
 //
 //  1. In the shading frame with wo in the x-z plane, the LTC is D(w) = D_o(w_o) |det M^-1| / |M^-1 w|^3 with
 //     w_o = M^-1 w / |M^-1 w| and a clamped cosine D_o.  M = [[a, 0, b], [0, c, 0], [d, 0, 1]] comes from
@@ -32,6 +32,17 @@
 #include "rectangle_projected.h"
 
 namespace sphrect {
+
+// The glossy lobe a `rectangle_ltc` sampler follows at its shading point (technique.h): wo towards the viewer (the
+// space of the origin and normal, any length), the GGX alpha, and the weights of the lobe and of the rest of the
+// BSDF (any common scale).  weight 0: no lobe.
+template <class T>
+struct GlossyLobe {
+    Vec3<T> wo{};
+    T alpha = 0;
+    T weight = 0;
+    T rest_weight = 0;
+};
 
 // M = [[a, 0, b], [0, c, 0], [d, 0, 1]] in the frame with wo = (sin theta, 0, cos theta).
 struct LtcMatrix {

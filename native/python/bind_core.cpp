@@ -191,12 +191,13 @@ py::array_t<T> NewArray(size_t n, size_t width) {
     return py::array_t<T>(std::vector<py::ssize_t>{py::ssize_t(n), py::ssize_t(width)});
 }
 
-// Shading normals: required by rectangle_cosine and rectangle_projected; unit length is enforced here (the renderer
-// passes unit normals, so the core may assume them).
+// Shading normals: required by rectangle_cosine, rectangle_projected and rectangle_ltc; unit length is enforced here
+// (the renderer passes unit normals, so the core may assume them).
 template <class T>
 std::vector<Vec3<T>> ReadNormals(Technique technique, const py::object& normal) {
     if (normal.is_none()) {
-        if (technique == Technique::RectangleCosine || technique == Technique::RectangleProjected)
+        if (technique == Technique::RectangleCosine || technique == Technique::RectangleProjected ||
+            technique == Technique::RectangleLtc)
             throw py::value_error("technique '" + std::string(TechniqueName(technique)) +
                                   "' needs normal= (the shading normal, shape (3,) or (N, 3))");
         return {Vec3<T>(0, 0, 0)};

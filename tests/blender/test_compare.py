@@ -13,6 +13,13 @@ from conftest import addon_module, engine_module, open_blend
 TECHNIQUES = list(sphrect.techniques)
 
 
+def compare_only(settings, *techniques):
+    """Tick the compare switches of `techniques` and untick every other technique's."""
+    compare_switch = addon_module("properties").compare_switch
+    for t in sphrect.techniques:
+        setattr(settings, compare_switch(t), t in techniques)
+
+
 def png_size(path):
     with open(path, "rb") as f:
         head = f.read(24)
@@ -83,7 +90,7 @@ def test_compare_settings_side_by_side(tmp_path, setting):
     scene = open_blend(blend, 32, 24)
     s = scene.sphrect
     s.compare, s.samples, s.passes, s.reference, s.reference_samples = True, 4, 2, "RENDER", 32
-    s.compare_triangles = s.compare_rectangle_cosine = s.compare_rectangle_projected = False
+    compare_only(s, "area", "rectangle")
     switch = lambda value: f"compare_{setting}_{value}"
     setattr(s, setting, values[0].upper())
     assert getattr(s, chosen)() == [values[0]]  # nothing ticked: the Sampling panel's value
@@ -131,7 +138,7 @@ def test_compare_equal_time(tmp_path, selections):
     scene = open_blend("02_room", 32, 24)
     s = scene.sphrect
     s.compare, s.equal_time, s.time_budget, s.passes, s.reference = True, True, 0.2, 2, "NONE"
-    s.compare_triangles = s.compare_rectangle_cosine = s.compare_rectangle_projected = False
+    compare_only(s, "area", "rectangle")
     for name in selections:
         setattr(s, f"compare_light_selection_{name}", True)
     scene.render.filepath = str(tmp_path / "room_")
@@ -157,7 +164,7 @@ def test_compare_with_reference_exr(tmp_path):
     bpy.ops.render.render(write_still=True)
     reference = engine_module().last_render["images"]["rectangle"]
     s.compare, s.reference, s.reference_path = True, "FILE", str(tmp_path / "ref.exr")
-    s.compare_area = s.compare_triangles = s.compare_rectangle_cosine = s.compare_rectangle_projected = False
+    compare_only(s, "rectangle")
     s.seed = 0
     scene.render.filepath = str(tmp_path / "cmp_")
     settings.file_format = "OPEN_EXR_MULTILAYER"

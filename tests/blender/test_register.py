@@ -15,7 +15,8 @@ def test_engine_and_settings_registered(empty_scene):
     for name in ("technique", "samples", "light_samples", "pattern", "mis", "seed", "compare"):
         assert hasattr(s, name), name
     items = lambda prop: {i.identifier for i in s.bl_rna.properties[prop].enum_items}
-    assert items("technique") == {"AREA", "TRIANGLES", "RECTANGLE", "RECTANGLE_COSINE", "RECTANGLE_PROJECTED"}
+    assert items("technique") == {"AREA", "TRIANGLES", "RECTANGLE", "RECTANGLE_COSINE", "RECTANGLE_PROJECTED",
+                                  "RECTANGLE_LTC"}
     assert items("mis") == {"NONE", "BALANCE", "POWER"}
     assert items("pattern") == {"INDEPENDENT", "STRATIFIED", "LATIN", "HAMMERSLEY", "SOBOL"}
     assert hasattr(bpy.types.Light, "sphrect")

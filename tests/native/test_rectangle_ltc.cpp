@@ -17,6 +17,7 @@
 
 #include "bsdf_chi_square.h"
 #include "core/rectangle_ltc.h"
+#include "core/technique.h"
 #include "direction_quadrature.h"
 #include "render/bsdf/microfacet.h"
 #include "sampling_test_util.h"
@@ -195,6 +196,64 @@ TEST(RectangleLtc, ChiSquare) {
                     cfg.name.c_str(), s.E, chi2.statistic, chi2.cells, limit, rejected);
         EXPECT_GT(chi2.cells, 50);
         EXPECT_LT(chi2.statistic, limit);
+    }
+}
+
+// The technique in the renderer: the mixture of the LTC and rectangle_projected (technique.h), with the lobe's weight
+// 0.7 against the rest's 0.3, on every configuration: its share is in (0, 0.95], its points follow its pdf (the same
+// chi-square as above), the pdf is that of the point returned and integrates to 1 over the light.  Without a lobe it
+// is rectangle_projected.
+TEST(RectangleLtc, MixtureChiSquare) {
+    constexpr int kCells = 24, kSub = 10, kSamples = 200000;
+    for (const LtcConfig& cfg : ChiSquareConfigs()) {
+        SCOPED_TRACE(cfg.name);
+        const GlossyLobe<double> lobe{cfg.wo, cfg.alpha, 0.7, 0.3};
+        const LightSampler<Technique::RectangleLtc, double> s(cfg.origin, cfg.normal, cfg.light, lobe);
+        ASSERT_TRUE(s.Valid());
+        EXPECT_GT(s.share, 0.0);
+        EXPECT_LE(s.share, 1 - kRectangleLtcMinProjectedShare + 1e-12);
+        std::vector<double> expected(kCells * kCells, 0.0), observed(expected.size(), 0.0);
+        const double wx = Length(cfg.light.ex), wy = Length(cfg.light.ey);
+        double total = 0;
+        for (int i = 0; i < kCells; ++i)
+            for (int j = 0; j < kCells; ++j) {
+                double sum = 0;
+                for (int a = 0; a < kSub; ++a)
+                    for (int b = 0; b < kSub; ++b) {
+                        const Vec3d p = cfg.light.corner + cfg.light.ex * ((i + (a + 0.5) / kSub) / kCells) +
+                                        cfg.light.ey * ((j + (b + 0.5) / kSub) / kCells);
+                        const Vec3d d = p - cfg.origin;
+                        const double dist2 = Dot(d, d);
+                        sum += s.PDF(p) * std::abs(Dot(d, cfg.light.Normal())) / (dist2 * std::sqrt(dist2));
+                    }
+                const double cell = sum / (kSub * kSub) * (wx * wy) / (kCells * kCells);
+                expected[i * kCells + j] = cell * kSamples;
+                total += cell;
+            }
+        EXPECT_NEAR(total, 1.0, 2e-3);
+        PCG32 rng(23);
+        double rejected = 0;
+        for (int n = 0; n < kSamples; ++n) {
+            const LightSample<double> ls = s.Sample({double(rng.NextFloat()), double(rng.NextFloat())});
+            if (!(ls.pdf > 0)) {
+                ++rejected;
+                continue;
+            }
+            ASSERT_NEAR(s.PDF(ls.point), ls.pdf, 1e-12 * ls.pdf);
+            const Vec3d q = ls.point - cfg.light.corner;
+            const int i = std::clamp(int(Dot(q, cfg.light.ex) / (wx * wx) * kCells), 0, kCells - 1);
+            const int j = std::clamp(int(Dot(q, cfg.light.ey) / (wy * wy) * kCells), 0, kCells - 1);
+            observed[i * kCells + j] += 1;
+        }
+        const render::ChiSquare chi2 = render::PooledPearson(expected, observed, kSamples * (1 - total), rejected);
+        EXPECT_LT(chi2.statistic, render::ChiSquareQuantile(chi2.cells - 1, 4.753));
+        // No lobe: rectangle_projected's samples and pdfs.
+        const LightSampler<Technique::RectangleLtc, double> plain(cfg.origin, cfg.normal, cfg.light);
+        const LightSampler<Technique::RectangleProjected, double> projected(cfg.origin, cfg.normal, cfg.light);
+        EXPECT_EQ(plain.share, 0.0);
+        const LightSample<double> a = plain.Sample({0.3, 0.6}), b = projected.Sample({0.3, 0.6});
+        EXPECT_EQ(a.pdf, b.pdf);
+        EXPECT_EQ(a.point.x, b.point.x);
     }
 }
 

@@ -31,6 +31,7 @@ def test_levels_split_the_triangles_of_meshes_that_emit_nothing():
         assert len(s.meshes[0].triangles) == 2 * 4 ** levels
         assert s.meshes[1] is scene.meshes[1]  # the emitter, untouched
         assert complexity.triangle_count(s) == 2 * 4 ** levels + 2
+        assert complexity.subdivided_triangle_count(scene, levels) == complexity.triangle_count(s)
     s = complexity.subdivide_scene(scene, 1).meshes[0]
     # Shared midpoints: 4 corners + 5 edges of the two triangles.
     assert len(s.vertices) == 9 and len(s.normals) == len(s.uvs) == len(s.attributes["tint"]) == 9

@@ -3,7 +3,7 @@ materials, ellipse lights), the medium's two distance-sampling strategies agree,
 converges to the medium-free image, and the camera models put things where Blender does.
 
 Comparisons are per-pixel Welch t-tests between independent replicate renders, Sidak-corrected
-per image pair with family-wise false-failure rate 1e-4; with the 16 image pairs below a correct
+per image pair with family-wise false-failure rate 1e-4; with the 19 image pairs below a correct
 renderer fails this file with probability < 0.2 % (fixed seeds: the outcome is deterministic)."""
 
 import numpy as np
@@ -51,7 +51,7 @@ def glossy_scene():
 
 
 def assert_techniques_and_mis_modes_agree(scene):
-    """Every technique under every MIS mode (8 x 32 spp) against rectangle / balance (8 x 64 spp): 15 image pairs."""
+    """Every technique under every MIS mode (8 x 32 spp) against rectangle / balance (8 x 64 spp): 18 image pairs."""
     reference = replicate_images(scene, ["rectangle"], 8, 64, mis="balance")["rectangle"]
     assert reference.mean() > 0.01
     for mis in sphrect.mis_modes:

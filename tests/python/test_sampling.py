@@ -10,10 +10,11 @@ import pytest
 import sphrect
 from chi2 import LightConfig, chi2_test
 
-TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine", "rectangle_projected")
+TECHNIQUES = ("area", "triangles", "rectangle", "rectangle_cosine", "rectangle_projected", "rectangle_ltc")
 # rectangle_projected's chi-square tests are in test_rectangle_projected.py (a selection of these
-# configurations plus horizon-crossing ones, to keep the suite's time).
-CHI2_TECHNIQUES = tuple(t for t in TECHNIQUES if t != "rectangle_projected")
+# configurations plus horizon-crossing ones, to keep the suite's time); rectangle_ltc's, with a glossy lobe, in
+# test_rectangle_ltc.py (without one, as here, it is rectangle_projected).
+CHI2_TECHNIQUES = tuple(t for t in TECHNIQUES if t not in ("rectangle_projected", "rectangle_ltc"))
 DTYPES = ("float32", "float64")
 
 
@@ -413,6 +414,7 @@ UV = np.array([[0.25, 0.5], [0.75, 0.125]])
     (lambda: sphrect.pdf("rectangle_cosine", *ARGS, np.zeros((1, 3))), "needs normal="),
     (lambda: sphrect.sample("rectangle_cosine", *ARGS, UV, normal=(0, 0, 0)), "normal must be a non-zero"),
     (lambda: sphrect.sample("rectangle_projected", *ARGS, UV), "needs normal="),
+    (lambda: sphrect.sample("rectangle_ltc", *ARGS, UV), "needs normal="),
     (lambda: sphrect.pdf("rectangle_projected", *ARGS, np.zeros((1, 3))), "needs normal="),
     (lambda: sphrect.invert(*ARGS, np.zeros((1, 3)), technique="rectangle_projected"), "needs normal="),
     (lambda: sphrect.invert(*ARGS, np.zeros((1, 3)), technique="rectangle_cosine"), "invert supports technique"),

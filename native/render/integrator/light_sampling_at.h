@@ -108,6 +108,9 @@ class LightSamplingAt {
           ellipse_(ellipse_technique),
           emission_blocks_(emission_blocks) {}
 
+    // `rectangle_ltc`: the glossy lobe its samplers follow at this point (before the first sample or pdf).
+    void FollowGlossyLobe(const GlossyLobe<float>& lobe) { glossy_lobe_ = lobe; }
+
     // The emitter of the light sample with pattern point light_point, at this receiver (under "ris": one candidate).
     ChosenLight Choose(Point2<float> light_point) {
         if (ChoosesByLightTree(selection_)) return ChooseLightFromTree(scene_, tree_, light_point);
@@ -192,10 +195,10 @@ class LightSamplingAt {
         const AreaLight& l = scene_.area_lights[index];
         // With spread, the technique samples the part of the light this point receives light from (the
         // same sub-rectangle for the samples and the pdfs of the BSDF rays that hit it).
-        if (l.HasSpread())
-            return *new (&sampler_[slot].sampler)
-                LightSampler<K, float>(origin_, normal_, SpreadClippedFrame(l, origin_));
-        return *new (&sampler_[slot].sampler) LightSampler<K, float>(origin_, normal_, l.frame);
+        const RectLightFrame<float> frame = l.HasSpread() ? SpreadClippedFrame(l, origin_) : l.frame;
+        if constexpr (K == Technique::RectangleLtc)
+            return *new (&sampler_[slot].sampler) LightSampler<K, float>(origin_, normal_, frame, glossy_lobe_);
+        return *new (&sampler_[slot].sampler) LightSampler<K, float>(origin_, normal_, frame);
     }
 
     // Triangle lights (every solid-angle technique): the spherical triangle, kept like a
@@ -211,7 +214,8 @@ class LightSamplingAt {
     const RenderScene& scene_;
     LightSelection selection_;
     Vec3f origin_, normal_;
-    LightTreeAt tree_;  // at (origin, tree_normal)
+    GlossyLobe<float> glossy_lobe_;  // (rectangle_ltc's; none unless FollowGlossyLobe)
+    LightTreeAt tree_;               // at (origin, tree_normal)
     EllipseSamplingAt ellipse_;
     bool emission_blocks_;
     static constexpr int kKeptSamplers = 4;

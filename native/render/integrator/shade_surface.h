@@ -330,6 +330,25 @@ static inline bool LightSamplesAlone(const ShadeContext& c, const Bsdf& m) {
     return c.diffuse_light_samples_alone && !m.glossy && K != Technique::Area;
 }
 
+// rectangle_ltc's glossy lobe at a hit: the BSDF's most likely sampled microfacet lobe (its GGX alpha; an anisotropic
+// one's geometric mean, which the isotropic fit follows roughly), weighed by that probability against the rest's.
+template <bool kGlossy>
+static inline GlossyLobe<float> GlossyLobeAt(const Bsdf& m, const Vec3f& wo_world) {
+    if constexpr (kGlossy) {
+        if (!m.glossy) return {};
+        float p = m.specular_probability;
+        float alpha = m.principled ? std::sqrt(m.alpha * m.specular_alpha_y) : m.alpha;
+        if (m.principled)
+            for (int i = 0; i < m.num_lobes; ++i)
+                if (m.lobes[i].probability > p) {
+                    p = m.lobes[i].probability;
+                    alpha = std::sqrt(m.lobes[i].alpha * m.lobes[i].alpha_y);
+                }
+        if (p > 0) return {wo_world, alpha, p, 1 - p};
+    }
+    return {};
+}
+
 // Direct light at surface hit h towards wo_world: light_samples (light sample, BSDF sample)
 // pairs averaged, as many light samples of the image world, then the delta lights evaluated once (soft ones once per
 // light sample), then the singular lobes' rays (once).  Light sample j's emitter and its point come from
@@ -354,14 +373,18 @@ static inline void ShadeSurface(const ShadeContext& c_scene, const SurfaceHit& h
     // Without lights to choose and BSDF samples (only delta lights evaluated once) there is nothing to sample.
     const int n_pairs = (HasChoosableLights(scene, c.light_selection) || c.sample_bsdf) ? c.light_samples : 0;
     const Vec3f tree_normal = TreeReceiverNormal<kGlossy>(h, sp.material);
-    // rectangle_projected samples only the light above the horizon of its normal: a translucent
+    // rectangle_projected (and rectangle_ltc) sample only the light above the horizon of its normal: a translucent
     // surface gets none (the technique then switches to `rectangle`, rectangle_projected.h).
     const Vec3f technique_normal =
-        K == Technique::RectangleProjected && kGlossy && sp.material.has_translucent ? Vec3f() : h.ns;
+        (K == Technique::RectangleProjected || K == Technique::RectangleLtc) && kGlossy && sp.material.has_translucent
+            ? Vec3f()
+            : h.ns;
     const bool resampled = c.light_selection == LightSelection::Ris;
     TimedLightSamplingAt<K> light_sampling(scene, c.light_selection, h.p, technique_normal, tree_normal,
                                            resampled ? n_pairs * c.ris_candidates : n_pairs, c.ellipse_technique,
                                            light_ticks, c.emission_blocks);
+    if constexpr (K == Technique::RectangleLtc)
+        light_sampling.FollowGlossyLobe(GlossyLobeAt<kGlossy>(sp.material, wo_world));
     for (int j = 0; j < n_pairs; ++j) {
         if constexpr (kMedium) SkipFormerLightChoiceNumber(scene.light_selector, rng);  // ShadeVolume's follow
         if (resampled) {

@@ -19,6 +19,8 @@ class TimedLightSamplingAt {
         : sampling_(scene, selection, origin, normal, tree_normal, light_samples, ellipse_technique, emission_blocks),
           ticks_(ticks) {}
 
+    void FollowGlossyLobe(const GlossyLobe<float>& lobe) { sampling_.FollowGlossyLobe(lobe); }
+
     ChosenLight Choose(Point2<float> light_point) {
         const uint64_t t0 = ReadTicks();
         const ChosenLight light = sampling_.Choose(light_point);

@@ -80,3 +80,8 @@ def subdivide_scene(scene: Scene, levels: int) -> Scene:
 
 def triangle_count(scene: Scene) -> int:
     return sum(len(m.triangles) for m in scene.meshes)
+
+
+def subdivided_triangle_count(scene: Scene, levels: int) -> int:
+    """The triangles subdivide_scene(scene, levels) would have (without building it)."""
+    return sum(len(m.triangles) * (1 if mesh_emits(m, scene.materials) else 4 ** levels) for m in scene.meshes)

@@ -261,6 +261,9 @@ def summaries(study_dir: str, pairs) -> List[str]:
 
 
 ADDED_COSTS = (0.0, 1e-7, 3e-7, 1e-6, 3e-6, 1e-5)  # the added costs' default levels [s]
+# The most triangles a geometry level may have: beyond it the level is skipped (the subdivided arrays and Embree's BVH
+# take some 250 bytes per triangle at their peak: 24 GB ran out at 99 M).
+MAX_SWEEP_TRIANGLES = 30_000_000
 
 
 def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
@@ -293,6 +296,11 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
     levels: Dict[str, List[Level]] = {axis: [] for axis, values in axes if values}
     for axis, values in axes:
         for value in values:
+            if axis == GEOMETRY and complexity.subdivided_triangle_count(base, int(value)) > MAX_SWEEP_TRIANGLES:
+                print(f"{axis} {value:g}: skipped, {complexity.subdivided_triangle_count(base, int(value)):,} "
+                      f"triangles would exceed the sweep's {MAX_SWEEP_TRIANGLES:,} (memory)", file=sys.stderr,
+                      flush=True)
+                continue
             scene = complexity.subdivide_scene(base, int(value)) if axis == GEOMETRY else base
             estimate = {t: terms.at(terms.t_ray + (value if axis == ADDED_RAY else 0.0),
                                     value if axis == ADDED_SHADING else 0.0) for t, terms in base_terms.items()}
