@@ -117,15 +117,16 @@ def test_tree_against_power_at_equal_error():
     assert [r[0] for r in wording.target_rows(target)] == ["rectangle / mis=none / sobol"] * 2
 
 
-def test_projected_finding_compares_with_rectangle_and_cosine():
-    """rectangle_projected against rectangle and rectangle_cosine: one comparison per (setting, technique it is
+def test_costlier_map_findings_compare_with_the_cheaper_maps():
+    """rectangle_projected against rectangle and rectangle_cosine (rectangle_ltc against rectangle and
+    rectangle_projected): one comparison per (setting, technique it is
     compared with), the equal-time RMSE ratio from the costs, and a summary line per technique."""
     cfg = StudyConfig(techniques=("rectangle", "rectangle_cosine", "rectangle_projected"), mis=("none",),
                       patterns=("sobol",))
     curves = {key("rectangle", "none", "sobol"): _curve(lambda n: 1.0 / n, seconds_per_sample=0.01),
               key("rectangle_cosine", "none", "sobol"): _curve(lambda n: 0.5 / n, seconds_per_sample=0.012),
               key("rectangle_projected", "none", "sobol"): _curve(lambda n: 0.04 / n, seconds_per_sample=0.03)}
-    against_rectangle, against_cosine = findings.projected_comparisons(cfg, curves)
+    against_rectangle, against_cosine = findings.costlier_map_comparisons(cfg, curves)
     assert (against_rectangle.against, against_cosine.against) == ("rectangle", "rectangle_cosine")
     assert against_rectangle.rmse_ratio == pytest.approx(0.2) and against_rectangle.cost_ratio == pytest.approx(3)
     assert against_rectangle.equal_time_rmse_ratio == pytest.approx(0.2 * math.sqrt(3))
@@ -134,12 +135,19 @@ def test_projected_finding_compares_with_rectangle_and_cosine():
     # 0.08x the MSE at 2.5x the cost: 5x as efficient as rectangle_cosine.
     assert against_cosine.efficiency == pytest.approx(5) and against_cosine.verdict == "better than rectangle_cosine"
     assert "RMSE ratio at equal time 0.346" in wording.cosine_line(against_rectangle)
-    lines = wording.projected_summary_lines([against_rectangle, against_cosine])
+    lines = wording.costlier_map_summary_lines([against_rectangle, against_cosine])
     assert lines[1].startswith("- rectangle_projected is more efficient (1 / (MSE x time)) than rectangle_cosine "
                                "in 1 of 1")
     # Not in the study: no finding.
-    assert findings.projected_comparisons(StudyConfig(techniques=("rectangle",), mis=("none",),
-                                                      patterns=("sobol",)), curves) is None
+    assert findings.costlier_map_comparisons(StudyConfig(techniques=("rectangle",), mis=("none",),
+                                                         patterns=("sobol",)), curves) is None
+    # rectangle_ltc is set against rectangle and rectangle_projected.
+    cfg = StudyConfig(techniques=("rectangle", "rectangle_projected", "rectangle_ltc"), mis=("none",),
+                      patterns=("sobol",))
+    curves[key("rectangle_ltc", "none", "sobol")] = _curve(lambda n: 0.01 / n, seconds_per_sample=0.045)
+    pairs = [(c.technique, c.against) for c in findings.costlier_map_comparisons(cfg, curves)]
+    assert pairs == [("rectangle_projected", "rectangle"), ("rectangle_ltc", "rectangle"),
+                     ("rectangle_ltc", "rectangle_projected")]
 
 
 def test_non_finite_and_missing_numbers_print_a_placeholder():

@@ -34,7 +34,7 @@ class Report:
     ordering_lines: List[str]                           # shown in the summary and in finding 1
     slopes: findings.Slopes
     cosine: Optional[List[findings.CosineComparison]]
-    projected: Optional[List[findings.TechniqueComparison]]  # rectangle_projected against rectangle, rectangle_cosine
+    costlier_maps: Optional[List[findings.TechniqueComparison]]  # findings.COSTLIER_MAPS' comparisons
     cycles: Optional[equal_error.CyclesComparison]
     selection: Optional[List[equal_error.SelectionComparison]]  # None unless the study has tree and power
     ellipse: Optional[List[equal_error.EllipseComparison]]  # None unless it has spherical_ellipse and area
@@ -64,7 +64,7 @@ def measure(out_dir: str, results: StudyResults) -> Report:
                   wording.ordering_lines(ordering, findings.triangles_comparisons(cfg, ordering or []),
                                          cfg.shows_selection, cfg.shows_ellipse),
                   findings.slopes(cfg, all_curves, ref_rmse), findings.cosine_comparisons(cfg, all_curves),
-                  findings.projected_comparisons(cfg, all_curves),
+                  findings.costlier_map_comparisons(cfg, all_curves),
                   equal_error.cycles_comparison(all_curves, ref_rmse),
                   equal_error.selection_comparisons(cfg, all_curves, ref_rmse),
                   equal_error.ellipse_comparisons(cfg, all_curves, ref_rmse),
@@ -161,7 +161,7 @@ def summary_section(report: Report) -> None:
     for line in wording.summary_lines(report.ordering_lines, report.slopes, report.cosine, report.cycles,
                                       report.results.reference_rmse, report.smallest, report.selection,
                                       report.show_selection, report.ellipse, report.show_ellipse,
-                                      report.projected, report.medium):
+                                      report.costlier_maps, report.medium):
         report.doc.para(line)
     pattern = findings.headline_pattern(report.results.settings)
     report.doc.image(f"{PLOTS}/rmse_vs_time_{pattern}.png", f"RMSE vs time, pattern {pattern} (more below)")
@@ -191,12 +191,13 @@ def findings_section(report: Report) -> None:
     for line in [wording.cosine_line(c, show, show_ellipse) for c in report.cosine or []] or \
             ["rectangle_cosine or rectangle was not part of the study."]:
         doc.para(line)
-    if report.projected is not None:
-        doc.para("**3b. Where rectangle_projected stands** (exact projected-solid-angle sampling, against rectangle "
-                 "and rectangle_cosine, same MIS and pattern, top of the ladder; RMSE at equal time from the costs "
-                 "per sample).")
-        for line in [wording.cosine_line(c, show, show_ellipse) for c in report.projected] or \
-                ["rectangle or rectangle_cosine was not part of the study."]:
+    if report.costlier_maps is not None:
+        doc.para("**3b. Where the costlier maps stand** (rectangle_projected, exact projected-solid-angle sampling, "
+                 "against rectangle and rectangle_cosine; rectangle_ltc, which follows glossy lobes, against "
+                 "rectangle and rectangle_projected; same MIS and pattern, top of the ladder; RMSE at equal time "
+                 "from the costs per sample).")
+        for line in [wording.cosine_line(c, show, show_ellipse) for c in report.costlier_maps] or \
+                ["None of the techniques they are compared with was part of the study."]:
             doc.para(line)
     doc.para("**4. Cycles 3.4 at equal error: time our best configuration needs to reach Cycles' RMSE.**")
     for line in wording.cycles_lines(report.cycles):

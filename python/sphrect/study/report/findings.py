@@ -17,6 +17,7 @@ PAPER_ORDER = ("rectangle", "triangles", "area")  # the paper: RMSE rectangle < 
 RECTANGLE, TRIANGLES, AREA = PAPER_ORDER
 COSINE = "rectangle_cosine"
 PROJECTED = "rectangle_projected"
+LTC = "rectangle_ltc"
 UNSTRATIFIED = "independent"  # the pattern without stratification
 LIGHT_TREE, POWER_SELECTION = "tree", "power"  # the light selections equal_error.selection_comparisons compares
 # The ellipse techniques equal_error.ellipse_comparisons compares: the solid-angle map against area sampling.
@@ -246,9 +247,14 @@ def cosine_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[Te
     return technique_comparisons(cfg, all_curves, COSINE, RECTANGLE)
 
 
-def projected_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[TechniqueComparison]]:
-    """rectangle_projected against rectangle and against rectangle_cosine (technique_comparisons; the pairs the
-    study has)."""
-    out = [c for against in (RECTANGLE, COSINE)
-           for c in technique_comparisons(cfg, all_curves, PROJECTED, against) or []]
-    return out if PROJECTED in cfg.techniques else None
+# The costlier maps and what each is set against: rectangle_projected against rectangle and rectangle_cosine,
+# rectangle_ltc (which follows glossy lobes) against rectangle and rectangle_projected.
+COSTLIER_MAPS = ((PROJECTED, (RECTANGLE, COSINE)), (LTC, (RECTANGLE, PROJECTED)))
+
+
+def costlier_map_comparisons(cfg: StudyConfig, all_curves: Curves) -> Optional[List[TechniqueComparison]]:
+    """Each of COSTLIER_MAPS the study has against the techniques it is set against (technique_comparisons; the
+    pairs the study has); None if the study has none of them."""
+    out = [c for technique, against_list in COSTLIER_MAPS if technique in cfg.techniques
+           for against in against_list for c in technique_comparisons(cfg, all_curves, technique, against) or []]
+    return out if any(technique in cfg.techniques for technique, _ in COSTLIER_MAPS) else None

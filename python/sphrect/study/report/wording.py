@@ -117,7 +117,8 @@ def slope_line(c: SlopeComparison, show_selection: bool = False, show_ellipse: b
 
 
 def cosine_line(c: CosineComparison, show_selection: bool = False, show_ellipse: bool = False) -> str:
-    """One technique comparison (rectangle_cosine against rectangle, or rectangle_projected against either)."""
+    """One technique comparison (rectangle_cosine against rectangle, or a costlier map against those of
+    findings.COSTLIER_MAPS)."""
     equal_time = (f", RMSE ratio at equal time {fmt(c.equal_time_rmse_ratio)}" if c.technique != COSINE else "")
     return (f"- MIS {c.mis}, {c.pattern}{selection_part(c.light_selection, show_selection, ', ')}"
             f"{ellipse_part(c.ellipse_technique, show_ellipse, ', ')}, {c.samples} spp: "
@@ -126,12 +127,13 @@ def cosine_line(c: CosineComparison, show_selection: bool = False, show_ellipse:
             f"(1/(MSE x time)) ratio {fmt(c.efficiency)}, timing noise +-{fmt(100 * c.noise, 2)}% ({c.verdict}).")
 
 
-def projected_summary_lines(projected: Optional[List[CosineComparison]], selection_case: str = "") -> List[str]:
-    """Summary: in how many cases rectangle_projected is more efficient than each technique it is compared with."""
+def costlier_map_summary_lines(comparisons: Optional[List[CosineComparison]], selection_case: str = "") -> List[str]:
+    """Summary: in how many cases each costlier map (rectangle_projected, rectangle_ltc) is more efficient than each
+    technique it is compared with."""
     lines = []
-    for against in dict.fromkeys(c.against for c in projected or []):
-        verdicts = [c.verdict for c in projected if c.against == against]
-        lines.append(f"- rectangle_projected is more efficient (1 / (MSE x time)) than {against} in "
+    for technique, against in dict.fromkeys((c.technique, c.against) for c in comparisons or []):
+        verdicts = [c.verdict for c in comparisons if (c.technique, c.against) == (technique, against)]
+        lines.append(f"- {technique} is more efficient (1 / (MSE x time)) than {against} in "
                      f"{verdicts.count('better than ' + against)} of {len(verdicts)} (MIS, pattern{selection_case}) "
                      f"cases at the top of the ladder, less in {verdicts.count('worse than ' + against)}, "
                      f"indistinguishable within the timing noise in the rest.")
@@ -336,7 +338,7 @@ def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[Cos
                   cycles: Optional[CyclesComparison], reference_rmse: float, smallest: float,
                   selection: Optional[List[SelectionComparison]] = None, show_selection: bool = False,
                   ellipse: Optional[List[EllipseComparison]] = None, show_ellipse: bool = False,
-                  projected: Optional[List[CosineComparison]] = None,
+                  costlier_maps: Optional[List[CosineComparison]] = None,
                   medium: Optional[List[MediumComparison]] = None) -> List[str]:
     """The headline numbers, from the findings the report shows below the summary (`ordering`: its lines)."""
     selection_case = setting_names(show_selection, show_ellipse, first="")
@@ -362,7 +364,7 @@ def summary_lines(ordering: List[str], slopes: Slopes, cosine: Optional[List[Cos
                      f"{verdicts.count('better than rectangle')} of {len(cosine)} (MIS, pattern{selection_case}) cases "
                      f"at the top of the ladder, less in {verdicts.count('worse than rectangle')}, indistinguishable "
                      f"within the timing noise in the rest.")
-    lines += projected_summary_lines(projected, selection_case)
+    lines += costlier_map_summary_lines(costlier_maps, selection_case)
     if selection is not None:
         lines += selection_lines(selection)
     if ellipse is not None:
