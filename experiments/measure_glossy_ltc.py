@@ -15,26 +15,18 @@ import argparse
 import numpy as np
 
 import sphrect
+from measure_ris_candidates import box_mesh  # (this folder: the script's own)
 
 TECHNIQUES = ("rectangle", "rectangle_projected", "rectangle_ltc")
 BASELINE = ("rectangle_projected", "power")
-
-
-def box_mesh(lo, hi):
-    x0, y0, z0 = lo
-    x1, y1, z1 = hi
-    v = np.array([[x0, y0, z0], [x1, y0, z0], [x1, y1, z0], [x0, y1, z0],
-                  [x0, y0, z1], [x1, y0, z1], [x1, y1, z1], [x0, y1, z1]], np.float32)
-    t = np.array([[4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4], [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6],
-                  [3, 0, 4], [3, 4, 7]], np.int32)
-    return sphrect.Mesh(vertices=v, triangles=t, material_ids=np.ones(len(t), np.int32), name="box")
 
 
 def scene(roughness: float, metallic: float, width: int) -> sphrect.Scene:
     floor = np.array([[-6, -6, 0], [6, -6, 0], [6, 6, 0], [-6, 6, 0]], np.float32)
     meshes = [sphrect.Mesh(vertices=floor, triangles=np.array([[0, 1, 2], [0, 2, 3]], np.int32),
                            material_ids=np.zeros(2, np.int32), name="floor"),
-              box_mesh((0.8, 0.5, 0.0), (1.4, 1.1, 0.6))]
+              box_mesh((0.8, 0.5, 0.0), (1.4, 1.1, 0.6), "box")]
+    meshes[1].material_ids = np.ones(len(meshes[1].triangles), np.int32)
     materials = [sphrect.Material(kind="principled", base_color=(0.8, 0.8, 0.8), roughness=roughness,
                                   metallic=metallic, specular=0.5),
                  sphrect.Material(base_color=(0.5, 0.5, 0.5))]
