@@ -157,6 +157,22 @@ def test_a_pair_from_the_studys_curves():
     assert costs.pair_cost(kb, ka, curves, model, 0.0, ordered=False).b == ka
 
 
+def test_light_selections_are_paired_too():
+    """A study of one technique under tree and ris: pair_costs pairs the two selections (ris, 0.08 / sqrt(n) at 3 us
+    of light sampling, against the tree's 0.1 / sqrt(n) at 1 us: the numbers of the pair above), and the sentence
+    names them by their selection."""
+    from sphrect.study.jobs import CurveKey, StudyConfig
+    from sphrect.study.report import cost_wording, costs
+    kt, kr = CurveKey("rectangle", "power", "sobol", "tree"), CurveKey("rectangle", "power", "sobol", "ris")
+    curves = {kt: synthetic_curve("rectangle", 0.1, 1 * US, 1 * US, 0.5 * US),
+              kr: synthetic_curve("rectangle", 0.08, 1 * US, 3 * US, 0.5 * US)}
+    cfg = StudyConfig(techniques=("rectangle",), mis=("power",), patterns=("sobol",), light_selections=("tree", "ris"))
+    (pair,) = costs.pair_costs(cfg, curves, costs.configuration_costs(curves), 0.0)
+    assert (pair.a, pair.b) == (kt, kr) and pair.ray.threshold == pytest.approx(8.96 / 11.52 * US)
+    assert cost_wording.pair_finding(pair, 0.5 * US).startswith(
+        "- rectangle with light selection ris pays off against rectangle with tree above a ray cost of **778 ns**")
+
+
 def test_the_check_summary_and_a_busy_machine():
     """Checks of +2%, -5%, +30% and +40% (and a NaN, not checked): 2 of 4 within 10%, the largest 40%, the median
     (the upper middle) 30%: above the tolerance, so the report says the timers ran ahead (elapsed time on a busy

@@ -279,6 +279,9 @@ def cost_model_section(report: Report) -> None:
     for p in techniques:
         if p.a._replace(technique=headline.technique) == headline:
             doc.para(cost_wording.pair_finding(p, ray_cost))
+    for p in pairs:  # the light selections of each technique, at the headline's MIS and pattern
+        if p.a.light_selection != p.b.light_selection and (p.a.mis, p.a.pattern) == (headline.mis, headline.pattern):
+            doc.para(cost_wording.pair_finding(p, ray_cost))
     baseline = costs.BASELINE if costs.BASELINE in cfg.techniques else cfg.techniques[0]
     lines = {t: costs.pair_cost(headline._replace(technique=baseline), headline._replace(technique=t), report.curves,
                                 model, results.reference_rmse, ordered=False) for t in cfg.techniques}

@@ -3,7 +3,7 @@ every configuration's terms, the break-even ray and shading costs of each pair, 
 from __future__ import annotations
 
 import math
-from typing import Dict, List, Optional
+from typing import Dict, List, Optional, Tuple
 
 from ..cost_model import BreakEven
 from ..jobs import CurveKey, curve_label
@@ -86,11 +86,19 @@ PAIR_HEADER = ["B", "against A", "RMSE", "spp B / A", "B faster at a ray cost", 
 # ("tie in accuracy": samples within costs.ACCURACY_TIE of each other.)
 
 
+def pair_names(p: PairCost) -> Tuple[str, str]:
+    """B's and A's names by the setting they differ in (pair_costs: technique, MIS mode or light selection)."""
+    if p.a.technique != p.b.technique:
+        return p.b.technique, p.a.technique
+    if p.a.mis != p.b.mis:
+        return f"MIS {p.b.mis}", f"MIS {p.a.mis}"
+    return (f"{p.b.technique} with light selection {p.b.light_selection}",
+            f"{p.a.technique} with {p.a.light_selection}")
+
+
 def pair_finding(p: PairCost, ray_cost: float) -> str:
     """One pair's verdict in a sentence."""
-    same_technique = p.b.technique == p.a.technique
-    b = f"MIS {p.b.mis}" if same_technique else p.b.technique
-    a = f"MIS {p.a.mis}" if same_technique else p.a.technique
+    b, a = pair_names(p)
     here = p.efficiency()
     if p.accuracy_tie:
         return (f"- {b} and {a} are as accurate as each other here (samples to the same error within "

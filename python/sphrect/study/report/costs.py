@@ -130,9 +130,10 @@ def pair_cost(a: CurveKey, b: CurveKey, all_curves: Curves, costs: Dict[CurveKey
 
 def pair_costs(cfg: StudyConfig, all_curves: Curves, costs: Dict[CurveKey, ConfigurationCost],
                reference_rmse: float) -> List[PairCost]:
-    """Every two techniques at each combination of the other settings, then every two MIS modes of each technique."""
+    """Every two techniques at each combination of the other settings, then every two MIS modes, then every two light
+    selections of each technique."""
     out = []
-    for axis in ("technique", "mis"):
+    for axis in ("technique", "mis", "light_selection"):
         for key, along in curves_along(cfg, all_curves, axis):
             measured = [key._replace(**{axis: value}) for value, curve in along.items() if curve]
             for a, b in itertools.combinations(measured, 2):
