@@ -138,6 +138,12 @@ TEST(RisLightSelection, MeanIsTheTreesOnManyLightsWithDeltaLightsInTheTree) {
     ExpectBlockMeansAgree(RenderRuns(scene, LightSelection::Ris, 2, 2), RenderRuns(scene, LightSelection::Ris, 2, 16));
 }
 
+// 10,000 lights (the largest): still the tree's mean (one camera sample per run, 24 runs).
+TEST(RisLightSelection, MeanIsTheTreesOnTenThousandLights) {
+    auto scene = FloorUnderLights(10000, false, false, 0.05f);
+    ExpectBlockMeansAgree(RenderRuns(scene, LightSelection::Ris, 1), RenderRuns(scene, LightSelection::Tree, 1));
+}
+
 // Under many small lights the tree's choice follows its nodes' bounds, the target each light's exact unshadowed
 // contribution: at equal samples (default M and MIS, diffuse hits taking light samples alone) ris's variance is well
 // below the tree's (measured: docs/light_selection_ris.md); asserted < 0.4.
