@@ -87,6 +87,7 @@ def main():
     ap.add_argument("--cycles-samples", type=int, default=1024)
     ap.add_argument("--resolution", default="160x90")
     ap.add_argument("--reuse", action="store_true", help="take the rows already rendered in OUT")
+    ap.add_argument("--technique", default="rectangle", choices=sphrect.techniques, help="our light technique")
     a = ap.parse_args()
     width, height = (int(x) for x in a.resolution.split("x"))
     os.makedirs(a.out, exist_ok=True)
@@ -107,13 +108,13 @@ def main():
                     blend = os.path.join(tmp, "clay.blend")
                 warnings = export_blend(blend, files[".sphrect.npz"], (width, height), blender_script=HEADLESS)
                 try:
-                    renderer = sphrect.Renderer(sphrect.load_scene(files[".sphrect.npz"]), techniques=["rectangle"],
+                    renderer = sphrect.Renderer(sphrect.load_scene(files[".sphrect.npz"]), techniques=[a.technique],
                                                 seed=1)
                 except ValueError as e:  # a scene SPHRECT cannot render (nothing it draws): said, the next file
                     print(f"{name:40} not rendered: {e}  warnings: {warnings or 'none'}", flush=True)
                     continue
                 renderer.render(a.samples)
-                ours = renderer.image("rectangle")
+                ours = renderer.image(a.technique)
                 cycles, _ = render_cycles(blend, a.cycles_samples, width, height, seed=1, threads=2,
                                           blender_script=HEADLESS)
             np.save(files[".sphrect.npy"], ours)
