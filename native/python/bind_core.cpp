@@ -217,6 +217,7 @@ template <class T, class Light>
 struct Call {
     Light light;
     std::vector<Vec3<T>> origins, normals;
+    GlossyLobe<T> lobe;  // rectangle_ltc's (wo= and alpha=); none by default
     const Vec3<T>& Origin(size_t i) const { return origins[origins.size() == 1 ? 0 : i]; }
     const Vec3<T>& Normal(size_t i) const { return normals[normals.size() == 1 ? 0 : i]; }
     bool PerRow() const { return origins.size() > 1 || normals.size() > 1; }
@@ -225,11 +226,35 @@ struct Call {
 template <class T>
 using Setup = Call<T, RectLight<T>>;
 
+// rectangle_ltc's glossy lobe from the keyword arguments: wo (towards the viewer) and the GGX alpha together, the
+// lobe's and the rest's weights; none when wo is None.
+struct LobeArguments {
+    py::object wo = py::none(), alpha = py::none();
+    double weight = 1, rest_weight = 0;
+};
+
+template <class T>
+GlossyLobe<T> ReadLobe(Technique technique, const LobeArguments& a) {
+    if (a.wo.is_none() && a.alpha.is_none()) return {};
+    if (technique != Technique::RectangleLtc)
+        throw py::value_error("wo= and alpha= are for technique 'rectangle_ltc', not '" +
+                              std::string(TechniqueName(technique)) + "'");
+    if (a.wo.is_none() || a.alpha.is_none()) throw py::value_error("rectangle_ltc's lobe needs both wo= and alpha=");
+    const std::vector<Vec3<T>> wo = ReadVec3s<T>(a.wo, "wo", false);
+    const double alpha = a.alpha.cast<double>();
+    if (!(Length(wo[0]) > 0)) throw py::value_error("wo must be a non-zero vector");
+    if (!(alpha > 0) || !std::isfinite(alpha)) throw py::value_error("alpha must be positive and finite");
+    if (!(a.weight >= 0) || !(a.rest_weight >= 0) || !(a.weight + a.rest_weight > 0) || !std::isfinite(a.weight) ||
+        !std::isfinite(a.rest_weight))
+        throw py::value_error("glossy_weight and rest_weight must be finite, >= 0 and not both 0");
+    return {wo[0], T(alpha), T(a.weight), T(a.rest_weight)};
+}
+
 template <class T>
 Setup<T> ReadSetup(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
-                   const py::object& ey, const py::object& normal, bool two_sided) {
+                   const py::object& ey, const py::object& normal, bool two_sided, const LobeArguments& lobe = {}) {
     Setup<T> s{ReadLight<T>(corner, ex, ey, two_sided), ReadVec3s<T>(origin, "origin", true),
-               ReadNormals<T>(technique, normal)};
+               ReadNormals<T>(technique, normal), ReadLobe<T>(technique, lobe)};
     return s;
 }
 
@@ -238,11 +263,18 @@ Setup<T> ReadSetup(Technique technique, const py::object& origin, const py::obje
 template <class Sampler, class C, class LightOrFrame, class F>
 void RunRows(const C& s, const LightOrFrame& light, size_t n, F&& per) {
     py::gil_scoped_release release;
+    auto make = [&](size_t i) {  // (rectangle_ltc's with the call's lobe)
+        if constexpr (std::is_constructible_v<Sampler, decltype(s.Origin(i)), decltype(s.Normal(i)), LightOrFrame,
+                                              decltype(s.lobe)>)
+            return Sampler(s.Origin(i), s.Normal(i), light, s.lobe);
+        else
+            return Sampler(s.Origin(i), s.Normal(i), light);
+    };
     if (!s.PerRow()) {
-        const Sampler sampler(s.Origin(0), s.Normal(0), light);
+        const Sampler sampler = make(0);
         for (size_t i = 0; i < n; ++i) per(i, sampler);
     } else {
-        for (size_t i = 0; i < n; ++i) per(i, Sampler(s.Origin(i), s.Normal(i), light));
+        for (size_t i = 0; i < n; ++i) per(i, make(i));
     }
 }
 
@@ -356,15 +388,16 @@ py::object SolidAngleRows(const py::object& origin, SolidAngle&& solid_angle) {
 template <class T>
 py::tuple SampleImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
                      const py::object& ey, const py::object& uv_obj, const py::object& normal, bool two_sided,
-                     bool with_directions) {
-    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
+                     bool with_directions, const LobeArguments& lobe) {
+    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided, lobe);
     return SampleRows<T>(s, uv_obj, with_directions, [&](size_t n, auto&& per) { ForEachRow(technique, s, n, per); });
 }
 
 template <class T>
 py::array PDFImpl(Technique technique, const py::object& origin, const py::object& corner, const py::object& ex,
-                  const py::object& ey, const py::object& points_obj, const py::object& normal, bool two_sided) {
-    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided);
+                  const py::object& ey, const py::object& points_obj, const py::object& normal, bool two_sided,
+                  const LobeArguments& lobe) {
+    const Setup<T> s = ReadSetup<T>(technique, origin, corner, ex, ey, normal, two_sided, lobe);
     return PDFRows<T>(s, points_obj, [&](size_t n, auto&& per) { ForEachRow(technique, s, n, per); });
 }
 
@@ -590,39 +623,50 @@ origin: shape (3,) -> float; shape (N, 3) -> array [N] of dtype.  0 for a degene
 an origin in the light's plane, or behind a one-sided (two_sided=False) light.)doc");
 
     auto sample = [](bool with_directions) {
-        return [with_directions](const std::string& technique, const py::object& origin, const py::object& corner,
-                                 const py::object& ex, const py::object& ey, const py::object& uv,
-                                 const py::object& normal, const py::object& dtype, bool two_sided) -> py::tuple {
-            const Technique t = ToTechnique(technique);
-            if (ToPrecision(dtype) == Precision::Float64)
-                return SampleImpl<double>(t, origin, corner, ex, ey, uv, normal, two_sided, with_directions);
-            return SampleImpl<float>(t, origin, corner, ex, ey, uv, normal, two_sided, with_directions);
-        };
+        return
+            [with_directions](const std::string& technique, const py::object& origin, const py::object& corner,
+                              const py::object& ex, const py::object& ey, const py::object& uv,
+                              const py::object& normal, const py::object& dtype, bool two_sided, const py::object& wo,
+                              const py::object& alpha, double glossy_weight, double rest_weight) -> py::tuple {
+                const Technique t = ToTechnique(technique);
+                const LobeArguments lobe{wo, alpha, glossy_weight, rest_weight};
+                if (ToPrecision(dtype) == Precision::Float64)
+                    return SampleImpl<double>(t, origin, corner, ex, ey, uv, normal, two_sided, with_directions, lobe);
+                return SampleImpl<float>(t, origin, corner, ex, ey, uv, normal, two_sided, with_directions, lobe);
+            };
     };
     m.def("sample", sample(false), arg("technique"), arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"),
           arg("uv"), arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
+          arg("wo") = py::none(), arg("alpha") = py::none(), arg("glossy_weight") = 1.0, arg("rest_weight") = 0.0,
           R"doc(Warp points uv [N, 2] of [0,1]^2 onto the rectangle with a technique.
 
 Returns (points [N, 3], pdf [N]); pdf is with respect to solid angle at origin, 0 for an
 invalid sample.  origin (and normal) may be (3,) or (N, 3).  technique is one of
-sphrect.techniques; 'rectangle_cosine' and 'rectangle_projected' need the shading normal.  dtype 'float32' runs the
-renderer's single-precision code, 'float64' the double-precision one.)doc");
+sphrect.techniques; 'rectangle_cosine', 'rectangle_projected' and 'rectangle_ltc' need the shading normal.  dtype
+'float32' runs the renderer's single-precision code, 'float64' the double-precision one.  rectangle_ltc follows the
+GGX lobe of roughness parameter alpha seen from wo (shape (3,), towards the viewer) mixed with rectangle_projected by
+the weights glossy_weight and rest_weight (the renderer's: the lobe's sampling probability and the rest's); without
+wo and alpha it samples as rectangle_projected.)doc");
     m.def("sample_directions", sample(true), arg("technique"), arg("origin"), arg("corner"), arg("edge_x"),
           arg("edge_y"), arg("uv"), arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
+          arg("wo") = py::none(), arg("alpha") = py::none(), arg("glossy_weight") = 1.0, arg("rest_weight") = 0.0,
           "Like sample(), but returns (points [N, 3], directions [N, 3], distances [N], pdf [N]).");
 
     m.def(
         "pdf",
         [](const std::string& technique, const py::object& origin, const py::object& corner, const py::object& ex,
            const py::object& ey, const py::object& points, const py::object& normal, const py::object& dtype,
-           bool two_sided) -> py::array {
+           bool two_sided, const py::object& wo, const py::object& alpha, double glossy_weight,
+           double rest_weight) -> py::array {
             const Technique t = ToTechnique(technique);
+            const LobeArguments lobe{wo, alpha, glossy_weight, rest_weight};
             if (ToPrecision(dtype) == Precision::Float64)
-                return PDFImpl<double>(t, origin, corner, ex, ey, points, normal, two_sided);
-            return PDFImpl<float>(t, origin, corner, ex, ey, points, normal, two_sided);
+                return PDFImpl<double>(t, origin, corner, ex, ey, points, normal, two_sided, lobe);
+            return PDFImpl<float>(t, origin, corner, ex, ey, points, normal, two_sided, lobe);
         },
         arg("technique"), arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("points"),
-        arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true,
+        arg("normal") = py::none(), arg("dtype") = "float32", arg("two_sided") = true, arg("wo") = py::none(),
+        arg("alpha") = py::none(), arg("glossy_weight") = 1.0, arg("rest_weight") = 0.0,
         R"doc(Solid-angle pdf [N] with which the technique picks each of points [N, 3] (on the light) from origin.
 
 A point off the light -- farther than 1e-3 of its longest edge plus 1e-5 of the point's largest

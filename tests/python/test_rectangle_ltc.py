@@ -46,9 +46,11 @@ def _cases():
 
 
 CASES = [(c, wo, alpha, dtype) for (c, wo, alpha) in _cases() for dtype in ("float32", "float64")]
+# The technique itself through the public API: the mixture with rectangle_projected (weights 0.7 : 0.3).
+MIXTURE_CASES = [(c, wo, alpha) for (c, wo, alpha) in _cases()[:4]]
 # False failures: one suite-wide significance of 1e-3 spread over these tests (Sidak, chi2.py); the seeds are
 # fixed, so a pass or a failure is reproducible.
-CHI2_TESTS = len(CASES)
+CHI2_TESTS = len(CASES) + len(MIXTURE_CASES)
 
 
 def _functions(config, wo, alpha, dtype):
@@ -74,6 +76,38 @@ def test_chi2_against_own_pdf(config, wo, alpha, dtype):
     # The pdf integrates to 1 over the light (the LTC's support is the whole light in these configurations).
     assert abs(r.total_probability - 1.0) < 1e-4, str(r)
     assert r.passed, str(r)
+
+
+@pytest.mark.parametrize("config, wo, alpha", MIXTURE_CASES, ids=lambda x: str(x))
+def test_public_sample_is_the_mixture_and_follows_its_pdf(config, wo, alpha):
+    light = (config.origin, config.corner, config.edge_x, config.edge_y)
+    lobe = dict(normal=config.normal, wo=wo, alpha=alpha, glossy_weight=0.7, rest_weight=0.3)
+
+    def sample(uv):
+        return sphrect.sample("rectangle_ltc", *light, uv, **lobe)
+
+    def pdf(points):
+        return sphrect.pdf("rectangle_ltc", *light, points, **lobe)
+    r = chi2_test(f"rectangle_ltc mixture(alpha={alpha})", config, sample_count=200_000, significance=1e-3,
+                  test_count=CHI2_TESTS, sample_fn=sample, pdf_fn=pdf)
+    assert r.off_light_samples == 0 and abs(r.total_probability - 1.0) < 1e-4 and r.passed, str(r)
+    points, p = sample(sphrect.pattern("independent", 500, seed=5))
+    np.testing.assert_array_equal(pdf(points), p)
+    # Neither its glossy part alone nor rectangle_projected: both enter the density.
+    assert not np.allclose(p, sphrect.pdf("rectangle_projected", *light, points, normal=config.normal))
+    assert not np.allclose(p, _functions(config, wo, alpha, "float32")[1](points))
+
+
+def test_public_lobe_arguments_are_checked():
+    light = ((0.2, 0.3, 1.0), (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+    uv = [[0.5, 0.5]]
+    with pytest.raises(ValueError, match="for technique 'rectangle_ltc'"):
+        sphrect.sample("rectangle", *light, uv, wo=(0, 0, -1), alpha=0.3)
+    with pytest.raises(ValueError, match="both wo= and alpha="):
+        sphrect.sample("rectangle_ltc", *light, uv, normal=(0, 0, -1), wo=(0, 0, -1))
+    with pytest.raises(ValueError, match="glossy_weight"):
+        sphrect.pdf("rectangle_ltc", *light, [[0.5, 0.5, 0.0]], normal=(0, 0, -1), wo=(0, 0, -1), alpha=0.3,
+                    glossy_weight=-1.0)
 
 
 def test_chi2_detects_a_different_lobe():
