@@ -141,17 +141,20 @@ inline double LtcDensity(const LtcInverse& inv, const Vec3d& w) {
     return u.z > 0 ? u.z * lw2 * std::sqrt(lw2) * inv.det / (M_PI * lu2 * lu2) : 0.0;
 }
 
+// build_fallback false: a fallback only records its reason (use_projected set, valid false), for a caller that holds
+// rectangle_projected's setup already (the technique's mixture, technique.h).
 template <class T>
 RectangleLtcSetup<T> MakeRectangleLtcSetup(const Vec3<T>& origin, const Vec3<T>& normal, const Vec3<T>& wo, T alpha,
-                                           const RectLightFrame<T>& frame) {
+                                           const RectLightFrame<T>& frame, bool build_fallback = true) {
     RectangleLtcSetup<T> s;
     s.proj.rect.plane = MakeLocalRect(origin, frame);
     const LocalRect<T>& p = s.proj.rect.plane;
     if (!p.valid) return s;
     auto fall_back = [&](LtcFallback why) {
         s.fallback = why;
-        s.proj = MakeRectangleProjectedSetup(origin, normal, frame);
         s.use_projected = true;
+        if (!build_fallback) return;
+        s.proj = MakeRectangleProjectedSetup(origin, normal, frame);
         s.valid = s.proj.valid;
     };
     const Vec3d n(normal), v(wo);

@@ -134,7 +134,7 @@ struct LightSampler<Technique::RectangleLtc, T> {
                  const GlossyLobe<T>& lobe = {})
         : rest(MakeRectangleProjectedSetup(origin, normal, frame)) {
         if (!rest.valid || !(lobe.weight > 0)) return;
-        glossy = MakeRectangleLtcSetup(origin, normal, lobe.wo, lobe.alpha, frame);
+        glossy = MakeRectangleLtcSetup(origin, normal, lobe.wo, lobe.alpha, frame, /*build_fallback=*/false);
         if (!glossy.valid || glossy.use_projected) return;  // the LTC's fallback is `rest` itself
         const double g = double(lobe.weight) * glossy.E, d = double(lobe.rest_weight) * rest.E;
         share = T(std::min(g / (g + d), 1 - kRectangleLtcMinProjectedShare));
