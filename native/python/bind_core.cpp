@@ -544,63 +544,40 @@ py::array PatternImpl(const std::string& name, const py::object& n_obj, const py
 
 }  // namespace
 
-// rectangle_ltc (core only: not a Technique until the renderer passes wo and alpha): one shading configuration
-// (origin, normal, wo, alpha) per call.
+// rectangle_ltc's glossy part alone -- its LTC map without the mixture with rectangle_projected (technique.h) -- as a
+// sampler RunRows runs with the call's lobe: what the tests' chi-square of that map takes (_rectangle_ltc_sample/_pdf).
 template <class T>
-struct LtcCall {
-    RectLight<T> light;
+struct LtcGlossyPart {
     RectangleLtcSetup<T> setup;
+    LtcGlossyPart(const Vec3<T>& origin, const Vec3<T>& normal, const RectLight<T>& light, const GlossyLobe<T>& lobe)
+        : setup(MakeRectangleLtcSetup(origin, normal, lobe.wo, lobe.alpha, light)) {}
+    LightSample<T> Sample(Point2<T> uv) const { return SampleRectangleLtc(setup, uv); }
+    T PDF(const Vec3<T>& p) const { return RectangleLtcPDF(setup, p); }
 };
 
 template <class T>
-LtcCall<T> ReadLtcCall(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
-                       const py::object& normal, const py::object& wo, double alpha, bool two_sided) {
-    const RectLight<T> light = ReadLight<T>(corner, ex, ey, two_sided);
-    const Vec3<T> o = ReadVec3s<T>(origin, "origin", false)[0];
-    const Vec3<T> n = ReadNormals<T>(Technique::RectangleProjected, normal)[0];
-    const Vec3<T> w = ReadVec3s<T>(wo, "wo", false)[0];
-    if (!(Length(w) > 0)) throw py::value_error("wo must be a non-zero vector");
-    if (!(alpha > 0) || !std::isfinite(alpha)) throw py::value_error("alpha must be positive and finite");
-    return {light, MakeRectangleLtcSetup(o, n, w, T(alpha), light)};
+Setup<T> ReadLtcGlossyPartSetup(const py::object& origin, const py::object& corner, const py::object& ex,
+                                const py::object& ey, const py::object& normal, const py::object& wo, double alpha,
+                                bool two_sided) {
+    return ReadSetup<T>(Technique::RectangleLtc, origin, corner, ex, ey, normal, two_sided,
+                        LobeArguments{wo, py::float_(alpha)});
 }
 
 template <class T>
 py::tuple LtcSampleImpl(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
                         const py::object& uv_obj, const py::object& normal, const py::object& wo, double alpha,
                         bool two_sided) {
-    const LtcCall<T> c = ReadLtcCall<T>(origin, corner, ex, ey, normal, wo, alpha, two_sided);
-    const auto uv = ReadUV<T>(uv_obj);
-    const size_t n = uv.size();
-    py::array_t<T> points = NewArray<T>(n, 3), pdf = NewArray<T>(n, 0);
-    T* P = points.mutable_data();
-    T* Q = pdf.mutable_data();
-    {
-        py::gil_scoped_release release;
-        for (size_t i = 0; i < n; ++i) {
-            const LightSample<T> ls = SampleRectangleLtc(c.setup, Point2<T>{uv[i][0], uv[i][1]});
-            P[3 * i] = ls.point.x, P[3 * i + 1] = ls.point.y, P[3 * i + 2] = ls.point.z;
-            Q[i] = ls.pdf;
-        }
-    }
-    return py::make_tuple(points, pdf);
+    const Setup<T> s = ReadLtcGlossyPartSetup<T>(origin, corner, ex, ey, normal, wo, alpha, two_sided);
+    return SampleRows<T>(s, uv_obj, false,
+                         [&](size_t n, auto&& per) { RunRows<LtcGlossyPart<T>>(s, s.light, n, per); });
 }
 
 template <class T>
 py::array LtcPDFImpl(const py::object& origin, const py::object& corner, const py::object& ex, const py::object& ey,
                      const py::object& points_obj, const py::object& normal, const py::object& wo, double alpha,
                      bool two_sided) {
-    const LtcCall<T> c = ReadLtcCall<T>(origin, corner, ex, ey, normal, wo, alpha, two_sided);
-    const auto pts = ReadRows<T, 3>(points_obj, "points", false);
-    py::array_t<T> pdf = NewArray<T>(pts.size(), 0);
-    T* Q = pdf.mutable_data();
-    {
-        py::gil_scoped_release release;
-        for (size_t i = 0; i < pts.size(); ++i) {
-            const Vec3<T> p(pts[i][0], pts[i][1], pts[i][2]);
-            Q[i] = OnLight(c.light, p) ? RectangleLtcPDF(c.setup, p) : T(0);
-        }
-    }
-    return pdf;
+    const Setup<T> s = ReadLtcGlossyPartSetup<T>(origin, corner, ex, ey, normal, wo, alpha, two_sided);
+    return PDFRows<T>(s, points_obj, [&](size_t n, auto&& per) { RunRows<LtcGlossyPart<T>>(s, s.light, n, per); });
 }
 
 void BindCore(py::module_& m) {
@@ -723,9 +700,9 @@ Lambert's polygon formula.  origin (3,) -> float (computed in double), (N, 3) ->
         },
         arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("uv"), arg("normal"), arg("wo"), arg("alpha"),
         arg("dtype") = "float32", arg("two_sided") = true,
-        R"doc(rectangle_ltc (core only, not in sphrect.techniques yet; docs/rectangle_ltc.md): points on the light
-with density proportional to the linearly transformed cosine fitted to the isotropic GGX lobe of roughness alpha
-seen from wo (unit, away from the surface like normal), for one shading configuration (origin, normal, wo: (3,)).
+        R"doc(rectangle_ltc's glossy part alone (the technique mixes it with rectangle_projected: sample();
+docs/rectangle_ltc.md): points on the light with density proportional to the linearly transformed cosine fitted to
+the isotropic GGX lobe of roughness alpha seen from wo (away from the surface like normal; wo: (3,)).
 
 Returns (points [N, 3], pdf [N]) as sample().)doc");
     m.def(
@@ -739,8 +716,8 @@ Returns (points [N, 3], pdf [N]) as sample().)doc");
         },
         arg("origin"), arg("corner"), arg("edge_x"), arg("edge_y"), arg("points"), arg("normal"), arg("wo"),
         arg("alpha"), arg("dtype") = "float32", arg("two_sided") = true,
-        R"doc(rectangle_ltc's solid-angle pdf [N] of points [N, 3] on the light (0 off it, as pdf()), for one
-shading configuration; see _rectangle_ltc_sample.)doc");
+        R"doc(rectangle_ltc's glossy part's solid-angle pdf [N] of points [N, 3] on the light (0 off it, as pdf());
+see _rectangle_ltc_sample.)doc");
 
     m.attr("ellipse_techniques") = NameTuple(kAllEllipseTechniques, EllipseTechniqueName);
     m.def(
