@@ -144,6 +144,13 @@ def break_even(n_a: float, a: CostTerms, n_b: float, b: CostTerms, axis: str = R
     return BreakEven(axis, threshold, "never" if threshold <= 0 else "below")
 
 
+def upper_median(values: Sequence[float]) -> float:
+    """The median of values, the upper of the middle two for an even count (a value measured, not an average); NaN for
+    none."""
+    ordered = sorted(values)
+    return ordered[len(ordered) // 2] if ordered else float("nan")
+
+
 def log_grid(low: float, high: float, points: int) -> List[float]:
     """`points` values from low to high, evenly spaced in log."""
     step = (math.log(high) - math.log(low)) / (points - 1)

@@ -32,7 +32,7 @@ from dataclasses import asdict, dataclass
 from typing import Dict, List, Optional, Sequence
 
 from . import complexity
-from .cost_model import RAY_AXIS, SHADING_AXIS, break_even, cost_terms
+from .cost_model import RAY_AXIS, SHADING_AXIS, break_even, cost_terms, upper_median
 from .jobs import CurveKey
 from .store import atomic_write_bytes, atomic_write_json
 
@@ -112,8 +112,8 @@ def measure_level(scene, keys: Sequence[CurveKey], samples: Dict[str, int], repe
                 best[label(key)] = t
     costs = {name: t.measured for name, t in best.items()}
     terms = {name: asdict(t) for name, t in best.items()}
-    rays = sorted(t["t_ray"] for t in terms.values())
-    return Level(axis, value, complexity.triangle_count(scene), rays[len(rays) // 2], costs, terms)
+    return Level(axis, value, complexity.triangle_count(scene), upper_median([t["t_ray"] for t in terms.values()]),
+                 costs, terms)
 
 
 def crossing(xs: Sequence[float], ratios: Sequence[float], noise: float = 0.0) -> Optional[float]:
@@ -184,7 +184,7 @@ def summary(pair_verdicts: List[PairVerdict], levels: List[Level], axis: str) ->
     if not differences:
         return "No pair to compare."
     return (f"Over {len(pair_verdicts)} pairs x {len(levels)} levels ({ns(min(xs))} to {ns(max(xs))}): the predicted "
-            f"ratio is within {100 * differences[len(differences) // 2]:.2g}% of the measured one at the median, "
+            f"ratio is within {100 * upper_median(differences):.2g}% of the measured one at the median, "
             f"{100 * differences[-1]:.2g}% at worst; where the measured ratio is beyond the ±{100 * TIMING_NOISE:.0f}% "
             f"timing noise, the predicted verdict (which of the two is faster) agrees in "
             f"**{sum(s == p for s, p in decided)} of {len(decided)}** cases. Break-even costs the model puts within "

@@ -1,8 +1,9 @@
 """The cost model in the report, as numbers (wording.py words them, plots.py draws them): every configuration's time per
 camera sample term by term (cost_model.CostTerms, the mean of its curve's largest runs) with each run's check against
 its measured CPU time, and, for pairs of configurations -- every two techniques at the same other settings, every two
-MIS modes of a technique -- the time each takes to the same error as a function of what a ray and what shading a hit
-costs: the break-even costs and the relative efficiency over RAY_COSTS and SHADING_COSTS."""
+MIS modes and every two light selections of a technique -- the time each takes to the same error as a function of
+what a ray and what shading a hit costs: the break-even costs and the relative efficiency over RAY_COSTS and
+SHADING_COSTS."""
 from __future__ import annotations
 
 import itertools
@@ -11,7 +12,7 @@ from dataclasses import dataclass
 from typing import Dict, List, NamedTuple, Optional
 
 from ..cost_model import (RAY_AXIS, SHADING_AXIS, BreakEven, CostTerms, break_even, cost_terms, log_grid, mean_terms,
-                          relative_efficiency)
+                          relative_efficiency, upper_median)
 from ..jobs import CYCLES_CURVE, CurveKey, StudyConfig
 from .curves import time_to_target
 from .equal_error import curves_along
@@ -102,12 +103,10 @@ class CheckSummary(NamedTuple):
 
 
 def checks_within(costs: Dict[CurveKey, ConfigurationCost]) -> CheckSummary:
-    checks = sorted(c for cost in costs.values() for c in cost.checks if not math.isnan(c))
-    setups = sorted(c.setup for c in costs.values() if not math.isnan(c.setup))
+    checks = [c for cost in costs.values() for c in cost.checks if not math.isnan(c)]
     return CheckSummary(sum(abs(c) <= CHECK_TOLERANCE for c in checks), len(checks),
-                        max((abs(c) for c in checks), default=float("nan")),
-                        checks[len(checks) // 2] if checks else float("nan"),
-                        setups[len(setups) // 2] if setups else float("nan"))
+                        max((abs(c) for c in checks), default=float("nan")), upper_median(checks),
+                        upper_median([c.setup for c in costs.values() if not math.isnan(c.setup)]))
 
 
 def pair_cost(a: CurveKey, b: CurveKey, all_curves: Curves, costs: Dict[CurveKey, ConfigurationCost],
@@ -145,8 +144,7 @@ def pair_costs(cfg: StudyConfig, all_curves: Curves, costs: Dict[CurveKey, Confi
 
 def ray_cost_here(costs: Dict[CurveKey, ConfigurationCost]) -> float:
     """This renderer's ray cost on the scene: the median of the configurations' t_ray."""
-    values = sorted(c.terms.t_ray for c in costs.values() if c.terms.t_ray > 0)
-    return values[len(values) // 2] if values else float("nan")
+    return upper_median([c.terms.t_ray for c in costs.values() if c.terms.t_ray > 0])
 
 
 @dataclass(frozen=True)
