@@ -297,8 +297,8 @@ def cost_model_section(report: Report) -> None:
     width, height = results.config.get("width"), results.config.get("height")
     doc.para(cost_wording.cycles_line(costs.cycles_cost(report.curves, model, (width or 0) * (height or 0)), *show))
     from ..sweep import headline_keys, summaries  # (sweep.py draws on this package: imported when used)
-    swept = summaries(report.out_dir, [p for p in pairs if p.a in headline_keys(cfg, report.curves)
-                                       and p.b in headline_keys(cfg, report.curves)])
+    swept_keys = set(headline_keys(cfg, report.curves))
+    swept = summaries(report.out_dir, [p for p in pairs if p.a in swept_keys and p.b in swept_keys])
     if swept:
         doc.para("**The model against a sweep of this scene's cost** (`python -m sphrect.study.sweep`, "
                  "sweep/sweep.md):")
