@@ -296,10 +296,10 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
     levels: Dict[str, List[Level]] = {axis: [] for axis, values in axes if values}
     for axis, values in axes:
         for value in values:
-            if axis == GEOMETRY and complexity.subdivided_triangle_count(base, int(value)) > MAX_SWEEP_TRIANGLES:
-                print(f"{axis} {value:g}: skipped, {complexity.subdivided_triangle_count(base, int(value)):,} "
-                      f"triangles would exceed the sweep's {MAX_SWEEP_TRIANGLES:,} (memory)", file=sys.stderr,
-                      flush=True)
+            triangles = complexity.subdivided_triangle_count(base, int(value)) if axis == GEOMETRY else 0
+            if triangles > MAX_SWEEP_TRIANGLES:
+                print(f"{axis} {value:g}: skipped, {triangles:,} triangles would exceed the sweep's "
+                      f"{MAX_SWEEP_TRIANGLES:,} (memory)", file=sys.stderr, flush=True)
                 continue
             scene = complexity.subdivide_scene(base, int(value)) if axis == GEOMETRY else base
             estimate = {t: terms.at(terms.t_ray + (value if axis == ADDED_RAY else 0.0),
