@@ -33,6 +33,9 @@
                  dim rectangle light
 16_fog_room      the room of 02_room filled by a Principled Volume box around it and the camera, lit by the
                  ceiling rectangle and a disk light
+17_warehouse     10,000 area lights: a 60 x 60 m warehouse under a grid of 3,600 ceiling panels, its eight rows
+                 of racks lined with 6,400 small LED strips facing the aisles (32 light datablocks shared by
+                 linked duplicates), a glossy floor and Principled crates; the camera high in a corner
 """
 import math
 import os
@@ -799,13 +802,64 @@ def fog_room():
     save("16_fog_room")
 
 
+def warehouse():
+    fresh_scene("warehouse")
+    rng = np.random.default_rng(17)
+    room(material("Warehouse", (0.6, 0.6, 0.58)), size=(60, 60, 8))
+    mesh_object("Floor", "plane", material("Sealed Concrete", (0.45, 0.45, 0.45), kind="principled",
+                                           roughness=0.25), location=(0, 0, 0.001), size=59.9)
+    rack, crate = material("Rack", (0.25, 0.3, 0.45)), material("Crate", (0.7, 0.5, 0.3), kind="principled",
+                                                                  roughness=0.4)
+    # 32 light datablocks (8 powers x 4 colours), shared by linked duplicates as in a real scene.
+    colors = [(1.0, 0.85, 0.7), (1.0, 0.95, 0.9), (0.8, 0.9, 1.0), (1.0, 0.6, 0.4)]
+
+    def light_data(kind, size, size_y, power_low, power_high):
+        out = []
+        for p in np.geomspace(power_low, power_high, 8):
+            for c in colors:
+                light = bpy.data.lights.new(f"{kind} {p:.3g} W", "AREA")
+                light.shape, light.size, light.size_y = "RECTANGLE", size, size_y
+                light.energy, light.color = float(p), c
+                out.append(light)
+        return out
+
+    panels, strips = light_data("Panel", 0.5, 0.25, 1.0, 8.0), light_data("Strip", 0.25, 0.04, 0.02, 0.5)
+
+    def place(name, data, location, rotation):
+        obj = link(bpy.data.objects.new(name, data[rng.integers(len(data))]))
+        obj.location, obj.rotation_euler = location, rotation
+
+    # 3,600 ceiling panels, 1 m apart, 2 cm under the ceiling, facing down.
+    for i in range(60):
+        for j in range(60):
+            place(f"Panel {i:02d} {j:02d}", panels, (j - 29.5, i - 29.5, 7.98), (0, 0, 0))
+    # Eight racks, 50 m long, 4 m tall, 1.2 m deep, aisles 6 m wide; on each face two rows of 200 strips
+    # (at 1.2 m and 2.6 m) facing the aisle: 6,400 strips.
+    for r in range(8):
+        x = -24.5 + 7.0 * r
+        mesh_object(f"Rack {r}", "cube", rack, location=(x, 0.0, 2.0), scale=(0.6, 25.0, 2.0))
+        for side in (-1, 1):
+            for level, z in enumerate((1.2, 2.6)):
+                for k in range(200):
+                    place(f"Strip {r} {side:+d} {level} {k:03d}", strips, (x + side * 0.62, -24.875 + 0.25 * k, z),
+                          (0, -side * math.pi / 2, 0))
+    # Crates in the aisles.
+    for k in range(24):
+        x = -21.0 + 7.0 * int(rng.integers(7)) + float(rng.uniform(-1.5, 1.5))
+        y, s = float(rng.uniform(-22, 22)), float(rng.uniform(0.5, 1.2))
+        mesh_object(f"Crate {k:02d}", "cube", crate, location=(x, y, s / 2), size=s,
+                    rotation=(0, 0, float(rng.uniform(0, math.pi))))
+    camera((-27.0, -28.5, 5.5), (-4.0, -8.0, 0.5), lens=22.0)
+    save("17_warehouse")
+
+
 SCENES = {"01_paper": paper, "02_room": lambda: room_scene("02_room", fog=False), "03_glossy_floor": glossy_floor,
           "04_foggy_room": lambda: room_scene("04_foggy_room", fog=True), "05_hard_cases": hard_cases,
           "06_mixed_lights": mixed_lights, "07_studio": studio, "08_disk_room": disk_room,
           "09_hall": hall, "10_night_street": night_street, "11_paper_disk": paper_disk,
           "12_disk_ceiling": lambda: room_scene("12_disk_ceiling", fog=False, disk=True),
           "13_textured_room": textured_room, "14_still_life": still_life, "15_fog_stage": fog_stage,
-          "16_fog_room": fog_room}
+          "16_fog_room": fog_room, "17_warehouse": warehouse}
 
 if __name__ == "__main__":
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []

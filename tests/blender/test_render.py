@@ -14,7 +14,7 @@ EXPECTED_FEATURES = {"03_glossy_floor": {"glossy"}, "04_foggy_room": {"medium"},
                      "13_textured_room": {"glossy", "ellipse_lights", "textures", "normal_maps"},
                      "14_still_life": {"glossy", "ellipse_lights", "textures"},
                      "15_fog_stage": {"volumes", "medium", "delta_lights", "emissive_meshes"},
-                     "16_fog_room": {"volumes", "medium", "ellipse_lights"}}
+                     "16_fog_room": {"volumes", "medium", "ellipse_lights"}, "17_warehouse": {"glossy"}}
 # The one thing a scene is warned about, if any: what Cycles shows at zero bounces and SPHRECT does not model.
 EXPECTED_WARNING = {"14_still_life": "refraction of lights seen through a surface"}
 
@@ -22,7 +22,8 @@ EXPECTED_WARNING = {"14_still_life": "refraction of lights seen through a surfac
 def test_all_blend_scenes_exist():
     assert SCENES == ["01_paper", "02_room", "03_glossy_floor", "04_foggy_room", "05_hard_cases",
                       "06_mixed_lights", "07_studio", "08_disk_room", "09_hall", "10_night_street", "11_paper_disk",
-                      "12_disk_ceiling", "13_textured_room", "14_still_life", "15_fog_stage", "16_fog_room"]
+                      "12_disk_ceiling", "13_textured_room", "14_still_life", "15_fog_stage", "16_fog_room",
+                      "17_warehouse"]
 
 
 @pytest.mark.parametrize("name", SCENES)
