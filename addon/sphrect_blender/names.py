@@ -128,7 +128,10 @@ def _module_value(attribute, fallback):
 RENDER_DEFAULTS = _module_value("RENDER_DEFAULTS", {
     "techniques": TECHNIQUES[:1], "light_samples": 1, "pattern": PATTERNS[0], "mis": MIS_MODES[0], "seed": 0,
     "threads": 0, "light_selection": LIGHT_SELECTIONS[0], "ellipse_technique": ELLIPSE_TECHNIQUES[0],
-    "analytic_light_coverage": False, "bsdf_samples_on_diffuse": False})
+    "analytic_light_coverage": False, "bsdf_samples_on_diffuse": False, "ris_candidates": 1})
+
+# Light selection "ris": the most candidates per light sample (the module's limit).
+MAX_RIS_CANDIDATES = int(_module_value("MAX_RIS_CANDIDATES", 1))
 
 
 # The Filter Width's range, pixels (the module's float32 limits, rounded for the UI; without the module, Blender's).

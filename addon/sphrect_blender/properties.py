@@ -5,10 +5,9 @@ from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, P
 
 from .images import cache_reference_image
 from .names import (DEFAULT_FILTER_WIDTH, DEFAULT_PIXEL_FILTER, ELLIPSE_TECHNIQUE_LABELS, ELLIPSE_TECHNIQUES,
-                    FILTER_WIDTH_RANGE, LIGHT_SELECTION_LABELS, LIGHT_SELECTIONS, MIS_LABELS, MIS_MODES, PATTERN_LABELS,
-                    PATTERNS, PIXEL_FILTER_LABELS, PIXEL_FILTERS, RENDER_DEFAULTS, TECHNIQUE_LABELS, TECHNIQUES,
-                    enum_items, identifier,
-                    label, sphrect_name)
+                    FILTER_WIDTH_RANGE, LIGHT_SELECTION_LABELS, LIGHT_SELECTIONS, MAX_RIS_CANDIDATES, MIS_LABELS,
+                    MIS_MODES, PATTERN_LABELS, PATTERNS, PIXEL_FILTER_LABELS, PIXEL_FILTERS, RENDER_DEFAULTS,
+                    TECHNIQUE_LABELS, TECHNIQUES, enum_items, identifier, label, sphrect_name)
 
 
 def _read_reference(path):
@@ -39,6 +38,12 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     light_selection: EnumProperty(name="Light Selection", items=enum_items(LIGHT_SELECTIONS, LIGHT_SELECTION_LABELS),
                                   default=identifier(RENDER_DEFAULTS["light_selection"]),
                                   description="How each light sample chooses its light")
+    ris_candidates: IntProperty(name="RIS Candidates", default=RENDER_DEFAULTS["ris_candidates"], min=1,
+                                max=MAX_RIS_CANDIDATES, soft_max=min(32, MAX_RIS_CANDIDATES),
+                                description="Light Tree + RIS: the light tree's candidates per light sample, each "
+                                            "weighed by what it would add unshadowed, one kept for the shadow ray "
+                                            "(more: less noise among many lights, but each costs a tree descent and "
+                                            "a BSDF evaluation)")
     ellipse_technique: EnumProperty(name="Disk Lights", items=enum_items(ELLIPSE_TECHNIQUES, ELLIPSE_TECHNIQUE_LABELS),
                                     default=identifier(RENDER_DEFAULTS["ellipse_technique"]),
                                     description="How points on disk and ellipse lights are chosen")
@@ -115,6 +120,7 @@ class SPHRECT_SceneSettings(bpy.types.PropertyGroup):
     def renderer_options(self):
         return dict(light_samples=self.light_samples, pattern=sphrect_name(self.pattern),
                     mis=sphrect_name(self.mis), light_selection=sphrect_name(self.light_selection),
+                    ris_candidates=self.ris_candidates,
                     ellipse_technique=sphrect_name(self.ellipse_technique),
                     analytic_light_coverage=self.analytic_light_coverage,
                     bsdf_samples_on_diffuse=self.bsdf_samples_on_diffuse, seed=self.seed, threads=self.threads)

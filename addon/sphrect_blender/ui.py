@@ -58,6 +58,9 @@ class RENDER_PT_sphrect_sampling(SphrectPanel, bpy.types.Panel):
         sub.active = s.mis != "NONE"
         sub.prop(s, "bsdf_samples_on_diffuse")
         col.prop(s, "light_selection")
+        sub = col.column()
+        sub.active = s.light_selection == "RIS" or getattr(s, "compare_light_selection_ris", False)
+        sub.prop(s, "ris_candidates")
         col.prop(s, "ellipse_technique")
         col.prop(s, "analytic_light_coverage")
         col.prop(s, "seed")
