@@ -15,8 +15,8 @@ import pytest
 import sphrect
 from sphrect.study import LocalProcessPool, ReferenceSettings, SerialExecutor, StudyConfig, run_study
 from sphrect.study import metrics, store as store_module
-from sphrect.study.jobs import (CYCLES, CYCLES_CURVE, DEFAULT_LIGHT_SELECTION, CurveKey, Job, build_plan, cost_key,
-                                curve_key, equal_time_jobs, sample_ladder, stratifiable_count)
+from sphrect.study.jobs import (CYCLES, CYCLES_CURVE, DEFAULT_LIGHT_SELECTION, DEFAULT_RIS_CANDIDATES, CurveKey, Job,
+                                build_plan, cost_key, curve_key, equal_time_jobs, sample_ladder, stratifiable_count)
 from sphrect.study.report import results as report_results
 from sphrect.study.reference import estimate_error
 from sphrect.study.store import ResultStore
@@ -211,11 +211,38 @@ def test_light_selections_are_an_axis_of_the_plan():
         StudyConfig(light_selections=())
 
 
+def test_ris_candidates_are_a_setting_of_the_ris_jobs():
+    """--ris-candidates M reaches every "ris" job (ladder and equal time) and its key; the other selections' jobs,
+    and "ris" at the default M, keep the keys they had before the setting existed; M is checked."""
+    assert DEFAULT_RIS_CANDIDATES == sphrect.RENDER_DEFAULTS["ris_candidates"]
+    config = tiny_config(light_selections=("tree", "ris"), ris_candidates=9)
+    plan = build_plan(config)
+    ris = [j for j in plan if j.light_selection == "ris"]
+    tree = [j for j in plan if j.light_selection == "tree"]
+    assert ris and tree and len({j.key for j in plan}) == len(plan)
+    assert all(j.ris_candidates == 9 and "-ris9-" in j.key for j in ris)
+    assert all(j.ris_candidates == DEFAULT_RIS_CANDIDATES and "-ris" not in j.key for j in tree)
+    assert {j.key for j in tree} == {j.key for j in build_plan(tiny_config())}
+    default = build_plan(tiny_config(light_selections=("tree", "ris")))
+    assert all("-ris" not in j.key.replace("sel_ris", "") for j in default)
+    assert Job.from_dict(ris[0].to_dict()) == ris[0]
+    old = {k: v for k, v in ris[0].to_dict().items() if k != "ris_candidates"}  # a record from before the setting
+    assert Job.from_dict(old).ris_candidates == DEFAULT_RIS_CANDIDATES
+    costs = {cost_key(j.to_dict()): 0.01 for j in plan}
+    assert {j.ris_candidates for j in equal_time_jobs(config, 0.5, costs) if j.light_selection == "ris"} == {9}
+    for bad in (0, sphrect.MAX_RIS_CANDIDATES + 1):
+        with pytest.raises(ValueError, match=f"in 1..{sphrect.MAX_RIS_CANDIDATES}") as error:
+            tiny_config(ris_candidates=bad)
+        assert error.value.setting == "ris_candidates"
+
+
 def test_light_selections_on_the_command_line(tmp_path, capsys):
     from sphrect.study import cli
     args = cli.parser().parse_args(["scene.npz", "--out", "o", "--light-selections", "power,tree"])
     assert args.light_selections == ["power", "tree"]
     assert cli.parser().parse_args(["scene.npz", "--out", "o"]).light_selections == [DEFAULT_LIGHT_SELECTION]
+    assert cli.parser().parse_args(["scene.npz", "--out", "o"]).ris_candidates == DEFAULT_RIS_CANDIDATES
+    assert cli.parser().parse_args(["scene.npz", "--out", "o", "--ris-candidates", "16"]).ris_candidates == 16
     assert cli.main([str(tmp_path / "scene.npz"), "--out", str(tmp_path / "o"), "--light-selections", "tree,all"]) == 2
     assert "unknown light selection 'all'" in capsys.readouterr().err
 

@@ -106,6 +106,23 @@ def test_study_of_both_light_selections_from_the_command_line(tmp_path):
     assert "rectangle / mis=power / sobol / selection=tree" in report and "tree takes **" in report
 
 
+def test_a_job_renders_with_its_ris_candidates(tmp_path):
+    """The runner hands a job's RIS candidates to the renderer: "ris" with one candidate is the tree's image (up to
+    rounding), with the default four another estimate of it."""
+    from sphrect.study.jobs import Job
+    from sphrect.study.runner import RunContext, render_sphrect
+    scene_path = str(tmp_path / "paper_like.sphrect.npz")
+    sphrect.save_scene(paper_like_scene(), scene_path)
+    context = RunContext(store_root=str(tmp_path), scene_path=scene_path, width=24, height=16, fingerprint="")
+    image = {}
+    for selection, candidates in (("tree", 1), ("ris", 1), ("ris", 4)):
+        job = Job("sphrect", "rectangle", "power", "sobol", 8, 2, light_selection=selection,
+                  ris_candidates=candidates)
+        image[selection, candidates] = render_sphrect(context, job)[0]
+    assert np.allclose(image["ris", 1], image["tree", 1], rtol=1e-4, atol=1e-6)
+    assert not np.allclose(image["ris", 4], image["tree", 1], rtol=1e-3, atol=1e-4)
+
+
 @pytest.mark.skipif(shutil.which("blender") is None or not os.path.exists(PAPER_BLEND),
                     reason="needs Blender and blend_scenes/01_paper.blend")
 def test_cycles_render_of_a_blend():

@@ -59,6 +59,9 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--max-samples", type=int, default=256, help="top of the ladder 1, 2, 4, ... (default 256)")
     p.add_argument("--min-samples", type=int, default=1)
     p.add_argument("--light-samples", type=int, default=_STUDY.light_samples, help="light samples per camera sample")
+    p.add_argument("--ris-candidates", type=int, default=_STUDY.ris_candidates,
+                   help=f"under light selection ris: the light tree's candidates per light sample, one kept "
+                        f"(default {_STUDY.ris_candidates}, the renderer's)")
     p.add_argument("--resolution", type=_resolution, default=None,
                    help="WxH render resolution (default: the scene's); small keeps the study quick")
     p.add_argument("--seed", type=int, default=_STUDY.seed)
@@ -142,7 +145,8 @@ def main(argv: Optional[List[str]] = None) -> int:
                              ellipse_techniques=tuple(args.ellipse_techniques),
                              medium_samplings=tuple(args.medium_samplings),
                              ladder=tuple(sample_ladder(args.max_samples, args.min_samples)),
-                             light_samples=args.light_samples, seed=args.seed, threads=args.threads,
+                             light_samples=args.light_samples, ris_candidates=args.ris_candidates, seed=args.seed,
+                             threads=args.threads,
                              cycles=args.cycles != "off" and args.scene.endswith(".blend"),
                              grid_mis=tuple(args.grid_mis), grid_pattern=args.grid_pattern,
                              equal_time=args.equal_time)

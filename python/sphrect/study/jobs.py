@@ -28,6 +28,9 @@ DEFAULT_LIGHT_SELECTION = RENDER_DEFAULTS["light_selection"]
 DEFAULT_ELLIPSE_TECHNIQUE = RENDER_DEFAULTS["ellipse_technique"]
 # Likewise for the medium's distance sampling (how camera rays through a volume pick their scattering point).
 DEFAULT_MEDIUM_SAMPLING = RENDER_DEFAULTS["medium_sampling"]
+# Light selection "ris": the candidates per light sample (a study's one value; other selections keep the default).
+DEFAULT_RIS_CANDIDATES = RENDER_DEFAULTS["ris_candidates"]
+RIS = "ris"
 
 
 class CurveKey(NamedTuple):
@@ -103,6 +106,7 @@ class Job:
     light_selection: str = DEFAULT_LIGHT_SELECTION  # one of LIGHT_SELECTIONS (ours; Cycles' jobs keep the default)
     ellipse_technique: str = DEFAULT_ELLIPSE_TECHNIQUE  # one of ELLIPSE_TECHNIQUES (ours; Cycles' keep the default)
     medium_sampling: str = DEFAULT_MEDIUM_SAMPLING  # one of MEDIUM_SAMPLING (ours; Cycles' keep the default)
+    ris_candidates: int = DEFAULT_RIS_CANDIDATES  # under light selection "ris" (the others keep the default)
     # A sample range of a longer render (the reference's chunks, sample_ranges.py): its first sample and its pass.
     first_sample: Optional[int] = None
     pass_index: Optional[int] = None
@@ -110,13 +114,14 @@ class Job:
     @property
     def key(self) -> str:
         """A stable, file-name-safe identifier (the result file's name). The light selection, the ellipse
-        technique and the medium sampling are part of it only when they are not the default, so that runs stored
-        before they were axes keep their keys."""
+        technique, the medium sampling and the RIS candidates are part of it only when they are not the default, so
+        that runs stored before they were settings keep their keys."""
         selection = [] if self.light_selection == DEFAULT_LIGHT_SELECTION else [f"sel_{self.light_selection}"]
         ellipse = [] if self.ellipse_technique == DEFAULT_ELLIPSE_TECHNIQUE else [f"ell_{self.ellipse_technique}"]
         medium = [] if self.medium_sampling == DEFAULT_MEDIUM_SAMPLING else [f"med_{self.medium_sampling}"]
+        candidates = [] if self.ris_candidates == DEFAULT_RIS_CANDIDATES else [f"ris{self.ris_candidates}"]
         parts = [self.kind, self.engine, self.technique, self.mis, self.pattern, *selection, *ellipse, *medium,
-                 f"n{self.samples:06d}", f"l{self.light_samples}", f"s{self.seed}"]
+                 *candidates, f"n{self.samples:06d}", f"l{self.light_samples}", f"s{self.seed}"]
         if self.time_budget is not None:
             parts.append(f"t{self.time_budget:.6g}")
         if self.first_sample is not None:
@@ -149,6 +154,7 @@ class Job:
 MAX_SEED = 2 ** 64 - 1                                    # render.Renderer's seed is an unsigned 64-bit integer
 MAX_SAMPLES = _native.MAX_SAMPLES_PER_CALL                # one job is one render() call
 MAX_LIGHT_SAMPLES = _native.MAX_LIGHT_SAMPLES
+MAX_RIS_CANDIDATES = _native.MAX_RIS_CANDIDATES
 MAX_THREADS = getattr(_native, "MAX_THREADS", 2 ** 31 - 1)  # render threads of one Renderer
 SAMPLE_INDEX_LIMIT = _native.SAMPLE_INDEX_LIMIT  # camera samples x light samples of one render
 
@@ -213,6 +219,7 @@ class StudyConfig:
     medium_samplings: Tuple[str, ...] = (DEFAULT_MEDIUM_SAMPLING,)
     ladder: Tuple[int, ...] = tuple(sample_ladder(256))
     light_samples: int = 1
+    ris_candidates: int = DEFAULT_RIS_CANDIDATES  # for light selection "ris"
     seed: int = 0
     threads: int = 1                    # per job; see executors.py for why 1 is the default
     cycles: bool = False                # add Cycles as a peer (needs Blender and the .blend)
@@ -242,9 +249,15 @@ class StudyConfig:
         if self.ladder[-1] * self.light_samples >= SAMPLE_INDEX_LIMIT:  # the ladder's top job is the largest
             raise SettingError("max_samples", f"{self.ladder[-1]} samples x {self.light_samples} light samples "
                                               f"is more than a render takes (< {SAMPLE_INDEX_LIMIT})")
+        self.ris_candidates = check_int("ris_candidates", self.ris_candidates, 1, MAX_RIS_CANDIDATES)
         self.seed = check_int("seed", self.seed, 0, MAX_SEED)
         self.threads = check_int("threads", self.threads, 0, MAX_THREADS)  # 0 = all cores
         self.equal_time = check_positive("equal_time", self.equal_time, optional=True)
+
+    def candidates_of(self, light_selection: str) -> int:
+        """The RIS candidates of a job under `light_selection`: the study's under "ris", else the default (which
+        keeps the other selections' job keys as they were)."""
+        return self.ris_candidates if light_selection == RIS else DEFAULT_RIS_CANDIDATES
 
     @property
     def shows_selection(self) -> bool:
@@ -296,7 +309,7 @@ def build_plan(config: StudyConfig) -> List[Job]:
     sample count, then Cycles at every count. Ordered cheapest first so that an interrupted study has measured as
     many curves as possible."""
     jobs = [Job(SPHRECT, t, m, p, n, config.light_samples, config.seed, config.threads, light_selection=s,
-                ellipse_technique=e, medium_sampling=v)
+                ellipse_technique=e, medium_sampling=v, ris_candidates=config.candidates_of(s))
             for n in config.ladder for t in config.techniques for m in config.mis for p in config.patterns
             for s, e, v in config.variants]
     if config.cycles:
@@ -349,7 +362,7 @@ def equal_time_jobs(config: StudyConfig, budget: float, seconds_per_sample: Dict
                 if n:
                     jobs.append(Job(SPHRECT, t, m, config.grid_pattern, n, config.light_samples, config.seed,
                                     config.threads, EQUAL_TIME, budget, light_selection=s, ellipse_technique=e,
-                                    medium_sampling=v))
+                                    medium_sampling=v, ris_candidates=config.candidates_of(s)))
     n = samples(CYCLES, *CYCLES_CURVE[:2], *CYCLES_CURVE[3:])
     if config.cycles and n:
         jobs.append(Job(CYCLES, *CYCLES_CURVE[:3], n, 1, config.seed, config.threads, EQUAL_TIME, budget))

@@ -83,7 +83,7 @@ def render_sphrect(context: RunContext, job: Job) -> Tuple[np.ndarray, Dict]:
     renderer = sphrect.Renderer(scene, techniques=[job.technique], light_samples=job.light_samples,
                                 pattern=job.pattern, mis=job.mis, light_selection=job.light_selection,
                                 ellipse_technique=job.ellipse_technique, medium_sampling=job.medium_sampling,
-                                seed=job.seed, threads=job.threads)
+                                ris_candidates=job.ris_candidates, seed=job.seed, threads=job.threads)
     if job.first_sample is not None:  # a range of a longer render (a reference chunk)
         renderer.start_at(job.first_sample, job.pass_index or 0)
     t1 = time.perf_counter()

@@ -33,7 +33,7 @@ from typing import Dict, List, Optional, Sequence
 
 from . import complexity
 from .cost_model import RAY_AXIS, SHADING_AXIS, break_even, cost_terms, upper_median
-from .jobs import CurveKey
+from .jobs import DEFAULT_RIS_CANDIDATES, CurveKey
 from .store import atomic_write_bytes, atomic_write_json
 
 # Each render of the sweep lasts about this long (its samples per pixel chosen from the study's cost per sample), so
@@ -90,7 +90,7 @@ def label(key: CurveKey) -> str:
 
 
 def measure_level(scene, keys: Sequence[CurveKey], samples: Dict[str, int], repeats: int, axis: str, value: float,
-                  light_samples: Dict[str, int]) -> Level:
+                  run_options: Dict[str, Dict[str, int]]) -> Level:
     """Every configuration rendered `repeats` times at this level, the repeats interleaved (a round over all of them,
     then the next), so that a stretch of other load on the machine slows one round, not every repeat of one
     configuration; each keeps its least CPU time per camera sample."""
@@ -102,8 +102,8 @@ def measure_level(scene, keys: Sequence[CurveKey], samples: Dict[str, int], repe
         for key in keys:
             renderer = sphrect.Renderer(scene, techniques=[key.technique], mis=key.mis, pattern=key.pattern,
                                         light_selection=key.light_selection, ellipse_technique=key.ellipse_technique,
-                                        medium_sampling=key.medium_sampling, light_samples=light_samples[label(key)],
-                                        threads=1, seed=7 + r, added_shading_cost=shading, added_ray_cost=ray)
+                                        medium_sampling=key.medium_sampling, **run_options[label(key)], threads=1,
+                                        seed=7 + r, added_shading_cost=shading, added_ray_cost=ray)
             c0 = time.process_time()
             renderer.render(samples[label(key)])
             cpu = time.process_time() - c0
@@ -291,7 +291,10 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
     width, height = results.config["width"], results.config["height"]
     base = load_study_scene(results.config["scene_file"], width, height)
     base_terms = {label(k): model[k].terms for k in keys}  # (the study's: the sweep's first estimate of a cost)
-    light_samples = {label(k): all_curves[k][0]["job"]["light_samples"] for k in keys}
+    # The study's per-run settings that are not part of a curve's key (runs stored before RIS had the default).
+    run_options = {label(k): {"light_samples": all_curves[k][0]["job"]["light_samples"],
+                              "ris_candidates": all_curves[k][0]["job"].get("ris_candidates", DEFAULT_RIS_CANDIDATES)}
+                   for k in keys}
     axes = ((GEOMETRY, geometry_levels), (ADDED_RAY, ray_costs), (ADDED_SHADING, shading_costs))
     levels: Dict[str, List[Level]] = {axis: [] for axis, values in axes if values}
     for axis, values in axes:
@@ -306,7 +309,7 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
                                     value if axis == ADDED_SHADING else 0.0) for t, terms in base_terms.items()}
             samples = {t: max(1, min(MAX_SWEEP_SAMPLES, round(RENDER_SECONDS / (c * width * height))))
                        for t, c in estimate.items()}
-            levels[axis].append(measure_level(scene, keys, samples, repeats, axis, value, light_samples))
+            levels[axis].append(measure_level(scene, keys, samples, repeats, axis, value, run_options))
             print(f"{axis} {value:g}: ray {ns(levels[axis][-1].ray_cost)}", file=sys.stderr, flush=True)
     return write_outputs(out_dir, levels, {axis: verdicts(pairs, levels[axis], axis) for axis in levels})
 

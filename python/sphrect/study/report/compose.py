@@ -7,7 +7,7 @@ import os
 from dataclasses import dataclass
 from typing import List, Optional
 
-from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, DEFAULT_MEDIUM_SAMPLING, CurveKey
+from ..jobs import DEFAULT_ELLIPSE_TECHNIQUE, DEFAULT_LIGHT_SELECTION, DEFAULT_MEDIUM_SAMPLING, RIS, CurveKey
 from ..store import atomic_write_bytes
 from . import cost_wording, costs, equal_error, findings, plots, wording
 from .curves import REFERENCE_NOISE_FACTOR
@@ -83,6 +83,7 @@ def scene_section(report: Report) -> None:
     # The light selection is named unless the study has only the renderer's default (as before it was an axis).
     selections = "" if cfg.light_selections == (DEFAULT_LIGHT_SELECTION,) else \
         f"light selection {', '.join(cfg.light_selections)}; "
+    selections += f"ris with {cfg.ris_candidates} candidates per light sample; " if RIS in cfg.light_selections else ""
     # Likewise the ellipse technique (disk and ellipse lights).
     selections += "" if cfg.ellipse_techniques == (DEFAULT_ELLIPSE_TECHNIQUE,) else \
         f"disk and ellipse lights sampled by {', '.join(cfg.ellipse_techniques)}; "
