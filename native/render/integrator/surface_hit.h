@@ -17,8 +17,8 @@ struct SurfaceHit {
     float t = 0;  // distance along the camera ray
     int material = 0;
     TextureCoordinates tc;    // set only for a textured or normal-mapped material
-    Vec3f ns_unmapped;        // normal-mapped materials: the shading normal before the map (flipped with ns)
-    bool mapped = false;      // a normal map or Bump replaced ns (ns_unmapped is set)
+    Vec3f ns_unmapped;        // where `mapped`: the shading normal before it was replaced (flipped with ns)
+    bool mapped = false;      // a normal map, a Bump or ensure_valid_reflection replaced ns (ns_unmapped is set)
     bool backfacing = false;  // materials with a dielectric lobe: the ray hit the side its winding faces away from
     Vec3f tangent;            // anisotropic materials: the mesh's radial tangent (RadialTangent; zero without one)
     // A smooth mesh with a shadow terminator offset (MeshData::shadow_terminator_offset, terminator.h): the offset
@@ -157,6 +157,24 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
     }
 }
 
+// ensure_valid_reflection's test, inline for every smooth hit: whether the reflection of I about N keeps
+// min(0.9 I.Ng, 0.01) above the surface, seen from I's side of Ng (N on Ng's side).
+static inline bool ReflectsAboveSurface(const Vec3f& ng, const Vec3f& I, const Vec3f& ns) {
+    const float i_ng = std::fabs(Dot(I, ng));
+    const float sign = Dot(I, ng) < 0 ? -1.0f : 1.0f;
+    const float r_ng = 2 * sign * Dot(ns, I) * Dot(ns, ng) - i_ng;  // (reflection of I about ns) . (sign ng)
+    return r_ng >= std::min(0.9f * i_ng, 0.01f);
+}
+
+// The rare smooth normal that fails it: the closures' normal turned as Cycles' ensure_valid_reflection turns it (seen
+// from the ray's side), the interpolated one kept as sd->N (ns_unmapped, as under a normal map).
+[[gnu::noinline, gnu::cold]] static void TurnSmoothNormal(const Ray& ray, const Vec3f& ng, Vec3f& ns, SurfaceHit& s) {
+    const float facing = Dot(ng, ray.d) > 0 ? -1.0f : 1.0f;
+    s.ns_unmapped = ns;
+    s.mapped = true;
+    ns = svm::EnsureValidReflection(ng * facing, -ray.d, ns * facing) * facing;
+}
+
 // kGlossy: the kernel that can meet textured, normal-mapped and dielectric materials (RenderScene::Commit sends
 // scenes using them to it); the diffuse kernel has none of their code.
 template <bool kGlossy>
@@ -195,6 +213,12 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
             if (Dot(ns, ng) < 0) ns = -ns;  // shading normal on the geometric normal's side
         }
         if (extras) AddHitExtras(scene, m, *extras, tri, i, p, b0, b1, b2, ray, ng, ns, s);
+        // Cycles 3.4 passes every closure's normal through ensure_valid_reflection (svm_node_closure_bsdf), the
+        // interpolated one too: where a smooth normal would reflect the viewer below the surface (grazing views
+        // near a low-poly silhouette) the closures' normal is turned towards Ng, while sd->N -- what shader nodes
+        // read and what tells reflection from transmission -- stays the interpolated one, as for a normal map
+        // (ns_unmapped).  A mapped normal has been turned already (AddHitExtras).
+        if (!m.normals.empty() && !s.mapped && !ReflectsAboveSurface(ng, -ray.d, ns)) TurnSmoothNormal(ray, ng, ns, s);
         if (m.shadow_terminator_offset > 0 && !m.normals.empty()) {
             const Vec3f n[3] = {m.normals[i[0]], m.normals[i[1]], m.normals[i[2]]};
             const float b[3] = {b0, b1, b2};
