@@ -30,14 +30,9 @@ v, t = sphere(int(sys.argv[1]) if len(sys.argv) > 1 else 64)
 mesh = sphrect.Mesh(vertices=v, triangles=t, normals=v.copy(), name="ball")
 light = sphrect.RectLight(corner=(-1.0, -1.0, 3.0), edge_x=(0.0, 2.0, 0.0), edge_y=(2.0, 0.0, 0.0),
                           radiance=(5, 5, 5))  # facing down
-eye = np.array([0.0, -3.0, 0.5])
-forward = -eye / np.linalg.norm(eye)
-right = np.cross(forward, [0, 0, 1])
-right /= np.linalg.norm(right)
-up = np.cross(right, forward)
-to_world = np.eye(4)
-to_world[:3, 0], to_world[:3, 1], to_world[:3, 2], to_world[:3, 3] = right, up, -forward, eye
-scene = sphrect.Scene(camera=sphrect.Camera(width=128, height=96, to_world=to_world.tolist(), lens=35), meshes=[mesh],
+# The camera 3 units along -Y, looking along +Y (right +X, up +Z, Blender's camera looking down its -Z).
+to_world = [[1, 0, 0, 0], [0, 0, -1, -3], [0, 1, 0, 0], [0, 0, 0, 1]]
+scene = sphrect.Scene(camera=sphrect.Camera(width=128, height=96, to_world=to_world, lens=35), meshes=[mesh],
                       lights=[light])
 best = 1e9
 for r in range(5):
