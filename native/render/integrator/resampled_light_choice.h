@@ -28,8 +28,9 @@
 namespace sphrect::render {
 
 // Candidate k > 0's pattern point: the light sample's, shifted by a random offset modulo 1 (Cranley-Patterson), so
-// that each candidate is uniform and keeps the pattern's stratification over the pixel's samples.  The candidates
-// need not be independent: the estimator is unbiased given each one's marginal density.
+// that each candidate is uniform and keeps the pattern's stratification over the pixel's samples (the kept one,
+// picked among them by a random number, does not: docs/light_selection_ris.md, "Few lights").  The candidates need
+// not be independent: the estimator is unbiased given each one's marginal density.
 static inline Point2<float> ShiftedCandidatePoint(Point2<float> p, PCG32& rng) {
     auto shift = [&](float x) {
         const float y = x + rng.NextFloat();
