@@ -61,30 +61,35 @@ inline double LtcGgxCosCoordinate(double cos_theta) {
     return std::min(std::sqrt(1 - ClampNaN(cos_theta, kLtcGgxCosMin, 1)) * n1, n1);
 }
 
+// The table cell of (alpha, cos theta) and the point's place in it, for bilinear interpolation.
+struct LtcGgxCell {
+    int i, j;       // the cell's first corner
+    double fx, fy;  // in [0, 1] across it
+    // The bilinear interpolation of one field of the table's entries.
+    double Interpolate(double LtcGgxEntry::*field) const {
+        auto at = [&](int di, int dj) { return kLtcGgxTable[(i + di) * kLtcGgxSize + j + dj].*field; };
+        return (1 - fx) * ((1 - fy) * at(0, 0) + fy * at(0, 1)) + fx * ((1 - fy) * at(1, 0) + fy * at(1, 1));
+    }
+};
+
+inline LtcGgxCell LtcGgxCellAt(double alpha, double cos_theta) {
+    const double x = LtcGgxAlphaCoordinate(alpha), y = LtcGgxCosCoordinate(cos_theta);
+    const int i = std::min(int(x), kLtcGgxSize - 2), j = std::min(int(y), kLtcGgxSize - 2);
+    return {i, j, x - i, y - j};
+}
+
 // Bilinear interpolation of M's entries.  (Of M rather than of M^-1: a and c grow like alpha, so they are
 // nearly linear in the grid's sqrt(alpha) coordinate, where M^-1's 1 / alpha would not be; M^-1 is then
 // exact for the interpolated M, so sampling and pdf agree whatever the interpolation's error.)
 inline LtcMatrix LookupLtcGgx(double alpha, double cos_theta) {
-    const double x = LtcGgxAlphaCoordinate(alpha), y = LtcGgxCosCoordinate(cos_theta);
-    const int i = std::min(int(x), kLtcGgxSize - 2), j = std::min(int(y), kLtcGgxSize - 2);
-    const double fx = x - i, fy = y - j;
-    const LtcGgxEntry& e00 = kLtcGgxTable[i * kLtcGgxSize + j];
-    const LtcGgxEntry& e01 = kLtcGgxTable[i * kLtcGgxSize + j + 1];
-    const LtcGgxEntry& e10 = kLtcGgxTable[(i + 1) * kLtcGgxSize + j];
-    const LtcGgxEntry& e11 = kLtcGgxTable[(i + 1) * kLtcGgxSize + j + 1];
-    auto mix = [&](double LtcGgxEntry::*m) {
-        return (1 - fx) * ((1 - fy) * e00.*m + fy * e01.*m) + fx * ((1 - fy) * e10.*m + fy * e11.*m);
-    };
-    return {mix(&LtcGgxEntry::a), mix(&LtcGgxEntry::b), mix(&LtcGgxEntry::c), mix(&LtcGgxEntry::d)};
+    const LtcGgxCell cell = LtcGgxCellAt(alpha, cos_theta);
+    return {cell.Interpolate(&LtcGgxEntry::a), cell.Interpolate(&LtcGgxEntry::b), cell.Interpolate(&LtcGgxEntry::c),
+            cell.Interpolate(&LtcGgxEntry::d)};
 }
 
 // The lobe's albedo (the table's second quantity), interpolated the same way.
 inline double LookupLtcGgxAlbedo(double alpha, double cos_theta) {
-    const double x = LtcGgxAlphaCoordinate(alpha), y = LtcGgxCosCoordinate(cos_theta);
-    const int i = std::min(int(x), kLtcGgxSize - 2), j = std::min(int(y), kLtcGgxSize - 2);
-    const double fx = x - i, fy = y - j;
-    auto at = [&](int di, int dj) { return kLtcGgxTable[(i + di) * kLtcGgxSize + j + dj].albedo; };
-    return (1 - fx) * ((1 - fy) * at(0, 0) + fy * at(0, 1)) + fx * ((1 - fy) * at(1, 0) + fy * at(1, 1));
+    return LtcGgxCellAt(alpha, cos_theta).Interpolate(&LtcGgxEntry::albedo);
 }
 
 // M^-1 and |det M^-1| (the 2 x 2 block of x and z, and y alone).  `valid` false where M is singular.
@@ -176,12 +181,10 @@ RectangleLtcSetup<T> MakeRectangleLtcSetup(const Vec3<T>& origin, const Vec3<T>&
     const double lt = Length(tangential);
     if (lt > 1e-12) {
         s.tl = tangential / lt;
+        s.bl = Normalize(Cross(s.nl, s.tl));
     } else {
-        const Vec3d& z = s.nl;
-        const double sign = std::copysign(1.0, z.z), a = -1 / (sign + z.z);
-        s.tl = Vec3d(1 + sign * z.x * z.x * a, sign * z.x * z.y * a, -sign * z.x);
+        BranchlessTangents(s.nl, s.tl, s.bl);
     }
-    s.bl = Normalize(Cross(s.nl, s.tl));
     // The light's corners relative to o in the shading frame; a light wholly below the horizon is invalid.
     auto to_shading = [&](const Vec3d& q) { return Vec3d(Dot(q, s.tl), Dot(q, s.bl), Dot(q, s.nl)); };
     const Vec3d c0 = to_shading(Vec3d(p.x0, p.y0, p.h));

@@ -500,13 +500,7 @@ RectangleProjectedSetup<T> MakeRectangleProjectedSetup(const Vec3<T>& origin, co
         return s;
     }
     s.nl = Vec3d(Dot(n, p.exh), Dot(n, p.eyh), Dot(n, p.az)) / ln;
-    // A tangent frame (Duff et al.'s branchless orthonormal basis).
-    {
-        const Vec3d& z = s.nl;
-        const double sign = std::copysign(1.0, z.z), a = -1 / (sign + z.z), b = z.x * z.y * a;
-        s.tl = Vec3d(1 + sign * z.x * z.x * a, sign * b, -sign * z.x);
-        s.bl = Vec3d(b, sign + z.y * z.y * a, -z.y);
-    }
+    BranchlessTangents(s.nl, s.tl, s.bl);
     const ProjectedPolygon poly = ClipToHorizon(p.x0, p.y0, p.wx, p.wy, p.h, s.nl);
     if (poly.n == 0) return s;  // below the horizon: invalid
     if (!BuildProjectedSweep(s, poly)) return s;

@@ -66,6 +66,13 @@ template <class T>
 inline Vec3<T> Normalize(const Vec3<T>& v) {
     return v / Length(v);
 }
+// Tangent t and bitangent b completing the unit vector z to an orthonormal basis (Duff et al. 2017's branchless one).
+template <class T>
+inline void BranchlessTangents(const Vec3<T>& z, Vec3<T>& t, Vec3<T>& b) {
+    const T sign = std::copysign(T(1), z.z), a = -1 / (sign + z.z), xy = z.x * z.y * a;
+    t = Vec3<T>(1 + sign * z.x * z.x * a, sign * xy, -sign * z.x);
+    b = Vec3<T>(xy, sign + z.y * z.y * a, -z.y);
+}
 template <class T>
 inline bool IsFinite(const Vec3<T>& v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
