@@ -158,6 +158,11 @@ struct LightSampler<Technique::RectangleLtc, T> {
     }
 };
 
+// The techniques weighted by the cosine at the shading point: they need its normal (and have no use in a medium).
+constexpr bool NeedsShadingNormal(Technique t) {
+    return t == Technique::RectangleCosine || t == Technique::RectangleProjected || t == Technique::RectangleLtc;
+}
+
 // Calls f(std::integral_constant-like tag) with the technique as a compile-time value.
 template <class F>
 decltype(auto) DispatchTechnique(Technique t, F&& f) {

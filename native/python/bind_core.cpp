@@ -196,8 +196,7 @@ py::array_t<T> NewArray(size_t n, size_t width) {
 template <class T>
 std::vector<Vec3<T>> ReadNormals(Technique technique, const py::object& normal) {
     if (normal.is_none()) {
-        if (technique == Technique::RectangleCosine || technique == Technique::RectangleProjected ||
-            technique == Technique::RectangleLtc)
+        if (NeedsShadingNormal(technique))
             throw py::value_error("technique '" + std::string(TechniqueName(technique)) +
                                   "' needs normal= (the shading normal, shape (3,) or (N, 3))");
         return {Vec3<T>(0, 0, 0)};

@@ -18,13 +18,10 @@
 
 namespace sphrect::render {
 
-// The medium has no normal: the cosine-weighted techniques (rectangle_cosine, rectangle_projected, rectangle_ltc)
-// would drop light behind a made-up horizon, so scattering points use the spherical rectangle.
+// The medium has no normal: the cosine-weighted techniques (NeedsShadingNormal) would drop light behind a made-up
+// horizon, so scattering points use the spherical rectangle.
 template <Technique K>
-constexpr Technique kMediumTechnique =
-    K == Technique::RectangleCosine || K == Technique::RectangleProjected || K == Technique::RectangleLtc
-        ? Technique::Rectangle
-        : K;
+constexpr Technique kMediumTechnique = NeedsShadingNormal(K) ? Technique::Rectangle : K;
 
 // A scattering point x on the camera ray of direction ray_dir, in a medium of anisotropy g (the world's, or the
 // volumes' there).  Phase values and pdfs are w.r.t. wi, the direction towards the light
