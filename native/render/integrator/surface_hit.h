@@ -157,19 +157,11 @@ static inline Vec3f RadialTangent(const MeshData& m, const Vec3f& generated, con
     }
 }
 
-// ensure_valid_reflection's test, inline for every smooth hit: whether the reflection of I about N keeps
-// min(0.9 I.Ng, 0.01) above the surface, seen from I's side of Ng (N on Ng's side).
-static inline bool ReflectsAboveSurface(const Vec3f& ng, const Vec3f& I, const Vec3f& ns) {
-    const float i_ng = std::fabs(Dot(I, ng));
-    const float sign = Dot(I, ng) < 0 ? -1.0f : 1.0f;
-    const float r_ng = 2 * sign * Dot(ns, I) * Dot(ns, ng) - i_ng;  // (reflection of I about ns) . (sign ng)
-    return r_ng >= std::min(0.9f * i_ng, 0.01f);
-}
-
-// The rare smooth normal that fails it: the closures' normal turned as Cycles' ensure_valid_reflection turns it (seen
-// from the ray's side), the interpolated one kept as sd->N (ns_unmapped, as under a normal map).
-[[gnu::noinline, gnu::cold]] static void TurnSmoothNormal(const Ray& ray, const Vec3f& ng, Vec3f& ns, SurfaceHit& s) {
-    const float facing = Dot(ng, ray.d) > 0 ? -1.0f : 1.0f;
+// A smooth normal that fails ensure_valid_reflection's test (seen from the ray's side, `facing`): the closures' normal
+// turned as Cycles turns it, the interpolated one kept as sd->N (ns_unmapped, as under a normal map).  Out of line:
+// rare.
+[[gnu::noinline, gnu::cold]] static void TurnSmoothNormal(const Ray& ray, const Vec3f& ng, float facing, Vec3f& ns,
+                                                          SurfaceHit& s) {
     s.ns_unmapped = ns;
     s.mapped = true;
     ns = svm::EnsureValidReflection(ng * facing, -ray.d, ns * facing) * facing;
@@ -218,7 +210,10 @@ static inline SurfaceHit MakeSurfaceHit(const RenderScene& scene, const Ray& ray
         // near a low-poly silhouette) the closures' normal is turned towards Ng, while sd->N -- what shader nodes
         // read and what tells reflection from transmission -- stays the interpolated one, as for a normal map
         // (ns_unmapped).  A mapped normal has been turned already (AddHitExtras).
-        if (!m.normals.empty() && !s.mapped && !ReflectsAboveSurface(ng, -ray.d, ns)) TurnSmoothNormal(ray, ng, ns, s);
+        if (!m.normals.empty() && !s.mapped) {
+            const float facing = from_behind ? -1.0f : 1.0f;
+            if (!svm::ReflectionIsValid(ng * facing, -ray.d, ns * facing)) TurnSmoothNormal(ray, ng, facing, ns, s);
+        }
         if (m.shadow_terminator_offset > 0 && !m.normals.empty()) {
             const Vec3f n[3] = {m.normals[i[0]], m.normals[i[1]], m.normals[i[2]]};
             const float b[3] = {b0, b1, b2};

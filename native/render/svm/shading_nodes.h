@@ -96,12 +96,19 @@ inline BumpOffsets BumpDifferentials(const Vec3f& Ng, float dP) {
     return {a * dP, b * dP};
 }
 
-// Cycles' ensure_valid_reflection: N, or N turned towards Ng just enough that the reflection of I about it stays
-// above the surface (at least min(0.9 I.Ng, 0.01) along Ng); Ng when no such N exists.
-inline Vec3f EnsureValidReflection(const Vec3f& Ng, const Vec3f& I, const Vec3f& N) {
+// ensure_valid_reflection's test: whether the reflection of I about N stays above the surface, at least
+// min(0.9 I.Ng, 0.01) along Ng.
+inline float ValidReflectionThreshold(const Vec3f& Ng, const Vec3f& I) { return std::min(0.9f * Dot(Ng, I), 0.01f); }
+inline bool ReflectionIsValid(const Vec3f& Ng, const Vec3f& I, const Vec3f& N) {
     const Vec3f R = N * (2 * Dot(N, I)) - I;
-    const float threshold = std::min(0.9f * Dot(Ng, I), 0.01f);
-    if (Dot(Ng, R) >= threshold) return N;
+    return Dot(Ng, R) >= ValidReflectionThreshold(Ng, I);
+}
+
+// Cycles' ensure_valid_reflection: N where ReflectionIsValid, else N turned towards Ng just enough that it is; Ng
+// when no such N exists.
+inline Vec3f EnsureValidReflection(const Vec3f& Ng, const Vec3f& I, const Vec3f& N) {
+    if (ReflectionIsValid(Ng, I, N)) return N;
+    const float threshold = ValidReflectionThreshold(Ng, I);
     const float n_dot_ng = Dot(N, Ng);
     const Vec3f X = Normalize(N - Ng * n_dot_ng);
     const float ix = Dot(I, X), iz = Dot(I, Ng);
