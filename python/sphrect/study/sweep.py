@@ -33,7 +33,7 @@ from typing import Dict, List, Optional, Sequence
 
 from . import complexity
 from .cost_model import RAY_AXIS, SHADING_AXIS, break_even, cost_terms, upper_median
-from .jobs import DEFAULT_RIS_CANDIDATES, CurveKey
+from .jobs import CurveKey, Job
 from .store import atomic_write_bytes, atomic_write_json
 
 # Each render of the sweep lasts about this long (its samples per pixel chosen from the study's cost per sample), so
@@ -291,10 +291,10 @@ def run_sweep(study_dir: str, geometry_levels: Sequence[int] = (0, 2, 4, 6),
     width, height = results.config["width"], results.config["height"]
     base = load_study_scene(results.config["scene_file"], width, height)
     base_terms = {label(k): model[k].terms for k in keys}  # (the study's: the sweep's first estimate of a cost)
-    # The study's per-run settings that are not part of a curve's key (runs stored before RIS had the default).
-    run_options = {label(k): {"light_samples": all_curves[k][0]["job"]["light_samples"],
-                              "ris_candidates": all_curves[k][0]["job"].get("ris_candidates", DEFAULT_RIS_CANDIDATES)}
-                   for k in keys}
+    # The study's per-run settings that are not part of a curve's key.
+    jobs = {label(k): Job.from_dict(all_curves[k][0]["job"]) for k in keys}
+    run_options = {name: {"light_samples": j.light_samples, "ris_candidates": j.ris_candidates}
+                   for name, j in jobs.items()}
     axes = ((GEOMETRY, geometry_levels), (ADDED_RAY, ray_costs), (ADDED_SHADING, shading_costs))
     levels: Dict[str, List[Level]] = {axis: [] for axis, values in axes if values}
     for axis, values in axes:
